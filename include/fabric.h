@@ -1,0 +1,148 @@
+/* fabric.h - the woven-fabric solver: scene, state and the phases of a run.
+ *
+ * A fabric is a grid of yarn crossing points (DMDA, warp along x, weft along y)
+ * linked by yarn segments; each load step is relaxed to balance by explicit
+ * integration (MODEL.md). The driver order is:
+ *   FabricCreate  -> scene options, grid, masses, clamps and grips, prediction weights
+ *   FabricRun     -> for each load step: move grips, predict, stable step, relax
+ *   FabricDestroy
+ */
+#ifndef FABRIC_H
+#define FABRIC_H
+
+#include <petscdmda.h>
+
+#include "kernels.h"
+#include "material.h"
+
+typedef enum { PULL_WARP, PULL_WEFT } PullAxis;
+typedef enum { INTEGRATOR_DAMPED, INTEGRATOR_PAPER } IntegratorType;
+typedef enum { PREDICT_NONE, PREDICT_LINEAR, PREDICT_EXTRAPOLATE } PredictType;
+typedef enum { POINT_FREE = 0, POINT_CLAMPED = 1, POINT_GRIP = 2 } PointKind;
+
+extern const char *const PullAxisNames[];
+extern const char *const IntegratorNames[];
+extern const char *const PredictNames[];
+
+/* Everything a scene file or the command line sets, converted to SI. */
+typedef struct {
+  char name[PETSC_MAX_PATH_LEN];       /* scene name: the scene file's base name */
+  char file[PETSC_MAX_PATH_LEN];       /* scene file, "" if none */
+  char output_dir[PETSC_MAX_PATH_LEN]; /* "" = no output files */
+  char positions_out[PETSC_MAX_PATH_LEN];
+  /* specimen: ISO 13934-1 strip between a clamped jaw and a moving jaw */
+  PetscReal ends_per_m, picks_per_m;   /* warp and weft thread densities */
+  PetscReal gauge, width;              /* m */
+  PetscInt  yarns;                     /* yarns across the strip (0: from width) */
+  PullAxis  pull;
+  PetscInt  nx, ny;                    /* grid, derived */
+  /* material */
+  YarnLaw   warp, weft;
+  PetscReal shear_G, lock_deg, jam_factor;
+  PetscBool traction, bending, shear;
+  PetscReal gravity[3];
+  PetscReal nu, damping_ratio;
+  /* load program */
+  PetscReal elongation;                /* final grip displacement / gauge */
+  PetscReal speed;                     /* test speed, m/s (gives time_s) */
+  PetscReal point_load[3];             /* final point load, N */
+  PetscInt  load_at[2];
+  PetscInt  load_steps, max_inner_steps;
+  /* numerics */
+  IntegratorType integrator;
+  PetscReal      te_user, te_safety, te_window;
+  PetscBool      te_check;
+  PetscBool      early_exit;
+  PetscReal      balance_tol, speed_tol;
+  PredictType    predict;
+  PetscBool      quiet;
+} Scene;
+
+typedef struct { /* one row of curve.csv */
+  PetscInt  load_step, inner_steps;
+  PetscReal time, elongation, force, residual;
+  PetscBool balanced;
+} CurveRow;
+
+typedef struct { /* what the balance test and the stability watch see after a te step */
+  PetscReal residual; /* max |F| on a free point / force scale */
+  PetscReal speed;    /* max |v| on a free point, m/s */
+  PetscReal tension_max;
+  PetscBool balanced;
+} StepStats;
+
+typedef struct _p_Fabric *Fabric;
+struct _p_Fabric {
+  MPI_Comm    comm;
+  PetscMPIInt rank, size;
+  Scene       s;
+
+  DM  da;                /* dof 3: positions, velocities, forces */
+  DM  da2;               /* dof 2, same layout: graph distances for the prediction */
+  Vec X, V, F, Xl;       /* state, internal forces, ghosted positions */
+  Vec X0;                /* rest positions */
+  Vec Xold, Vold;        /* paper scheme: x(n-1), V(n-1) */
+  Vec Xconv, Xconv_prev; /* converged positions of the last two load steps (extrapolation) */
+  Patch patch;
+
+  PetscInt       nloc;   /* owned points xm*ym */
+  PetscReal     *mass, *inv_m; /* owned; inv_m = 0 for clamped, grip and absent points */
+  unsigned char *kind;   /* owned PointKind */
+  PetscReal     *predict_w;    /* owned: linear-prediction weight d0/(d0+d1) */
+  PetscInt       points;       /* existing points, global */
+  PetscInt       load_index;   /* owned index of the point load, -1 if not here */
+  PetscReal      pull_dir[3];
+  PetscReal      force_floor;  /* smallest force scale of the balance test, N */
+  PetscReal      extent;       /* fabric size, m: runaway threshold */
+
+  /* load program state */
+  PetscInt  load_step;
+  PetscReal grip_disp, grip_step_prev; /* m */
+  PetscReal load_factor;
+  PetscReal te, te_bound, omega_max, damp_c;
+  StepStats last;
+
+  /* run statistics */
+  PetscInt64     te_steps, point_updates;
+  PetscBool      converged;
+  PetscBool      broken_any;   /* a yarn segment broke */
+  PetscLogDouble wall_start, wall;
+  CurveRow      *curve;
+  FILE          *curve_fp; /* rank 0 */
+};
+
+/* log events (registered in FabricCreate) */
+extern PetscLogEvent EV_Force, EV_Integrate, EV_Halo, EV_Reduce, EV_Output, EV_Bound, EV_Predict;
+
+/* scene.c */
+PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv);
+PetscErrorCode SceneCheckUnused(MPI_Comm comm);
+PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s);
+PetscErrorCode SceneDestroy(Scene *s);
+/* fabric.c */
+PetscErrorCode FabricCreate(MPI_Comm comm, Fabric *fab);
+PetscErrorCode FabricDestroy(Fabric *fab);
+/* comm.c: halo exchange and reductions, the only place that communicates */
+PetscErrorCode HaloExchange(Fabric fab);
+PetscErrorCode GlobalMax(MPI_Comm comm, PetscReal *v, PetscInt n);
+PetscErrorCode GlobalSum(MPI_Comm comm, PetscReal *v, PetscInt n);
+/* integrate.c */
+PetscErrorCode ComputeForces(Fabric fab, PetscReal *tension_max);
+PetscErrorCode StableStep(Fabric fab);
+PetscErrorCode TimeStep(Fabric fab, StepStats *st);
+/* predict.c */
+PetscErrorCode PredictSetUp(Fabric fab);
+PetscErrorCode PredictLoadStep(Fabric fab, PetscReal grip_step);
+/* relax.c */
+PetscErrorCode FabricRun(Fabric fab);
+PetscErrorCode ApplyLoadStep(Fabric fab, PetscInt k);
+PetscErrorCode RelaxLoadStep(Fabric fab, CurveRow *row);
+PetscErrorCode GripReaction(Fabric fab, PetscReal *force);
+/* output.c */
+PetscErrorCode OutputOpen(Fabric fab);
+PetscErrorCode OutputCurveRow(Fabric fab, const CurveRow *row);
+PetscErrorCode OutputProgress(Fabric fab, const CurveRow *row);
+PetscErrorCode OutputSummary(Fabric fab, const char *error);
+PetscErrorCode OutputPositions(Fabric fab, const char *file);
+
+#endif

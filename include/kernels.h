@@ -1,0 +1,70 @@
+/* kernels.h - force kernels over one rank's patch (MODEL.md 5.1-5.3, 7.3).
+ *
+ * Kernels take loop bounds and arrays only: no MPI, no options, no I/O.
+ * The patch is the rank's ghosted part of the DMDA (box stencil, width 2).
+ * Every rank computes the force on its own points from its ghosts ("gather"),
+ * in a fixed order per point, so results do not depend on how the grid is split.
+ */
+#ifndef FABRIC_KERNELS_H
+#define FABRIC_KERNELS_H
+
+#include "material.h"
+
+#define KERNEL_RING 4 /* rows kept by the row pipeline: y-segments j-2..j+1 */
+
+typedef struct { /* a row of yarn segments */
+  PetscReal *ux, *uy, *uz; /* unit chord (0 if the segment is absent or broken) */
+  PetscReal *inv_len;      /* 1/L (0 if absent) */
+  PetscReal *fx, *fy, *fz; /* T * unit chord: force on the segment's first point */
+  PetscReal *T;            /* tension, N */
+} SegmentRow;
+
+typedef struct { /* bending centres of a row: kb * ds/de1 and kb * ds/de2 */
+  PetscReal *g1x, *g1y, *g1z, *g2x, *g2y, *g2z;
+} BendRow;
+
+typedef struct { /* shear crossings of a row: E'(s) ds/dtw, E'(s) ds/dtf, one-sided self term */
+  PetscReal *hwx, *hwy, *hwz, *hfx, *hfy, *hfz, *sx, *sy, *sz;
+} ShearRow;
+
+typedef struct {
+  /* grid and patch, global indices */
+  PetscInt nx, ny;
+  PetscInt xs, ys, xm, ym;     /* owned */
+  PetscInt gxs, gys, gxm, gym; /* ghosted */
+  PetscReal ax, ay;            /* rest chords: x-segments (warp) and y-segments (weft), m */
+  const YarnLaw *warp, *weft;  /* warp yarns run along x, weft along y */
+  /* switches and constants */
+  PetscBool traction, bending, shear;
+  PetscReal kbx, kby;          /* B / L0 along x and y, N m */
+  PetscReal Ks, Kj, s_lock;    /* shear stiffness per crossing, jamming stiffness (N m), sin(gamma_lock) */
+  /* ghosted per-point and per-segment state */
+  unsigned char *exists;       /* point exists (inside the shape), ghosted */
+  unsigned char *broken_x, *broken_y; /* segment (i,j)-(i+1,j) / (i,j)-(i,j+1) broke */
+  /* work space of the row pipeline */
+  SegmentRow xs_row, ys_ring[KERNEL_RING];
+  BendRow    by_ring[KERNEL_RING], bx_row;
+  ShearRow   sh_ring[KERNEL_RING];
+  PetscReal *zero_row;         /* 3*gxm zeros: positions of rows outside the patch */
+  unsigned char *epad;         /* exists, padded by one absent point on every side */
+  PetscReal *work;
+} Patch;
+
+PetscErrorCode PatchSetUp(Patch *p);
+PetscErrorCode PatchDestroy(Patch *p);
+
+/* Internal force (traction + bending + shear) on each owned point.
+   x: ghosted positions (3 per point), f: owned forces (3 per point).
+   tension_max: largest |T| of a segment at an owned point (the balance test's force scale). */
+void ComputeInternalForces(Patch *p, const PetscReal *x, PetscReal *f, PetscReal *tension_max);
+
+/* Break the segments strained past the breaking strain; 1 if one at an owned point broke. */
+int BreakSegments(Patch *p, const PetscReal *x);
+
+/* Largest Gershgorin row sum of the tangent stiffness over the point mass, over owned
+   points with inv_m > 0 (omega_max^2 bound, MODEL.md 7.3). window: chord-strain margin
+   around the current strain over which the yarn tangent is maximised. omega2_pull: the same
+   bound from the traction of the yarns along pull_dir (0: x, 1: y) alone. */
+PetscReal StableOmega2(const Patch *p, const PetscReal *x, const PetscReal *inv_m, PetscReal window, int pull_dir, PetscReal *omega2_pull);
+
+#endif

@@ -1,0 +1,65 @@
+/* material.h - the yarn tension law in chord strain (MODEL.md 5.1) and its fast form.
+ *
+ * A yarn segment between two crossings has rest chord L0 and crimp c: the yarn
+ * length between the crossings is (1+c) L0. With chord strain e = L/L0 - 1 the
+ * tension is
+ *   e <= 0      : T = k_comp * EA * e            (yarns buckle rather than carry compression)
+ *   0 < e <= c  : T = Ec * e                      (de-crimping)
+ *   e > c       : T = Ec*c + Tyarn(ey),  ey = (1+e)/(1+c) - 1   (yarn extension)
+ * Tyarn is linear (EA*ey) or a table read from CSV, interpolated with GSL's
+ * Steffen (monotone) spline. Evaluating a GSL spline per segment per step is too
+ * slow, so at load time the spline is resampled on a uniform grid of yarn strain
+ * (value and slope at each node) and evaluated as a cubic Hermite in O(1).
+ */
+#ifndef FABRIC_MATERIAL_H
+#define FABRIC_MATERIAL_H
+
+#include <petscsys.h>
+
+#define YARN_TABLE_NODES 4097 /* uniform nodes of the fast yarn table */
+
+typedef struct {
+  const char *name;       /* "warp" or "weft": names the options in messages */
+  PetscReal   tex;        /* linear density, g/km (input unit) */
+  PetscReal   mu;         /* linear density, kg/m */
+  PetscReal   crimp;      /* c, fraction */
+  PetscReal   EA;         /* yarn stiffness, N per unit yarn strain (table: its largest slope) */
+  PetscReal   Ec;         /* de-crimping stiffness, N per unit chord strain */
+  PetscReal   k_comp;     /* compression stiffness as a fraction of EA */
+  PetscReal   bending;    /* bending rigidity B, N m^2 */
+  PetscReal   break_ey;   /* yarn strain at break; <= 0: never breaks */
+  PetscReal   break_e;    /* the same as chord strain (INFINITY if none) */
+  /* fast form of a tabulated law (ntab == 0: linear law) */
+  PetscInt    ntab;
+  PetscReal   tab_h, tab_inv_h, tab_end; /* node spacing and last node, in yarn strain */
+  PetscReal  *tab_T, *tab_dT;            /* tension (N) and slope (N) at the nodes */
+  PetscInt    nlev;                      /* range-max table of the slope per cell */
+  PetscReal **tab_slope_max;
+  char        csv[PETSC_MAX_PATH_LEN];
+} YarnLaw;
+
+/* Tyarn(ey), ey >= 0 */
+static inline PetscReal YarnTension(const YarnLaw *y, PetscReal ey)
+{
+  if (!y->ntab) return y->EA * ey;
+  PetscReal s = ey * y->tab_inv_h;
+  if (s >= (PetscReal)(y->ntab - 1)) return y->tab_T[y->ntab - 1] + y->tab_dT[y->ntab - 1] * (ey - y->tab_end);
+  PetscInt  k = (PetscInt)s;
+  PetscReal t = s - (PetscReal)k, u = 1.0 - t, h = y->tab_h;
+  return (1.0 + 2.0 * t) * u * u * y->tab_T[k] + t * u * u * h * y->tab_dT[k] + t * t * (3.0 - 2.0 * t) * y->tab_T[k + 1] - t * t * u * h * y->tab_dT[k + 1];
+}
+
+/* T(e): the chord tension law of MODEL.md 5.1 */
+static inline PetscReal ChordTension(const YarnLaw *y, PetscReal e)
+{
+  if (e <= 0.0) return y->k_comp * y->EA * e;
+  if (e <= y->crimp) return y->Ec * e;
+  return y->Ec * y->crimp + YarnTension(y, (e - y->crimp) / (1.0 + y->crimp));
+}
+
+PetscErrorCode YarnLawSetUp(YarnLaw *y, MPI_Comm comm);
+PetscErrorCode YarnLawDestroy(YarnLaw *y);
+/* largest dT/de over chord strains [a,b]: the tangent used by the stable-step bound */
+PetscReal      ChordTangentMax(const YarnLaw *y, PetscReal a, PetscReal b);
+
+#endif

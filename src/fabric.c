@@ -1,0 +1,198 @@
+/* fabric.c - building the fabric: grid, rest state, masses (MODEL.md 2, 4), clamps and grips (6).
+ *
+ * The warp x weft grid is a DMDA with dof 3 (x, y, z) and a box stencil of width 2:
+ * bending reaches two points along a yarn and shear reaches the diagonal neighbours,
+ * so each rank computes the forces on its own points from its ghosts.
+ */
+#include "fabric.h"
+
+#include <math.h>
+
+PetscLogEvent EV_Force, EV_Integrate, EV_Halo, EV_Reduce, EV_Output, EV_Bound, EV_Predict;
+
+static PetscErrorCode RegisterEvents(void)
+{
+  static PetscBool done = PETSC_FALSE;
+  PetscClassId     id;
+
+  PetscFunctionBeginUser;
+  if (done) PetscFunctionReturn(0);
+  PetscCall(PetscClassIdRegister("Fabric", &id));
+  PetscCall(PetscLogEventRegister("FabricForce", id, &EV_Force));
+  PetscCall(PetscLogEventRegister("FabricIntegrate", id, &EV_Integrate));
+  PetscCall(PetscLogEventRegister("FabricHalo", id, &EV_Halo));
+  PetscCall(PetscLogEventRegister("FabricReduce", id, &EV_Reduce));
+  PetscCall(PetscLogEventRegister("FabricOutput", id, &EV_Output));
+  PetscCall(PetscLogEventRegister("FabricStableStep", id, &EV_Bound));
+  PetscCall(PetscLogEventRegister("FabricPredict", id, &EV_Predict));
+  done = PETSC_TRUE;
+  PetscFunctionReturn(0);
+}
+
+/* Does crossing (i,j) exist? The strip is a full rectangle; shapes cut the grid here. */
+static int PointExists(const Scene *s, PetscInt i, PetscInt j)
+{
+  return i >= 0 && i < s->nx && j >= 0 && j < s->ny;
+}
+
+/* Clamped jaw at the start of the pull axis, moving jaw (grip) at its end (MODEL.md 6). */
+static PointKind KindOf(const Scene *s, PetscInt i, PetscInt j)
+{
+  const PetscInt along = s->pull == PULL_WARP ? i : j, n = s->pull == PULL_WARP ? s->nx : s->ny;
+  if (along == 0) return POINT_CLAMPED;
+  if (along == n - 1) return POINT_GRIP;
+  return POINT_FREE;
+}
+
+PetscErrorCode FabricCreate(MPI_Comm comm, Fabric *out)
+{
+  Fabric        fab;
+  Scene        *s;
+  DMDALocalInfo info;
+  PetscErrorCode ierr;
+
+  PetscFunctionBeginUser;
+  PetscCall(RegisterEvents());
+  PetscCall(PetscNew(&fab));
+  fab->comm = comm;
+  PetscCallMPI(MPI_Comm_rank(comm, &fab->rank));
+  PetscCallMPI(MPI_Comm_size(comm, &fab->size));
+  s = &fab->s;
+  PetscCall(SceneLoad(comm, s));
+
+  /* the DMDA; its own partition check gives a cryptic message, so check first */
+  PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
+  ierr = DMDACreate2d(comm, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, DMDA_STENCIL_BOX, s->nx, s->ny, PETSC_DECIDE, PETSC_DECIDE, 3, 2, NULL, NULL, &fab->da);
+  if (!ierr) ierr = DMSetFromOptions(fab->da);
+  if (!ierr) ierr = DMSetUp(fab->da);
+  PetscCall(PetscPopErrorHandler());
+  PetscCheck(!ierr, comm, PETSC_ERR_USER_INPUT, "grid too small: %" PetscInt_FMT " x %" PetscInt_FMT " crossings cannot be split over %d ranks (each rank needs at least 2 points per direction it is split along)", s->nx, s->ny, fab->size);
+  PetscCall(DMDASetFieldName(fab->da, 0, "x"));
+  PetscCall(DMDASetFieldName(fab->da, 1, "y"));
+  PetscCall(DMDASetFieldName(fab->da, 2, "z"));
+  PetscCall(DMDACreateCompatibleDMDA(fab->da, 2, &fab->da2));
+  PetscCall(DMDAGetLocalInfo(fab->da, &info));
+  fab->nloc = (PetscInt)info.xm * info.ym;
+
+  PetscCall(DMCreateGlobalVector(fab->da, &fab->X));
+  PetscCall(PetscObjectSetName((PetscObject)fab->X, "positions"));
+  PetscCall(VecDuplicate(fab->X, &fab->V));
+  PetscCall(VecDuplicate(fab->X, &fab->F));
+  PetscCall(VecDuplicate(fab->X, &fab->X0));
+  PetscCall(DMCreateLocalVector(fab->da, &fab->Xl));
+
+  /* rest positions X(i,j) = (i ax, j ay, 0) */
+  {
+    const PetscReal ax = 1.0 / s->picks_per_m, ay = 1.0 / s->ends_per_m;
+    PetscScalar  ***x;
+    PetscCall(DMDAVecGetArrayDOF(fab->da, fab->X0, &x));
+    for (PetscInt j = info.ys; j < info.ys + info.ym; j++)
+      for (PetscInt i = info.xs; i < info.xs + info.xm; i++) {
+        x[j][i][0] = i * ax;
+        x[j][i][1] = j * ay;
+        x[j][i][2] = 0.0;
+      }
+    PetscCall(DMDAVecRestoreArrayDOF(fab->da, fab->X0, &x));
+    PetscCall(VecCopy(fab->X0, fab->X));
+    fab->extent = PetscSqrtReal(PetscSqr((s->nx - 1) * ax) + PetscSqr((s->ny - 1) * ay));
+  }
+
+  /* the patch: ghosted existence, broken flags, constants of the force terms */
+  {
+    Patch *p = &fab->patch;
+    p->nx = s->nx;
+    p->ny = s->ny;
+    p->xs = info.xs, p->ys = info.ys, p->xm = info.xm, p->ym = info.ym;
+    p->gxs = info.gxs, p->gys = info.gys, p->gxm = info.gxm, p->gym = info.gym;
+    p->ax = 1.0 / s->picks_per_m;
+    p->ay = 1.0 / s->ends_per_m;
+    p->warp = &s->warp;
+    p->weft = &s->weft;
+    p->traction = s->traction;
+    p->bending  = (s->bending && (s->warp.bending > 0 || s->weft.bending > 0)) ? PETSC_TRUE : PETSC_FALSE;
+    p->shear    = (s->shear && s->shear_G > 0) ? PETSC_TRUE : PETSC_FALSE;
+    p->kbx      = s->warp.bending / p->ax;
+    p->kby      = s->weft.bending / p->ay;
+    p->Ks       = s->shear_G * p->ax * p->ay;
+    p->Kj       = s->jam_factor * p->Ks;
+    p->s_lock   = PetscSinReal(s->lock_deg * PETSC_PI / 180.0);
+    PetscCall(PetscCalloc1((size_t)p->gxm * p->gym, &p->exists));
+    PetscCall(PetscCalloc1((size_t)p->gxm * p->gym, &p->broken_x));
+    PetscCall(PetscCalloc1((size_t)p->gxm * p->gym, &p->broken_y));
+    for (PetscInt j = 0; j < p->gym; j++)
+      for (PetscInt i = 0; i < p->gxm; i++) p->exists[j * p->gxm + i] = (unsigned char)PointExists(s, p->gxs + i, p->gys + j);
+    PetscCall(PatchSetUp(p));
+  }
+
+  /* masses (MODEL.md 4): each existing segment gives half its yarn mass to each end */
+  PetscCall(PetscMalloc4(fab->nloc, &fab->mass, fab->nloc, &fab->inv_m, fab->nloc, &fab->kind, fab->nloc, &fab->predict_w));
+  {
+    const PetscReal mx = 0.5 * s->warp.mu * (1.0 + s->warp.crimp) * fab->patch.ax;
+    const PetscReal my = 0.5 * s->weft.mu * (1.0 + s->weft.crimp) * fab->patch.ay;
+    PetscReal       gmag = PetscSqrtReal(PetscSqr(s->gravity[0]) + PetscSqr(s->gravity[1]) + PetscSqr(s->gravity[2])), wmax = 0;
+    PetscInt        count = 0;
+    fab->load_index = -1;
+    for (PetscInt j = info.ys; j < info.ys + info.ym; j++)
+      for (PetscInt i = info.xs; i < info.xs + info.xm; i++) {
+        const PetscInt k = (j - info.ys) * info.xm + (i - info.xs);
+        PetscReal      m = 0;
+        if (PointExists(s, i, j)) {
+          m = mx * (PointExists(s, i - 1, j) + PointExists(s, i + 1, j)) + my * (PointExists(s, i, j - 1) + PointExists(s, i, j + 1));
+          count++;
+        }
+        fab->mass[k]  = m;
+        fab->kind[k]  = (unsigned char)(PointExists(s, i, j) ? KindOf(s, i, j) : POINT_CLAMPED);
+        fab->inv_m[k] = (fab->kind[k] == POINT_FREE && m > 0) ? 1.0 / m : 0.0;
+        wmax          = PetscMax(wmax, m * gmag);
+        if (i == s->load_at[0] && j == s->load_at[1]) fab->load_index = k;
+      }
+    PetscCall(MPIU_Allreduce(&count, &fab->points, 1, MPIU_INT, MPI_SUM, comm));
+    PetscCall(GlobalMax(comm, &wmax, 1));
+    /* the balance test's force scale never drops below a point's weight (or 1 uN) */
+    fab->force_floor = PetscMax(wmax, 1e-6);
+  }
+  fab->pull_dir[0] = s->pull == PULL_WARP ? 1.0 : 0.0;
+  fab->pull_dir[1] = s->pull == PULL_WARP ? 0.0 : 1.0;
+  fab->pull_dir[2] = 0.0;
+
+  if (s->integrator == INTEGRATOR_PAPER) {
+    PetscCall(VecDuplicate(fab->X, &fab->Xold));
+    PetscCall(VecDuplicate(fab->X, &fab->Vold));
+    PetscCall(VecCopy(fab->X, fab->Xold));
+  }
+  PetscCall(PredictSetUp(fab));
+  fab->converged = PETSC_TRUE;
+  PetscCall(PetscCalloc1(s->load_steps, &fab->curve));
+  *out = fab;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FabricDestroy(Fabric *pfab)
+{
+  Fabric fab = *pfab;
+
+  PetscFunctionBeginUser;
+  if (!fab) PetscFunctionReturn(0);
+  if (fab->curve_fp) fclose(fab->curve_fp);
+  PetscCall(PetscFree(fab->curve));
+  PetscCall(PetscFree4(fab->mass, fab->inv_m, fab->kind, fab->predict_w));
+  PetscCall(PetscFree(fab->patch.exists));
+  PetscCall(PetscFree(fab->patch.broken_x));
+  PetscCall(PetscFree(fab->patch.broken_y));
+  PetscCall(PatchDestroy(&fab->patch));
+  PetscCall(VecDestroy(&fab->X));
+  PetscCall(VecDestroy(&fab->V));
+  PetscCall(VecDestroy(&fab->F));
+  PetscCall(VecDestroy(&fab->X0));
+  PetscCall(VecDestroy(&fab->Xl));
+  PetscCall(VecDestroy(&fab->Xold));
+  PetscCall(VecDestroy(&fab->Vold));
+  PetscCall(VecDestroy(&fab->Xconv));
+  PetscCall(VecDestroy(&fab->Xconv_prev));
+  PetscCall(DMDestroy(&fab->da2));
+  PetscCall(DMDestroy(&fab->da));
+  PetscCall(SceneDestroy(&fab->s));
+  PetscCall(PetscFree(fab));
+  *pfab = NULL;
+  PetscFunctionReturn(0);
+}

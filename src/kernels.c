@@ -1,0 +1,381 @@
+/* kernels.c - internal forces of the crossing-point model and the stable-step bound.
+ *
+ * Forces are minus the gradient of the energies of MODEL.md 5.1-5.3:
+ *  - traction, per yarn segment: force T d/L on its first point, -T d/L on its second
+ *    (a broken segment carries nothing; BreakSegments breaks them between te sweeps);
+ *  - bending, per yarn centre c with chords e1 (into c) and e2 (out of c):
+ *      E = kb (1 - s), s = u1.u2, kb = B/L0; with g1 = (u2 - s u1)/|e1|, g2 = (u1 - s u2)/|e2|
+ *      the force is -kb g1 on c-1, kb (g1 - g2) on c, kb g2 on c+1;
+ *  - shear, per crossing c with warp tangent tw = x(c+ex) - x(c-ex) and weft tangent
+ *    tf = x(c+ey) - x(c-ey) (one-sided at an edge): s = cos(tw,tf),
+ *      E = Ks s^2/2 + Kj max(0,|s|-s_lock)^2/2; with Hw = E'(s) (uf - s uw)/|tw| the force
+ *      is -Hw on the plus end of tw and +Hw on its minus end (likewise Hf for tf).
+ *
+ * The patch is swept row by row (a pipeline that keeps the y-segment, y-bending and shear
+ * rows j-2..j+1 in a ring), so every term is evaluated once per step and the rows stay in
+ * cache. Each owned point then sums its contributions in a fixed order: results do not
+ * depend on the decomposition. A term that is switched off is neither computed nor summed.
+ */
+#include "kernels.h"
+
+#include <math.h>
+#include <string.h>
+
+#define SLOT(r) ((((r) % KERNEL_RING) + KERNEL_RING) % KERNEL_RING)
+
+static PetscErrorCode AllocRow(PetscInt n, PetscInt count, PetscReal *work, PetscReal **ptrs[])
+{
+  PetscFunctionBeginUser;
+  for (PetscInt k = 0; k < count; k++) *ptrs[k] = work + k * (n + 2) + 1; /* index -1 and n are zero padding */
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode PatchSetUp(Patch *p)
+{
+  PetscInt n = p->gxm, per_row = n + 2, rows = 0, k = 0;
+
+  PetscFunctionBeginUser;
+  rows = 8 + 8 * KERNEL_RING + 6 + 6 * KERNEL_RING + 9 * KERNEL_RING;
+  PetscCall(PetscCalloc1((size_t)rows * per_row, &p->work));
+  {
+    SegmentRow *s = &p->xs_row;
+    PetscReal **ptrs[] = {&s->ux, &s->uy, &s->uz, &s->inv_len, &s->fx, &s->fy, &s->fz, &s->T};
+    PetscCall(AllocRow(n, 8, p->work + (k++) * 8 * per_row, ptrs));
+  }
+  for (PetscInt r = 0; r < KERNEL_RING; r++) {
+    SegmentRow *s = &p->ys_ring[r];
+    PetscReal **ptrs[] = {&s->ux, &s->uy, &s->uz, &s->inv_len, &s->fx, &s->fy, &s->fz, &s->T};
+    PetscCall(AllocRow(n, 8, p->work + (k++) * 8 * per_row, ptrs));
+  }
+  {
+    BendRow    *b = &p->bx_row;
+    PetscReal **ptrs[] = {&b->g1x, &b->g1y, &b->g1z, &b->g2x, &b->g2y, &b->g2z};
+    PetscCall(AllocRow(n, 6, p->work + k * 8 * per_row, ptrs));
+  }
+  {
+    PetscReal *base = p->work + (k * 8 + 6) * per_row;
+    for (PetscInt r = 0; r < KERNEL_RING; r++) {
+      BendRow    *b = &p->by_ring[r];
+      PetscReal **ptrs[] = {&b->g1x, &b->g1y, &b->g1z, &b->g2x, &b->g2y, &b->g2z};
+      PetscCall(AllocRow(n, 6, base + r * 6 * per_row, ptrs));
+    }
+    base += 6 * KERNEL_RING * per_row;
+    for (PetscInt r = 0; r < KERNEL_RING; r++) {
+      ShearRow   *s = &p->sh_ring[r];
+      PetscReal **ptrs[] = {&s->hwx, &s->hwy, &s->hwz, &s->hfx, &s->hfy, &s->hfz, &s->sx, &s->sy, &s->sz};
+      PetscCall(AllocRow(n, 9, base + r * 9 * per_row, ptrs));
+    }
+  }
+  PetscCall(PetscCalloc1(3 * (size_t)n, &p->zero_row));
+  PetscCall(PetscCalloc1((size_t)(p->gym + 2) * per_row, &p->epad));
+  for (PetscInt j = 0; j < p->gym; j++)
+    for (PetscInt i = 0; i < p->gxm; i++) p->epad[(j + 1) * per_row + i + 1] = p->exists[j * p->gxm + i];
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode PatchDestroy(Patch *p)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscFree(p->work));
+  PetscCall(PetscFree(p->zero_row));
+  PetscCall(PetscFree(p->epad));
+  PetscFunctionReturn(0);
+}
+
+/* padded existence of the point at local (li, lj); -1 and gxm/gym are absent */
+static inline unsigned char Exists(const Patch *p, PetscInt li, PetscInt lj)
+{
+  return p->epad[(lj + 1) * (p->gxm + 2) + li + 1];
+}
+
+static void ZeroSegmentRow(SegmentRow *s, PetscInt n)
+{
+  PetscReal *a[] = {s->ux, s->uy, s->uz, s->inv_len, s->fx, s->fy, s->fz, s->T};
+  for (int k = 0; k < 8; k++) memset(a[k], 0, sizeof(PetscReal) * (size_t)n);
+}
+
+/* Segments a[i] -> b[i], i < n: chord and tension (MODEL.md 5.1). */
+static void ComputeSegmentRow(const YarnLaw *law, PetscReal L0, PetscBool traction, PetscInt n, const PetscReal *restrict xa, const PetscReal *restrict xb, const unsigned char *ea, const unsigned char *eb, const unsigned char *broken, SegmentRow *s)
+{
+  const PetscReal inv_L0 = 1.0 / L0;
+
+  for (PetscInt i = 0; i < n; i++) {
+    const PetscReal dx = xb[3 * i] - xa[3 * i], dy = xb[3 * i + 1] - xa[3 * i + 1], dz = xb[3 * i + 2] - xa[3 * i + 2];
+    const PetscReal L = PetscSqrtReal(dx * dx + dy * dy + dz * dz), e = L * inv_L0 - 1.0;
+    const int       alive = ea[i] && eb[i] && !broken[i];
+    const PetscReal inv   = alive ? 1.0 / L : 0.0;
+    const PetscReal T     = (alive && traction) ? ChordTension(law, e) : 0.0;
+    s->ux[i] = dx * inv;
+    s->uy[i] = dy * inv;
+    s->uz[i] = dz * inv;
+    s->inv_len[i] = inv;
+    s->T[i]       = T;
+    s->fx[i]      = T * dx * inv;
+    s->fy[i]      = T * dy * inv;
+    s->fz[i]      = T * dz * inv;
+  }
+}
+
+/* Bending centres i < n with incoming chord s1[i] and outgoing chord s2[i] (MODEL.md 5.2). */
+static void ComputeBendRow(PetscReal kb, PetscInt n, const PetscReal *u1x, const PetscReal *u1y, const PetscReal *u1z, const PetscReal *i1, const PetscReal *u2x, const PetscReal *u2y, const PetscReal *u2z, const PetscReal *i2, BendRow *b, PetscInt off)
+{
+  for (PetscInt i = 0; i < n; i++) {
+    const PetscReal s = u1x[i] * u2x[i] + u1y[i] * u2y[i] + u1z[i] * u2z[i];
+    const PetscReal c1 = kb * i1[i], c2 = kb * i2[i];
+    b->g1x[i + off] = c1 * (u2x[i] - s * u1x[i]);
+    b->g1y[i + off] = c1 * (u2y[i] - s * u1y[i]);
+    b->g1z[i + off] = c1 * (u2z[i] - s * u1z[i]);
+    b->g2x[i + off] = c2 * (u1x[i] - s * u2x[i]);
+    b->g2y[i + off] = c2 * (u1y[i] - s * u2y[i]);
+    b->g2z[i + off] = c2 * (u1z[i] - s * u2z[i]);
+  }
+}
+
+/* Shear crossings of row r (global), all local columns (MODEL.md 5.3). */
+static void ComputeShearRow(const Patch *p, const PetscReal *x, PetscInt r, ShearRow *sh)
+{
+  const PetscInt   n = p->gxm, lr = r - p->gys;
+  const PetscReal *xr = (lr >= 0 && lr < p->gym) ? x + 3 * lr * n : p->zero_row;
+  const PetscReal *xd = (lr - 1 >= 0 && lr - 1 < p->gym) ? x + 3 * (lr - 1) * n : p->zero_row;
+  const PetscReal *xu = (lr + 1 >= 0 && lr + 1 < p->gym) ? x + 3 * (lr + 1) * n : p->zero_row;
+  const PetscReal  Ks = p->Ks, Kj = p->Kj, sl = p->s_lock;
+
+  if (lr < 0 || lr >= p->gym) { /* no crossing outside the patch */
+    PetscReal *a[] = {sh->hwx, sh->hwy, sh->hwz, sh->hfx, sh->hfy, sh->hfz, sh->sx, sh->sy, sh->sz};
+    for (int k = 0; k < 9; k++) memset(a[k], 0, sizeof(PetscReal) * (size_t)n);
+    return;
+  }
+  for (PetscInt li = 0; li < n; li++) {
+    const int      self = Exists(p, li, lr), hl = Exists(p, li - 1, lr), hr = Exists(p, li + 1, lr);
+    const int      hd = Exists(p, li, lr - 1), hu = Exists(p, li, lr + 1);
+    const PetscInt il = hl ? li - 1 : li, ir = hr ? li + 1 : li;
+    const PetscReal *xp = xr + 3 * ir, *xm = xr + 3 * il, *yp = hu ? xu + 3 * li : xr + 3 * li, *ym = hd ? xd + 3 * li : xr + 3 * li;
+    const PetscReal twx = xp[0] - xm[0], twy = xp[1] - xm[1], twz = xp[2] - xm[2];
+    const PetscReal tfx = yp[0] - ym[0], tfy = yp[1] - ym[1], tfz = yp[2] - ym[2];
+    const int       active = self && (hl || hr) && (hd || hu);
+    const PetscReal iw = active ? 1.0 / PetscSqrtReal(twx * twx + twy * twy + twz * twz) : 0.0;
+    const PetscReal jf = active ? 1.0 / PetscSqrtReal(tfx * tfx + tfy * tfy + tfz * tfz) : 0.0;
+    const PetscReal uwx = twx * iw, uwy = twy * iw, uwz = twz * iw, ufx = tfx * jf, ufy = tfy * jf, ufz = tfz * jf;
+    const PetscReal s = uwx * ufx + uwy * ufy + uwz * ufz, as = PetscAbsReal(s);
+    const PetscReal jam = as > sl ? (s > 0 ? as - sl : sl - as) : 0.0;
+    const PetscReal Ep = Ks * s + Kj * jam;
+    const PetscReal cw = Ep * iw, cf = Ep * jf;
+    const PetscReal hwx = cw * (ufx - s * uwx), hwy = cw * (ufy - s * uwy), hwz = cw * (ufz - s * uwz);
+    const PetscReal hfx = cf * (uwx - s * ufx), hfy = cf * (uwy - s * ufy), hfz = cf * (uwz - s * ufz);
+    const PetscReal aw = (PetscReal)(hr - hl), af = (PetscReal)(hu - hd);
+    sh->hwx[li] = hwx;
+    sh->hwy[li] = hwy;
+    sh->hwz[li] = hwz;
+    sh->hfx[li] = hfx;
+    sh->hfy[li] = hfy;
+    sh->hfz[li] = hfz;
+    sh->sx[li]  = aw * hwx + af * hfx;
+    sh->sy[li]  = aw * hwy + af * hfy;
+    sh->sz[li]  = aw * hwz + af * hfz;
+  }
+}
+
+/* y-segments between rows r and r+1 */
+static void YSegments(Patch *p, const PetscReal *x, PetscInt r)
+{
+  const PetscInt n = p->gxm, lr = r - p->gys;
+  SegmentRow    *s = &p->ys_ring[SLOT(r)];
+
+  if (lr < 0 || lr + 1 >= p->gym) {
+    ZeroSegmentRow(s, n);
+    return;
+  }
+  ComputeSegmentRow(p->weft, p->ay, p->traction, n, x + 3 * lr * n, x + 3 * (lr + 1) * n, p->exists + lr * n, p->exists + (lr + 1) * n, p->broken_y + lr * n, s);
+}
+
+/* y-bending centres of row r: chords y(r-1) and y(r) */
+static void YBending(Patch *p, PetscInt r)
+{
+  const SegmentRow *a = &p->ys_ring[SLOT(r - 1)], *b = &p->ys_ring[SLOT(r)];
+  ComputeBendRow(p->kby, p->gxm, a->ux, a->uy, a->uz, a->inv_len, b->ux, b->uy, b->uz, b->inv_len, &p->by_ring[SLOT(r)], 0);
+}
+
+void ComputeInternalForces(Patch *p, const PetscReal *x, PetscReal *f, PetscReal *tension_max)
+{
+  const PetscInt n = p->gxm, i0 = p->xs - p->gxs, i1 = i0 + p->xm;
+  const PetscBool bend = p->bending, shear = p->shear;
+  PetscReal      tmax = 0.0;
+
+  /* prime the pipeline: rows below the first owned row */
+  for (PetscInt r = p->ys - 2; r <= p->ys; r++) YSegments(p, x, r);
+  if (bend)
+    for (PetscInt r = p->ys - 1; r <= p->ys; r++) YBending(p, r);
+  if (shear)
+    for (PetscInt r = p->ys - 1; r <= p->ys; r++) ComputeShearRow(p, x, r, &p->sh_ring[SLOT(r)]);
+
+  for (PetscInt j = p->ys; j < p->ys + p->ym; j++) {
+    const PetscInt lj = j - p->gys;
+    SegmentRow    *xs = &p->xs_row;
+
+    /* advance the pipeline by one row */
+    YSegments(p, x, j + 1);
+    if (bend) YBending(p, j + 1);
+    if (shear) ComputeShearRow(p, x, j + 1, &p->sh_ring[SLOT(j + 1)]);
+    ComputeSegmentRow(p->warp, p->ax, p->traction, n - 1, x + 3 * lj * n, x + 3 * lj * n + 3, p->exists + lj * n, p->exists + lj * n + 1, p->broken_x + lj * n, xs);
+    if (bend) ComputeBendRow(p->kbx, n - 2, xs->ux, xs->uy, xs->uz, xs->inv_len, xs->ux + 1, xs->uy + 1, xs->uz + 1, xs->inv_len + 1, &p->bx_row, 1);
+
+    /* gather: each owned point of row j sums its terms in a fixed order */
+    {
+      const SegmentRow *yd = &p->ys_ring[SLOT(j - 1)], *yu = &p->ys_ring[SLOT(j)];
+      PetscReal *restrict fr = f + 3 * (j - p->ys) * p->xm - 3 * i0;
+      for (PetscInt i = i0; i < i1; i++) {
+        fr[3 * i]     = xs->fx[i] - xs->fx[i - 1] + yu->fx[i] - yd->fx[i];
+        fr[3 * i + 1] = xs->fy[i] - xs->fy[i - 1] + yu->fy[i] - yd->fy[i];
+        fr[3 * i + 2] = xs->fz[i] - xs->fz[i - 1] + yu->fz[i] - yd->fz[i];
+        const PetscReal t = PetscMax(PetscMax(PetscAbsReal(xs->T[i]), PetscAbsReal(xs->T[i - 1])), PetscMax(PetscAbsReal(yu->T[i]), PetscAbsReal(yd->T[i])));
+        tmax = PetscMax(tmax, t);
+      }
+      if (bend) {
+        const BendRow *bx = &p->bx_row, *bd = &p->by_ring[SLOT(j - 1)], *bc = &p->by_ring[SLOT(j)], *bu = &p->by_ring[SLOT(j + 1)];
+        for (PetscInt i = i0; i < i1; i++) {
+          fr[3 * i] += bx->g2x[i - 1] + bx->g1x[i] - bx->g2x[i] - bx->g1x[i + 1] + bd->g2x[i] + bc->g1x[i] - bc->g2x[i] - bu->g1x[i];
+          fr[3 * i + 1] += bx->g2y[i - 1] + bx->g1y[i] - bx->g2y[i] - bx->g1y[i + 1] + bd->g2y[i] + bc->g1y[i] - bc->g2y[i] - bu->g1y[i];
+          fr[3 * i + 2] += bx->g2z[i - 1] + bx->g1z[i] - bx->g2z[i] - bx->g1z[i + 1] + bd->g2z[i] + bc->g1z[i] - bc->g2z[i] - bu->g1z[i];
+        }
+      }
+      if (shear) {
+        const ShearRow *sd = &p->sh_ring[SLOT(j - 1)], *sc = &p->sh_ring[SLOT(j)], *su = &p->sh_ring[SLOT(j + 1)];
+        for (PetscInt i = i0; i < i1; i++) {
+          fr[3 * i] += sc->hwx[i + 1] - sc->hwx[i - 1] + su->hfx[i] - sd->hfx[i] + sc->sx[i];
+          fr[3 * i + 1] += sc->hwy[i + 1] - sc->hwy[i - 1] + su->hfy[i] - sd->hfy[i] + sc->sy[i];
+          fr[3 * i + 2] += sc->hwz[i + 1] - sc->hwz[i - 1] + su->hfz[i] - sd->hfz[i] + sc->sz[i];
+        }
+      }
+    }
+  }
+  *tension_max = tmax;
+}
+
+/* Break every segment of the patch whose yarn strain exceeds the breaking strain
+   (MODEL.md 5.1). Called on a balanced state: strains of the relaxation transient are
+   artefacts of the load stepping. Returns 1 if a segment at an owned point broke. */
+int BreakSegments(Patch *p, const PetscReal *x)
+{
+  int broke = 0;
+  for (int dir = 0; dir < 2; dir++) {
+    const YarnLaw  *law = dir == 0 ? p->warp : p->weft;
+    const PetscReal L0 = dir == 0 ? p->ax : p->ay;
+    unsigned char  *broken = dir == 0 ? p->broken_x : p->broken_y;
+    if (!isfinite(law->break_e)) continue;
+    for (PetscInt lj = 0; lj + (dir == 1) < p->gym; lj++)
+      for (PetscInt li = 0; li + (dir == 0) < p->gxm; li++) {
+        const PetscInt k = lj * p->gxm + li, k2 = k + (dir == 0 ? 1 : p->gxm);
+        if (broken[k] || !p->exists[k] || !p->exists[k2]) continue;
+        const PetscReal *a = x + 3 * k, *b = x + 3 * k2;
+        const PetscReal  L = PetscSqrtReal(PetscSqr(b[0] - a[0]) + PetscSqr(b[1] - a[1]) + PetscSqr(b[2] - a[2]));
+        if (L / L0 - 1.0 <= law->break_e) continue;
+        broken[k] = 1;
+        {
+          const PetscInt i = p->gxs + li, j = p->gys + lj, i2 = i + (dir == 0), j2 = j + (dir == 1);
+          const int own_a = i >= p->xs && i < p->xs + p->xm && j >= p->ys && j < p->ys + p->ym;
+          const int own_b = i2 >= p->xs && i2 < p->xs + p->xm && j2 >= p->ys && j2 < p->ys + p->ym;
+          if (own_a || own_b) broke = 1;
+        }
+      }
+  }
+  return broke;
+}
+
+/* ---------------- stable step: Gershgorin bound of the tangent stiffness ---------------- */
+
+typedef struct {
+  PetscReal L;   /* chord length */
+  int       alive;
+} Chord;
+
+static inline const PetscReal *Pos(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j)
+{
+  return x + 3 * ((j - p->gys) * p->gxm + (i - p->gxs));
+}
+
+static inline int ExistsG(const Patch *p, PetscInt i, PetscInt j)
+{
+  return Exists(p, i - p->gxs, j - p->gys);
+}
+
+/* chord from (i,j) along x (dir 0) or y (dir 1) */
+static Chord ChordAt(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j, int dir)
+{
+  Chord          c  = {0.0, 0};
+  const PetscInt i2 = i + (dir == 0), j2 = j + (dir == 1);
+  if (!ExistsG(p, i, j) || !ExistsG(p, i2, j2)) return c;
+  const unsigned char *broken = dir == 0 ? p->broken_x : p->broken_y;
+  if (broken[(j - p->gys) * p->gxm + (i - p->gxs)]) return c;
+  const PetscReal *a = Pos(p, x, i, j), *b = Pos(p, x, i2, j2);
+  c.L     = PetscSqrtReal(PetscSqr(b[0] - a[0]) + PetscSqr(b[1] - a[1]) + PetscSqr(b[2] - a[2]));
+  c.alive = 1;
+  return c;
+}
+
+/* Gershgorin contribution of crossing (i,j)'s shear energy to one of its points */
+static PetscReal ShearRowBound(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j)
+{
+  if (!ExistsG(p, i, j)) return 0.0;
+  const int hl = ExistsG(p, i - 1, j), hr = ExistsG(p, i + 1, j), hd = ExistsG(p, i, j - 1), hu = ExistsG(p, i, j + 1);
+  if (!(hl || hr) || !(hd || hu)) return 0.0;
+  const PetscReal *xp = Pos(p, x, hr ? i + 1 : i, j), *xm = Pos(p, x, hl ? i - 1 : i, j);
+  const PetscReal *yp = Pos(p, x, i, hu ? j + 1 : j), *ym = Pos(p, x, i, hd ? j - 1 : j);
+  PetscReal        tw[3], tf[3];
+  for (int d = 0; d < 3; d++) {
+    tw[d] = xp[d] - xm[d];
+    tf[d] = yp[d] - ym[d];
+  }
+  const PetscReal nw = PetscSqrtReal(tw[0] * tw[0] + tw[1] * tw[1] + tw[2] * tw[2]), nf = PetscSqrtReal(tf[0] * tf[0] + tf[1] * tf[1] + tf[2] * tf[2]);
+  const PetscReal s = (tw[0] * tf[0] + tw[1] * tf[1] + tw[2] * tf[2]) / (nw * nf), tmin = PetscMin(nw, nf);
+  /* |E''| |grad s|_a sum_b |grad s|_b + |E'| |hess s| row: (Ks+Kj)(4 + 12|s|)/tmin^2 */
+  return (p->Ks + p->Kj) * (4.0 + 12.0 * PetscAbsReal(s)) / (tmin * tmin);
+}
+
+PetscReal StableOmega2(const Patch *p, const PetscReal *x, const PetscReal *inv_m, PetscReal window, int pull_dir, PetscReal *omega2_pull)
+{
+  PetscReal omega2 = 0.0, pull2 = 0.0;
+
+  for (PetscInt j = p->ys; j < p->ys + p->ym; j++) {
+    for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
+      const PetscReal im = inv_m[(j - p->ys) * p->xm + (i - p->xs)];
+      PetscReal       rs = 0.0, rp = 0.0;
+      if (im <= 0.0) continue;
+      /* traction: a spring adds 2 max(dT/de / L0, T/L) to each end's row */
+      for (int dir = 0; dir < 2; dir++) {
+        const YarnLaw *law = dir == 0 ? p->warp : p->weft;
+        const PetscReal L0 = dir == 0 ? p->ax : p->ay;
+        for (int side = -1; side <= 0; side++) {
+          const PetscInt ia = i + (dir == 0 ? side : 0), ja = j + (dir == 1 ? side : 0);
+          const Chord    c  = ChordAt(p, x, ia, ja, dir);
+          if (!c.alive || !p->traction) continue;
+          const PetscReal e = c.L / L0 - 1.0, T = ChordTension(law, e);
+          const PetscReal k = 2.0 * PetscMax(ChordTangentMax(law, e - window, e + window) / L0, PetscAbsReal(T) / c.L);
+          rs += k;
+          if (dir == pull_dir) rp += k;
+        }
+      }
+      /* bending: centre c in {p-1, p, p+1}; row sums 12, 24, 12 times kb / Lmin^2 */
+      if (p->bending) {
+        for (int dir = 0; dir < 2; dir++) {
+          const PetscReal kb = dir == 0 ? p->kbx : p->kby;
+          for (int k = -1; k <= 1; k++) {
+            const PetscInt ic = i + (dir == 0 ? k : 0), jc = j + (dir == 1 ? k : 0);
+            const Chord    c1 = ChordAt(p, x, ic - (dir == 0), jc - (dir == 1), dir), c2 = ChordAt(p, x, ic, jc, dir);
+            if (!c1.alive || !c2.alive) continue;
+            const PetscReal Lmin = PetscMin(c1.L, c2.L);
+            rs += kb * (k == 0 ? 24.0 : 12.0) / (Lmin * Lmin);
+          }
+        }
+      }
+      /* shear: the crossings that involve this point */
+      if (p->shear) {
+        rs += ShearRowBound(p, x, i - 1, j) + ShearRowBound(p, x, i + 1, j) + ShearRowBound(p, x, i, j - 1) + ShearRowBound(p, x, i, j + 1);
+        if (!ExistsG(p, i - 1, j) || !ExistsG(p, i + 1, j) || !ExistsG(p, i, j - 1) || !ExistsG(p, i, j + 1)) rs += ShearRowBound(p, x, i, j);
+      }
+      omega2 = PetscMax(omega2, rs * im);
+      pull2  = PetscMax(pull2, rp * im);
+    }
+  }
+  *omega2_pull = pull2;
+  return omega2;
+}

@@ -1,0 +1,196 @@
+/* material.c - yarn laws: the tabulated yarn law's fast form and the tangent bound.
+ *
+ * A tabulated law is a CSV file with the header "strain_pct,force_cN" and rows of
+ * yarn strain (%) and yarn force (cN), starting at 0,0 with strictly increasing
+ * strain. It is interpolated with GSL's Steffen spline (monotone between the data,
+ * no overshoot), extended linearly past the last row, and resampled at load time
+ * on YARN_TABLE_NODES uniform nodes (value and slope) for an O(1) cubic Hermite
+ * evaluation in the force kernel (see material.h).
+ */
+#include "material.h"
+
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_interp.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+/* Read the CSV into SI arrays: yarn strain (-) and force (N). */
+static PetscErrorCode ReadYarnCSV(MPI_Comm comm, const YarnLaw *y, PetscInt *n, double **strain, double **force)
+{
+  FILE    *fp;
+  char     line[512];
+  PetscInt cap = 64, count = 0, lineno = 0;
+  PetscBool header = PETSC_FALSE;
+
+  PetscFunctionBeginUser;
+  fp = fopen(y->csv, "r");
+  PetscCheck(fp, comm, PETSC_ERR_FILE_OPEN, "-%s_law_csv %s: cannot open the yarn law file", y->name, y->csv);
+  PetscCall(PetscMalloc2(cap, strain, cap, force));
+  while (fgets(line, sizeof line, fp)) {
+    char  *p = line, *end;
+    double s, f;
+    lineno++;
+    while (*p == ' ' || *p == '\t') p++;
+    if (*p == '#' || *p == '\n' || *p == '\r' || *p == 0) continue;
+    if (!header) {
+      char *q = p;
+      while (*q && *q != '\n' && *q != '\r') q++;
+      *q = 0;
+      if (strcmp(p, "strain_pct,force_cN")) {
+        fclose(fp);
+        SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED, "-%s_law_csv %s line %" PetscInt_FMT ": expected the header 'strain_pct,force_cN', found '%s'", y->name, y->csv, lineno, p);
+      }
+      header = PETSC_TRUE;
+      continue;
+    }
+    s = strtod(p, &end);
+    if (end == p || *end != ',') {
+      fclose(fp);
+      SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED, "-%s_law_csv %s line %" PetscInt_FMT ": expected 'strain_pct,force_cN' numbers", y->name, y->csv, lineno);
+    }
+    p = end + 1;
+    f = strtod(p, &end);
+    while (*end == ' ' || *end == '\t' || *end == '\r' || *end == '\n') end++;
+    if (end == p || *end != 0 || !isfinite(s) || !isfinite(f)) {
+      fclose(fp);
+      SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED, "-%s_law_csv %s line %" PetscInt_FMT ": expected two finite numbers 'strain_pct,force_cN'", y->name, y->csv, lineno);
+    }
+    if (count == 0 && (s != 0.0 || f != 0.0)) {
+      fclose(fp);
+      SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED, "-%s_law_csv %s line %" PetscInt_FMT ": the first row must be 0,0 (no force at zero yarn strain), found %g,%g", y->name, y->csv, lineno, s, f);
+    }
+    if (count > 0 && !(s > 100.0 * (*strain)[count - 1])) {
+      fclose(fp);
+      SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED, "-%s_law_csv %s line %" PetscInt_FMT ": strain %g %% does not increase", y->name, y->csv, lineno, s);
+    }
+    if (count == cap) {
+      double *s2, *f2;
+      PetscCall(PetscMalloc2(2 * cap, &s2, 2 * cap, &f2));
+      PetscCall(PetscArraycpy(s2, *strain, count));
+      PetscCall(PetscArraycpy(f2, *force, count));
+      PetscCall(PetscFree2(*strain, *force));
+      *strain = s2;
+      *force  = f2;
+      cap *= 2;
+    }
+    (*strain)[count] = s / 100.0;
+    (*force)[count]  = f / 100.0;
+    count++;
+  }
+  fclose(fp);
+  PetscCheck(header, comm, PETSC_ERR_FILE_UNEXPECTED, "-%s_law_csv %s: empty file (expected the header 'strain_pct,force_cN' and rows)", y->name, y->csv);
+  PetscCheck(count >= 3, comm, PETSC_ERR_FILE_UNEXPECTED, "-%s_law_csv %s: %" PetscInt_FMT " rows, the spline needs at least 3", y->name, y->csv, count);
+  *n = count;
+  PetscFunctionReturn(0);
+}
+
+/* slope of the cubic Hermite of cell k at t in [0,1] */
+static PetscReal HermiteSlope(const YarnLaw *y, PetscInt k, PetscReal t)
+{
+  const PetscReal h = y->tab_h;
+  return 6.0 * t * (1.0 - t) * (y->tab_T[k + 1] - y->tab_T[k]) / h + (1.0 - 4.0 * t + 3.0 * t * t) * y->tab_dT[k] + (3.0 * t * t - 2.0 * t) * y->tab_dT[k + 1];
+}
+
+static PetscErrorCode BuildTable(MPI_Comm comm, YarnLaw *y)
+{
+  PetscInt     n, N = YARN_TABLE_NODES, ncell = N - 1;
+  double      *es, *fs;
+  gsl_interp  *interp;
+  gsl_interp_accel *acc;
+
+  PetscFunctionBeginUser;
+  PetscCall(ReadYarnCSV(comm, y, &n, &es, &fs));
+  gsl_set_error_handler_off();
+  interp = gsl_interp_alloc(gsl_interp_steffen, (size_t)n);
+  acc    = gsl_interp_accel_alloc();
+  PetscCheck(interp && acc, comm, PETSC_ERR_MEM, "GSL could not allocate the spline of %s", y->csv);
+  PetscCheck(!gsl_interp_init(interp, es, fs, (size_t)n), comm, PETSC_ERR_FILE_UNEXPECTED, "-%s_law_csv %s: GSL could not build the Steffen spline", y->name, y->csv);
+  y->ntab      = N;
+  y->tab_end   = es[n - 1];
+  y->tab_h     = y->tab_end / (PetscReal)ncell;
+  y->tab_inv_h = 1.0 / y->tab_h;
+  PetscCall(PetscMalloc2(N, &y->tab_T, N, &y->tab_dT));
+  for (PetscInt k = 0; k < N; k++) {
+    double e = PetscMin(k * y->tab_h, es[n - 1]);
+    y->tab_T[k]  = gsl_interp_eval(interp, es, fs, e, acc);
+    y->tab_dT[k] = gsl_interp_eval_deriv(interp, es, fs, e, acc);
+  }
+  gsl_interp_accel_free(acc);
+  gsl_interp_free(interp);
+  PetscCall(PetscFree2(es, fs));
+
+  /* range-max (sparse) table of the slope per cell, for ChordTangentMax */
+  y->nlev = 1;
+  while ((1 << y->nlev) <= ncell) y->nlev++;
+  PetscCall(PetscMalloc1(y->nlev, &y->tab_slope_max));
+  PetscCall(PetscMalloc1(ncell, &y->tab_slope_max[0]));
+  y->EA = 0.0;
+  for (PetscInt k = 0; k < ncell; k++) {
+    PetscReal m = 0.0;
+    for (int q = 0; q <= 4; q++) m = PetscMax(m, PetscAbsReal(HermiteSlope(y, k, 0.25 * q)));
+    y->tab_slope_max[0][k] = m;
+    y->EA                  = PetscMax(y->EA, m);
+  }
+  for (PetscInt l = 1; l < y->nlev; l++) {
+    PetscInt w = 1 << l;
+    PetscCall(PetscMalloc1(ncell - w + 1, &y->tab_slope_max[l]));
+    for (PetscInt k = 0; k + w <= ncell; k++) y->tab_slope_max[l][k] = PetscMax(y->tab_slope_max[l - 1][k], y->tab_slope_max[l - 1][k + w / 2]);
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode YarnLawSetUp(YarnLaw *y, MPI_Comm comm)
+{
+  PetscFunctionBeginUser;
+  y->mu      = y->tex * 1e-6;
+  y->break_e = y->break_ey > 0.0 ? y->crimp + y->break_ey * (1.0 + y->crimp) : INFINITY;
+  if (y->csv[0]) PetscCall(BuildTable(comm, y));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode YarnLawDestroy(YarnLaw *y)
+{
+  PetscFunctionBeginUser;
+  if (y->ntab) {
+    PetscCall(PetscFree2(y->tab_T, y->tab_dT));
+    for (PetscInt l = 0; l < y->nlev; l++) PetscCall(PetscFree(y->tab_slope_max[l]));
+    PetscCall(PetscFree(y->tab_slope_max));
+    y->ntab = 0;
+  }
+  PetscFunctionReturn(0);
+}
+
+/* largest dTyarn/dey over yarn strains [lo, hi], lo >= 0 */
+static PetscReal YarnSlopeMax(const YarnLaw *y, PetscReal lo, PetscReal hi)
+{
+  PetscInt  ncell = y->ntab - 1, k0, k1;
+  PetscReal m     = 0.0;
+
+  if (!y->ntab) return y->EA;
+  if (hi >= y->tab_end) m = y->tab_dT[y->ntab - 1]; /* linear extension */
+  if (lo >= y->tab_end) return m;
+  k0 = (PetscInt)(lo * y->tab_inv_h);
+  k1 = PetscMin((PetscInt)(hi * y->tab_inv_h), ncell - 1);
+  if (k1 < k0) k1 = k0;
+  {
+    PetscInt len = k1 - k0 + 1, l = 0;
+    while ((2 << l) <= len) l++;
+    m = PetscMax(m, PetscMax(y->tab_slope_max[l][k0], y->tab_slope_max[l][k1 - (1 << l) + 1]));
+  }
+  return m;
+}
+
+PetscReal ChordTangentMax(const YarnLaw *y, PetscReal a, PetscReal b)
+{
+  const PetscReal c = y->crimp;
+  PetscReal       m = 0.0;
+
+  if (a <= 0.0) m = y->k_comp * y->EA;
+  if (a < c && b > 0.0) m = PetscMax(m, y->Ec);
+  if (b > c) {
+    PetscReal lo = (PetscMax(a, c) - c) / (1.0 + c), hi = (b - c) / (1.0 + c);
+    m = PetscMax(m, YarnSlopeMax(y, lo, hi) / (1.0 + c));
+  }
+  return m;
+}

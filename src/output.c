@@ -1,0 +1,150 @@
+/* output.c - everything the run writes: curve.csv, summary.json, progress, positions.
+ *
+ * Rank 0 writes the small text files; curve.csv gets one row per load step as the run
+ * goes (flushed, so a long run can be watched). Nothing is created before the scene
+ * has been read and checked, so bad input leaves no output behind.
+ */
+#include "fabric.h"
+
+#include <errno.h>
+#include <string.h>
+#include <sys/stat.h>
+
+/* mkdir -p */
+static int MakeDirs(const char *path)
+{
+  char buf[PETSC_MAX_PATH_LEN];
+  size_t n = strlen(path);
+  if (n == 0 || n >= sizeof buf) return -1;
+  memcpy(buf, path, n + 1);
+  for (char *p = buf + 1; *p; p++) {
+    if (*p != '/') continue;
+    *p = 0;
+    if (mkdir(buf, 0755) && errno != EEXIST) return -1;
+    *p = '/';
+  }
+  if (mkdir(buf, 0755) && errno != EEXIST) return -1;
+  return 0;
+}
+
+PetscErrorCode OutputOpen(Fabric fab)
+{
+  const char *dir = fab->s.output_dir;
+  int         ok  = 1;
+
+  PetscFunctionBeginUser;
+  if (!dir[0]) PetscFunctionReturn(0);
+  if (fab->rank == 0) {
+    char file[PETSC_MAX_PATH_LEN];
+    ok = MakeDirs(dir) == 0;
+    if (ok) {
+      PetscCall(PetscSNPrintf(file, sizeof file, "%s/curve.csv", dir));
+      fab->curve_fp = fopen(file, "w");
+      ok            = fab->curve_fp != NULL;
+      if (ok) {
+        fprintf(fab->curve_fp, "load_step,time_s,elongation_pct,force_N,inner_steps,residual\n");
+        fflush(fab->curve_fp);
+      }
+    }
+  }
+  PetscCallMPI(MPI_Bcast(&ok, 1, MPI_INT, 0, fab->comm));
+  PetscCheck(ok, fab->comm, PETSC_ERR_FILE_OPEN, "-output_dir %s: cannot create the directory or write curve.csv in it", dir);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode OutputCurveRow(Fabric fab, const CurveRow *r)
+{
+  PetscFunctionBeginUser;
+  if (!fab->curve_fp) PetscFunctionReturn(0);
+  PetscCall(PetscLogEventBegin(EV_Output, 0, 0, 0, 0));
+  fprintf(fab->curve_fp, "%" PetscInt_FMT ",%.9g,%.9g,%.9g,%" PetscInt_FMT ",%.6e\n", r->load_step, (double)r->time, (double)(100.0 * r->elongation), (double)r->force, r->inner_steps, (double)r->residual);
+  fflush(fab->curve_fp);
+  PetscCall(PetscLogEventEnd(EV_Output, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode OutputProgress(Fabric fab, const CurveRow *r)
+{
+  const PetscInt  K   = fab->s.load_steps;
+  const PetscReal eta = fab->wall / r->load_step * (K - r->load_step);
+
+  PetscFunctionBeginUser;
+  if (fab->s.quiet) PetscFunctionReturn(0);
+  PetscCall(PetscPrintf(fab->comm, "load step %4" PetscInt_FMT "/%" PetscInt_FMT "  elongation %7.3f %%  force %10.4f N  N' %6" PetscInt_FMT "%s  residual %.2e  te %.3g s  elapsed %.1f s  ETA %.1f s\n", r->load_step, K, (double)(100.0 * r->elongation), (double)r->force, r->inner_steps, r->balanced ? " " : "*", (double)r->residual, (double)fab->te, (double)fab->wall, (double)eta));
+  PetscFunctionReturn(0);
+}
+
+static void JsonString(FILE *fp, const char *s)
+{
+  fputc('"', fp);
+  for (; *s; s++) {
+    if (*s == '"' || *s == '\\') fputc('\\', fp);
+    if (*s == '\n') {
+      fputs("\\n", fp);
+      continue;
+    }
+    fputc(*s, fp);
+  }
+  fputc('"', fp);
+}
+
+/* summary.json: written at the end of a run, or with "error" when a run stops on an error */
+PetscErrorCode OutputSummary(Fabric fab, const char *error)
+{
+  const Scene *s = &fab->s;
+  char         file[PETSC_MAX_PATH_LEN], tmp[PETSC_MAX_PATH_LEN];
+  FILE        *fp;
+  PetscReal    peak = 0;
+  PetscInt     done = 0;
+
+  PetscFunctionBeginUser;
+  if (!s->output_dir[0] || fab->rank != 0) PetscFunctionReturn(0);
+  for (PetscInt k = 0; k < s->load_steps; k++)
+    if (fab->curve[k].load_step) {
+      peak = PetscMax(peak, fab->curve[k].force);
+      done++;
+    }
+  PetscCall(PetscSNPrintf(file, sizeof file, "%s/summary.json", s->output_dir));
+  PetscCall(PetscSNPrintf(tmp, sizeof tmp, "%s/.summary.json.tmp", s->output_dir));
+  fp = fopen(tmp, "w");
+  PetscCheck(fp, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "-output_dir %s: cannot write summary.json", s->output_dir);
+  fprintf(fp, "{\n  \"scene\": ");
+  JsonString(fp, s->name);
+  fprintf(fp, ",\n  \"ranks\": %d,\n  \"grid\": [%" PetscInt_FMT ", %" PetscInt_FMT "],\n  \"points\": %" PetscInt_FMT ",\n", fab->size, s->nx, s->ny, fab->points);
+  fprintf(fp, "  \"integrator\": \"%s\",\n  \"predict\": \"%s\",\n  \"early_exit\": %s,\n", IntegratorNames[s->integrator], PredictNames[s->predict], s->early_exit ? "true" : "false");
+  fprintf(fp, "  \"te_s\": %.6e,\n  \"te_bound_s\": %.6e,\n  \"load_steps\": %" PetscInt_FMT ",\n  \"load_steps_done\": %" PetscInt_FMT ",\n", (double)fab->te, (double)fab->te_bound, s->load_steps, done);
+  fprintf(fp, "  \"te_steps\": %" PetscInt64_FMT ",\n  \"point_updates\": %" PetscInt64_FMT ",\n  \"wall_s\": %.6f,\n  \"point_updates_per_s\": %.6e,\n", fab->te_steps, fab->point_updates, (double)fab->wall, fab->wall > 0 ? (double)fab->point_updates / fab->wall : 0.0);
+  fprintf(fp, "  \"gauge_mm\": %.6g,\n  \"width_mm\": %.6g,\n  \"peak_force_N\": %.9g,\n", (double)(s->gauge * 1e3), (double)(s->width * 1e3), (double)peak);
+  fprintf(fp, "  \"converged\": %s", (fab->converged && !error && done == s->load_steps) ? "true" : "false");
+  if (error) {
+    fprintf(fp, ",\n  \"error\": ");
+    JsonString(fp, error);
+  }
+  fprintf(fp, "\n}\n");
+  fclose(fp);
+  PetscCheck(!rename(tmp, file), PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "-output_dir %s: cannot rename summary.json into place", s->output_dir);
+  PetscFunctionReturn(0);
+}
+
+/* final positions in natural (i fastest) order, PETSc binary: the rank-independence test */
+PetscErrorCode OutputPositions(Fabric fab, const char *file)
+{
+  Vec         N;
+  PetscViewer v;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(EV_Output, 0, 0, 0, 0));
+  PetscCall(DMDACreateNaturalVector(fab->da, &N));
+  PetscCall(DMDAGlobalToNaturalBegin(fab->da, fab->X, INSERT_VALUES, N));
+  PetscCall(DMDAGlobalToNaturalEnd(fab->da, fab->X, INSERT_VALUES, N));
+  PetscCall(PetscViewerCreate(fab->comm, &v));
+  PetscCall(PetscViewerSetType(v, PETSCVIEWERBINARY));
+  PetscCall(PetscViewerBinarySetSkipInfo(v, PETSC_TRUE));
+  PetscCall(PetscViewerFileSetMode(v, FILE_MODE_WRITE));
+  PetscCall(PetscViewerFileSetName(v, file));
+  PetscCall(VecView(N, v));
+  PetscCall(PetscViewerDestroy(&v));
+  PetscCall(VecDestroy(&N));
+  PetscCall(PetscLogEventEnd(EV_Output, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}

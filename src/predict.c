@@ -1,0 +1,119 @@
+/* predict.c - displacement prediction at the start of each load step (MODEL.md 10).
+ *
+ * linear: with d0 the graph distance to the nearest clamped point and d1 to the nearest
+ *   grip point, a free point moves by d0/(d0+d1) times the grip step (the paper's
+ *   1/5 X, 2/5 X, ... for a strip of 5 rows).
+ * extrapolate: a free point moves by its converged increment of the previous load step,
+ *   scaled by the ratio of the grip steps (the first load step falls back to linear).
+ * Distances are integers on the grid graph through existing points, computed by local
+ * forward/backward sweeps and halo exchanges until no rank changes (a max-reduction),
+ * so they are exact and the same on any number of ranks.
+ */
+#include "fabric.h"
+
+#define DIST_INF 1e30
+
+PetscErrorCode PredictSetUp(Fabric fab)
+{
+  const Patch  *p = &fab->patch;
+  Vec           D, Dl;
+  PetscScalar ***d;
+  PetscReal     changed;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(EV_Predict, 0, 0, 0, 0));
+  PetscCall(DMCreateGlobalVector(fab->da2, &D));
+  PetscCall(DMCreateLocalVector(fab->da2, &Dl));
+  PetscCall(DMDAVecGetArrayDOF(fab->da2, D, &d));
+  for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
+    for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
+      const PetscInt k = (j - p->ys) * p->xm + (i - p->xs);
+      const int      e = p->exists[(j - p->gys) * p->gxm + (i - p->gxs)];
+      d[j][i][0]       = (e && fab->kind[k] == POINT_CLAMPED) ? 0.0 : DIST_INF;
+      d[j][i][1]       = (e && fab->kind[k] == POINT_GRIP) ? 0.0 : DIST_INF;
+    }
+  PetscCall(DMDAVecRestoreArrayDOF(fab->da2, D, &d));
+  do {
+    changed = 0;
+    PetscCall(DMGlobalToLocalBegin(fab->da2, D, INSERT_VALUES, Dl));
+    PetscCall(DMGlobalToLocalEnd(fab->da2, D, INSERT_VALUES, Dl));
+    PetscCall(DMDAVecGetArrayDOF(fab->da2, Dl, &d));
+    for (int pass = 0; pass < 2; pass++) {
+      const int step = pass == 0 ? 1 : -1; /* forward sweep looks left/down, backward right/up */
+      for (PetscInt jj = 0; jj < p->ym; jj++) {
+        const PetscInt j = pass == 0 ? p->ys + jj : p->ys + p->ym - 1 - jj;
+        for (PetscInt ii = 0; ii < p->xm; ii++) {
+          const PetscInt i = pass == 0 ? p->xs + ii : p->xs + p->xm - 1 - ii;
+          const PetscInt in = i - step, jn = j - step;
+          if (!p->exists[(j - p->gys) * p->gxm + (i - p->gxs)]) continue;
+          for (int c = 0; c < 2; c++) {
+            PetscReal best = d[j][i][c];
+            if (in >= p->gxs && in < p->gxs + p->gxm && p->exists[(j - p->gys) * p->gxm + (in - p->gxs)]) best = PetscMin(best, d[j][in][c] + 1);
+            if (jn >= p->gys && jn < p->gys + p->gym && p->exists[(jn - p->gys) * p->gxm + (i - p->gxs)]) best = PetscMin(best, d[jn][i][c] + 1);
+            if (best < d[j][i][c]) {
+              d[j][i][c] = best;
+              changed    = 1;
+            }
+          }
+        }
+      }
+    }
+    PetscCall(DMDAVecRestoreArrayDOF(fab->da2, Dl, &d));
+    PetscCall(DMLocalToGlobalBegin(fab->da2, Dl, INSERT_VALUES, D));
+    PetscCall(DMLocalToGlobalEnd(fab->da2, Dl, INSERT_VALUES, D));
+    PetscCall(GlobalMax(fab->comm, &changed, 1));
+  } while (changed > 0);
+
+  PetscCall(DMDAVecGetArrayDOF(fab->da2, D, &d));
+  for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
+    for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
+      const PetscInt  k = (j - p->ys) * p->xm + (i - p->xs);
+      const PetscReal d0 = d[j][i][0], d1 = d[j][i][1];
+      if (d1 >= DIST_INF) fab->predict_w[k] = 0.0;      /* no grip reaches it */
+      else if (d0 >= DIST_INF) fab->predict_w[k] = 1.0; /* moves with the grips */
+      else fab->predict_w[k] = d0 / (d0 + d1);
+    }
+  PetscCall(DMDAVecRestoreArrayDOF(fab->da2, D, &d));
+  PetscCall(VecDestroy(&Dl));
+  PetscCall(VecDestroy(&D));
+  PetscCall(PetscLogEventEnd(EV_Predict, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+/* Move the free points at the start of a load step whose grips move by grip_step (m). */
+PetscErrorCode PredictLoadStep(Fabric fab, PetscReal grip_step)
+{
+  const Scene *s = &fab->s;
+  PetscScalar *x, *xold = NULL;
+  const PetscScalar *a = NULL, *b = NULL;
+  PetscBool    extrapolate = (s->predict == PREDICT_EXTRAPOLATE && fab->Xconv_prev && fab->grip_step_prev != 0) ? PETSC_TRUE : PETSC_FALSE;
+
+  PetscFunctionBeginUser;
+  if (s->predict == PREDICT_NONE || grip_step == 0) PetscFunctionReturn(0);
+  PetscCall(PetscLogEventBegin(EV_Predict, 0, 0, 0, 0));
+  PetscCall(VecGetArray(fab->X, &x));
+  if (fab->Xold) PetscCall(VecGetArray(fab->Xold, &xold));
+  if (extrapolate) {
+    PetscCall(VecGetArrayRead(fab->Xconv, &a));
+    PetscCall(VecGetArrayRead(fab->Xconv_prev, &b));
+  }
+  {
+    const PetscReal ratio = extrapolate ? grip_step / fab->grip_step_prev : 0.0;
+    for (PetscInt k = 0; k < fab->nloc; k++) {
+      if (fab->kind[k] != POINT_FREE) continue;
+      for (int d = 0; d < 3; d++) {
+        const PetscReal du = extrapolate ? ratio * (a[3 * k + d] - b[3 * k + d]) : fab->predict_w[k] * grip_step * fab->pull_dir[d];
+        x[3 * k + d] += du;
+        if (xold) xold[3 * k + d] += du;
+      }
+    }
+  }
+  if (extrapolate) {
+    PetscCall(VecRestoreArrayRead(fab->Xconv, &a));
+    PetscCall(VecRestoreArrayRead(fab->Xconv_prev, &b));
+  }
+  if (xold) PetscCall(VecRestoreArray(fab->Xold, &xold));
+  PetscCall(VecRestoreArray(fab->X, &x));
+  PetscCall(PetscLogEventEnd(EV_Predict, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}

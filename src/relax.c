@@ -1,0 +1,149 @@
+/* relax.c - the load program: multi-sampling with early exit (MODEL.md 6, 8).
+ *
+ * External conditions are constant during a load step (Te = N te). At its start the
+ * grips move and the prediction moves the free points; then te steps run until the
+ * global balance test passes (modified multi-sampling, -early_exit 1) or N steps
+ * have run. The measured response is the reaction on the grips.
+ */
+#include "fabric.h"
+
+#include <math.h>
+
+#define MAX_BREAK_ROUNDS 1000 /* re-relaxations of one load step after yarns broke */
+
+/* Break the yarn segments strained past their breaking strain (all ranks agree). */
+static PetscErrorCode CheckBreaks(Fabric fab, PetscReal *broke)
+{
+  const PetscScalar *xl;
+
+  PetscFunctionBeginUser;
+  *broke = 0;
+  if (!isfinite(fab->s.warp.break_e) && !isfinite(fab->s.weft.break_e)) PetscFunctionReturn(0);
+  PetscCall(HaloExchange(fab));
+  PetscCall(VecGetArrayRead(fab->Xl, &xl));
+  *broke = (PetscReal)BreakSegments(&fab->patch, xl);
+  PetscCall(VecRestoreArrayRead(fab->Xl, &xl));
+  PetscCall(GlobalMax(fab->comm, broke, 1));
+  fab->broken_any = fab->broken_any || *broke > 0;
+  PetscFunctionReturn(0);
+}
+
+/* Reaction on the moving jaw: minus the sum of the internal forces on the grip points,
+   projected on the pull direction (positive in tension). */
+PetscErrorCode GripReaction(Fabric fab, PetscReal *force)
+{
+  const PetscScalar *f;
+  PetscReal          tension_max, sum = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(ComputeForces(fab, &tension_max));
+  PetscCall(VecGetArrayRead(fab->F, &f));
+  for (PetscInt k = 0; k < fab->nloc; k++)
+    if (fab->kind[k] == POINT_GRIP) sum -= f[3 * k] * fab->pull_dir[0] + f[3 * k + 1] * fab->pull_dir[1] + f[3 * k + 2] * fab->pull_dir[2];
+  PetscCall(VecRestoreArrayRead(fab->F, &f));
+  PetscCall(GlobalSum(fab->comm, &sum, 1));
+  *force = sum;
+  PetscFunctionReturn(0);
+}
+
+/* Load step k of K: move the grips, predict, take the stable step. */
+PetscErrorCode ApplyLoadStep(Fabric fab, PetscInt k)
+{
+  const Scene    *s      = &fab->s;
+  const PetscReal lambda = (PetscReal)k / (PetscReal)s->load_steps;
+  const PetscReal disp   = lambda * s->elongation * s->gauge, step = disp - fab->grip_disp;
+  PetscScalar    *x, *xold = NULL;
+
+  PetscFunctionBeginUser;
+  fab->load_step   = k;
+  fab->load_factor = lambda;
+  PetscCall(VecGetArray(fab->X, &x));
+  if (fab->Xold) PetscCall(VecGetArray(fab->Xold, &xold));
+  for (PetscInt q = 0; q < fab->nloc; q++) {
+    if (fab->kind[q] != POINT_GRIP) continue;
+    for (int d = 0; d < 3; d++) {
+      x[3 * q + d] += step * fab->pull_dir[d];
+      if (xold) xold[3 * q + d] += step * fab->pull_dir[d];
+    }
+  }
+  if (xold) PetscCall(VecRestoreArray(fab->Xold, &xold));
+  PetscCall(VecRestoreArray(fab->X, &x));
+  PetscCall(PredictLoadStep(fab, step));
+  fab->grip_disp      = disp;
+  fab->grip_step_prev = step;
+  PetscCall(StableStep(fab));
+  PetscFunctionReturn(0);
+}
+
+/* Relax the current load step: te steps until balance (early exit) or max_inner_steps. */
+PetscErrorCode RelaxLoadStep(Fabric fab, CurveRow *row)
+{
+  const Scene *s = &fab->s;
+  StepStats    st = {0};
+  PetscInt     n;
+
+  PetscFunctionBeginUser;
+  row->inner_steps = 0;
+  for (PetscInt round = 0;; round++) {
+    PetscReal broke;
+    for (n = 1; n <= s->max_inner_steps; n++) {
+      PetscCall(TimeStep(fab, &st));
+      if (s->early_exit && st.balanced) break;
+    }
+    row->inner_steps += PetscMin(n, s->max_inner_steps);
+    /* yarns break on the balanced (quasi-static) state only: the strains of the relaxation
+       transient are artefacts of the load stepping. If one broke, relax this step again. */
+    if (!st.balanced) break;
+    PetscCall(CheckBreaks(fab, &broke));
+    if (!broke || round >= MAX_BREAK_ROUNDS) break;
+  }
+  row->load_step   = fab->load_step;
+  row->residual    = st.residual;
+  row->balanced    = st.balanced;
+  row->elongation  = fab->grip_disp / s->gauge;
+  row->time        = fab->grip_disp / s->speed;
+  PetscCall(GripReaction(fab, &row->force));
+  PetscFunctionReturn(0);
+}
+
+/* remember the converged state of the last two load steps (extrapolating prediction) */
+static PetscErrorCode KeepConverged(Fabric fab)
+{
+  Vec t;
+
+  PetscFunctionBeginUser;
+  if (fab->s.predict != PREDICT_EXTRAPOLATE) PetscFunctionReturn(0);
+  if (!fab->Xconv) {
+    PetscCall(VecDuplicate(fab->X, &fab->Xconv));
+    PetscCall(VecCopy(fab->X0, fab->Xconv));
+  }
+  if (!fab->Xconv_prev) PetscCall(VecDuplicate(fab->X, &fab->Xconv_prev));
+  t               = fab->Xconv_prev;
+  fab->Xconv_prev = fab->Xconv;
+  fab->Xconv      = t;
+  PetscCall(VecCopy(fab->X, fab->Xconv));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FabricRun(Fabric fab)
+{
+  const Scene *s = &fab->s;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscTime(&fab->wall_start));
+  PetscCall(OutputOpen(fab));
+  for (PetscInt k = 1; k <= s->load_steps; k++) {
+    CurveRow *row = &fab->curve[k - 1];
+    PetscCall(ApplyLoadStep(fab, k));
+    PetscCall(RelaxLoadStep(fab, row));
+    if (!row->balanced) fab->converged = PETSC_FALSE;
+    PetscCall(KeepConverged(fab));
+    PetscCall(PetscTime(&fab->wall));
+    fab->wall -= fab->wall_start;
+    PetscCall(OutputCurveRow(fab, row));
+    PetscCall(OutputProgress(fab, row));
+  }
+  PetscCall(OutputSummary(fab, NULL));
+  if (s->positions_out[0]) PetscCall(OutputPositions(fab, s->positions_out));
+  PetscFunctionReturn(0);
+}
