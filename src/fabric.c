@@ -44,12 +44,32 @@ static PointKind KindOf(const Scene *s, PetscInt i, PetscInt j)
   return POINT_FREE;
 }
 
+/* m x n = size ranks with at least 2 crossings per rank along each split direction (the
+   stencil width), patches as square as possible; m = 0 if there is none. */
+static PetscErrorCode RankGrid(PetscInt nx, PetscInt ny, PetscMPIInt size, PetscInt *m, PetscInt *n)
+{
+  PetscReal best = PETSC_MAX_REAL;
+
+  PetscFunctionBeginUser;
+  *m = *n = 0;
+  for (PetscInt a = 1; a <= size; a++) {
+    const PetscInt b = size / a;
+    if (size % a || (a > 1 && nx / a < 2) || (b > 1 && ny / b < 2)) continue;
+    const PetscReal perimeter = (PetscReal)nx / a + (PetscReal)ny / b;
+    if (perimeter < best) {
+      best = perimeter;
+      *m   = a;
+      *n   = b;
+    }
+  }
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode FabricCreate(MPI_Comm comm, Fabric *out)
 {
   Fabric        fab;
   Scene        *s;
   DMDALocalInfo info;
-  PetscErrorCode ierr;
 
   PetscFunctionBeginUser;
   PetscCall(RegisterEvents());
@@ -60,13 +80,16 @@ PetscErrorCode FabricCreate(MPI_Comm comm, Fabric *out)
   s = &fab->s;
   PetscCall(SceneLoad(comm, s));
 
-  /* the DMDA; its own partition check gives a cryptic message, so check first */
-  PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
-  ierr = DMDACreate2d(comm, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, DMDA_STENCIL_BOX, s->nx, s->ny, PETSC_DECIDE, PETSC_DECIDE, 3, 2, NULL, NULL, &fab->da);
-  if (!ierr) ierr = DMSetFromOptions(fab->da);
-  if (!ierr) ierr = DMSetUp(fab->da);
-  PetscCall(PetscPopErrorHandler());
-  PetscCheck(!ierr, comm, PETSC_ERR_USER_INPUT, "grid too small: %" PetscInt_FMT " x %" PetscInt_FMT " crossings cannot be split over %d ranks (each rank needs at least 2 points per direction it is split along)", s->nx, s->ny, fab->size);
+  /* the DMDA: pick the rank grid here, since a patch narrower than the stencil makes the
+     DMDA fail on some ranks only (and the others wait forever) */
+  {
+    PetscInt m = 0, n = 0;
+    PetscCall(RankGrid(s->nx, s->ny, fab->size, &m, &n));
+    PetscCheck(m > 0, comm, PETSC_ERR_USER_INPUT, "grid too small: %" PetscInt_FMT " x %" PetscInt_FMT " crossings cannot be split over %d ranks (each rank needs at least 2 crossings along each direction the grid is split in); use fewer ranks", s->nx, s->ny, fab->size);
+    PetscCall(DMDACreate2d(comm, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, DMDA_STENCIL_BOX, s->nx, s->ny, m, n, 3, 2, NULL, NULL, &fab->da));
+    PetscCall(DMSetFromOptions(fab->da));
+    PetscCall(DMSetUp(fab->da));
+  }
   PetscCall(DMDASetFieldName(fab->da, 0, "x"));
   PetscCall(DMDASetFieldName(fab->da, 1, "y"));
   PetscCall(DMDASetFieldName(fab->da, 2, "z"));

@@ -6,22 +6,46 @@
  */
 #include "fabric.h"
 
+#include <string.h>
+
 static const char help[] = "fabric: woven-fabric mechanics at the yarn-crossing scale (explicit, MPI-parallel).\n"
                            "  mpiexec -n P fabric -scene inputs/strip_warp.yaml [-output_dir DIR] [options]\n"
                            "Any scene key can be overridden on the command line. Units are in the option names.\n\n";
 
-/* One clear line per error on the rank that reports it (rank 0 for collective errors). */
+/* PETSc's "Input string abc has no numeric value" does not say which option: find it. */
+static void NameTheOption(const char *mess, char *out, size_t len)
+{
+  const char *pre = "Input string ", *post = " has no numeric value";
+  char        value[256], *all = NULL;
+  size_t      lp = strlen(pre);
+
+  snprintf(out, len, "%s", mess);
+  if (strncmp(mess, pre, lp) || !strstr(mess, post)) return;
+  snprintf(value, sizeof value, "%.*s", (int)(strstr(mess, post) - mess - lp), mess + lp);
+  if (PetscOptionsGetAll(NULL, &all) || !all) return;
+  for (char *tok = strtok(all, " "), *prev = NULL; tok; prev = tok, tok = strtok(NULL, " "))
+    if (prev && prev[0] == '-' && !strcmp(tok, value)) {
+      snprintf(out, len, "%s %s: not a number", prev, value);
+      break;
+    }
+  PetscFree(all);
+}
+
+/* One clear line per error. Input errors are seen by every rank alike, so rank 0 says them;
+   other ranks speak only of errors that are theirs alone (memory, numerics, library). */
 static PetscErrorCode OneLineErrorHandler(MPI_Comm comm, int line, const char *fun, const char *file, PetscErrorCode n, PetscErrorType p, const char *mess, void *ctx)
 {
-  PetscMPIInt rank = 0;
-  (void)line;
-  (void)fun;
-  (void)file;
+  PetscMPIInt rank = 0, world = 0;
+  char        text[1024];
   (void)ctx;
   if (p != PETSC_ERROR_INITIAL) return n;
   if (comm != MPI_COMM_NULL) MPI_Comm_rank(comm, &rank);
-  if (rank == 0) {
-    if (mess && mess[0]) fprintf(stderr, "fabric: error: %s\n", mess);
+  MPI_Comm_rank(PETSC_COMM_WORLD, &world);
+  if (world == 0 || (rank == 0 && (n == PETSC_ERR_MEM || n == PETSC_ERR_PLIB || n == PETSC_ERR_LIB || n == PETSC_ERR_SYS))) {
+    if (mess && mess[0]) {
+      NameTheOption(mess, text, sizeof text);
+      fprintf(stderr, "fabric: error: %s\n", text);
+    }
     else {
       const char *text = NULL;
       PetscErrorMessage(n, &text, NULL);
@@ -55,7 +79,7 @@ static PetscErrorCode Run(int argc, char **argv)
     const char *text;
     char       *specific = NULL;
     PetscErrorMessage(ierr, &text, &specific);
-    OutputSummary(fab, specific && specific[0] ? specific : text);
+    if (fab->curve_fp) OutputSummary(fab, specific && specific[0] ? specific : text);
     FabricDestroy(&fab);
     return ierr;
   }

@@ -131,6 +131,7 @@ PetscErrorCode FabricRun(Fabric fab)
 
   PetscFunctionBeginUser;
   PetscCall(PetscTime(&fab->wall_start));
+  PetscCall(StableStep(fab)); /* refuses a -te above the bound before any output exists */
   PetscCall(OutputOpen(fab));
   for (PetscInt k = 1; k <= s->load_steps; k++) {
     CurveRow *row = &fab->curve[k - 1];

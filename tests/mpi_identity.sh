@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Results must not depend on the number of ranks (MODEL.md 13):
+#  1. positions after a fixed number of te steps (every force term on, out-of-plane load)
+#     are bit-identical on 1, 2 and 3 ranks (and on a 2 x 2 split of 4 ranks);
+#  2. with early exit, the inner step count N' of every load step is the same.
+set -u
+fabric="$1"; scene="$2"
+work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
+fixed=(-scene "$scene" -quiet -predict none -load_steps 2 -early_exit 0 -max_inner_steps 300 -point_load_N 0,0,0.02)
+early=(-scene "$scene" -quiet -predict none -gauge_mm 40 -width_mm 10 -load_steps 3 -elongation_pct 3 -balance_tol 1e-3 -point_load_N 0,0,0.005)
+fail=0
+run() { local np="$1"; shift; mpiexec -n "$np" "$fabric" "$@" || { echo "FAIL: run on $np ranks failed"; fail=1; }; }
+for np in 1 2 3; do
+  run "$np" "${fixed[@]}" -output_dir "$work/f$np" -positions_out "$work/pos$np.bin"
+  run "$np" "${early[@]}" -output_dir "$work/e$np"
+done
+run 4 "${fixed[@]}" -da_processors_x 2 -da_processors_y 2 -output_dir "$work/f4" -positions_out "$work/pos4.bin"
+for np in 2 3 4; do
+  if cmp -s "$work/pos1.bin" "$work/pos$np.bin"; then echo "PASS positions after 600 te steps: $np ranks == 1 rank (bit-identical)"
+  else echo "FAIL positions differ between 1 and $np ranks"; fail=1; fi
+done
+steps1="$(cut -d, -f5 "$work/e1/curve.csv" | tr '\n' ' ')"
+echo "inner steps per load step on 1 rank: $steps1"
+for np in 2 3; do
+  s="$(cut -d, -f5 "$work/e$np/curve.csv" | tr '\n' ' ')"
+  if [[ "$s" == "$steps1" ]]; then echo "PASS inner step counts with early exit: $np ranks == 1 rank"
+  else echo "FAIL inner step counts differ on $np ranks: $s"; fail=1; fi
+done
+exit $fail

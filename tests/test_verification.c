@@ -1,0 +1,258 @@
+/* test_verification.c - the verification cases of MODEL.md 12, each against an exact answer.
+ *
+ *   test_verification -case linear_strip|crimp_knee|wave_speed|transverse_load|
+ *                           stable_095|unstable_110|paper_parasitic
+ */
+#include "fabric.h"
+
+#include <math.h>
+
+static int failures = 0;
+
+/* assert |value - expected| <= tol_rel * |expected| and say what was compared */
+static void CheckRel(const char *what, double value, double expected, double tol_rel)
+{
+  double err = fabs(value - expected) / fabs(expected);
+  int    ok  = err <= tol_rel;
+  PetscPrintf(PETSC_COMM_WORLD, "%s %s: %.9g, expected %.9g, relative error %.3e (tolerance %.1e)\n", ok ? "PASS" : "FAIL", what, value, expected, err, tol_rel);
+  if (!ok) failures++;
+}
+
+static void CheckTrue(const char *what, int ok, double value)
+{
+  PetscPrintf(PETSC_COMM_WORLD, "%s %s (%.6g)\n", ok ? "PASS" : "FAIL", what, value);
+  if (!ok) failures++;
+}
+
+static PetscErrorCode NewFabric(const char *opts, Fabric *fab)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsClear(NULL));
+  PetscCall(PetscOptionsInsertString(NULL, opts));
+  PetscCall(FabricCreate(PETSC_COMM_WORLD, fab));
+  PetscFunctionReturn(0);
+}
+
+/* common: no gravity, linear yarn law, no output */
+#define BASE "-gravity 0,0,0 -output_dir none -quiet -warp_break_pct 0 -weft_break_pct 0 "
+/* one yarn along x, no crimp, tension linear through zero (compression ratio 1) */
+#define ONE_YARN BASE "-yarns 1 -gauge_mm 100 -warp_crimp_pct 0 -warp_compression_ratio 1 -bending 0 -shear 0 "
+
+/* Linear strip (no crimp): reaction = n_yarns * EA * strain, within 0.5 %. No prediction:
+   the damped relaxation has to find the balance itself. */
+static PetscErrorCode LinearStrip(void)
+{
+  Fabric fab;
+
+  PetscFunctionBeginUser;
+  PetscCall(NewFabric(BASE "-yarns 10 -gauge_mm 20 -warp_crimp_pct 0 -elongation_pct 2 -load_steps 4 -predict none -balance_tol 1e-7 -speed_tol 1e-7", &fab));
+  PetscCall(FabricRun(fab));
+  for (PetscInt q = 0; q < fab->s.load_steps; q++) {
+    const CurveRow *r = &fab->curve[q];
+    char            what[64];
+    PetscCall(PetscSNPrintf(what, sizeof what, "linear strip force at %.2f %% (N' %d)", (double)(100 * r->elongation), (int)r->inner_steps));
+    CheckRel(what, r->force, 10 * fab->s.warp.EA * r->elongation, 5e-3);
+  }
+  PetscCall(FabricDestroy(&fab));
+  PetscFunctionReturn(0);
+}
+
+/* Crimped strip: the knee of the force curve lies at chord strain = crimp. The two straight
+   parts of the curve are fitted through their first/last two points and intersected. */
+static PetscErrorCode CrimpKnee(void)
+{
+  Fabric    fab;
+  PetscReal s1, s2, e1, e2, f1, f2, knee;
+
+  PetscFunctionBeginUser;
+  PetscCall(NewFabric(BASE "-yarns 6 -gauge_mm 20 -warp_crimp_pct 8 -elongation_pct 16 -load_steps 16 -predict none -balance_tol 1e-7 -speed_tol 1e-7", &fab));
+  PetscCall(FabricRun(fab));
+  {
+    const CurveRow *c = fab->curve;
+    s1 = (c[2].force - c[1].force) / (c[2].elongation - c[1].elongation); /* 2-3 %: de-crimping */
+    s2 = (c[15].force - c[14].force) / (c[15].elongation - c[14].elongation); /* 15-16 %: extension */
+    e1 = c[1].elongation, f1 = c[1].force, e2 = c[14].elongation, f2 = c[14].force;
+  }
+  knee = (f2 - f1 + s1 * e1 - s2 * e2) / (s1 - s2);
+  CheckRel("knee of the crimped strip's curve (chord strain)", knee, 0.08, 1e-2);
+  CheckRel("de-crimping slope (N per unit strain)", s1, 6 * fab->s.warp.Ec, 5e-3);
+  CheckRel("extension slope (N per unit strain)", s2, 6 * fab->s.warp.EA / 1.08, 5e-3);
+  PetscCall(FabricDestroy(&fab));
+  PetscFunctionReturn(0);
+}
+
+/* displacement along the pull of point i of a single yarn, 1 rank */
+static PetscReal Ux(Fabric fab, PetscInt i)
+{
+  const PetscScalar *x, *x0;
+  PetscReal          u;
+  VecGetArrayRead(fab->X, &x);
+  VecGetArrayRead(fab->X0, &x0);
+  u = x[3 * i] - x0[3 * i];
+  VecRestoreArrayRead(fab->X0, &x0);
+  VecRestoreArrayRead(fab->X, &x);
+  return u;
+}
+
+/* Longitudinal wave along one yarn: speed L0 sqrt(k/m) = sqrt(EA/mu), within 2 %.
+   The grip end steps by D; the front reaches D/3 (the zero of the Airy front) at time
+   n L0 / c at n segments from the grip. Speed from the arrival times at two points. */
+static PetscErrorCode WaveSpeed(void)
+{
+  Fabric    fab;
+  PetscReal D, t1 = -1, t2 = -1, c_exact;
+  PetscInt  n1 = 60, n2 = 180, nx;
+
+  PetscFunctionBeginUser;
+  PetscCall(NewFabric(ONE_YARN "-elongation_pct 0.01 -load_steps 1 -damping_ratio 0 -predict none -early_exit 0", &fab));
+  nx = fab->s.nx;
+  PetscCall(ApplyLoadStep(fab, 1));
+  D = fab->grip_disp;
+  for (PetscInt n = 1; n <= 4 * nx && t2 < 0; n++) {
+    StepStats st;
+    PetscCall(TimeStep(fab, &st));
+    if (t1 < 0 && Ux(fab, nx - 1 - n1) >= D / 3) t1 = n * fab->te;
+    if (t2 < 0 && Ux(fab, nx - 1 - n2) >= D / 3) t2 = n * fab->te;
+  }
+  c_exact = PetscSqrtReal(fab->s.warp.EA / fab->s.warp.mu);
+  CheckRel("wave speed along one yarn (m/s)", (n2 - n1) * fab->patch.ax / (t2 - t1), c_exact, 2e-2);
+  PetscCall(FabricDestroy(&fab));
+  PetscFunctionReturn(0);
+}
+
+/* One yarn, ends fixed, no bending, transverse point load P at the middle (the slowest mode is
+   transverse, about 20x below the axial one the damping ratio refers to: zeta = 0.05):
+   P = 2 EA (l/l0 - 1) d/l, l0 the half-length, l = sqrt(l0^2 + d^2); within 0.5 %. */
+static PetscErrorCode TransverseLoad(void)
+{
+  Fabric             fab;
+  const PetscScalar *x;
+  PetscReal          P = 0.05, d, l0, l, EA;
+  PetscInt           mid;
+
+  PetscFunctionBeginUser;
+  PetscCall(NewFabric(ONE_YARN "-gauge_mm 20 -elongation_pct 0 -point_load_N 0,0,0.05 -load_steps 10 -predict none -balance_tol 1e-8 -speed_tol 1e-8 -damping_ratio 0.05", &fab));
+  PetscCall(FabricRun(fab));
+  mid = fab->s.load_at[0];
+  PetscCheck(2 * mid == fab->s.nx - 1, PETSC_COMM_SELF, PETSC_ERR_PLIB, "the load is not at the middle");
+  PetscCall(VecGetArrayRead(fab->X, &x));
+  d = x[3 * mid + 2];
+  PetscCall(VecRestoreArrayRead(fab->X, &x));
+  l0 = mid * fab->patch.ax;
+  l  = PetscSqrtReal(l0 * l0 + d * d);
+  EA = fab->s.warp.EA;
+  CheckTrue("every load step balanced", fab->converged, (double)fab->converged);
+  CheckRel("transverse load from the midpoint deflection (N)", 2 * EA * (l / l0 - 1) * d / l, P, 5e-3);
+  PetscCall(FabricDestroy(&fab));
+  PetscFunctionReturn(0);
+}
+
+/* largest |u| over the yarn */
+static PetscReal MaxDisp(Fabric fab)
+{
+  PetscReal m = 0;
+  for (PetscInt i = 0; i < fab->s.nx; i++) m = PetscMax(m, PetscAbsReal(Ux(fab, i)));
+  return m;
+}
+
+/* exact omega_max of the fixed-fixed chain of n segments (n-1 free points of mass mu L0) */
+static PetscReal ChainOmegaMax(Fabric fab)
+{
+  const PetscInt  n = fab->s.nx - 1;
+  const PetscReal k = fab->s.warp.EA / fab->patch.ax, m = fab->s.warp.mu * fab->patch.ax;
+  return 2 * PetscSqrtReal(k / m) * PetscSinReal((n - 1) * PETSC_PI / (2.0 * n));
+}
+
+/* No damping at 0.95x the stable bound: bounded for 10^4 steps (|u| <= 3 D for a grip step D). */
+static PetscErrorCode Stable095(void)
+{
+  Fabric    fab;
+  PetscReal D, umax = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(NewFabric(ONE_YARN "-elongation_pct 0.01 -load_steps 1 -damping_ratio 0 -predict none -early_exit 0 -te_safety 0.95", &fab));
+  PetscCall(ApplyLoadStep(fab, 1));
+  D = fab->grip_disp;
+  PetscPrintf(PETSC_COMM_WORLD, "te = %g s = 0.95 x bound %g s; exact chain limit 2/omega = %g s\n", (double)fab->te, (double)fab->te_bound, (double)(2 / ChainOmegaMax(fab)));
+  for (PetscInt n = 1; n <= 10000; n++) {
+    StepStats st;
+    PetscCall(TimeStep(fab, &st));
+    if (n % 100 == 0) umax = PetscMax(umax, MaxDisp(fab));
+  }
+  CheckTrue("undamped run at 0.95x the bound stays bounded for 1e4 steps: max |u| / D <= 3", umax <= 3 * D, umax / D);
+  PetscCall(FabricDestroy(&fab));
+  PetscFunctionReturn(0);
+}
+
+/* Forced to 1.1x the exact stable limit (bypassing the up-front check): caught at run time
+   with a numerical-instability error, not silently continued. */
+static PetscErrorCode Unstable110(void)
+{
+  Fabric         fab;
+  PetscErrorCode ierr = 0;
+  PetscInt       n;
+
+  PetscFunctionBeginUser;
+  PetscCall(NewFabric(ONE_YARN "-elongation_pct 0.01 -load_steps 1 -damping_ratio 0 -predict none -early_exit 0 -te_check 0", &fab));
+  PetscCall(ApplyLoadStep(fab, 1));
+  fab->te = 1.1 * 2.0 / ChainOmegaMax(fab);
+  PetscPrintf(PETSC_COMM_WORLD, "te = %g s = 1.1 x exact limit; the bound is %g s\n", (double)fab->te, (double)fab->te_bound);
+  PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
+  for (n = 1; n <= 10000 && !ierr; n++) {
+    StepStats st;
+    ierr = TimeStep(fab, &st);
+  }
+  PetscCall(PetscPopErrorHandler());
+  CheckTrue("run at 1.1x the stable limit is stopped with a numerical-instability error (at te step)", ierr == PETSC_ERR_FP, (double)(n - 1));
+  PetscCall(FabricDestroy(&fab));
+  PetscFunctionReturn(0);
+}
+
+/* The paper's eq. (10) with damping has a growing parasitic mode; the default scheme, same
+   te and damping, decays. Largest speed after 10^4 steps over the largest speed near the start. */
+static PetscErrorCode PaperParasitic(void)
+{
+  PetscReal ratio[2];
+
+  PetscFunctionBeginUser;
+  for (int scheme = 0; scheme < 2; scheme++) {
+    Fabric    fab;
+    StepStats st;
+    PetscReal early = 0, late = 0, a;
+    char      opts[512];
+    PetscCall(PetscSNPrintf(opts, sizeof opts, ONE_YARN "-elongation_pct 0.01 -load_steps 1 -damping_ratio 0 -nu 7e-5 -predict none -early_exit 0 -integrator %s", scheme == 0 ? "paper" : "damped"));
+    PetscCall(NewFabric(opts, &fab));
+    PetscCall(ApplyLoadStep(fab, 1));
+    fab->te = 0.9 / fab->omega_max; /* within both schemes' stable bounds */
+    a       = fab->te * fab->s.nu / (fab->s.warp.mu * fab->patch.ax);
+    for (PetscInt n = 1; n <= 10000; n++) {
+      PetscCall(TimeStep(fab, &st));
+      if (n <= 500) early = PetscMax(early, st.speed);
+      if (n > 9500) late = PetscMax(late, st.speed);
+    }
+    ratio[scheme] = late / early;
+    PetscPrintf(PETSC_COMM_WORLD, "%s scheme: a = te nu / m = %.3g, |z| of the parasitic mode = %.6f; speed ratio late/early = %.3g\n", scheme == 0 ? "paper" : "damped", (double)a, (double)(a + PetscSqrtReal(1 + a * a)), (double)ratio[scheme]);
+    PetscCall(FabricDestroy(&fab));
+  }
+  CheckTrue("paper scheme with damping: the parasitic mode grows (late/early speed > 10)", ratio[0] > 10, ratio[0]);
+  CheckTrue("default scheme, same te and damping: motion decays (late/early speed < 0.1)", ratio[1] < 0.1, ratio[1]);
+  PetscFunctionReturn(0);
+}
+
+int main(int argc, char **argv)
+{
+  char name[64] = "";
+
+  PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
+  PetscCall(PetscOptionsGetString(NULL, NULL, "-case", name, sizeof name, NULL));
+  if (!strcmp(name, "linear_strip")) PetscCall(LinearStrip());
+  else if (!strcmp(name, "crimp_knee")) PetscCall(CrimpKnee());
+  else if (!strcmp(name, "wave_speed")) PetscCall(WaveSpeed());
+  else if (!strcmp(name, "transverse_load")) PetscCall(TransverseLoad());
+  else if (!strcmp(name, "stable_095")) PetscCall(Stable095());
+  else if (!strcmp(name, "unstable_110")) PetscCall(Unstable110());
+  else if (!strcmp(name, "paper_parasitic")) PetscCall(PaperParasitic());
+  else SETERRQ(PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT, "unknown -case %s", name);
+  PetscCall(PetscFinalize());
+  return failures ? 1 : 0;
+}
