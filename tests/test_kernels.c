@@ -1,0 +1,214 @@
+/* test_kernels.c - unit tests of the force kernel and the yarn law.
+ *
+ *  forces:  the kernel's forces equal minus the gradient of the energies of MODEL.md 5.1-5.3,
+ *           written here independently and differentiated by central differences, on a
+ *           randomly distorted grid with absent points (holes, a cut corner) that exercises
+ *           compression, de-crimping, extension, one-sided shear at edges and jamming.
+ *  table:   the fast yarn table equals GSL's Steffen spline of the CSV, and extends linearly.
+ *  tangent: ChordTangentMax of the piecewise-linear law over strain windows.
+ */
+#include "kernels.h"
+
+#include <gsl/gsl_interp.h>
+#include <math.h>
+
+static int failures = 0;
+
+static void Check(const char *what, double err, double tol)
+{
+  int ok = err <= tol;
+  printf("%s %s: %.3e (tolerance %.1e)\n", ok ? "PASS" : "FAIL", what, err, tol);
+  if (!ok) failures++;
+}
+
+#define NX 9
+#define NY 7
+
+static int Ex(const Patch *p, int i, int j) { return i >= 0 && i < NX && j >= 0 && j < NY && p->exists[j * NX + i]; }
+
+/* traction energy per unit rest length: W(e) = integral of T(e) de (linear laws) */
+static double W(const YarnLaw *y, double e)
+{
+  const double c = y->crimp;
+  if (e <= 0) return 0.5 * y->k_comp * y->EA * e * e;
+  if (e <= c) return 0.5 * y->Ec * e * e;
+  return 0.5 * y->Ec * c * c + y->Ec * c * (e - c) + y->EA * (e - c) * (e - c) / (2 * (1 + c));
+}
+
+static double Dist(const double *a, const double *b) { return sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) + (b[2] - a[2]) * (b[2] - a[2])); }
+
+/* total energy of MODEL.md 5.1-5.3 */
+static double Energy(const Patch *p, const double *x)
+{
+  double E = 0;
+#define X(i, j) (x + 3 * ((j) * NX + (i)))
+  for (int j = 0; j < NY; j++)
+    for (int i = 0; i < NX; i++) {
+      if (!Ex(p, i, j)) continue;
+      /* traction */
+      if (Ex(p, i + 1, j)) E += p->ax * W(p->warp, Dist(X(i, j), X(i + 1, j)) / p->ax - 1);
+      if (Ex(p, i, j + 1)) E += p->ay * W(p->weft, Dist(X(i, j), X(i, j + 1)) / p->ay - 1);
+      /* bending, centre (i,j) along x and along y */
+      for (int dir = 0; dir < 2; dir++) {
+        int di = dir == 0, dj = dir == 1;
+        if (!Ex(p, i - di, j - dj) || !Ex(p, i + di, j + dj)) continue;
+        const double *a = X(i - di, j - dj), *b = X(i, j), *c = X(i + di, j + dj);
+        double        e1[3], e2[3], s = 0;
+        for (int d = 0; d < 3; d++) e1[d] = b[d] - a[d], e2[d] = c[d] - b[d];
+        for (int d = 0; d < 3; d++) s += e1[d] * e2[d];
+        s /= Dist(a, b) * Dist(b, c);
+        E += (dir == 0 ? p->kbx : p->kby) * (1 - s);
+      }
+      /* shear at crossing (i,j), one-sided tangents at edges */
+      {
+        int hl = Ex(p, i - 1, j), hr = Ex(p, i + 1, j), hd = Ex(p, i, j - 1), hu = Ex(p, i, j + 1);
+        if ((hl || hr) && (hd || hu)) {
+          const double *xp = X(hr ? i + 1 : i, j), *xm = X(hl ? i - 1 : i, j), *yp = X(i, hu ? j + 1 : j), *ym = X(i, hd ? j - 1 : j);
+          double        tw[3], tf[3], s = 0;
+          for (int d = 0; d < 3; d++) tw[d] = xp[d] - xm[d], tf[d] = yp[d] - ym[d];
+          for (int d = 0; d < 3; d++) s += tw[d] * tf[d];
+          s /= Dist(xm, xp) * Dist(ym, yp);
+          double jam = fabs(s) > p->s_lock ? fabs(s) - p->s_lock : 0;
+          E += 0.5 * p->Ks * s * s + 0.5 * p->Kj * jam * jam;
+        }
+      }
+    }
+#undef X
+  return E;
+}
+
+static PetscErrorCode TestForces(void)
+{
+  YarnLaw warp = {0}, weft = {0};
+  Patch   p    = {0};
+  double  x[3 * NX * NY], f[3 * NX * NY], tmax, fmax = 0, errmax = 0;
+  int     jammed = 0, compressed = 0, extended = 0;
+
+  PetscFunctionBeginUser;
+  warp.name = "warp", warp.EA = 52, warp.crimp = 0.08, warp.Ec = 2.6, warp.k_comp = 1e-3, warp.break_e = INFINITY;
+  weft.name = "weft", weft.EA = 40, weft.crimp = 0.05, weft.Ec = 3.0, weft.k_comp = 1e-3, weft.break_e = INFINITY;
+  p.nx = NX, p.ny = NY, p.xm = p.gxm = NX, p.ym = p.gym = NY;
+  p.ax = 4.2e-4, p.ay = 3.9e-4, p.warp = &warp, p.weft = &weft;
+  p.traction = p.bending = p.shear = PETSC_TRUE;
+  p.kbx = 1e-6 / p.ax, p.kby = 2e-6 / p.ay;
+  p.Ks = 5000 * p.ax * p.ay, p.Kj = 30 * p.Ks, p.s_lock = sin(10 * M_PI / 180);
+  PetscCall(PetscCalloc1(NX * NY, &p.exists));
+  PetscCall(PetscCalloc1(NX * NY, &p.broken_x));
+  PetscCall(PetscCalloc1(NX * NY, &p.broken_y));
+  for (int k = 0; k < NX * NY; k++) p.exists[k] = 1;
+  p.exists[3 * NX + 4] = 0; /* a hole */
+  p.exists[0]          = 0; /* a cut corner */
+  p.exists[NX - 1]     = 0;
+  PetscCall(PatchSetUp(&p));
+
+  srand(12345);
+  for (int j = 0; j < NY; j++)
+    for (int i = 0; i < NX; i++) {
+      double *q = x + 3 * (j * NX + i);
+      q[0]      = i * p.ax * 1.04 + 0.3 * j * p.ay + 0.12 * p.ax * (2.0 * rand() / RAND_MAX - 1); /* ~17 deg shear: jams */
+      q[1]      = j * p.ay + 0.12 * p.ay * (2.0 * rand() / RAND_MAX - 1);
+      q[2]      = 0.2 * p.ax * (2.0 * rand() / RAND_MAX - 1);
+    }
+  ComputeInternalForces(&p, x, f, &tmax);
+  for (int k = 0; k < 3 * NX * NY; k++) {
+    const int    point = k / 3;
+    const double h     = 1e-6 * p.ax, keep = x[k];
+    double       Ep, Em, fd;
+    if (!p.exists[point]) continue;
+    x[k] = keep + h;
+    Ep   = Energy(&p, x);
+    x[k] = keep - h;
+    Em   = Energy(&p, x);
+    x[k] = keep;
+    fd   = -(Ep - Em) / (2 * h);
+    fmax   = fmax > fabs(fd) ? fmax : fabs(fd);
+    errmax = errmax > fabs(fd - f[k]) ? errmax : fabs(fd - f[k]);
+  }
+  /* what the distorted state exercises */
+  for (int j = 0; j < NY; j++)
+    for (int i = 0; i + 1 < NX; i++)
+      if (Ex(&p, i, j) && Ex(&p, i + 1, j)) {
+        double e = Dist(x + 3 * (j * NX + i), x + 3 * (j * NX + i + 1)) / p.ax - 1;
+        compressed += e < 0, extended += e > warp.crimp;
+      }
+  for (int j = 1; j + 1 < NY; j++)
+    for (int i = 1; i + 1 < NX; i++) {
+      const double *a = x + 3 * (j * NX + i - 1), *b = x + 3 * (j * NX + i + 1), *c = x + 3 * ((j - 1) * NX + i), *d = x + 3 * ((j + 1) * NX + i);
+      double        s = 0;
+      if (!Ex(&p, i, j) || !Ex(&p, i - 1, j) || !Ex(&p, i + 1, j) || !Ex(&p, i, j - 1) || !Ex(&p, i, j + 1)) continue;
+      for (int q = 0; q < 3; q++) s += (b[q] - a[q]) * (d[q] - c[q]);
+      jammed += fabs(s / (Dist(a, b) * Dist(c, d))) > p.s_lock;
+    }
+  printf("segments along x: %d compressed, %d in yarn extension; %d jammed crossings; largest force %.3e N\n", compressed, extended, jammed, fmax);
+  Check("kernel force vs -grad(energy) by central differences, max error / max force", errmax / fmax, 1e-6);
+  Check("distorted state has compressed, extended segments and jammed crossings (0 = yes)", (compressed > 0 && extended > 0 && jammed > 0) ? 0 : 1, 0);
+  PetscCall(PatchDestroy(&p));
+  PetscCall(PetscFree(p.exists));
+  PetscCall(PetscFree(p.broken_x));
+  PetscCall(PetscFree(p.broken_y));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode TestTable(const char *csv)
+{
+  YarnLaw           y = {0};
+  double            es[64], fs[64], errmax = 0, tmax;
+  size_t            n = 0;
+  char              line[256];
+  FILE             *fp;
+  gsl_interp       *sp;
+  gsl_interp_accel *acc;
+
+  PetscFunctionBeginUser;
+  y.name = "warp", y.crimp = 0.0, y.k_comp = 1e-3, y.tex = 20;
+  PetscCall(PetscStrncpy(y.csv, csv, sizeof y.csv));
+  PetscCall(YarnLawSetUp(&y, PETSC_COMM_SELF));
+  fp = fopen(csv, "r");
+  PetscCheck(fp, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot open %s", csv);
+  while (fgets(line, sizeof line, fp))
+    if (line[0] != '#' && sscanf(line, "%lf,%lf", &es[n], &fs[n]) == 2) {
+      es[n] /= 100, fs[n] /= 100;
+      n++;
+    }
+  fclose(fp);
+  sp  = gsl_interp_alloc(gsl_interp_steffen, n);
+  acc = gsl_interp_accel_alloc();
+  gsl_interp_init(sp, es, fs, n);
+  tmax = fs[n - 1];
+  for (int k = 0; k <= 10000; k++) {
+    double e = es[n - 1] * k / 10000.0, d = fabs(YarnTension(&y, e) - gsl_interp_eval(sp, es, fs, e, acc));
+    errmax = errmax > d ? errmax : d;
+  }
+  Check("fast yarn table vs GSL Steffen spline, max error / max tension", errmax / tmax, 1e-6);
+  {
+    double slope = gsl_interp_eval_deriv(sp, es, fs, es[n - 1], acc), e = es[n - 1] + 0.01;
+    Check("linear extension past the table, relative error", fabs(YarnTension(&y, e) - (tmax + slope * 0.01)) / tmax, 1e-9);
+  }
+  gsl_interp_accel_free(acc);
+  gsl_interp_free(sp);
+  PetscCall(YarnLawDestroy(&y));
+  PetscFunctionReturn(0);
+}
+
+static void TestTangent(void)
+{
+  YarnLaw y = {0};
+  y.EA = 52, y.crimp = 0.08, y.Ec = 2.6, y.k_comp = 1e-3, y.break_e = INFINITY;
+  Check("tangent in compression window", fabs(ChordTangentMax(&y, -0.2, -0.1) - 52e-3), 1e-12);
+  Check("tangent across the crimp start", fabs(ChordTangentMax(&y, -0.01, 0.01) - 2.6), 1e-12);
+  Check("tangent across the knee", fabs(ChordTangentMax(&y, 0.07, 0.09) - 52 / 1.08), 1e-12);
+  Check("chord tension in extension", fabs(ChordTension(&y, 0.1) - (2.6 * 0.08 + 52 * 0.02 / 1.08)), 1e-12);
+}
+
+int main(int argc, char **argv)
+{
+  char csv[PETSC_MAX_PATH_LEN] = "";
+
+  PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
+  PetscCall(PetscOptionsGetString(NULL, NULL, "-csv", csv, sizeof csv, NULL));
+  PetscCall(TestForces());
+  if (csv[0]) PetscCall(TestTable(csv));
+  TestTangent();
+  PetscCall(PetscFinalize());
+  return failures ? 1 : 0;
+}
