@@ -55,6 +55,8 @@ typedef struct {
   PetscBool      early_exit;
   PetscReal      balance_tol, speed_tol;
   PredictType    predict;
+  PetscBool      front;       /* rank propagation */
+  PetscReal      sleep_tol;   /* 0 = no sleeping */
   PetscBool      quiet;
 } Scene;
 
@@ -102,6 +104,13 @@ struct _p_Fabric {
   PetscReal te, te_bound, omega_max, damp_c;
   StepStats last;
 
+  /* rank propagation and sleeping (front.c) */
+  PetscInt  front_dmax;    /* largest graph distance to a disturbed point */
+  PetscInt *front_box;     /* [4 (dmax+1)]: global bounding box of {d <= R} */
+  PetscInt  front_step;    /* te steps since the last load change */
+  PetscBool front_covered; /* the front has reached every point */
+  PetscInt  awake_box[4];  /* global bounding box of the awake points */
+
   /* run statistics */
   PetscInt64     te_steps, point_updates;
   PetscBool      converged;
@@ -127,11 +136,17 @@ PetscErrorCode HaloExchange(Fabric fab);
 PetscErrorCode GlobalMax(MPI_Comm comm, PetscReal *v, PetscInt n);
 PetscErrorCode GlobalSum(MPI_Comm comm, PetscReal *v, PetscInt n);
 /* integrate.c */
-PetscErrorCode ComputeForces(Fabric fab, PetscReal *tension_max);
+PetscErrorCode ComputeForces(Fabric fab, const PetscInt box[4], PetscReal *tension_max);
 PetscErrorCode StableStep(Fabric fab);
 PetscErrorCode TimeStep(Fabric fab, StepStats *st);
 /* predict.c */
+#define DIST_INF 1e30
+PetscErrorCode GraphDistance(Fabric fab, const char *source, PetscReal *dist);
 PetscErrorCode PredictSetUp(Fabric fab);
+/* front.c */
+PetscErrorCode FrontSetUp(Fabric fab);
+void           FrontLoadChange(Fabric fab);
+PetscInt64     FrontStepBox(Fabric fab, PetscInt global[4], PetscInt local[4]);
 PetscErrorCode PredictLoadStep(Fabric fab, PetscReal grip_step);
 /* relax.c */
 PetscErrorCode FabricRun(Fabric fab);

@@ -53,10 +53,11 @@ typedef struct {
 PetscErrorCode PatchSetUp(Patch *p);
 PetscErrorCode PatchDestroy(Patch *p);
 
-/* Internal force (traction + bending + shear) on each owned point.
+/* Internal force (traction + bending + shear) on the owned points of box = {i0, i1, j0, j1}
+   (global indices, half-open, inside the owned patch); points outside it are not touched.
    x: ghosted positions (3 per point), f: owned forces (3 per point).
-   tension_max: largest |T| of a segment at an owned point (the balance test's force scale). */
-void ComputeInternalForces(Patch *p, const PetscReal *x, PetscReal *f, PetscReal *tension_max);
+   tension_max: largest |T| of a segment at a point of the box (the balance test's force scale). */
+void ComputeInternalForces(Patch *p, const PetscReal *x, const PetscInt box[4], PetscReal *f, PetscReal *tension_max);
 
 /* Break the segments strained past the breaking strain; 1 if one at an owned point broke. */
 int BreakSegments(Patch *p, const PetscReal *x);

@@ -184,6 +184,7 @@ PetscErrorCode FabricCreate(MPI_Comm comm, Fabric *out)
     PetscCall(VecCopy(fab->X, fab->Xold));
   }
   PetscCall(PredictSetUp(fab));
+  PetscCall(FrontSetUp(fab));
   fab->converged = PETSC_TRUE;
   PetscCall(PetscCalloc1(s->load_steps, &fab->curve));
   *out = fab;
@@ -198,6 +199,7 @@ PetscErrorCode FabricDestroy(Fabric *pfab)
   if (!fab) PetscFunctionReturn(0);
   if (fab->curve_fp) fclose(fab->curve_fp);
   PetscCall(PetscFree(fab->curve));
+  PetscCall(PetscFree(fab->front_box));
   PetscCall(PetscFree4(fab->mass, fab->inv_m, fab->kind, fab->predict_w));
   PetscCall(PetscFree(fab->patch.exists));
   PetscCall(PetscFree(fab->patch.broken_x));

@@ -13,20 +13,27 @@
 
 #include <math.h>
 
-/* internal forces at the current positions, plus the point load */
-PetscErrorCode ComputeForces(Fabric fab, PetscReal *tension_max)
+/* internal forces at the current positions on the owned points of box (NULL: all), plus
+   the point load */
+PetscErrorCode ComputeForces(Fabric fab, const PetscInt box[4], PetscReal *tension_max)
 {
+  const Patch       *p = &fab->patch;
+  const PetscInt     all[4] = {p->xs, p->xs + p->xm, p->ys, p->ys + p->ym};
   const PetscScalar *xl;
   PetscScalar       *f;
 
   PetscFunctionBeginUser;
+  if (!box) box = all;
   PetscCall(HaloExchange(fab));
   PetscCall(PetscLogEventBegin(EV_Force, 0, 0, 0, 0));
   PetscCall(VecGetArrayRead(fab->Xl, &xl));
   PetscCall(VecGetArray(fab->F, &f));
-  ComputeInternalForces(&fab->patch, xl, f, tension_max);
-  if (fab->load_index >= 0)
-    for (int d = 0; d < 3; d++) f[3 * fab->load_index + d] += fab->load_factor * fab->s.point_load[d];
+  ComputeInternalForces(&fab->patch, xl, box, f, tension_max);
+  if (fab->load_index >= 0) {
+    const PetscInt i = p->xs + fab->load_index % p->xm, j = p->ys + fab->load_index / p->xm;
+    if (i >= box[0] && i < box[1] && j >= box[2] && j < box[3])
+      for (int d = 0; d < 3; d++) f[3 * fab->load_index + d] += fab->load_factor * fab->s.point_load[d];
+  }
   PetscCall(VecRestoreArray(fab->F, &f));
   PetscCall(VecRestoreArrayRead(fab->Xl, &xl));
   PetscCall(PetscLogEventEnd(EV_Force, 0, 0, 0, 0));
@@ -64,9 +71,11 @@ PetscErrorCode StableStep(Fabric fab)
   PetscFunctionReturn(0);
 }
 
-/* accumulators of one sweep: max |F|^2 and |v|^2 over free points, sum |v|^2 (non-finite watch) */
+/* accumulators of one sweep: max |F|^2 and |v|^2 over free points, sum |v|^2 (non-finite
+   watch), and the awake points' bounding box in the sweep's index (sleeping) */
 typedef struct {
   PetscReal res2, v2, v2sum;
+  PetscInt  awake_lo, awake_hi; /* first and one past the last awake index, or lo >= hi */
 } SweepStats;
 
 static void IntegrateDamped(PetscInt n, PetscReal te, PetscReal c0, PetscReal nu, const PetscReal g[3], const PetscReal *mass, const PetscReal *inv_m, const PetscReal *f, PetscReal *restrict x, PetscReal *restrict v, SweepStats *st)
@@ -118,17 +127,39 @@ static void IntegratePaper(PetscInt n, PetscReal te, PetscReal c0, PetscReal nu,
   st->v2sum = v2sum;
 }
 
-/* One te step: halo exchange, forces, integration, then the global balance test and the
-   stability watch (one max-reduction). Stops with an error on NaN, Inf or runaway motion. */
+/* awake points of a row segment: residual or speed above the sleep thresholds */
+static void AwakeRange(PetscInt n, const PetscReal g[3], const PetscReal *mass, const PetscReal *inv_m, const PetscReal *f, const PetscReal *v, PetscReal f2, PetscReal v2, SweepStats *st)
+{
+  st->awake_lo = n, st->awake_hi = 0;
+  for (PetscInt k = 0; k < n; k++) {
+    if (inv_m[k] <= 0) continue;
+    const PetscReal Fx = f[3 * k] + mass[k] * g[0], Fy = f[3 * k + 1] + mass[k] * g[1], Fz = f[3 * k + 2] + mass[k] * g[2];
+    if (Fx * Fx + Fy * Fy + Fz * Fz > f2 || v[3 * k] * v[3 * k] + v[3 * k + 1] * v[3 * k + 1] + v[3 * k + 2] * v[3 * k + 2] > v2) {
+      st->awake_lo = PetscMin(st->awake_lo, k);
+      st->awake_hi = k + 1;
+    }
+  }
+}
+
+/* One te step: halo exchange, forces and integration on the points the front and sleeping
+   leave to compute, then the global balance test and the stability watch (one max-reduction,
+   which also carries the awake box). Stops with an error on NaN, Inf or runaway motion. */
 PetscErrorCode TimeStep(Fabric fab, StepStats *out)
 {
   const Scene *s = &fab->s;
-  PetscReal    tension_max, red[4];
-  SweepStats   st;
-  PetscScalar *x, *v, *f, *xold, *vold;
+  const Patch *p = &fab->patch;
+  PetscReal    tension_max, red[8];
+  PetscInt     gbox[4], box[4];
+  SweepStats   all = {0, 0, 0, 0, 0};
+  PetscScalar *x, *v, *f, *xold = NULL, *vold = NULL;
+  const PetscBool sleep = s->sleep_tol > 0;
+  const PetscReal scale = PetscMax(fab->last.tension_max, fab->force_floor);
+  const PetscReal sleep_f2 = PetscSqr(s->sleep_tol * scale), sleep_v2 = PetscSqr(s->speed_tol * s->sleep_tol / s->balance_tol);
+  PetscInt        alo = PETSC_MAX_INT, ahi = -1, ajlo = PETSC_MAX_INT, ajhi = -1;
 
   PetscFunctionBeginUser;
-  PetscCall(ComputeForces(fab, &tension_max));
+  fab->point_updates += FrontStepBox(fab, gbox, box);
+  PetscCall(ComputeForces(fab, box, &tension_max));
   PetscCall(PetscLogEventBegin(EV_Integrate, 0, 0, 0, 0));
   PetscCall(VecGetArray(fab->X, &x));
   PetscCall(VecGetArray(fab->V, &v));
@@ -136,22 +167,43 @@ PetscErrorCode TimeStep(Fabric fab, StepStats *out)
   if (s->integrator == INTEGRATOR_PAPER) {
     PetscCall(VecGetArray(fab->Xold, &xold));
     PetscCall(VecGetArray(fab->Vold, &vold));
-    IntegratePaper(fab->nloc, fab->te, fab->damp_c, s->nu, s->gravity, fab->mass, fab->inv_m, f, x, v, xold, vold, &st);
+  }
+  for (PetscInt j = box[2]; j < box[3]; j++) {
+    const PetscInt k0 = (j - p->ys) * p->xm + (box[0] - p->xs), n = box[1] - box[0];
+    SweepStats     st;
+    if (s->integrator == INTEGRATOR_PAPER) IntegratePaper(n, fab->te, fab->damp_c, s->nu, s->gravity, fab->mass + k0, fab->inv_m + k0, f + 3 * k0, x + 3 * k0, v + 3 * k0, xold + 3 * k0, vold + 3 * k0, &st);
+    else IntegrateDamped(n, fab->te, fab->damp_c, s->nu, s->gravity, fab->mass + k0, fab->inv_m + k0, f + 3 * k0, x + 3 * k0, v + 3 * k0, &st);
+    all.res2 = PetscMax(all.res2, st.res2);
+    all.v2   = PetscMax(all.v2, st.v2);
+    all.v2sum += st.v2sum;
+    if (sleep) {
+      AwakeRange(n, s->gravity, fab->mass + k0, fab->inv_m + k0, f + 3 * k0, v + 3 * k0, sleep_f2, sleep_v2, &st);
+      if (st.awake_lo < st.awake_hi) {
+        alo = PetscMin(alo, box[0] + st.awake_lo), ahi = PetscMax(ahi, box[0] + st.awake_hi);
+        ajlo = PetscMin(ajlo, j), ajhi = j + 1;
+      }
+    }
+  }
+  if (xold) {
     PetscCall(VecRestoreArray(fab->Xold, &xold));
     PetscCall(VecRestoreArray(fab->Vold, &vold));
-  } else IntegrateDamped(fab->nloc, fab->te, fab->damp_c, s->nu, s->gravity, fab->mass, fab->inv_m, f, x, v, &st);
+  }
   PetscCall(VecRestoreArray(fab->F, &f));
   PetscCall(VecRestoreArray(fab->V, &v));
   PetscCall(VecRestoreArray(fab->X, &x));
   PetscCall(PetscLogEventEnd(EV_Integrate, 0, 0, 0, 0));
 
-  red[0] = st.res2;
-  red[1] = st.v2;
+  red[0] = all.res2;
+  red[1] = all.v2;
   red[2] = tension_max;
-  red[3] = isfinite(st.v2sum) ? 0.0 : 1.0;
-  PetscCall(GlobalMax(fab->comm, red, 4));
+  red[3] = isfinite(all.v2sum) ? 0.0 : 1.0;
+  red[4] = -(PetscReal)alo, red[5] = (PetscReal)ahi, red[6] = -(PetscReal)ajlo, red[7] = (PetscReal)ajhi; /* awake box */
+  PetscCall(GlobalMax(fab->comm, red, sleep ? 8 : 4));
+  if (sleep) {
+    fab->awake_box[0] = (PetscInt)-red[4], fab->awake_box[1] = (PetscInt)red[5];
+    fab->awake_box[2] = (PetscInt)-red[6], fab->awake_box[3] = (PetscInt)red[7];
+  }
   fab->te_steps++;
-  fab->point_updates += fab->points;
   PetscCheck(red[3] == 0.0, fab->comm, PETSC_ERR_FP, "numerical instability at load step %" PetscInt_FMT ", te step %" PetscInt64_FMT ": velocities became NaN or Inf (te = %g s, stable bound %g s)", fab->load_step, fab->te_steps, (double)fab->te, (double)fab->te_bound);
   out->speed       = PetscSqrtReal(red[1]);
   out->tension_max = red[2];

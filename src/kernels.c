@@ -5,6 +5,7 @@
  *    (a broken segment carries nothing; BreakSegments breaks them between te sweeps);
  *  - bending, per yarn centre c with chords e1 (into c) and e2 (out of c):
  *      E = kb (1 - s), s = u1.u2, kb = B/L0; with g1 = (u2 - s u1)/|e1|, g2 = (u1 - s u2)/|e2|
+ *      (evaluated as cross products, see ComputeBendRow)
  *      the force is -kb g1 on c-1, kb (g1 - g2) on c, kb g2 on c+1;
  *  - shear, per crossing c with warp tangent tw = x(c+ex) - x(c-ex) and weft tangent
  *    tf = x(c+ey) - x(c-ey) (one-sided at an edge): s = cos(tw,tf),
@@ -20,6 +21,12 @@
 
 #include <math.h>
 #include <string.h>
+
+/* Rest chords computed from rest positions, (i+1) ax - i ax, differ from ax in the last
+   bits: such strains are round-off, not load, and carry no tension, so that a fabric at rest
+   is exactly force-free (rank propagation from rest is then exact). 1e-16 per segment over
+   10^4 segments stays below this. */
+#define STRAIN_ROUNDOFF 1e-12
 
 #define SLOT(r) ((((r) % KERNEL_RING) + KERNEL_RING) % KERNEL_RING)
 
@@ -88,20 +95,21 @@ static inline unsigned char Exists(const Patch *p, PetscInt li, PetscInt lj)
   return p->epad[(lj + 1) * (p->gxm + 2) + li + 1];
 }
 
-static void ZeroSegmentRow(SegmentRow *s, PetscInt n)
+static void ZeroSegmentRow(SegmentRow *s, PetscInt c0, PetscInt c1)
 {
   PetscReal *a[] = {s->ux, s->uy, s->uz, s->inv_len, s->fx, s->fy, s->fz, s->T};
-  for (int k = 0; k < 8; k++) memset(a[k], 0, sizeof(PetscReal) * (size_t)n);
+  for (int k = 0; k < 8; k++) memset(a[k] + c0, 0, sizeof(PetscReal) * (size_t)(c1 - c0));
 }
 
-/* Segments a[i] -> b[i], i < n: chord and tension (MODEL.md 5.1). */
-static void ComputeSegmentRow(const YarnLaw *law, PetscReal L0, PetscBool traction, PetscInt n, const PetscReal *restrict xa, const PetscReal *restrict xb, const unsigned char *ea, const unsigned char *eb, const unsigned char *broken, SegmentRow *s)
+/* Segments a[i] -> b[i], c0 <= i < c1: chord and tension (MODEL.md 5.1). */
+static void ComputeSegmentRow(const YarnLaw *law, PetscReal L0, PetscBool traction, PetscInt c0, PetscInt c1, const PetscReal *restrict xa, const PetscReal *restrict xb, const unsigned char *ea, const unsigned char *eb, const unsigned char *broken, SegmentRow *s)
 {
   const PetscReal inv_L0 = 1.0 / L0;
 
-  for (PetscInt i = 0; i < n; i++) {
+  for (PetscInt i = c0; i < c1; i++) {
     const PetscReal dx = xb[3 * i] - xa[3 * i], dy = xb[3 * i + 1] - xa[3 * i + 1], dz = xb[3 * i + 2] - xa[3 * i + 2];
-    const PetscReal L = PetscSqrtReal(dx * dx + dy * dy + dz * dz), e = L * inv_L0 - 1.0;
+    const PetscReal L = PetscSqrtReal(dx * dx + dy * dy + dz * dz), e_raw = L * inv_L0 - 1.0;
+    const PetscReal e = PetscAbsReal(e_raw) < STRAIN_ROUNDOFF ? 0.0 : e_raw;
     const int       alive = ea[i] && eb[i] && !broken[i];
     const PetscReal inv   = alive ? 1.0 / L : 0.0;
     const PetscReal T     = (alive && traction) ? ChordTension(law, e) : 0.0;
@@ -116,23 +124,25 @@ static void ComputeSegmentRow(const YarnLaw *law, PetscReal L0, PetscBool tracti
   }
 }
 
-/* Bending centres i < n with incoming chord s1[i] and outgoing chord s2[i] (MODEL.md 5.2). */
-static void ComputeBendRow(PetscReal kb, PetscInt n, const PetscReal *u1x, const PetscReal *u1y, const PetscReal *u1z, const PetscReal *i1, const PetscReal *u2x, const PetscReal *u2y, const PetscReal *u2z, const PetscReal *i2, BendRow *b, PetscInt off)
+/* Bending centres c0 <= i < c1 with incoming chord s1[i] and outgoing chord s2[i] (MODEL.md 5.2). */
+static void ComputeBendRow(PetscReal kb, PetscInt c0, PetscInt c1, const PetscReal *u1x, const PetscReal *u1y, const PetscReal *u1z, const PetscReal *i1, const PetscReal *u2x, const PetscReal *u2y, const PetscReal *u2z, const PetscReal *i2, BendRow *b, PetscInt off)
 {
-  for (PetscInt i = 0; i < n; i++) {
-    const PetscReal s = u1x[i] * u2x[i] + u1y[i] * u2y[i] + u1z[i] * u2z[i];
+  /* u2 - s u1 = (u1 x u2) x u1 and u1 - s u2 = u2 x (u1 x u2): the cross-product form has no
+     cancellation for nearly straight yarns and is exactly zero for parallel chords */
+  for (PetscInt i = c0; i < c1; i++) {
+    const PetscReal cx = u1y[i] * u2z[i] - u1z[i] * u2y[i], cy = u1z[i] * u2x[i] - u1x[i] * u2z[i], cz = u1x[i] * u2y[i] - u1y[i] * u2x[i];
     const PetscReal c1 = kb * i1[i], c2 = kb * i2[i];
-    b->g1x[i + off] = c1 * (u2x[i] - s * u1x[i]);
-    b->g1y[i + off] = c1 * (u2y[i] - s * u1y[i]);
-    b->g1z[i + off] = c1 * (u2z[i] - s * u1z[i]);
-    b->g2x[i + off] = c2 * (u1x[i] - s * u2x[i]);
-    b->g2y[i + off] = c2 * (u1y[i] - s * u2y[i]);
-    b->g2z[i + off] = c2 * (u1z[i] - s * u2z[i]);
+    b->g1x[i + off] = c1 * (cy * u1z[i] - cz * u1y[i]);
+    b->g1y[i + off] = c1 * (cz * u1x[i] - cx * u1z[i]);
+    b->g1z[i + off] = c1 * (cx * u1y[i] - cy * u1x[i]);
+    b->g2x[i + off] = c2 * (u2y[i] * cz - u2z[i] * cy);
+    b->g2y[i + off] = c2 * (u2z[i] * cx - u2x[i] * cz);
+    b->g2z[i + off] = c2 * (u2x[i] * cy - u2y[i] * cx);
   }
 }
 
-/* Shear crossings of row r (global), all local columns (MODEL.md 5.3). */
-static void ComputeShearRow(const Patch *p, const PetscReal *x, PetscInt r, ShearRow *sh)
+/* Shear crossings of row r (global), local columns [c0, c1) (MODEL.md 5.3). */
+static void ComputeShearRow(const Patch *p, const PetscReal *x, PetscInt r, PetscInt c0, PetscInt c1, ShearRow *sh)
 {
   const PetscInt   n = p->gxm, lr = r - p->gys;
   const PetscReal *xr = (lr >= 0 && lr < p->gym) ? x + 3 * lr * n : p->zero_row;
@@ -142,10 +152,10 @@ static void ComputeShearRow(const Patch *p, const PetscReal *x, PetscInt r, Shea
 
   if (lr < 0 || lr >= p->gym) { /* no crossing outside the patch */
     PetscReal *a[] = {sh->hwx, sh->hwy, sh->hwz, sh->hfx, sh->hfy, sh->hfz, sh->sx, sh->sy, sh->sz};
-    for (int k = 0; k < 9; k++) memset(a[k], 0, sizeof(PetscReal) * (size_t)n);
+    for (int k = 0; k < 9; k++) memset(a[k] + c0, 0, sizeof(PetscReal) * (size_t)(c1 - c0));
     return;
   }
-  for (PetscInt li = 0; li < n; li++) {
+  for (PetscInt li = c0; li < c1; li++) {
     const int      self = Exists(p, li, lr), hl = Exists(p, li - 1, lr), hr = Exists(p, li + 1, lr);
     const int      hd = Exists(p, li, lr - 1), hu = Exists(p, li, lr + 1);
     const PetscInt il = hl ? li - 1 : li, ir = hr ? li + 1 : li;
@@ -175,54 +185,57 @@ static void ComputeShearRow(const Patch *p, const PetscReal *x, PetscInt r, Shea
   }
 }
 
-/* y-segments between rows r and r+1 */
-static void YSegments(Patch *p, const PetscReal *x, PetscInt r)
+/* y-segments between rows r and r+1, local columns [c0, c1) */
+static void YSegments(Patch *p, const PetscReal *x, PetscInt r, PetscInt c0, PetscInt c1)
 {
   const PetscInt n = p->gxm, lr = r - p->gys;
   SegmentRow    *s = &p->ys_ring[SLOT(r)];
 
   if (lr < 0 || lr + 1 >= p->gym) {
-    ZeroSegmentRow(s, n);
+    ZeroSegmentRow(s, c0, c1);
     return;
   }
-  ComputeSegmentRow(p->weft, p->ay, p->traction, n, x + 3 * lr * n, x + 3 * (lr + 1) * n, p->exists + lr * n, p->exists + (lr + 1) * n, p->broken_y + lr * n, s);
+  ComputeSegmentRow(p->weft, p->ay, p->traction, c0, c1, x + 3 * lr * n, x + 3 * (lr + 1) * n, p->exists + lr * n, p->exists + (lr + 1) * n, p->broken_y + lr * n, s);
 }
 
 /* y-bending centres of row r: chords y(r-1) and y(r) */
-static void YBending(Patch *p, PetscInt r)
+static void YBending(Patch *p, PetscInt r, PetscInt c0, PetscInt c1)
 {
   const SegmentRow *a = &p->ys_ring[SLOT(r - 1)], *b = &p->ys_ring[SLOT(r)];
-  ComputeBendRow(p->kby, p->gxm, a->ux, a->uy, a->uz, a->inv_len, b->ux, b->uy, b->uz, b->inv_len, &p->by_ring[SLOT(r)], 0);
+  ComputeBendRow(p->kby, c0, c1, a->ux, a->uy, a->uz, a->inv_len, b->ux, b->uy, b->uz, b->inv_len, &p->by_ring[SLOT(r)], 0);
 }
 
-void ComputeInternalForces(Patch *p, const PetscReal *x, PetscReal *f, PetscReal *tension_max)
+void ComputeInternalForces(Patch *p, const PetscReal *x, const PetscInt box[4], PetscReal *f, PetscReal *tension_max)
 {
-  const PetscInt n = p->gxm, i0 = p->xs - p->gxs, i1 = i0 + p->xm;
+  const PetscInt  n = p->gxm, i0 = box[0] - p->gxs, i1 = box[1] - p->gxs, j0 = box[2], j1 = box[3];
+  const PetscInt  c0 = PetscMax(i0 - 2, 0), c1 = PetscMin(i1 + 2, n); /* columns the box's forces need */
   const PetscBool bend = p->bending, shear = p->shear;
-  PetscReal      tmax = 0.0;
+  PetscReal       tmax = 0.0;
 
-  /* prime the pipeline: rows below the first owned row */
-  for (PetscInt r = p->ys - 2; r <= p->ys; r++) YSegments(p, x, r);
+  *tension_max = 0.0;
+  if (i1 <= i0 || j1 <= j0) return;
+  /* prime the pipeline: rows below the first row of the box */
+  for (PetscInt r = j0 - 2; r <= j0; r++) YSegments(p, x, r, c0, c1);
   if (bend)
-    for (PetscInt r = p->ys - 1; r <= p->ys; r++) YBending(p, r);
+    for (PetscInt r = j0 - 1; r <= j0; r++) YBending(p, r, c0, c1);
   if (shear)
-    for (PetscInt r = p->ys - 1; r <= p->ys; r++) ComputeShearRow(p, x, r, &p->sh_ring[SLOT(r)]);
+    for (PetscInt r = j0 - 1; r <= j0; r++) ComputeShearRow(p, x, r, c0, c1, &p->sh_ring[SLOT(r)]);
 
-  for (PetscInt j = p->ys; j < p->ys + p->ym; j++) {
+  for (PetscInt j = j0; j < j1; j++) {
     const PetscInt lj = j - p->gys;
     SegmentRow    *xs = &p->xs_row;
 
     /* advance the pipeline by one row */
-    YSegments(p, x, j + 1);
-    if (bend) YBending(p, j + 1);
-    if (shear) ComputeShearRow(p, x, j + 1, &p->sh_ring[SLOT(j + 1)]);
-    ComputeSegmentRow(p->warp, p->ax, p->traction, n - 1, x + 3 * lj * n, x + 3 * lj * n + 3, p->exists + lj * n, p->exists + lj * n + 1, p->broken_x + lj * n, xs);
-    if (bend) ComputeBendRow(p->kbx, n - 2, xs->ux, xs->uy, xs->uz, xs->inv_len, xs->ux + 1, xs->uy + 1, xs->uz + 1, xs->inv_len + 1, &p->bx_row, 1);
+    YSegments(p, x, j + 1, c0, c1);
+    if (bend) YBending(p, j + 1, c0, c1);
+    if (shear) ComputeShearRow(p, x, j + 1, c0, c1, &p->sh_ring[SLOT(j + 1)]);
+    ComputeSegmentRow(p->warp, p->ax, p->traction, c0, PetscMin(c1, n - 1), x + 3 * lj * n, x + 3 * lj * n + 3, p->exists + lj * n, p->exists + lj * n + 1, p->broken_x + lj * n, xs);
+    if (bend) ComputeBendRow(p->kbx, c0, PetscMin(c1, n - 1) - 1, xs->ux, xs->uy, xs->uz, xs->inv_len, xs->ux + 1, xs->uy + 1, xs->uz + 1, xs->inv_len + 1, &p->bx_row, 1);
 
-    /* gather: each owned point of row j sums its terms in a fixed order */
+    /* gather: each point of row j in the box sums its terms in a fixed order */
     {
       const SegmentRow *yd = &p->ys_ring[SLOT(j - 1)], *yu = &p->ys_ring[SLOT(j)];
-      PetscReal *restrict fr = f + 3 * (j - p->ys) * p->xm - 3 * i0;
+      PetscReal *restrict fr = f + 3 * (j - p->ys) * p->xm - 3 * (p->xs - p->gxs);
       for (PetscInt i = i0; i < i1; i++) {
         fr[3 * i]     = xs->fx[i] - xs->fx[i - 1] + yu->fx[i] - yd->fx[i];
         fr[3 * i + 1] = xs->fy[i] - xs->fy[i - 1] + yu->fy[i] - yd->fy[i];

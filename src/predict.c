@@ -11,33 +11,33 @@
  */
 #include "fabric.h"
 
-#define DIST_INF 1e30
-
-PetscErrorCode PredictSetUp(Fabric fab)
+/* Graph distance of every owned point to the nearest source point, through existing
+   points (DIST_INF if none is reachable). Sweeps and halo exchanges until no rank changes. */
+PetscErrorCode GraphDistance(Fabric fab, const char *source, PetscReal *dist)
 {
   const Patch  *p = &fab->patch;
+  DM            da1;
   Vec           D, Dl;
-  PetscScalar ***d;
+  PetscScalar **d;
   PetscReal     changed;
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(EV_Predict, 0, 0, 0, 0));
-  PetscCall(DMCreateGlobalVector(fab->da2, &D));
-  PetscCall(DMCreateLocalVector(fab->da2, &Dl));
-  PetscCall(DMDAVecGetArrayDOF(fab->da2, D, &d));
+  PetscCall(DMDACreateCompatibleDMDA(fab->da, 1, &da1));
+  PetscCall(DMCreateGlobalVector(da1, &D));
+  PetscCall(DMCreateLocalVector(da1, &Dl));
+  PetscCall(DMDAVecGetArray(da1, D, &d));
   for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
     for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
       const PetscInt k = (j - p->ys) * p->xm + (i - p->xs);
-      const int      e = p->exists[(j - p->gys) * p->gxm + (i - p->gxs)];
-      d[j][i][0]       = (e && fab->kind[k] == POINT_CLAMPED) ? 0.0 : DIST_INF;
-      d[j][i][1]       = (e && fab->kind[k] == POINT_GRIP) ? 0.0 : DIST_INF;
+      d[j][i]          = (source[k] && p->exists[(j - p->gys) * p->gxm + (i - p->gxs)]) ? 0.0 : DIST_INF;
     }
-  PetscCall(DMDAVecRestoreArrayDOF(fab->da2, D, &d));
+  PetscCall(DMDAVecRestoreArray(da1, D, &d));
   do {
     changed = 0;
-    PetscCall(DMGlobalToLocalBegin(fab->da2, D, INSERT_VALUES, Dl));
-    PetscCall(DMGlobalToLocalEnd(fab->da2, D, INSERT_VALUES, Dl));
-    PetscCall(DMDAVecGetArrayDOF(fab->da2, Dl, &d));
+    PetscCall(DMGlobalToLocalBegin(da1, D, INSERT_VALUES, Dl));
+    PetscCall(DMGlobalToLocalEnd(da1, D, INSERT_VALUES, Dl));
+    PetscCall(DMDAVecGetArray(da1, Dl, &d));
     for (int pass = 0; pass < 2; pass++) {
       const int step = pass == 0 ? 1 : -1; /* forward sweep looks left/down, backward right/up */
       for (PetscInt jj = 0; jj < p->ym; jj++) {
@@ -45,38 +45,50 @@ PetscErrorCode PredictSetUp(Fabric fab)
         for (PetscInt ii = 0; ii < p->xm; ii++) {
           const PetscInt i = pass == 0 ? p->xs + ii : p->xs + p->xm - 1 - ii;
           const PetscInt in = i - step, jn = j - step;
+          PetscReal      best = d[j][i];
           if (!p->exists[(j - p->gys) * p->gxm + (i - p->gxs)]) continue;
-          for (int c = 0; c < 2; c++) {
-            PetscReal best = d[j][i][c];
-            if (in >= p->gxs && in < p->gxs + p->gxm && p->exists[(j - p->gys) * p->gxm + (in - p->gxs)]) best = PetscMin(best, d[j][in][c] + 1);
-            if (jn >= p->gys && jn < p->gys + p->gym && p->exists[(jn - p->gys) * p->gxm + (i - p->gxs)]) best = PetscMin(best, d[jn][i][c] + 1);
-            if (best < d[j][i][c]) {
-              d[j][i][c] = best;
-              changed    = 1;
-            }
+          if (in >= p->gxs && in < p->gxs + p->gxm && p->exists[(j - p->gys) * p->gxm + (in - p->gxs)]) best = PetscMin(best, d[j][in] + 1);
+          if (jn >= p->gys && jn < p->gys + p->gym && p->exists[(jn - p->gys) * p->gxm + (i - p->gxs)]) best = PetscMin(best, d[jn][i] + 1);
+          if (best < d[j][i]) {
+            d[j][i] = best;
+            changed = 1;
           }
         }
       }
     }
-    PetscCall(DMDAVecRestoreArrayDOF(fab->da2, Dl, &d));
-    PetscCall(DMLocalToGlobalBegin(fab->da2, Dl, INSERT_VALUES, D));
-    PetscCall(DMLocalToGlobalEnd(fab->da2, Dl, INSERT_VALUES, D));
+    PetscCall(DMDAVecRestoreArray(da1, Dl, &d));
+    PetscCall(DMLocalToGlobalBegin(da1, Dl, INSERT_VALUES, D));
+    PetscCall(DMLocalToGlobalEnd(da1, Dl, INSERT_VALUES, D));
     PetscCall(GlobalMax(fab->comm, &changed, 1));
   } while (changed > 0);
-
-  PetscCall(DMDAVecGetArrayDOF(fab->da2, D, &d));
+  PetscCall(DMDAVecGetArray(da1, D, &d));
   for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
-    for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
-      const PetscInt  k = (j - p->ys) * p->xm + (i - p->xs);
-      const PetscReal d0 = d[j][i][0], d1 = d[j][i][1];
-      if (d1 >= DIST_INF) fab->predict_w[k] = 0.0;      /* no grip reaches it */
-      else if (d0 >= DIST_INF) fab->predict_w[k] = 1.0; /* moves with the grips */
-      else fab->predict_w[k] = d0 / (d0 + d1);
-    }
-  PetscCall(DMDAVecRestoreArrayDOF(fab->da2, D, &d));
+    for (PetscInt i = p->xs; i < p->xs + p->xm; i++) dist[(j - p->ys) * p->xm + (i - p->xs)] = d[j][i];
+  PetscCall(DMDAVecRestoreArray(da1, D, &d));
   PetscCall(VecDestroy(&Dl));
   PetscCall(VecDestroy(&D));
+  PetscCall(DMDestroy(&da1));
   PetscCall(PetscLogEventEnd(EV_Predict, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode PredictSetUp(Fabric fab)
+{
+  PetscReal *d0, *d1;
+  char      *src;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc3(fab->nloc, &d0, fab->nloc, &d1, fab->nloc, &src));
+  for (PetscInt k = 0; k < fab->nloc; k++) src[k] = (char)(fab->kind[k] == POINT_CLAMPED);
+  PetscCall(GraphDistance(fab, src, d0));
+  for (PetscInt k = 0; k < fab->nloc; k++) src[k] = (char)(fab->kind[k] == POINT_GRIP);
+  PetscCall(GraphDistance(fab, src, d1));
+  for (PetscInt k = 0; k < fab->nloc; k++) {
+    if (d1[k] >= DIST_INF) fab->predict_w[k] = 0.0;      /* no grip reaches it */
+    else if (d0[k] >= DIST_INF) fab->predict_w[k] = 1.0; /* moves with the grips */
+    else fab->predict_w[k] = d0[k] / (d0[k] + d1[k]);
+  }
+  PetscCall(PetscFree3(d0, d1, src));
   PetscFunctionReturn(0);
 }
 

@@ -36,7 +36,7 @@ PetscErrorCode GripReaction(Fabric fab, PetscReal *force)
   PetscReal          tension_max, sum = 0;
 
   PetscFunctionBeginUser;
-  PetscCall(ComputeForces(fab, &tension_max));
+  PetscCall(ComputeForces(fab, NULL, &tension_max));
   PetscCall(VecGetArrayRead(fab->F, &f));
   for (PetscInt k = 0; k < fab->nloc; k++)
     if (fab->kind[k] == POINT_GRIP) sum -= f[3 * k] * fab->pull_dir[0] + f[3 * k + 1] * fab->pull_dir[1] + f[3 * k + 2] * fab->pull_dir[2];
@@ -71,6 +71,7 @@ PetscErrorCode ApplyLoadStep(Fabric fab, PetscInt k)
   PetscCall(PredictLoadStep(fab, step));
   fab->grip_disp      = disp;
   fab->grip_step_prev = step;
+  FrontLoadChange(fab);
   PetscCall(StableStep(fab));
   PetscFunctionReturn(0);
 }
@@ -92,9 +93,14 @@ PetscErrorCode RelaxLoadStep(Fabric fab, CurveRow *row)
     }
     row->inner_steps += PetscMin(n, s->max_inner_steps);
     /* yarns break on the balanced (quasi-static) state only: the strains of the relaxation
-       transient are artefacts of the load stepping. If one broke, relax this step again. */
+       transient are artefacts of the load stepping. If one broke, relax this step again,
+       with every point awake. */
     if (!st.balanced) break;
     PetscCall(CheckBreaks(fab, &broke));
+    if (broke) {
+      fab->front_covered = PETSC_TRUE;
+      fab->awake_box[0] = 0, fab->awake_box[1] = s->nx, fab->awake_box[2] = 0, fab->awake_box[3] = s->ny;
+    }
     if (!broke || round >= MAX_BREAK_ROUNDS) break;
   }
   row->load_step   = fab->load_step;

@@ -202,6 +202,10 @@ PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s)
   CHECK_NONNEG(s->speed_tol, "-speed_tol");
   s->predict = PREDICT_LINEAR;
   PetscCall(PetscOptionsEnum("-predict", "displacement prediction at each load step", NULL, PredictNames, (PetscEnum)s->predict, (PetscEnum *)&s->predict, NULL));
+  PetscCall(PetscOptionsBool("-front", "rank propagation: compute only the points a load change can have reached", NULL, s->front, &s->front, NULL));
+  PetscCall(PetscOptionsReal("-sleep_tol", "sleeping: skip points whose residual (relative, like -balance_tol) and speed stay below this, with asleep neighbours; 0 = off", NULL, s->sleep_tol, &s->sleep_tol, NULL));
+  CHECK_NONNEG(s->sleep_tol, "-sleep_tol");
+  PetscCheck(s->sleep_tol <= s->balance_tol, comm, PETSC_ERR_USER_INPUT, "-sleep_tol %g is above -balance_tol %g: points would sleep before they balance", (double)s->sleep_tol, (double)s->balance_tol);
   PetscOptionsEnd();
 
   PetscOptionsBegin(comm, NULL, "Output", NULL);

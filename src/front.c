@@ -1,0 +1,126 @@
+/* front.c - which crossing points a te step computes: rank propagation and sleeping
+ * (MODEL.md 9; sleeping goes beyond the paper).
+ *
+ * Rank propagation. The force on a point depends on points at most 2 steps away on the
+ * grid graph (bending reaches two points along a yarn, shear the diagonal neighbours), so
+ * a disturbance spreads by at most 2 per te step. With d the graph distance to the points
+ * a load change disturbs (grips, point-load point), only points with d <= 2k can move in
+ * the k-th te step after it. The te step computes the global bounding box of those points;
+ * every rank takes its part of that box, so the computed set does not depend on the
+ * decomposition. A rank whose patch misses the box skips its kernel. Once 2k reaches the
+ * largest distance (a max-reduction made once), the front has covered everything and
+ * costs nothing more.
+ *
+ * Sleeping. A point is awake if its residual force or speed exceeds -sleep_tol (relative,
+ * like -balance_tol). Each te step computes the bounding box of the awake points grown by
+ * the stencil reach (2), so a point next to an awake one is woken. The awake box rides on
+ * the balance test's max-reduction: no extra message.
+ */
+#include "fabric.h"
+
+/* box = a ∩ b */
+static void BoxIntersect(PetscInt a[4], const PetscInt b[4])
+{
+  a[0] = PetscMax(a[0], b[0]);
+  a[1] = PetscMin(a[1], b[1]);
+  a[2] = PetscMax(a[2], b[2]);
+  a[3] = PetscMin(a[3], b[3]);
+}
+
+static PetscBool BoxEmpty(const PetscInt b[4]) { return (b[1] <= b[0] || b[3] <= b[2]) ? PETSC_TRUE : PETSC_FALSE; }
+
+PetscErrorCode FrontSetUp(Fabric fab)
+{
+  const Patch *p = &fab->patch;
+  PetscReal   *dist, dmax = 0;
+  PetscInt     n;
+  char        *sources;
+
+  PetscFunctionBeginUser;
+  if (!fab->s.front) PetscFunctionReturn(0);
+  PetscCall(PetscMalloc2(fab->nloc, &dist, fab->nloc, &sources));
+  {
+    const Scene *s = &fab->s;
+    const int    pulled = s->elongation > 0, loaded = s->point_load[0] != 0 || s->point_load[1] != 0 || s->point_load[2] != 0;
+    for (PetscInt k = 0; k < fab->nloc; k++) sources[k] = (char)((pulled && fab->kind[k] == POINT_GRIP) || (loaded && k == fab->load_index));
+  }
+  PetscCall(GraphDistance(fab, sources, dist));
+  for (PetscInt k = 0; k < fab->nloc; k++)
+    if (dist[k] < DIST_INF) dmax = PetscMax(dmax, dist[k]);
+  PetscCall(GlobalMax(fab->comm, &dmax, 1));
+  fab->front_dmax = (PetscInt)dmax;
+  /* boxes[R] = global bounding box of {d <= R}, as maxima of (-imin, imax+1, -jmin, jmax+1) */
+  n = fab->front_dmax + 1;
+  {
+    PetscReal *b;
+    PetscCall(PetscMalloc1(4 * n, &b));
+    for (PetscInt r = 0; r < n; r++) b[4 * r] = b[4 * r + 1] = b[4 * r + 2] = b[4 * r + 3] = -PETSC_MAX_INT;
+    for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
+      for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
+        const PetscReal d = dist[(j - p->ys) * p->xm + (i - p->xs)];
+        if (d >= DIST_INF) continue;
+        PetscReal *q = b + 4 * (PetscInt)d;
+        q[0] = PetscMax(q[0], -i), q[1] = PetscMax(q[1], i + 1), q[2] = PetscMax(q[2], -j), q[3] = PetscMax(q[3], j + 1);
+      }
+    for (PetscInt r = 1; r < n; r++) /* prefix over R */
+      for (int c = 0; c < 4; c++) b[4 * r + c] = PetscMax(b[4 * r + c], b[4 * (r - 1) + c]);
+    PetscCall(GlobalMax(fab->comm, b, 4 * n));
+    PetscCall(PetscMalloc1(4 * n, &fab->front_box));
+    for (PetscInt r = 0; r < n; r++) {
+      fab->front_box[4 * r]     = (PetscInt)-b[4 * r];
+      fab->front_box[4 * r + 1] = (PetscInt)b[4 * r + 1];
+      fab->front_box[4 * r + 2] = (PetscInt)-b[4 * r + 2];
+      fab->front_box[4 * r + 3] = (PetscInt)b[4 * r + 3];
+    }
+    PetscCall(PetscFree(b));
+  }
+  PetscCall(PetscFree2(dist, sources));
+  PetscFunctionReturn(0);
+}
+
+/* A load changed: the front starts again from the disturbed points. Prediction moves every
+   reachable point, and gravity at the first step disturbs every point: then it is covered. */
+void FrontLoadChange(Fabric fab)
+{
+  const Scene *s = &fab->s;
+  const int    gravity = s->gravity[0] != 0 || s->gravity[1] != 0 || s->gravity[2] != 0;
+  fab->front_step    = 0;
+  fab->front_covered = (!s->front || s->predict != PREDICT_NONE || (gravity && fab->load_step == 1)) ? PETSC_TRUE : PETSC_FALSE;
+  if (s->sleep_tol > 0) {
+    if (s->predict != PREDICT_NONE || fab->load_step == 1) {
+      fab->awake_box[0] = 0, fab->awake_box[1] = s->nx, fab->awake_box[2] = 0, fab->awake_box[3] = s->ny;
+    } else if (fab->front_box) { /* wake the disturbed points too */
+      const PetscInt *src = fab->front_box;
+      fab->awake_box[0] = PetscMin(fab->awake_box[0], src[0]), fab->awake_box[1] = PetscMax(fab->awake_box[1], src[1]);
+      fab->awake_box[2] = PetscMin(fab->awake_box[2], src[2]), fab->awake_box[3] = PetscMax(fab->awake_box[3], src[3]);
+    } else {
+      fab->awake_box[0] = 0, fab->awake_box[1] = s->nx, fab->awake_box[2] = 0, fab->awake_box[3] = s->ny;
+    }
+  }
+}
+
+/* The box of points the next te step computes: global (same on every rank), and the
+   owned part of it. Returns the number of points in the global box. */
+PetscInt64 FrontStepBox(Fabric fab, PetscInt global[4], PetscInt local[4])
+{
+  const Scene *s = &fab->s;
+  const Patch *p = &fab->patch;
+  PetscInt     owned[4] = {p->xs, p->xs + p->xm, p->ys, p->ys + p->ym};
+
+  global[0] = 0, global[1] = s->nx, global[2] = 0, global[3] = s->ny;
+  fab->front_step++;
+  if (!fab->front_covered) {
+    const PetscInt R = 2 * fab->front_step;
+    if (R >= fab->front_dmax) fab->front_covered = PETSC_TRUE;
+    else BoxIntersect(global, fab->front_box + 4 * R);
+  }
+  if (s->sleep_tol > 0) {
+    PetscInt grown[4] = {fab->awake_box[0] - 2, fab->awake_box[1] + 2, fab->awake_box[2] - 2, fab->awake_box[3] + 2};
+    BoxIntersect(global, grown);
+  }
+  if (BoxEmpty(global)) global[0] = global[1] = global[2] = global[3] = 0;
+  local[0] = global[0], local[1] = global[1], local[2] = global[2], local[3] = global[3];
+  BoxIntersect(local, owned);
+  if (BoxEmpty(local)) local[0] = local[1] = local[2] = local[3] = 0;
+  return (PetscInt64)(global[1] - global[0]) * (global[3] - global[2]);
+}
