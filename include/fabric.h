@@ -56,6 +56,7 @@ typedef struct {
   PetscReal      balance_tol, speed_tol;
   PredictType    predict;
   PetscBool      front;       /* rank propagation */
+  PetscInt       grip_ramp;   /* te steps over which the grips move to a load step's position (-1 auto) */
   PetscReal      sleep_tol;   /* 0 = no sleeping */
   PetscBool      quiet;
 } Scene;
@@ -99,9 +100,13 @@ struct _p_Fabric {
 
   /* load program state */
   PetscInt  load_step;
-  PetscReal grip_disp, grip_step_prev; /* m */
+  PetscReal grip_disp, grip_step_prev; /* m: target of the load step, its step */
+  PetscReal grip_now;                  /* m: where the grips are (ramping towards grip_disp) */
+  PetscReal grip_from;                 /* m: where the ramp started */
+  PetscInt  ramp_steps, ramp_done;     /* the ramp of this load step */
   PetscReal load_factor;
   PetscReal te, te_bound, omega_max, damp_c;
+  PetscReal omega1;        /* slowest mode along the pull (estimate), rad/s */
   StepStats last;
 
   /* rank propagation and sleeping (front.c) */
@@ -153,6 +158,7 @@ PetscErrorCode FabricRun(Fabric fab);
 PetscErrorCode ApplyLoadStep(Fabric fab, PetscInt k);
 PetscErrorCode RelaxLoadStep(Fabric fab, CurveRow *row);
 PetscErrorCode GripReaction(Fabric fab, PetscReal *force);
+PetscErrorCode MoveGrips(Fabric fab, PetscReal disp, PetscBool shift_history);
 /* output.c */
 PetscErrorCode OutputOpen(Fabric fab);
 PetscErrorCode OutputCurveRow(Fabric fab, const CurveRow *row);

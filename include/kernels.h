@@ -65,7 +65,8 @@ int BreakSegments(Patch *p, const PetscReal *x);
 /* Largest Gershgorin row sum of the tangent stiffness over the point mass, over owned
    points with inv_m > 0 (omega_max^2 bound, MODEL.md 7.3). window: chord-strain margin
    around the current strain over which the yarn tangent is maximised. omega2_pull: the same
-   bound from the traction of the yarns along pull_dir (0: x, 1: y) alone. */
+   bound from the current tangent (no window) of the yarns along pull_dir (0: x, 1: y) alone:
+   the highest frequency of the chain the damping is tuned to. */
 PetscReal StableOmega2(const Patch *p, const PetscReal *x, const PetscReal *inv_m, PetscReal window, int pull_dir, PetscReal *omega2_pull);
 
 #endif

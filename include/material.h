@@ -3,9 +3,11 @@
  * A yarn segment between two crossings has rest chord L0 and crimp c: the yarn
  * length between the crossings is (1+c) L0. With chord strain e = L/L0 - 1 the
  * tension is
+ *   e <= e_cont : T = k_comp*EA*e_cont + EA*(e - e_cont)   (crossings touch: yarn contact)
  *   e <= 0      : T = k_comp * EA * e            (yarns buckle rather than carry compression)
  *   0 < e <= c  : T = Ec * e                      (de-crimping)
  *   e > c       : T = Ec*c + Tyarn(ey),  ey = (1+e)/(1+c) - 1   (yarn extension)
+ * Each kink is smoothed over +-smoothing by a cubic (ChordTension).
  * Tyarn is linear (EA*ey) or a table read from CSV, interpolated with GSL's
  * Steffen (monotone) spline. Evaluating a GSL spline per segment per step is too
  * slow, so at load time the spline is resampled on a uniform grid of yarn strain
@@ -26,6 +28,12 @@ typedef struct {
   PetscReal   EA;         /* yarn stiffness, N per unit yarn strain (table: its largest slope) */
   PetscReal   Ec;         /* de-crimping stiffness, N per unit chord strain */
   PetscReal   k_comp;     /* compression stiffness as a fraction of EA */
+  PetscReal   e_contact;  /* chord strain (< 0) at which neighbouring crossings touch */
+  PetscReal   smoothing;  /* half-width (chord strain) of the C1 blends at the law's kinks */
+  PetscInt    nblend;     /* blends: cubic Hermite on [lo, hi], T = c0 + s (c1 + s (c2 + s c3)), s = e - lo */
+  struct {
+    PetscReal lo, hi, c0, c1, c2, c3, slope_max;
+  } blend[3];
   PetscReal   bending;    /* bending rigidity B, N m^2 */
   PetscReal   break_ey;   /* yarn strain at break; <= 0: never breaks */
   PetscReal   break_e;    /* the same as chord strain (INFINITY if none) */
@@ -49,12 +57,26 @@ static inline PetscReal YarnTension(const YarnLaw *y, PetscReal ey)
   return (1.0 + 2.0 * t) * u * u * y->tab_T[k] + t * u * u * h * y->tab_dT[k] + t * t * (3.0 - 2.0 * t) * y->tab_T[k + 1] - t * t * u * h * y->tab_dT[k + 1];
 }
 
-/* T(e): the chord tension law of MODEL.md 5.1 */
-static inline PetscReal ChordTension(const YarnLaw *y, PetscReal e)
+/* the piecewise law of MODEL.md 5.1 as written, with kinks */
+static inline PetscReal ChordTensionPiecewise(const YarnLaw *y, PetscReal e)
 {
+  if (e <= y->e_contact) return y->k_comp * y->EA * y->e_contact + y->EA * (e - y->e_contact);
   if (e <= 0.0) return y->k_comp * y->EA * e;
   if (e <= y->crimp) return y->Ec * e;
   return y->Ec * y->crimp + YarnTension(y, (e - y->crimp) / (1.0 + y->crimp));
+}
+
+/* T(e): the law with each kink replaced, over +-smoothing, by the cubic that matches both
+   pieces' values and slopes. Explicit central differences pump energy into a chain whose
+   stiffness jumps (20x at the crimp knee, 1000x at yarn contact); a C1 law does not. */
+static inline PetscReal ChordTension(const YarnLaw *y, PetscReal e)
+{
+  for (PetscInt k = 0; k < y->nblend; k++)
+    if (e >= y->blend[k].lo && e <= y->blend[k].hi) {
+      const PetscReal s = e - y->blend[k].lo;
+      return y->blend[k].c0 + s * (y->blend[k].c1 + s * (y->blend[k].c2 + s * y->blend[k].c3));
+    }
+  return ChordTensionPiecewise(y, e);
 }
 
 PetscErrorCode YarnLawSetUp(YarnLaw *y, MPI_Comm comm);

@@ -66,7 +66,8 @@ PetscErrorCode StableStep(Fabric fab)
      pull, omega_pull = 2 sqrt(k/m) its highest (from the pull-direction springs alone) */
   {
     const PetscInt n = (s->pull == PULL_WARP ? s->nx : s->ny) - 1;
-    fab->damp_c      = 2.0 * s->damping_ratio * PETSC_PI * PetscSqrtReal(omega2[1]) / (2.0 * n);
+    fab->omega1      = PETSC_PI * PetscSqrtReal(omega2[1]) / (2.0 * n);
+    fab->damp_c      = 2.0 * s->damping_ratio * fab->omega1;
   }
   PetscFunctionReturn(0);
 }
@@ -158,6 +159,10 @@ PetscErrorCode TimeStep(Fabric fab, StepStats *out)
   PetscInt        alo = PETSC_MAX_INT, ahi = -1, ajlo = PETSC_MAX_INT, ajhi = -1;
 
   PetscFunctionBeginUser;
+  if (fab->ramp_done < fab->ramp_steps) { /* the jaw's cosine ramp to this load step's position */
+    fab->ramp_done++;
+    PetscCall(MoveGrips(fab, fab->grip_from + (fab->grip_disp - fab->grip_from) * 0.5 * (1.0 - PetscCosReal(PETSC_PI * fab->ramp_done / fab->ramp_steps)), PETSC_FALSE));
+  }
   fab->point_updates += FrontStepBox(fab, gbox, box);
   PetscCall(ComputeForces(fab, box, &tension_max));
   PetscCall(PetscLogEventBegin(EV_Integrate, 0, 0, 0, 0));
@@ -209,7 +214,7 @@ PetscErrorCode TimeStep(Fabric fab, StepStats *out)
   out->tension_max = red[2];
   out->residual    = PetscSqrtReal(red[0]) / PetscMax(red[2], fab->force_floor);
   PetscCheck(out->speed * fab->te <= fab->extent, fab->comm, PETSC_ERR_FP, "numerical instability at load step %" PetscInt_FMT ", te step %" PetscInt64_FMT ": runaway motion, a point moved %g m in one step, more than the fabric's size %g m (te = %g s, stable bound %g s)", fab->load_step, fab->te_steps, (double)(out->speed * fab->te), (double)fab->extent, (double)fab->te, (double)fab->te_bound);
-  out->balanced = (out->residual <= s->balance_tol && out->speed <= s->speed_tol) ? PETSC_TRUE : PETSC_FALSE;
+  out->balanced = (out->residual <= s->balance_tol && out->speed <= s->speed_tol && fab->ramp_done >= fab->ramp_steps) ? PETSC_TRUE : PETSC_FALSE;
   fab->last     = *out;
   PetscFunctionReturn(0);
 }

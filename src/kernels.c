@@ -362,20 +362,21 @@ PetscReal StableOmega2(const Patch *p, const PetscReal *x, const PetscReal *inv_
           const Chord    c  = ChordAt(p, x, ia, ja, dir);
           if (!c.alive || !p->traction) continue;
           const PetscReal e = c.L / L0 - 1.0, T = ChordTension(law, e);
-          const PetscReal k = 2.0 * PetscMax(ChordTangentMax(law, e - window, e + window) / L0, PetscAbsReal(T) / c.L);
-          rs += k;
-          if (dir == pull_dir) rp += k;
+          rs += 2.0 * PetscMax(ChordTangentMax(law, e - window, e + window) / L0, PetscAbsReal(T) / c.L);
+          if (dir == pull_dir) rp += 2.0 * PetscMax(ChordTangentMax(law, e, e + 0.005) / L0, PetscAbsReal(T) / c.L); /* current stiffness, tension side */
         }
       }
-      /* bending: centre c in {p-1, p, p+1}; row sums 12, 24, 12 times kb / Lmin^2 */
+      /* bending: centre c in {p-1, p, p+1}; row sums 12, 24, 12 times kb / Lmin^2, with
+         Lmin no longer than the contact length (a chord can be squeezed that far in a step) */
       if (p->bending) {
         for (int dir = 0; dir < 2; dir++) {
           const PetscReal kb = dir == 0 ? p->kbx : p->kby;
+          const PetscReal Lc = (1.0 + (dir == 0 ? p->warp : p->weft)->e_contact) * (dir == 0 ? p->ax : p->ay);
           for (int k = -1; k <= 1; k++) {
             const PetscInt ic = i + (dir == 0 ? k : 0), jc = j + (dir == 1 ? k : 0);
             const Chord    c1 = ChordAt(p, x, ic - (dir == 0), jc - (dir == 1), dir), c2 = ChordAt(p, x, ic, jc, dir);
             if (!c1.alive || !c2.alive) continue;
-            const PetscReal Lmin = PetscMin(c1.L, c2.L);
+            const PetscReal Lmin = PetscMin(PetscMin(c1.L, c2.L), Lc);
             rs += kb * (k == 0 ? 24.0 : 12.0) / (Lmin * Lmin);
           }
         }

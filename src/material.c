@@ -140,12 +140,56 @@ static PetscErrorCode BuildTable(MPI_Comm comm, YarnLaw *y)
   PetscFunctionReturn(0);
 }
 
+/* slope of the piecewise law on the side dir (-1 left, +1 right) of e */
+static PetscReal PiecewiseSlope(const YarnLaw *y, PetscReal e, int dir)
+{
+  const PetscReal c = y->crimp, h = 1e-7 * dir;
+  if (e < y->e_contact || (e == y->e_contact && dir < 0)) return y->EA;
+  if (e < 0 || (e == 0 && dir < 0)) return y->k_comp * y->EA;
+  if (e < c || (e == c && dir < 0)) return y->Ec;
+  /* yarn extension: slope of the (tabulated) yarn law */
+  if (!y->ntab) return y->EA / (1.0 + c);
+  return (ChordTensionPiecewise(y, e + PetscAbsReal(h)) - ChordTensionPiecewise(y, e)) / PetscAbsReal(h);
+}
+
+/* Replace each kink e0 by the cubic Hermite on [e0-d, e0+d] ([0, 2d] for the kink at rest)
+   matching the piecewise law's values and slopes at both ends (d shrinks so that blends
+   never overlap). */
 PetscErrorCode YarnLawSetUp(YarnLaw *y, MPI_Comm comm)
 {
+  PetscReal kinks[3];
+  PetscInt  nk = 0;
+
   PetscFunctionBeginUser;
   y->mu      = y->tex * 1e-6;
   y->break_e = y->break_ey > 0.0 ? y->crimp + y->break_ey * (1.0 + y->crimp) : INFINITY;
   if (y->csv[0]) PetscCall(BuildTable(comm, y));
+  y->nblend = 0;
+  kinks[nk++] = y->e_contact;
+  kinks[nk++] = 0.0;
+  if (y->crimp > 0) kinks[nk++] = y->crimp;
+  for (PetscInt k = 0; k < nk && y->smoothing > 0; k++) {
+    const PetscReal e0 = kinks[k], prev = k > 0 ? kinks[k - 1] : -1.0, next = k + 1 < nk ? kinks[k + 1] : 1.0;
+    const PetscReal d  = PetscMin(y->smoothing, 0.3 * PetscMin(e0 - prev, next - e0));
+    /* the blend at e = 0 lies on the tension side, so that a fabric at rest is stress-free */
+    const PetscReal lo = e0 == 0.0 ? 0.0 : e0 - d, hi = e0 == 0.0 ? 2.0 * d : e0 + d, h = hi - lo;
+    const PetscReal T0 = ChordTensionPiecewise(y, lo), T1 = ChordTensionPiecewise(y, hi);
+    const PetscReal m0 = PiecewiseSlope(y, lo, -1), m1 = PiecewiseSlope(y, hi, +1);
+    PetscReal       smax = 0;
+    if (PiecewiseSlope(y, e0, -1) == PiecewiseSlope(y, e0, +1)) continue; /* no kink */
+    y->blend[y->nblend].lo = lo;
+    y->blend[y->nblend].hi = hi;
+    y->blend[y->nblend].c0 = T0;
+    y->blend[y->nblend].c1 = m0;
+    y->blend[y->nblend].c2 = (3.0 * (T1 - T0) / h - 2.0 * m0 - m1) / h;
+    y->blend[y->nblend].c3 = (m0 + m1 - 2.0 * (T1 - T0) / h) / (h * h);
+    for (int q = 0; q <= 64; q++) {
+      const PetscReal s = h * q / 64.0;
+      smax = PetscMax(smax, PetscAbsReal(y->blend[y->nblend].c1 + s * (2.0 * y->blend[y->nblend].c2 + 3.0 * s * y->blend[y->nblend].c3)));
+    }
+    y->blend[y->nblend].slope_max = 1.05 * smax;
+    y->nblend++;
+  }
   PetscFunctionReturn(0);
 }
 
@@ -186,11 +230,14 @@ PetscReal ChordTangentMax(const YarnLaw *y, PetscReal a, PetscReal b)
   const PetscReal c = y->crimp;
   PetscReal       m = 0.0;
 
-  if (a <= 0.0) m = y->k_comp * y->EA;
+  if (a <= y->e_contact) m = y->EA;
+  if (a <= 0.0 && b > y->e_contact) m = PetscMax(m, y->k_comp * y->EA);
   if (a < c && b > 0.0) m = PetscMax(m, y->Ec);
   if (b > c) {
     PetscReal lo = (PetscMax(a, c) - c) / (1.0 + c), hi = (b - c) / (1.0 + c);
     m = PetscMax(m, YarnSlopeMax(y, lo, hi) / (1.0 + c));
   }
+  for (PetscInt k = 0; k < y->nblend; k++)
+    if (a <= y->blend[k].hi && b >= y->blend[k].lo) m = PetscMax(m, y->blend[k].slope_max);
   return m;
 }

@@ -46,33 +46,60 @@ PetscErrorCode GripReaction(Fabric fab, PetscReal *force)
   PetscFunctionReturn(0);
 }
 
-/* Load step k of K: move the grips, predict, take the stable step. */
+/* Put the grips at displacement disp along the pull. A jump (shift_history) also shifts
+   the paper integrator's x(n-1), so the grips do not move back; a ramp sets the position
+   at each te step and leaves the history to the integrator. */
+PetscErrorCode MoveGrips(Fabric fab, PetscReal disp, PetscBool shift_history)
+{
+  const PetscReal delta = disp - fab->grip_now;
+  PetscScalar    *x, *xold = NULL;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecGetArray(fab->X, &x));
+  if (fab->Xold && shift_history) PetscCall(VecGetArray(fab->Xold, &xold));
+  for (PetscInt q = 0; q < fab->nloc; q++) {
+    if (fab->kind[q] != POINT_GRIP) continue;
+    for (int d = 0; d < 3; d++) {
+      x[3 * q + d] += delta * fab->pull_dir[d];
+      if (xold) xold[3 * q + d] += delta * fab->pull_dir[d];
+    }
+  }
+  if (xold) PetscCall(VecRestoreArray(fab->Xold, &xold));
+  PetscCall(VecRestoreArray(fab->X, &x));
+  fab->grip_now = disp;
+  PetscFunctionReturn(0);
+}
+
+/* Load step k of K: move the grips (at once, or start their ramp), predict, take the stable step. */
 PetscErrorCode ApplyLoadStep(Fabric fab, PetscInt k)
 {
   const Scene    *s      = &fab->s;
   const PetscReal lambda = (PetscReal)k / (PetscReal)s->load_steps;
   const PetscReal disp   = lambda * s->elongation * s->gauge, step = disp - fab->grip_disp;
-  PetscScalar    *x, *xold = NULL;
+  PetscReal       damp_c, omega1;
 
   PetscFunctionBeginUser;
   fab->load_step   = k;
   fab->load_factor = lambda;
-  PetscCall(VecGetArray(fab->X, &x));
-  if (fab->Xold) PetscCall(VecGetArray(fab->Xold, &xold));
-  for (PetscInt q = 0; q < fab->nloc; q++) {
-    if (fab->kind[q] != POINT_GRIP) continue;
-    for (int d = 0; d < 3; d++) {
-      x[3 * q + d] += step * fab->pull_dir[d];
-      if (xold) xold[3 * q + d] += step * fab->pull_dir[d];
-    }
-  }
-  if (xold) PetscCall(VecRestoreArray(fab->Xold, &xold));
-  PetscCall(VecRestoreArray(fab->X, &x));
+  /* the damping is tuned to the balanced state before the grips jump: right after the jump
+     the segment at the grip is strained far beyond the rest of the chain */
+  PetscCall(StableStep(fab));
+  damp_c = fab->damp_c;
+  omega1 = fab->omega1;
   PetscCall(PredictLoadStep(fab, step));
   fab->grip_disp      = disp;
   fab->grip_step_prev = step;
   FrontLoadChange(fab);
   PetscCall(StableStep(fab));
+  fab->damp_c = damp_c;
+  /* Without prediction a jump of the jaw is an impact on the yarns (they fold and pile up):
+     the jaw moves instead over a cosine ramp of half a period of the slowest mode, pi/omega_1,
+     as a testing machine does, so the strain at the jaw never overshoots the step's mean
+     strain (TimeStep drives it). With prediction (or -grip_ramp_steps 0) it jumps. */
+  fab->grip_from  = fab->grip_now;
+  fab->ramp_steps = s->grip_ramp >= 0 ? s->grip_ramp : (s->predict == PREDICT_NONE ? (PetscInt)PetscCeilReal(PETSC_PI / (omega1 * fab->te)) : 0);
+  fab->ramp_done  = 0;
+  if (!fab->ramp_steps) PetscCall(MoveGrips(fab, disp, PETSC_TRUE));
   PetscFunctionReturn(0);
 }
 

@@ -40,6 +40,18 @@ static PetscErrorCode YarnOptions(MPI_Comm comm, PetscOptionItems *PetscOptionsO
   CHECK_NONNEG(ratio, opt);
   PetscCall(PetscOptionsReal(YOPT("compression_ratio"), YHELP("compression stiffness as a fraction of EA (yarns buckle)"), NULL, y->k_comp, &y->k_comp, NULL));
   CHECK_NONNEG(y->k_comp, opt);
+  {
+    PetscReal contact = 50;
+    PetscCall(PetscOptionsReal(YOPT("contact_pct"), YHELP("chord compression at which neighbouring crossings touch (%%): below it the chord is as stiff as the yarn"), NULL, contact, &contact, NULL));
+    PetscCheck(isfinite(contact) && contact > 0 && contact < 100, comm, PETSC_ERR_USER_INPUT, "%s must be in (0,100), got %g", opt, (double)contact);
+    y->e_contact = -contact / 100.0;
+  }
+  {
+    PetscReal smooth = 0;
+    PetscCall(PetscOptionsReal(YOPT("law_smoothing_pct"), YHELP("half-width of the C1 blend at each kink of the tension law (%% chord strain); 0 = sharp kinks"), NULL, smooth, &smooth, NULL));
+    PetscCheck(isfinite(smooth) && smooth >= 0 && smooth < 5, comm, PETSC_ERR_USER_INPUT, "%s must be in [0,5), got %g", opt, (double)smooth);
+    y->smoothing = smooth / 100.0;
+  }
   PetscCall(PetscOptionsReal(YOPT("bending_Nm2"), YHELP("bending rigidity B per yarn (N m^2)"), NULL, y->bending, &y->bending, NULL));
   CHECK_NONNEG(y->bending, opt);
   PetscCall(PetscOptionsReal(YOPT("break_pct"), YHELP("yarn breaking strain (%%), 0 = never breaks"), NULL, brk, &brk, NULL));
@@ -190,8 +202,8 @@ PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s)
   PetscCheck(isfinite(s->te_safety) && s->te_safety > 0 && s->te_safety <= 1, comm, PETSC_ERR_USER_INPUT, "-te_safety must be in (0,1], got %g", (double)s->te_safety);
   s->te_check = PETSC_TRUE;
   PetscCall(PetscOptionsBool("-te_check", "refuse a -te above the stable bound (0: experts and stability tests only)", NULL, s->te_check, &s->te_check, NULL));
-  s->te_window = 0.05;
-  PetscCall(PetscOptionsReal("-te_strain_window", "chord-strain margin around the current strain over which the yarn tangent is maximised for the bound", NULL, s->te_window, &s->te_window, NULL));
+  s->te_window = 1.0;
+  PetscCall(PetscOptionsReal("-te_strain_window", "chord-strain margin around each segment's strain over which the yarn tangent is maximised for the bound (smaller: larger te while yarns are crimped, but a load step that straightens them further can go unstable)", NULL, s->te_window, &s->te_window, NULL));
   CHECK_NONNEG(s->te_window, "-te_strain_window");
   s->early_exit = PETSC_TRUE;
   PetscCall(PetscOptionsBool("-early_exit", "end a load step as soon as the balance test passes (modified multi-sampling)", NULL, s->early_exit, &s->early_exit, NULL));
@@ -202,6 +214,9 @@ PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s)
   CHECK_NONNEG(s->speed_tol, "-speed_tol");
   s->predict = PREDICT_LINEAR;
   PetscCall(PetscOptionsEnum("-predict", "displacement prediction at each load step", NULL, PredictNames, (PetscEnum)s->predict, (PetscEnum *)&s->predict, NULL));
+  s->grip_ramp = -1;
+  PetscCall(PetscOptionsInt("-grip_ramp_steps", "te steps over which the jaw moves to each load step's position (cosine ramp); -1 = half a period of the slowest mode without prediction, 0 (a jump) with it", NULL, s->grip_ramp, &s->grip_ramp, NULL));
+  PetscCheck(s->grip_ramp >= -1, comm, PETSC_ERR_USER_INPUT, "-grip_ramp_steps must be -1 (auto) or >= 0, got %" PetscInt_FMT, s->grip_ramp);
   PetscCall(PetscOptionsBool("-front", "rank propagation: compute only the points a load change can have reached", NULL, s->front, &s->front, NULL));
   PetscCall(PetscOptionsReal("-sleep_tol", "sleeping: skip points whose residual (relative, like -balance_tol) and speed stay below this, with asleep neighbours; 0 = off", NULL, s->sleep_tol, &s->sleep_tol, NULL));
   CHECK_NONNEG(s->sleep_tol, "-sleep_tol");

@@ -30,6 +30,7 @@ static int Ex(const Patch *p, int i, int j) { return i >= 0 && i < NX && j >= 0 
 static double W(const YarnLaw *y, double e)
 {
   const double c = y->crimp;
+  if (e <= y->e_contact) return 0.5 * y->k_comp * y->EA * y->e_contact * y->e_contact + y->k_comp * y->EA * y->e_contact * (e - y->e_contact) + 0.5 * y->EA * (e - y->e_contact) * (e - y->e_contact);
   if (e <= 0) return 0.5 * y->k_comp * y->EA * e * e;
   if (e <= c) return 0.5 * y->Ec * e * e;
   return 0.5 * y->Ec * c * c + y->Ec * c * (e - c) + y->EA * (e - c) * (e - c) / (2 * (1 + c));
@@ -82,11 +83,11 @@ static PetscErrorCode TestForces(void)
   YarnLaw warp = {0}, weft = {0};
   Patch   p    = {0};
   double  x[3 * NX * NY], f[3 * NX * NY], tmax, fbig = 0, errmax = 0;
-  int     jammed = 0, compressed = 0, extended = 0;
+  int     jammed = 0, compressed = 0, extended = 0, contact = 0;
 
   PetscFunctionBeginUser;
-  warp.name = "warp", warp.EA = 52, warp.crimp = 0.08, warp.Ec = 2.6, warp.k_comp = 1e-3, warp.break_e = INFINITY;
-  weft.name = "weft", weft.EA = 40, weft.crimp = 0.05, weft.Ec = 3.0, weft.k_comp = 1e-3, weft.break_e = INFINITY;
+  warp.name = "warp", warp.EA = 52, warp.crimp = 0.08, warp.Ec = 2.6, warp.k_comp = 1e-3, warp.e_contact = -0.08, warp.break_e = INFINITY;
+  weft.name = "weft", weft.EA = 40, weft.crimp = 0.05, weft.Ec = 3.0, weft.k_comp = 1e-3, weft.e_contact = -0.2, weft.break_e = INFINITY;
   p.nx = NX, p.ny = NY, p.xm = p.gxm = NX, p.ym = p.gym = NY;
   p.ax = 4.2e-4, p.ay = 3.9e-4, p.warp = &warp, p.weft = &weft;
   p.traction = p.bending = p.shear = PETSC_TRUE;
@@ -132,7 +133,7 @@ static PetscErrorCode TestForces(void)
     for (int i = 0; i + 1 < NX; i++)
       if (Ex(&p, i, j) && Ex(&p, i + 1, j)) {
         double e = Dist(x + 3 * (j * NX + i), x + 3 * (j * NX + i + 1)) / p.ax - 1;
-        compressed += e < 0, extended += e > warp.crimp;
+        compressed += e < 0, extended += e > warp.crimp, contact += e < warp.e_contact;
       }
   for (int j = 1; j + 1 < NY; j++)
     for (int i = 1; i + 1 < NX; i++) {
@@ -155,9 +156,9 @@ static PetscErrorCode TestForces(void)
     }
     Check("forces on sub-boxes equal the full sweep's (bit-identical: max difference)", worst, 0.0);
   }
-  printf("segments along x: %d compressed, %d in yarn extension; %d jammed crossings; largest force %.3e N\n", compressed, extended, jammed, fbig);
+  printf("segments along x: %d compressed (%d in contact), %d in yarn extension; %d jammed crossings; largest force %.3e N\n", compressed, contact, extended, jammed, fbig);
   Check("kernel force vs -grad(energy) by central differences, max error / max force", errmax / fbig, 1e-6);
-  Check("distorted state has compressed, extended segments and jammed crossings (0 = yes)", (compressed > 0 && extended > 0 && jammed > 0) ? 0 : 1, 0);
+  Check("distorted state has compressed, in-contact, extended segments and jammed crossings (0 = yes)", (compressed > 0 && contact > 0 && extended > 0 && jammed > 0) ? 0 : 1, 0);
   PetscCall(PatchDestroy(&p));
   PetscCall(PetscFree(p.exists));
   PetscCall(PetscFree(p.broken_x));
@@ -176,7 +177,7 @@ static PetscErrorCode TestTable(const char *csv)
   gsl_interp_accel *acc;
 
   PetscFunctionBeginUser;
-  y.name = "warp", y.crimp = 0.0, y.k_comp = 1e-3, y.tex = 20;
+  y.name = "warp", y.crimp = 0.0, y.k_comp = 1e-3, y.e_contact = -0.5, y.tex = 20;
   PetscCall(PetscStrncpy(y.csv, csv, sizeof y.csv));
   PetscCall(YarnLawSetUp(&y, PETSC_COMM_SELF));
   fp = fopen(csv, "r");
@@ -209,8 +210,10 @@ static PetscErrorCode TestTable(const char *csv)
 static void TestTangent(void)
 {
   YarnLaw y = {0};
-  y.EA = 52, y.crimp = 0.08, y.Ec = 2.6, y.k_comp = 1e-3, y.break_e = INFINITY;
+  y.EA = 52, y.crimp = 0.08, y.Ec = 2.6, y.k_comp = 1e-3, y.e_contact = -0.5, y.break_e = INFINITY;
   Check("tangent in compression window", fabs(ChordTangentMax(&y, -0.2, -0.1) - 52e-3), 1e-12);
+  Check("tangent reaching yarn contact", fabs(ChordTangentMax(&y, -0.6, -0.1) - 52), 1e-12);
+  Check("chord tension in contact", fabs(ChordTension(&y, -0.6) - (52e-3 * -0.5 + 52 * -0.1)), 1e-12);
   Check("tangent across the crimp start", fabs(ChordTangentMax(&y, -0.01, 0.01) - 2.6), 1e-12);
   Check("tangent across the knee", fabs(ChordTangentMax(&y, 0.07, 0.09) - 52 / 1.08), 1e-12);
   Check("chord tension in extension", fabs(ChordTension(&y, 0.1) - (2.6 * 0.08 + 52 * 0.02 / 1.08)), 1e-12);

@@ -35,8 +35,9 @@ static PetscErrorCode NewFabric(const char *opts, Fabric *fab)
 
 /* common: no gravity, linear yarn law, no output */
 #define BASE "-gravity 0,0,0 -output_dir none -quiet -warp_break_pct 0 -weft_break_pct 0 "
-/* one yarn along x, no crimp, tension linear through zero (compression ratio 1) */
-#define ONE_YARN BASE "-yarns 1 -gauge_mm 100 -warp_crimp_pct 0 -warp_compression_ratio 1 -bending 0 -shear 0 "
+/* one yarn along x, no crimp, tension linear through zero (compression ratio 1); the grip
+   steps at once (a step response) */
+#define ONE_YARN BASE "-yarns 1 -gauge_mm 100 -warp_crimp_pct 0 -warp_compression_ratio 1 -bending 0 -shear 0 -grip_ramp_steps 0 "
 
 /* Linear strip (no crimp): reaction = n_yarns * EA * strain, within 0.5 %. No prediction:
    the damped relaxation has to find the balance itself. */
@@ -239,6 +240,52 @@ static PetscErrorCode PaperParasitic(void)
   PetscFunctionReturn(0);
 }
 
+/* Linear prediction on the linear strip lands on the exact answer: every load step balances
+   in a handful of te steps, and the force is n_yarns EA strain. */
+static PetscErrorCode LinearPrediction(void)
+{
+  Fabric   fab;
+  PetscInt worst = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(NewFabric(BASE "-yarns 10 -gauge_mm 50 -warp_crimp_pct 0 -elongation_pct 5 -load_steps 10 -predict linear -balance_tol 1e-7 -speed_tol 1e-7", &fab));
+  PetscCall(FabricRun(fab));
+  for (PetscInt q = 0; q < fab->s.load_steps; q++) worst = PetscMax(worst, fab->curve[q].inner_steps);
+  CheckTrue("linear prediction: every load step balanced in at most 5 te steps (largest N')", worst <= 5 && fab->converged, (double)worst);
+  CheckRel("force at 5 % with prediction (N)", fab->curve[9].force, 10 * fab->s.warp.EA * 0.05, 1e-6);
+  PetscCall(FabricDestroy(&fab));
+  PetscFunctionReturn(0);
+}
+
+/* With every speed-up on (prediction, early exit, front, sleeping), the crimped strip's
+   curve stays within the balance tolerance of the all-off reference (plain multi-sampling,
+   fixed N large enough to converge): max |dF| / peak <= balance_tol. */
+static PetscErrorCode SpeedupsCurve(void)
+{
+  Fabric    fab;
+  PetscReal ref[8], err = 0, peak = 0;
+  const char *common = BASE "-yarns 4 -gauge_mm 20 -elongation_pct 12 -load_steps 8 -point_load_N 0,0,0.002 ";
+
+  PetscFunctionBeginUser;
+  {
+    char opts[512];
+    PetscCall(PetscSNPrintf(opts, sizeof opts, "%s -predict none -early_exit 0 -front 0 -max_inner_steps 30000", common));
+    PetscCall(NewFabric(opts, &fab));
+    PetscCall(FabricRun(fab));
+    for (int k = 0; k < 8; k++) ref[k] = fab->curve[k].force, peak = PetscMax(peak, ref[k]);
+    PetscPrintf(PETSC_COMM_WORLD, "all off: %" PetscInt64_FMT " te steps, %" PetscInt64_FMT " point updates\n", fab->te_steps, fab->point_updates);
+    PetscCall(FabricDestroy(&fab));
+    PetscCall(PetscSNPrintf(opts, sizeof opts, "%s -predict extrapolate -early_exit 1 -front 1 -sleep_tol 1e-4 -balance_tol 1e-3", common));
+    PetscCall(NewFabric(opts, &fab));
+    PetscCall(FabricRun(fab));
+    for (int k = 0; k < 8; k++) err = PetscMax(err, PetscAbsReal(fab->curve[k].force - ref[k]));
+    PetscPrintf(PETSC_COMM_WORLD, "all on: %" PetscInt64_FMT " te steps, %" PetscInt64_FMT " point updates\n", fab->te_steps, fab->point_updates);
+  }
+  CheckTrue("every speed-up on: max |F - F_ref| / peak force <= balance_tol 1e-3", err / peak <= 1e-3, err / peak);
+  PetscCall(FabricDestroy(&fab));
+  PetscFunctionReturn(0);
+}
+
 int main(int argc, char **argv)
 {
   char name[64] = "";
@@ -252,6 +299,8 @@ int main(int argc, char **argv)
   else if (!strcmp(name, "stable_095")) PetscCall(Stable095());
   else if (!strcmp(name, "unstable_110")) PetscCall(Unstable110());
   else if (!strcmp(name, "paper_parasitic")) PetscCall(PaperParasitic());
+  else if (!strcmp(name, "linear_prediction")) PetscCall(LinearPrediction());
+  else if (!strcmp(name, "speedups_curve")) PetscCall(SpeedupsCurve());
   else SETERRQ(PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT, "unknown -case %s", name);
   PetscCall(PetscFinalize());
   return failures ? 1 : 0;

@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# Rank propagation from rest (first load step, gravity off) is exact: front on and off give
+# bit-identical positions, on 1 and 2 ranks; and the front computes fewer points.
+set -u
+fabric="$1"; scene="$2"
+work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
+opts=(-scene "$scene" -quiet -gravity 0,0,0 -predict none -load_steps 1 -early_exit 0 -max_inner_steps 300)
+fail=0
+for front in 0 1; do for np in 1 2; do
+  mpiexec -n "$np" "$fabric" "${opts[@]}" -front "$front" -output_dir "$work/f$front-$np" -positions_out "$work/f$front-$np.bin" || fail=1
+done; done
+for run in f1-1 f1-2 f0-2; do
+  if cmp -s "$work/f0-1.bin" "$work/$run.bin"; then echo "PASS positions of $run == front off on 1 rank (bit-identical)"
+  else echo "FAIL positions of $run differ from front off on 1 rank"; fail=1; fi
+done
+off=$(grep '"point_updates"' "$work/f0-1/summary.json" | tr -dc 0-9)
+on=$(grep '"point_updates"' "$work/f1-1/summary.json" | tr -dc 0-9)
+if (( on < off )); then echo "PASS front computes $on point updates instead of $off"; else echo "FAIL front computes $on point updates, off $off"; fail=1; fi
+exit $fail
