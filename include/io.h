@@ -9,8 +9,8 @@
  *   /frames/NNNNNN/warp_tension, weft_tension (ny, nx) N, shear_angle_deg (ny, nx) degrees
  *   attributes of a frame group: time_s, load_step, te_step (te steps into the load step)
  *   attributes of /: nx, ny, scene, frames (how many frames the file holds)
- * DIR/fabric.xmf: the XDMF index of those frames (a temporal collection of 2-D structured
- *   grids of 3-D points), rewritten by rank 0 after every frame (aside, then renamed).
+ * DIR/fabric.xmf: the XDMF index of those frames (a temporal collection of structured grids of
+ *   3-D points, nx x ny x 1), rewritten by rank 0 after every frame (aside, then renamed).
  * DIR/checkpoint.h5: everything a run needs to continue exactly (checkpoint.c).
  */
 #ifndef FABRIC_IO_H

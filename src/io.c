@@ -247,41 +247,55 @@ static PetscErrorCode WriteFrame(Fabric fab, const FrameInfo *f)
 }
 
 /* After a restart: drop the frames the interrupted run wrote after its checkpoint (they are
-   written again), and say how many of the frames before it the file holds. Collective: every
-   rank makes the same HDF5 metadata calls, as parallel HDF5 requires. */
+   written again) and count the frames before it that the file holds. Rank 0 does it alone,
+   through serial HDF5 (metadata only), before the ranks open the file together again. */
 static PetscErrorCode DropFramesFrom(Fabric fab, const char *file, PetscInt first, PetscInt *kept)
 {
-  PetscViewer v;
-  hid_t       fid, g;
-  H5G_info_t  info;
-  char        name[64];
-  char      (*drop)[64] = NULL;
-  PetscInt    ndrop = 0;
-  int         count = (int)first;
+  int status[2] = {0, 0}; /* frames kept, failed */
 
   PetscFunctionBeginUser;
-  *kept = 0;
-  PetscCall(PetscViewerHDF5Open(fab->comm, file, FILE_MODE_APPEND, &v));
-  PetscCall(PetscViewerHDF5GetFileId(v, &fid));
-  if (H5Lexists(fid, "/frames", H5P_DEFAULT) > 0) {
-    g = H5Gopen2(fid, "/frames", H5P_DEFAULT);
-    PetscCheck(g >= 0, PETSC_COMM_SELF, PETSC_ERR_LIB, "%s: cannot open the group /frames", file);
-    PetscCheck(H5Gget_info(g, &info) >= 0, PETSC_COMM_SELF, PETSC_ERR_LIB, "%s: cannot read the group /frames", file);
-    PetscCall(PetscCalloc1(info.nlinks + 1, &drop));
-    for (hsize_t l = 0; l < info.nlinks; l++) {
-      char *end;
-      long  index;
-      if (H5Lget_name_by_idx(g, ".", H5_INDEX_NAME, H5_ITER_INC, l, name, sizeof name, H5P_DEFAULT) < 0) continue;
-      index = strtol(name, &end, 10);
-      if (*end || index < first) (*kept)++;
-      else PetscCall(PetscStrncpy(drop[ndrop++], name, sizeof drop[0]));
+  if (fab->rank == 0) {
+    H5E_auto2_t efunc;
+    void       *edata;
+    hid_t       fid, g;
+    H5G_info_t  info;
+    char        name[64];
+    int         count = (int)first;
+
+    H5Eget_auto2(H5E_DEFAULT, &efunc, &edata);
+    H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
+    fid = H5Fopen(file, H5F_ACC_RDWR, H5P_DEFAULT);
+    if (fid < 0) status[1] = 1;
+    else {
+      if (H5Lexists(fid, "/frames", H5P_DEFAULT) > 0 && (g = H5Gopen2(fid, "/frames", H5P_DEFAULT)) >= 0) {
+        if (H5Gget_info(g, &info) >= 0) {
+          /* by name in decreasing order, so that deleting a link does not move the ones to come */
+          for (hsize_t l = info.nlinks; l-- > 0;) {
+            char *end;
+            long  index;
+            if (H5Lget_name_by_idx(g, ".", H5_INDEX_NAME, H5_ITER_INC, l, name, sizeof name, H5P_DEFAULT) < 0) {
+              status[1] = 1;
+              continue;
+            }
+            index = strtol(name, &end, 10);
+            if (*end || index < first) status[0]++;
+            else if (H5Ldelete(g, name, H5P_DEFAULT) < 0) status[1] = 1;
+          }
+        } else status[1] = 1;
+        H5Gclose(g);
+      }
+      {
+        hid_t a = H5Aopen(fid, "frames", H5P_DEFAULT);
+        if (a < 0 || H5Awrite(a, H5T_NATIVE_INT, &count) < 0) status[1] = 1;
+        if (a >= 0) H5Aclose(a);
+      }
+      if (H5Fclose(fid) < 0) status[1] = 1;
     }
-    for (PetscInt l = 0; l < ndrop; l++) PetscCheck(H5Ldelete(g, drop[l], H5P_DEFAULT) >= 0, PETSC_COMM_SELF, PETSC_ERR_LIB, "%s: cannot remove frame %s", file, drop[l]);
-    H5Gclose(g);
-    PetscCall(PetscFree(drop));
+    H5Eset_auto2(H5E_DEFAULT, efunc, edata);
   }
-  PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "frames", PETSC_INT, &count));
-  PetscCall(PetscViewerDestroy(&v));
+  PetscCallMPI(MPI_Bcast(status, 2, MPI_INT, 0, fab->comm));
+  PetscCheck(!status[1], fab->comm, PETSC_ERR_FILE_WRITE, "-restart %s: cannot remove the frames written after the checkpoint from %s", fab->io->restart, file);
+  *kept = status[0];
   PetscFunctionReturn(0);
 }
 
@@ -355,10 +369,12 @@ PetscErrorCode FramesTeStep(Fabric fab)
 
 /* ------------------------------------------------------------------ fabric.xmf */
 
+/* One layer of a 3-D structured grid: ParaView's Xdmf2 reader does not read the vector
+   attributes of a 2DSMesh, and all its XDMF readers read this (nx x ny x 1 points) */
 static void XdmfItem(FILE *fp, const char *indent, PetscInt nx, PetscInt ny, int dof, const char *path)
 {
-  if (dof > 1) fprintf(fp, "%s<DataItem Dimensions=\"%" PetscInt_FMT " %" PetscInt_FMT " %d\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">fabric.h5:%s</DataItem>\n", indent, ny, nx, dof, path);
-  else fprintf(fp, "%s<DataItem Dimensions=\"%" PetscInt_FMT " %" PetscInt_FMT "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">fabric.h5:%s</DataItem>\n", indent, ny, nx, path);
+  if (dof > 1) fprintf(fp, "%s<DataItem Dimensions=\"1 %" PetscInt_FMT " %" PetscInt_FMT " %d\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">fabric.h5:%s</DataItem>\n", indent, ny, nx, dof, path);
+  else fprintf(fp, "%s<DataItem Dimensions=\"1 %" PetscInt_FMT " %" PetscInt_FMT "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">fabric.h5:%s</DataItem>\n", indent, ny, nx, path);
 }
 
 /* Rank 0 writes the XDMF index of the frames aside, then renames it into place. */
@@ -393,7 +409,7 @@ PetscErrorCode FramesWriteXdmf(Fabric fab)
         fprintf(fp, "      <Grid Name=\"frame_%06" PetscInt_FMT "\" GridType=\"Uniform\">\n", k);
         fprintf(fp, "        <Time TimeType=\"Single\" Value=\"%.17g\"/>\n", (double)f->time);
         fprintf(fp, "        <Information Name=\"load_step\" Value=\"%" PetscInt_FMT "\"/>\n        <Information Name=\"te_step\" Value=\"%" PetscInt_FMT "\"/>\n", f->load_step, f->te_step);
-        fprintf(fp, "        <Topology TopologyType=\"2DSMesh\" Dimensions=\"%" PetscInt_FMT " %" PetscInt_FMT "\"/>\n", ny, nx);
+        fprintf(fp, "        <Topology TopologyType=\"3DSMesh\" Dimensions=\"1 %" PetscInt_FMT " %" PetscInt_FMT "\"/>\n", ny, nx);
         fprintf(fp, "        <Geometry GeometryType=\"XYZ\">\n");
         snprintf(path, sizeof path, "/frames/%06" PetscInt_FMT "/positions", k);
         XdmfItem(fp, "          ", nx, ny, 3, path);
