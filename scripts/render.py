@@ -104,7 +104,7 @@ def main():
     cx, cy, cz = (x0 + x1) / 2, (y0 + y1) / 2, (z0 + z1) / 2
     size = max(x1 - x0, y1 - y0, z1 - z0, 1e-9)
     view.CameraFocalPoint = [cx, cy, cz]
-    view.CameraPosition = [cx, cy - 1.2 * size, cz + 0.9 * size]
+    view.CameraPosition = [cx, cy - 0.9 * size, cz + 1.1 * size]
     view.CameraViewUp = [0, 0, 1]
     view.ResetCamera()
 

@@ -344,6 +344,20 @@ static int CheckDataset(hid_t fid, const char *path, int rank, const hsize_t *wa
   return ok;
 }
 
+/* a scene value for a message: enums by name, numbers with as many digits as tell them apart */
+static void KeyValue(const char *name, double v, char *buf, size_t len, double other)
+{
+  const char *const *names = !strcmp(name, "pull") ? PullAxisNames : !strcmp(name, "integrator") ? IntegratorNames : !strcmp(name, "predict") ? PredictNames : NULL;
+  char              a[64], b[64];
+  if (names && v >= 0 && v < 3 && v == (int)v && (strcmp(name, "predict") == 0 || v < 2)) {
+    snprintf(buf, len, "%s", names[(int)v]);
+    return;
+  }
+  snprintf(a, sizeof a, "%.10g", v);
+  snprintf(b, sizeof b, "%.10g", other);
+  snprintf(buf, len, strcmp(a, b) ? "%.10g" : "%.17g", v);
+}
+
 #define FAIL(...) \
   do { \
     h->status = 1; \
@@ -397,7 +411,12 @@ static PetscErrorCode ReadHeader(Fabric fab, const char *file, Header *h, double
     if (there[0] != (double)s->nx || there[1] != (double)s->ny)
       FAIL("-restart %s: the checkpoint is of another grid: %g x %g crossings there (scene %s), %" PetscInt_FMT " x %" PetscInt_FMT " here (scene %s): restart with the scene and options of the checkpointed run", file, there[0], there[1], name, s->nx, s->ny, s->name);
     for (PetscInt k = 2; k < nkey; k++)
-      if (there[k] != (double)key[k].value) FAIL("-restart %s: the checkpoint is of another scene: %s = %.17g there (scene %s), %.17g here (scene %s): restart with the scene and options of the checkpointed run", file, key[k].name, there[k], name, (double)key[k].value, s->name);
+      if (there[k] != (double)key[k].value) {
+        char a[64], b[64];
+        KeyValue(key[k].name, there[k], a, sizeof a, (double)key[k].value);
+        KeyValue(key[k].name, (double)key[k].value, b, sizeof b, there[k]);
+        FAIL("-restart %s: the checkpoint is of another scene: %s = %s there (scene %s), %s here (scene %s): restart with the scene and options of the checkpointed run", file, key[k].name, a, name, b, s->name);
+      }
   }
   H5Gclose(g);
   g = H5Gopen2(fid, "/", H5P_DEFAULT);

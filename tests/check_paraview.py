@@ -1,11 +1,13 @@
 """check_paraview.py - ParaView's own XDMF readers open DIR/fabric.xmf as the time series that
 DIR/fabric.h5 holds. Run with pvpython (Debian package python3-paraview):
 
-    pvpython tests/check_paraview.py DIR FRAMES
+    pvpython tests/check_paraview.py DIR FRAMES [te]
 
 Asserts, for ParaView's XDMF reader (Xdmf2) and its Xdmf3 readers (S and T) alike:
   - the series has FRAMES time steps, at the times stored in fabric.h5, and the load-step frames
-    are at the time_s of their load step in curve.csv (frame 0, the rest state, at 0);
+    are at the time_s of their load step in curve.csv (frame 0, the rest state, at 0); with
+    "te" (a run with -output_te_every), a frame of load step k is at or after the time_s of k
+    and before that of k + 1;
   - the grid is a structured nx x ny x 1 grid of 3-D points with every field;
   - for the first, a middle and the last frame, the points ParaView reads equal the HDF5
     positions, and its warp_tension, displacement and point_kind equal the HDF5 values (exactly).
@@ -40,7 +42,7 @@ def dataset(reader):
 
 
 def main():
-    out, expected = sys.argv[1], int(sys.argv[2])
+    out, expected, te_frames = sys.argv[1], int(sys.argv[2]), len(sys.argv) > 3 and sys.argv[3] == "te"
     xmf = os.path.join(os.path.abspath(out), "fabric.xmf")  # the Xdmf3 readers need a directory in the name
     h5 = h5py.File(os.path.join(out, "fabric.h5"), "r")
     nx, ny = int(h5.attrs["nx"]), int(h5.attrs["ny"])
@@ -54,7 +56,13 @@ def main():
         time_s = {int(r["load_step"]): float(r["time_s"]) for r in csv.DictReader(f)}
     time_s[0] = 0.0
     # curve.csv keeps 9 significant digits
-    check(all(abs(t - time_s[k]) <= 1e-8 * max(1.0, abs(t)) for t, k in zip(times, steps)), f"frame times = time_s of their load steps in curve.csv: {list(zip(steps, times))}")
+    tol = lambda t: 1e-8 * max(1.0, abs(t))
+    if te_frames:
+        last = max(time_s)
+        time_s[last + 1] = float("inf")
+        check(all(time_s[k] - tol(t) <= t < time_s[k + 1] - tol(t) for t, k in zip(times, steps)), f"te-step frame times are within their load steps ({len(times)} frames of {len(set(steps))} load steps)")
+    else:
+        check(all(abs(t - time_s[k]) <= tol(t) for t, k in zip(times, steps)), f"frame times = time_s of their load steps in curve.csv: {list(zip(steps, times))}")
 
     readers = (("XDMFReader (Xdmf2)", lambda: XDMFReader(FileNames=[xmf])), ("Xdmf3ReaderS", lambda: Xdmf3ReaderS(FileName=xmf)), ("Xdmf3ReaderT", lambda: Xdmf3ReaderT(FileName=xmf)))
     for label, make in readers:
