@@ -75,6 +75,7 @@ typedef struct { /* what the balance test and the stability watch see after a te
 } StepStats;
 
 typedef struct _p_Fabric *Fabric;
+struct _p_FabricIO; /* io.h */
 struct _p_Fabric {
   MPI_Comm    comm;
   PetscMPIInt rank, size;
@@ -123,6 +124,9 @@ struct _p_Fabric {
   PetscLogDouble wall_start, wall;
   CurveRow      *curve;
   FILE          *curve_fp; /* rank 0 */
+
+  /* output and checkpoint (io.c) */
+  struct _p_FabricIO *io; /* frames of fabric.h5/.xmf, checkpoint and restart; NULL: none (io.h) */
 };
 
 /* log events (registered in FabricCreate) */
@@ -165,5 +169,14 @@ PetscErrorCode OutputCurveRow(Fabric fab, const CurveRow *row);
 PetscErrorCode OutputProgress(Fabric fab, const CurveRow *row);
 PetscErrorCode OutputSummary(Fabric fab, const char *error);
 PetscErrorCode OutputPositions(Fabric fab, const char *file);
+/* io.c, checkpoint.c: results for ParaView, checkpoint and restart (hooks; the rest is in io.h) */
+PetscErrorCode IOSetUp(Fabric fab);
+PetscErrorCode IODestroy(Fabric fab);
+PetscErrorCode FramesOpen(Fabric fab);
+PetscErrorCode FramesLoadStep(Fabric fab, const CurveRow *row);
+PetscErrorCode FramesTeStep(Fabric fab);
+PetscErrorCode CheckpointLoadStep(Fabric fab);
+PetscErrorCode RestartLoad(Fabric fab);
+PetscErrorCode IODescribe(Fabric fab, char *buf, size_t len);
 
 #endif

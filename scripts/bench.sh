@@ -11,7 +11,7 @@ cd "$ROOT"
 printf "%-6s %10s %10s %14s %16s %10s\n" ranks points te_steps wall_s "updates/s/rank" speedup
 base=""
 for np in 1 2; do
-  mpiexec -n "$np" build/fabric -scene inputs/square_1000.yaml -output_dir "$work/r$np" -quiet "$@" >/dev/null
+  mpiexec -n "$np" build/fabric -scene inputs/square_1000.yaml -output_dir "$work/r$np" -output_every 0 -quiet "$@" >/dev/null
   read -r points steps wall rate < <(/usr/bin/python3 -c "import json,sys; s=json.load(open('$work/r$np/summary.json')); print(s['points'], s['te_steps'], s['wall_s'], s['point_updates_per_s'])")
   per_rank=$(/usr/bin/python3 -c "print(f'{$rate/$np:.3e}')")
   [[ -z $base ]] && base=$wall

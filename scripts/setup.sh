@@ -7,7 +7,10 @@ ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 # Open MPI refuses root and more ranks than cores unless told (CI runs as root on 2 cores)
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
 
-packages=(build-essential cmake pkg-config petsc-dev libhdf5-openmpi-dev libgsl-dev openmpi-bin hdf5-tools ${FABRIC_EXTRA_PACKAGES:-})
+# paraview + python3-paraview: pvpython and pvbatch (scripts/render.py, the output tests); xvfb and
+# xauth: xvfb-run, a display for pvbatch; python3-h5py/numpy/matplotlib: the scripts and tests
+packages=(build-essential cmake pkg-config petsc-dev libhdf5-openmpi-dev libgsl-dev openmpi-bin hdf5-tools
+  paraview python3-paraview xvfb xauth python3-h5py python3-numpy python3-matplotlib ${FABRIC_EXTRA_PACKAGES:-})
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

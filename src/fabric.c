@@ -187,6 +187,7 @@ PetscErrorCode FabricCreate(MPI_Comm comm, Fabric *out)
   PetscCall(FrontSetUp(fab));
   fab->converged = PETSC_TRUE;
   PetscCall(PetscCalloc1(s->load_steps, &fab->curve));
+  PetscCall(IOSetUp(fab)); /* output and checkpoint options (io.c) */
   *out = fab;
   PetscFunctionReturn(0);
 }
@@ -198,6 +199,7 @@ PetscErrorCode FabricDestroy(Fabric *pfab)
   PetscFunctionBeginUser;
   if (!fab) PetscFunctionReturn(0);
   if (fab->curve_fp) fclose(fab->curve_fp);
+  PetscCall(IODestroy(fab));
   PetscCall(PetscFree(fab->curve));
   PetscCall(PetscFree(fab->front_box));
   PetscCall(PetscFree4(fab->mass, fab->inv_m, fab->kind, fab->predict_w));

@@ -216,5 +216,6 @@ PetscErrorCode TimeStep(Fabric fab, StepStats *out)
   PetscCheck(out->speed * fab->te <= fab->extent, fab->comm, PETSC_ERR_FP, "numerical instability at load step %" PetscInt_FMT ", te step %" PetscInt64_FMT ": runaway motion, a point moved %g m in one step, more than the fabric's size %g m (te = %g s, stable bound %g s)", fab->load_step, fab->te_steps, (double)(out->speed * fab->te), (double)fab->extent, (double)fab->te, (double)fab->te_bound);
   out->balanced = (out->residual <= s->balance_tol && out->speed <= s->speed_tol && fab->ramp_done >= fab->ramp_steps) ? PETSC_TRUE : PETSC_FALSE;
   fab->last     = *out;
+  if (fab->io) PetscCall(FramesTeStep(fab)); /* -output_te_every (io.c) */
   PetscFunctionReturn(0);
 }

@@ -88,7 +88,9 @@ static PetscErrorCode Run(int argc, char **argv)
     for (PetscInt k = 0; k < fab->s.load_steps; k++) peak = PetscMax(peak, fab->curve[k].force);
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fabric: done in %.2f s: %" PetscInt64_FMT " te steps, %.3e point updates/s; peak force %.4g N at %.3g %% elongation; %s\n", (double)fab->wall, fab->te_steps, fab->wall > 0 ? (double)fab->point_updates / fab->wall : 0.0, (double)peak,
                           (double)(100 * fab->curve[fab->s.load_steps - 1].elongation), fab->converged ? "every load step balanced" : "some load steps did NOT balance (see curve.csv residual)"));
-    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fabric: results in %s/ (curve.csv, summary.json)\n", fab->s.output_dir));
+    char files[256];
+    PetscCall(IODescribe(fab, files, sizeof files));
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fabric: results in %s/ (%s)\n", fab->s.output_dir, files));
   }
   PetscCall(FabricDestroy(&fab));
   PetscFunctionReturn(0);

@@ -27,6 +27,12 @@ static int MakeDirs(const char *path)
   return 0;
 }
 
+static void WriteCurveRow(FILE *fp, const CurveRow *r)
+{
+  fprintf(fp, "%" PetscInt_FMT ",%.9g,%.9g,%.9g,%" PetscInt_FMT ",%.6e\n", r->load_step, (double)r->time, (double)(100.0 * r->elongation), (double)r->force, r->inner_steps, (double)r->residual);
+}
+
+/* curve.csv: the header, and after a restart the rows before the checkpoint */
 PetscErrorCode OutputOpen(Fabric fab)
 {
   const char *dir = fab->s.output_dir;
@@ -43,6 +49,7 @@ PetscErrorCode OutputOpen(Fabric fab)
       ok            = fab->curve_fp != NULL;
       if (ok) {
         fprintf(fab->curve_fp, "load_step,time_s,elongation_pct,force_N,inner_steps,residual\n");
+        for (PetscInt k = 0; k < fab->load_step; k++) WriteCurveRow(fab->curve_fp, &fab->curve[k]);
         fflush(fab->curve_fp);
       }
     }
@@ -57,7 +64,7 @@ PetscErrorCode OutputCurveRow(Fabric fab, const CurveRow *r)
   PetscFunctionBeginUser;
   if (!fab->curve_fp) PetscFunctionReturn(0);
   PetscCall(PetscLogEventBegin(EV_Output, 0, 0, 0, 0));
-  fprintf(fab->curve_fp, "%" PetscInt_FMT ",%.9g,%.9g,%.9g,%" PetscInt_FMT ",%.6e\n", r->load_step, (double)r->time, (double)(100.0 * r->elongation), (double)r->force, r->inner_steps, (double)r->residual);
+  WriteCurveRow(fab->curve_fp, r);
   fflush(fab->curve_fp);
   PetscCall(PetscLogEventEnd(EV_Output, 0, 0, 0, 0));
   PetscFunctionReturn(0);

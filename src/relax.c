@@ -165,8 +165,10 @@ PetscErrorCode FabricRun(Fabric fab)
   PetscFunctionBeginUser;
   PetscCall(PetscTime(&fab->wall_start));
   PetscCall(StableStep(fab)); /* refuses a -te above the bound before any output exists */
+  PetscCall(RestartLoad(fab)); /* -restart: state, counters and curve rows of the checkpoint */
   PetscCall(OutputOpen(fab));
-  for (PetscInt k = 1; k <= s->load_steps; k++) {
+  PetscCall(FramesOpen(fab));  /* fabric.h5 and fabric.xmf */
+  for (PetscInt k = fab->load_step + 1; k <= s->load_steps; k++) {
     CurveRow *row = &fab->curve[k - 1];
     PetscCall(ApplyLoadStep(fab, k));
     PetscCall(RelaxLoadStep(fab, row));
@@ -175,7 +177,9 @@ PetscErrorCode FabricRun(Fabric fab)
     PetscCall(PetscTime(&fab->wall));
     fab->wall -= fab->wall_start;
     PetscCall(OutputCurveRow(fab, row));
+    PetscCall(FramesLoadStep(fab, row));
     PetscCall(OutputProgress(fab, row));
+    PetscCall(CheckpointLoadStep(fab));
   }
   PetscCall(OutputSummary(fab, NULL));
   if (s->positions_out[0]) PetscCall(OutputPositions(fab, s->positions_out));

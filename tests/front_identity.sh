@@ -4,7 +4,7 @@
 set -u
 fabric="$1"; scene="$2"
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
-opts=(-scene "$scene" -quiet -gravity 0,0,0 -predict none -load_steps 1 -early_exit 0 -max_inner_steps 300)
+opts=(-scene "$scene" -quiet -gravity 0,0,0 -predict none -load_steps 1 -early_exit 0 -max_inner_steps 300 -output_every 0)
 fail=0
 for front in 0 1; do for np in 1 2; do
   mpiexec -n "$np" "$fabric" "${opts[@]}" -front "$front" -output_dir "$work/f$front-$np" -positions_out "$work/f$front-$np.bin" || fail=1

@@ -6,8 +6,8 @@
 set -u
 fabric="$1"; scene="$2"
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
-fixed=(-scene "$scene" -quiet -predict none -load_steps 2 -early_exit 0 -max_inner_steps 300 -point_load_N 0,0,0.02)
-early=(-scene "$scene" -quiet -predict none -gauge_mm 20 -width_mm 5 -load_steps 3 -elongation_pct 3 -balance_tol 1e-4 -point_load_N 0,0,0.001)
+fixed=(-scene "$scene" -quiet -output_every 0 -predict none -load_steps 2 -early_exit 0 -max_inner_steps 300 -point_load_N 0,0,0.02)
+early=(-scene "$scene" -quiet -output_every 0 -predict none -gauge_mm 20 -width_mm 5 -load_steps 3 -elongation_pct 3 -balance_tol 1e-4 -point_load_N 0,0,0.001)
 fail=0
 run() { local np="$1"; shift; mpiexec -n "$np" "$fabric" "$@" || { echo "FAIL: run on $np ranks failed"; fail=1; }; }
 for np in 1 2 3; do

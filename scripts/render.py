@@ -1,0 +1,133 @@
+"""render.py - PNG images of frames of a fabric run, the fabric coloured by yarn tension.
+
+    xvfb-run -a pvbatch scripts/render.py DIR [--frames 0,5,last | all] [--field warp_tension]
+                                              [--out PREFIX] [--size 1600x900] [--range LO,HI]
+
+DIR is a run's -output_dir (it holds fabric.xmf and fabric.h5). One image per frame,
+PREFIX_NNNNNN.png (default DIR/render/frame_NNNNNN.png), of the deformed fabric seen from above
+at an angle, coloured by --field (any point field of fabric.xmf: warp_tension, weft_tension,
+shear_angle_deg, ...) on one colour scale for all the chosen frames (its range over them, or
+--range), with the load step and the test time written on the image. Prints the files it wrote.
+"""
+import argparse
+import os
+import sys
+
+from paraview.simple import (ColorBy, GetColorTransferFunction, GetScalarBar, Render, SaveScreenshot, Show, Text, XDMFReader, CreateView)
+
+TITLES = {
+    "warp_tension": "warp yarn tension (N)",
+    "weft_tension": "weft yarn tension (N)",
+    "shear_angle_deg": "shear angle (degrees)",
+    "point_kind": "point: 0 free, 1 clamped, 2 grip",
+}
+
+
+def parse():
+    p = argparse.ArgumentParser(description="Render frames of DIR/fabric.xmf to PNG (run with xvfb-run -a pvbatch).")
+    p.add_argument("dir", help="the run's -output_dir, holding fabric.xmf and fabric.h5")
+    p.add_argument("--frames", default="last", help="comma-separated frame numbers, 'last', or 'all' (default: last)")
+    p.add_argument("--field", default="warp_tension", help="point field to colour by (default: warp_tension)")
+    p.add_argument("--out", default=None, help="file name prefix (default: DIR/render/frame)")
+    p.add_argument("--size", default="1600x900", help="image size WxH in pixels (default: 1600x900)")
+    p.add_argument("--range", default=None, help="colour scale LO,HI (default: the field's range over the chosen frames)")
+    return p.parse_args()
+
+
+def main():
+    a = parse()
+    xmf = os.path.join(os.path.abspath(a.dir), "fabric.xmf")
+    if not os.path.isfile(xmf):
+        sys.exit(f"render.py: {xmf}: no such file (run fabric with -output_every K first)")
+    reader = XDMFReader(FileNames=[xmf])
+    reader.UpdatePipelineInformation()
+    times = list(reader.TimestepValues) if len(reader.TimestepValues) > 1 else [reader.TimestepValues]
+    times = [float(t) for t in times]
+    n = len(times)
+    if a.frames == "all":
+        frames = list(range(n))
+    else:
+        frames = []
+        for f in a.frames.split(","):
+            k = n - 1 if f.strip() == "last" else int(f)
+            if not 0 <= k < n:
+                sys.exit(f"render.py: --frames {a.frames}: frame {k} does not exist ({xmf} has frames 0 to {n - 1})")
+            frames.append(k)
+    w, h = (int(v) for v in a.size.lower().split("x"))
+    prefix = a.out or os.path.join(os.path.abspath(a.dir), "render", "frame")
+    os.makedirs(os.path.dirname(os.path.abspath(prefix)), exist_ok=True)
+
+    names = [reader.PointData.GetArray(i).Name for i in range(len(reader.PointData))]
+    if a.field not in names:
+        sys.exit(f"render.py: --field {a.field}: not a field of {xmf} (it has {', '.join(names)})")
+    if a.range:
+        lo, hi = (float(v) for v in a.range.split(","))
+    else:
+        lo, hi = float("inf"), float("-inf")
+        for k in frames:
+            reader.UpdatePipeline(times[k])
+            r = reader.PointData[a.field].GetRange()
+            lo, hi = min(lo, r[0]), max(hi, r[1])
+        if hi <= lo:
+            hi = lo + 1e-12
+
+    view = CreateView("RenderView")
+    view.ViewSize = [w, h]
+    view.Background = [1, 1, 1]
+    try:  # ParaView >= 5.10 takes the background from the colour palette unless told
+        view.UseColorPaletteForBackground = 0
+    except AttributeError:
+        pass
+    view.OrientationAxesVisibility = 1
+    shown = Show(reader, view)
+    shown.Representation = "Surface"
+    ColorBy(shown, ("POINTS", a.field))
+    lut = GetColorTransferFunction(a.field)
+    lut.ApplyPreset("Turbo", True)
+    lut.RescaleTransferFunction(lo, hi)
+    lut.AutomaticRescaleRangeMode = "Never"
+    bar = GetScalarBar(lut, view)
+    bar.Title = TITLES.get(a.field, a.field)
+    bar.ComponentTitle = ""
+    bar.TitleColor = bar.LabelColor = [0, 0, 0]
+    bar.Visibility = 1
+    shown.SetScalarBarVisibility(view, True)
+
+    label = Text()
+    label_shown = Show(label, view)
+    label_shown.Color = [0, 0, 0]
+    label_shown.WindowLocation = "Upper Left Corner"
+
+    # seen from above the fabric, at an angle: its x (warp) axis runs across the image
+    reader.UpdatePipeline(times[frames[0]])
+    (x0, x1, y0, y1, z0, z1) = reader.GetDataInformation().GetBounds()
+    cx, cy, cz = (x0 + x1) / 2, (y0 + y1) / 2, (z0 + z1) / 2
+    size = max(x1 - x0, y1 - y0, z1 - z0, 1e-9)
+    view.CameraFocalPoint = [cx, cy, cz]
+    view.CameraPosition = [cx, cy - 0.9 * size, cz + 1.1 * size]
+    view.CameraViewUp = [0, 0, 1]
+    view.ResetCamera()
+
+    info = {}
+    try:  # load step of each frame, from fabric.h5
+        import h5py
+        with h5py.File(os.path.join(os.path.abspath(a.dir), "fabric.h5"), "r") as f:
+            for i, name in enumerate(sorted(f["frames"].keys())):
+                info[i] = int(f["frames"][name].attrs["load_step"])
+    except Exception:
+        pass
+    for k in frames:
+        view.ViewTime = times[k]
+        reader.UpdatePipeline(times[k])
+        step = f"load step {info[k]}, " if k in info else ""
+        label.Text = f"frame {k}: {step}t = {times[k]:.6g} s"
+        view.ResetCamera()
+        view.GetActiveCamera().Dolly(1.3)  # ResetCamera fits the bounding sphere: fill more of the image
+        Render(view)
+        out = f"{prefix}_{k:06d}.png"
+        SaveScreenshot(out, view, ImageResolution=[w, h])
+        print(out)
+
+
+if __name__ == "__main__":
+    main()

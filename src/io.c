@@ -1,0 +1,455 @@
+/* io.c - the results a user opens in ParaView: DIR/fabric.h5 and DIR/fabric.xmf (layout in io.h).
+ *
+ * Frames are written collectively through PETSc's HDF5 viewer: each rank writes its own patch
+ * of the DMDA vectors in the natural (ny, nx, dof) layout, nothing is gathered on one rank, so
+ * the file is the same on any number of ranks. fabric.h5 is opened and closed for every frame:
+ * between frames it is complete. Rank 0 then rewrites fabric.xmf aside and renames it into
+ * place, so the index is valid at any moment and names only complete frames.
+ *
+ * Frames: the state at the start (rest, load step 0), then every -output_every K load steps and
+ * the last load step, at the load step's test time time_s = grip travel / test speed (as in
+ * curve.csv). With -output_te_every M (dynamic scenes) also every M te steps within each load
+ * step, at time_s + n te for the n-th te step of the load step; a load step's own frame is then
+ * the one at its last te step, time_s + N' te, so that the times of the series increase.
+ *
+ * Point fields (not on the hot path: computed here, per frame, from the ghosted positions):
+ *   warp tension at a point: the mean chord tension T(e) (MODEL.md 5.1) of its intact warp
+ *   (x) segments, 0 if it has none; weft tension likewise with the y segments;
+ *   shear angle (degrees): asin(s), s = cos(angle(tw, tf)) with the warp tangent
+ *   tw = x(i+1,j) - x(i-1,j) and weft tangent tf = x(i,j+1) - x(i,j-1), one-sided at an edge
+ *   (MODEL.md 5.3, as kernels.c ComputeShearRow); 0 at a point without a warp or a weft neighbour.
+ */
+#include "io.h"
+
+#include <math.h>
+#include <petscviewerhdf5.h>
+#include <stdio.h>
+
+PetscErrorCode IOSetUp(Fabric fab)
+{
+  const Scene *s = &fab->s;
+  FabricIO     io;
+  PetscBool    set;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscNew(&io));
+  fab->io          = io;
+  io->output_every = PetscMax(1, (s->load_steps + 9) / 10); /* about ten frames */
+  io->te_load_step = -1;
+  PetscOptionsBegin(fab->comm, NULL, "Results for ParaView (DIR/fabric.h5, DIR/fabric.xmf), checkpoint and restart", NULL);
+  PetscCall(PetscOptionsInt("-output_every", "write a frame to fabric.h5 every K load steps and at the last one (load steps; 0 = no frames; default: about 10 frames)", NULL, io->output_every, &io->output_every, NULL));
+  PetscCheck(io->output_every >= 0, fab->comm, PETSC_ERR_USER_INPUT, "-output_every must be 0 (no frames) or a number of load steps, got %" PetscInt_FMT, io->output_every);
+  PetscCall(PetscOptionsInt("-output_te_every", "also write a frame every M te steps within each load step, for dynamic scenes (te steps; 0 = off)", NULL, io->output_te_every, &io->output_te_every, NULL));
+  PetscCheck(io->output_te_every >= 0, fab->comm, PETSC_ERR_USER_INPUT, "-output_te_every must be 0 (off) or a number of te steps, got %" PetscInt_FMT, io->output_te_every);
+  PetscCall(PetscOptionsInt("-checkpoint_every", "write DIR/checkpoint.h5 every K load steps (load steps; 0 = never)", NULL, io->checkpoint_every, &io->checkpoint_every, NULL));
+  PetscCheck(io->checkpoint_every >= 0, fab->comm, PETSC_ERR_USER_INPUT, "-checkpoint_every must be 0 (never) or a number of load steps, got %" PetscInt_FMT, io->checkpoint_every);
+  PetscCall(PetscOptionsString("-restart", "continue the run saved in this checkpoint file (written by -checkpoint_every), appending to the outputs in -output_dir", NULL, io->restart, io->restart, sizeof io->restart, &set));
+  PetscOptionsEnd();
+  PetscCheck(!io->checkpoint_every || s->output_dir[0], fab->comm, PETSC_ERR_USER_INPUT, "-checkpoint_every %" PetscInt_FMT " needs an output directory: -output_dir is none", io->checkpoint_every);
+  if (set) {
+    PetscBool exists;
+    PetscCheck(io->restart[0], fab->comm, PETSC_ERR_USER_INPUT, "-restart needs a checkpoint file name");
+    PetscCall(PetscTestFile(io->restart, 'r', &exists));
+    PetscCheck(exists, fab->comm, PETSC_ERR_FILE_OPEN, "-restart %s: no such file, or not readable", io->restart);
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode IODestroy(Fabric fab)
+{
+  FabricIO io = fab->io;
+
+  PetscFunctionBeginUser;
+  if (!io) PetscFunctionReturn(0);
+  PetscCall(DMDestroy(&io->da1));
+  PetscCall(PetscFree(io->frame));
+  PetscCall(PetscFree(fab->io));
+  PetscFunctionReturn(0);
+}
+
+static PetscBool FramesOn(Fabric fab)
+{
+  const FabricIO io = fab->io;
+  return (io && fab->s.output_dir[0] && (io->output_every > 0 || io->output_te_every > 0)) ? PETSC_TRUE : PETSC_FALSE;
+}
+
+/* ------------------------------------------------------------------ point fields */
+
+static inline PetscReal SegmentTension(const Patch *p, const PetscReal *x, PetscInt ka, PetscInt kb, const YarnLaw *law, PetscReal L0)
+{
+  const PetscReal *a = x + 3 * ka, *b = x + 3 * kb;
+  const PetscReal  L = PetscSqrtReal(PetscSqr(b[0] - a[0]) + PetscSqr(b[1] - a[1]) + PetscSqr(b[2] - a[2]));
+  return p->traction ? ChordTension(law, L / L0 - 1.0) : 0.0;
+}
+
+PetscErrorCode ComputePointFields(Fabric fab, Vec warp_tension, Vec weft_tension, Vec shear_deg)
+{
+  const Patch       *p = &fab->patch;
+  const PetscScalar *x;
+  PetscScalar       *tw, *tf, *sh;
+
+  PetscFunctionBeginUser;
+  PetscCall(HaloExchange(fab));
+  PetscCall(VecGetArrayRead(fab->Xl, &x));
+  PetscCall(VecGetArray(warp_tension, &tw));
+  PetscCall(VecGetArray(weft_tension, &tf));
+  PetscCall(VecGetArray(shear_deg, &sh));
+  for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
+    for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
+      const PetscInt  q = (j - p->ys) * p->xm + (i - p->xs), k = (j - p->gys) * p->gxm + (i - p->gxs), w = p->gxm;
+      const int       self = p->exists[k];
+      const int       hl = self && i > 0 && p->exists[k - 1], hr = self && i < p->nx - 1 && p->exists[k + 1];
+      const int       hd = self && j > 0 && p->exists[k - w], hu = self && j < p->ny - 1 && p->exists[k + w];
+      PetscReal       sum = 0;
+      int             n   = 0;
+
+      /* warp: segments (i-1,j)-(i,j) and (i,j)-(i+1,j); weft: (i,j-1)-(i,j) and (i,j)-(i,j+1) */
+      if (hl && !p->broken_x[k - 1]) sum += SegmentTension(p, x, k - 1, k, p->warp, p->ax), n++;
+      if (hr && !p->broken_x[k]) sum += SegmentTension(p, x, k, k + 1, p->warp, p->ax), n++;
+      tw[q] = n ? sum / n : 0.0;
+      sum = 0, n = 0;
+      if (hd && !p->broken_y[k - w]) sum += SegmentTension(p, x, k - w, k, p->weft, p->ay), n++;
+      if (hu && !p->broken_y[k]) sum += SegmentTension(p, x, k, k + w, p->weft, p->ay), n++;
+      tf[q] = n ? sum / n : 0.0;
+
+      /* shear angle from the tangents of MODEL.md 5.3, one-sided at an edge */
+      sh[q] = 0.0;
+      if ((hl || hr) && (hd || hu)) {
+        const PetscReal *xp = x + 3 * (hr ? k + 1 : k), *xm = x + 3 * (hl ? k - 1 : k);
+        const PetscReal *yp = x + 3 * (hu ? k + w : k), *ym = x + 3 * (hd ? k - w : k);
+        const PetscReal  a[3] = {xp[0] - xm[0], xp[1] - xm[1], xp[2] - xm[2]}, b[3] = {yp[0] - ym[0], yp[1] - ym[1], yp[2] - ym[2]};
+        const PetscReal  la = PetscSqrtReal(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]), lb = PetscSqrtReal(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
+        if (la > 0 && lb > 0) {
+          const PetscReal c = (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) / (la * lb);
+          sh[q]             = asin(PetscMax(-1.0, PetscMin(1.0, c))) * 180.0 / PETSC_PI;
+        }
+      }
+    }
+  PetscCall(VecRestoreArray(shear_deg, &sh));
+  PetscCall(VecRestoreArray(weft_tension, &tf));
+  PetscCall(VecRestoreArray(warp_tension, &tw));
+  PetscCall(VecRestoreArrayRead(fab->Xl, &x));
+  PetscFunctionReturn(0);
+}
+
+/* ------------------------------------------------------------------ fabric.h5 */
+
+static PetscErrorCode ViewAs(Vec v, const char *name, PetscViewer viewer)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectSetName((PetscObject)v, name));
+  PetscCall(VecView(v, viewer));
+  PetscFunctionReturn(0);
+}
+
+/* a new fabric.h5: the grid (rest positions, point kinds) and what the file is */
+static PetscErrorCode CreateFile(Fabric fab, const char *file)
+{
+  FabricIO     io = fab->io;
+  const Patch *p  = &fab->patch;
+  PetscViewer  v;
+  Vec          kind;
+  PetscScalar *a;
+  int          nx = (int)fab->s.nx, ny = (int)fab->s.ny, zero = 0;
+
+  PetscFunctionBeginUser;
+  if (!io->da1) PetscCall(DMDACreateCompatibleDMDA(fab->da, 1, &io->da1));
+  PetscCall(DMGetGlobalVector(io->da1, &kind));
+  PetscCall(VecGetArray(kind, &a));
+  for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
+    for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
+      const PetscInt q = (j - p->ys) * p->xm + (i - p->xs);
+      a[q]             = p->exists[(j - p->gys) * p->gxm + (i - p->gxs)] ? (PetscReal)fab->kind[q] : -1.0;
+    }
+  PetscCall(VecRestoreArray(kind, &a));
+  PetscCall(PetscViewerHDF5Open(fab->comm, file, FILE_MODE_WRITE, &v));
+  PetscCall(PetscViewerHDF5PushGroup(v, "/grid"));
+  PetscCall(ViewAs(fab->X0, "rest_positions", v));
+  PetscCall(ViewAs(kind, "point_kind", v));
+  PetscCall(PetscViewerHDF5PopGroup(v));
+  PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "nx", PETSC_INT, &nx));
+  PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "ny", PETSC_INT, &ny));
+  PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "scene", PETSC_STRING, fab->s.name));
+  PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "frames", PETSC_INT, &zero));
+  PetscCall(PetscViewerDestroy(&v));
+  PetscCall(DMRestoreGlobalVector(io->da1, &kind));
+  PetscCall(PetscObjectSetName((PetscObject)fab->X0, NULL));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FramesAppend(Fabric fab, const FrameInfo *f)
+{
+  FabricIO io = fab->io;
+
+  PetscFunctionBeginUser;
+  if (io->frames == io->frames_cap) {
+    FrameInfo *grown;
+    io->frames_cap = PetscMax(16, 2 * io->frames_cap);
+    PetscCall(PetscMalloc1(io->frames_cap, &grown));
+    if (io->frames) PetscCall(PetscArraycpy(grown, io->frame, io->frames));
+    PetscCall(PetscFree(io->frame));
+    io->frame = grown;
+  }
+  io->frame[io->frames++] = *f;
+  PetscFunctionReturn(0);
+}
+
+/* write the current state as frame f; a frame of the same load step and te step as the last
+   one replaces it (the te frame at a load step's last te step is also the load step's frame) */
+static PetscErrorCode WriteFrame(Fabric fab, const FrameInfo *f)
+{
+  FabricIO    io = fab->io;
+  PetscViewer v;
+  Vec         disp, tw, tf, sh;
+  char        file[PETSC_MAX_PATH_LEN], group[64];
+  PetscInt    index = io->frames;
+  int         count, load_step = (int)f->load_step, te_step = (int)f->te_step;
+
+  PetscFunctionBeginUser;
+  if (io->frames && io->frame[io->frames - 1].load_step == f->load_step && io->frame[io->frames - 1].te_step == f->te_step) index = io->frames - 1;
+  PetscCall(PetscLogEventBegin(EV_Output, 0, 0, 0, 0));
+  PetscCall(DMGetGlobalVector(fab->da, &disp));
+  PetscCall(DMGetGlobalVector(io->da1, &tw));
+  PetscCall(DMGetGlobalVector(io->da1, &tf));
+  PetscCall(DMGetGlobalVector(io->da1, &sh));
+  PetscCall(VecWAXPY(disp, -1.0, fab->X0, fab->X));
+  PetscCall(ComputePointFields(fab, tw, tf, sh));
+
+  PetscCall(PetscSNPrintf(file, sizeof file, "%s/fabric.h5", fab->s.output_dir));
+  PetscCall(PetscSNPrintf(group, sizeof group, "/frames/%06" PetscInt_FMT, index));
+  PetscCall(PetscViewerHDF5Open(fab->comm, file, FILE_MODE_APPEND, &v));
+  PetscCall(PetscViewerHDF5PushGroup(v, group));
+  PetscCall(ViewAs(fab->X, "positions", v));
+  PetscCall(ViewAs(fab->V, "velocities", v));
+  PetscCall(ViewAs(disp, "displacement", v));
+  PetscCall(ViewAs(tw, "warp_tension", v));
+  PetscCall(ViewAs(tf, "weft_tension", v));
+  PetscCall(ViewAs(sh, "shear_angle_deg", v));
+  PetscCall(PetscViewerHDF5WriteAttribute(v, NULL, "time_s", PETSC_REAL, &f->time));
+  PetscCall(PetscViewerHDF5WriteAttribute(v, NULL, "load_step", PETSC_INT, &load_step));
+  PetscCall(PetscViewerHDF5WriteAttribute(v, NULL, "te_step", PETSC_INT, &te_step));
+  PetscCall(PetscViewerHDF5PopGroup(v));
+  count = (int)index + 1;
+  PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "frames", PETSC_INT, &count));
+  PetscCall(PetscViewerDestroy(&v));
+
+  PetscCall(DMRestoreGlobalVector(io->da1, &sh));
+  PetscCall(DMRestoreGlobalVector(io->da1, &tf));
+  PetscCall(DMRestoreGlobalVector(io->da1, &tw));
+  PetscCall(DMRestoreGlobalVector(fab->da, &disp));
+  PetscCall(PetscObjectSetName((PetscObject)fab->V, NULL));
+  PetscCall(PetscObjectSetName((PetscObject)fab->X, "positions"));
+  io->frames = index;
+  PetscCall(FramesAppend(fab, f));
+  PetscCall(FramesWriteXdmf(fab));
+  PetscCall(PetscLogEventEnd(EV_Output, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+/* After a restart: drop the frames the interrupted run wrote after its checkpoint (they are
+   written again) and count the frames before it that the file holds. Rank 0 does it alone,
+   through serial HDF5 (metadata only), before the ranks open the file together again. */
+static PetscErrorCode DropFramesFrom(Fabric fab, const char *file, PetscInt first, PetscInt *kept)
+{
+  int status[2] = {0, 0}; /* frames kept, failed */
+
+  PetscFunctionBeginUser;
+  if (fab->rank == 0) {
+    H5E_auto2_t efunc;
+    void       *edata;
+    hid_t       fid, g;
+    H5G_info_t  info;
+    char        name[64];
+    int         count = (int)first;
+
+    H5Eget_auto2(H5E_DEFAULT, &efunc, &edata);
+    H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
+    fid = H5Fopen(file, H5F_ACC_RDWR, H5P_DEFAULT);
+    if (fid < 0) status[1] = 1;
+    else {
+      if (H5Lexists(fid, "/frames", H5P_DEFAULT) > 0 && (g = H5Gopen2(fid, "/frames", H5P_DEFAULT)) >= 0) {
+        if (H5Gget_info(g, &info) >= 0) {
+          /* by name in decreasing order, so that deleting a link does not move the ones to come */
+          for (hsize_t l = info.nlinks; l-- > 0;) {
+            char *end;
+            long  index;
+            if (H5Lget_name_by_idx(g, ".", H5_INDEX_NAME, H5_ITER_INC, l, name, sizeof name, H5P_DEFAULT) < 0) {
+              status[1] = 1;
+              continue;
+            }
+            index = strtol(name, &end, 10);
+            if (*end || index < first) status[0]++;
+            else if (H5Ldelete(g, name, H5P_DEFAULT) < 0) status[1] = 1;
+          }
+        } else status[1] = 1;
+        H5Gclose(g);
+      }
+      {
+        hid_t a = H5Aopen(fid, "frames", H5P_DEFAULT);
+        if (a < 0 || H5Awrite(a, H5T_NATIVE_INT, &count) < 0) status[1] = 1;
+        if (a >= 0) H5Aclose(a);
+      }
+      if (H5Fclose(fid) < 0) status[1] = 1;
+    }
+    H5Eset_auto2(H5E_DEFAULT, efunc, edata);
+  }
+  PetscCallMPI(MPI_Bcast(status, 2, MPI_INT, 0, fab->comm));
+  PetscCheck(!status[1], fab->comm, PETSC_ERR_FILE_WRITE, "-restart %s: cannot remove the frames written after the checkpoint from %s", fab->io->restart, file);
+  *kept = status[0];
+  PetscFunctionReturn(0);
+}
+
+/* Start of the run: a new fabric.h5 with the state at the start as frame 0, or, after a
+   restart, the frames written before the checkpoint. */
+PetscErrorCode FramesOpen(Fabric fab)
+{
+  FabricIO io = fab->io;
+  char     file[PETSC_MAX_PATH_LEN];
+
+  PetscFunctionBeginUser;
+  if (!FramesOn(fab)) PetscFunctionReturn(0);
+  PetscCall(PetscLogEventBegin(EV_Output, 0, 0, 0, 0));
+  PetscCall(PetscSNPrintf(file, sizeof file, "%s/fabric.h5", fab->s.output_dir));
+  if (!io->da1) PetscCall(DMDACreateCompatibleDMDA(fab->da, 1, &io->da1));
+  if (io->restarted && io->frames > 0) {
+    PetscInt kept;
+    PetscCall(DropFramesFrom(fab, file, io->frames, &kept));
+    PetscCheck(kept == io->frames, fab->comm, PETSC_ERR_FILE_UNEXPECTED, "-restart %s: %s holds %" PetscInt_FMT " of the %" PetscInt_FMT " frames written before the checkpoint: it is not the file of this run", io->restart, file, kept, io->frames);
+    PetscCall(FramesWriteXdmf(fab));
+  } else {
+    FrameInfo f;
+    f.time      = fab->grip_disp / fab->s.speed;
+    f.load_step = fab->load_step;
+    f.te_step   = 0;
+    io->frames  = 0;
+    PetscCall(CreateFile(fab, file));
+    PetscCall(WriteFrame(fab, &f));
+  }
+  PetscCall(PetscLogEventEnd(EV_Output, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+/* End of a load step: a frame every -output_every load steps and at the last one */
+PetscErrorCode FramesLoadStep(Fabric fab, const CurveRow *row)
+{
+  FabricIO  io = fab->io;
+  FrameInfo f;
+
+  PetscFunctionBeginUser;
+  if (!FramesOn(fab) || !io->output_every) PetscFunctionReturn(0);
+  if (row->load_step % io->output_every && row->load_step != fab->s.load_steps) PetscFunctionReturn(0);
+  f.load_step = row->load_step;
+  f.te_step   = row->inner_steps;
+  f.time      = row->time + (io->output_te_every ? row->inner_steps * fab->te : 0.0);
+  PetscCall(WriteFrame(fab, &f));
+  PetscFunctionReturn(0);
+}
+
+/* After each te step (called by TimeStep): a frame every -output_te_every te steps */
+PetscErrorCode FramesTeStep(Fabric fab)
+{
+  FabricIO  io = fab->io;
+  FrameInfo f;
+  PetscInt  n;
+
+  PetscFunctionBeginUser;
+  if (!io || !io->output_te_every || !FramesOn(fab)) PetscFunctionReturn(0);
+  if (fab->load_step != io->te_load_step) { /* the first te step of a load step */
+    io->te_load_step = fab->load_step;
+    io->te_base      = fab->te_steps - 1;
+  }
+  n = (PetscInt)(fab->te_steps - io->te_base);
+  if (n % io->output_te_every) PetscFunctionReturn(0);
+  f.load_step = fab->load_step;
+  f.te_step   = n;
+  f.time      = fab->grip_disp / fab->s.speed + n * fab->te;
+  PetscCall(WriteFrame(fab, &f));
+  PetscFunctionReturn(0);
+}
+
+/* ------------------------------------------------------------------ fabric.xmf */
+
+/* One layer of a 3-D structured grid: ParaView's Xdmf2 reader does not read the vector
+   attributes of a 2DSMesh, and all its XDMF readers read this (nx x ny x 1 points) */
+static void XdmfItem(FILE *fp, const char *indent, PetscInt nx, PetscInt ny, int dof, const char *path)
+{
+  if (dof > 1) fprintf(fp, "%s<DataItem Dimensions=\"1 %" PetscInt_FMT " %" PetscInt_FMT " %d\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">fabric.h5:%s</DataItem>\n", indent, ny, nx, dof, path);
+  else fprintf(fp, "%s<DataItem Dimensions=\"1 %" PetscInt_FMT " %" PetscInt_FMT "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">fabric.h5:%s</DataItem>\n", indent, ny, nx, path);
+}
+
+/* Rank 0 writes the XDMF index of the frames aside, then renames it into place. */
+PetscErrorCode FramesWriteXdmf(Fabric fab)
+{
+  static const struct {
+    const char *name, *type;
+    int         dof;
+  } field[] = {
+    {"velocities",      "Vector", 3},
+    {"displacement",    "Vector", 3},
+    {"warp_tension",    "Scalar", 1},
+    {"weft_tension",    "Scalar", 1},
+    {"shear_angle_deg", "Scalar", 1},
+  };
+  FabricIO       io = fab->io;
+  const PetscInt nx = fab->s.nx, ny = fab->s.ny;
+  int            ok = 1;
+
+  PetscFunctionBeginUser;
+  if (fab->rank == 0) {
+    char  file[PETSC_MAX_PATH_LEN], tmp[PETSC_MAX_PATH_LEN], path[128];
+    FILE *fp;
+    PetscCall(PetscSNPrintf(file, sizeof file, "%s/fabric.xmf", fab->s.output_dir));
+    PetscCall(PetscSNPrintf(tmp, sizeof tmp, "%s/.fabric.xmf.tmp", fab->s.output_dir));
+    fp = fopen(tmp, "w");
+    if (fp) {
+      fprintf(fp, "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n<Xdmf Version=\"2.0\">\n  <Domain>\n");
+      fprintf(fp, "    <Grid Name=\"fabric\" GridType=\"Collection\" CollectionType=\"Temporal\">\n");
+      for (PetscInt k = 0; k < io->frames; k++) {
+        const FrameInfo *f = &io->frame[k];
+        fprintf(fp, "      <Grid Name=\"frame_%06" PetscInt_FMT "\" GridType=\"Uniform\">\n", k);
+        fprintf(fp, "        <Time TimeType=\"Single\" Value=\"%.17g\"/>\n", (double)f->time);
+        fprintf(fp, "        <Information Name=\"load_step\" Value=\"%" PetscInt_FMT "\"/>\n        <Information Name=\"te_step\" Value=\"%" PetscInt_FMT "\"/>\n", f->load_step, f->te_step);
+        fprintf(fp, "        <Topology TopologyType=\"3DSMesh\" Dimensions=\"1 %" PetscInt_FMT " %" PetscInt_FMT "\"/>\n", ny, nx);
+        fprintf(fp, "        <Geometry GeometryType=\"XYZ\">\n");
+        snprintf(path, sizeof path, "/frames/%06" PetscInt_FMT "/positions", k);
+        XdmfItem(fp, "          ", nx, ny, 3, path);
+        fprintf(fp, "        </Geometry>\n");
+        for (size_t a = 0; a < sizeof field / sizeof field[0]; a++) {
+          fprintf(fp, "        <Attribute Name=\"%s\" AttributeType=\"%s\" Center=\"Node\">\n", field[a].name, field[a].type);
+          snprintf(path, sizeof path, "/frames/%06" PetscInt_FMT "/%s", k, field[a].name);
+          XdmfItem(fp, "          ", nx, ny, field[a].dof, path);
+          fprintf(fp, "        </Attribute>\n");
+        }
+        fprintf(fp, "        <Attribute Name=\"point_kind\" AttributeType=\"Scalar\" Center=\"Node\">\n");
+        XdmfItem(fp, "          ", nx, ny, 1, "/grid/point_kind");
+        fprintf(fp, "        </Attribute>\n      </Grid>\n");
+      }
+      fprintf(fp, "    </Grid>\n  </Domain>\n</Xdmf>\n");
+      ok = !ferror(fp);
+      ok = !fclose(fp) && ok;
+      ok = ok && !rename(tmp, file);
+    } else ok = 0;
+  }
+  PetscCallMPI(MPI_Bcast(&ok, 1, MPI_INT, 0, fab->comm));
+  PetscCheck(ok, fab->comm, PETSC_ERR_FILE_WRITE, "-output_dir %s: cannot write fabric.xmf", fab->s.output_dir);
+  PetscFunctionReturn(0);
+}
+
+/* the files of the run, for the closing message */
+PetscErrorCode IODescribe(Fabric fab, char *buf, size_t len)
+{
+  FabricIO io = fab->io;
+  size_t   n;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscSNPrintf(buf, len, "curve.csv, summary.json"));
+  if (FramesOn(fab)) {
+    PetscCall(PetscStrlen(buf, &n));
+    PetscCall(PetscSNPrintf(buf + n, len - n, ", fabric.h5 and fabric.xmf (%" PetscInt_FMT " frames)", io->frames));
+  }
+  if (io && io->checkpoint_every) {
+    PetscCall(PetscStrlen(buf, &n));
+    PetscCall(PetscSNPrintf(buf + n, len - n, ", checkpoint.h5"));
+  }
+  PetscFunctionReturn(0);
+}

@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# restart_variants.sh FABRIC SCENE: restarting from a checkpoint continues exactly whatever the
+# run keeps between load steps. For each variant, a run whose last checkpoint is at load step 4
+# of 6 is restarted from it into its own output directory (the frames it wrote after the
+# checkpoint are dropped and written again) and must end bit-identical to an uninterrupted run:
+#   paper      the paper's integrator (positions_old, velocities_old) with extrapolating
+#              prediction (converged_positions, _prev), restarted on 1 rank from 2
+#   breaking   yarns that break at load step 4 (broken segments, rebuilt on every rank's
+#              ghosts), 2 ranks
+#   te_frames  frames every 50 te steps (the frame list and counter), 3 ranks
+#   sleeping   no prediction, the front and sleeping (the awake box and the force scale of
+#              the last te step, the jaw's ramp), 2 ranks
+set -u
+fabric="$1"; scene="$2"
+work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
+base=(-scene "$scene" -quiet -gauge_mm 20 -width_mm 5 -load_steps 6 -output_every 1)
+fail=0
+variant() {
+  local name="$1" np="$2" np_restart="$3"; shift 3
+  local a="$work/$name/whole" b="$work/$name/restarted"
+  mpiexec -n "$np" "$fabric" "${base[@]}" "$@" -output_dir "$a" -positions_out "$a/positions.bin" >/dev/null 2>&1 || { echo "FAIL $name: the uninterrupted run failed"; fail=1; return; }
+  mpiexec -n "$np" "$fabric" "${base[@]}" "$@" -output_dir "$b" -checkpoint_every 4 >/dev/null 2>&1 || { echo "FAIL $name: the checkpointed run failed"; fail=1; return; }
+  mpiexec -n "$np_restart" "$fabric" "${base[@]}" "$@" -output_dir "$b" -checkpoint_every 4 -positions_out "$b/positions.bin" -restart "$b/checkpoint.h5" >/dev/null 2>&1 || { echo "FAIL $name: the restart failed"; fail=1; return; }
+  local what=""
+  cmp -s "$a/positions.bin" "$b/positions.bin" || what+=" positions"
+  cmp -s "$a/curve.csv" "$b/curve.csv" || what+=" curve.csv"
+  h5diff -r "$a/fabric.h5" "$b/fabric.h5" >/dev/null 2>&1 || what+=" fabric.h5"
+  cmp -s "$a/fabric.xmf" "$b/fabric.xmf" || what+=" fabric.xmf"
+  if [[ -z $what ]]; then echo "PASS $name: restart at load step 4 on $np_restart rank(s) == uninterrupted run on $np ($(h5ls "$a/fabric.h5/frames" | wc -l) frames; $(grep -o '"te_steps": [0-9]*' "$a/summary.json"))"
+  else echo "FAIL $name: differs from the uninterrupted run in:$what"; fail=1; fi
+}
+variant paper 2 1 -integrator paper -damping_ratio 0 -predict extrapolate -elongation_pct 3 -max_inner_steps 200 -early_exit 0
+variant breaking 2 2 -predict extrapolate -point_load_N 0,0,0.001 -warp_break_pct 0.5
+variant te_frames 3 3 -predict extrapolate -elongation_pct 3 -point_load_N 0,0,0.001 -output_te_every 50
+variant sleeping 2 2 -predict none -front 1 -sleep_tol 1e-4 -elongation_pct 1 -point_load_N 0,0,0.001 -max_inner_steps 3000
+# the breaking variant must break yarns at load step 4, before the checkpoint: the restarted run
+# only carries nothing after it if it got the broken segments back
+forces="$(awk -F, 'NR > 1 { printf "%s ", $4 }' "$work/breaking/whole/curve.csv")"
+if awk -F, 'NR == 4 && $4 < 1 { bad = 1 } NR > 4 && ($4 > 1e-3 || $4 < -1e-3) { bad = 1 } END { exit bad }' "$work/breaking/whole/curve.csv"; then echo "PASS breaking: the yarns broke at load step 4 (force by load step: $forces N)"
+else echo "FAIL breaking: the yarns did not break at load step 4: force by load step: $forces N"; fail=1; fi
+exit $fail
