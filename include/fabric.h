@@ -116,6 +116,7 @@ struct _p_Fabric {
   PetscInt  front_step;    /* te steps since the last load change */
   PetscBool front_covered; /* the front has reached every point */
   PetscInt  awake_box[4];  /* global bounding box of the awake points */
+  PetscInt  grip_box[4];   /* global bounding box of the grip points */
 
   /* run statistics */
   PetscInt64     te_steps, point_updates;

@@ -37,6 +37,17 @@ PetscErrorCode FrontSetUp(Fabric fab)
   char        *sources;
 
   PetscFunctionBeginUser;
+  /* the grips' bounding box: a moving jaw keeps its neighbours awake */
+  {
+    PetscReal b[4] = {-PETSC_MAX_INT, -PETSC_MAX_INT, -PETSC_MAX_INT, -PETSC_MAX_INT};
+    for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
+      for (PetscInt i = p->xs; i < p->xs + p->xm; i++)
+        if (fab->kind[(j - p->ys) * p->xm + (i - p->xs)] == POINT_GRIP && p->exists[(j - p->gys) * p->gxm + (i - p->gxs)]) {
+          b[0] = PetscMax(b[0], -i), b[1] = PetscMax(b[1], i + 1), b[2] = PetscMax(b[2], -j), b[3] = PetscMax(b[3], j + 1);
+        }
+    PetscCall(GlobalMax(fab->comm, b, 4));
+    fab->grip_box[0] = (PetscInt)-b[0], fab->grip_box[1] = (PetscInt)b[1], fab->grip_box[2] = (PetscInt)-b[2], fab->grip_box[3] = (PetscInt)b[3];
+  }
   if (!fab->s.front) PetscFunctionReturn(0);
   PetscCall(PetscMalloc2(fab->nloc, &dist, fab->nloc, &sources));
   {
@@ -116,6 +127,10 @@ PetscInt64 FrontStepBox(Fabric fab, PetscInt global[4], PetscInt local[4])
   }
   if (s->sleep_tol > 0) {
     PetscInt grown[4] = {fab->awake_box[0] - 2, fab->awake_box[1] + 2, fab->awake_box[2] - 2, fab->awake_box[3] + 2};
+    if (fab->ramp_done < fab->ramp_steps) { /* the jaw is moving: its neighbours are awake */
+      grown[0] = PetscMin(grown[0], fab->grip_box[0] - 2), grown[1] = PetscMax(grown[1], fab->grip_box[1] + 2);
+      grown[2] = PetscMin(grown[2], fab->grip_box[2] - 2), grown[3] = PetscMax(grown[3], fab->grip_box[3] + 2);
+    }
     BoxIntersect(global, grown);
   }
   if (BoxEmpty(global)) global[0] = global[1] = global[2] = global[3] = 0;
