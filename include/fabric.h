@@ -108,6 +108,7 @@ struct _p_Fabric {
   PetscReal load_factor;
   PetscReal te, te_bound, omega_max, damp_c;
   PetscReal omega1;        /* slowest mode along the pull (estimate), rad/s */
+  PetscBool bound_fresh;   /* the stable step was just taken at the current state */
   StepStats last;
 
   /* rank propagation and sleeping (front.c) */

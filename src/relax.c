@@ -83,7 +83,7 @@ PetscErrorCode ApplyLoadStep(Fabric fab, PetscInt k)
   fab->load_factor = lambda;
   /* the damping is tuned to the balanced state before the grips jump: right after the jump
      the segment at the grip is strained far beyond the rest of the chain */
-  PetscCall(StableStep(fab));
+  if (!fab->bound_fresh) PetscCall(StableStep(fab)); /* else FabricRun just took it, at this state */
   damp_c = fab->damp_c;
   omega1 = fab->omega1;
   PetscCall(PredictLoadStep(fab, step));
@@ -91,7 +91,8 @@ PetscErrorCode ApplyLoadStep(Fabric fab, PetscInt k)
   fab->grip_step_prev = step;
   FrontLoadChange(fab);
   PetscCall(StableStep(fab));
-  fab->damp_c = damp_c;
+  fab->damp_c      = damp_c;
+  fab->bound_fresh = PETSC_FALSE;
   /* Without prediction a jump of the jaw is an impact on the yarns (they fold and pile up):
      the jaw moves instead over a cosine ramp of half a period of the slowest mode, pi/omega_1,
      as a testing machine does, so the strain at the jaw never overshoots the step's mean
@@ -166,6 +167,7 @@ PetscErrorCode FabricRun(Fabric fab)
   PetscCall(PetscTime(&fab->wall_start));
   PetscCall(StableStep(fab)); /* refuses a -te above the bound before any output exists */
   PetscCall(RestartLoad(fab)); /* -restart: state, counters and curve rows of the checkpoint */
+  fab->bound_fresh = fab->load_step == 0 ? PETSC_TRUE : PETSC_FALSE; /* still the state it was taken at */
   PetscCall(OutputOpen(fab));
   PetscCall(FramesOpen(fab));  /* fabric.h5 and fabric.xmf */
   for (PetscInt k = fab->load_step + 1; k <= s->load_steps; k++) {
