@@ -12,7 +12,7 @@ Table 2: balance tolerance x te_safety sweep (early exit, no prediction; the spe
          results/bench/speedups_trade.png.
 Table 3: a local load in a 2000 x 2000 fabric (inputs/local_2000.yaml): point updates with
          the front and sleeping vs the fraction of the fabric that actually moves.
-Options: --quick (smaller sweeps), --np N (ranks, default 1).
+Options: --quick (smaller sweeps), --np N (ranks, default 1), --tables 1,2,3 (which to run).
 """
 import csv, itertools, json, os, struct, subprocess, sys, tempfile, time
 
@@ -20,6 +20,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 FABRIC = os.path.join(ROOT, "build", "fabric")
 NP = int(sys.argv[sys.argv.index("--np") + 1]) if "--np" in sys.argv else 1
 QUICK = "--quick" in sys.argv
+TABLES = sys.argv[sys.argv.index("--tables") + 1].split(",") if "--tables" in sys.argv else ["1", "2", "3"]
 WORK = tempfile.mkdtemp(prefix="bench_speedups_")
 OUT = os.path.join(ROOT, "results", "bench")
 os.makedirs(OUT, exist_ok=True)
@@ -51,91 +52,118 @@ def table(title, header, lines):
 
 
 strip = ["-width_mm", "2"]
-scenes = ["strip_warp.yaml", "strip_weft.yaml"]
-summary_lines = []
-for scene in scenes:
-    ref, _ = run(scene, strip + ["-predict", "linear", "-balance_tol", "1e-8", "-speed_tol", "1e-8"])
-    # plain multi-sampling: smallest fixed N that reaches 1 % of the peak force
-    sweep = [2000, 4000, 8000, 16000] if QUICK else [1000, 2000, 4000, 8000, 16000, 32000]
-    lines, n_plain = [], None
-    for n in sweep:
-        rows, s = run(scene, strip + ["-predict", "none", "-early_exit", "0", "-front", "0", "-max_inner_steps", str(n)])
-        e = error_pct(rows, ref)
-        lines.append([n, "%.2f" % s["wall_s"], s["te_steps"], s["point_updates"], "%.3f" % e])
-        if e <= 1.0 and n_plain is None:
-            n_plain = n
-            break
-    table("%s: plain multi-sampling (no prediction, no early exit), error vs fixed N" % scene, ["N", "wall_s", "te_steps", "point_updates", "err_%peak"], lines)
-    if n_plain is None:
-        n_plain = sweep[-1]
-        print("plain multi-sampling did not reach 1 %% with N <= %d; using N = %d" % (n_plain, n_plain))
-    lines = []
-    base_wall = None
-    configs = list(itertools.product(["none", "linear", "extrapolate"], ["0", "1"], ["0", "1"], ["0", "1e-4"]))
-    for predict, early, front, sleep in configs:
-        if early == "0" and sleep != "0":
-            continue  # sleeping needs the balance test's thresholds: only with early exit
-        opts = strip + ["-predict", predict, "-early_exit", early, "-front", front, "-sleep_tol", sleep, "-max_inner_steps", str(n_plain if early == "0" else 50000)]
-        rows, s = run(scene, opts)
-        e = error_pct(rows, ref)
-        if base_wall is None:
-            base_wall = s["wall_s"]
-        nmax = max(int(r["inner_steps"]) for r in rows)
-        lines.append(["predict=%s early_exit=%s front=%s sleep=%s" % (predict, early, front, sleep), "%.2f" % s["wall_s"], "%.1f" % (base_wall / s["wall_s"]), s["te_steps"], nmax, s["point_updates"], "%.3f" % e])
-    table("%s (5 yarns, 50 load steps): every combination; plain multi-sampling N = %d; speed-up vs the first row" % (scene, n_plain),
-          ["configuration", "wall_s", "speedup", "te_steps", "max_N'", "point_updates", "err_%peak"], lines)
-    summary_lines.append((scene, n_plain, lines))
 
-# Table 2: the trade for early exit without prediction
-scene = "strip_warp.yaml"
-ref, _ = run(scene, strip + ["-predict", "linear", "-balance_tol", "1e-8", "-speed_tol", "1e-8"])
-pts, lines = [], []
-for tol in (["1e-2", "1e-3", "1e-4"] if QUICK else ["1e-1", "1e-2", "1e-3", "1e-4", "1e-5"]):
-    for safety in ["0.5", "0.9"]:
-        speed_tol = "%g" % (100e-3 / 60 * float(tol) / 1e-3)  # the test speed at tol 1e-3, scaled with tol
-        rows, s = run(scene, strip + ["-predict", "none", "-balance_tol", tol, "-speed_tol", speed_tol, "-te_safety", safety, "-max_inner_steps", "100000"])
-        e = error_pct(rows, ref)
-        lines.append([tol, safety, "%.2f" % s["wall_s"], s["te_steps"], max(int(r["inner_steps"]) for r in rows), "%.4f" % e])
-        pts.append((float(tol), float(safety), s["wall_s"], e))
-table("strip_warp (5 yarns): early exit without prediction, balance tolerance x te_safety", ["balance_tol", "te_safety", "wall_s", "te_steps", "max_N'", "err_%peak"], lines)
-try:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(figsize=(6, 4))
-    for safety, marker in (("0.5", "s"), ("0.9", "o")):
-        p = sorted((t, w, e) for t, sf, w, e in pts if sf == float(safety))
-        ax.loglog([w for _, w, _ in p], [max(e, 1e-6) for _, _, e in p], marker=marker, label="te_safety %s" % safety)
-        for t, w, e in p:
-            ax.annotate("%g" % t, (w, max(e, 1e-6)), fontsize=7)
-    ax.axhline(1.0, color="grey", lw=0.5)
-    ax.set_xlabel("wall time (s)")
-    ax.set_ylabel("largest force error (% of peak)")
-    ax.set_title("Strip test, early exit: balance tolerance (labels) vs time")
-    ax.legend()
-    fig.tight_layout()
-    png = os.path.join(OUT, "speedups_trade.png")
-    fig.savefig(png, dpi=120)
-    print("wrote %s" % png)
-except ImportError:
-    print("matplotlib not available: no PNG")
+
+def table1():
+    scenes = ["strip_warp.yaml", "strip_weft.yaml"]
+    summary_lines = []
+    for scene in scenes:
+        ref, _ = run(scene, strip + ["-predict", "linear", "-balance_tol", "1e-8", "-speed_tol", "1e-8"])
+        # plain multi-sampling: smallest fixed N that reaches 1 % of the peak force
+        sweep = [2000, 4000, 8000, 16000] if QUICK else [1000, 2000, 4000, 8000, 16000, 32000]
+        lines, n_plain = [], None
+        for n in sweep:
+            rows, s = run(scene, strip + ["-predict", "none", "-early_exit", "0", "-front", "0", "-max_inner_steps", str(n)])
+            e = error_pct(rows, ref)
+            lines.append([n, "%.2f" % s["wall_s"], s["te_steps"], s["point_updates"], "%.3f" % e])
+            if e <= 1.0 and n_plain is None:
+                n_plain = n
+                break
+        table("%s: plain multi-sampling (no prediction, no early exit), error vs fixed N" % scene, ["N", "wall_s", "te_steps", "point_updates", "err_%peak"], lines)
+        if n_plain is None:
+            n_plain = sweep[-1]
+            print("plain multi-sampling did not reach 1 %% with N <= %d; using N = %d" % (n_plain, n_plain))
+        lines = []
+        base_wall = None
+        configs = list(itertools.product(["none", "linear", "extrapolate"], ["0", "1"], ["0", "1"], ["0", "1e-4"]))
+        for predict, early, front, sleep in configs:
+            if early == "0" and sleep != "0":
+                continue  # sleeping needs the balance test's thresholds: only with early exit
+            opts = strip + ["-predict", predict, "-early_exit", early, "-front", front, "-sleep_tol", sleep, "-max_inner_steps", str(n_plain if early == "0" else 50000)]
+            rows, s = run(scene, opts)
+            e = error_pct(rows, ref)
+            if base_wall is None:
+                base_wall = s["wall_s"]
+            nmax = max(int(r["inner_steps"]) for r in rows)
+            lines.append(["predict=%s early_exit=%s front=%s sleep=%s" % (predict, early, front, sleep), "%.2f" % s["wall_s"], "%.1f" % (base_wall / s["wall_s"]), s["te_steps"], nmax, s["point_updates"], "%.3f" % e])
+        table("%s (5 yarns, 50 load steps): every combination; plain multi-sampling N = %d; speed-up vs the first row" % (scene, n_plain),
+              ["configuration", "wall_s", "speedup", "te_steps", "max_N'", "point_updates", "err_%peak"], lines)
+        summary_lines.append((scene, n_plain, lines))
+
+
+
+def table2():
+    # Table 2: the trade for early exit without prediction
+    scene = "strip_warp.yaml"
+    pts, lines = [], []
+    ref, _ = run(scene, strip + ["-predict", "linear", "-balance_tol", "1e-8", "-speed_tol", "1e-8"])
+    for tol in (["1e-2", "1e-3", "1e-4"] if QUICK else ["1e-1", "1e-2", "1e-3", "1e-4", "1e-5"]):
+        for safety in ["0.5", "0.9"]:
+            speed_tol = "%g" % (100e-3 / 60 * float(tol) / 1e-3)  # the test speed at tol 1e-3, scaled with tol
+            rows, s = run(scene, strip + ["-predict", "none", "-balance_tol", tol, "-speed_tol", speed_tol, "-te_safety", safety, "-max_inner_steps", "100000"])
+            e = error_pct(rows, ref)
+            lines.append([tol, safety, "%.2f" % s["wall_s"], s["te_steps"], max(int(r["inner_steps"]) for r in rows), "%.4f" % e])
+            pts.append((float(tol), float(safety), s["wall_s"], e))
+    table("strip_warp (5 yarns): early exit without prediction, balance tolerance x te_safety", ["balance_tol", "te_safety", "wall_s", "te_steps", "max_N'", "err_%peak"], lines)
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        fig, ax = plt.subplots(figsize=(6, 4))
+        for safety, marker in (("0.5", "s"), ("0.9", "o")):
+            p = sorted((t, w, e) for t, sf, w, e in pts if sf == float(safety))
+            ax.loglog([w for _, w, _ in p], [max(e, 1e-6) for _, _, e in p], marker=marker, label="te_safety %s" % safety)
+            for t, w, e in p:
+                ax.annotate("%g" % t, (w, max(e, 1e-6)), fontsize=7)
+        ax.axhline(1.0, color="grey", lw=0.5)
+        ax.set_xlabel("wall time (s)")
+        ax.set_ylabel("largest force error (% of peak)")
+        ax.set_title("Strip test, early exit: balance tolerance (labels) vs time")
+        ax.legend()
+        fig.tight_layout()
+        png = os.path.join(OUT, "speedups_trade.png")
+        fig.savefig(png, dpi=120)
+        print("wrote %s" % png)
+    except ImportError:
+        print("matplotlib not available: no PNG")
+
+
 
 # Table 3: a local load on a large fabric
-def moved_fraction(binfile, nx, ny, scene_opts):
+def displacements(binfile, nx):
+    """|u| of every crossing from a -positions_out file (PETSc binary, natural order)"""
     data = open(binfile, "rb").read()
     n = struct.unpack(">i", data[4:8])[0]
     x = struct.unpack(">%dd" % n, data[8:8 + 8 * n])
-    ax, ay = 1 / 2400.0, 1 / 2400.0
-    disp = [abs(x[3 * k + 2]) for k in range(n // 3)]
-    m = max(disp)
-    return sum(1 for d in disp if d > 1e-3 * m) / len(disp), m
+    a = 1 / 2400.0  # local_2000: 24 threads/cm both ways
+    u = []
+    for k in range(n // 3):
+        i, j = k % nx, k // nx
+        u.append((x[3 * k] - i * a, x[3 * k + 1] - j * a, x[3 * k + 2]))
+    return u
 
-lines = []
-steps = "100" if QUICK else "400"
-for name, opts in (("all points", ["-front", "0"]), ("front", ["-front", "1"]), ("front + sleep 1e-6", ["-front", "1", "-sleep_tol", "1e-6", "-balance_tol", "1e-3"])):
-    binf = os.path.join(WORK, "local_%d.bin" % len(lines))
-    rows, s = run("local_2000.yaml", opts + ["-max_inner_steps", steps, "-positions_out", binf])
-    frac, m = moved_fraction(binf, 2000, 2000, opts)
-    lines.append([name, "%.2f" % s["wall_s"], s["te_steps"], s["point_updates"], "%.4f" % (s["point_updates"] / (int(steps) * 4e6)), "%.4f" % frac])
-table("local_2000 (point load at the centre, %s te steps): fraction of point updates vs fraction of the fabric that moves (|w| > 1e-3 of the largest)" % steps,
-      ["configuration", "wall_s", "te_steps", "point_updates", "updates/(steps*points)", "moved_fraction"], lines)
+
+def table3():
+    lines, ref = [], None
+    steps = "100" if QUICK else "400"
+    for name, opts in (("all points", ["-front", "0"]), ("front", ["-front", "1"]), ("front + sleep 1e-6", ["-front", "1", "-sleep_tol", "1e-6"]), ("front + sleep 1e-4", ["-front", "1", "-sleep_tol", "1e-4"])):
+        binf = os.path.join(WORK, "local_%d.bin" % len(lines))
+        rows, s = run("local_2000.yaml", opts + ["-max_inner_steps", steps, "-positions_out", binf])
+        u = displacements(binf, 2000)
+        mag = [(a * a + b * b + c * c) ** 0.5 for a, b, c in u]
+        m = max(mag)
+        if ref is None:
+            ref, mref = u, m
+        err = max(max(abs(p - q) for p, q in zip(a, b)) for a, b in zip(u, ref)) / mref
+        moved3 = sum(1 for d in mag if d > 1e-3 * m) / len(mag)
+        moved6 = sum(1 for d in mag if d > 1e-6 * m) / len(mag)
+        lines.append([name, "%.2f" % s["wall_s"], s["te_steps"], s["point_updates"], "%.5f" % (s["point_updates"] / (int(steps) * 4e6)), "%.5f" % moved3, "%.5f" % moved6, "%.1e" % err])
+    table("local_2000 (point load at the centre, %s te steps): fraction of the point updates vs fraction of the fabric that moves (|u| above 1e-3 / 1e-6 of the largest); position error vs all points, relative to the largest |u|" % steps,
+          ["configuration", "wall_s", "te_steps", "point_updates", "updates/(steps*points)", "moved>1e-3", "moved>1e-6", "max_err"], lines)
+
+if "1" in TABLES:
+    table1()
+if "2" in TABLES:
+    table2()
+if "3" in TABLES:
+    table3()

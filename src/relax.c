@@ -98,7 +98,7 @@ PetscErrorCode ApplyLoadStep(Fabric fab, PetscInt k)
      as a testing machine does, so the strain at the jaw never overshoots the step's mean
      strain (TimeStep drives it). With prediction (or -grip_ramp_steps 0) it jumps. */
   fab->grip_from  = fab->grip_now;
-  fab->ramp_steps = s->grip_ramp >= 0 ? s->grip_ramp : (s->predict == PREDICT_NONE ? (PetscInt)PetscCeilReal(PETSC_PI / (omega1 * fab->te)) : 0);
+  fab->ramp_steps = step == 0 ? 0 : s->grip_ramp >= 0 ? s->grip_ramp : (s->predict == PREDICT_NONE ? (PetscInt)PetscCeilReal(PETSC_PI / (omega1 * fab->te)) : 0);
   fab->ramp_done  = 0;
   if (!fab->ramp_steps) PetscCall(MoveGrips(fab, disp, PETSC_TRUE));
   PetscFunctionReturn(0);
