@@ -34,6 +34,19 @@ PetscErrorCode ComputeForces(Fabric fab, const PetscInt box[4], PetscReal *tensi
     if (i >= box[0] && i < box[1] && j >= box[2] && j < box[3])
       for (int d = 0; d < 3; d++) f[3 * fab->load_index + d] += fab->load_factor * fab->s.point_load[d];
   }
+  fab->contact_sum[0] = fab->contact_sum[1] = fab->contact_sum[2] = 0;
+  if (fab->s.sphere_radius > 0) { /* the punch, where the load program has moved it */
+    const Scene       *s = &fab->s;
+    const PetscScalar *x;
+    PetscReal          c[3];
+    for (int d = 0; d < 3; d++) c[d] = fab->centre[d] + s->sphere_start[d] + fab->grip_now * s->sphere_dir[d];
+    PetscCall(VecGetArrayRead(fab->X, &x));
+    for (PetscInt j = box[2]; j < box[3]; j++) {
+      const PetscInt k0 = (j - p->ys) * p->xm + (box[0] - p->xs);
+      SphereContact(box[1] - box[0], x + 3 * k0, fab->inv_m + k0, c, s->sphere_radius + 0.5 * s->thickness, s->contact_k, f + 3 * k0, fab->contact_sum);
+    }
+    PetscCall(VecRestoreArrayRead(fab->X, &x));
+  }
   PetscCall(VecRestoreArray(fab->F, &f));
   PetscCall(VecRestoreArrayRead(fab->Xl, &xl));
   PetscCall(PetscLogEventEnd(EV_Force, 0, 0, 0, 0));

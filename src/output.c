@@ -27,8 +27,26 @@ static int MakeDirs(const char *path)
   return 0;
 }
 
-static void WriteCurveRow(FILE *fp, const CurveRow *r)
+/* curve.csv columns per test: strip = jaw reaction vs elongation; bias = the same plus the jaw
+   travel and the central zone's shear angle; square = point load vs
+   the displacement of its crossing (travel_mm) */
+static const char *CurveHeader(const Scene *s)
 {
+  if (s->test == TEST_STRIP) return "load_step,time_s,elongation_pct,force_N,inner_steps,residual";
+  if (s->test == TEST_BIAS) return "load_step,time_s,elongation_pct,force_N,inner_steps,residual,travel_mm,center_shear_deg";
+  return "load_step,time_s,travel_mm,force_N,inner_steps,residual";
+}
+
+static void WriteCurveRow(const Scene *s, FILE *fp, const CurveRow *r)
+{
+  if (s->test == TEST_BIAS) {
+    fprintf(fp, "%" PetscInt_FMT ",%.9g,%.9g,%.9g,%" PetscInt_FMT ",%.6e,%.9g,%.9g\n", r->load_step, (double)r->time, (double)(100.0 * r->elongation), (double)r->force, r->inner_steps, (double)r->residual, (double)(1e3 * r->elongation * s->gauge), (double)r->center_shear);
+    return;
+  }
+  if (s->test != TEST_STRIP) {
+    fprintf(fp, "%" PetscInt_FMT ",%.9g,%.9g,%.9g,%" PetscInt_FMT ",%.6e\n", r->load_step, (double)r->time, (double)(1e3 * r->travel), (double)r->force, r->inner_steps, (double)r->residual);
+    return;
+  }
   fprintf(fp, "%" PetscInt_FMT ",%.9g,%.9g,%.9g,%" PetscInt_FMT ",%.6e\n", r->load_step, (double)r->time, (double)(100.0 * r->elongation), (double)r->force, r->inner_steps, (double)r->residual);
 }
 
@@ -48,8 +66,8 @@ PetscErrorCode OutputOpen(Fabric fab)
       fab->curve_fp = fopen(file, "w");
       ok            = fab->curve_fp != NULL;
       if (ok) {
-        fprintf(fab->curve_fp, "load_step,time_s,elongation_pct,force_N,inner_steps,residual\n");
-        for (PetscInt k = 0; k < fab->load_step; k++) WriteCurveRow(fab->curve_fp, &fab->curve[k]);
+        fprintf(fab->curve_fp, "%s\n", CurveHeader(&fab->s));
+        for (PetscInt k = 0; k < fab->load_step; k++) WriteCurveRow(&fab->s, fab->curve_fp, &fab->curve[k]);
         fflush(fab->curve_fp);
       }
     }
@@ -64,7 +82,7 @@ PetscErrorCode OutputCurveRow(Fabric fab, const CurveRow *r)
   PetscFunctionBeginUser;
   if (!fab->curve_fp) PetscFunctionReturn(0);
   PetscCall(PetscLogEventBegin(EV_Output, 0, 0, 0, 0));
-  WriteCurveRow(fab->curve_fp, r);
+  WriteCurveRow(&fab->s, fab->curve_fp, r);
   fflush(fab->curve_fp);
   PetscCall(PetscLogEventEnd(EV_Output, 0, 0, 0, 0));
   PetscFunctionReturn(0);

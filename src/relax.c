@@ -46,6 +46,85 @@ PetscErrorCode GripReaction(Fabric fab, PetscReal *force)
   PetscFunctionReturn(0);
 }
 
+/* Total travel of what the load program moves, m: the strip's jaw or the punch. */
+PetscReal LoadTravel(const Scene *s)
+{
+  return s->test == TEST_PUSHING ? s->sphere_travel : s->elongation * s->gauge;
+}
+
+/* Pushing: the reaction on the sphere is minus the sum of the contact forces on the fabric;
+   force_N is its component against the travel (positive while the fabric resists). A sum
+   over points: the same to rounding on any number of ranks, never fed back into positions. */
+static PetscErrorCode SphereReaction(Fabric fab, CurveRow *row)
+{
+  PetscReal sum[3];
+
+  PetscFunctionBeginUser; /* contact_sum: from GripReaction's ComputeForces at the balanced state */
+  for (int d = 0; d < 3; d++) sum[d] = fab->contact_sum[d];
+  PetscCall(GlobalSum(fab->comm, sum, 3));
+  row->force  = sum[0] * fab->s.sphere_dir[0] + sum[1] * fab->s.sphere_dir[1] + sum[2] * fab->s.sphere_dir[2];
+  row->travel = fab->grip_disp;
+  PetscFunctionReturn(0);
+}
+
+/* Bias extension: the mean shear angle of the central zone, the crossings within W/4 of the
+   specimen's centre along and across it (a W/2 square inside the pure-shear zone). The angle
+   at a crossing is asin(cos(angle(tw, tf))) with central-difference tangents, as the
+   shear_angle_deg field of fabric.h5; the zone's crossings all have four neighbours.
+   Xl: halo-exchanged by GripReaction. A sum over crossings: reported, never fed back. */
+static PetscErrorCode CenterShear(Fabric fab, CurveRow *row)
+{
+  const Patch       *p = &fab->patch;
+  const Scene       *s = &fab->s;
+  const PetscScalar *xl;
+  PetscReal          acc[2] = {0, 0};
+
+  PetscFunctionBeginUser;
+  PetscCall(VecGetArrayRead(fab->Xl, &xl));
+  for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
+    for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
+      const PetscReal xc = (i - 0.5 * (s->nx - 1)) / s->picks_per_m, yc = (j - 0.5 * (s->ny - 1)) / s->ends_per_m;
+      if (PetscAbsReal(xc + yc) / PetscSqrtReal(2.0) > 0.25 * s->width || PetscAbsReal(yc - xc) / PetscSqrtReal(2.0) > 0.25 * s->width) continue;
+#define XL(ii, jj, d) xl[3 * (((jj) - p->gys) * p->gxm + ((ii) - p->gxs)) + (d)]
+      PetscReal tw[3], tf[3];
+      for (int d = 0; d < 3; d++) {
+        tw[d] = XL(i + 1, j, d) - XL(i - 1, j, d);
+        tf[d] = XL(i, j + 1, d) - XL(i, j - 1, d);
+      }
+#undef XL
+      const PetscReal c = (tw[0] * tf[0] + tw[1] * tf[1] + tw[2] * tf[2]) / PetscSqrtReal((tw[0] * tw[0] + tw[1] * tw[1] + tw[2] * tw[2]) * (tf[0] * tf[0] + tf[1] * tf[1] + tf[2] * tf[2]));
+      acc[0] += PetscAsinReal(c) * 180.0 / PETSC_PI;
+      acc[1] += 1;
+    }
+  PetscCall(VecRestoreArrayRead(fab->Xl, &xl));
+  PetscCall(GlobalSum(fab->comm, acc, 2));
+  row->center_shear = acc[1] > 0 ? acc[0] / acc[1] : 0.0;
+  PetscFunctionReturn(0);
+}
+
+/* Square net: the applied point load and its crossing's displacement along it. One rank owns
+   the crossing, the others add zeros: the sum is exact. */
+static PetscErrorCode LoadPointTravel(Fabric fab, CurveRow *row)
+{
+  const PetscReal *P = fab->s.point_load, Pn = PetscSqrtReal(P[0] * P[0] + P[1] * P[1] + P[2] * P[2]);
+  PetscReal        travel = 0;
+
+  PetscFunctionBeginUser;
+  if (fab->load_index >= 0 && Pn > 0) {
+    const PetscScalar *x, *x0;
+    const PetscInt     k = fab->load_index;
+    PetscCall(VecGetArrayRead(fab->X, &x));
+    PetscCall(VecGetArrayRead(fab->X0, &x0));
+    for (int d = 0; d < 3; d++) travel += (x[3 * k + d] - x0[3 * k + d]) * P[d] / Pn;
+    PetscCall(VecRestoreArrayRead(fab->X0, &x0));
+    PetscCall(VecRestoreArrayRead(fab->X, &x));
+  }
+  PetscCall(GlobalSum(fab->comm, &travel, 1));
+  row->travel = travel;
+  row->force  = fab->load_factor * Pn;
+  PetscFunctionReturn(0);
+}
+
 /* Put the grips at displacement disp along the pull. A jump (shift_history) also shifts
    the paper integrator's x(n-1), so the grips do not move back; a ramp sets the position
    at each te step and leaves the history to the integrator. */
@@ -75,7 +154,7 @@ PetscErrorCode ApplyLoadStep(Fabric fab, PetscInt k)
 {
   const Scene    *s      = &fab->s;
   const PetscReal lambda = (PetscReal)k / (PetscReal)s->load_steps;
-  const PetscReal disp   = lambda * s->elongation * s->gauge, step = disp - fab->grip_disp;
+  const PetscReal disp   = lambda * LoadTravel(s), step = disp - fab->grip_disp;
   PetscReal       damp_c, omega1;
 
   PetscFunctionBeginUser;
@@ -133,9 +212,12 @@ PetscErrorCode RelaxLoadStep(Fabric fab, CurveRow *row)
   row->load_step   = fab->load_step;
   row->residual    = st.residual;
   row->balanced    = st.balanced;
-  row->elongation  = fab->grip_disp / s->gauge;
+  row->elongation  = (s->test == TEST_STRIP || s->test == TEST_BIAS) ? fab->grip_disp / s->gauge : 0.0;
   row->time        = fab->grip_disp / s->speed;
   PetscCall(GripReaction(fab, &row->force));
+  if (s->test == TEST_SQUARE) PetscCall(LoadPointTravel(fab, row));
+  if (s->test == TEST_PUSHING) PetscCall(SphereReaction(fab, row));
+  if (s->test == TEST_BIAS) PetscCall(CenterShear(fab, row));
   PetscFunctionReturn(0);
 }
 
