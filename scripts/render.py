@@ -4,6 +4,7 @@
                                               [--out PREFIX] [--size 1600x900] [--range LO,HI]
 
 DIR is a run's -output_dir (it holds fabric.xmf and fabric.h5). One image per frame,
+the crossings outside the specimen's shape (point_kind -1) left out,
 PREFIX_NNNNNN.png (default DIR/render/frame_NNNNNN.png), of the deformed fabric seen from above
 at an angle, coloured by --field (any point field of fabric.xmf: warp_tension, weft_tension,
 shear_angle_deg, ...) on one colour scale for all the chosen frames (its range over them, or
@@ -13,7 +14,7 @@ import argparse
 import os
 import sys
 
-from paraview.simple import (ColorBy, GetColorTransferFunction, GetScalarBar, Render, SaveScreenshot, Show, Text, XDMFReader, CreateView)
+from paraview.simple import (ColorBy, GetColorTransferFunction, GetScalarBar, Render, SaveScreenshot, Show, Text, Threshold, XDMFReader, CreateView)
 
 TITLES = {
     "warp_tension": "warp yarn tension (N)",
@@ -79,7 +80,15 @@ def main():
     except AttributeError:
         pass
     view.OrientationAxesVisibility = 1
-    shown = Show(reader, view)
+    # crossings outside the specimen's shape (point_kind -1: disc, bias) are not drawn
+    fabric = reader
+    if "point_kind" in names:
+        fabric = Threshold(Input=reader)
+        fabric.Scalars = ["POINTS", "point_kind"]
+        fabric.LowerThreshold = -0.5
+        fabric.UpperThreshold = 1e9
+        fabric.ThresholdMethod = "Between"
+    shown = Show(fabric, view)
     shown.Representation = "Surface"
     ColorBy(shown, ("POINTS", a.field))
     lut = GetColorTransferFunction(a.field)
