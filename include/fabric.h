@@ -19,7 +19,7 @@ typedef enum { PULL_WARP, PULL_WEFT } PullAxis;
 typedef enum { INTEGRATOR_DAMPED, INTEGRATOR_PAPER } IntegratorType;
 typedef enum { PREDICT_NONE, PREDICT_LINEAR, PREDICT_EXTRAPOLATE } PredictType;
 typedef enum { POINT_FREE = 0, POINT_CLAMPED = 1, POINT_GRIP = 2 } PointKind;
-typedef enum { TEST_STRIP, TEST_SQUARE, TEST_PUSHING, TEST_BIAS } TestType;           /* the scene's test (its load program and curve) */
+typedef enum { TEST_STRIP, TEST_SQUARE, TEST_PUSHING, TEST_BIAS, TEST_DRAPE } TestType;           /* the scene's test (its load program and curve) */
 typedef enum { SHAPE_RECTANGLE, SHAPE_DISC, SHAPE_BIAS } ShapeType;      /* which crossings of the grid exist */
 typedef enum { CLAMP_JAW, CLAMP_EDGE, CLAMP_RING, CLAMP_NONE } ClampType; /* which existing crossings never move */
 
@@ -121,6 +121,9 @@ struct _p_Fabric {
   PetscReal      extent;       /* fabric size, m: runaway threshold */
   PetscReal      centre[3];    /* m: the grid centre at rest */
   PetscReal      contact_sum[3]; /* this rank's sum of the contact forces on its points (last ComputeForces) */
+  PetscReal      gravity_now[3]; /* m/s^2: gravity of the current load step (ramped with the load steps in the drape test) */
+  PetscReal      drape_pct;      /* drape coefficient (%), drape test */
+  PetscInt       folds;          /* folds of the draped outline, drape test */
 
   /* load program state */
   PetscInt  load_step;

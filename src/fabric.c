@@ -224,6 +224,7 @@ PetscErrorCode FabricCreate(MPI_Comm comm, Fabric *out)
   fab->pull_dir[0] = s->pull == PULL_WARP ? 1.0 : 0.0;
   fab->pull_dir[1] = s->pull == PULL_WARP ? 0.0 : 1.0;
   fab->pull_dir[2] = 0.0;
+  for (int d = 0; d < 3; d++) fab->gravity_now[d] = s->gravity[d];
   if (s->shape == SHAPE_BIAS) fab->pull_dir[0] = fab->pull_dir[1] = 1.0 / PetscSqrtReal(2.0); /* along the specimen */
 
   if (s->integrator == INTEGRATOR_PAPER) {

@@ -189,13 +189,13 @@ PetscErrorCode TimeStep(Fabric fab, StepStats *out)
   for (PetscInt j = box[2]; j < box[3]; j++) {
     const PetscInt k0 = (j - p->ys) * p->xm + (box[0] - p->xs), n = box[1] - box[0];
     SweepStats     st;
-    if (s->integrator == INTEGRATOR_PAPER) IntegratePaper(n, fab->te, fab->damp_c, s->nu, s->gravity, fab->mass + k0, fab->inv_m + k0, f + 3 * k0, x + 3 * k0, v + 3 * k0, xold + 3 * k0, vold + 3 * k0, &st);
-    else IntegrateDamped(n, fab->te, fab->damp_c, s->nu, s->gravity, fab->mass + k0, fab->inv_m + k0, f + 3 * k0, x + 3 * k0, v + 3 * k0, &st);
+    if (s->integrator == INTEGRATOR_PAPER) IntegratePaper(n, fab->te, fab->damp_c, s->nu, fab->gravity_now, fab->mass + k0, fab->inv_m + k0, f + 3 * k0, x + 3 * k0, v + 3 * k0, xold + 3 * k0, vold + 3 * k0, &st);
+    else IntegrateDamped(n, fab->te, fab->damp_c, s->nu, fab->gravity_now, fab->mass + k0, fab->inv_m + k0, f + 3 * k0, x + 3 * k0, v + 3 * k0, &st);
     all.res2 = PetscMax(all.res2, st.res2);
     all.v2   = PetscMax(all.v2, st.v2);
     all.v2sum += st.v2sum;
     if (sleep) {
-      AwakeRange(n, s->gravity, fab->mass + k0, fab->inv_m + k0, f + 3 * k0, v + 3 * k0, sleep_f2, sleep_v2, &st);
+      AwakeRange(n, fab->gravity_now, fab->mass + k0, fab->inv_m + k0, f + 3 * k0, v + 3 * k0, sleep_f2, sleep_v2, &st);
       if (st.awake_lo < st.awake_hi) {
         alo = PetscMin(alo, box[0] + st.awake_lo), ahi = PetscMax(ahi, box[0] + st.awake_hi);
         ajlo = PetscMin(ajlo, j), ajhi = j + 1;

@@ -102,6 +102,78 @@ static PetscErrorCode CenterShear(Fabric fab, CurveRow *row)
   PetscFunctionReturn(0);
 }
 
+/* Cusick drape: the outline of the draped specimen seen from above, as the largest radius
+   from the centre of the projected crossings in each of DRAPE_BINS angular bins (a
+   max-reduction: exact on any number of ranks; an empty bin is interpolated linearly
+   between its nearest filled neighbours). A_shadow = sum 0.5 r^2 dtheta; DC = (A_shadow - A_disc)/(A_specimen - A_disc).
+   Folds: local maxima of the outline radius vs angle, smoothed over DRAPE_SMOOTH bins, whose
+   prominence is more than 10 % of the overhang (specimen radius - disc radius). */
+#define DRAPE_BINS   360
+#define DRAPE_SMOOTH 15
+static PetscErrorCode DrapeOutline(Fabric fab, CurveRow *row)
+{
+  const Patch       *p = &fab->patch;
+  const Scene       *s = &fab->s;
+  const PetscScalar *x;
+  PetscReal          r[DRAPE_BINS], sm[DRAPE_BINS], area = 0, a_disc, a_spec;
+  PetscInt           folds = 0;
+  PetscReal          drop = 0;
+
+  PetscFunctionBeginUser;
+  for (int b = 0; b < DRAPE_BINS; b++) r[b] = 0;
+  PetscCall(VecGetArrayRead(fab->X, &x));
+  for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
+    for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
+      const PetscInt k = (j - p->ys) * p->xm + (i - p->xs);
+      if (!p->exists[(j - p->gys) * p->gxm + (i - p->gxs)]) continue;
+      const PetscReal dx = x[3 * k] - fab->centre[0], dy = x[3 * k + 1] - fab->centre[1], rr = PetscSqrtReal(dx * dx + dy * dy);
+      PetscReal       th = atan2(dy, dx);
+      if (th < 0) th += 2 * PETSC_PI;
+      int b = (int)(th / (2 * PETSC_PI) * DRAPE_BINS);
+      if (b >= DRAPE_BINS) b = DRAPE_BINS - 1;
+      r[b] = PetscMax(r[b], rr);
+      drop = PetscMax(drop, -x[3 * k + 2]);
+    }
+  PetscCall(VecRestoreArrayRead(fab->X, &x));
+  PetscCall(GlobalMax(fab->comm, r, DRAPE_BINS));
+  for (int b = 0; b < DRAPE_BINS; b++) { /* an empty bin: linear between the nearest filled bins on either side */
+    int l = 1, h = 1;
+    if (r[b] > 0) {
+      sm[b] = r[b];
+      continue;
+    }
+    while (l < DRAPE_BINS && r[(b - l + DRAPE_BINS) % DRAPE_BINS] <= 0) l++;
+    while (h < DRAPE_BINS && r[(b + h) % DRAPE_BINS] <= 0) h++;
+    sm[b] = (h * r[(b - l + DRAPE_BINS) % DRAPE_BINS] + l * r[(b + h) % DRAPE_BINS]) / (l + h);
+  }
+  for (int b = 0; b < DRAPE_BINS; b++) area += 0.5 * sm[b] * sm[b] * 2 * PETSC_PI / DRAPE_BINS;
+  a_disc = PETSC_PI * s->ring[1] * s->ring[1];
+  a_spec = PETSC_PI * s->disc_radius * s->disc_radius;
+  fab->drape_pct = 100.0 * (area - a_disc) / (a_spec - a_disc);
+  {
+    PetscReal smooth[DRAPE_BINS];
+    const PetscReal prominence = 0.1 * (s->disc_radius - s->ring[1]);
+    for (int b = 0; b < DRAPE_BINS; b++) {
+      smooth[b] = 0;
+      for (int q = -DRAPE_SMOOTH / 2; q <= DRAPE_SMOOTH / 2; q++) smooth[b] += sm[(b + q + DRAPE_BINS) % DRAPE_BINS] / DRAPE_SMOOTH;
+    }
+    /* a fold: a local maximum of the smoothed radius whose prominence (its height above the
+       higher of the lowest radii on either side before a higher radius) exceeds the threshold */
+    for (int b = 0; b < DRAPE_BINS; b++) {
+      const PetscReal v = smooth[b];
+      PetscReal       lo_l = v, lo_r = v;
+      if (!(v > smooth[(b + DRAPE_BINS - 1) % DRAPE_BINS] && v >= smooth[(b + 1) % DRAPE_BINS])) continue;
+      for (int q = 1; q < DRAPE_BINS && smooth[(b - q + DRAPE_BINS) % DRAPE_BINS] <= v; q++) lo_l = PetscMin(lo_l, smooth[(b - q + DRAPE_BINS) % DRAPE_BINS]);
+      for (int q = 1; q < DRAPE_BINS && smooth[(b + q) % DRAPE_BINS] <= v; q++) lo_r = PetscMin(lo_r, smooth[(b + q) % DRAPE_BINS]);
+      if (v - PetscMax(lo_l, lo_r) > prominence) folds++;
+    }
+  }
+  fab->folds = folds;
+  PetscCall(GlobalMax(fab->comm, &drop, 1));
+  row->travel = drop; /* curve.csv travel_mm: the largest drop of a crossing */
+  PetscFunctionReturn(0);
+}
+
 /* Square net: the applied point load and its crossing's displacement along it. One rank owns
    the crossing, the others add zeros: the sum is exact. */
 static PetscErrorCode LoadPointTravel(Fabric fab, CurveRow *row)
@@ -160,6 +232,8 @@ PetscErrorCode ApplyLoadStep(Fabric fab, PetscInt k)
   PetscFunctionBeginUser;
   fab->load_step   = k;
   fab->load_factor = lambda;
+  if (s->test == TEST_DRAPE) /* the specimen is lowered onto its support: gravity grows with the load steps */
+    for (int d = 0; d < 3; d++) fab->gravity_now[d] = lambda * s->gravity[d];
   /* the damping is tuned to the balanced state before the grips jump: right after the jump
      the segment at the grip is strained far beyond the rest of the chain */
   PetscCall(StableStep(fab));
@@ -218,6 +292,7 @@ PetscErrorCode RelaxLoadStep(Fabric fab, CurveRow *row)
   if (s->test == TEST_SQUARE) PetscCall(LoadPointTravel(fab, row));
   if (s->test == TEST_PUSHING) PetscCall(SphereReaction(fab, row));
   if (s->test == TEST_BIAS) PetscCall(CenterShear(fab, row));
+  if (s->test == TEST_DRAPE) PetscCall(DrapeOutline(fab, row));
   PetscFunctionReturn(0);
 }
 

@@ -12,7 +12,7 @@
 const char *const PullAxisNames[]   = {"warp", "weft", "PullAxis", "PULL_", NULL};
 const char *const IntegratorNames[] = {"damped", "paper", "IntegratorType", "INTEGRATOR_", NULL};
 const char *const PredictNames[]    = {"none", "linear", "extrapolate", "PredictType", "PREDICT_", NULL};
-const char *const TestNames[]       = {"strip", "square", "pushing", "bias", "TestType", "TEST_", NULL};
+const char *const TestNames[]       = {"strip", "square", "pushing", "bias", "drape", "TestType", "TEST_", NULL};
 const char *const ShapeNames[]      = {"rectangle", "disc", "bias", "ShapeType", "SHAPE_", NULL};
 const char *const ClampNames[]      = {"jaw", "edge", "ring", "none", "ClampType", "CLAMP_", NULL};
 
@@ -151,21 +151,22 @@ PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s)
 
   PetscOptionsBegin(comm, NULL, "Test, shape and clamps (strip: the jaws; square: a net of -gauge_mm x -width_mm clamped on its edges)", NULL);
   s->test = TEST_STRIP;
-  PetscCall(PetscOptionsEnum("-test", "strip: ISO 13934-1 strip between jaws; square: clamped net of gauge x width (mm) under the point load, no jaws; pushing: a rigid sphere pushed through the clamped fabric", NULL, TestNames, (PetscEnum)s->test, (PetscEnum *)&s->test, NULL));
-  s->shape = s->test == TEST_BIAS ? SHAPE_BIAS : SHAPE_RECTANGLE;
+  PetscCall(PetscOptionsEnum("-test", "drape: Cusick drape, a disc specimen held between discs (-clamp_ring_mm 0,D) under gravity ramped with the load steps; strip: ISO 13934-1 strip between jaws; square: clamped net of gauge x width (mm) under the point load, no jaws; pushing: a rigid sphere pushed through the clamped fabric", NULL, TestNames, (PetscEnum)s->test, (PetscEnum *)&s->test, NULL));
+  s->shape = s->test == TEST_BIAS ? SHAPE_BIAS : (s->test == TEST_DRAPE ? SHAPE_DISC : SHAPE_RECTANGLE);
+  if (s->test == TEST_DRAPE) gauge_mm = width_mm = 300, ring_mm[1] = 180; /* Cusick: 30 cm specimen held between 18 cm discs */
   PetscCall(PetscOptionsEnum("-shape", "specimen shape cut from the grid: rectangle (the whole grid), disc (centred) or bias (-gauge_mm x -width_mm between jaws, its length at 45 degrees to the yarns)", NULL, ShapeNames, (PetscEnum)s->shape, (PetscEnum *)&s->shape, NULL));
   PetscCall(PetscOptionsReal("-disc_diameter_mm", "disc specimen diameter (mm), centred on the grid; 0 = the smaller grid side", NULL, disc_mm, &disc_mm, NULL));
   CHECK_NONNEG(disc_mm, "-disc_diameter_mm");
   PetscCall(PetscOptionsReal("-jaw_depth_mm", "bias specimen: length held in each jaw beyond the gauge length (mm)", NULL, jaw_mm, &jaw_mm, NULL));
   CHECK_POSITIVE(jaw_mm, "-jaw_depth_mm");
-  s->clamp = (s->test == TEST_STRIP || s->test == TEST_BIAS) ? CLAMP_JAW : CLAMP_EDGE;
+  s->clamp = (s->test == TEST_STRIP || s->test == TEST_BIAS) ? CLAMP_JAW : (s->test == TEST_DRAPE ? CLAMP_RING : CLAMP_EDGE);
   PetscCall(PetscOptionsEnum("-clamp", "clamped crossings: jaw (the strip's or bias specimen's fixed jaw; the other end is the moving jaw), edge (every crossing of the shape's outline), ring (an annulus around the grid centre), none", NULL, ClampNames, (PetscEnum)s->clamp, (PetscEnum *)&s->clamp, NULL));
   {
     PetscInt  n = 2;
     PetscBool rset;
     PetscCall(PetscOptionsRealArray("-clamp_ring_mm", "inner,outer diameter of the clamping ring (mm), centred on the grid", NULL, ring_mm, &n, &rset));
     PetscCheck(!rset || n == 2, comm, PETSC_ERR_USER_INPUT, "-clamp_ring_mm needs two diameters inner,outer, got %" PetscInt_FMT, n);
-    PetscCheck(s->clamp != CLAMP_RING || (rset && ring_mm[0] > 0 && ring_mm[1] > ring_mm[0] && isfinite(ring_mm[1])), comm, PETSC_ERR_USER_INPUT, "-clamp ring needs -clamp_ring_mm inner,outer with 0 < inner < outer, got %g,%g", (double)ring_mm[0], (double)ring_mm[1]);
+    PetscCheck(s->clamp != CLAMP_RING || ((rset || s->test == TEST_DRAPE) && ring_mm[0] >= 0 && ring_mm[1] > ring_mm[0] && isfinite(ring_mm[1])), comm, PETSC_ERR_USER_INPUT, "-clamp ring needs -clamp_ring_mm inner,outer with 0 <= inner < outer, got %g,%g", (double)ring_mm[0], (double)ring_mm[1]);
   }
   PetscOptionsEnd();
 
