@@ -190,6 +190,7 @@ PetscErrorCode ApplyLoadStep(Fabric fab, PetscInt k);
 PetscErrorCode RelaxLoadStep(Fabric fab, CurveRow *row);
 PetscErrorCode GripReaction(Fabric fab, PetscReal *force);
 PetscReal      LoadTravel(const Scene *s);
+PetscReal      TestTime(Fabric fab);
 PetscErrorCode MoveGrips(Fabric fab, PetscReal disp, PetscBool shift_history);
 /* output.c */
 PetscErrorCode OutputOpen(Fabric fab);

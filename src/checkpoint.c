@@ -275,7 +275,7 @@ static PetscErrorCode CheckpointWrite(Fabric fab)
   {
     int       version = CHECKPOINT_VERSION, load_step = (int)fab->load_step, frames = (int)io->frames, converged = fab->converged, broken = fab->broken_any, ranks = fab->size;
     long      te_steps = (long)fab->te_steps, updates = (long)fab->point_updates;
-    PetscReal time = fab->grip_disp / fab->s.speed, wall = fab->wall;
+    PetscReal time = TestTime(fab), wall = fab->wall;
     PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "fabric_checkpoint", PETSC_INT, &version));
     PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "load_step", PETSC_INT, &load_step));
     PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "time_s", PETSC_REAL, &time));

@@ -52,6 +52,14 @@ PetscReal LoadTravel(const Scene *s)
   return s->test == TEST_PUSHING ? s->sphere_travel : s->elongation * s->gauge;
 }
 
+/* Time of the current load step (time_s, frame times), s: the travel at the test speed; for
+   the tests that move nothing (square net, drape), the load step number, so that frames have
+   distinct times. */
+PetscReal TestTime(Fabric fab)
+{
+  return LoadTravel(&fab->s) > 0 ? fab->grip_disp / fab->s.speed : (PetscReal)fab->load_step;
+}
+
 /* Pushing: the reaction on the sphere is minus the sum of the contact forces on the fabric;
    force_N is its component against the travel (positive while the fabric resists). A sum
    over points: the same to rounding on any number of ranks, never fed back into positions. */
@@ -287,7 +295,7 @@ PetscErrorCode RelaxLoadStep(Fabric fab, CurveRow *row)
   row->residual    = st.residual;
   row->balanced    = st.balanced;
   row->elongation  = (s->test == TEST_STRIP || s->test == TEST_BIAS) ? fab->grip_disp / s->gauge : 0.0;
-  row->time        = fab->grip_disp / s->speed;
+  row->time        = TestTime(fab);
   PetscCall(GripReaction(fab, &row->force));
   if (s->test == TEST_SQUARE) PetscCall(LoadPointTravel(fab, row));
   if (s->test == TEST_PUSHING) PetscCall(SphereReaction(fab, row));
