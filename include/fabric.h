@@ -55,6 +55,10 @@ typedef struct {
   PetscReal sphere_travel;             /* m */
   PetscReal thickness;                 /* m: fabric thickness, contact at R + h/2 */
   PetscReal contact_k;                 /* N/m: penalty stiffness per crossing */
+  /* rigid plane (table, MODEL.md 5.5): the fabric stays on the side the normal points to */
+  PetscBool plane;
+  PetscReal plane_point[3];            /* m, from the grid centre at rest */
+  PetscReal plane_normal[3];           /* unit */
   /* material */
   YarnLaw   warp, weft;
   PetscReal shear_G, lock_deg, jam_factor;

@@ -66,6 +66,11 @@ void ComputeInternalForces(Patch *p, const PetscReal *x, const PetscInt box[4], 
    forces to sum[3] (the body's reaction is minus their total). */
 void SphereContact(PetscInt n, const PetscReal *x, const PetscReal *inv_m, const PetscReal c[3], PetscReal reach, PetscReal k, PetscReal *f, PetscReal sum[3]);
 
+/* Penalty contact with a rigid plane through p0 with unit normal nrm: a point closer than
+   reach = h/2 to it (or behind it) is pushed out along nrm with k (reach - distance).
+   Only points with inv_m > 0 feel it. Adds to f and to sum[3], like SphereContact. */
+void PlaneContact(PetscInt n, const PetscReal *x, const PetscReal *inv_m, const PetscReal p0[3], const PetscReal nrm[3], PetscReal reach, PetscReal k, PetscReal *f, PetscReal sum[3]);
+
 /* Break the segments strained past the breaking strain; 1 if one at an owned point broke. */
 int BreakSegments(Patch *p, const PetscReal *x);
 

@@ -113,6 +113,13 @@ static PetscInt SceneKeys(Fabric fab, SceneKey *key)
   KEY("sphere_dir_z", s->sphere_dir[2]);
   KEY("sphere_travel_m", s->sphere_travel);
   KEY("thickness_m", s->thickness);
+  KEY("plane", s->plane);
+  KEY("plane_point_x_m", s->plane_point[0]);
+  KEY("plane_point_y_m", s->plane_point[1]);
+  KEY("plane_point_z_m", s->plane_point[2]);
+  KEY("plane_normal_x", s->plane_normal[0]);
+  KEY("plane_normal_y", s->plane_normal[1]);
+  KEY("plane_normal_z", s->plane_normal[2]);
   KEY("contact_stiffness_N_m", s->contact_k);
 #undef KEY
   PetscCheckAbort(n <= MAX_KEYS, PETSC_COMM_SELF, PETSC_ERR_PLIB, "SceneKeys: %d keys, raise MAX_KEYS", (int)n);

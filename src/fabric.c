@@ -185,7 +185,7 @@ PetscErrorCode FabricCreate(MPI_Comm comm, Fabric *out)
     p->Ks       = s->shear_G * p->ax * p->ay;
     p->Kj       = s->jam_factor * p->Ks;
     p->s_lock   = PetscSinReal(s->lock_deg * PETSC_PI / 180.0);
-    p->k_contact = s->sphere_radius > 0 ? s->contact_k : 0.0;
+    p->k_contact = ((s->sphere_radius > 0) + (s->plane ? 1 : 0)) * s->contact_k; /* a crossing can touch every body at once */
     PetscCall(PetscCalloc1((size_t)p->gxm * p->gym, &p->exists));
     PetscCall(PetscCalloc1((size_t)p->gxm * p->gym, &p->broken_x));
     PetscCall(PetscCalloc1((size_t)p->gxm * p->gym, &p->broken_y));

@@ -47,6 +47,18 @@ PetscErrorCode ComputeForces(Fabric fab, const PetscInt box[4], PetscReal *tensi
     }
     PetscCall(VecRestoreArrayRead(fab->X, &x));
   }
+  if (fab->s.plane) { /* the table: its reaction is not reported (plane_sum is discarded) */
+    const Scene       *s = &fab->s;
+    const PetscScalar *x;
+    PetscReal          p0[3], plane_sum[3] = {0, 0, 0};
+    for (int d = 0; d < 3; d++) p0[d] = fab->centre[d] + s->plane_point[d];
+    PetscCall(VecGetArrayRead(fab->X, &x));
+    for (PetscInt j = box[2]; j < box[3]; j++) {
+      const PetscInt k0 = (j - p->ys) * p->xm + (box[0] - p->xs);
+      PlaneContact(box[1] - box[0], x + 3 * k0, fab->inv_m + k0, p0, s->plane_normal, 0.5 * s->thickness, s->contact_k, f + 3 * k0, plane_sum);
+    }
+    PetscCall(VecRestoreArrayRead(fab->X, &x));
+  }
   PetscCall(VecRestoreArray(fab->F, &f));
   PetscCall(VecRestoreArrayRead(fab->Xl, &xl));
   PetscCall(PetscLogEventEnd(EV_Force, 0, 0, 0, 0));

@@ -411,3 +411,17 @@ void SphereContact(PetscInt n, const PetscReal *x, const PetscReal *inv_m, const
     sum[2] += push * dz;
   }
 }
+
+void PlaneContact(PetscInt n, const PetscReal *x, const PetscReal *inv_m, const PetscReal p0[3], const PetscReal nrm[3], PetscReal reach, PetscReal k, PetscReal *f, PetscReal sum[3])
+{
+  for (PetscInt q = 0; q < n; q++) {
+    if (inv_m[q] <= 0) continue;
+    const PetscReal dist = (x[3 * q] - p0[0]) * nrm[0] + (x[3 * q + 1] - p0[1]) * nrm[1] + (x[3 * q + 2] - p0[2]) * nrm[2];
+    if (dist >= reach) continue;
+    const PetscReal push = k * (reach - dist);
+    for (int d = 0; d < 3; d++) {
+      f[3 * q + d] += push * nrm[d];
+      sum[d] += push * nrm[d];
+    }
+  }
+}

@@ -193,6 +193,21 @@ PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s)
   CHECK_NONNEG(travel_mm, "-sphere_travel_mm");
   PetscCall(PetscOptionsReal("-contact_stiffness_N_m", "penalty stiffness of the contact per crossing (N/m); 0 = the warp yarn segment's EA/L0 (enters the stable step)", NULL, kc, &kc, NULL));
   CHECK_NONNEG(kc, "-contact_stiffness_N_m");
+  PetscCall(PetscOptionsBool("-plane", "a rigid plane (table) with penalty contact: the fabric stays on the side -plane_normal points to", NULL, s->plane, &s->plane, NULL));
+  s->plane_normal[2] = 1;
+  {
+    PetscInt  n = 3;
+    PetscBool nset;
+    PetscCall(PetscOptionsRealArray("-plane_point_mm", "a point of the plane, x,y,z from the grid centre (mm)", NULL, s->plane_point, &n, &nset));
+    PetscCheck(!nset || n == 3, comm, PETSC_ERR_USER_INPUT, "-plane_point_mm needs three components x,y,z, got %" PetscInt_FMT, n);
+    for (int d = 0; d < 3; d++) s->plane_point[d] *= 1e-3;
+    n = 3;
+    PetscCall(PetscOptionsRealArray("-plane_normal", "the plane's normal x,y,z, towards the fabric (normalised)", NULL, s->plane_normal, &n, &nset));
+    PetscCheck(!nset || n == 3, comm, PETSC_ERR_USER_INPUT, "-plane_normal needs three components x,y,z, got %" PetscInt_FMT, n);
+    const PetscReal norm = PetscSqrtReal(PetscSqr(s->plane_normal[0]) + PetscSqr(s->plane_normal[1]) + PetscSqr(s->plane_normal[2]));
+    PetscCheck(isfinite(norm) && norm > 0, comm, PETSC_ERR_USER_INPUT, "-plane_normal must be a finite non-zero vector, got %g,%g,%g", (double)s->plane_normal[0], (double)s->plane_normal[1], (double)s->plane_normal[2]);
+    for (int d = 0; d < 3; d++) s->plane_normal[d] /= norm;
+  }
   PetscCheck(s->test != TEST_PUSHING || sphere_mm > 0, comm, PETSC_ERR_USER_INPUT, "-test pushing needs a sphere: -sphere_diameter_mm must be positive, got %g", (double)sphere_mm);
   PetscCheck(s->test == TEST_PUSHING || sphere_mm == 0, comm, PETSC_ERR_USER_INPUT, "-sphere_diameter_mm %g: the sphere is the pushing test's punch (-test pushing)", (double)sphere_mm);
   PetscOptionsEnd();
@@ -302,7 +317,7 @@ PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s)
   s->sphere_travel = 1e-3 * travel_mm;
   for (int d = 0; d < 3; d++) s->sphere_start[d] = start_set ? 1e-3 * start_mm[d] : -(s->sphere_radius + 0.5 * s->thickness) * s->sphere_dir[d];
   s->contact_k = kc > 0 ? kc : s->warp.EA * s->picks_per_m; /* EA / L0 of a warp segment */
-  PetscCheck(s->sphere_radius == 0 || (!s->front && s->sleep_tol == 0), comm, PETSC_ERR_USER_INPUT, "-front and -sleep_tol follow the jaws and the point load only: switch them off with a moving sphere");
+  PetscCheck((s->sphere_radius == 0 && !s->plane) || (!s->front && s->sleep_tol == 0), comm, PETSC_ERR_USER_INPUT, "-front and -sleep_tol follow the jaws and the point load only: switch them off with a sphere or a plane");
   s->speed       = speed_mm_min * 1e-3 / 60.0;
   if (s->speed_tol == 0) s->speed_tol = s->speed;
   if (s->test == TEST_BIAS) { /* the grid covers the specimen and its jaws, rotated by 45 degrees */

@@ -1,7 +1,7 @@
 /* test_verification.c - the verification cases of MODEL.md 12, each against an exact answer.
  *
  *   test_verification -case linear_strip|crimp_knee|wave_speed|transverse_load|
- *                           stable_095|unstable_110|paper_parasitic|square_net|bias_extension
+ *                           stable_095|unstable_110|paper_parasitic|square_net|bias_extension|plane_rest
  */
 #include "fabric.h"
 
@@ -333,6 +333,36 @@ static PetscErrorCode BiasExtension(void)
   PetscFunctionReturn(0);
 }
 
+/* Rigid plane (MODEL.md 5.5): a free 10 mm x 10 mm net (-clamp none), no pretension, lying on a
+   table whose surface touches it at rest (plane at z = -h/2), under gravity, sinks into the
+   penalty spring until each crossing's weight is carried: z = -m g / k_c (no bending or shear,
+   so that no internal force couples crossings of different masses), exact for every
+   crossing (m: its mass), to 1e-6 of the largest sink. */
+static PetscErrorCode PlaneRest(void)
+{
+  Fabric             fab;
+  const PetscScalar *x;
+  PetscReal          err = 0, sink = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(NewFabric("-output_dir none -quiet -warp_break_pct 0 -weft_break_pct 0 -test square -gauge_mm 10 -width_mm 10 -clamp none -bending 0 -shear 0 -plane -plane_point_mm 0,0,-0.15 -thickness_mm 0.3 -gravity 0,0,-9.81 -load_steps 2 -predict none -balance_tol 1e-8 -speed_tol 1e-9 -max_inner_steps 200000", &fab));
+  PetscCall(FabricRun(fab));
+  PetscCall(VecGetArrayRead(fab->X, &x));
+  for (PetscInt k = 0; k < fab->nloc; k++) {
+    if (fab->mass[k] <= 0) continue;
+    const PetscReal expected = -fab->mass[k] * 9.81 / fab->s.contact_k;
+    err  = PetscMax(err, PetscAbsReal(x[3 * k + 2] - expected));
+    sink = PetscMax(sink, PetscAbsReal(expected));
+  }
+  PetscCall(VecRestoreArrayRead(fab->X, &x));
+  PetscCall(GlobalMax(PETSC_COMM_WORLD, &err, 1));
+  PetscCall(GlobalMax(PETSC_COMM_WORLD, &sink, 1));
+  CheckTrue("every crossing rests at z = -m g / k_c (largest error / largest sink <= 1e-6)", err <= 1e-6 * sink, err / sink);
+  CheckTrue("the last load step balanced", fab->curve[fab->s.load_steps - 1].balanced, fab->curve[fab->s.load_steps - 1].residual);
+  PetscCall(FabricDestroy(&fab));
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode SpeedupsCurve(void)
 {
   Fabric    fab;
@@ -376,6 +406,7 @@ int main(int argc, char **argv)
   else if (!strcmp(name, "speedups_curve")) PetscCall(SpeedupsCurve());
   else if (!strcmp(name, "square_net")) PetscCall(SquareNet());
   else if (!strcmp(name, "bias_extension")) PetscCall(BiasExtension());
+  else if (!strcmp(name, "plane_rest")) PetscCall(PlaneRest());
   else SETERRQ(PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT, "unknown -case %s", name);
   PetscCall(PetscFinalize());
   return failures ? 1 : 0;
