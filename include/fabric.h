@@ -19,10 +19,16 @@ typedef enum { PULL_WARP, PULL_WEFT } PullAxis;
 typedef enum { INTEGRATOR_DAMPED, INTEGRATOR_PAPER } IntegratorType;
 typedef enum { PREDICT_NONE, PREDICT_LINEAR, PREDICT_EXTRAPOLATE } PredictType;
 typedef enum { POINT_FREE = 0, POINT_CLAMPED = 1, POINT_GRIP = 2 } PointKind;
+typedef enum { TEST_STRIP, TEST_SQUARE, TEST_PUSHING, TEST_BIAS, TEST_DRAPE } TestType;           /* the scene's test (its load program and curve) */
+typedef enum { SHAPE_RECTANGLE, SHAPE_DISC, SHAPE_BIAS } ShapeType;      /* which crossings of the grid exist */
+typedef enum { CLAMP_JAW, CLAMP_EDGE, CLAMP_RING, CLAMP_NONE } ClampType; /* which existing crossings never move */
 
 extern const char *const PullAxisNames[];
 extern const char *const IntegratorNames[];
 extern const char *const PredictNames[];
+extern const char *const TestNames[];
+extern const char *const ShapeNames[];
+extern const char *const ClampNames[];
 
 /* Everything a scene file or the command line sets, converted to SI. */
 typedef struct {
@@ -36,6 +42,23 @@ typedef struct {
   PetscInt  yarns;                     /* yarns across the strip (0: from width) */
   PullAxis  pull;
   PetscInt  nx, ny;                    /* grid, derived */
+  TestType  test;
+  ShapeType shape;
+  PetscReal disc_radius;               /* m, SHAPE_DISC: from the grid centre */
+  PetscReal jaw_depth;                 /* m, SHAPE_BIAS: the specimen reaches this far into each jaw */
+  ClampType clamp;
+  PetscReal ring[2];                   /* m, CLAMP_RING: inner and outer radius from the grid centre */
+  /* rigid sphere (punch, MODEL.md 5.5): centre = start + d * dir, d = 0 .. travel over the load steps */
+  PetscReal sphere_radius;             /* m, 0 = no sphere */
+  PetscReal sphere_start[3];           /* m, from the grid centre at rest */
+  PetscReal sphere_dir[3];             /* unit */
+  PetscReal sphere_travel;             /* m */
+  PetscReal thickness;                 /* m: fabric thickness, contact at R + h/2 */
+  PetscReal contact_k;                 /* N/m: penalty stiffness per crossing */
+  /* rigid plane (table, MODEL.md 5.5): the fabric stays on the side the normal points to */
+  PetscBool plane;
+  PetscReal plane_point[3];            /* m, from the grid centre at rest */
+  PetscReal plane_normal[3];           /* unit */
   /* material */
   YarnLaw   warp, weft;
   PetscReal shear_G, lock_deg, jam_factor;
@@ -64,6 +87,8 @@ typedef struct {
 typedef struct { /* one row of curve.csv */
   PetscInt  load_step, inner_steps;
   PetscReal time, elongation, force, residual;
+  PetscReal travel; /* m: the load point's displacement along the load (square), the sphere's travel (pushing) */
+  PetscReal center_shear; /* degrees: mean shear angle of the central zone (bias) */
   PetscBool balanced;
 } CurveRow;
 
@@ -98,6 +123,11 @@ struct _p_Fabric {
   PetscReal      pull_dir[3];
   PetscReal      force_floor;  /* smallest force scale of the balance test, N */
   PetscReal      extent;       /* fabric size, m: runaway threshold */
+  PetscReal      centre[3];    /* m: the grid centre at rest */
+  PetscReal      contact_sum[3]; /* this rank's sum of the contact forces on its points (last ComputeForces) */
+  PetscReal      gravity_now[3]; /* m/s^2: gravity of the current load step (ramped with the load steps in the drape test) */
+  PetscReal      drape_pct;      /* drape coefficient (%), drape test */
+  PetscInt       folds;          /* folds of the draped outline, drape test */
 
   /* load program state */
   PetscInt  load_step;
@@ -164,6 +194,8 @@ PetscErrorCode FabricRun(Fabric fab);
 PetscErrorCode ApplyLoadStep(Fabric fab, PetscInt k);
 PetscErrorCode RelaxLoadStep(Fabric fab, CurveRow *row);
 PetscErrorCode GripReaction(Fabric fab, PetscReal *force);
+PetscReal      LoadTravel(const Scene *s);
+PetscReal      TestTime(Fabric fab);
 PetscErrorCode MoveGrips(Fabric fab, PetscReal disp, PetscBool shift_history);
 /* output.c */
 PetscErrorCode OutputOpen(Fabric fab);

@@ -38,6 +38,7 @@ typedef struct {
   PetscBool traction, bending, shear;
   PetscReal kbx, kby;          /* B / L0 along x and y, N m */
   PetscReal Ks, Kj, s_lock;    /* shear stiffness per crossing, jamming stiffness (N m), sin(gamma_lock) */
+  PetscReal k_contact;         /* penalty stiffness of rigid-body contact (N/m), 0 = no body */
   /* ghosted per-point and per-segment state */
   unsigned char *exists;       /* point exists (inside the shape), ghosted */
   unsigned char *broken_x, *broken_y; /* segment (i,j)-(i+1,j) / (i,j)-(i,j+1) broke */
@@ -58,6 +59,17 @@ PetscErrorCode PatchDestroy(Patch *p);
    x: ghosted positions (3 per point), f: owned forces (3 per point).
    tension_max: largest |T| of a segment at a point of the box (the balance test's force scale). */
 void ComputeInternalForces(Patch *p, const PetscReal *x, const PetscInt box[4], PetscReal *f, PetscReal *tension_max);
+
+/* Penalty contact with a rigid sphere (MODEL.md 5.5) on n consecutive owned points: a point
+   closer than reach = R + h/2 to the centre c is pushed out along the normal with
+   k (reach - distance). Only points with inv_m > 0 feel it. Adds to f, and the added
+   forces to sum[3] (the body's reaction is minus their total). */
+void SphereContact(PetscInt n, const PetscReal *x, const PetscReal *inv_m, const PetscReal c[3], PetscReal reach, PetscReal k, PetscReal *f, PetscReal sum[3]);
+
+/* Penalty contact with a rigid plane through p0 with unit normal nrm: a point closer than
+   reach = h/2 to it (or behind it) is pushed out along nrm with k (reach - distance).
+   Only points with inv_m > 0 feel it. Adds to f and to sum[3], like SphereContact. */
+void PlaneContact(PetscInt n, const PetscReal *x, const PetscReal *inv_m, const PetscReal p0[3], const PetscReal nrm[3], PetscReal reach, PetscReal k, PetscReal *f, PetscReal sum[3]);
 
 /* Break the segments strained past the breaking strain; 1 if one at an owned point broke. */
 int BreakSegments(Patch *p, const PetscReal *x);

@@ -2,8 +2,10 @@
 
     xvfb-run -a pvbatch scripts/render.py DIR [--frames 0,5,last | all] [--field warp_tension]
                                               [--out PREFIX] [--size 1600x900] [--range LO,HI]
+                                              [--view angle|top|side]
 
 DIR is a run's -output_dir (it holds fabric.xmf and fabric.h5). One image per frame,
+the crossings outside the specimen's shape (point_kind -1) left out,
 PREFIX_NNNNNN.png (default DIR/render/frame_NNNNNN.png), of the deformed fabric seen from above
 at an angle, coloured by --field (any point field of fabric.xmf: warp_tension, weft_tension,
 shear_angle_deg, ...) on one colour scale for all the chosen frames (its range over them, or
@@ -13,7 +15,7 @@ import argparse
 import os
 import sys
 
-from paraview.simple import (ColorBy, GetColorTransferFunction, GetScalarBar, Render, SaveScreenshot, Show, Text, XDMFReader, CreateView)
+from paraview.simple import (ColorBy, GetColorTransferFunction, GetScalarBar, Render, SaveScreenshot, Show, Text, Threshold, XDMFReader, CreateView)
 
 TITLES = {
     "warp_tension": "warp yarn tension (N)",
@@ -30,6 +32,7 @@ def parse():
     p.add_argument("--field", default="warp_tension", help="point field to colour by (default: warp_tension)")
     p.add_argument("--out", default=None, help="file name prefix (default: DIR/render/frame)")
     p.add_argument("--size", default="1600x900", help="image size WxH in pixels (default: 1600x900)")
+    p.add_argument("--view", default="angle", choices=["angle", "top", "side"], help="camera: above at an angle (default), straight from above, or from the side (along -y)")
     p.add_argument("--range", default=None, help="colour scale LO,HI (default: the field's range over the chosen frames)")
     return p.parse_args()
 
@@ -79,7 +82,15 @@ def main():
     except AttributeError:
         pass
     view.OrientationAxesVisibility = 1
-    shown = Show(reader, view)
+    # crossings outside the specimen's shape (point_kind -1: disc, bias) are not drawn
+    fabric = reader
+    if "point_kind" in names:
+        fabric = Threshold(Input=reader)
+        fabric.Scalars = ["POINTS", "point_kind"]
+        fabric.LowerThreshold = -0.5
+        fabric.UpperThreshold = 1e9
+        fabric.ThresholdMethod = "Between"
+    shown = Show(fabric, view)
     shown.Representation = "Surface"
     ColorBy(shown, ("POINTS", a.field))
     lut = GetColorTransferFunction(a.field)
@@ -104,8 +115,15 @@ def main():
     cx, cy, cz = (x0 + x1) / 2, (y0 + y1) / 2, (z0 + z1) / 2
     size = max(x1 - x0, y1 - y0, z1 - z0, 1e-9)
     view.CameraFocalPoint = [cx, cy, cz]
-    view.CameraPosition = [cx, cy - 0.9 * size, cz + 1.1 * size]
-    view.CameraViewUp = [0, 0, 1]
+    if a.view == "top":  # the outline seen from above (the drape's shadow)
+        view.CameraPosition = [cx, cy, cz + 2.0 * size]
+        view.CameraViewUp = [0, 1, 0]
+    elif a.view == "side":
+        view.CameraPosition = [cx, cy - 2.0 * size, cz]
+        view.CameraViewUp = [0, 0, 1]
+    else:
+        view.CameraPosition = [cx, cy - 0.9 * size, cz + 1.1 * size]
+        view.CameraViewUp = [0, 0, 1]
     view.ResetCamera()
 
     info = {}

@@ -27,8 +27,8 @@
 #include <string.h>
 #include <unistd.h>
 
-#define MAX_KEYS 64
-#define CURVE_COLS 7
+#define MAX_KEYS 128
+#define CURVE_COLS 9
 
 typedef struct {
   char      name[40];
@@ -97,7 +97,32 @@ static PetscInt SceneKeys(Fabric fab, SceneKey *key)
   KEY("front", s->front);
   KEY("sleep_tol", s->sleep_tol);
   KEY("grip_ramp_steps", s->grip_ramp);
+  KEY("test", s->test);
+  KEY("shape", s->shape);
+  KEY("disc_radius_m", s->disc_radius);
+  KEY("clamp", s->clamp);
+  KEY("clamp_ring_inner_m", s->ring[0]);
+  KEY("clamp_ring_outer_m", s->ring[1]);
+  KEY("jaw_depth_m", s->jaw_depth);
+  KEY("sphere_radius_m", s->sphere_radius);
+  KEY("sphere_start_x_m", s->sphere_start[0]);
+  KEY("sphere_start_y_m", s->sphere_start[1]);
+  KEY("sphere_start_z_m", s->sphere_start[2]);
+  KEY("sphere_dir_x", s->sphere_dir[0]);
+  KEY("sphere_dir_y", s->sphere_dir[1]);
+  KEY("sphere_dir_z", s->sphere_dir[2]);
+  KEY("sphere_travel_m", s->sphere_travel);
+  KEY("thickness_m", s->thickness);
+  KEY("plane", s->plane);
+  KEY("plane_point_x_m", s->plane_point[0]);
+  KEY("plane_point_y_m", s->plane_point[1]);
+  KEY("plane_point_z_m", s->plane_point[2]);
+  KEY("plane_normal_x", s->plane_normal[0]);
+  KEY("plane_normal_y", s->plane_normal[1]);
+  KEY("plane_normal_z", s->plane_normal[2]);
+  KEY("contact_stiffness_N_m", s->contact_k);
 #undef KEY
+  PetscCheckAbort(n <= MAX_KEYS, PETSC_COMM_SELF, PETSC_ERR_PLIB, "SceneKeys: %d keys, raise MAX_KEYS", (int)n);
   return n;
 }
 
@@ -227,7 +252,7 @@ static PetscErrorCode CheckpointWrite(Fabric fab)
     PetscCall(PetscMalloc1(CURVE_COLS * fab->load_step, &rows));
     for (PetscInt k = 0; k < fab->load_step; k++) {
       const CurveRow *r = &fab->curve[k];
-      PetscReal       a[CURVE_COLS] = {(PetscReal)r->load_step, r->time, r->elongation, r->force, (PetscReal)r->inner_steps, r->residual, (PetscReal)r->balanced};
+      PetscReal       a[CURVE_COLS] = {(PetscReal)r->load_step, r->time, r->elongation, r->force, (PetscReal)r->inner_steps, r->residual, (PetscReal)r->balanced, r->travel, r->center_shear};
       PetscCall(PetscArraycpy(rows + CURVE_COLS * k, a, CURVE_COLS));
     }
     PetscCall(ViewRankZero(fab, v, "curve", rows, CURVE_COLS * fab->load_step));
@@ -257,7 +282,7 @@ static PetscErrorCode CheckpointWrite(Fabric fab)
   {
     int       version = CHECKPOINT_VERSION, load_step = (int)fab->load_step, frames = (int)io->frames, converged = fab->converged, broken = fab->broken_any, ranks = fab->size;
     long      te_steps = (long)fab->te_steps, updates = (long)fab->point_updates;
-    PetscReal time = fab->grip_disp / fab->s.speed, wall = fab->wall;
+    PetscReal time = TestTime(fab), wall = fab->wall;
     PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "fabric_checkpoint", PETSC_INT, &version));
     PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "load_step", PETSC_INT, &load_step));
     PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "time_s", PETSC_REAL, &time));
@@ -587,6 +612,8 @@ PetscErrorCode RestartLoad(Fabric fab)
     r->inner_steps  = (PetscInt)a[4];
     r->residual     = a[5];
     r->balanced     = a[6] != 0 ? PETSC_TRUE : PETSC_FALSE;
+    r->travel       = a[7];
+    r->center_shear = a[8];
   }
   io->frames = 0;
   for (PetscInt k = 0; k < h.frames; k++) {

@@ -29,18 +29,61 @@ static PetscErrorCode RegisterEvents(void)
   PetscFunctionReturn(0);
 }
 
-/* Does crossing (i,j) exist? The strip is a full rectangle; shapes cut the grid here. */
-static int PointExists(const Scene *s, PetscInt i, PetscInt j)
+/* Position of crossing (i,j) relative to the grid centre at rest, m. (i - (nx-1)/2) is exact,
+   so mirrored crossings get mirrored coordinates and the shapes keep the grid's symmetries. */
+static void FromCentre(const Scene *s, PetscInt i, PetscInt j, PetscReal *x, PetscReal *y)
 {
-  return i >= 0 && i < s->nx && j >= 0 && j < s->ny;
+  *x = (i - 0.5 * (s->nx - 1)) / s->picks_per_m;
+  *y = (j - 0.5 * (s->ny - 1)) / s->ends_per_m;
 }
 
-/* Clamped jaw at the start of the pull axis, moving jaw (grip) at its end (MODEL.md 6). */
+/* Does crossing (i,j) exist? The shape cuts the grid: a point outside it has no mass, no
+   segment and no force (the kernels read the ghosted mask patch.exists). */
+static int PointExists(const Scene *s, PetscInt i, PetscInt j)
+{
+  PetscReal x, y;
+  if (i < 0 || i >= s->nx || j < 0 || j >= s->ny) return 0;
+  switch (s->shape) {
+  case SHAPE_RECTANGLE:
+    return 1;
+  case SHAPE_DISC:
+    FromCentre(s, i, j, &x, &y);
+    return x * x + y * y <= s->disc_radius * s->disc_radius * (1.0 + 1e-12);
+  case SHAPE_BIAS: { /* s along the specimen (the grid diagonal), t across it */
+    const PetscReal tol = 1e-9 * s->gauge;
+    FromCentre(s, i, j, &x, &y);
+    return PetscAbsReal(x + y) / PetscSqrtReal(2.0) <= 0.5 * s->gauge + s->jaw_depth + tol && PetscAbsReal(y - x) / PetscSqrtReal(2.0) <= 0.5 * s->width + tol;
+  }
+  }
+  return 0;
+}
+
+/* The clamp region (MODEL.md 6); the strip's moving jaw is its grip. */
 static PointKind KindOf(const Scene *s, PetscInt i, PetscInt j)
 {
-  const PetscInt along = s->pull == PULL_WARP ? i : j, n = s->pull == PULL_WARP ? s->nx : s->ny;
-  if (along == 0) return POINT_CLAMPED;
-  if (along == n - 1) return POINT_GRIP;
+  PetscReal x, y, r2;
+  switch (s->clamp) {
+  case CLAMP_JAW: { /* clamped jaw at the start of the pull axis, moving jaw at its end */
+    if (s->shape == SHAPE_BIAS) { /* the jaws hold the specimen beyond the lines |s| = gauge/2 across it */
+      const PetscReal tol = 1e-9 * s->gauge;
+      FromCentre(s, i, j, &x, &y);
+      const PetscReal along = (x + y) / PetscSqrtReal(2.0);
+      return along <= -0.5 * s->gauge + tol ? POINT_CLAMPED : (along >= 0.5 * s->gauge - tol ? POINT_GRIP : POINT_FREE);
+    }
+    const PetscInt along = s->pull == PULL_WARP ? i : j, n = s->pull == PULL_WARP ? s->nx : s->ny;
+    if (along == 0) return POINT_CLAMPED;
+    if (along == n - 1) return POINT_GRIP;
+    return POINT_FREE;
+  }
+  case CLAMP_EDGE: /* the shape's outline: an existing crossing with a missing yarn neighbour */
+    return (!PointExists(s, i - 1, j) || !PointExists(s, i + 1, j) || !PointExists(s, i, j - 1) || !PointExists(s, i, j + 1)) ? POINT_CLAMPED : POINT_FREE;
+  case CLAMP_RING:
+    FromCentre(s, i, j, &x, &y);
+    r2 = x * x + y * y;
+    return (r2 >= s->ring[0] * s->ring[0] * (1.0 - 1e-12) && r2 <= s->ring[1] * s->ring[1] * (1.0 + 1e-12)) ? POINT_CLAMPED : POINT_FREE;
+  case CLAMP_NONE:
+    return POINT_FREE;
+  }
   return POINT_FREE;
 }
 
@@ -117,6 +160,9 @@ PetscErrorCode FabricCreate(MPI_Comm comm, Fabric *out)
       }
     PetscCall(DMDAVecRestoreArrayDOF(fab->da, fab->X0, &x));
     PetscCall(VecCopy(fab->X0, fab->X));
+    fab->centre[0] = 0.5 * (s->nx - 1) * ax;
+    fab->centre[1] = 0.5 * (s->ny - 1) * ay;
+    fab->centre[2] = 0.0;
     fab->extent = PetscSqrtReal(PetscSqr((s->nx - 1) * ax) + PetscSqr((s->ny - 1) * ay));
   }
 
@@ -139,6 +185,7 @@ PetscErrorCode FabricCreate(MPI_Comm comm, Fabric *out)
     p->Ks       = s->shear_G * p->ax * p->ay;
     p->Kj       = s->jam_factor * p->Ks;
     p->s_lock   = PetscSinReal(s->lock_deg * PETSC_PI / 180.0);
+    p->k_contact = ((s->sphere_radius > 0) + (s->plane ? 1 : 0)) * s->contact_k; /* a crossing can touch every body at once */
     PetscCall(PetscCalloc1((size_t)p->gxm * p->gym, &p->exists));
     PetscCall(PetscCalloc1((size_t)p->gxm * p->gym, &p->broken_x));
     PetscCall(PetscCalloc1((size_t)p->gxm * p->gym, &p->broken_y));
@@ -177,6 +224,8 @@ PetscErrorCode FabricCreate(MPI_Comm comm, Fabric *out)
   fab->pull_dir[0] = s->pull == PULL_WARP ? 1.0 : 0.0;
   fab->pull_dir[1] = s->pull == PULL_WARP ? 0.0 : 1.0;
   fab->pull_dir[2] = 0.0;
+  for (int d = 0; d < 3; d++) fab->gravity_now[d] = s->gravity[d];
+  if (s->shape == SHAPE_BIAS) fab->pull_dir[0] = fab->pull_dir[1] = 1.0 / PetscSqrtReal(2.0); /* along the specimen */
 
   if (s->integrator == INTEGRATOR_PAPER) {
     PetscCall(VecDuplicate(fab->X, &fab->Xold));

@@ -34,6 +34,31 @@ PetscErrorCode ComputeForces(Fabric fab, const PetscInt box[4], PetscReal *tensi
     if (i >= box[0] && i < box[1] && j >= box[2] && j < box[3])
       for (int d = 0; d < 3; d++) f[3 * fab->load_index + d] += fab->load_factor * fab->s.point_load[d];
   }
+  fab->contact_sum[0] = fab->contact_sum[1] = fab->contact_sum[2] = 0;
+  if (fab->s.sphere_radius > 0) { /* the punch, where the load program has moved it */
+    const Scene       *s = &fab->s;
+    const PetscScalar *x;
+    PetscReal          c[3];
+    for (int d = 0; d < 3; d++) c[d] = fab->centre[d] + s->sphere_start[d] + fab->grip_now * s->sphere_dir[d];
+    PetscCall(VecGetArrayRead(fab->X, &x));
+    for (PetscInt j = box[2]; j < box[3]; j++) {
+      const PetscInt k0 = (j - p->ys) * p->xm + (box[0] - p->xs);
+      SphereContact(box[1] - box[0], x + 3 * k0, fab->inv_m + k0, c, s->sphere_radius + 0.5 * s->thickness, s->contact_k, f + 3 * k0, fab->contact_sum);
+    }
+    PetscCall(VecRestoreArrayRead(fab->X, &x));
+  }
+  if (fab->s.plane) { /* the table: its reaction is not reported (plane_sum is discarded) */
+    const Scene       *s = &fab->s;
+    const PetscScalar *x;
+    PetscReal          p0[3], plane_sum[3] = {0, 0, 0};
+    for (int d = 0; d < 3; d++) p0[d] = fab->centre[d] + s->plane_point[d];
+    PetscCall(VecGetArrayRead(fab->X, &x));
+    for (PetscInt j = box[2]; j < box[3]; j++) {
+      const PetscInt k0 = (j - p->ys) * p->xm + (box[0] - p->xs);
+      PlaneContact(box[1] - box[0], x + 3 * k0, fab->inv_m + k0, p0, s->plane_normal, 0.5 * s->thickness, s->contact_k, f + 3 * k0, plane_sum);
+    }
+    PetscCall(VecRestoreArrayRead(fab->X, &x));
+  }
   PetscCall(VecRestoreArray(fab->F, &f));
   PetscCall(VecRestoreArrayRead(fab->Xl, &xl));
   PetscCall(PetscLogEventEnd(EV_Force, 0, 0, 0, 0));
@@ -176,13 +201,13 @@ PetscErrorCode TimeStep(Fabric fab, StepStats *out)
   for (PetscInt j = box[2]; j < box[3]; j++) {
     const PetscInt k0 = (j - p->ys) * p->xm + (box[0] - p->xs), n = box[1] - box[0];
     SweepStats     st;
-    if (s->integrator == INTEGRATOR_PAPER) IntegratePaper(n, fab->te, fab->damp_c, s->nu, s->gravity, fab->mass + k0, fab->inv_m + k0, f + 3 * k0, x + 3 * k0, v + 3 * k0, xold + 3 * k0, vold + 3 * k0, &st);
-    else IntegrateDamped(n, fab->te, fab->damp_c, s->nu, s->gravity, fab->mass + k0, fab->inv_m + k0, f + 3 * k0, x + 3 * k0, v + 3 * k0, &st);
+    if (s->integrator == INTEGRATOR_PAPER) IntegratePaper(n, fab->te, fab->damp_c, s->nu, fab->gravity_now, fab->mass + k0, fab->inv_m + k0, f + 3 * k0, x + 3 * k0, v + 3 * k0, xold + 3 * k0, vold + 3 * k0, &st);
+    else IntegrateDamped(n, fab->te, fab->damp_c, s->nu, fab->gravity_now, fab->mass + k0, fab->inv_m + k0, f + 3 * k0, x + 3 * k0, v + 3 * k0, &st);
     all.res2 = PetscMax(all.res2, st.res2);
     all.v2   = PetscMax(all.v2, st.v2);
     all.v2sum += st.v2sum;
     if (sleep) {
-      AwakeRange(n, s->gravity, fab->mass + k0, fab->inv_m + k0, f + 3 * k0, v + 3 * k0, sleep_f2, sleep_v2, &st);
+      AwakeRange(n, fab->gravity_now, fab->mass + k0, fab->inv_m + k0, f + 3 * k0, v + 3 * k0, sleep_f2, sleep_v2, &st);
       if (st.awake_lo < st.awake_hi) {
         alo = PetscMin(alo, box[0] + st.awake_lo), ahi = PetscMax(ahi, box[0] + st.awake_hi);
         ajlo = PetscMin(ajlo, j), ajhi = j + 1;

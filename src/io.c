@@ -318,7 +318,7 @@ PetscErrorCode FramesOpen(Fabric fab)
     PetscCall(FramesWriteXdmf(fab));
   } else {
     FrameInfo f;
-    f.time      = fab->grip_disp / fab->s.speed;
+    f.time      = TestTime(fab);
     f.load_step = fab->load_step;
     f.te_step   = 0;
     io->frames  = 0;
@@ -362,7 +362,7 @@ PetscErrorCode FramesTeStep(Fabric fab)
   if (n % io->output_te_every) PetscFunctionReturn(0);
   f.load_step = fab->load_step;
   f.te_step   = n;
-  f.time      = fab->grip_disp / fab->s.speed + n * fab->te;
+  f.time      = TestTime(fab) + n * fab->te;
   PetscCall(WriteFrame(fab, &f));
   PetscFunctionReturn(0);
 }

@@ -386,10 +386,42 @@ PetscReal StableOmega2(const Patch *p, const PetscReal *x, const PetscReal *inv_
         rs += ShearRowBound(p, x, i - 1, j) + ShearRowBound(p, x, i + 1, j) + ShearRowBound(p, x, i, j - 1) + ShearRowBound(p, x, i, j + 1);
         if (!ExistsG(p, i - 1, j) || !ExistsG(p, i + 1, j) || !ExistsG(p, i, j - 1) || !ExistsG(p, i, j + 1)) rs += ShearRowBound(p, x, i, j);
       }
+      rs += p->k_contact; /* a rigid body's penalty spring, whether in contact or not */
       omega2 = PetscMax(omega2, rs * im);
       pull2  = PetscMax(pull2, rp * im);
     }
   }
   *omega2_pull = pull2;
   return omega2;
+}
+
+void SphereContact(PetscInt n, const PetscReal *x, const PetscReal *inv_m, const PetscReal c[3], PetscReal reach, PetscReal k, PetscReal *f, PetscReal sum[3])
+{
+  for (PetscInt q = 0; q < n; q++) {
+    if (inv_m[q] <= 0) continue;
+    const PetscReal dx = x[3 * q] - c[0], dy = x[3 * q + 1] - c[1], dz = x[3 * q + 2] - c[2];
+    const PetscReal r2 = dx * dx + dy * dy + dz * dz;
+    if (r2 >= reach * reach || r2 == 0) continue;
+    const PetscReal r = PetscSqrtReal(r2), push = k * (reach - r) / r;
+    f[3 * q] += push * dx;
+    f[3 * q + 1] += push * dy;
+    f[3 * q + 2] += push * dz;
+    sum[0] += push * dx;
+    sum[1] += push * dy;
+    sum[2] += push * dz;
+  }
+}
+
+void PlaneContact(PetscInt n, const PetscReal *x, const PetscReal *inv_m, const PetscReal p0[3], const PetscReal nrm[3], PetscReal reach, PetscReal k, PetscReal *f, PetscReal sum[3])
+{
+  for (PetscInt q = 0; q < n; q++) {
+    if (inv_m[q] <= 0) continue;
+    const PetscReal dist = (x[3 * q] - p0[0]) * nrm[0] + (x[3 * q + 1] - p0[1]) * nrm[1] + (x[3 * q + 2] - p0[2]) * nrm[2];
+    if (dist >= reach) continue;
+    const PetscReal push = k * (reach - dist);
+    for (int d = 0; d < 3; d++) {
+      f[3 * q + d] += push * nrm[d];
+      sum[d] += push * nrm[d];
+    }
+  }
 }

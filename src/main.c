@@ -72,8 +72,8 @@ static PetscErrorCode Run(int argc, char **argv)
   }
   PetscCall(SceneCheckUnused(PETSC_COMM_WORLD));
   if (!fab->s.quiet)
-    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fabric: scene %s, %" PetscInt_FMT " x %" PetscInt_FMT " crossings (%" PetscInt_FMT " points) on %d ranks, %s integrator, prediction %s, %" PetscInt_FMT " load steps to %.3g %% elongation\n", fab->s.name, fab->s.nx, fab->s.ny, fab->points, fab->size,
-                          IntegratorNames[fab->s.integrator], PredictNames[fab->s.predict], fab->s.load_steps, (double)(100 * fab->s.elongation)));
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fabric: scene %s, %" PetscInt_FMT " x %" PetscInt_FMT " crossings (%" PetscInt_FMT " points) on %d ranks, %s integrator, prediction %s, %" PetscInt_FMT " load steps, test %s, %.3g mm of travel\n", fab->s.name, fab->s.nx, fab->s.ny, fab->points, fab->size,
+                          IntegratorNames[fab->s.integrator], PredictNames[fab->s.predict], fab->s.load_steps, TestNames[fab->s.test], (double)(1e3 * LoadTravel(&fab->s))));
   ierr = FabricRun(fab);
   if (ierr) { /* a run that stops on an error still says so in summary.json */
     const char *text;

@@ -27,8 +27,26 @@ static int MakeDirs(const char *path)
   return 0;
 }
 
-static void WriteCurveRow(FILE *fp, const CurveRow *r)
+/* curve.csv columns per test: strip = jaw reaction vs elongation; bias = the same plus the jaw
+   travel and the central zone's shear angle; square = point load vs
+   the displacement of its crossing (travel_mm) */
+static const char *CurveHeader(const Scene *s)
 {
+  if (s->test == TEST_STRIP) return "load_step,time_s,elongation_pct,force_N,inner_steps,residual";
+  if (s->test == TEST_BIAS) return "load_step,time_s,elongation_pct,force_N,inner_steps,residual,travel_mm,center_shear_deg";
+  return "load_step,time_s,travel_mm,force_N,inner_steps,residual";
+}
+
+static void WriteCurveRow(const Scene *s, FILE *fp, const CurveRow *r)
+{
+  if (s->test == TEST_BIAS) {
+    fprintf(fp, "%" PetscInt_FMT ",%.9g,%.9g,%.9g,%" PetscInt_FMT ",%.6e,%.9g,%.9g\n", r->load_step, (double)r->time, (double)(100.0 * r->elongation), (double)r->force, r->inner_steps, (double)r->residual, (double)(1e3 * r->elongation * s->gauge), (double)r->center_shear);
+    return;
+  }
+  if (s->test != TEST_STRIP) {
+    fprintf(fp, "%" PetscInt_FMT ",%.9g,%.9g,%.9g,%" PetscInt_FMT ",%.6e\n", r->load_step, (double)r->time, (double)(1e3 * r->travel), (double)r->force, r->inner_steps, (double)r->residual);
+    return;
+  }
   fprintf(fp, "%" PetscInt_FMT ",%.9g,%.9g,%.9g,%" PetscInt_FMT ",%.6e\n", r->load_step, (double)r->time, (double)(100.0 * r->elongation), (double)r->force, r->inner_steps, (double)r->residual);
 }
 
@@ -48,8 +66,8 @@ PetscErrorCode OutputOpen(Fabric fab)
       fab->curve_fp = fopen(file, "w");
       ok            = fab->curve_fp != NULL;
       if (ok) {
-        fprintf(fab->curve_fp, "load_step,time_s,elongation_pct,force_N,inner_steps,residual\n");
-        for (PetscInt k = 0; k < fab->load_step; k++) WriteCurveRow(fab->curve_fp, &fab->curve[k]);
+        fprintf(fab->curve_fp, "%s\n", CurveHeader(&fab->s));
+        for (PetscInt k = 0; k < fab->load_step; k++) WriteCurveRow(&fab->s, fab->curve_fp, &fab->curve[k]);
         fflush(fab->curve_fp);
       }
     }
@@ -64,7 +82,7 @@ PetscErrorCode OutputCurveRow(Fabric fab, const CurveRow *r)
   PetscFunctionBeginUser;
   if (!fab->curve_fp) PetscFunctionReturn(0);
   PetscCall(PetscLogEventBegin(EV_Output, 0, 0, 0, 0));
-  WriteCurveRow(fab->curve_fp, r);
+  WriteCurveRow(&fab->s, fab->curve_fp, r);
   fflush(fab->curve_fp);
   PetscCall(PetscLogEventEnd(EV_Output, 0, 0, 0, 0));
   PetscFunctionReturn(0);
@@ -77,6 +95,10 @@ PetscErrorCode OutputProgress(Fabric fab, const CurveRow *r)
 
   PetscFunctionBeginUser;
   if (fab->s.quiet) PetscFunctionReturn(0);
+  if (fab->s.test == TEST_SQUARE || fab->s.test == TEST_PUSHING) { /* no jaws: the load point's or the ball's travel */
+    PetscCall(PetscPrintf(fab->comm, "load step %4" PetscInt_FMT "/%" PetscInt_FMT "  travel %8.3f mm  force %10.4f N  N' %6" PetscInt_FMT "%s  residual %.2e  te %.3g s  elapsed %.1f s  ETA %.1f s\n", r->load_step, K, (double)(1e3 * r->travel), (double)r->force, r->inner_steps, r->balanced ? " " : "*", (double)r->residual, (double)fab->te, (double)fab->wall, (double)eta));
+    PetscFunctionReturn(0);
+  }
   PetscCall(PetscPrintf(fab->comm, "load step %4" PetscInt_FMT "/%" PetscInt_FMT "  elongation %7.3f %%  force %10.4f N  N' %6" PetscInt_FMT "%s  residual %.2e  te %.3g s  elapsed %.1f s  ETA %.1f s\n", r->load_step, K, (double)(100.0 * r->elongation), (double)r->force, r->inner_steps, r->balanced ? " " : "*", (double)r->residual, (double)fab->te, (double)fab->wall, (double)eta));
   PetscFunctionReturn(0);
 }
@@ -122,6 +144,7 @@ PetscErrorCode OutputSummary(Fabric fab, const char *error)
   fprintf(fp, "  \"te_s\": %.6e,\n  \"te_bound_s\": %.6e,\n  \"load_steps\": %" PetscInt_FMT ",\n  \"load_steps_done\": %" PetscInt_FMT ",\n", (double)fab->te, (double)fab->te_bound, s->load_steps, done);
   fprintf(fp, "  \"te_steps\": %" PetscInt64_FMT ",\n  \"point_updates\": %" PetscInt64_FMT ",\n  \"wall_s\": %.6f,\n  \"point_updates_per_s\": %.6e,\n", fab->te_steps, fab->point_updates, (double)fab->wall, fab->wall > 0 ? (double)fab->point_updates / fab->wall : 0.0);
   fprintf(fp, "  \"gauge_mm\": %.6g,\n  \"width_mm\": %.6g,\n  \"peak_force_N\": %.9g,\n", (double)(s->gauge * 1e3), (double)(s->width * 1e3), (double)peak);
+  if (s->test == TEST_DRAPE) fprintf(fp, "  \"drape_coefficient_pct\": %.6g,\n  \"folds\": %" PetscInt_FMT ",\n", (double)fab->drape_pct, fab->folds);
   fprintf(fp, "  \"converged\": %s", (fab->converged && !error && done == s->load_steps) ? "true" : "false");
   if (error) {
     fprintf(fp, ",\n  \"error\": ");

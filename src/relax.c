@@ -46,6 +46,165 @@ PetscErrorCode GripReaction(Fabric fab, PetscReal *force)
   PetscFunctionReturn(0);
 }
 
+/* Total travel of what the load program moves, m: the strip's jaw or the punch. */
+PetscReal LoadTravel(const Scene *s)
+{
+  return s->test == TEST_PUSHING ? s->sphere_travel : s->elongation * s->gauge;
+}
+
+/* Time of the current load step (time_s, frame times), s: the travel at the test speed; for
+   the tests that move nothing (square net, drape), the load step number, so that frames have
+   distinct times. */
+PetscReal TestTime(Fabric fab)
+{
+  return LoadTravel(&fab->s) > 0 ? fab->grip_disp / fab->s.speed : (PetscReal)fab->load_step;
+}
+
+/* Pushing: the reaction on the sphere is minus the sum of the contact forces on the fabric;
+   force_N is its component against the travel (positive while the fabric resists). A sum
+   over points: the same to rounding on any number of ranks, never fed back into positions. */
+static PetscErrorCode SphereReaction(Fabric fab, CurveRow *row)
+{
+  PetscReal sum[3];
+
+  PetscFunctionBeginUser; /* contact_sum: from GripReaction's ComputeForces at the balanced state */
+  for (int d = 0; d < 3; d++) sum[d] = fab->contact_sum[d];
+  PetscCall(GlobalSum(fab->comm, sum, 3));
+  row->force  = sum[0] * fab->s.sphere_dir[0] + sum[1] * fab->s.sphere_dir[1] + sum[2] * fab->s.sphere_dir[2];
+  row->travel = fab->grip_disp;
+  PetscFunctionReturn(0);
+}
+
+/* Bias extension: the mean shear angle of the central zone, the crossings within W/4 of the
+   specimen's centre along and across it (a W/2 square inside the pure-shear zone). The angle
+   at a crossing is asin(cos(angle(tw, tf))) with central-difference tangents, as the
+   shear_angle_deg field of fabric.h5; the zone's crossings all have four neighbours.
+   Xl: halo-exchanged by GripReaction. A sum over crossings: reported, never fed back. */
+static PetscErrorCode CenterShear(Fabric fab, CurveRow *row)
+{
+  const Patch       *p = &fab->patch;
+  const Scene       *s = &fab->s;
+  const PetscScalar *xl;
+  PetscReal          acc[2] = {0, 0};
+
+  PetscFunctionBeginUser;
+  PetscCall(VecGetArrayRead(fab->Xl, &xl));
+  for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
+    for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
+      const PetscReal xc = (i - 0.5 * (s->nx - 1)) / s->picks_per_m, yc = (j - 0.5 * (s->ny - 1)) / s->ends_per_m;
+      if (PetscAbsReal(xc + yc) / PetscSqrtReal(2.0) > 0.25 * s->width || PetscAbsReal(yc - xc) / PetscSqrtReal(2.0) > 0.25 * s->width) continue;
+#define XL(ii, jj, d) xl[3 * (((jj) - p->gys) * p->gxm + ((ii) - p->gxs)) + (d)]
+      PetscReal tw[3], tf[3];
+      for (int d = 0; d < 3; d++) {
+        tw[d] = XL(i + 1, j, d) - XL(i - 1, j, d);
+        tf[d] = XL(i, j + 1, d) - XL(i, j - 1, d);
+      }
+#undef XL
+      const PetscReal c = (tw[0] * tf[0] + tw[1] * tf[1] + tw[2] * tf[2]) / PetscSqrtReal((tw[0] * tw[0] + tw[1] * tw[1] + tw[2] * tw[2]) * (tf[0] * tf[0] + tf[1] * tf[1] + tf[2] * tf[2]));
+      acc[0] += PetscAsinReal(c) * 180.0 / PETSC_PI;
+      acc[1] += 1;
+    }
+  PetscCall(VecRestoreArrayRead(fab->Xl, &xl));
+  PetscCall(GlobalSum(fab->comm, acc, 2));
+  row->center_shear = acc[1] > 0 ? acc[0] / acc[1] : 0.0;
+  PetscFunctionReturn(0);
+}
+
+/* Cusick drape: the outline of the draped specimen seen from above, as the largest radius
+   from the centre of the projected crossings in each of DRAPE_BINS angular bins (a
+   max-reduction: exact on any number of ranks; an empty bin is interpolated linearly
+   between its nearest filled neighbours). A_shadow = sum 0.5 r^2 dtheta; DC = (A_shadow - A_disc)/(A_specimen - A_disc).
+   Folds: local maxima of the outline radius vs angle, smoothed over DRAPE_SMOOTH bins, whose
+   prominence is more than 10 % of the overhang (specimen radius - disc radius). */
+#define DRAPE_BINS   360
+#define DRAPE_SMOOTH 15
+static PetscErrorCode DrapeOutline(Fabric fab, CurveRow *row)
+{
+  const Patch       *p = &fab->patch;
+  const Scene       *s = &fab->s;
+  const PetscScalar *x;
+  PetscReal          r[DRAPE_BINS], sm[DRAPE_BINS], area = 0, a_disc, a_spec;
+  PetscInt           folds = 0;
+  PetscReal          drop = 0;
+
+  PetscFunctionBeginUser;
+  for (int b = 0; b < DRAPE_BINS; b++) r[b] = 0;
+  PetscCall(VecGetArrayRead(fab->X, &x));
+  for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
+    for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
+      const PetscInt k = (j - p->ys) * p->xm + (i - p->xs);
+      if (!p->exists[(j - p->gys) * p->gxm + (i - p->gxs)]) continue;
+      const PetscReal dx = x[3 * k] - fab->centre[0], dy = x[3 * k + 1] - fab->centre[1], rr = PetscSqrtReal(dx * dx + dy * dy);
+      PetscReal       th = atan2(dy, dx);
+      if (th < 0) th += 2 * PETSC_PI;
+      int b = (int)(th / (2 * PETSC_PI) * DRAPE_BINS);
+      if (b >= DRAPE_BINS) b = DRAPE_BINS - 1;
+      r[b] = PetscMax(r[b], rr);
+      drop = PetscMax(drop, -x[3 * k + 2]);
+    }
+  PetscCall(VecRestoreArrayRead(fab->X, &x));
+  PetscCall(GlobalMax(fab->comm, r, DRAPE_BINS));
+  for (int b = 0; b < DRAPE_BINS; b++) { /* an empty bin: linear between the nearest filled bins on either side */
+    int l = 1, h = 1;
+    if (r[b] > 0) {
+      sm[b] = r[b];
+      continue;
+    }
+    while (l < DRAPE_BINS && r[(b - l + DRAPE_BINS) % DRAPE_BINS] <= 0) l++;
+    while (h < DRAPE_BINS && r[(b + h) % DRAPE_BINS] <= 0) h++;
+    sm[b] = (h * r[(b - l + DRAPE_BINS) % DRAPE_BINS] + l * r[(b + h) % DRAPE_BINS]) / (l + h);
+  }
+  for (int b = 0; b < DRAPE_BINS; b++) area += 0.5 * sm[b] * sm[b] * 2 * PETSC_PI / DRAPE_BINS;
+  a_disc = PETSC_PI * s->ring[1] * s->ring[1];
+  a_spec = PETSC_PI * s->disc_radius * s->disc_radius;
+  fab->drape_pct = 100.0 * (area - a_disc) / (a_spec - a_disc);
+  {
+    PetscReal smooth[DRAPE_BINS];
+    const PetscReal prominence = 0.1 * (s->disc_radius - s->ring[1]);
+    for (int b = 0; b < DRAPE_BINS; b++) {
+      smooth[b] = 0;
+      for (int q = -DRAPE_SMOOTH / 2; q <= DRAPE_SMOOTH / 2; q++) smooth[b] += sm[(b + q + DRAPE_BINS) % DRAPE_BINS] / DRAPE_SMOOTH;
+    }
+    /* a fold: a local maximum of the smoothed radius whose prominence (its height above the
+       higher of the lowest radii on either side before a higher radius) exceeds the threshold */
+    for (int b = 0; b < DRAPE_BINS; b++) {
+      const PetscReal v = smooth[b];
+      PetscReal       lo_l = v, lo_r = v;
+      if (!(v > smooth[(b + DRAPE_BINS - 1) % DRAPE_BINS] && v >= smooth[(b + 1) % DRAPE_BINS])) continue;
+      for (int q = 1; q < DRAPE_BINS && smooth[(b - q + DRAPE_BINS) % DRAPE_BINS] <= v; q++) lo_l = PetscMin(lo_l, smooth[(b - q + DRAPE_BINS) % DRAPE_BINS]);
+      for (int q = 1; q < DRAPE_BINS && smooth[(b + q) % DRAPE_BINS] <= v; q++) lo_r = PetscMin(lo_r, smooth[(b + q) % DRAPE_BINS]);
+      if (v - PetscMax(lo_l, lo_r) > prominence) folds++;
+    }
+  }
+  fab->folds = folds;
+  PetscCall(GlobalMax(fab->comm, &drop, 1));
+  row->travel = drop; /* curve.csv travel_mm: the largest drop of a crossing */
+  PetscFunctionReturn(0);
+}
+
+/* Square net: the applied point load and its crossing's displacement along it. One rank owns
+   the crossing, the others add zeros: the sum is exact. */
+static PetscErrorCode LoadPointTravel(Fabric fab, CurveRow *row)
+{
+  const PetscReal *P = fab->s.point_load, Pn = PetscSqrtReal(P[0] * P[0] + P[1] * P[1] + P[2] * P[2]);
+  PetscReal        travel = 0;
+
+  PetscFunctionBeginUser;
+  if (fab->load_index >= 0 && Pn > 0) {
+    const PetscScalar *x, *x0;
+    const PetscInt     k = fab->load_index;
+    PetscCall(VecGetArrayRead(fab->X, &x));
+    PetscCall(VecGetArrayRead(fab->X0, &x0));
+    for (int d = 0; d < 3; d++) travel += (x[3 * k + d] - x0[3 * k + d]) * P[d] / Pn;
+    PetscCall(VecRestoreArrayRead(fab->X0, &x0));
+    PetscCall(VecRestoreArrayRead(fab->X, &x));
+  }
+  PetscCall(GlobalSum(fab->comm, &travel, 1));
+  row->travel = travel;
+  row->force  = fab->load_factor * Pn;
+  PetscFunctionReturn(0);
+}
+
 /* Put the grips at displacement disp along the pull. A jump (shift_history) also shifts
    the paper integrator's x(n-1), so the grips do not move back; a ramp sets the position
    at each te step and leaves the history to the integrator. */
@@ -75,12 +234,14 @@ PetscErrorCode ApplyLoadStep(Fabric fab, PetscInt k)
 {
   const Scene    *s      = &fab->s;
   const PetscReal lambda = (PetscReal)k / (PetscReal)s->load_steps;
-  const PetscReal disp   = lambda * s->elongation * s->gauge, step = disp - fab->grip_disp;
+  const PetscReal disp   = lambda * LoadTravel(s), step = disp - fab->grip_disp;
   PetscReal       damp_c, omega1;
 
   PetscFunctionBeginUser;
   fab->load_step   = k;
   fab->load_factor = lambda;
+  if (s->test == TEST_DRAPE) /* the specimen is lowered onto its support: gravity grows with the load steps */
+    for (int d = 0; d < 3; d++) fab->gravity_now[d] = lambda * s->gravity[d];
   /* the damping is tuned to the balanced state before the grips jump: right after the jump
      the segment at the grip is strained far beyond the rest of the chain */
   if (!fab->bound_fresh) PetscCall(StableStep(fab)); /* else FabricRun just took it, at this state */
@@ -134,9 +295,13 @@ PetscErrorCode RelaxLoadStep(Fabric fab, CurveRow *row)
   row->load_step   = fab->load_step;
   row->residual    = st.residual;
   row->balanced    = st.balanced;
-  row->elongation  = fab->grip_disp / s->gauge;
-  row->time        = fab->grip_disp / s->speed;
+  row->elongation  = (s->test == TEST_STRIP || s->test == TEST_BIAS) ? fab->grip_disp / s->gauge : 0.0;
+  row->time        = TestTime(fab);
   PetscCall(GripReaction(fab, &row->force));
+  if (s->test == TEST_SQUARE) PetscCall(LoadPointTravel(fab, row));
+  if (s->test == TEST_PUSHING) PetscCall(SphereReaction(fab, row));
+  if (s->test == TEST_BIAS) PetscCall(CenterShear(fab, row));
+  if (s->test == TEST_DRAPE) PetscCall(DrapeOutline(fab, row));
   PetscFunctionReturn(0);
 }
 

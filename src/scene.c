@@ -12,6 +12,9 @@
 const char *const PullAxisNames[]   = {"warp", "weft", "PullAxis", "PULL_", NULL};
 const char *const IntegratorNames[] = {"damped", "paper", "IntegratorType", "INTEGRATOR_", NULL};
 const char *const PredictNames[]    = {"none", "linear", "extrapolate", "PredictType", "PREDICT_", NULL};
+const char *const TestNames[]       = {"strip", "square", "pushing", "bias", "drape", "TestType", "TEST_", NULL};
+const char *const ShapeNames[]      = {"rectangle", "disc", "bias", "ShapeType", "SHAPE_", NULL};
+const char *const ClampNames[]      = {"jaw", "edge", "ring", "none", "ClampType", "CLAMP_", NULL};
 
 #define CHECK_POSITIVE(v, opt) PetscCheck(isfinite((double)(v)) && (v) > 0, comm, PETSC_ERR_USER_INPUT, "%s must be a positive number, got %g", opt, (double)(v))
 #define CHECK_NONNEG(v, opt)   PetscCheck(isfinite((double)(v)) && (v) >= 0, comm, PETSC_ERR_USER_INPUT, "%s must be zero or positive, got %g", opt, (double)(v))
@@ -113,6 +116,9 @@ PetscErrorCode SceneCheckUnused(MPI_Comm comm)
 PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s)
 {
   PetscReal ends_cm = 24, picks_cm = 24, gauge_mm = 200, width_mm = 50, elong_pct = 13, speed_mm_min = 100;
+  PetscReal disc_mm = 0, ring_mm[2] = {0, 0}, sphere_mm = 0, start_mm[3] = {0, 0, 0}, travel_mm = 0, thick_mm = 0.3, kc = 0;
+  PetscBool start_set;
+  PetscReal jaw_mm = 2;
   PetscInt  n3 = 3, n2 = 2;
   PetscBool set;
 
@@ -141,6 +147,75 @@ PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s)
   PetscCheck(s->yarns >= 0, comm, PETSC_ERR_USER_INPUT, "-yarns must be zero or positive, got %" PetscInt_FMT, s->yarns);
   s->pull = PULL_WARP;
   PetscCall(PetscOptionsEnum("-pull", "yarn family pulled by the jaws", NULL, PullAxisNames, (PetscEnum)s->pull, (PetscEnum *)&s->pull, NULL));
+  PetscOptionsEnd();
+
+  PetscOptionsBegin(comm, NULL, "Test, shape and clamps (strip: the jaws; square: a net of -gauge_mm x -width_mm clamped on its edges)", NULL);
+  s->test = TEST_STRIP;
+  PetscCall(PetscOptionsEnum("-test", "drape: Cusick drape, a disc specimen held between discs (-clamp_ring_mm 0,D) under gravity ramped with the load steps; strip: ISO 13934-1 strip between jaws; square: clamped net of gauge x width (mm) under the point load, no jaws; pushing: a rigid sphere pushed through the clamped fabric", NULL, TestNames, (PetscEnum)s->test, (PetscEnum *)&s->test, NULL));
+  s->shape = s->test == TEST_BIAS ? SHAPE_BIAS : (s->test == TEST_DRAPE ? SHAPE_DISC : SHAPE_RECTANGLE);
+  if (s->test == TEST_DRAPE) gauge_mm = width_mm = 300, ring_mm[1] = 180; /* Cusick: 30 cm specimen held between 18 cm discs */
+  PetscCall(PetscOptionsEnum("-shape", "specimen shape cut from the grid: rectangle (the whole grid), disc (centred) or bias (-gauge_mm x -width_mm between jaws, its length at 45 degrees to the yarns)", NULL, ShapeNames, (PetscEnum)s->shape, (PetscEnum *)&s->shape, NULL));
+  PetscCall(PetscOptionsReal("-disc_diameter_mm", "disc specimen diameter (mm), centred on the grid; 0 = the smaller grid side", NULL, disc_mm, &disc_mm, NULL));
+  CHECK_NONNEG(disc_mm, "-disc_diameter_mm");
+  PetscCall(PetscOptionsReal("-jaw_depth_mm", "bias specimen: length held in each jaw beyond the gauge length (mm)", NULL, jaw_mm, &jaw_mm, NULL));
+  CHECK_POSITIVE(jaw_mm, "-jaw_depth_mm");
+  s->clamp = (s->test == TEST_STRIP || s->test == TEST_BIAS) ? CLAMP_JAW : (s->test == TEST_DRAPE ? CLAMP_RING : CLAMP_EDGE);
+  PetscCall(PetscOptionsEnum("-clamp", "clamped crossings: jaw (the strip's or bias specimen's fixed jaw; the other end is the moving jaw), edge (every crossing of the shape's outline), ring (an annulus around the grid centre), none", NULL, ClampNames, (PetscEnum)s->clamp, (PetscEnum *)&s->clamp, NULL));
+  {
+    PetscInt  n = 2;
+    PetscBool rset;
+    PetscCall(PetscOptionsRealArray("-clamp_ring_mm", "inner,outer diameter of the clamping ring (mm), centred on the grid", NULL, ring_mm, &n, &rset));
+    PetscCheck(!rset || n == 2, comm, PETSC_ERR_USER_INPUT, "-clamp_ring_mm needs two diameters inner,outer, got %" PetscInt_FMT, n);
+    PetscCheck(s->clamp != CLAMP_RING || ((rset || s->test == TEST_DRAPE) && ring_mm[0] >= 0 && ring_mm[1] > ring_mm[0] && isfinite(ring_mm[1])), comm, PETSC_ERR_USER_INPUT, "-clamp ring needs -clamp_ring_mm inner,outer with 0 <= inner < outer, got %g,%g", (double)ring_mm[0], (double)ring_mm[1]);
+  }
+  PetscOptionsEnd();
+
+  PetscOptionsBegin(comm, NULL, "Rigid sphere with penalty contact (MODEL.md 5.5): centre = grid centre + start + d * direction, d = 0 .. travel over the load steps", NULL);
+  if (s->test == TEST_PUSHING) sphere_mm = 25.4, travel_mm = 20;
+  PetscCall(PetscOptionsReal("-sphere_diameter_mm", "sphere diameter (mm), 0 = no sphere (pushing: ASTM D3787's 25.4 mm ball)", NULL, sphere_mm, &sphere_mm, NULL));
+  CHECK_NONNEG(sphere_mm, "-sphere_diameter_mm");
+  PetscCall(PetscOptionsReal("-thickness_mm", "fabric thickness (mm): a crossing touches a body at half of it", NULL, thick_mm, &thick_mm, NULL));
+  CHECK_NONNEG(thick_mm, "-thickness_mm");
+  s->sphere_dir[2] = 1;
+  {
+    PetscInt n = 3;
+    PetscBool dset;
+    PetscCall(PetscOptionsRealArray("-sphere_direction", "direction of the sphere's straight path x,y,z (normalised)", NULL, s->sphere_dir, &n, &dset));
+    PetscCheck(!dset || n == 3, comm, PETSC_ERR_USER_INPUT, "-sphere_direction needs three components x,y,z, got %" PetscInt_FMT, n);
+    const PetscReal norm = PetscSqrtReal(PetscSqr(s->sphere_dir[0]) + PetscSqr(s->sphere_dir[1]) + PetscSqr(s->sphere_dir[2]));
+    PetscCheck(isfinite(norm) && norm > 0, comm, PETSC_ERR_USER_INPUT, "-sphere_direction must be a finite non-zero vector, got %g,%g,%g", (double)s->sphere_dir[0], (double)s->sphere_dir[1], (double)s->sphere_dir[2]);
+    for (int d = 0; d < 3; d++) s->sphere_dir[d] /= norm;
+    n = 3;
+    PetscCall(PetscOptionsRealArray("-sphere_start_mm", "sphere centre at the start, x,y,z from the grid centre (mm); default: touching the fabric from behind along -sphere_direction", NULL, start_mm, &n, &start_set));
+    PetscCheck(!start_set || n == 3, comm, PETSC_ERR_USER_INPUT, "-sphere_start_mm needs three components x,y,z, got %" PetscInt_FMT, n);
+  }
+  PetscCall(PetscOptionsReal("-sphere_travel_mm", "sphere travel along its path over the load steps (mm)", NULL, travel_mm, &travel_mm, NULL));
+  CHECK_NONNEG(travel_mm, "-sphere_travel_mm");
+  PetscCall(PetscOptionsReal("-contact_stiffness_N_m", "penalty stiffness of the contact per crossing (N/m); 0 = the warp yarn segment's EA/L0 (enters the stable step)", NULL, kc, &kc, NULL));
+  CHECK_NONNEG(kc, "-contact_stiffness_N_m");
+  PetscCall(PetscOptionsBool("-plane", "a rigid plane (table) with penalty contact: the fabric stays on the side -plane_normal points to", NULL, s->plane, &s->plane, NULL));
+  s->plane_normal[2] = 1;
+  {
+    PetscInt  n = 3;
+    PetscBool nset;
+    PetscCall(PetscOptionsRealArray("-plane_point_mm", "a point of the plane, x,y,z from the grid centre (mm)", NULL, s->plane_point, &n, &nset));
+    PetscCheck(!nset || n == 3, comm, PETSC_ERR_USER_INPUT, "-plane_point_mm needs three components x,y,z, got %" PetscInt_FMT, n);
+    for (int d = 0; d < 3; d++) s->plane_point[d] *= 1e-3;
+    n = 3;
+    PetscCall(PetscOptionsRealArray("-plane_normal", "the plane's normal x,y,z, towards the fabric (normalised)", NULL, s->plane_normal, &n, &nset));
+    PetscCheck(!nset || n == 3, comm, PETSC_ERR_USER_INPUT, "-plane_normal needs three components x,y,z, got %" PetscInt_FMT, n);
+    const PetscReal norm = PetscSqrtReal(PetscSqr(s->plane_normal[0]) + PetscSqr(s->plane_normal[1]) + PetscSqr(s->plane_normal[2]));
+    PetscCheck(isfinite(norm) && norm > 0, comm, PETSC_ERR_USER_INPUT, "-plane_normal must be a finite non-zero vector, got %g,%g,%g", (double)s->plane_normal[0], (double)s->plane_normal[1], (double)s->plane_normal[2]);
+    for (int d = 0; d < 3; d++) s->plane_normal[d] /= norm;
+  }
+  PetscCheck(s->test != TEST_PUSHING || sphere_mm > 0, comm, PETSC_ERR_USER_INPUT, "-test pushing needs a sphere: -sphere_diameter_mm must be positive, got %g", (double)sphere_mm);
+  PetscCheck(s->test == TEST_PUSHING || sphere_mm == 0, comm, PETSC_ERR_USER_INPUT, "-sphere_diameter_mm %g: the sphere is the pushing test's punch (-test pushing)", (double)sphere_mm);
+  PetscOptionsEnd();
+
+  PetscOptionsBegin(comm, NULL, "Clamps", NULL);
+  PetscCheck((s->clamp == CLAMP_JAW) == (s->test == TEST_STRIP || s->test == TEST_BIAS), comm, PETSC_ERR_USER_INPUT, "-clamp %s with -test %s: the jaws are the strip and bias tests' clamps, and only theirs", ClampNames[s->clamp], TestNames[s->test]);
+  PetscCheck((s->shape == SHAPE_BIAS) == (s->test == TEST_BIAS), comm, PETSC_ERR_USER_INPUT, "-shape %s with -test %s: the bias shape is the bias test's, and it needs it", ShapeNames[s->shape], TestNames[s->test]);
+  PetscCheck(s->test != TEST_STRIP || (s->shape == SHAPE_RECTANGLE && s->clamp == CLAMP_JAW), comm, PETSC_ERR_USER_INPUT, "-test strip is a rectangle between jaws: -shape %s and -clamp %s are for the other tests", ShapeNames[s->shape], ClampNames[s->clamp]);
   PetscOptionsEnd();
 
   PetscOptionsBegin(comm, NULL, "Yarns (warp along x, weft along y)", NULL);
@@ -174,8 +249,10 @@ PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s)
   PetscOptionsEnd();
 
   PetscOptionsBegin(comm, NULL, "Load program", NULL);
+  if (s->test != TEST_STRIP && s->test != TEST_BIAS) elong_pct = 0; /* no jaws */
   PetscCall(PetscOptionsReal("-elongation_pct", "final elongation: grip travel / gauge length (%)", NULL, elong_pct, &elong_pct, NULL));
   PetscCheck(isfinite(elong_pct) && elong_pct >= 0 && elong_pct <= 100, comm, PETSC_ERR_USER_INPUT, "-elongation_pct must be in [0,100], got %g", (double)elong_pct);
+  PetscCheck(s->test == TEST_STRIP || s->test == TEST_BIAS || elong_pct == 0, comm, PETSC_ERR_USER_INPUT, "-elongation_pct %g: -test %s has no jaws to pull", (double)elong_pct, TestNames[s->test]);
   PetscCall(PetscOptionsReal("-speed_mm_min", "test speed of the moving jaw (mm/min); gives time_s", NULL, speed_mm_min, &speed_mm_min, NULL));
   CHECK_POSITIVE(speed_mm_min, "-speed_mm_min");
   PetscCall(PetscOptionsRealArray("-point_load_N", "final point load fx,fy,fz (N), ramped with the load steps", NULL, s->point_load, &n3, &set));
@@ -235,9 +312,36 @@ PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s)
   s->ends_per_m  = ends_cm * 100.0;
   s->picks_per_m = picks_cm * 100.0;
   s->elongation  = elong_pct / 100.0;
+  s->sphere_radius = 0.5e-3 * sphere_mm;
+  s->thickness     = 1e-3 * thick_mm;
+  s->sphere_travel = 1e-3 * travel_mm;
+  for (int d = 0; d < 3; d++) s->sphere_start[d] = start_set ? 1e-3 * start_mm[d] : -(s->sphere_radius + 0.5 * s->thickness) * s->sphere_dir[d];
+  s->contact_k = kc > 0 ? kc : s->warp.EA * s->picks_per_m; /* EA / L0 of a warp segment */
+  PetscCheck((s->sphere_radius == 0 && !s->plane) || (!s->front && s->sleep_tol == 0), comm, PETSC_ERR_USER_INPUT, "-front and -sleep_tol follow the jaws and the point load only: switch them off with a sphere or a plane");
   s->speed       = speed_mm_min * 1e-3 / 60.0;
   if (s->speed_tol == 0) s->speed_tol = s->speed;
-  {
+  if (s->test == TEST_BIAS) { /* the grid covers the specimen and its jaws, rotated by 45 degrees */
+    const PetscReal side = (gauge_mm + 2 * jaw_mm + width_mm) * 1e-3 / PetscSqrtReal(2.0);
+    const PetscReal nx = round(side * s->picks_per_m) + 1, ny = round(side * s->ends_per_m) + 1;
+    PetscCheck(nx >= 5 && ny >= 5 && width_mm < gauge_mm, comm, PETSC_ERR_USER_INPUT, "bias specimen too small or too wide: -gauge_mm %g, -width_mm %g (the gauge length must exceed the width) give %g x %g crossings", (double)gauge_mm, (double)width_mm, nx, ny);
+    PetscCheck(nx * ny < 2.0e9, comm, PETSC_ERR_USER_INPUT, "grid too large: %g x %g crossings", nx, ny);
+    s->nx        = (PetscInt)nx;
+    s->ny        = (PetscInt)ny;
+    s->gauge     = gauge_mm * 1e-3; /* free length between the jaws, along the specimen */
+    s->width     = width_mm * 1e-3;
+    s->jaw_depth = jaw_mm * 1e-3;
+  } else if (s->test != TEST_STRIP) { /* a gauge x width net with crossings on all four edges */
+    const PetscReal nx = round(gauge_mm * 1e-3 * s->picks_per_m) + 1, ny = round(width_mm * 1e-3 * s->ends_per_m) + 1;
+    PetscCheck(nx >= 3 && ny >= 3, comm, PETSC_ERR_USER_INPUT, "grid too small: -gauge_mm %g x -width_mm %g gives %g x %g crossings, at least 3 x 3 are needed", (double)gauge_mm, (double)width_mm, nx, ny);
+    PetscCheck(nx * ny < 2.0e9, comm, PETSC_ERR_USER_INPUT, "grid too large: %g x %g crossings", nx, ny);
+    s->nx    = (PetscInt)nx;
+    s->ny    = (PetscInt)ny;
+    s->gauge = (nx - 1) / s->picks_per_m;
+    s->width = (ny - 1) / s->ends_per_m;
+    s->disc_radius = disc_mm > 0 ? 0.5e-3 * disc_mm : 0.5 * PetscMin(s->gauge, s->width);
+    s->ring[0] = 0.5e-3 * ring_mm[0];
+    s->ring[1] = 0.5e-3 * ring_mm[1];
+  } else {
     const PetscReal along_density = s->pull == PULL_WARP ? s->picks_per_m : s->ends_per_m;
     const PetscReal across_density = s->pull == PULL_WARP ? s->ends_per_m : s->picks_per_m;
     const PetscReal n_along = round(gauge_mm * 1e-3 * along_density) + 1;

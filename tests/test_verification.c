@@ -1,7 +1,7 @@
 /* test_verification.c - the verification cases of MODEL.md 12, each against an exact answer.
  *
  *   test_verification -case linear_strip|crimp_knee|wave_speed|transverse_load|
- *                           stable_095|unstable_110|paper_parasitic
+ *                           stable_095|unstable_110|paper_parasitic|square_net|bias_extension|plane_rest
  */
 #include "fabric.h"
 
@@ -260,6 +260,109 @@ static PetscErrorCode LinearPrediction(void)
 /* With every speed-up on (prediction, early exit, front, sleeping), the crimped strip's
    curve stays within the balance tolerance of the all-off reference (plain multi-sampling,
    fixed N large enough to converge): max |dF| / peak <= balance_tol. */
+/* Square net (MODEL.md 12): a 10 mm x 10 mm net, linear yarns without crimp, bending or shear,
+   clamped on all four edges with no pretension, under a central point load. With no
+   pretension the net's only out-of-plane stiffness is the tension the deflection itself
+   makes, so P ~ EA (d/L)^3: the least-squares log-log slope of load vs deflection over the
+   second half of the load steps (the largest deflections) is 3 +/- 0.1. */
+static PetscErrorCode SquareNet(void)
+{
+  Fabric    fab;
+  PetscReal sx = 0, sy = 0, sxx = 0, sxy = 0, slope;
+  PetscInt  n = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(NewFabric(BASE "-test square -gauge_mm 10 -width_mm 10 -warp_crimp_pct 0 -weft_crimp_pct 0 -bending 0 -shear 0 -point_load_N 0,0,0.5 -load_steps 12 -predict none -balance_tol 1e-6 -speed_tol 1e-6 -max_inner_steps 100000", &fab));
+  PetscCall(FabricRun(fab));
+  for (PetscInt q = fab->s.load_steps / 2; q < fab->s.load_steps; q++) {
+    const CurveRow *r = &fab->curve[q];
+    const PetscReal lx = PetscLogReal(r->travel), ly = PetscLogReal(r->force);
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "  load %.4f N  deflection %.6f mm  (N' %d, balanced %d)\n", (double)r->force, (double)(1e3 * r->travel), (int)r->inner_steps, (int)r->balanced));
+    CheckTrue("load step balanced", r->balanced, r->residual);
+    sx += lx, sy += ly, sxx += lx * lx, sxy += lx * ly, n++;
+  }
+  slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
+  CheckRel("log-log slope of load vs deflection (square net, large deflection)", slope, 3.0, 0.1 / 3.0);
+  PetscCall(FabricDestroy(&fab));
+  PetscFunctionReturn(0);
+}
+
+/* Bias extension (MODEL.md 11): a 60 mm x 30 mm specimen at 45 degrees to the yarns, 8 threads/cm,
+   stiff uncrimped yarns (the kinematic formula assumes inextensible yarns), no gravity, pulled
+   to 20 % (12 mm). The central zone's mean shear angle against the pin-jointed-net formula
+   gamma = pi/2 - 2 acos((D + d)/(sqrt(2) D)), D = length - width, d = jaw travel:
+   - within 2 degrees while the formula's angle is below 10 degrees;
+   - within 20 % below the locking angle (35 degrees): on this coarse grid the C/A and B/A
+     transitions spread over about 3 crossings and take part of the travel, so the central
+     zone shears less than the formula (about 0.8 of it at 8 threads/cm; 0.88 at 16 threads/cm
+     in a run whose load steps had not all balanced);
+   - past locking the force rises sharply: the slope of the last two load steps is at least
+     5 times the slope of the last two before the central angle reached 0.9 x the lock. */
+static PetscErrorCode BiasExtension(void)
+{
+  Fabric          fab;
+  const PetscReal D = 30.0, lock = 35.0;
+  PetscReal       slope_before = 0, slope_after;
+
+  PetscFunctionBeginUser;
+  PetscCall(NewFabric(BASE "-test bias -gauge_mm 60 -width_mm 30 -ends_per_cm 8 -picks_per_cm 8 -warp_crimp_pct 0 -weft_crimp_pct 0 -elongation_pct 20 -load_steps 10 -predict none -shear_lock_deg 35", &fab));
+  PetscCall(FabricRun(fab));
+  for (PetscInt q = 0; q < fab->s.load_steps; q++) {
+    const CurveRow *r = &fab->curve[q];
+    const PetscReal d = 1e3 * r->elongation * fab->s.gauge;
+    const PetscReal kin = 90.0 - 2.0 * PetscAcosReal((D + d) / (PetscSqrtReal(2.0) * D)) * 180.0 / PETSC_PI;
+    char            what[128];
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "  travel %.2f mm  force %.4f N  centre %.2f deg  formula %.2f deg  (N' %d)\n", (double)d, (double)r->force, (double)r->center_shear, (double)kin, (int)r->inner_steps));
+    if (kin < 10) {
+      PetscCall(PetscSNPrintf(what, sizeof what, "central shear within 2 deg of the formula at %.1f mm (%.2f vs %.2f deg)", (double)d, (double)r->center_shear, (double)kin));
+      CheckTrue(what, PetscAbsReal(r->center_shear - kin) <= 2.0, r->center_shear - kin);
+    }
+    if (kin < lock) {
+      PetscCall(PetscSNPrintf(what, sizeof what, "central shear at %.1f mm vs the formula, below locking", (double)d));
+      CheckRel(what, r->center_shear, kin, 0.2);
+    }
+    if (q >= 1 && r->center_shear < 0.9 * lock) slope_before = (r->force - fab->curve[q - 1].force) / (r->elongation - fab->curve[q - 1].elongation);
+  }
+  {
+    const CurveRow *a = &fab->curve[fab->s.load_steps - 2], *b = &fab->curve[fab->s.load_steps - 1];
+    slope_after = (b->force - a->force) / (b->elongation - a->elongation);
+    CheckTrue("past locking the central angle is above the lock", b->center_shear > lock, b->center_shear);
+    CheckTrue("force slope past locking / slope before it >= 5", slope_after >= 5 * slope_before, slope_after / slope_before);
+  }
+  PetscCall(FabricDestroy(&fab));
+  PetscFunctionReturn(0);
+}
+
+/* Rigid plane (MODEL.md 5.5): a free 10 mm x 10 mm net (-clamp none), no pretension, lying on a
+   table whose surface touches it at rest (plane at z = -h/2), under gravity, sinks into the
+   penalty spring until each crossing's weight is carried: z = -m g / k_c (no bending or shear,
+   so that no internal force couples crossings of different masses), exact for every
+   crossing (m: its mass), to 1e-6 of the largest sink. */
+static PetscErrorCode PlaneRest(void)
+{
+  Fabric             fab;
+  const PetscScalar *x;
+  PetscReal          err = 0, sink = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(NewFabric("-output_dir none -quiet -warp_break_pct 0 -weft_break_pct 0 -test square -gauge_mm 10 -width_mm 10 -clamp none -bending 0 -shear 0 -plane -plane_point_mm 0,0,-0.15 -thickness_mm 0.3 -gravity 0,0,-9.81 -load_steps 2 -predict none -balance_tol 1e-8 -speed_tol 1e-9 -max_inner_steps 200000", &fab));
+  PetscCall(FabricRun(fab));
+  PetscCall(VecGetArrayRead(fab->X, &x));
+  for (PetscInt k = 0; k < fab->nloc; k++) {
+    if (fab->mass[k] <= 0) continue;
+    const PetscReal expected = -fab->mass[k] * 9.81 / fab->s.contact_k;
+    err  = PetscMax(err, PetscAbsReal(x[3 * k + 2] - expected));
+    sink = PetscMax(sink, PetscAbsReal(expected));
+  }
+  PetscCall(VecRestoreArrayRead(fab->X, &x));
+  PetscCall(GlobalMax(PETSC_COMM_WORLD, &err, 1));
+  PetscCall(GlobalMax(PETSC_COMM_WORLD, &sink, 1));
+  CheckTrue("every crossing rests at z = -m g / k_c (largest error / largest sink <= 1e-6)", err <= 1e-6 * sink, err / sink);
+  CheckTrue("the last load step balanced", fab->curve[fab->s.load_steps - 1].balanced, fab->curve[fab->s.load_steps - 1].residual);
+  PetscCall(FabricDestroy(&fab));
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode SpeedupsCurve(void)
 {
   Fabric    fab;
@@ -301,6 +404,9 @@ int main(int argc, char **argv)
   else if (!strcmp(name, "paper_parasitic")) PetscCall(PaperParasitic());
   else if (!strcmp(name, "linear_prediction")) PetscCall(LinearPrediction());
   else if (!strcmp(name, "speedups_curve")) PetscCall(SpeedupsCurve());
+  else if (!strcmp(name, "square_net")) PetscCall(SquareNet());
+  else if (!strcmp(name, "bias_extension")) PetscCall(BiasExtension());
+  else if (!strcmp(name, "plane_rest")) PetscCall(PlaneRest());
   else SETERRQ(PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT, "unknown -case %s", name);
   PetscCall(PetscFinalize());
   return failures ? 1 : 0;

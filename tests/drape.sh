@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# drape.sh FABRIC SCENE: the Cusick drape scene (inputs/drape.yaml) on 1 and 2 ranks: the drape
+# coefficient of the default fabric lies in the handbooks' range for woven fabrics (30-80 %), and
+# summary.json's drape_coefficient_pct and folds, and the final positions, are identical on 1 and 2 ranks.
+set -u
+fabric="$1"; scene="$2"
+work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
+fail=0
+for np in 1 2; do
+  mpiexec -n "$np" "$fabric" -scene "$scene" -quiet -output_every 0 -output_dir "$work/r$np" -positions_out "$work/r$np.bin" >/dev/null || { echo "FAIL the run on $np ranks failed"; exit 1; }
+done
+dc1=$(sed -n 's/.*"drape_coefficient_pct": \([^,]*\),.*/\1/p' "$work/r1/summary.json")
+dc2=$(sed -n 's/.*"drape_coefficient_pct": \([^,]*\),.*/\1/p' "$work/r2/summary.json")
+f1=$(sed -n 's/.*"folds": \([^,]*\),.*/\1/p' "$work/r1/summary.json")
+f2=$(sed -n 's/.*"folds": \([^,]*\),.*/\1/p' "$work/r2/summary.json")
+if awk -v d="$dc1" 'BEGIN { exit !(d >= 30 && d <= 80) }'; then echo "PASS drape coefficient $dc1 % within 30-80 % ($f1 folds)"; else echo "FAIL drape coefficient '$dc1' % not within 30-80 %"; fail=1; fi
+if [[ -n "$dc1" && "$dc1" == "$dc2" && "$f1" == "$f2" ]]; then echo "PASS 1 and 2 ranks: the same drape coefficient ($dc2 %) and folds ($f2)"; else echo "FAIL 1 rank: $dc1 % $f1 folds, 2 ranks: $dc2 % $f2 folds"; fail=1; fi
+if cmp -s "$work/r1.bin" "$work/r2.bin"; then echo "PASS positions bit-identical on 1 and 2 ranks"; else echo "FAIL positions differ on 1 and 2 ranks"; fail=1; fi
+exit $fail
