@@ -3,6 +3,19 @@
 # coloured by warp tension, and scripts/plot_curve.py draws force vs elongation of two runs with
 # a measured curve overlaid; tests/check_png.py checks that the images show what they should.
 set -u
+# xvfb-run can fail to start its X server when others start at the same moment ("bad X server
+# connection"): retry that, and only that, up to 3 times. A failure of render.py itself is kept.
+xvfb_pvbatch() {
+  local try out rc
+  for try in 1 2 3; do
+    out="$(xvfb-run -a pvbatch "$@" 2>&1)"; rc=$?
+    if [[ $rc -eq 0 ]] || ! grep -qiE "X server|xvfb|cannot open display|unable to open display" <<<"$out"; then
+      printf '%s\n' "$out"; return $rc
+    fi
+    sleep 1
+  done
+  printf '%s\n' "$out"; return $rc
+}
 fabric="$1"; scene="$2"
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"; root="$(dirname "$here")"
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
@@ -11,11 +24,11 @@ opts=(-scene "$scene" -quiet -gauge_mm 20 -width_mm 5 -load_steps 6)
 mpiexec -n 2 "$fabric" "${opts[@]}" -output_dir "$work/a" >/dev/null || { echo "FAIL the run failed"; exit 1; }
 mpiexec -n 2 "$fabric" "${opts[@]}" -warp_crimp_pct 4 -output_dir "$work/b" -output_every 0 >/dev/null || { echo "FAIL the second run failed"; exit 1; }
 
-xvfb-run -a pvbatch "$root/scripts/render.py" "$work/a" --frames 0,last --size 800x450 --out "$work/img/frame" >"$work/render.log" 2>&1 || { echo "FAIL render.py failed:"; cat "$work/render.log"; fail=1; }
+xvfb_pvbatch "$root/scripts/render.py" "$work/a" --frames 0,last --size 800x450 --out "$work/img/frame" >"$work/render.log" 2>&1 || { echo "FAIL render.py failed:"; cat "$work/render.log"; fail=1; }
 cat "$work/render.log"
 /usr/bin/python3 "$here/check_png.py" render "$work/img/frame_000000.png" "$work/img/frame_000006.png" 800x450 || fail=1
 # a frame that does not exist: a clear message and a non-zero exit
-if xvfb-run -a pvbatch "$root/scripts/render.py" "$work/a" --frames 7 >"$work/bad.log" 2>&1 || ! grep -q "frame 7 does not exist" "$work/bad.log"; then
+if xvfb_pvbatch "$root/scripts/render.py" "$work/a" --frames 7 >"$work/bad.log" 2>&1 || ! grep -q "frame 7 does not exist" "$work/bad.log"; then
   echo "FAIL render.py --frames 7 (of 0..6) did not fail with a message"; fail=1
 else echo "PASS render.py --frames 7 refused: $(grep "does not exist" "$work/bad.log")"; fi
 
