@@ -247,6 +247,15 @@ PetscErrorCode ApplyLoadStep(Fabric fab, PetscInt k)
   if (!fab->bound_fresh) PetscCall(StableStep(fab)); /* else FabricRun just took it, at this state */
   damp_c = fab->damp_c;
   omega1 = fab->omega1;
+  /* Without prediction a jump of the jaw is an impact on the yarns (they fold and pile up):
+     the jaw moves instead over a cosine ramp of half a period of the slowest mode, pi/omega_1,
+     as a testing machine does, so the strain at the jaw never overshoots the step's mean
+     strain (TimeStep drives it). With prediction (or -grip_ramp_steps 0) it jumps, before
+     the prediction and the stable step see the new state. */
+  fab->grip_from  = fab->grip_now;
+  fab->ramp_steps = step == 0 ? 0 : s->grip_ramp >= 0 ? s->grip_ramp : (s->predict == PREDICT_NONE ? (PetscInt)PetscCeilReal(PETSC_PI / (omega1 * fab->te)) : 0);
+  fab->ramp_done  = 0;
+  if (!fab->ramp_steps) PetscCall(MoveGrips(fab, disp, PETSC_TRUE));
   PetscCall(PredictLoadStep(fab, step));
   fab->grip_disp      = disp;
   fab->grip_step_prev = step;
@@ -254,14 +263,6 @@ PetscErrorCode ApplyLoadStep(Fabric fab, PetscInt k)
   PetscCall(StableStep(fab));
   fab->damp_c      = damp_c;
   fab->bound_fresh = PETSC_FALSE;
-  /* Without prediction a jump of the jaw is an impact on the yarns (they fold and pile up):
-     the jaw moves instead over a cosine ramp of half a period of the slowest mode, pi/omega_1,
-     as a testing machine does, so the strain at the jaw never overshoots the step's mean
-     strain (TimeStep drives it). With prediction (or -grip_ramp_steps 0) it jumps. */
-  fab->grip_from  = fab->grip_now;
-  fab->ramp_steps = step == 0 ? 0 : s->grip_ramp >= 0 ? s->grip_ramp : (s->predict == PREDICT_NONE ? (PetscInt)PetscCeilReal(PETSC_PI / (omega1 * fab->te)) : 0);
-  fab->ramp_done  = 0;
-  if (!fab->ramp_steps) PetscCall(MoveGrips(fab, disp, PETSC_TRUE));
   PetscFunctionReturn(0);
 }
 
