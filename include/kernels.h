@@ -71,6 +71,10 @@ void SphereContact(PetscInt n, const PetscReal *x, const PetscReal *inv_m, const
    Only points with inv_m > 0 feel it. Adds to f and to sum[3], like SphereContact. */
 void PlaneContact(PetscInt n, const PetscReal *x, const PetscReal *inv_m, const PetscReal p0[3], const PetscReal nrm[3], PetscReal reach, PetscReal k, PetscReal *f, PetscReal sum[3]);
 
+/* cos of the warp/weft tangent angle at crossing (i,j) (global indices, within the ghosted
+   patch) and the shorter tangent's length; 0 if the crossing has no shear */
+int CrossingShear(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j, PetscReal *s, PetscReal *tmin);
+
 /* Break the segments strained past the breaking strain; 1 if one at an owned point broke. */
 int BreakSegments(Patch *p, const PetscReal *x);
 

@@ -113,16 +113,9 @@ PetscErrorCode ComputePointFields(Fabric fab, Vec warp_tension, Vec weft_tension
       tf[q] = n ? sum / n : 0.0;
 
       /* shear angle from the tangents of MODEL.md 5.3, one-sided at an edge */
-      sh[q] = 0.0;
-      if ((hl || hr) && (hd || hu)) {
-        const PetscReal *xp = x + 3 * (hr ? k + 1 : k), *xm = x + 3 * (hl ? k - 1 : k);
-        const PetscReal *yp = x + 3 * (hu ? k + w : k), *ym = x + 3 * (hd ? k - w : k);
-        const PetscReal  a[3] = {xp[0] - xm[0], xp[1] - xm[1], xp[2] - xm[2]}, b[3] = {yp[0] - ym[0], yp[1] - ym[1], yp[2] - ym[2]};
-        const PetscReal  la = PetscSqrtReal(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]), lb = PetscSqrtReal(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
-        if (la > 0 && lb > 0) {
-          const PetscReal c = (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) / (la * lb);
-          sh[q]             = asin(PetscMax(-1.0, PetscMin(1.0, c))) * 180.0 / PETSC_PI;
-        }
+      {
+        PetscReal c, tmin;
+        sh[q] = CrossingShear(p, x, i, j, &c, &tmin) ? PetscAsinReal(c) * 180.0 / PETSC_PI : 0.0;
       }
     }
   PetscCall(VecRestoreArray(shear_deg, &sh));

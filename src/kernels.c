@@ -325,12 +325,14 @@ static Chord ChordAt(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j,
   return c;
 }
 
-/* Gershgorin contribution of crossing (i,j)'s shear energy to one of its points */
-static PetscReal ShearRowBound(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j)
+/* The cosine s of the angle between crossing (i,j)'s warp tangent x(i+1,j) - x(i-1,j) and
+   weft tangent x(i,j+1) - x(i,j-1), one-sided at an edge (MODEL.md 5.3), and the shorter
+   tangent's length. 0 if the crossing has no shear (absent, or no warp or no weft neighbour). */
+int CrossingShear(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j, PetscReal *s, PetscReal *tmin)
 {
-  if (!ExistsG(p, i, j)) return 0.0;
+  if (!ExistsG(p, i, j)) return 0;
   const int hl = ExistsG(p, i - 1, j), hr = ExistsG(p, i + 1, j), hd = ExistsG(p, i, j - 1), hu = ExistsG(p, i, j + 1);
-  if (!(hl || hr) || !(hd || hu)) return 0.0;
+  if (!(hl || hr) || !(hd || hu)) return 0;
   const PetscReal *xp = Pos(p, x, hr ? i + 1 : i, j), *xm = Pos(p, x, hl ? i - 1 : i, j);
   const PetscReal *yp = Pos(p, x, i, hu ? j + 1 : j), *ym = Pos(p, x, i, hd ? j - 1 : j);
   PetscReal        tw[3], tf[3];
@@ -339,8 +341,18 @@ static PetscReal ShearRowBound(const Patch *p, const PetscReal *x, PetscInt i, P
     tf[d] = yp[d] - ym[d];
   }
   const PetscReal nw = PetscSqrtReal(tw[0] * tw[0] + tw[1] * tw[1] + tw[2] * tw[2]), nf = PetscSqrtReal(tf[0] * tf[0] + tf[1] * tf[1] + tf[2] * tf[2]);
-  const PetscReal s = (tw[0] * tf[0] + tw[1] * tf[1] + tw[2] * tf[2]) / (nw * nf), tmin = PetscMin(nw, nf);
-  /* |E''| |grad s|_a sum_b |grad s|_b + |E'| |hess s| row: (Ks+Kj)(4 + 12|s|)/tmin^2 */
+  if (!(nw > 0 && nf > 0)) return 0;
+  *s    = PetscMax(-1.0, PetscMin(1.0, (tw[0] * tf[0] + tw[1] * tf[1] + tw[2] * tf[2]) / (nw * nf)));
+  *tmin = PetscMin(nw, nf);
+  return 1;
+}
+
+/* Gershgorin contribution of crossing (i,j)'s shear energy to one of its points:
+   |E''| |grad s|_a sum_b |grad s|_b + |E'| |hess s| row <= (Ks+Kj)(4 + 12|s|)/tmin^2 */
+static PetscReal ShearRowBound(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j)
+{
+  PetscReal s, tmin;
+  if (!CrossingShear(p, x, i, j, &s, &tmin)) return 0.0;
   return (p->Ks + p->Kj) * (4.0 + 12.0 * PetscAbsReal(s)) / (tmin * tmin);
 }
 

@@ -77,8 +77,8 @@ static PetscErrorCode SphereReaction(Fabric fab, CurveRow *row)
 
 /* Bias extension: the mean shear angle of the central zone, the crossings within W/4 of the
    specimen's centre along and across it (a W/2 square inside the pure-shear zone). The angle
-   at a crossing is asin(cos(angle(tw, tf))) with central-difference tangents, as the
-   shear_angle_deg field of fabric.h5; the zone's crossings all have four neighbours.
+   at a crossing is asin(cos(angle(tw, tf))) (CrossingShear), as the shear_angle_deg field of
+   fabric.h5; the zone's crossings all have four neighbours.
    Xl: halo-exchanged by GripReaction. A sum over crossings: reported, never fed back. */
 static PetscErrorCode CenterShear(Fabric fab, CurveRow *row)
 {
@@ -93,14 +93,8 @@ static PetscErrorCode CenterShear(Fabric fab, CurveRow *row)
     for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
       const PetscReal xc = (i - 0.5 * (s->nx - 1)) / s->picks_per_m, yc = (j - 0.5 * (s->ny - 1)) / s->ends_per_m;
       if (PetscAbsReal(xc + yc) / PetscSqrtReal(2.0) > 0.25 * s->width || PetscAbsReal(yc - xc) / PetscSqrtReal(2.0) > 0.25 * s->width) continue;
-#define XL(ii, jj, d) xl[3 * (((jj) - p->gys) * p->gxm + ((ii) - p->gxs)) + (d)]
-      PetscReal tw[3], tf[3];
-      for (int d = 0; d < 3; d++) {
-        tw[d] = XL(i + 1, j, d) - XL(i - 1, j, d);
-        tf[d] = XL(i, j + 1, d) - XL(i, j - 1, d);
-      }
-#undef XL
-      const PetscReal c = (tw[0] * tf[0] + tw[1] * tf[1] + tw[2] * tf[2]) / PetscSqrtReal((tw[0] * tw[0] + tw[1] * tw[1] + tw[2] * tw[2]) * (tf[0] * tf[0] + tf[1] * tf[1] + tf[2] * tf[2]));
+      PetscReal c, tmin;
+      if (!CrossingShear(p, xl, i, j, &c, &tmin)) continue;
       acc[0] += PetscAsinReal(c) * 180.0 / PETSC_PI;
       acc[1] += 1;
     }
