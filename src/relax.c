@@ -75,6 +75,46 @@ static PetscErrorCode SphereReaction(Fabric fab, CurveRow *row)
   PetscFunctionReturn(0);
 }
 
+/* Supports (a plane or a pedestal): the force of the fabric on each body, minus the sum of
+   the contact forces on the fabric (from GripReaction's ComputeForces at the balanced state);
+   on the clamps, the internal forces on the clamped crossings plus their weight (the clamps
+   hold them too); and the specimen's weight. At rest the free crossings balance, and the
+   internal forces sum to zero over the fabric, so plane + pedestal + clamp = weight, up to
+   the residual forces of the balance test. Sums over points: reported, never fed back. */
+static PetscErrorCode SupportReactions(Fabric fab, CurveRow *row)
+{
+  const Patch       *p = &fab->patch;
+  const PetscScalar *f;
+  PetscReal          acc[12];
+
+  PetscFunctionBeginUser;
+  for (int d = 0; d < 3; d++) {
+    acc[d]     = -fab->plane_sum[d];
+    acc[3 + d] = -fab->pedestal_sum[d];
+    acc[6 + d] = acc[9 + d] = 0;
+  }
+  PetscCall(VecGetArrayRead(fab->F, &f));
+  for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
+    for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
+      const PetscInt k = (j - p->ys) * p->xm + (i - p->xs);
+      if (!p->exists[(j - p->gys) * p->gxm + (i - p->gxs)]) continue;
+      for (int d = 0; d < 3; d++) {
+        const PetscReal w = fab->mass[k] * fab->gravity_now[d];
+        if (fab->kind[k] == POINT_CLAMPED) acc[6 + d] += f[3 * k + d] + w;
+        acc[9 + d] += w;
+      }
+    }
+  PetscCall(VecRestoreArrayRead(fab->F, &f));
+  PetscCall(GlobalSum(fab->comm, acc, 12));
+  for (int d = 0; d < 3; d++) {
+    row->plane_force[d]    = acc[d];
+    row->pedestal_force[d] = acc[3 + d];
+    row->clamp_force[d]    = acc[6 + d];
+    row->weight[d]         = acc[9 + d];
+  }
+  PetscFunctionReturn(0);
+}
+
 /* Bias extension: the mean shear angle of the central zone, the crossings within W/4 of the
    specimen's centre along and across it (a W/2 square inside the pure-shear zone). The angle
    at a crossing is asin(cos(angle(tw, tf))) (CrossingShear), as the shear_angle_deg field of
@@ -297,6 +337,7 @@ PetscErrorCode RelaxLoadStep(Fabric fab, CurveRow *row)
   if (s->test == TEST_PUSHING) PetscCall(SphereReaction(fab, row));
   if (s->test == TEST_BIAS) PetscCall(CenterShear(fab, row));
   if (s->test == TEST_DRAPE) PetscCall(DrapeOutline(fab, row));
+  if (s->plane || s->pedestal_radius > 0) PetscCall(SupportReactions(fab, row));
   PetscFunctionReturn(0);
 }
 
