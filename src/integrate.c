@@ -12,7 +12,6 @@
 #include "fabric.h"
 
 #include <math.h>
-#include <stdlib.h>
 
 /* internal forces at the current positions on the owned points of box (NULL: all), plus
    the point load */
@@ -264,7 +263,6 @@ PetscErrorCode TimeStep(Fabric fab, StepStats *out)
   out->residual    = PetscSqrtReal(red[0]) / PetscMax(red[2], fab->force_floor);
   PetscCheck(out->speed * fab->te <= fab->extent, fab->comm, PETSC_ERR_FP, "numerical instability at load step %" PetscInt_FMT ", te step %" PetscInt64_FMT ": runaway motion, a point moved %g m in one step, more than the fabric's size %g m (te = %g s, stable bound %g s)", fab->load_step, fab->te_steps, (double)(out->speed * fab->te), (double)fab->extent, (double)fab->te, (double)fab->te_bound);
   if (s->kinetic_damping) PetscCall(KineticDamping(fab));
-  if (getenv("FABRIC_DEBUG") && fab->te_steps % 2000 == 0) PetscCall(PetscPrintf(fab->comm, "DBG %lld res %.3e speed %.3e T %.3e ke %.3e resets %lld\n", (long long)fab->te_steps, (double)out->residual, (double)out->speed, (double)out->tension_max, (double)fab->ke_prev, (long long)fab->ke_resets));
   out->balanced = (out->residual <= s->balance_tol && out->speed <= s->speed_tol && fab->ramp_done >= fab->ramp_steps) ? PETSC_TRUE : PETSC_FALSE;
   fab->last     = *out;
   if (fab->io) PetscCall(FramesTeStep(fab)); /* -output_te_every (io.c) */

@@ -148,10 +148,14 @@ static PetscErrorCode CenterShear(Fabric fab, CurveRow *row)
    from the centre of the projected crossings in each of DRAPE_BINS angular bins (a
    max-reduction: exact on any number of ranks; an empty bin is interpolated linearly
    between its nearest filled neighbours). A_shadow = sum 0.5 r^2 dtheta; DC = (A_shadow - A_disc)/(A_specimen - A_disc).
-   Folds: local maxima of the outline radius vs angle, smoothed over DRAPE_SMOOTH bins, whose
-   prominence is more than 10 % of the overhang (specimen radius - disc radius). */
-#define DRAPE_BINS   360
-#define DRAPE_SMOOTH 15
+   Folds: the lobes of the outline r(theta) taken as the largest radius over each 5-degree
+   sector (the 1-degree bins are noisy: a bin holds one crossing or none at the specimen's
+   edge), counted as the local maxima of the periodic sector radius whose prominence exceeds
+   15 % of the outline's range (max - min): a 5-degree wobble of the grid's outline is far below,
+   a lobe of the draped specimen far above (checked against the top view, README). */
+#define DRAPE_BINS       360
+#define DRAPE_SECTOR     5
+#define DRAPE_PROMINENCE 0.15
 static PetscErrorCode DrapeOutline(Fabric fab, CurveRow *row)
 {
   const Patch       *p = &fab->patch;
@@ -192,22 +196,24 @@ static PetscErrorCode DrapeOutline(Fabric fab, CurveRow *row)
   a_disc = PETSC_PI * s->ring[1] * s->ring[1];
   a_spec = PETSC_PI * s->disc_radius * s->disc_radius;
   fab->drape_pct = 100.0 * (area - a_disc) / (a_spec - a_disc);
-  {
-    PetscReal smooth[DRAPE_BINS];
-    const PetscReal prominence = 0.1 * (s->disc_radius - s->ring[1]);
-    for (int b = 0; b < DRAPE_BINS; b++) {
-      smooth[b] = 0;
-      for (int q = -DRAPE_SMOOTH / 2; q <= DRAPE_SMOOTH / 2; q++) smooth[b] += sm[(b + q + DRAPE_BINS) % DRAPE_BINS] / DRAPE_SMOOTH;
+  { /* folds: the outline as the largest radius over each 5-degree sector (DRAPE_SECTOR bins) */
+    PetscReal       sec[DRAPE_BINS / DRAPE_SECTOR], lo = PETSC_MAX_REAL, hi = 0;
+    const int       S = DRAPE_BINS / DRAPE_SECTOR;
+    for (int q = 0; q < S; q++) {
+      sec[q] = 0;
+      for (int b = q * DRAPE_SECTOR; b < (q + 1) * DRAPE_SECTOR; b++) sec[q] = PetscMax(sec[q], sm[b]);
+      lo = PetscMin(lo, sec[q]), hi = PetscMax(hi, sec[q]);
     }
-    /* a fold: a local maximum of the smoothed radius whose prominence (its height above the
-       higher of the lowest radii on either side before a higher radius) exceeds the threshold */
-    for (int b = 0; b < DRAPE_BINS; b++) {
-      const PetscReal v = smooth[b];
+    /* a fold: a local maximum of the sector radius whose prominence (its height above the
+       higher of the lowest radii on either side before a higher radius) exceeds
+       DRAPE_PROMINENCE of the outline's range */
+    for (int q = 0; q < S; q++) {
+      const PetscReal v = sec[q];
       PetscReal       lo_l = v, lo_r = v;
-      if (!(v > smooth[(b + DRAPE_BINS - 1) % DRAPE_BINS] && v >= smooth[(b + 1) % DRAPE_BINS])) continue;
-      for (int q = 1; q < DRAPE_BINS && smooth[(b - q + DRAPE_BINS) % DRAPE_BINS] <= v; q++) lo_l = PetscMin(lo_l, smooth[(b - q + DRAPE_BINS) % DRAPE_BINS]);
-      for (int q = 1; q < DRAPE_BINS && smooth[(b + q) % DRAPE_BINS] <= v; q++) lo_r = PetscMin(lo_r, smooth[(b + q) % DRAPE_BINS]);
-      if (v - PetscMax(lo_l, lo_r) > prominence) folds++;
+      if (!(v > sec[(q + S - 1) % S] && v >= sec[(q + 1) % S])) continue;
+      for (int t = 1; t < S && sec[(q - t + S) % S] <= v; t++) lo_l = PetscMin(lo_l, sec[(q - t + S) % S]);
+      for (int t = 1; t < S && sec[(q + t) % S] <= v; t++) lo_r = PetscMin(lo_r, sec[(q + t) % S]);
+      if (v - PetscMax(lo_l, lo_r) > DRAPE_PROMINENCE * (hi - lo)) folds++;
     }
   }
   fab->folds = folds;
