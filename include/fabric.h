@@ -59,6 +59,12 @@ typedef struct {
   PetscBool plane;
   PetscReal plane_point[3];            /* m, from the grid centre at rest */
   PetscReal plane_normal[3];           /* unit */
+  /* rigid pedestal (disc, the drape's support, MODEL.md 5.5): a solid vertical cylinder whose
+     flat top face, centred on pedestal_top, faces +z (kernels.h DiscContact) */
+  PetscReal pedestal_radius;           /* m, 0 = no pedestal */
+  PetscReal pedestal_top[3];           /* m, from the grid centre at rest */
+  PetscReal pedestal_height;           /* m, below the top face */
+  PetscReal friction_mu;               /* Coulomb friction of every body, 0 = frictionless */
   /* material */
   YarnLaw   warp, weft;
   PetscReal shear_G, lock_deg, jam_factor;
@@ -81,6 +87,7 @@ typedef struct {
   PetscBool      front;       /* rank propagation */
   PetscInt       grip_ramp;   /* te steps over which the grips move to a load step's position (-1 auto) */
   PetscReal      sleep_tol;   /* 0 = no sleeping */
+  PetscBool      kinetic_damping; /* zero the velocities at each peak of the kinetic energy */
   PetscBool      quiet;
 } Scene;
 
@@ -89,6 +96,9 @@ typedef struct { /* one row of curve.csv */
   PetscReal time, elongation, force, residual;
   PetscReal travel; /* m: the load point's displacement along the load (square), the sphere's travel (pushing) */
   PetscReal center_shear; /* degrees: mean shear angle of the central zone (bias) */
+  PetscReal plane_force[3], pedestal_force[3]; /* N: force of the fabric on each body (its reaction) */
+  PetscReal clamp_force[3];  /* N: force on the clamps: the pull of the fabric plus the clamped crossings' weight */
+  PetscReal weight[3];       /* N: the specimen's weight at this load step's gravity */
   PetscBool balanced;
 } CurveRow;
 
@@ -125,9 +135,14 @@ struct _p_Fabric {
   PetscReal      extent;       /* fabric size, m: runaway threshold */
   PetscReal      centre[3];    /* m: the grid centre at rest */
   PetscReal      contact_sum[3]; /* this rank's sum of the contact forces on its points (last ComputeForces) */
+  PetscReal      plane_sum[3], pedestal_sum[3]; /* the same for the plane and the pedestal */
+  Vec            anchor[3];      /* friction anchors of the sphere, plane, pedestal (kernels.h), NULL = none */
   PetscReal      gravity_now[3]; /* m/s^2: gravity of the current load step (ramped with the load steps in the drape test) */
   PetscReal      drape_pct;      /* drape coefficient (%), drape test */
   PetscInt       folds;          /* folds of the draped outline, drape test */
+  PetscReal      ke_prev;        /* kinetic damping: total kinetic energy after the last te step, J */
+  PetscReal     *ke_terms;       /* kinetic damping: owned points' kinetic energies (work) */
+  PetscInt64     ke_resets;      /* kinetic damping: velocity resets so far */
 
   /* load program state */
   PetscInt  load_step;
@@ -176,6 +191,7 @@ PetscErrorCode FabricDestroy(Fabric *fab);
 PetscErrorCode HaloExchange(Fabric fab);
 PetscErrorCode GlobalMax(MPI_Comm comm, PetscReal *v, PetscInt n);
 PetscErrorCode GlobalSum(MPI_Comm comm, PetscReal *v, PetscInt n);
+PetscErrorCode GlobalSumExact(MPI_Comm comm, const PetscReal *terms, PetscInt n, PetscReal *sum);
 /* integrate.c */
 PetscErrorCode ComputeForces(Fabric fab, const PetscInt box[4], PetscReal *tension_max);
 PetscErrorCode StableStep(Fabric fab);

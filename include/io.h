@@ -18,7 +18,7 @@
 
 #include "fabric.h"
 
-#define CHECKPOINT_VERSION 1
+#define CHECKPOINT_VERSION 2 /* 2: body and clamp reactions in the curve rows, friction anchors, kinetic damping */
 
 typedef struct { /* one frame of fabric.h5 */
   PetscReal time;      /* s: the load step's test time, plus n te for a frame n te steps into it */

@@ -5,13 +5,15 @@
  * always a complete checkpoint. It holds everything the run depends on:
  *   /state    positions, velocities, the paper integrator's positions_old and velocities_old,
  *             the extrapolation history converged_positions(_prev) when allocated, and the
- *             broken segments (dof 2 on the grid: segment to i+1 and to j+1 of each point);
- *   /history  curve (7 numbers per load step done: the rows of curve.csv and the balance flag),
+ *             broken segments (dof 2 on the grid: segment to i+1 and to j+1 of each point),
+ *             the friction anchors of each body (-friction_mu > 0);
+ *   /history  curve (21 numbers per load step done: the rows of curve.csv and the balance flag),
  *             frames (time, load step, te step of each frame of fabric.h5);
  *   /scene    what the run computes with (grid, yarns, load program, numerics): a restart
  *             with another scene or grid is refused;
  *   /         load step, grip travel and last grip step, te steps, point updates, the
- *             converged and broken flags, frames, wall time, and the largest |value| of every
+ *             converged and broken flags, frames, wall time, the kinetic damping's last kinetic
+ *             energy and reset count, and the largest |value| of every
  *             state vector (checked after reading: a damaged file is refused).
  * -restart FILE reads it back: rank 0 checks the file alone first (so that a damaged or
  * foreign file gives one clear message on every rank, never a hang), then all ranks read the
@@ -28,7 +30,8 @@
 #include <unistd.h>
 
 #define MAX_KEYS 128
-#define CURVE_COLS 9
+#define CURVE_COLS 21
+#define MAX_STATE  12 /* state vectors (StateVecs) */
 
 typedef struct {
   char      name[40];
@@ -96,6 +99,7 @@ static PetscInt SceneKeys(Fabric fab, SceneKey *key)
   KEY("predict", s->predict);
   KEY("front", s->front);
   KEY("sleep_tol", s->sleep_tol);
+  KEY("kinetic_damping", s->kinetic_damping);
   KEY("grip_ramp_steps", s->grip_ramp);
   KEY("test", s->test);
   KEY("shape", s->shape);
@@ -121,6 +125,12 @@ static PetscInt SceneKeys(Fabric fab, SceneKey *key)
   KEY("plane_normal_y", s->plane_normal[1]);
   KEY("plane_normal_z", s->plane_normal[2]);
   KEY("contact_stiffness_N_m", s->contact_k);
+  KEY("pedestal_radius_m", s->pedestal_radius);
+  KEY("pedestal_top_x_m", s->pedestal_top[0]);
+  KEY("pedestal_top_y_m", s->pedestal_top[1]);
+  KEY("pedestal_top_z_m", s->pedestal_top[2]);
+  KEY("pedestal_height_m", s->pedestal_height);
+  KEY("friction_mu", s->friction_mu);
 #undef KEY
   PetscCheckAbort(n <= MAX_KEYS, PETSC_COMM_SELF, PETSC_ERR_PLIB, "SceneKeys: %d keys, raise MAX_KEYS", (int)n);
   return n;
@@ -142,6 +152,9 @@ static PetscInt StateVecs(Fabric fab, StateVec *sv)
   sv[n++]    = (StateVec){"velocities_old", &fab->Vold, "has_velocities_old"};
   sv[n++]    = (StateVec){"converged_positions", &fab->Xconv, "has_converged_positions"};
   sv[n++]    = (StateVec){"converged_positions_prev", &fab->Xconv_prev, "has_converged_positions_prev"};
+  sv[n++]    = (StateVec){"friction_anchors_sphere", &fab->anchor[0], "has_friction_anchors_sphere"};
+  sv[n++]    = (StateVec){"friction_anchors_plane", &fab->anchor[1], "has_friction_anchors_plane"};
+  sv[n++]    = (StateVec){"friction_anchors_pedestal", &fab->anchor[2], "has_friction_anchors_pedestal"};
   return n;
 }
 
@@ -207,7 +220,7 @@ static PetscErrorCode CheckpointWrite(Fabric fab)
   const char *dir = fab->s.output_dir;
   char        file[PETSC_MAX_PATH_LEN], tmp[PETSC_MAX_PATH_LEN];
   PetscViewer v;
-  StateVec    sv[8];
+  StateVec    sv[MAX_STATE];
   SceneKey    key[MAX_KEYS];
   PetscInt    nsv = StateVecs(fab, sv), nkey = SceneKeys(fab, key);
   int         ok = 1;
@@ -253,6 +266,7 @@ static PetscErrorCode CheckpointWrite(Fabric fab)
     for (PetscInt k = 0; k < fab->load_step; k++) {
       const CurveRow *r = &fab->curve[k];
       PetscReal       a[CURVE_COLS] = {(PetscReal)r->load_step, r->time, r->elongation, r->force, (PetscReal)r->inner_steps, r->residual, (PetscReal)r->balanced, r->travel, r->center_shear};
+      for (int d = 0; d < 3; d++) a[9 + d] = r->plane_force[d], a[12 + d] = r->pedestal_force[d], a[15 + d] = r->clamp_force[d], a[18 + d] = r->weight[d];
       PetscCall(PetscArraycpy(rows + CURVE_COLS * k, a, CURVE_COLS));
     }
     PetscCall(ViewRankZero(fab, v, "curve", rows, CURVE_COLS * fab->load_step));
@@ -303,6 +317,11 @@ static PetscErrorCode CheckpointWrite(Fabric fab)
       PetscCall(PetscViewerHDF5WriteAttribute(v, "/", nm, PETSC_INT, &b));
     }
     PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "last_tension_max_N", PETSC_REAL, &fab->last.tension_max));
+    { /* kinetic damping: the kinetic energy after the last te step (a reset is decided on it) */
+      long resets = (long)fab->ke_resets;
+      PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "kinetic_energy_J", PETSC_REAL, &fab->ke_prev));
+      PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "kinetic_resets", PETSC_LONG, &resets));
+    }
   }
   PetscCall(PetscViewerDestroy(&v));
 
@@ -343,11 +362,13 @@ typedef struct { /* what rank 0 reads alone, then broadcasts */
   int       status; /* 0: fine; otherwise msg says what is wrong */
   char      msg[5 * PETSC_MAX_PATH_LEN];
   int       load_step, frames, converged, broken_any;
-  int       has[8];
+  int       has[MAX_STATE];
   long long te_steps, point_updates;
-  double    grip_disp, grip_step_prev, wall, max_abs[8];
+  double    grip_disp, grip_step_prev, wall, max_abs[MAX_STATE];
   int       awake_box[4];
   double    last_tension_max;
+  double    ke_prev;
+  long long ke_resets;
 } Header;
 
 static int ReadAttr(hid_t obj, const char *name, hid_t type, void *value)
@@ -414,7 +435,7 @@ static PetscErrorCode ReadHeader(Fabric fab, const char *file, Header *h, double
   void        *edata;
   hid_t        fid = -1, g = -1;
   SceneKey     key[MAX_KEYS];
-  StateVec     sv[8];
+  StateVec     sv[MAX_STATE];
   PetscInt     nkey = SceneKeys(fab, key), nsv = StateVecs(fab, sv);
   const hsize_t dims3[3] = {(hsize_t)s->ny, (hsize_t)s->nx, 3}, dims2[3] = {(hsize_t)s->ny, (hsize_t)s->nx, 2};
   int          version = 0;
@@ -468,6 +489,7 @@ static PetscErrorCode ReadHeader(Fabric fab, const char *file, Header *h, double
   if (!ReadAttr(g, "awake_box_0", H5T_NATIVE_INT, &h->awake_box[0]) || !ReadAttr(g, "awake_box_1", H5T_NATIVE_INT, &h->awake_box[1]) || !ReadAttr(g, "awake_box_2", H5T_NATIVE_INT, &h->awake_box[2]) || !ReadAttr(g, "awake_box_3", H5T_NATIVE_INT, &h->awake_box[3]) ||
       !ReadAttr(g, "last_tension_max_N", H5T_NATIVE_DOUBLE, &h->last_tension_max))
     FAIL("-restart %s: damaged checkpoint: the sleeping state is missing", file);
+  if (!ReadAttr(g, "kinetic_energy_J", H5T_NATIVE_DOUBLE, &h->ke_prev) || !ReadAttr(g, "kinetic_resets", H5T_NATIVE_LLONG, &h->ke_resets)) FAIL("-restart %s: damaged checkpoint: the kinetic damping state is missing", file);
   if (h->load_step < 1 || h->load_step > s->load_steps || h->frames < 0 || h->te_steps < 0) FAIL("-restart %s: damaged checkpoint: load step %d of %" PetscInt_FMT, file, h->load_step, s->load_steps);
 
   /* the state vectors: there, of this grid */
@@ -540,7 +562,7 @@ PetscErrorCode RestartLoad(Fabric fab)
   FabricIO    io = fab->io;
   Header      h;
   double     *rows = NULL, *frames = NULL;
-  StateVec    sv[8];
+  StateVec    sv[MAX_STATE];
   PetscInt    nsv = StateVecs(fab, sv);
   PetscViewer v;
 
@@ -598,6 +620,8 @@ PetscErrorCode RestartLoad(Fabric fab)
   fab->grip_step_prev = h.grip_step_prev;
   for (int c = 0; c < 4; c++) fab->awake_box[c] = h.awake_box[c];
   fab->last.tension_max = h.last_tension_max;
+  fab->ke_prev          = h.ke_prev;
+  fab->ke_resets        = (PetscInt64)h.ke_resets;
   fab->te_steps       = (PetscInt64)h.te_steps;
   fab->point_updates  = (PetscInt64)h.point_updates;
   fab->converged      = h.converged ? PETSC_TRUE : PETSC_FALSE;
@@ -614,6 +638,7 @@ PetscErrorCode RestartLoad(Fabric fab)
     r->balanced     = a[6] != 0 ? PETSC_TRUE : PETSC_FALSE;
     r->travel       = a[7];
     r->center_shear = a[8];
+    for (int d = 0; d < 3; d++) r->plane_force[d] = a[9 + d], r->pedestal_force[d] = a[12 + d], r->clamp_force[d] = a[15 + d], r->weight[d] = a[18 + d];
   }
   io->frames = 0;
   for (PetscInt k = 0; k < h.frames; k++) {

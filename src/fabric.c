@@ -185,7 +185,7 @@ PetscErrorCode FabricCreate(MPI_Comm comm, Fabric *out)
     p->Ks       = s->shear_G * p->ax * p->ay;
     p->Kj       = s->jam_factor * p->Ks;
     p->s_lock   = PetscSinReal(s->lock_deg * PETSC_PI / 180.0);
-    p->k_contact = ((s->sphere_radius > 0) + (s->plane ? 1 : 0)) * s->contact_k; /* a crossing can touch every body at once */
+    p->k_contact = ((s->sphere_radius > 0) + (s->plane ? 1 : 0) + (s->pedestal_radius > 0)) * s->contact_k; /* a crossing can touch every body at once */
     PetscCall(PetscCalloc1((size_t)p->gxm * p->gym, &p->exists));
     PetscCall(PetscCalloc1((size_t)p->gxm * p->gym, &p->broken_x));
     PetscCall(PetscCalloc1((size_t)p->gxm * p->gym, &p->broken_y));
@@ -232,6 +232,24 @@ PetscErrorCode FabricCreate(MPI_Comm comm, Fabric *out)
     PetscCall(VecDuplicate(fab->X, &fab->Vold));
     PetscCall(VecCopy(fab->X, fab->Xold));
   }
+  if (s->kinetic_damping) PetscCall(PetscCalloc1(fab->nloc, &fab->ke_terms));
+  if (s->friction_mu > 0) { /* friction anchors: each crossing's rest position in the frame of each body present */
+    const PetscBool present[3] = {s->sphere_radius > 0, s->plane, s->pedestal_radius > 0};
+    for (int b = 0; b < 3; b++) {
+      PetscReal c[3];
+      if (!present[b]) continue;
+      for (int d = 0; d < 3; d++) c[d] = fab->centre[d] + (b == 0 ? s->sphere_start[d] : b == 1 ? s->plane_point[d] : s->pedestal_top[d]);
+      PetscCall(VecDuplicate(fab->X, &fab->anchor[b]));
+      PetscCall(VecCopy(fab->X0, fab->anchor[b]));
+      {
+        PetscScalar *a;
+        PetscCall(VecGetArray(fab->anchor[b], &a));
+        for (PetscInt k = 0; k < fab->nloc; k++)
+          for (int d = 0; d < 3; d++) a[3 * k + d] -= c[d];
+        PetscCall(VecRestoreArray(fab->anchor[b], &a));
+      }
+    }
+  }
   PetscCall(PredictSetUp(fab));
   PetscCall(FrontSetUp(fab));
   fab->converged = PETSC_TRUE;
@@ -250,6 +268,7 @@ PetscErrorCode FabricDestroy(Fabric *pfab)
   if (fab->curve_fp) fclose(fab->curve_fp);
   PetscCall(IODestroy(fab));
   PetscCall(PetscFree(fab->curve));
+  PetscCall(PetscFree(fab->ke_terms));
   PetscCall(PetscFree(fab->front_box));
   PetscCall(PetscFree4(fab->mass, fab->inv_m, fab->kind, fab->predict_w));
   PetscCall(PetscFree(fab->patch.exists));
@@ -265,6 +284,7 @@ PetscErrorCode FabricDestroy(Fabric *pfab)
   PetscCall(VecDestroy(&fab->Vold));
   PetscCall(VecDestroy(&fab->Xconv));
   PetscCall(VecDestroy(&fab->Xconv_prev));
+  for (int b = 0; b < 3; b++) PetscCall(VecDestroy(&fab->anchor[b]));
   PetscCall(DMDestroy(&fab->da2));
   PetscCall(DMDestroy(&fab->da));
   PetscCall(SceneDestroy(&fab->s));

@@ -34,29 +34,28 @@ PetscErrorCode ComputeForces(Fabric fab, const PetscInt box[4], PetscReal *tensi
     if (i >= box[0] && i < box[1] && j >= box[2] && j < box[3])
       for (int d = 0; d < 3; d++) f[3 * fab->load_index + d] += fab->load_factor * fab->s.point_load[d];
   }
-  fab->contact_sum[0] = fab->contact_sum[1] = fab->contact_sum[2] = 0;
-  if (fab->s.sphere_radius > 0) { /* the punch, where the load program has moved it */
+  for (int d = 0; d < 3; d++) fab->contact_sum[d] = fab->plane_sum[d] = fab->pedestal_sum[d] = 0;
+  if (fab->s.sphere_radius > 0 || fab->s.plane || fab->s.pedestal_radius > 0) { /* the rigid bodies, each adding to its own reaction sum */
     const Scene       *s = &fab->s;
     const PetscScalar *x;
-    PetscReal          c[3];
-    for (int d = 0; d < 3; d++) c[d] = fab->centre[d] + s->sphere_start[d] + fab->grip_now * s->sphere_dir[d];
-    PetscCall(VecGetArrayRead(fab->X, &x));
-    for (PetscInt j = box[2]; j < box[3]; j++) {
-      const PetscInt k0 = (j - p->ys) * p->xm + (box[0] - p->xs);
-      SphereContact(box[1] - box[0], x + 3 * k0, fab->inv_m + k0, c, s->sphere_radius + 0.5 * s->thickness, s->contact_k, f + 3 * k0, fab->contact_sum);
+    PetscScalar       *anchor[3] = {NULL, NULL, NULL};
+    PetscReal          c[3], p0[3], top[3];
+    for (int d = 0; d < 3; d++) {
+      c[d]   = fab->centre[d] + s->sphere_start[d] + fab->grip_now * s->sphere_dir[d]; /* the punch, where the load program has moved it */
+      p0[d]  = fab->centre[d] + s->plane_point[d];
+      top[d] = fab->centre[d] + s->pedestal_top[d];
     }
-    PetscCall(VecRestoreArrayRead(fab->X, &x));
-  }
-  if (fab->s.plane) { /* the table: its reaction is not reported (plane_sum is discarded) */
-    const Scene       *s = &fab->s;
-    const PetscScalar *x;
-    PetscReal          p0[3], plane_sum[3] = {0, 0, 0};
-    for (int d = 0; d < 3; d++) p0[d] = fab->centre[d] + s->plane_point[d];
     PetscCall(VecGetArrayRead(fab->X, &x));
+    for (int b = 0; b < 3; b++)
+      if (fab->anchor[b]) PetscCall(VecGetArray(fab->anchor[b], &anchor[b]));
     for (PetscInt j = box[2]; j < box[3]; j++) {
-      const PetscInt k0 = (j - p->ys) * p->xm + (box[0] - p->xs);
-      PlaneContact(box[1] - box[0], x + 3 * k0, fab->inv_m + k0, p0, s->plane_normal, 0.5 * s->thickness, s->contact_k, f + 3 * k0, plane_sum);
+      const PetscInt k0 = (j - p->ys) * p->xm + (box[0] - p->xs), n = box[1] - box[0];
+      if (s->sphere_radius > 0) SphereContact(n, x + 3 * k0, fab->inv_m + k0, c, s->sphere_radius + 0.5 * s->thickness, s->contact_k, s->friction_mu, anchor[0] ? anchor[0] + 3 * k0 : NULL, f + 3 * k0, fab->contact_sum);
+      if (s->plane) PlaneContact(n, x + 3 * k0, fab->inv_m + k0, p0, s->plane_normal, 0.5 * s->thickness, s->contact_k, s->friction_mu, anchor[1] ? anchor[1] + 3 * k0 : NULL, f + 3 * k0, fab->plane_sum);
+      if (s->pedestal_radius > 0) DiscContact(n, x + 3 * k0, fab->inv_m + k0, top, s->pedestal_radius, s->pedestal_height, 0.5 * s->thickness, s->contact_k, s->friction_mu, anchor[2] ? anchor[2] + 3 * k0 : NULL, f + 3 * k0, fab->pedestal_sum);
     }
+    for (int b = 0; b < 3; b++)
+      if (fab->anchor[b]) PetscCall(VecRestoreArray(fab->anchor[b], &anchor[b]));
     PetscCall(VecRestoreArrayRead(fab->X, &x));
   }
   PetscCall(VecRestoreArray(fab->F, &f));
@@ -167,6 +166,30 @@ static void AwakeRange(PetscInt n, const PetscReal g[3], const PetscReal *mass, 
   }
 }
 
+/* Kinetic damping (Cundall; Barnes' dynamic relaxation): the total kinetic energy
+   K = sum m |v|^2 / 2 grows while the structure falls towards its balance and drops once it
+   has passed it; at that peak all velocities are set to zero, and the motion starts again
+   from there, nearer to rest. It needs no tuning to the spectrum (viscous damping that is
+   critical for the fastest of the slow modes overdamps the slowest ones). K feeds back into
+   the positions, so it is an exact sum (GlobalSumExact): the same on any number of ranks. */
+static PetscErrorCode KineticDamping(Fabric fab)
+{
+  PetscScalar *v;
+  PetscReal    ke;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecGetArray(fab->V, &v));
+  for (PetscInt k = 0; k < fab->nloc; k++) fab->ke_terms[k] = fab->inv_m[k] > 0 ? 0.5 * fab->mass[k] * (v[3 * k] * v[3 * k] + v[3 * k + 1] * v[3 * k + 1] + v[3 * k + 2] * v[3 * k + 2]) : 0.0;
+  PetscCall(GlobalSumExact(fab->comm, fab->ke_terms, fab->nloc, &ke));
+  if (ke < fab->ke_prev) { /* past the peak: start again from rest */
+    for (PetscInt k = 0; k < 3 * fab->nloc; k++) v[k] = 0;
+    fab->ke_prev = 0;
+    fab->ke_resets++;
+  } else fab->ke_prev = ke;
+  PetscCall(VecRestoreArray(fab->V, &v));
+  PetscFunctionReturn(0);
+}
+
 /* One te step: halo exchange, forces and integration on the points the front and sleeping
    leave to compute, then the global balance test and the stability watch (one max-reduction,
    which also carries the awake box). Stops with an error on NaN, Inf or runaway motion. */
@@ -239,6 +262,7 @@ PetscErrorCode TimeStep(Fabric fab, StepStats *out)
   out->tension_max = red[2];
   out->residual    = PetscSqrtReal(red[0]) / PetscMax(red[2], fab->force_floor);
   PetscCheck(out->speed * fab->te <= fab->extent, fab->comm, PETSC_ERR_FP, "numerical instability at load step %" PetscInt_FMT ", te step %" PetscInt64_FMT ": runaway motion, a point moved %g m in one step, more than the fabric's size %g m (te = %g s, stable bound %g s)", fab->load_step, fab->te_steps, (double)(out->speed * fab->te), (double)fab->extent, (double)fab->te, (double)fab->te_bound);
+  if (s->kinetic_damping) PetscCall(KineticDamping(fab));
   out->balanced = (out->residual <= s->balance_tol && out->speed <= s->speed_tol && fab->ramp_done >= fab->ramp_steps) ? PETSC_TRUE : PETSC_FALSE;
   fab->last     = *out;
   if (fab->io) PetscCall(FramesTeStep(fab)); /* -output_te_every (io.c) */

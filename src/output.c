@@ -37,17 +37,40 @@ static const char *CurveHeader(const Scene *s)
   return "load_step,time_s,travel_mm,force_N,inner_steps,residual";
 }
 
+/* supports (a plane or a pedestal present): after the test's own columns, the force of the
+   fabric on each body present, on the clamps (their pull plus the clamped crossings' weight)
+   and the specimen's weight, x, y, z (N, z up). At rest they add up:
+   plane + pedestal + clamp = weight. */
+static PetscBool HasSupports(const Scene *s)
+{
+  return (s->plane || s->pedestal_radius > 0) ? PETSC_TRUE : PETSC_FALSE;
+}
+
+static void WriteSupportsHeader(const Scene *s, FILE *fp)
+{
+  const char *names[4] = {"plane", "pedestal", "clamp", "weight"};
+  const int   present[4] = {s->plane, s->pedestal_radius > 0, 1, 1};
+  if (!HasSupports(s)) return;
+  for (int b = 0; b < 4; b++)
+    if (present[b]) fprintf(fp, ",%s_fx_N,%s_fy_N,%s_fz_N", names[b], names[b], names[b]);
+}
+
+static void WriteSupports(const Scene *s, FILE *fp, const CurveRow *r)
+{
+  const PetscReal *v[4] = {r->plane_force, r->pedestal_force, r->clamp_force, r->weight};
+  const int        present[4] = {s->plane, s->pedestal_radius > 0, 1, 1};
+  if (!HasSupports(s)) return;
+  for (int b = 0; b < 4; b++)
+    if (present[b]) fprintf(fp, ",%.9g,%.9g,%.9g", (double)v[b][0], (double)v[b][1], (double)v[b][2]);
+}
+
 static void WriteCurveRow(const Scene *s, FILE *fp, const CurveRow *r)
 {
-  if (s->test == TEST_BIAS) {
-    fprintf(fp, "%" PetscInt_FMT ",%.9g,%.9g,%.9g,%" PetscInt_FMT ",%.6e,%.9g,%.9g\n", r->load_step, (double)r->time, (double)(100.0 * r->elongation), (double)r->force, r->inner_steps, (double)r->residual, (double)(1e3 * r->elongation * s->gauge), (double)r->center_shear);
-    return;
-  }
-  if (s->test != TEST_STRIP) {
-    fprintf(fp, "%" PetscInt_FMT ",%.9g,%.9g,%.9g,%" PetscInt_FMT ",%.6e\n", r->load_step, (double)r->time, (double)(1e3 * r->travel), (double)r->force, r->inner_steps, (double)r->residual);
-    return;
-  }
-  fprintf(fp, "%" PetscInt_FMT ",%.9g,%.9g,%.9g,%" PetscInt_FMT ",%.6e\n", r->load_step, (double)r->time, (double)(100.0 * r->elongation), (double)r->force, r->inner_steps, (double)r->residual);
+  if (s->test == TEST_BIAS) fprintf(fp, "%" PetscInt_FMT ",%.9g,%.9g,%.9g,%" PetscInt_FMT ",%.6e,%.9g,%.9g", r->load_step, (double)r->time, (double)(100.0 * r->elongation), (double)r->force, r->inner_steps, (double)r->residual, (double)(1e3 * r->elongation * s->gauge), (double)r->center_shear);
+  else if (s->test != TEST_STRIP) fprintf(fp, "%" PetscInt_FMT ",%.9g,%.9g,%.9g,%" PetscInt_FMT ",%.6e", r->load_step, (double)r->time, (double)(1e3 * r->travel), (double)r->force, r->inner_steps, (double)r->residual);
+  else fprintf(fp, "%" PetscInt_FMT ",%.9g,%.9g,%.9g,%" PetscInt_FMT ",%.6e", r->load_step, (double)r->time, (double)(100.0 * r->elongation), (double)r->force, r->inner_steps, (double)r->residual);
+  WriteSupports(s, fp, r);
+  fputc('\n', fp);
 }
 
 /* curve.csv: the header, and after a restart the rows before the checkpoint */
@@ -66,7 +89,9 @@ PetscErrorCode OutputOpen(Fabric fab)
       fab->curve_fp = fopen(file, "w");
       ok            = fab->curve_fp != NULL;
       if (ok) {
-        fprintf(fab->curve_fp, "%s\n", CurveHeader(&fab->s));
+        fprintf(fab->curve_fp, "%s", CurveHeader(&fab->s));
+        WriteSupportsHeader(&fab->s, fab->curve_fp);
+        fputc('\n', fab->curve_fp);
         for (PetscInt k = 0; k < fab->load_step; k++) WriteCurveRow(&fab->s, fab->curve_fp, &fab->curve[k]);
         fflush(fab->curve_fp);
       }

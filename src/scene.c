@@ -170,7 +170,7 @@ PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s)
   }
   PetscOptionsEnd();
 
-  PetscOptionsBegin(comm, NULL, "Rigid sphere with penalty contact (MODEL.md 5.5): centre = grid centre + start + d * direction, d = 0 .. travel over the load steps", NULL);
+  PetscOptionsBegin(comm, NULL, "Rigid bodies with penalty contact (MODEL.md 5.5): a sphere (centre = grid centre + start + d * direction, d = 0 .. travel over the load steps), a plane, a pedestal; Coulomb friction", NULL);
   if (s->test == TEST_PUSHING) sphere_mm = 25.4, travel_mm = 20;
   PetscCall(PetscOptionsReal("-sphere_diameter_mm", "sphere diameter (mm), 0 = no sphere (pushing: ASTM D3787's 25.4 mm ball)", NULL, sphere_mm, &sphere_mm, NULL));
   CHECK_NONNEG(sphere_mm, "-sphere_diameter_mm");
@@ -208,6 +208,23 @@ PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s)
     PetscCheck(isfinite(norm) && norm > 0, comm, PETSC_ERR_USER_INPUT, "-plane_normal must be a finite non-zero vector, got %g,%g,%g", (double)s->plane_normal[0], (double)s->plane_normal[1], (double)s->plane_normal[2]);
     for (int d = 0; d < 3; d++) s->plane_normal[d] /= norm;
   }
+  {
+    PetscReal ped_mm = s->test == TEST_DRAPE ? 180 : 0, ped_h_mm = 50, top_mm[3] = {0, 0, 0};
+    PetscInt  n = 3;
+    PetscBool tset;
+    PetscCall(PetscOptionsReal("-pedestal_diameter_mm", "a rigid pedestal (disc, flat cylinder with a vertical axis) with penalty contact on its top face, rim and edge: its diameter (mm), 0 = none (drape: Cusick's 180 mm support disc)", NULL, ped_mm, &ped_mm, NULL));
+    CHECK_NONNEG(ped_mm, "-pedestal_diameter_mm");
+    PetscCall(PetscOptionsReal("-pedestal_height_mm", "the pedestal's height below its top face (mm)", NULL, ped_h_mm, &ped_h_mm, NULL));
+    CHECK_POSITIVE(ped_h_mm, "-pedestal_height_mm");
+    PetscCall(PetscOptionsRealArray("-pedestal_top_mm", "centre of the pedestal's top face x,y,z from the grid centre (mm); default: under the centre, touching the fabric at rest (z = -thickness/2)", NULL, top_mm, &n, &tset));
+    PetscCheck(!tset || n == 3, comm, PETSC_ERR_USER_INPUT, "-pedestal_top_mm needs three components x,y,z, got %" PetscInt_FMT, n);
+    for (int d = 0; d < 3; d++) PetscCheck(isfinite(top_mm[d]), comm, PETSC_ERR_USER_INPUT, "-pedestal_top_mm component %d is not a finite number", d);
+    s->pedestal_radius = 0.5e-3 * ped_mm;
+    s->pedestal_height = 1e-3 * ped_h_mm;
+    for (int d = 0; d < 3; d++) s->pedestal_top[d] = tset ? 1e-3 * top_mm[d] : (d == 2 ? -0.5e-3 * thick_mm : 0.0);
+  }
+  PetscCall(PetscOptionsReal("-friction_mu", "Coulomb friction coefficient between the fabric and every rigid body (stick spring of the contact stiffness, slip at mu times the normal force); 0 = frictionless", NULL, s->friction_mu, &s->friction_mu, NULL));
+  CHECK_NONNEG(s->friction_mu, "-friction_mu");
   PetscCheck(s->test != TEST_PUSHING || sphere_mm > 0, comm, PETSC_ERR_USER_INPUT, "-test pushing needs a sphere: -sphere_diameter_mm must be positive, got %g", (double)sphere_mm);
   PetscCheck(s->test == TEST_PUSHING || sphere_mm == 0, comm, PETSC_ERR_USER_INPUT, "-sphere_diameter_mm %g: the sphere is the pushing test's punch (-test pushing)", (double)sphere_mm);
   PetscOptionsEnd();
@@ -280,7 +297,7 @@ PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s)
   s->te_check = PETSC_TRUE;
   PetscCall(PetscOptionsBool("-te_check", "refuse a -te above the stable bound (0: experts and stability tests only)", NULL, s->te_check, &s->te_check, NULL));
   s->te_window = 1.0;
-  PetscCall(PetscOptionsReal("-te_strain_window", "chord-strain margin around each segment's strain over which the yarn tangent is maximised for the bound (smaller: larger te while yarns are crimped, but a load step that straightens them further can go unstable)", NULL, s->te_window, &s->te_window, NULL));
+  PetscCall(PetscOptionsReal("-te_strain_window", "chord-strain margin around each segment's strain over which the yarn tangent is maximised for the bound, and margin in sin(shear angle) below the locking angle from which the jamming stiffness counts (smaller: larger te while yarns are crimped and crossings far from locking, but a load step that straightens or shears them further can go unstable; 1 = the whole law)", NULL, s->te_window, &s->te_window, NULL));
   CHECK_NONNEG(s->te_window, "-te_strain_window");
   s->early_exit = PETSC_TRUE;
   PetscCall(PetscOptionsBool("-early_exit", "end a load step as soon as the balance test passes (modified multi-sampling)", NULL, s->early_exit, &s->early_exit, NULL));
@@ -297,6 +314,8 @@ PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s)
   PetscCall(PetscOptionsBool("-front", "rank propagation: compute only the points a load change can have reached", NULL, s->front, &s->front, NULL));
   PetscCall(PetscOptionsReal("-sleep_tol", "sleeping: skip points whose residual (relative, like -balance_tol) and speed stay below this, with asleep neighbours; 0 = off", NULL, s->sleep_tol, &s->sleep_tol, NULL));
   CHECK_NONNEG(s->sleep_tol, "-sleep_tol");
+  PetscCall(PetscOptionsBool("-kinetic_damping", "kinetic damping (Cundall's dynamic relaxation): all velocities are set to zero whenever the total kinetic energy has passed a peak (an exact sum: the same on any number of ranks); for scenes relaxed to rest (drape)", NULL, s->kinetic_damping, &s->kinetic_damping, NULL));
+  PetscCheck(!s->kinetic_damping || s->integrator == INTEGRATOR_DAMPED, comm, PETSC_ERR_USER_INPUT, "-kinetic_damping needs -integrator damped (the paper's integrator keeps two velocity chains), got -integrator %s", IntegratorNames[s->integrator]);
   PetscCheck(s->sleep_tol <= s->balance_tol, comm, PETSC_ERR_USER_INPUT, "-sleep_tol %g is above -balance_tol %g: points would sleep before they balance", (double)s->sleep_tol, (double)s->balance_tol);
   PetscOptionsEnd();
 
@@ -317,7 +336,7 @@ PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s)
   s->sphere_travel = 1e-3 * travel_mm;
   for (int d = 0; d < 3; d++) s->sphere_start[d] = start_set ? 1e-3 * start_mm[d] : -(s->sphere_radius + 0.5 * s->thickness) * s->sphere_dir[d];
   s->contact_k = kc > 0 ? kc : s->warp.EA * s->picks_per_m; /* EA / L0 of a warp segment */
-  PetscCheck((s->sphere_radius == 0 && !s->plane) || (!s->front && s->sleep_tol == 0), comm, PETSC_ERR_USER_INPUT, "-front and -sleep_tol follow the jaws and the point load only: switch them off with a sphere or a plane");
+  PetscCheck((s->sphere_radius == 0 && !s->plane && s->pedestal_radius == 0) || (!s->front && s->sleep_tol == 0), comm, PETSC_ERR_USER_INPUT, "-front and -sleep_tol follow the jaws and the point load only: switch them off with a sphere, a plane or a pedestal");
   s->speed       = speed_mm_min * 1e-3 / 60.0;
   if (s->speed_tol == 0) s->speed_tol = s->speed;
   if (s->test == TEST_BIAS) { /* the grid covers the specimen and its jaws, rotated by 45 degrees */

@@ -10,6 +10,10 @@
 #   te_frames  frames every 50 te steps (the frame list and counter), 3 ranks
 #   sleeping   no prediction, the front and sleeping (the awake box and the force scale of
 #              the last te step, the jaw's ramp), 2 ranks
+#   bodies     the strip pressed by gravity onto a plane and a pedestal with friction (the
+#              friction anchors of both bodies) and kinetic damping (the last kinetic energy),
+#              2 ranks (the reaction columns of curve.csv are floating-point sums: the same
+#              number of ranks)
 set -u
 fabric="$1"; scene="$2"
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
@@ -32,6 +36,7 @@ variant() {
 variant paper 2 1 -integrator paper -damping_ratio 0 -predict extrapolate -elongation_pct 3 -max_inner_steps 200 -early_exit 0
 variant breaking 2 2 -predict extrapolate -point_load_N 0,0,0.001 -warp_break_pct 0.5
 variant te_frames 3 3 -predict extrapolate -elongation_pct 3 -point_load_N 0,0,0.001 -output_te_every 50
+variant bodies 2 2 -predict none -elongation_pct 1 -gravity 2,0,-9.81 -plane -plane_point_mm 0,0,-0.15 -pedestal_diameter_mm 4 -friction_mu 0.3 -kinetic_damping -max_inner_steps 400 -early_exit 0
 variant sleeping 2 2 -predict none -front 1 -sleep_tol 1e-4 -elongation_pct 1 -point_load_N 0,0,0.001 -max_inner_steps 3000
 # the breaking variant must break yarns at load step 4, before the checkpoint: the restarted run
 # only carries nothing after it if it got the broken segments back

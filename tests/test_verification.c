@@ -1,7 +1,7 @@
 /* test_verification.c - the verification cases of MODEL.md 12, each against an exact answer.
  *
  *   test_verification -case linear_strip|crimp_knee|wave_speed|transverse_load|
- *                           stable_095|unstable_110|paper_parasitic|square_net|bias_extension|plane_rest
+ *                           stable_095|unstable_110|paper_parasitic|square_net|bias_extension|plane_rest|pedestal_rest|friction_incline
  */
 #include "fabric.h"
 
@@ -363,6 +363,113 @@ static PetscErrorCode PlaneRest(void)
   PetscFunctionReturn(0);
 }
 
+/* Rigid pedestal (MODEL.md 5.5, kernels.h DiscContact): the same free net as plane_rest on the
+   top face of a 40 mm pedestal (its top at z = -h/2, touching the net at rest): every crossing
+   rests at z = -m g / k_c (to 1e-6 of the largest sink), and the reaction on the pedestal in
+   curve.csv equals the net's weight (to 1e-6: no clamp; they differ by the sum of the residual
+   forces, at most points x 1e-8 x the force scale). */
+static PetscErrorCode PedestalRest(void)
+{
+  Fabric             fab;
+  const PetscScalar *x;
+  PetscReal          err = 0, sink = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(NewFabric("-output_dir none -quiet -warp_break_pct 0 -weft_break_pct 0 -test square -gauge_mm 10 -width_mm 10 -clamp none -bending 0 -shear 0 -pedestal_diameter_mm 40 -thickness_mm 0.3 -gravity 0,0,-9.81 -load_steps 2 -predict none -balance_tol 1e-8 -speed_tol 1e-9 -max_inner_steps 200000", &fab));
+  PetscCall(FabricRun(fab));
+  PetscCall(VecGetArrayRead(fab->X, &x));
+  for (PetscInt k = 0; k < fab->nloc; k++) {
+    if (fab->mass[k] <= 0) continue;
+    const PetscReal expected = -fab->mass[k] * 9.81 / fab->s.contact_k;
+    err  = PetscMax(err, PetscAbsReal(x[3 * k + 2] - expected));
+    sink = PetscMax(sink, PetscAbsReal(expected));
+  }
+  PetscCall(VecRestoreArrayRead(fab->X, &x));
+  PetscCall(GlobalMax(PETSC_COMM_WORLD, &err, 1));
+  PetscCall(GlobalMax(PETSC_COMM_WORLD, &sink, 1));
+  {
+    const CurveRow *r = &fab->curve[fab->s.load_steps - 1];
+    CheckTrue("every crossing rests on the pedestal at z = -m g / k_c (largest error / largest sink <= 1e-6)", err <= 1e-6 * sink, err / sink);
+    CheckTrue("the last load step balanced", r->balanced, r->residual);
+    CheckRel("pedestal reaction fz = the net's weight (N)", r->pedestal_force[2], r->weight[2], 1e-6);
+  }
+  PetscCall(FabricDestroy(&fab));
+  PetscFunctionReturn(0);
+}
+
+/* Coulomb friction (MODEL.md 5.5, kernels.c StickSlip) on an inclined table: gravity at
+   alpha = 20 degrees to the normal of the plane z = -h/2 (tan alpha = 0.364), crossings
+   without yarn forces (-traction 0 -bending 0 -shear 0: each a block on the slope), damped by
+   the air drag -nu v alone (c = nu / m per crossing, about 0.3 / te); a soft contact
+   (k_c = 1 N/m) so that the stick displacement is far above the round-off of the positions,
+   and te at half the bound: near the bound the lightest (corner) crossings overshoot so far
+   that they leave the table for a step, and a point off the table loses its anchor.
+   mu = 0.5 > tan alpha, sticks: the run balances, and every crossing rests at
+     x - x0 = m g sin(alpha) / k_c (the stick spring carries the slope's pull),
+     z      = -m g cos(alpha) / k_c,
+   to 1e-6 of the largest; the plane's reaction equals the weight, 1e-6 (as pedestal_rest).
+   mu = 0.2 < tan alpha, slides: every crossing reaches the terminal speed
+   m g (sin(alpha) - mu cos(alpha)) / nu (the fixed point of the damped central differences is
+   exact), to 1e-6 after 3000 te steps, and the plane's tangential reaction is
+   mu times its normal one, 1e-9. */
+static PetscErrorCode FrictionIncline(void)
+{
+  const PetscReal alpha = 20.0 * PETSC_PI / 180.0, g = 9.81;
+  const char     *base = "-output_dir none -quiet -test square -gauge_mm 4 -width_mm 4 -clamp none -traction 0 -bending 0 -shear 0 -plane -plane_point_mm 0,0,-0.15 -thickness_mm 0.3 -predict none -load_steps 1 -damping_ratio 0 -nu 2e-5 -contact_stiffness_N_m 1 -te_safety 0.5 ";
+  char            opts[1024];
+
+  PetscFunctionBeginUser;
+  for (int slide = 0; slide < 2; slide++) {
+    Fabric             fab;
+    const PetscScalar *x, *x0, *v;
+    const PetscReal    mu = slide ? 0.2 : 0.5;
+    PetscReal          err[2] = {0, 0}, ref[2] = {0, 0};
+    PetscCall(PetscSNPrintf(opts, sizeof opts, "%s -friction_mu %g -gravity %.17g,0,%.17g %s", base, (double)mu, (double)(g * PetscSinReal(alpha)), (double)(-g * PetscCosReal(alpha)), slide ? "-early_exit 0 -max_inner_steps 3000" : "-balance_tol 1e-8 -speed_tol 1e-9 -max_inner_steps 200000"));
+    PetscCall(NewFabric(opts, &fab));
+    PetscCall(FabricRun(fab));
+    PetscCall(VecGetArrayRead(fab->X, &x));
+    PetscCall(VecGetArrayRead(fab->X0, &x0));
+    PetscCall(VecGetArrayRead(fab->V, &v));
+    for (PetscInt k = 0; k < fab->nloc; k++) {
+      if (fab->mass[k] <= 0) continue;
+      const PetscReal m = fab->mass[k];
+      if (!slide) {
+        const PetscReal ex = m * g * PetscSinReal(alpha) / fab->s.contact_k, ez = -m * g * PetscCosReal(alpha) / fab->s.contact_k;
+        err[0] = PetscMax(err[0], PetscAbsReal(x[3 * k] - x0[3 * k] - ex));
+        err[1] = PetscMax(err[1], PetscAbsReal(x[3 * k + 2] - ez));
+        ref[0] = PetscMax(ref[0], ex), ref[1] = PetscMax(ref[1], -ez);
+      } else {
+        const PetscReal vt = m * g * (PetscSinReal(alpha) - mu * PetscCosReal(alpha)) / fab->s.nu;
+        err[0] = PetscMax(err[0], PetscAbsReal(v[3 * k] - vt));
+        err[1] = PetscMax(err[1], PetscAbsReal(v[3 * k + 2]) + PetscAbsReal(v[3 * k + 1]));
+        ref[0] = ref[1] = PetscMax(ref[0], vt);
+      }
+    }
+    PetscCall(VecRestoreArrayRead(fab->V, &v));
+    PetscCall(VecRestoreArrayRead(fab->X0, &x0));
+    PetscCall(VecRestoreArrayRead(fab->X, &x));
+    PetscCall(GlobalMax(PETSC_COMM_WORLD, err, 2));
+    PetscCall(GlobalMax(PETSC_COMM_WORLD, ref, 2));
+    {
+      const CurveRow *r = &fab->curve[0];
+      if (!slide) {
+        CheckTrue("mu 0.5 > tan(alpha), sticks: the load step balanced", r->balanced, r->residual);
+        CheckTrue("sticks: x - x0 = m g sin(alpha) / k_c at every crossing (largest error / largest <= 1e-6)", err[0] <= 1e-6 * ref[0], err[0] / ref[0]);
+        CheckTrue("sticks: z = -m g cos(alpha) / k_c at every crossing (largest error / largest <= 1e-6)", err[1] <= 1e-6 * ref[1], err[1] / ref[1]);
+        CheckRel("sticks: plane reaction fx = the weight's x (N)", r->plane_force[0], r->weight[0], 1e-6);
+        CheckRel("sticks: plane reaction fz = the weight's z (N)", r->plane_force[2], r->weight[2], 1e-6);
+      } else {
+        PetscPrintf(PETSC_COMM_WORLD, "slides: %d te steps of %g s\n", (int)fab->te_steps, (double)fab->te);
+        CheckTrue("mu 0.2 < tan(alpha), slides: every crossing at the terminal speed m g (sin(alpha) - mu cos(alpha)) / nu (largest error / largest speed <= 1e-6)", isfinite(ref[0]) && ref[0] > 0 && err[0] <= 1e-6 * ref[0], err[0] / ref[0]);
+        CheckTrue("slides: no speed across the slope or off the plane (largest / the terminal speed <= 1e-6)", err[1] <= 1e-6 * ref[1], err[1] / ref[1]);
+        CheckRel("slides: plane tangential reaction fx = mu times the normal one (N)", r->plane_force[0], -mu * r->plane_force[2], 1e-9);
+      }
+    }
+    PetscCall(FabricDestroy(&fab));
+  }
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode SpeedupsCurve(void)
 {
   Fabric    fab;
@@ -407,6 +514,8 @@ int main(int argc, char **argv)
   else if (!strcmp(name, "square_net")) PetscCall(SquareNet());
   else if (!strcmp(name, "bias_extension")) PetscCall(BiasExtension());
   else if (!strcmp(name, "plane_rest")) PetscCall(PlaneRest());
+  else if (!strcmp(name, "pedestal_rest")) PetscCall(PedestalRest());
+  else if (!strcmp(name, "friction_incline")) PetscCall(FrictionIncline());
   else SETERRQ(PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT, "unknown -case %s", name);
   PetscCall(PetscFinalize());
   return failures ? 1 : 0;
