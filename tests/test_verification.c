@@ -292,13 +292,15 @@ static PetscErrorCode SquareNet(void)
    20 % (12 mm) in 8 load steps. The pin-jointed-net formula
    gamma = pi/2 - 2 acos((D + d)/(sqrt(2) D)), D = length - width, d = jaw travel,
    assumes inextensible yarns: the yarns are uncrimped and glass-like (2600 cN/tex; glass fibre
-   is 72 GPa / 2.55 g/cm^3 = 2800 cN/tex), the fabric bias extension is the standard test for.
+   is 72 GPa / 2.55 g/cm^3 = 2800 cN/tex), as in the woven reinforcements the bias extension
+   test is standard for.
    With the shirting's 260 cN/tex the yarns' small strains (below 0.5 %) let the zones next to
    the jaws shear and the centre shears less: 0.90, 0.96 and 0.98 of the formula at 7.2 mm with
-   260, 2600 and 26000 cN/tex on a 5.66 threads/cm grid.
+   260, 2600 and 26000 cN/tex on a 5.657 threads/cm grid (README "Bias extension").
    - The central zone's mean shear angle is within 2 degrees of the formula at every load step
      whose formula angle is below the locking angle (35 degrees: steps 1-5, up to 34.2 degrees;
-     the errors are 0.2-0.7 degrees, from the grid's discretisation of the zone boundaries).
+     the errors are 0.2-0.7 degrees: the grid's discretisation of the zone boundaries and
+     the yarns' remaining stretch).
    - Past locking the force rises sharply: jammed crossings are 1 + jam_factor = 101 times stiffer
      in shear, so the slope of the last two load steps is at least 10 times the slope of the last
      two before the central angle reached 0.9 x the lock (the B zones, still below the lock,
@@ -307,9 +309,8 @@ static PetscErrorCode SquareNet(void)
    here the slow mode is the net's soft shear mechanism, about sqrt(G a / EA) = 0.01 of the
    tension modes: with the default -damping_ratio 1 this specimen at 3.77 and 5.66 threads/cm
    balanced no load step within 20000 te steps; 0.05 balances them (without prediction 0.02 and
-   0.1 took 2.6 and 1.35 times as many te steps). The
-   extrapolating prediction takes 0.6 times the te steps of none, with the same angles and
-   forces to 4 digits. */
+   0.1 took 2.6 and 1.35 times as many te steps). The extrapolating prediction takes 0.6 times
+   the te steps of none, with the same angles and forces to 4 digits. */
 static PetscErrorCode BiasExtension(void)
 {
   Fabric          fab;
