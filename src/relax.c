@@ -115,8 +115,10 @@ static PetscErrorCode SupportReactions(Fabric fab, CurveRow *row)
   PetscFunctionReturn(0);
 }
 
-/* Bias extension: the mean shear angle of the central zone, the crossings within W/4 of the
-   specimen's centre along and across it (a W/2 square inside the pure-shear zone). The angle
+/* Bias extension: the mean shear angle of the central zone, the crossings within min(W, D)/4
+   of the specimen's centre along and across it, D = gauge - width: a square inside the
+   pure-shear zone C, the diamond |along| + |across| < D/2 cut by the long edges (for
+   length/width 2 it touches the diamond at the middle of its sides). The angle
    at a crossing is asin(cos(angle(tw, tf))) (CrossingShear), as the shear_angle_deg field of
    fabric.h5; the zone's crossings all have four neighbours.
    Xl: halo-exchanged by GripReaction. A sum over crossings: reported, never fed back. */
@@ -125,6 +127,7 @@ static PetscErrorCode CenterShear(Fabric fab, CurveRow *row)
   const Patch       *p = &fab->patch;
   const Scene       *s = &fab->s;
   const PetscScalar *xl;
+  const PetscReal    half = 0.25 * PetscMin(s->width, s->gauge - s->width) + 1e-9 * s->gauge; /* crossings on its edge count */
   PetscReal          acc[2] = {0, 0};
 
   PetscFunctionBeginUser;
@@ -132,7 +135,7 @@ static PetscErrorCode CenterShear(Fabric fab, CurveRow *row)
   for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
     for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
       const PetscReal xc = (i - 0.5 * (s->nx - 1)) / s->picks_per_m, yc = (j - 0.5 * (s->ny - 1)) / s->ends_per_m;
-      if (PetscAbsReal(xc + yc) / PetscSqrtReal(2.0) > 0.25 * s->width || PetscAbsReal(yc - xc) / PetscSqrtReal(2.0) > 0.25 * s->width) continue;
+      if (PetscAbsReal(xc + yc) / PetscSqrtReal(2.0) > half || PetscAbsReal(yc - xc) / PetscSqrtReal(2.0) > half) continue;
       PetscReal c, tmin;
       if (!CrossingShear(p, xl, i, j, &c, &tmin)) continue;
       acc[0] += PetscAsinReal(c) * 180.0 / PETSC_PI;

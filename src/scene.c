@@ -339,7 +339,28 @@ PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s)
   PetscCheck((s->sphere_radius == 0 && !s->plane && s->pedestal_radius == 0) || (!s->front && s->sleep_tol == 0), comm, PETSC_ERR_USER_INPUT, "-front and -sleep_tol follow the jaws and the point load only: switch them off with a sphere, a plane or a pedestal");
   s->speed       = speed_mm_min * 1e-3 / 60.0;
   if (s->speed_tol == 0) s->speed_tol = s->speed;
-  if (s->test == TEST_BIAS) { /* the grid covers the specimen and its jaws, rotated by 45 degrees */
+  if (s->test == TEST_BIAS && ends_cm == picks_cm) {
+    /* The grid covers the specimen and its jaws, rotated by 45 degrees. With equal densities
+       the outline lies on grid diagonals, h = spacing/sqrt(2) apart: the jaw lines at
+       i + j - c = +-J (c = nx - 1), the long edges at j - i = +-E, the ends of the jaws at
+       +-(J + Jd), and c has the parity of J + E, so that the jaw lines meet the edges at
+       crossings. Each yarn then has exactly (gauge - width)/(sqrt(2) spacing) free segments
+       between the jaws: D of the kinematic formula (MODEL.md 11) is the grid's own. (A jaw
+       line between diagonals, or corners between crossings, leaves up to two more free
+       segments per yarn: D was 12 % too long for 60 mm x 30 mm at 8 threads/cm.) The gauge
+       length, width and jaw depth are rounded to the diagonals, as the strip's gauge length
+       is rounded to its crossings. */
+    const PetscReal h = 1.0 / (PetscSqrtReal(2.0) * s->picks_per_m);
+    const PetscReal J = round(0.5e-3 * gauge_mm / h), E = round(0.5e-3 * width_mm / h), Jd = PetscMax(1.0, round(1e-3 * jaw_mm / h));
+    const PetscReal n = J + E + Jd + fmod(Jd, 2.0) + 1;
+    PetscCheck(E >= 1 && J > E, comm, PETSC_ERR_USER_INPUT, "bias specimen too small or too wide: -gauge_mm %g, -width_mm %g at %g threads/cm (the gauge length must exceed the width by at least one yarn spacing)", (double)gauge_mm, (double)width_mm, (double)picks_cm);
+    PetscCheck(n * n < 2.0e9, comm, PETSC_ERR_USER_INPUT, "grid too large: %g x %g crossings", n, n);
+    s->nx        = (PetscInt)n;
+    s->ny        = (PetscInt)n;
+    s->gauge     = 2 * J * h; /* free length between the jaws, along the specimen */
+    s->width     = 2 * E * h;
+    s->jaw_depth = Jd * h;
+  } else if (s->test == TEST_BIAS) { /* unequal densities: the diagonals are not at 45 degrees */
     const PetscReal side = (gauge_mm + 2 * jaw_mm + width_mm) * 1e-3 / PetscSqrtReal(2.0);
     const PetscReal nx = round(side * s->picks_per_m) + 1, ny = round(side * s->ends_per_m) + 1;
     PetscCheck(nx >= 5 && ny >= 5 && width_mm < gauge_mm, comm, PETSC_ERR_USER_INPUT, "bias specimen too small or too wide: -gauge_mm %g, -width_mm %g (the gauge length must exceed the width) give %g x %g crossings", (double)gauge_mm, (double)width_mm, nx, ny);

@@ -287,47 +287,62 @@ static PetscErrorCode SquareNet(void)
   PetscFunctionReturn(0);
 }
 
-/* Bias extension (MODEL.md 11): a 60 mm x 30 mm specimen at 45 degrees to the yarns, 8 threads/cm,
-   stiff uncrimped yarns (the kinematic formula assumes inextensible yarns), no gravity, pulled
-   to 20 % (12 mm). The central zone's mean shear angle against the pin-jointed-net formula
-   gamma = pi/2 - 2 acos((D + d)/(sqrt(2) D)), D = length - width, d = jaw travel:
-   - within 2 degrees while the formula's angle is below 10 degrees;
-   - within 20 % below the locking angle (35 degrees): on this coarse grid the C/A and B/A
-     transitions spread over about 3 crossings and take part of the travel, so the central
-     zone shears less than the formula (about 0.8 of it at 8 threads/cm; 0.88 at 16 threads/cm
-     in a run whose load steps had not all balanced);
-   - past locking the force rises sharply: the slope of the last two load steps is at least
-     5 times the slope of the last two before the central angle reached 0.9 x the lock. */
+/* Bias extension (MODEL.md 11): a 60 mm x 30 mm specimen at 45 degrees to the yarns, 8 threads/cm
+   (its outline on the grid diagonals: 60.10 mm x 30.05 mm, D = 30.05 mm), no gravity, pulled to
+   20 % (12 mm) in 8 load steps. The pin-jointed-net formula
+   gamma = pi/2 - 2 acos((D + d)/(sqrt(2) D)), D = length - width, d = jaw travel,
+   assumes inextensible yarns: the yarns are uncrimped and glass-like (2600 cN/tex; glass fibre
+   is 72 GPa / 2.55 g/cm^3 = 2800 cN/tex), as in the woven reinforcements the bias extension
+   test is standard for.
+   With the shirting's 260 cN/tex the yarns' small strains (below 0.5 %) let the zones next to
+   the jaws shear and the centre shears less: 0.90, 0.96 and 0.98 of the formula at 7.2 mm with
+   260, 2600 and 26000 cN/tex on a 5.657 threads/cm grid (README "Bias extension").
+   - The central zone's mean shear angle is within 2 degrees of the formula at every load step
+     whose formula angle is below the locking angle (35 degrees: steps 1-5, up to 34.2 degrees;
+     the errors are 0.2-0.7 degrees: the grid's discretisation of the zone boundaries and
+     the yarns' remaining stretch).
+   - Past locking the force rises sharply: jammed crossings are 1 + jam_factor = 101 times stiffer
+     in shear, so the slope of the last two load steps is at least 10 times the slope of the last
+     two before the central angle reached 0.9 x the lock (the B zones, still below the lock,
+     keep it far below 101; it is 59).
+   The damping is tuned to the slowest mode along the pull from the yarn tension (MODEL.md 7.3);
+   here the slow mode is the net's soft shear mechanism, about sqrt(G a / EA) = 0.01 of the
+   tension modes: with the default -damping_ratio 1 this specimen at 3.77 and 5.66 threads/cm
+   balanced no load step within 20000 te steps; 0.05 balances them (without prediction 0.02 and
+   0.1 took 2.6 and 1.35 times as many te steps). The extrapolating prediction takes 0.6 times
+   the te steps of none, with the same angles and forces to 4 digits. */
 static PetscErrorCode BiasExtension(void)
 {
   Fabric          fab;
-  const PetscReal D = 30.0, lock = 35.0;
-  PetscReal       slope_before = 0, slope_after;
+  const PetscReal lock = 35.0;
+  PetscReal       D, slope_before = 0, slope_after;
+  PetscInt        compared = 0;
 
   PetscFunctionBeginUser;
-  PetscCall(NewFabric(BASE "-test bias -gauge_mm 60 -width_mm 30 -ends_per_cm 8 -picks_per_cm 8 -warp_crimp_pct 0 -weft_crimp_pct 0 -elongation_pct 20 -load_steps 10 -predict none -shear_lock_deg 35", &fab));
+  PetscCall(NewFabric(BASE "-test bias -gauge_mm 60 -width_mm 30 -ends_per_cm 8 -picks_per_cm 8 -warp_crimp_pct 0 -weft_crimp_pct 0 -warp_modulus_cN_tex 2600 -weft_modulus_cN_tex 2600 -elongation_pct 20 -load_steps 8 -predict extrapolate -shear_lock_deg 35 -damping_ratio 0.05 -max_inner_steps 100000", &fab));
+  D = 1e3 * (fab->s.gauge - fab->s.width);
+  CheckRel("bias specimen on the grid diagonals: D = gauge - width (mm)", D, 17 * PetscSqrtReal(2.0) * 1.25, 1e-12);
   PetscCall(FabricRun(fab));
   for (PetscInt q = 0; q < fab->s.load_steps; q++) {
     const CurveRow *r = &fab->curve[q];
-    const PetscReal d = 1e3 * r->elongation * fab->s.gauge;
-    const PetscReal kin = 90.0 - 2.0 * PetscAcosReal((D + d) / (PetscSqrtReal(2.0) * D)) * 180.0 / PETSC_PI;
-    char            what[128];
+    const PetscReal d = 1e3 * r->elongation * fab->s.gauge, c = (D + d) / (PetscSqrtReal(2.0) * D);
+    const PetscReal kin = c < 1 ? 90.0 - 2.0 * PetscAcosReal(c) * 180.0 / PETSC_PI : 90.0;
+    char            what[160];
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "  travel %.2f mm  force %.4f N  centre %.2f deg  formula %.2f deg  (N' %d)\n", (double)d, (double)r->force, (double)r->center_shear, (double)kin, (int)r->inner_steps));
-    if (kin < 10) {
-      PetscCall(PetscSNPrintf(what, sizeof what, "central shear within 2 deg of the formula at %.1f mm (%.2f vs %.2f deg)", (double)d, (double)r->center_shear, (double)kin));
-      CheckTrue(what, PetscAbsReal(r->center_shear - kin) <= 2.0, r->center_shear - kin);
-    }
+    CheckTrue("load step balanced", r->balanced, r->residual);
     if (kin < lock) {
-      PetscCall(PetscSNPrintf(what, sizeof what, "central shear at %.1f mm vs the formula, below locking", (double)d));
-      CheckRel(what, r->center_shear, kin, 0.2);
+      PetscCall(PetscSNPrintf(what, sizeof what, "central shear within 2 deg of the formula below locking, at %.2f mm (%.2f vs %.2f deg): difference", (double)d, (double)r->center_shear, (double)kin));
+      CheckTrue(what, PetscAbsReal(r->center_shear - kin) <= 2.0, r->center_shear - kin);
+      compared++;
     }
     if (q >= 1 && r->center_shear < 0.9 * lock) slope_before = (r->force - fab->curve[q - 1].force) / (r->elongation - fab->curve[q - 1].elongation);
   }
   {
     const CurveRow *a = &fab->curve[fab->s.load_steps - 2], *b = &fab->curve[fab->s.load_steps - 1];
     slope_after = (b->force - a->force) / (b->elongation - a->elongation);
+    CheckTrue("the 5 load steps below locking (formula up to 34.2 deg) were compared with the formula", compared == 5, (double)compared);
     CheckTrue("past locking the central angle is above the lock", b->center_shear > lock, b->center_shear);
-    CheckTrue("force slope past locking / slope before it >= 5", slope_after >= 5 * slope_before, slope_after / slope_before);
+    CheckTrue("force slope past locking / slope before it >= 10", slope_after >= 10 * slope_before, slope_after / slope_before);
   }
   PetscCall(FabricDestroy(&fab));
   PetscFunctionReturn(0);

@@ -1,0 +1,50 @@
+"""bias_table.py - a bias extension run against the kinematic formula (MODEL.md 11).
+
+    /usr/bin/python3 scripts/bias_table.py RUN_DIR [--markdown]
+
+Reads RUN_DIR/curve.csv and RUN_DIR/summary.json (gauge_mm and width_mm: the specimen as the
+grid has it, its outline on the grid diagonals) and prints, per load step: the jaw travel d,
+the pin-jointed-net formula gamma = 90 - 2 acos((D + d)/(sqrt(2) D)) degrees, D = gauge - width
+("-" past d = (sqrt(2) - 1) D, where it reaches 90 degrees), the central zone's measured shear
+angle, their difference, the force and the te steps of the load step (N'); then whether every load
+step balanced (summary.json "converged").
+"""
+import argparse
+import csv
+import json
+import math
+import os
+import sys
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("run", help="output directory of a -test bias run")
+    ap.add_argument("--markdown", action="store_true", help="a Markdown table")
+    a = ap.parse_args()
+    try:
+        summary = json.load(open(os.path.join(a.run, "summary.json")))
+        rows = list(csv.DictReader(open(os.path.join(a.run, "curve.csv"), newline="")))
+    except (OSError, ValueError) as e:
+        sys.exit(f"bias_table.py: {a.run}: {e}")
+    if not rows or "center_shear_deg" not in rows[0]:
+        sys.exit(f"bias_table.py: {a.run}/curve.csv: not a bias run (no center_shear_deg column)")
+    D = summary["gauge_mm"] - summary["width_mm"]
+    head = ["travel_mm", "formula_deg", "centre_deg", "diff_deg", "force_N", "N'"]
+    if a.markdown:
+        print("| " + " | ".join(head) + " |")
+        print("|" + "---:|" * len(head))
+    else:
+        print(" ".join(f"{h:>11}" for h in head))
+    for r in rows:
+        d, centre = float(r["travel_mm"]), float(r["center_shear_deg"])
+        c = (D + d) / (math.sqrt(2) * D)
+        formula = 90 - 2 * math.degrees(math.acos(c)) if c <= 1 else None
+        cells = [f"{d:.2f}", f"{formula:.2f}" if formula is not None else "-", f"{centre:.2f}",
+                 f"{centre - formula:+.2f}" if formula is not None else "-", f"{float(r['force_N']):.4g}", r["inner_steps"]]
+        print("| " + " | ".join(cells) + " |" if a.markdown else " ".join(f"{x:>11}" for x in cells))
+    print(f"every load step balanced: {'yes' if summary.get('converged') else 'NO'}; D = {D:.3f} mm")
+
+
+if __name__ == "__main__":
+    main()
