@@ -92,8 +92,9 @@ PetscErrorCode PredictSetUp(Fabric fab)
   PetscFunctionReturn(0);
 }
 
-/* Move the free points at the start of a load step whose grips move by grip_step (m). */
-PetscErrorCode PredictLoadStep(Fabric fab, PetscReal grip_step)
+/* Move the free points at the start of a load step whose grips move by grip_step (m) along
+   their path, that is by grip_move (m, a vector). */
+PetscErrorCode PredictLoadStep(Fabric fab, PetscReal grip_step, const PetscReal grip_move[3])
 {
   const Scene *s = &fab->s;
   PetscScalar *x, *xold = NULL;
@@ -114,7 +115,7 @@ PetscErrorCode PredictLoadStep(Fabric fab, PetscReal grip_step)
     for (PetscInt k = 0; k < fab->nloc; k++) {
       if (fab->kind[k] != POINT_FREE) continue;
       for (int d = 0; d < 3; d++) {
-        const PetscReal du = extrapolate ? ratio * (a[3 * k + d] - b[3 * k + d]) : fab->predict_w[k] * grip_step * fab->pull_dir[d];
+        const PetscReal du = extrapolate ? ratio * (a[3 * k + d] - b[3 * k + d]) : (s->waypoints ? fab->predict_w[k] * grip_move[d] : fab->predict_w[k] * grip_step * fab->pull_dir[d]);
         x[3 * k + d] += du;
         if (xold) xold[3 * k + d] += du;
       }
