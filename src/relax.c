@@ -288,11 +288,15 @@ PetscErrorCode ApplyLoadStep(Fabric fab, PetscInt k)
      the jaw moves instead over a cosine ramp of half a period of the slowest mode, pi/omega_1,
      as a testing machine does, so the strain at the jaw never overshoots the step's mean
      strain (TimeStep drives it). With prediction (or -grip_ramp_steps 0) it jumps, before
-     the prediction and the stable step see the new state. */
+     the prediction and the stable step see the new state; but a sphere always ramps: the
+     prediction only guesses the fabric's shape, and a sphere that jumped into the crossings
+     it missed would strike them with its penalty force. */
   fab->grip_from  = fab->grip_now;
-  fab->ramp_steps = step == 0 ? 0 : s->grip_ramp >= 0 ? s->grip_ramp : (s->predict == PREDICT_NONE ? (PetscInt)PetscCeilReal(PETSC_PI / (omega1 * fab->te)) : 0);
+  fab->ramp_steps = step == 0 ? 0 : s->grip_ramp >= 0 ? s->grip_ramp : ((s->predict == PREDICT_NONE || s->sphere_radius > 0) ? (PetscInt)PetscCeilReal(PETSC_PI / (omega1 * fab->te)) : 0);
   fab->ramp_done  = 0;
   GripMove(fab, fab->grip_disp, disp, move);
+  if (s->sphere_radius > 0) /* the sphere's move: what its linear prediction follows */
+    for (int d = 0; d < 3; d++) move[d] = step * s->sphere_dir[d];
   if (!fab->ramp_steps) PetscCall(MoveGrips(fab, disp, PETSC_TRUE));
   PetscCall(PredictLoadStep(fab, step, move));
   fab->grip_disp      = disp;

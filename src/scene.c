@@ -350,7 +350,7 @@ PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s)
   s->predict = PREDICT_LINEAR;
   PetscCall(PetscOptionsEnum("-predict", "displacement prediction at each load step", NULL, PredictNames, (PetscEnum)s->predict, (PetscEnum *)&s->predict, NULL));
   s->grip_ramp = -1;
-  PetscCall(PetscOptionsInt("-grip_ramp_steps", "te steps over which the jaw moves to each load step's position (cosine ramp); -1 = half a period of the slowest mode without prediction, 0 (a jump) with it", NULL, s->grip_ramp, &s->grip_ramp, NULL));
+  PetscCall(PetscOptionsInt("-grip_ramp_steps", "te steps over which the jaw (or the sphere) moves to each load step's position (cosine ramp); -1 = half a period of the slowest mode without prediction or with a sphere, 0 (a jump) with prediction", NULL, s->grip_ramp, &s->grip_ramp, NULL));
   PetscCheck(s->grip_ramp >= -1, comm, PETSC_ERR_USER_INPUT, "-grip_ramp_steps must be -1 (auto) or >= 0, got %" PetscInt_FMT, s->grip_ramp);
   PetscCall(PetscOptionsBool("-front", "rank propagation: compute only the points a load change can have reached", NULL, s->front, &s->front, NULL));
   PetscCall(PetscOptionsReal("-sleep_tol", "sleeping: skip points whose residual (relative, like -balance_tol) and speed stay below this, with asleep neighbours; 0 = off", NULL, s->sleep_tol, &s->sleep_tol, NULL));
