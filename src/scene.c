@@ -271,7 +271,7 @@ PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s)
   PetscCheck((s->clamp == CLAMP_JAW) == (s->test == TEST_STRIP || s->test == TEST_BIAS) || (s->clamp == CLAMP_NONE && s->grip_lines > 0), comm, PETSC_ERR_USER_INPUT, "-clamp %s with -test %s: the jaws are the strip and bias tests' clamps, and only theirs (without jaws, these tests need -grip_line_mm)", ClampNames[s->clamp], TestNames[s->test]);
   PetscCheck(s->grip_lines == 0 || s->test == TEST_STRIP || s->test == TEST_BIAS, comm, PETSC_ERR_USER_INPUT, "-grip_line_mm with -test %s: only the strip and bias tests move grips", TestNames[s->test]);
   PetscCheck((s->shape == SHAPE_BIAS) == (s->test == TEST_BIAS), comm, PETSC_ERR_USER_INPUT, "-shape %s with -test %s: the bias shape is the bias test's, and it needs it", ShapeNames[s->shape], TestNames[s->test]);
-  PetscCheck(s->test != TEST_STRIP || (s->shape == SHAPE_RECTANGLE && (s->clamp == CLAMP_JAW || (s->clamp == CLAMP_NONE && s->grip_lines > 0))), comm, PETSC_ERR_USER_INPUT, "-test strip is a rectangle between jaws (or held by -grip_line_mm with -clamp none): -shape %s and -clamp %s are for the other tests", ShapeNames[s->shape], ClampNames[s->clamp]);
+  PetscCheck(s->test != TEST_STRIP || (s->shape == SHAPE_RECTANGLE && (s->clamp == CLAMP_JAW || (s->clamp == CLAMP_NONE && s->grip_lines > 0))), comm, PETSC_ERR_USER_INPUT, "-test strip is a rectangle between jaws: -shape %s and -clamp %s are for the other tests (a strip without jaws: -clamp none and -grip_line_mm)", ShapeNames[s->shape], ClampNames[s->clamp]);
   PetscOptionsEnd();
 
   PetscOptionsBegin(comm, NULL, "Yarns (warp along x, weft along y)", NULL);
