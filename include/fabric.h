@@ -15,6 +15,9 @@
 #include "kernels.h"
 #include "material.h"
 
+#define MAX_LINES     8  /* -clamp_line_mm, -grip_line_mm */
+#define MAX_WAYPOINTS 32 /* -grip_path_mm */
+
 typedef enum { PULL_WARP, PULL_WEFT } PullAxis;
 typedef enum { INTEGRATOR_DAMPED, INTEGRATOR_PAPER } IntegratorType;
 typedef enum { PREDICT_NONE, PREDICT_LINEAR, PREDICT_EXTRAPOLATE } PredictType;
@@ -48,6 +51,17 @@ typedef struct {
   PetscReal jaw_depth;                 /* m, SHAPE_BIAS: the specimen reaches this far into each jaw */
   ClampType clamp;
   PetscReal ring[2];                   /* m, CLAMP_RING: inner and outer radius from the grid centre */
+  /* lines across the grid at any angle (on top of -clamp): the existing crossings within a
+     band of half-width w around the line through (x, y) at angle a to the warp (x) axis,
+     |-(X - x) sin a + (Y - y) cos a| <= w, are clamped (clamp lines) or move with the grip */
+  PetscInt  clamp_lines, grip_lines;
+  PetscReal clamp_line[MAX_LINES][4];  /* x, y (m, from the grid centre), a (rad), w (m) */
+  PetscReal grip_line[MAX_LINES][4];
+  /* the grip's path: piecewise linear from (0,0,0) through the waypoints, travelled at the
+     test speed over the load steps (equal lengths along it); 0 waypoints: straight along the pull */
+  PetscInt  waypoints;
+  PetscReal waypoint[MAX_WAYPOINTS][3]; /* m: grip displacement at the path's corners */
+  PetscReal path_at[MAX_WAYPOINTS];     /* m: length along the path to each waypoint */
   /* rigid sphere (punch, MODEL.md 5.5): centre = start + d * dir, d = 0 .. travel over the load steps */
   PetscReal sphere_radius;             /* m, 0 = no sphere */
   PetscReal sphere_start[3];           /* m, from the grid centre at rest */
@@ -146,7 +160,7 @@ struct _p_Fabric {
 
   /* load program state */
   PetscInt  load_step;
-  PetscReal grip_disp, grip_step_prev; /* m: target of the load step, its step */
+  PetscReal grip_disp, grip_step_prev; /* m: target of the load step, its step (along the grip's path) */
   PetscReal grip_now;                  /* m: where the grips are (ramping towards grip_disp) */
   PetscReal grip_from;                 /* m: where the ramp started */
   PetscInt  ramp_steps, ramp_done;     /* the ramp of this load step */
@@ -204,7 +218,7 @@ PetscErrorCode PredictSetUp(Fabric fab);
 PetscErrorCode FrontSetUp(Fabric fab);
 void           FrontLoadChange(Fabric fab);
 PetscInt64     FrontStepBox(Fabric fab, PetscInt global[4], PetscInt local[4]);
-PetscErrorCode PredictLoadStep(Fabric fab, PetscReal grip_step);
+PetscErrorCode PredictLoadStep(Fabric fab, PetscReal grip_step, const PetscReal grip_move[3]);
 /* relax.c */
 PetscErrorCode FabricRun(Fabric fab);
 PetscErrorCode ApplyLoadStep(Fabric fab, PetscInt k);
@@ -213,6 +227,8 @@ PetscErrorCode GripReaction(Fabric fab, PetscReal *force);
 PetscReal      LoadTravel(const Scene *s);
 PetscReal      TestTime(Fabric fab);
 PetscErrorCode MoveGrips(Fabric fab, PetscReal disp, PetscBool shift_history);
+void           GripMove(Fabric fab, PetscReal from, PetscReal to, PetscReal move[3]);
+PetscReal      GripElongation(Fabric fab, PetscReal disp);
 /* output.c */
 PetscErrorCode OutputOpen(Fabric fab);
 PetscErrorCode OutputCurveRow(Fabric fab, const CurveRow *row);

@@ -2,7 +2,7 @@
 
     xvfb-run -a pvbatch scripts/render.py DIR [--frames 0,5,last | all] [--field warp_tension]
                                               [--out PREFIX] [--size 1600x900] [--range LO,HI]
-                                              [--view angle|top|side]
+                                              [--view angle|top|side] [--panel FILE.png]
 
 DIR is a run's -output_dir (it holds fabric.xmf and fabric.h5). One image per frame,
 the crossings outside the specimen's shape (point_kind -1) left out,
@@ -10,6 +10,12 @@ PREFIX_NNNNNN.png (default DIR/render/frame_NNNNNN.png), of the deformed fabric 
 at an angle, coloured by --field (any point field of fabric.xmf: warp_tension, weft_tension,
 shear_angle_deg, ...) on one colour scale for all the chosen frames (its range over them, or
 --range), with the load step and the test time written on the image. Prints the files it wrote.
+
+--panel FILE.png also joins the chosen frames side by side into FILE.png, all seen with one
+camera (fitted to the last chosen frame) so that the deformation can be compared: the paper's
+figure 11 is three steps of the pushing test,
+
+    xvfb-run -a pvbatch scripts/render.py results/pushing --frames 1,2,last --panel fig11.png
 """
 import argparse
 import os
@@ -34,6 +40,7 @@ def parse():
     p.add_argument("--size", default="1600x900", help="image size WxH in pixels (default: 1600x900)")
     p.add_argument("--view", default="angle", choices=["angle", "top", "side"], help="camera: above at an angle (default), straight from above, or from the side (along -y)")
     p.add_argument("--range", default=None, help="colour scale LO,HI (default: the field's range over the chosen frames)")
+    p.add_argument("--panel", default=None, help="also join the chosen frames side by side into this PNG, seen with one camera")
     return p.parse_args()
 
 
@@ -109,8 +116,9 @@ def main():
     label_shown.Color = [0, 0, 0]
     label_shown.WindowLocation = "Upper Left Corner"
 
-    # seen from above the fabric, at an angle: its x (warp) axis runs across the image
-    reader.UpdatePipeline(times[frames[0]])
+    # seen from above the fabric, at an angle: its x (warp) axis runs across the image; a panel
+    # keeps one camera for all frames, fitted to the last (the most deformed)
+    reader.UpdatePipeline(times[frames[-1] if a.panel else frames[0]])
     (x0, x1, y0, y1, z0, z1) = reader.GetDataInformation().GetBounds()
     cx, cy, cz = (x0 + x1) / 2, (y0 + y1) / 2, (z0 + z1) / 2
     size = max(x1 - x0, y1 - y0, z1 - z0, 1e-9)
@@ -125,6 +133,11 @@ def main():
         view.CameraPosition = [cx, cy - 0.9 * size, cz + 1.1 * size]
         view.CameraViewUp = [0, 0, 1]
     view.ResetCamera()
+    if a.panel:
+        view.ViewTime = times[frames[-1]]
+        Render(view)
+        view.ResetCamera()
+        view.GetActiveCamera().Dolly(1.3)
 
     info = {}
     try:  # load step of each frame, from fabric.h5
@@ -134,17 +147,44 @@ def main():
                 info[i] = int(f["frames"][name].attrs["load_step"])
     except Exception:
         pass
+    written = []
     for k in frames:
         view.ViewTime = times[k]
         reader.UpdatePipeline(times[k])
         step = f"load step {info[k]}, " if k in info else ""
         label.Text = f"frame {k}: {step}t = {times[k]:.6g} s"
-        view.ResetCamera()
-        view.GetActiveCamera().Dolly(1.3)  # ResetCamera fits the bounding sphere: fill more of the image
+        if not a.panel:
+            view.ResetCamera()
+            view.GetActiveCamera().Dolly(1.3)  # ResetCamera fits the bounding sphere: fill more of the image
         Render(view)
         out = f"{prefix}_{k:06d}.png"
         SaveScreenshot(out, view, ImageResolution=[w, h])
+        written.append(out)
         print(out)
+    if a.panel:
+        join(written, a.panel)
+        print(a.panel)
+
+
+def join(files, out):
+    """the images side by side, left to right, in one PNG (VTK's image filters: in every pvbatch)"""
+    from vtkmodules.vtkIOImage import vtkPNGReader, vtkPNGWriter
+    from vtkmodules.vtkFiltersCore import vtkImageAppend
+
+    append = vtkImageAppend()
+    append.SetAppendAxis(0)
+    readers = []
+    for f in files:
+        r = vtkPNGReader()
+        r.SetFileName(f)
+        r.Update()
+        readers.append(r)
+        append.AddInputConnection(r.GetOutputPort())
+    os.makedirs(os.path.dirname(os.path.abspath(out)), exist_ok=True)
+    writer = vtkPNGWriter()
+    writer.SetFileName(out)
+    writer.SetInputConnection(append.GetOutputPort())
+    writer.Write()
 
 
 if __name__ == "__main__":

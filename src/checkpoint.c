@@ -29,7 +29,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#define MAX_KEYS 128
+#define MAX_KEYS 320
 #define CURVE_COLS 21
 #define MAX_STATE  12 /* state vectors (StateVecs) */
 
@@ -131,6 +131,25 @@ static PetscInt SceneKeys(Fabric fab, SceneKey *key)
   KEY("pedestal_top_z_m", s->pedestal_top[2]);
   KEY("pedestal_height_m", s->pedestal_height);
   KEY("friction_mu", s->friction_mu);
+  /* clamp and grip lines, the grip's path: every slot (unused ones are 0) */
+  KEY("clamp_lines", s->clamp_lines);
+  KEY("grip_lines", s->grip_lines);
+  KEY("grip_path_waypoints", s->waypoints);
+  for (int l = 0; l < 2 * MAX_LINES; l++) {
+    const PetscReal *line = l < MAX_LINES ? s->clamp_line[l] : s->grip_line[l - MAX_LINES];
+    const char      *what[4] = {"x_m", "y_m", "angle_rad", "half_width_m"};
+    for (int c = 0; c < 4; c++) {
+      char nm[40];
+      PetscSNPrintf(nm, sizeof nm, "%s_line_%d_%s", l < MAX_LINES ? "clamp" : "grip", l % MAX_LINES + 1, what[c]);
+      KEY(nm, line[c]);
+    }
+  }
+  for (int w = 0; w < MAX_WAYPOINTS; w++)
+    for (int d = 0; d < 3; d++) {
+      char nm[40];
+      PetscSNPrintf(nm, sizeof nm, "grip_path_%d_%c_m", w + 1, "xyz"[d]);
+      KEY(nm, s->waypoint[w][d]);
+    }
 #undef KEY
   PetscCheckAbort(n <= MAX_KEYS, PETSC_COMM_SELF, PETSC_ERR_PLIB, "SceneKeys: %d keys, raise MAX_KEYS", (int)n);
   return n;

@@ -58,8 +58,16 @@ static int PointExists(const Scene *s, PetscInt i, PetscInt j)
   return 0;
 }
 
+/* Is crossing (i,j) within the band of a line (x, y, angle, half-width) across the grid? */
+static int OnLine(const Scene *s, const PetscReal line[4], PetscInt i, PetscInt j)
+{
+  PetscReal x, y;
+  FromCentre(s, i, j, &x, &y);
+  return PetscAbsReal(-(x - line[0]) * PetscSinReal(line[2]) + (y - line[1]) * PetscCosReal(line[2])) <= line[3] * (1.0 + 1e-9);
+}
+
 /* The clamp region (MODEL.md 6); the strip's moving jaw is its grip. */
-static PointKind KindOf(const Scene *s, PetscInt i, PetscInt j)
+static PointKind RegionKind(const Scene *s, PetscInt i, PetscInt j)
 {
   PetscReal x, y, r2;
   switch (s->clamp) {
@@ -85,6 +93,48 @@ static PointKind KindOf(const Scene *s, PetscInt i, PetscInt j)
     return POINT_FREE;
   }
   return POINT_FREE;
+}
+
+/* The clamp region, then the clamp lines and the grip lines over it (they never overlap:
+   FabricCreate checks it). */
+static PointKind KindOf(const Scene *s, PetscInt i, PetscInt j)
+{
+  for (PetscInt l = 0; l < s->grip_lines; l++)
+    if (OnLine(s, s->grip_line[l], i, j)) return POINT_GRIP;
+  for (PetscInt l = 0; l < s->clamp_lines; l++)
+    if (OnLine(s, s->clamp_line[l], i, j)) return POINT_CLAMPED;
+  return RegionKind(s, i, j);
+}
+
+/* Every clamp or grip line selects crossings of the specimen, and no crossing is on both a
+   clamp line and a grip line (integer counts: exact on any number of ranks). */
+static PetscErrorCode CheckLines(Fabric fab, const DMDALocalInfo *info)
+{
+  const Scene *s = &fab->s;
+  PetscInt     count[2 * MAX_LINES + MAX_LINES * MAX_LINES] = {0};
+  PetscInt    *both = count + 2 * MAX_LINES;
+
+  PetscFunctionBeginUser;
+  if (!s->clamp_lines && !s->grip_lines) PetscFunctionReturn(0);
+  for (PetscInt j = info->ys; j < info->ys + info->ym; j++)
+    for (PetscInt i = info->xs; i < info->xs + info->xm; i++) {
+      if (!PointExists(s, i, j)) continue;
+      for (PetscInt c = 0; c < s->clamp_lines; c++) count[c] += OnLine(s, s->clamp_line[c], i, j);
+      for (PetscInt g = 0; g < s->grip_lines; g++) {
+        const int on = OnLine(s, s->grip_line[g], i, j);
+        count[MAX_LINES + g] += on;
+        for (PetscInt c = 0; c < s->clamp_lines; c++) both[g * MAX_LINES + c] += on && OnLine(s, s->clamp_line[c], i, j);
+      }
+    }
+  PetscCall(MPIU_Allreduce(MPI_IN_PLACE, count, 2 * MAX_LINES + MAX_LINES * MAX_LINES, MPIU_INT, MPI_SUM, fab->comm));
+  for (PetscInt c = 0; c < s->clamp_lines; c++)
+    PetscCheck(count[c] > 0, fab->comm, PETSC_ERR_USER_INPUT, "-clamp_line_mm line %" PetscInt_FMT " (%g,%g mm at %g deg, half-width %g mm) selects no crossing of the specimen", c + 1, (double)(1e3 * s->clamp_line[c][0]), (double)(1e3 * s->clamp_line[c][1]), (double)(s->clamp_line[c][2] * 180.0 / PETSC_PI), (double)(1e3 * s->clamp_line[c][3]));
+  for (PetscInt g = 0; g < s->grip_lines; g++) {
+    PetscCheck(count[MAX_LINES + g] > 0, fab->comm, PETSC_ERR_USER_INPUT, "-grip_line_mm line %" PetscInt_FMT " (%g,%g mm at %g deg, half-width %g mm) selects no crossing of the specimen", g + 1, (double)(1e3 * s->grip_line[g][0]), (double)(1e3 * s->grip_line[g][1]), (double)(s->grip_line[g][2] * 180.0 / PETSC_PI), (double)(1e3 * s->grip_line[g][3]));
+    for (PetscInt c = 0; c < s->clamp_lines; c++)
+      PetscCheck(both[g * MAX_LINES + c] == 0, fab->comm, PETSC_ERR_USER_INPUT, "-grip_line_mm line %" PetscInt_FMT " and -clamp_line_mm line %" PetscInt_FMT " share %" PetscInt_FMT " crossings: a crossing cannot be clamped and gripped", g + 1, c + 1, both[g * MAX_LINES + c]);
+  }
+  PetscFunctionReturn(0);
 }
 
 /* m x n = size ranks with at least 2 crossings per rank along each split direction (the
@@ -194,6 +244,7 @@ PetscErrorCode FabricCreate(MPI_Comm comm, Fabric *out)
     PetscCall(PatchSetUp(p));
   }
 
+  PetscCall(CheckLines(fab, &info));
   /* masses (MODEL.md 4): each existing segment gives half its yarn mass to each end */
   PetscCall(PetscMalloc4(fab->nloc, &fab->mass, fab->nloc, &fab->inv_m, fab->nloc, &fab->kind, fab->nloc, &fab->predict_w));
   {

@@ -52,7 +52,7 @@ PetscErrorCode FrontSetUp(Fabric fab)
   PetscCall(PetscMalloc2(fab->nloc, &dist, fab->nloc, &sources));
   {
     const Scene *s = &fab->s;
-    const int    pulled = s->elongation > 0, loaded = s->point_load[0] != 0 || s->point_load[1] != 0 || s->point_load[2] != 0;
+    const int    pulled = s->elongation > 0 || s->waypoints > 0, loaded = s->point_load[0] != 0 || s->point_load[1] != 0 || s->point_load[2] != 0;
     for (PetscInt k = 0; k < fab->nloc; k++) sources[k] = (char)((pulled && fab->kind[k] == POINT_GRIP) || (loaded && k == fab->load_index));
   }
   PetscCall(GraphDistance(fab, sources, dist));

@@ -2,7 +2,8 @@
  *
  * linear: with d0 the graph distance to the nearest clamped point and d1 to the nearest
  *   grip point, a free point moves by d0/(d0+d1) times the grip step (the paper's
- *   1/5 X, 2/5 X, ... for a strip of 5 rows).
+ *   1/5 X, 2/5 X, ... for a strip of 5 rows). With a sphere (pushing), the crossings its new
+ *   position would penetrate play the grips' part, and the step is the sphere's.
  * extrapolate: a free point moves by its converged increment of the previous load step,
  *   scaled by the ratio of the grip steps (the first load step falls back to linear).
  * Distances are integers on the grid graph through existing points, computed by local
@@ -72,7 +73,8 @@ PetscErrorCode GraphDistance(Fabric fab, const char *source, PetscReal *dist)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode PredictSetUp(Fabric fab)
+/* predict_w = d0/(d0+d1), d0 the graph distance to the clamps, d1 to the moving sources */
+static PetscErrorCode LinearWeights(Fabric fab, const char *moving)
 {
   PetscReal *d0, *d1;
   char      *src;
@@ -81,19 +83,58 @@ PetscErrorCode PredictSetUp(Fabric fab)
   PetscCall(PetscMalloc3(fab->nloc, &d0, fab->nloc, &d1, fab->nloc, &src));
   for (PetscInt k = 0; k < fab->nloc; k++) src[k] = (char)(fab->kind[k] == POINT_CLAMPED);
   PetscCall(GraphDistance(fab, src, d0));
-  for (PetscInt k = 0; k < fab->nloc; k++) src[k] = (char)(fab->kind[k] == POINT_GRIP);
-  PetscCall(GraphDistance(fab, src, d1));
+  PetscCall(GraphDistance(fab, moving, d1));
   for (PetscInt k = 0; k < fab->nloc; k++) {
-    if (d1[k] >= DIST_INF) fab->predict_w[k] = 0.0;      /* no grip reaches it */
-    else if (d0[k] >= DIST_INF) fab->predict_w[k] = 1.0; /* moves with the grips */
+    if (d1[k] >= DIST_INF) fab->predict_w[k] = 0.0;      /* nothing that moves reaches it */
+    else if (d0[k] >= DIST_INF) fab->predict_w[k] = 1.0; /* moves with the sources */
     else fab->predict_w[k] = d0[k] / (d0[k] + d1[k]);
   }
   PetscCall(PetscFree3(d0, d1, src));
   PetscFunctionReturn(0);
 }
 
-/* Move the free points at the start of a load step whose grips move by grip_step (m). */
-PetscErrorCode PredictLoadStep(Fabric fab, PetscReal grip_step)
+PetscErrorCode PredictSetUp(Fabric fab)
+{
+  char *src;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc1(fab->nloc, &src));
+  for (PetscInt k = 0; k < fab->nloc; k++) src[k] = (char)(fab->kind[k] == POINT_GRIP);
+  PetscCall(LinearWeights(fab, src));
+  PetscCall(PetscFree(src));
+  PetscFunctionReturn(0);
+}
+
+/* The sphere (pushing): the sources of the linear prediction are the crossings that the
+   sphere's position at travel disp would penetrate. They move with it, and the free fabric
+   between them and the clamps follows in proportion, a cone from the contact to the ring:
+   the membrane's shape, where the flat fabric of the first load step would otherwise have to
+   find it by a slow, slack relaxation. */
+static PetscErrorCode SphereWeights(Fabric fab, PetscReal disp)
+{
+  const Scene       *s     = &fab->s;
+  const PetscReal    reach = s->sphere_radius + 0.5 * s->thickness;
+  const PetscScalar *x;
+  PetscReal          c[3];
+  char              *src;
+
+  PetscFunctionBeginUser;
+  for (int d = 0; d < 3; d++) c[d] = fab->centre[d] + s->sphere_start[d] + disp * s->sphere_dir[d];
+  PetscCall(PetscMalloc1(fab->nloc, &src));
+  PetscCall(VecGetArrayRead(fab->X, &x));
+  for (PetscInt k = 0; k < fab->nloc; k++) {
+    const PetscReal r2 = PetscSqr(x[3 * k] - c[0]) + PetscSqr(x[3 * k + 1] - c[1]) + PetscSqr(x[3 * k + 2] - c[2]);
+    src[k] = (char)(fab->kind[k] == POINT_FREE && fab->mass[k] > 0 && r2 < reach * reach);
+  }
+  PetscCall(VecRestoreArrayRead(fab->X, &x));
+  PetscCall(LinearWeights(fab, src));
+  PetscCall(PetscFree(src));
+  PetscFunctionReturn(0);
+}
+
+/* Move the free points at the start of a load step whose grips move by grip_step (m) along
+   their path, that is by grip_move (m, a vector). */
+PetscErrorCode PredictLoadStep(Fabric fab, PetscReal grip_step, const PetscReal grip_move[3])
 {
   const Scene *s = &fab->s;
   PetscScalar *x, *xold = NULL;
@@ -102,6 +143,7 @@ PetscErrorCode PredictLoadStep(Fabric fab, PetscReal grip_step)
 
   PetscFunctionBeginUser;
   if (s->predict == PREDICT_NONE || grip_step == 0) PetscFunctionReturn(0);
+  if (s->sphere_radius > 0 && !extrapolate) PetscCall(SphereWeights(fab, fab->grip_disp + grip_step));
   PetscCall(PetscLogEventBegin(EV_Predict, 0, 0, 0, 0));
   PetscCall(VecGetArray(fab->X, &x));
   if (fab->Xold) PetscCall(VecGetArray(fab->Xold, &xold));
@@ -114,7 +156,7 @@ PetscErrorCode PredictLoadStep(Fabric fab, PetscReal grip_step)
     for (PetscInt k = 0; k < fab->nloc; k++) {
       if (fab->kind[k] != POINT_FREE) continue;
       for (int d = 0; d < 3; d++) {
-        const PetscReal du = extrapolate ? ratio * (a[3 * k + d] - b[3 * k + d]) : fab->predict_w[k] * grip_step * fab->pull_dir[d];
+        const PetscReal du = extrapolate ? ratio * (a[3 * k + d] - b[3 * k + d]) : (s->waypoints || s->sphere_radius > 0 ? fab->predict_w[k] * grip_move[d] : fab->predict_w[k] * grip_step * fab->pull_dir[d]);
         x[3 * k + d] += du;
         if (xold) xold[3 * k + d] += du;
       }

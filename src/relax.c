@@ -46,10 +46,52 @@ PetscErrorCode GripReaction(Fabric fab, PetscReal *force)
   PetscFunctionReturn(0);
 }
 
-/* Total travel of what the load program moves, m: the strip's jaw or the punch. */
+/* Total travel of what the load program moves, m: the strip's jaw (the length of its path) or
+   the punch. */
 PetscReal LoadTravel(const Scene *s)
 {
-  return s->test == TEST_PUSHING ? s->sphere_travel : s->elongation * s->gauge;
+  if (s->test == TEST_PUSHING) return s->sphere_travel;
+  return s->waypoints ? s->path_at[s->waypoints - 1] : s->elongation * s->gauge;
+}
+
+/* The grip's displacement at length a along its path (-grip_path_mm): piecewise linear
+   through the waypoints from 0,0,0, held at the last one beyond its end. */
+static void PathPoint(const Scene *s, PetscReal a, PetscReal u[3])
+{
+  PetscInt k = 0;
+  while (k < s->waypoints - 1 && a > s->path_at[k]) k++;
+  const PetscReal a0 = k ? s->path_at[k - 1] : 0.0, t = PetscMin(1.0, PetscMax(0.0, (a - a0) / (s->path_at[k] - a0)));
+  for (int d = 0; d < 3; d++) {
+    const PetscReal p0 = k ? s->waypoint[k - 1][d] : 0.0;
+    u[d] = p0 + t * (s->waypoint[k][d] - p0);
+  }
+}
+
+/* The grips' move from length `from` to length `to` along their path: along the pull without a
+   path (the straight pull, computed as it always was). */
+void GripMove(Fabric fab, PetscReal from, PetscReal to, PetscReal move[3])
+{
+  const Scene *s = &fab->s;
+  if (!s->waypoints) {
+    const PetscReal delta = to - from;
+    for (int d = 0; d < 3; d++) move[d] = delta * fab->pull_dir[d];
+    return;
+  }
+  PetscReal u0[3], u1[3];
+  PathPoint(s, from, u0);
+  PathPoint(s, to, u1);
+  for (int d = 0; d < 3; d++) move[d] = u1[d] - u0[d];
+}
+
+/* curve.csv's elongation at length disp along the grip's path: its displacement along the
+   pull / gauge */
+PetscReal GripElongation(Fabric fab, PetscReal disp)
+{
+  const Scene *s = &fab->s;
+  PetscReal    u[3];
+  if (!s->waypoints) return disp / s->gauge;
+  PathPoint(s, disp, u);
+  return (u[0] * fab->pull_dir[0] + u[1] * fab->pull_dir[1] + u[2] * fab->pull_dir[2]) / s->gauge;
 }
 
 /* Time of the current load step (time_s, frame times), s: the travel at the test speed; for
@@ -265,22 +307,23 @@ static PetscErrorCode LoadPointTravel(Fabric fab, CurveRow *row)
   PetscFunctionReturn(0);
 }
 
-/* Put the grips at displacement disp along the pull. A jump (shift_history) also shifts
-   the paper integrator's x(n-1), so the grips do not move back; a ramp sets the position
-   at each te step and leaves the history to the integrator. */
+/* Put the grips at length disp along their path (the pull, or -grip_path_mm). A jump
+   (shift_history) also shifts the paper integrator's x(n-1), so the grips do not move back;
+   a ramp sets the position at each te step and leaves the history to the integrator. */
 PetscErrorCode MoveGrips(Fabric fab, PetscReal disp, PetscBool shift_history)
 {
-  const PetscReal delta = disp - fab->grip_now;
-  PetscScalar    *x, *xold = NULL;
+  PetscReal    move[3];
+  PetscScalar *x, *xold = NULL;
 
   PetscFunctionBeginUser;
+  GripMove(fab, fab->grip_now, disp, move);
   PetscCall(VecGetArray(fab->X, &x));
   if (fab->Xold && shift_history) PetscCall(VecGetArray(fab->Xold, &xold));
   for (PetscInt q = 0; q < fab->nloc; q++) {
     if (fab->kind[q] != POINT_GRIP) continue;
     for (int d = 0; d < 3; d++) {
-      x[3 * q + d] += delta * fab->pull_dir[d];
-      if (xold) xold[3 * q + d] += delta * fab->pull_dir[d];
+      x[3 * q + d] += move[d];
+      if (xold) xold[3 * q + d] += move[d];
     }
   }
   if (xold) PetscCall(VecRestoreArray(fab->Xold, &xold));
@@ -295,7 +338,7 @@ PetscErrorCode ApplyLoadStep(Fabric fab, PetscInt k)
   const Scene    *s      = &fab->s;
   const PetscReal lambda = (PetscReal)k / (PetscReal)s->load_steps;
   const PetscReal disp   = lambda * LoadTravel(s), step = disp - fab->grip_disp;
-  PetscReal       damp_c, omega1;
+  PetscReal       damp_c, omega1, move[3];
 
   PetscFunctionBeginUser;
   fab->load_step   = k;
@@ -311,12 +354,17 @@ PetscErrorCode ApplyLoadStep(Fabric fab, PetscInt k)
      the jaw moves instead over a cosine ramp of half a period of the slowest mode, pi/omega_1,
      as a testing machine does, so the strain at the jaw never overshoots the step's mean
      strain (TimeStep drives it). With prediction (or -grip_ramp_steps 0) it jumps, before
-     the prediction and the stable step see the new state. */
+     the prediction and the stable step see the new state; but a sphere always ramps: the
+     prediction only guesses the fabric's shape, and a sphere that jumped into the crossings
+     it missed would strike them with its penalty force. */
   fab->grip_from  = fab->grip_now;
-  fab->ramp_steps = step == 0 ? 0 : s->grip_ramp >= 0 ? s->grip_ramp : (s->predict == PREDICT_NONE ? (PetscInt)PetscCeilReal(PETSC_PI / (omega1 * fab->te)) : 0);
+  fab->ramp_steps = step == 0 ? 0 : s->grip_ramp >= 0 ? s->grip_ramp : ((s->predict == PREDICT_NONE || s->sphere_radius > 0) ? (PetscInt)PetscCeilReal(PETSC_PI / (omega1 * fab->te)) : 0);
   fab->ramp_done  = 0;
+  GripMove(fab, fab->grip_disp, disp, move);
+  if (s->sphere_radius > 0) /* the sphere's move: what its linear prediction follows */
+    for (int d = 0; d < 3; d++) move[d] = step * s->sphere_dir[d];
   if (!fab->ramp_steps) PetscCall(MoveGrips(fab, disp, PETSC_TRUE));
-  PetscCall(PredictLoadStep(fab, step));
+  PetscCall(PredictLoadStep(fab, step, move));
   fab->grip_disp      = disp;
   fab->grip_step_prev = step;
   FrontLoadChange(fab);
@@ -356,7 +404,7 @@ PetscErrorCode RelaxLoadStep(Fabric fab, CurveRow *row)
   row->load_step   = fab->load_step;
   row->residual    = st.residual;
   row->balanced    = st.balanced;
-  row->elongation  = (s->test == TEST_STRIP || s->test == TEST_BIAS) ? fab->grip_disp / s->gauge : 0.0;
+  row->elongation  = (s->test == TEST_STRIP || s->test == TEST_BIAS) ? GripElongation(fab, fab->grip_disp) : 0.0;
   row->time        = TestTime(fab);
   PetscCall(GripReaction(fab, &row->force));
   if (s->test == TEST_SQUARE) PetscCall(LoadPointTravel(fab, row));

@@ -69,6 +69,59 @@ static PetscErrorCode YarnOptions(MPI_Comm comm, PetscOptionItems *PetscOptionsO
   PetscFunctionReturn(0);
 }
 
+/* -clamp_line_mm / -grip_line_mm x,y,angle_deg,half_width_mm[,x,y,...]: up to MAX_LINES lines, in SI */
+static PetscErrorCode LineOptions(MPI_Comm comm, PetscOptionItems *PetscOptionsObject, const char *opt, const char *help, PetscInt *nlines, PetscReal line[][4])
+{
+  PetscReal v[4 * MAX_LINES + 1];
+  PetscInt  n = 4 * MAX_LINES + 1;
+  PetscBool set;
+
+  PetscFunctionBeginUser;
+  *nlines = 0;
+  PetscCall(PetscOptionsRealArray(opt, help, NULL, v, &n, &set));
+  if (!set) PetscFunctionReturn(0);
+  PetscCheck(n > 0 && n % 4 == 0 && n <= 4 * MAX_LINES, comm, PETSC_ERR_USER_INPUT, "%s needs x,y,angle_deg,half_width_mm for each line (4 numbers per line, 1 to %d lines), got %" PetscInt_FMT " numbers", opt, MAX_LINES, n);
+  for (PetscInt k = 0; k < n / 4; k++) {
+    const PetscReal *l = v + 4 * k;
+    PetscCheck(isfinite(l[0]) && isfinite(l[1]) && isfinite(l[2]), comm, PETSC_ERR_USER_INPUT, "%s line %" PetscInt_FMT ": x, y and the angle must be finite numbers, got %g,%g,%g", opt, k + 1, (double)l[0], (double)l[1], (double)l[2]);
+    PetscCheck(isfinite(l[3]) && l[3] > 0, comm, PETSC_ERR_USER_INPUT, "%s line %" PetscInt_FMT ": the half-width must be a positive number of mm, got %g", opt, k + 1, (double)l[3]);
+    line[k][0] = 1e-3 * l[0];
+    line[k][1] = 1e-3 * l[1];
+    line[k][2] = l[2] * PETSC_PI / 180.0;
+    line[k][3] = 1e-3 * l[3];
+  }
+  *nlines = n / 4;
+  PetscFunctionReturn(0);
+}
+
+/* -grip_path_mm dx,dy,dz[,dx,dy,dz...]: the grip's waypoints (mm) after the start (0,0,0), in
+   SI, with the length along the path to each */
+static PetscErrorCode PathOptions(MPI_Comm comm, PetscOptionItems *PetscOptionsObject, Scene *s)
+{
+  PetscReal v[3 * MAX_WAYPOINTS + 1], at = 0;
+  PetscInt  n = 3 * MAX_WAYPOINTS + 1;
+  PetscBool set;
+
+  PetscFunctionBeginUser;
+  s->waypoints = 0;
+  PetscCall(PetscOptionsRealArray("-grip_path_mm", "the grip's path, replacing the straight pull of -elongation_pct: waypoints dx,dy,dz (mm, displacements from the grip's rest position, x along the warp, y along the weft) joined by straight lines from 0,0,0 and travelled at the test speed; the load steps divide its length equally; curve.csv's elongation is the displacement along the pull / gauge, force_N the reaction along the pull", NULL, v, &n, &set));
+  if (!set) PetscFunctionReturn(0);
+  PetscCheck(n > 0 && n % 3 == 0 && n <= 3 * MAX_WAYPOINTS, comm, PETSC_ERR_USER_INPUT, "-grip_path_mm needs dx,dy,dz for each waypoint (3 numbers per waypoint, 1 to %d waypoints), got %" PetscInt_FMT " numbers", MAX_WAYPOINTS, n);
+  for (PetscInt k = 0; k < n / 3; k++) {
+    PetscReal len2 = 0;
+    for (int d = 0; d < 3; d++) {
+      PetscCheck(isfinite(v[3 * k + d]), comm, PETSC_ERR_USER_INPUT, "-grip_path_mm waypoint %" PetscInt_FMT ": not a finite displacement", k + 1);
+      s->waypoint[k][d] = 1e-3 * v[3 * k + d];
+      len2 += PetscSqr(s->waypoint[k][d] - (k ? s->waypoint[k - 1][d] : 0.0));
+    }
+    PetscCheck(len2 > 0, comm, PETSC_ERR_USER_INPUT, "-grip_path_mm waypoint %" PetscInt_FMT " (%g,%g,%g mm) repeats the point before it: a path segment of zero length", k + 1, (double)v[3 * k], (double)v[3 * k + 1], (double)v[3 * k + 2]);
+    at += PetscSqrtReal(len2);
+    s->path_at[k] = at;
+  }
+  s->waypoints = n / 3;
+  PetscFunctionReturn(0);
+}
+
 /* -scene FILE: insert the YAML option file, then the command line again so that it wins */
 PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv)
 {
@@ -168,6 +221,8 @@ PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s)
     PetscCheck(!rset || n == 2, comm, PETSC_ERR_USER_INPUT, "-clamp_ring_mm needs two diameters inner,outer, got %" PetscInt_FMT, n);
     PetscCheck(s->clamp != CLAMP_RING || ((rset || s->test == TEST_DRAPE) && ring_mm[0] >= 0 && ring_mm[1] > ring_mm[0] && isfinite(ring_mm[1])), comm, PETSC_ERR_USER_INPUT, "-clamp ring needs -clamp_ring_mm inner,outer with 0 <= inner < outer, got %g,%g", (double)ring_mm[0], (double)ring_mm[1]);
   }
+  PetscCall(LineOptions(comm, PetscOptionsObject, "-clamp_line_mm", "clamp lines across the grid, on top of -clamp: x,y,angle_deg,half_width_mm per line (a point from the grid centre in mm, the angle to the warp (x) axis, the band's half-width in mm); the existing crossings within the band never move", &s->clamp_lines, s->clamp_line));
+  PetscCall(LineOptions(comm, PetscOptionsObject, "-grip_line_mm", "grip lines across the grid (strip and bias tests): x,y,angle_deg,half_width_mm per line, as -clamp_line_mm; the existing crossings within the band move with the grip", &s->grip_lines, s->grip_line));
   PetscOptionsEnd();
 
   PetscOptionsBegin(comm, NULL, "Rigid bodies with penalty contact (MODEL.md 5.5): a sphere (centre = grid centre + start + d * direction, d = 0 .. travel over the load steps), a plane, a pedestal; Coulomb friction", NULL);
@@ -230,9 +285,10 @@ PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s)
   PetscOptionsEnd();
 
   PetscOptionsBegin(comm, NULL, "Clamps", NULL);
-  PetscCheck((s->clamp == CLAMP_JAW) == (s->test == TEST_STRIP || s->test == TEST_BIAS), comm, PETSC_ERR_USER_INPUT, "-clamp %s with -test %s: the jaws are the strip and bias tests' clamps, and only theirs", ClampNames[s->clamp], TestNames[s->test]);
+  PetscCheck((s->clamp == CLAMP_JAW) == (s->test == TEST_STRIP || s->test == TEST_BIAS) || (s->clamp == CLAMP_NONE && s->grip_lines > 0), comm, PETSC_ERR_USER_INPUT, "-clamp %s with -test %s: the jaws are the strip and bias tests' clamps, and only theirs (without jaws, these tests need -grip_line_mm)", ClampNames[s->clamp], TestNames[s->test]);
+  PetscCheck(s->grip_lines == 0 || s->test == TEST_STRIP || s->test == TEST_BIAS, comm, PETSC_ERR_USER_INPUT, "-grip_line_mm with -test %s: only the strip and bias tests move grips", TestNames[s->test]);
   PetscCheck((s->shape == SHAPE_BIAS) == (s->test == TEST_BIAS), comm, PETSC_ERR_USER_INPUT, "-shape %s with -test %s: the bias shape is the bias test's, and it needs it", ShapeNames[s->shape], TestNames[s->test]);
-  PetscCheck(s->test != TEST_STRIP || (s->shape == SHAPE_RECTANGLE && s->clamp == CLAMP_JAW), comm, PETSC_ERR_USER_INPUT, "-test strip is a rectangle between jaws: -shape %s and -clamp %s are for the other tests", ShapeNames[s->shape], ClampNames[s->clamp]);
+  PetscCheck(s->test != TEST_STRIP || (s->shape == SHAPE_RECTANGLE && (s->clamp == CLAMP_JAW || (s->clamp == CLAMP_NONE && s->grip_lines > 0))), comm, PETSC_ERR_USER_INPUT, "-test strip is a rectangle between jaws: -shape %s and -clamp %s are for the other tests (a strip without jaws: -clamp none and -grip_line_mm)", ShapeNames[s->shape], ClampNames[s->clamp]);
   PetscOptionsEnd();
 
   PetscOptionsBegin(comm, NULL, "Yarns (warp along x, weft along y)", NULL);
@@ -278,6 +334,8 @@ PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s)
   n2 = 2;
   PetscCall(PetscOptionsIntArray("-point_load_at", "crossing i,j of the point load (default: the centre)", NULL, s->load_at, &n2, &set));
   PetscCheck(!set || n2 == 2, comm, PETSC_ERR_USER_INPUT, "-point_load_at needs two indices i,j, got %" PetscInt_FMT, n2);
+  PetscCall(PathOptions(comm, PetscOptionsObject, s));
+  PetscCheck(s->waypoints == 0 || s->test == TEST_STRIP || s->test == TEST_BIAS, comm, PETSC_ERR_USER_INPUT, "-grip_path_mm with -test %s: only the strip and bias tests move grips", TestNames[s->test]);
   s->load_steps      = 50;
   s->max_inner_steps = 20000;
   PetscCall(PetscOptionsInt("-load_steps", "number of load steps K", NULL, s->load_steps, &s->load_steps, NULL));
@@ -309,7 +367,7 @@ PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s)
   s->predict = PREDICT_LINEAR;
   PetscCall(PetscOptionsEnum("-predict", "displacement prediction at each load step", NULL, PredictNames, (PetscEnum)s->predict, (PetscEnum *)&s->predict, NULL));
   s->grip_ramp = -1;
-  PetscCall(PetscOptionsInt("-grip_ramp_steps", "te steps over which the jaw moves to each load step's position (cosine ramp); -1 = half a period of the slowest mode without prediction, 0 (a jump) with it", NULL, s->grip_ramp, &s->grip_ramp, NULL));
+  PetscCall(PetscOptionsInt("-grip_ramp_steps", "te steps over which the jaw (or the sphere) moves to each load step's position (cosine ramp); -1 = half a period of the slowest mode without prediction or with a sphere, 0 (a jump) with prediction", NULL, s->grip_ramp, &s->grip_ramp, NULL));
   PetscCheck(s->grip_ramp >= -1, comm, PETSC_ERR_USER_INPUT, "-grip_ramp_steps must be -1 (auto) or >= 0, got %" PetscInt_FMT, s->grip_ramp);
   PetscCall(PetscOptionsBool("-front", "rank propagation: compute only the points a load change can have reached", NULL, s->front, &s->front, NULL));
   PetscCall(PetscOptionsReal("-sleep_tol", "sleeping: skip points whose residual (relative, like -balance_tol) and speed stay below this, with asleep neighbours; 0 = off", NULL, s->sleep_tol, &s->sleep_tol, NULL));

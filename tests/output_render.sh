@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # output_render.sh FABRIC SCENE: scripts/render.py (xvfb-run -a pvbatch) renders frames of a run
-# coloured by warp tension, and scripts/plot_curve.py draws force vs elongation of two runs with
-# a measured curve overlaid; tests/check_png.py checks that the images show what they should.
+# coloured by warp tension, and three steps of a coarse pushing test side by side (the paper's
+# figure 11, --panel); scripts/plot_curve.py draws force vs elongation of two runs with a
+# measured curve overlaid; tests/check_png.py checks that the images show what they should.
 set -u
 # xvfb-run can fail to start its X server when others start at the same moment ("bad X server
 # connection"): retry that, and only that, up to 3 times. A failure of render.py itself is kept.
@@ -31,6 +32,12 @@ cat "$work/render.log"
 if xvfb_pvbatch "$root/scripts/render.py" "$work/a" --frames 7 >"$work/bad.log" 2>&1 || ! grep -q "frame 7 does not exist" "$work/bad.log"; then
   echo "FAIL render.py --frames 7 (of 0..6) did not fail with a message"; fail=1
 else echo "PASS render.py --frames 7 refused: $(grep "does not exist" "$work/bad.log")"; fi
+
+# the paper's figure 11: three steps of a coarse pushing test side by side (render.py --panel)
+mpiexec -n 2 "$fabric" -scene "$root/inputs/pushing.yaml" -quiet -ends_per_cm 6 -picks_per_cm 6 -load_steps 6 -output_every 2 -output_dir "$work/p" >/dev/null || { echo "FAIL the pushing run failed"; exit 1; }
+xvfb_pvbatch "$root/scripts/render.py" "$work/p" --frames 1,2,last --size 400x300 --out "$work/pimg/frame" --panel "$work/fig11.png" >"$work/panel.log" 2>&1 || { echo "FAIL render.py --panel failed:"; cat "$work/panel.log"; fail=1; }
+cat "$work/panel.log"
+/usr/bin/python3 "$here/check_png.py" panel "$work/fig11.png" 3 400x300 || fail=1
 
 printf "elongation_pct,force_N\n2,0.5\n6,2.3\n9,9.5\n12,24\n" >"$work/measured.csv"
 /usr/bin/python3 "$root/scripts/plot_curve.py" "$work/a/curve.csv" "$work/b/curve.csv" --labels "crimp 8 %,crimp 4 %" --measured "$work/measured.csv" -o "$work/curve.png" || fail=1

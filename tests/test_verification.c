@@ -1,7 +1,8 @@
 /* test_verification.c - the verification cases of MODEL.md 12, each against an exact answer.
  *
  *   test_verification -case linear_strip|crimp_knee|wave_speed|transverse_load|
- *                           stable_095|unstable_110|paper_parasitic|square_net|bias_extension|plane_rest|pedestal_rest|friction_incline
+ *                           stable_095|unstable_110|paper_parasitic|square_net|bias_extension|plane_rest|pedestal_rest|friction_incline|
+ *                           grip_lines|grip_path
  */
 #include "fabric.h"
 
@@ -485,6 +486,109 @@ static PetscErrorCode FrictionIncline(void)
   PetscFunctionReturn(0);
 }
 
+/* Clamp and grip lines across the grid (-clamp_line_mm, -grip_line_mm) on a 21 x 21 strip at
+   1 mm pitch, no jaws (-clamp none): the clamp line y = -10 mm (band 0.3 mm) holds exactly row
+   j = 0 (21 crossings); the grip line through the centre at atan(1/2) = 26.565 deg (band
+   0.3 mm) takes exactly the crossings with j - 10 = (i - 10)/2 (11 crossings: the next ones lie
+   0.447 mm off it); a horizontal band of half-width 1.5 mm takes rows 9, 10, 11 (63). Exact
+   integer counts, summed over the ranks. */
+static PetscErrorCode GripLines(void)
+{
+  const char *grid = BASE "-test strip -clamp none -ends_per_cm 10 -picks_per_cm 10 -gauge_mm 20 -yarns 21 -load_steps 1 -predict none ";
+  const char *grips[2] = {"-grip_line_mm 0,0,26.565051177077990,0.3", "-grip_line_mm 5,0,0,1.5"};
+  const PetscInt expect[2] = {11, 63};
+
+  PetscFunctionBeginUser;
+  for (int c = 0; c < 2; c++) {
+    Fabric   fab;
+    char     opts[512];
+    PetscInt n[4] = {0, 0, 0, 0}; /* clamped, gripped, wrong clamps, wrong grips */
+    PetscCall(PetscSNPrintf(opts, sizeof opts, "%s -clamp_line_mm 0,-10,0,0.3 %s", grid, grips[c]));
+    PetscCall(NewFabric(opts, &fab));
+    const Patch *p = &fab->patch;
+    for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
+      for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
+        const int kind = fab->kind[(j - p->ys) * p->xm + (i - p->xs)];
+        const int on   = c == 0 ? 2 * (j - 10) == i - 10 : (j >= 9 && j <= 11);
+        n[0] += kind == POINT_CLAMPED;
+        n[1] += kind == POINT_GRIP;
+        n[2] += kind == POINT_CLAMPED && j != 0;
+        n[3] += (kind == POINT_GRIP) != on;
+      }
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, n, 4, MPIU_INT, MPI_SUM, PETSC_COMM_WORLD));
+    CheckTrue("clamp line y = -10 mm: 21 clamped crossings, all on row j = 0", n[0] == 21 && n[2] == 0, (double)n[0]);
+    CheckTrue(c == 0 ? "grip line at 26.565 deg: 11 grips, exactly the crossings 2(j-10) = i-10" : "grip band 1.5 mm: 63 grips, exactly rows 9-11", n[1] == expect[c] && n[3] == 0, (double)n[1]);
+    PetscCall(FabricDestroy(&fab));
+  }
+  PetscFunctionReturn(0);
+}
+
+/* The grip's path (-grip_path_mm) on a linear uncrimped strip of 10 yarns (20 mm, no bending or
+   shear):
+   1. out 0.4 mm and back to 0.2 mm along the pull, 6 equal load steps, no prediction: the
+      elongation is the path's x / gauge (1e-12) and the reaction 10 EA strain at every step
+      (0.5 %), going out and coming back;
+   2. 2 mm up, perpendicular to the fabric, then 0.4 mm along the pull, 4 load steps, no
+      prediction (damping ratio 0.05: the slowest mode is transverse, as in transverse_load):
+      the yarns stand straight from the clamp to the grip, reaction along the pull
+      10 EA (l/L - 1)(L + dx)/l with l = sqrt((L + dx)^2 + dz^2), at every step (0.5 %);
+   3. no clamp at all (a grip line at the far end) and a path 0.5 mm across the pull, linear
+      prediction (every free crossing moves with the grip: no clamp to share the move with):
+      a rigid translation, zero reaction, every crossing moved by the path to 1e-12 m. */
+static PetscErrorCode GripPath(void)
+{
+  const char *strip = BASE "-yarns 10 -gauge_mm 20 -warp_crimp_pct 0 -weft_crimp_pct 0 -bending 0 -shear 0 -balance_tol 1e-7 -speed_tol 1e-7 -max_inner_steps 100000 ";
+  Fabric      fab;
+  char        opts[512];
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscSNPrintf(opts, sizeof opts, "%s -predict none -load_steps 6 -grip_path_mm 0.4,0,0,0.2,0,0", strip));
+  PetscCall(NewFabric(opts, &fab));
+  PetscCall(FabricRun(fab));
+  {
+    const PetscReal x_mm[6] = {0.1, 0.2, 0.3, 0.4, 0.3, 0.2};
+    for (PetscInt q = 0; q < 6; q++) {
+      const CurveRow *r = &fab->curve[q];
+      char            what[96];
+      PetscCall(PetscSNPrintf(what, sizeof what, "out and back, step %d: elongation = path x / gauge", (int)q + 1));
+      CheckRel(what, r->elongation, 1e-3 * x_mm[q] / fab->s.gauge, 1e-12);
+      PetscCall(PetscSNPrintf(what, sizeof what, "out and back, step %d: force = 10 EA strain (N' %d)", (int)q + 1, (int)r->inner_steps));
+      CheckRel(what, r->force, 10 * fab->s.warp.EA * r->elongation, 5e-3);
+    }
+  }
+  PetscCall(FabricDestroy(&fab));
+
+  PetscCall(PetscSNPrintf(opts, sizeof opts, "%s -predict none -damping_ratio 0.05 -load_steps 4 -grip_path_mm 0,0,2,0.4,0,2", strip));
+  PetscCall(NewFabric(opts, &fab));
+  PetscCall(FabricRun(fab));
+  for (PetscInt q = 0; q < 4; q++) {
+    const PetscReal a = 2.4e-3 * (q + 1) / 4, dz = PetscMin(a, 2e-3), dx = a - dz, L = fab->s.gauge;
+    const PetscReal l = PetscSqrtReal(PetscSqr(L + dx) + dz * dz);
+    char            what[96];
+    PetscCall(PetscSNPrintf(what, sizeof what, "up and along, step %d: force along the pull (N' %d)", (int)q + 1, (int)fab->curve[q].inner_steps));
+    CheckRel(what, fab->curve[q].force, 10 * fab->s.warp.EA * (l / L - 1) * (L + dx) / l, 5e-3);
+  }
+  PetscCall(FabricDestroy(&fab));
+
+  PetscCall(PetscSNPrintf(opts, sizeof opts, "%s -predict linear -load_steps 2 -clamp none -grip_line_mm 10,0,90,0.01 -grip_path_mm 0,0.5,0", strip));
+  PetscCall(NewFabric(opts, &fab));
+  PetscCall(FabricRun(fab));
+  {
+    const PetscScalar *x, *x0;
+    PetscReal          err = 0;
+    PetscCall(VecGetArrayRead(fab->X, &x));
+    PetscCall(VecGetArrayRead(fab->X0, &x0));
+    for (PetscInt k = 0; k < fab->nloc; k++) err = PetscMax(err, PetscAbsReal(x[3 * k] - x0[3 * k]) + PetscAbsReal(x[3 * k + 1] - x0[3 * k + 1] - 0.5e-3) + PetscAbsReal(x[3 * k + 2] - x0[3 * k + 2]));
+    PetscCall(VecRestoreArrayRead(fab->X0, &x0));
+    PetscCall(VecRestoreArrayRead(fab->X, &x));
+    PetscCall(GlobalMax(PETSC_COMM_WORLD, &err, 1));
+    CheckTrue("rigid translation across the pull: every crossing moved by 0,0.5,0 mm (max error <= 1e-12 m)", err <= 1e-12, err);
+    CheckTrue("rigid translation: no reaction (|force| <= 1e-12 N)", PetscAbsReal(fab->curve[1].force) <= 1e-12, fab->curve[1].force);
+  }
+  PetscCall(FabricDestroy(&fab));
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode SpeedupsCurve(void)
 {
   Fabric    fab;
@@ -531,6 +635,8 @@ int main(int argc, char **argv)
   else if (!strcmp(name, "plane_rest")) PetscCall(PlaneRest());
   else if (!strcmp(name, "pedestal_rest")) PetscCall(PedestalRest());
   else if (!strcmp(name, "friction_incline")) PetscCall(FrictionIncline());
+  else if (!strcmp(name, "grip_lines")) PetscCall(GripLines());
+  else if (!strcmp(name, "grip_path")) PetscCall(GripPath());
   else SETERRQ(PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT, "unknown -case %s", name);
   PetscCall(PetscFinalize());
   return failures ? 1 : 0;
