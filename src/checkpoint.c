@@ -44,6 +44,13 @@ static PetscInt SceneKeys(Fabric fab, SceneKey *key)
   const Scene *s = &fab->s;
   PetscInt     n = 0;
 #define KEY(nm, v) (PetscStrncpy(key[n].name, nm, sizeof key[n].name), key[n].value = (PetscReal)(v), n++)
+  /* a 3-vector as PREFIX_x UNIT, PREFIX_y UNIT, PREFIX_z UNIT */
+#define KEY3(prefix, unit, v) \
+  for (int d_ = 0; d_ < 3; d_++) { \
+    char nm3_[40]; \
+    PetscSNPrintf(nm3_, sizeof nm3_, "%s_%c%s", prefix, "xyz"[d_], unit); \
+    KEY(nm3_, (v)[d_]); \
+  }
   KEY("grid_nx", s->nx);
   KEY("grid_ny", s->ny);
   KEY("pull", s->pull);
@@ -74,16 +81,12 @@ static PetscInt SceneKeys(Fabric fab, SceneKey *key)
   KEY("traction", s->traction);
   KEY("bending", s->bending);
   KEY("shear", s->shear);
-  KEY("gravity_x", s->gravity[0]);
-  KEY("gravity_y", s->gravity[1]);
-  KEY("gravity_z", s->gravity[2]);
+  KEY3("gravity", "", s->gravity);
   KEY("nu", s->nu);
   KEY("damping_ratio", s->damping_ratio);
   KEY("elongation", s->elongation);
   KEY("speed_m_s", s->speed);
-  KEY("point_load_x_N", s->point_load[0]);
-  KEY("point_load_y_N", s->point_load[1]);
-  KEY("point_load_z_N", s->point_load[2]);
+  KEY3("point_load", "_N", s->point_load);
   KEY("point_load_i", s->load_at[0]);
   KEY("point_load_j", s->load_at[1]);
   KEY("load_steps", s->load_steps);
@@ -109,26 +112,16 @@ static PetscInt SceneKeys(Fabric fab, SceneKey *key)
   KEY("clamp_ring_outer_m", s->ring[1]);
   KEY("jaw_depth_m", s->jaw_depth);
   KEY("sphere_radius_m", s->sphere_radius);
-  KEY("sphere_start_x_m", s->sphere_start[0]);
-  KEY("sphere_start_y_m", s->sphere_start[1]);
-  KEY("sphere_start_z_m", s->sphere_start[2]);
-  KEY("sphere_dir_x", s->sphere_dir[0]);
-  KEY("sphere_dir_y", s->sphere_dir[1]);
-  KEY("sphere_dir_z", s->sphere_dir[2]);
+  KEY3("sphere_start", "_m", s->sphere_start);
+  KEY3("sphere_dir", "", s->sphere_dir);
   KEY("sphere_travel_m", s->sphere_travel);
   KEY("thickness_m", s->thickness);
   KEY("plane", s->plane);
-  KEY("plane_point_x_m", s->plane_point[0]);
-  KEY("plane_point_y_m", s->plane_point[1]);
-  KEY("plane_point_z_m", s->plane_point[2]);
-  KEY("plane_normal_x", s->plane_normal[0]);
-  KEY("plane_normal_y", s->plane_normal[1]);
-  KEY("plane_normal_z", s->plane_normal[2]);
+  KEY3("plane_point", "_m", s->plane_point);
+  KEY3("plane_normal", "", s->plane_normal);
   KEY("contact_stiffness_N_m", s->contact_k);
   KEY("pedestal_radius_m", s->pedestal_radius);
-  KEY("pedestal_top_x_m", s->pedestal_top[0]);
-  KEY("pedestal_top_y_m", s->pedestal_top[1]);
-  KEY("pedestal_top_z_m", s->pedestal_top[2]);
+  KEY3("pedestal_top", "_m", s->pedestal_top);
   KEY("pedestal_height_m", s->pedestal_height);
   KEY("friction_mu", s->friction_mu);
   /* clamp and grip lines, the grip's path: every slot (unused ones are 0) */
@@ -144,12 +137,12 @@ static PetscInt SceneKeys(Fabric fab, SceneKey *key)
       KEY(nm, line[c]);
     }
   }
-  for (int w = 0; w < MAX_WAYPOINTS; w++)
-    for (int d = 0; d < 3; d++) {
-      char nm[40];
-      PetscSNPrintf(nm, sizeof nm, "grip_path_%d_%c_m", w + 1, "xyz"[d]);
-      KEY(nm, s->waypoint[w][d]);
-    }
+  for (int w = 0; w < MAX_WAYPOINTS; w++) {
+    char nm[40];
+    PetscSNPrintf(nm, sizeof nm, "grip_path_%d", w + 1);
+    KEY3(nm, "_m", s->waypoint[w]);
+  }
+#undef KEY3
 #undef KEY
   PetscCheckAbort(n <= MAX_KEYS, PETSC_COMM_SELF, PETSC_ERR_PLIB, "SceneKeys: %d keys, raise MAX_KEYS", (int)n);
   return n;
