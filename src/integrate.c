@@ -97,15 +97,17 @@ PetscErrorCode StableStep(Fabric fab)
 }
 
 /* accumulators of one sweep: max |F|^2 and |v|^2 over free points, sum |v|^2 (non-finite
-   watch), and the awake points' bounding box in the sweep's index (sleeping) */
+   watch), and the awake points' bounding box in the sweep's index (sleeping: a free point
+   whose |F|^2 exceeds f2 or whose new |v|^2 exceeds v2; f2 = v2 = PETSC_MAX_REAL without it) */
 typedef struct {
   PetscReal res2, v2, v2sum;
   PetscInt  awake_lo, awake_hi; /* first and one past the last awake index, or lo >= hi */
 } SweepStats;
 
-static void IntegrateDamped(PetscInt n, PetscReal te, PetscReal c0, PetscReal nu, const PetscReal g[3], const PetscReal *mass, const PetscReal *inv_m, const PetscReal *f, PetscReal *restrict x, PetscReal *restrict v, SweepStats *st)
+static void IntegrateDamped(PetscInt n, PetscReal te, PetscReal c0, PetscReal nu, const PetscReal g[3], const PetscReal *mass, const PetscReal *inv_m, const PetscReal *f, PetscReal f2, PetscReal v2max, PetscReal *restrict x, PetscReal *restrict v, SweepStats *st)
 {
   PetscReal res2 = 0, v2 = 0, v2sum = 0;
+  st->awake_lo = n, st->awake_hi = 0;
   for (PetscInt k = 0; k < n; k++) {
     const PetscReal im = inv_m[k], m = mass[k], c = c0 + nu * im;
     const PetscReal den = 1.0 / (2.0 + c * te), a = (2.0 - c * te) * den, b = 2.0 * te * im * den;
@@ -121,15 +123,20 @@ static void IntegrateDamped(PetscInt n, PetscReal te, PetscReal c0, PetscReal nu
     res2 = PetscMax(res2, r2);
     v2   = PetscMax(v2, w2);
     v2sum += w2;
+    if (im > 0 && (r2 > f2 || w2 > v2max)) {
+      st->awake_lo = PetscMin(st->awake_lo, k);
+      st->awake_hi = k + 1;
+    }
   }
   st->res2  = res2;
   st->v2    = v2;
   st->v2sum = v2sum;
 }
 
-static void IntegratePaper(PetscInt n, PetscReal te, PetscReal c0, PetscReal nu, const PetscReal g[3], const PetscReal *mass, const PetscReal *inv_m, const PetscReal *f, PetscReal *restrict x, PetscReal *restrict v, PetscReal *restrict xold, PetscReal *restrict vold, SweepStats *st)
+static void IntegratePaper(PetscInt n, PetscReal te, PetscReal c0, PetscReal nu, const PetscReal g[3], const PetscReal *mass, const PetscReal *inv_m, const PetscReal *f, PetscReal f2, PetscReal v2max, PetscReal *restrict x, PetscReal *restrict v, PetscReal *restrict xold, PetscReal *restrict vold, SweepStats *st)
 {
   PetscReal res2 = 0, v2 = 0, v2sum = 0;
+  st->awake_lo = n, st->awake_hi = 0;
   for (PetscInt k = 0; k < n; k++) {
     const PetscReal im = inv_m[k], m = mass[k], c = c0 + nu * im;
     PetscReal       r2 = 0, w2 = 0;
@@ -146,24 +153,14 @@ static void IntegratePaper(PetscInt n, PetscReal te, PetscReal c0, PetscReal nu,
     res2 = PetscMax(res2, im > 0 ? r2 : 0.0);
     v2   = PetscMax(v2, w2);
     v2sum += w2;
-  }
-  st->res2  = res2;
-  st->v2    = v2;
-  st->v2sum = v2sum;
-}
-
-/* awake points of a row segment: residual or speed above the sleep thresholds */
-static void AwakeRange(PetscInt n, const PetscReal g[3], const PetscReal *mass, const PetscReal *inv_m, const PetscReal *f, const PetscReal *v, PetscReal f2, PetscReal v2, SweepStats *st)
-{
-  st->awake_lo = n, st->awake_hi = 0;
-  for (PetscInt k = 0; k < n; k++) {
-    if (inv_m[k] <= 0) continue;
-    const PetscReal Fx = f[3 * k] + mass[k] * g[0], Fy = f[3 * k + 1] + mass[k] * g[1], Fz = f[3 * k + 2] + mass[k] * g[2];
-    if (Fx * Fx + Fy * Fy + Fz * Fz > f2 || v[3 * k] * v[3 * k] + v[3 * k + 1] * v[3 * k + 1] + v[3 * k + 2] * v[3 * k + 2] > v2) {
+    if (im > 0 && (r2 > f2 || w2 > v2max)) {
       st->awake_lo = PetscMin(st->awake_lo, k);
       st->awake_hi = k + 1;
     }
   }
+  st->res2  = res2;
+  st->v2    = v2;
+  st->v2sum = v2sum;
 }
 
 /* Kinetic damping (Cundall; Barnes' dynamic relaxation): the total kinetic energy
@@ -203,7 +200,7 @@ PetscErrorCode TimeStep(Fabric fab, StepStats *out)
   PetscScalar *x, *v, *f, *xold = NULL, *vold = NULL;
   const PetscBool sleep = s->sleep_tol > 0;
   const PetscReal scale = PetscMax(fab->last.tension_max, fab->force_floor);
-  const PetscReal sleep_f2 = PetscSqr(s->sleep_tol * scale), sleep_v2 = PetscSqr(s->speed_tol * s->sleep_tol / s->balance_tol);
+  const PetscReal sleep_f2 = sleep ? PetscSqr(s->sleep_tol * scale) : PETSC_MAX_REAL, sleep_v2 = sleep ? PetscSqr(s->speed_tol * s->sleep_tol / s->balance_tol) : PETSC_MAX_REAL;
   PetscInt        alo = PETSC_MAX_INT, ahi = -1, ajlo = PETSC_MAX_INT, ajhi = -1;
 
   PetscFunctionBeginUser;
@@ -224,13 +221,12 @@ PetscErrorCode TimeStep(Fabric fab, StepStats *out)
   for (PetscInt j = box[2]; j < box[3]; j++) {
     const PetscInt k0 = (j - p->ys) * p->xm + (box[0] - p->xs), n = box[1] - box[0];
     SweepStats     st;
-    if (s->integrator == INTEGRATOR_PAPER) IntegratePaper(n, fab->te, fab->damp_c, s->nu, fab->gravity_now, fab->mass + k0, fab->inv_m + k0, f + 3 * k0, x + 3 * k0, v + 3 * k0, xold + 3 * k0, vold + 3 * k0, &st);
-    else IntegrateDamped(n, fab->te, fab->damp_c, s->nu, fab->gravity_now, fab->mass + k0, fab->inv_m + k0, f + 3 * k0, x + 3 * k0, v + 3 * k0, &st);
+    if (s->integrator == INTEGRATOR_PAPER) IntegratePaper(n, fab->te, fab->damp_c, s->nu, fab->gravity_now, fab->mass + k0, fab->inv_m + k0, f + 3 * k0, sleep_f2, sleep_v2, x + 3 * k0, v + 3 * k0, xold + 3 * k0, vold + 3 * k0, &st);
+    else IntegrateDamped(n, fab->te, fab->damp_c, s->nu, fab->gravity_now, fab->mass + k0, fab->inv_m + k0, f + 3 * k0, sleep_f2, sleep_v2, x + 3 * k0, v + 3 * k0, &st);
     all.res2 = PetscMax(all.res2, st.res2);
     all.v2   = PetscMax(all.v2, st.v2);
     all.v2sum += st.v2sum;
     if (sleep) {
-      AwakeRange(n, fab->gravity_now, fab->mass + k0, fab->inv_m + k0, f + 3 * k0, v + 3 * k0, sleep_f2, sleep_v2, &st);
       if (st.awake_lo < st.awake_hi) {
         alo = PetscMin(alo, box[0] + st.awake_lo), ahi = PetscMax(ahi, box[0] + st.awake_hi);
         ajlo = PetscMin(ajlo, j), ajhi = j + 1;
