@@ -105,6 +105,9 @@ typedef struct {
   PetscBool      quiet;
 } Scene;
 
+/* the strip and bias tests pull jaws (their curve is force vs elongation); the others have none */
+static inline PetscBool JawTest(const Scene *s) { return (s->test == TEST_STRIP || s->test == TEST_BIAS) ? PETSC_TRUE : PETSC_FALSE; }
+
 typedef struct { /* one row of curve.csv */
   PetscInt  load_step, inner_steps;
   PetscReal time, elongation, force, residual;
@@ -217,6 +220,7 @@ PetscErrorCode PredictSetUp(Fabric fab);
 /* front.c */
 PetscErrorCode FrontSetUp(Fabric fab);
 void           FrontLoadChange(Fabric fab);
+void           FrontWakeAll(Fabric fab);
 PetscInt64     FrontStepBox(Fabric fab, PetscInt global[4], PetscInt local[4]);
 PetscErrorCode PredictLoadStep(Fabric fab, PetscReal grip_step, const PetscReal grip_move[3]);
 /* relax.c */

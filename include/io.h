@@ -40,7 +40,6 @@ struct _p_FabricIO {
   PetscInt64 te_base;         /* te_steps when that load step began */
   /* restart */
   PetscBool      restarted;
-  PetscLogDouble wall_before; /* wall time of the run(s) before the restart */
 };
 typedef struct _p_FabricIO *FabricIO;
 

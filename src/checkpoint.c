@@ -658,7 +658,6 @@ PetscErrorCode RestartLoad(Fabric fab)
     PetscCall(FramesAppend(fab, &f));
   }
   io->restarted   = PETSC_TRUE;
-  io->wall_before = h.wall;
   fab->wall_start -= h.wall; /* elapsed time and ETA count the run before the restart */
   PetscCall(PetscFree(rows));
   PetscCall(PetscFree(frames));

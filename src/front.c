@@ -98,20 +98,24 @@ void FrontLoadChange(Fabric fab)
   fab->front_step    = 0;
   fab->front_covered = (!s->front || s->predict != PREDICT_NONE || (gravity && fab->load_step == 1)) ? PETSC_TRUE : PETSC_FALSE;
   if (s->sleep_tol > 0) {
-    if (s->predict != PREDICT_NONE || fab->load_step == 1) {
-      fab->awake_box[0] = 0, fab->awake_box[1] = s->nx, fab->awake_box[2] = 0, fab->awake_box[3] = s->ny;
-    } else if (fab->front_box) { /* wake the disturbed points too */
+    if (s->predict != PREDICT_NONE || fab->load_step == 1 || !fab->front_box) FrontWakeAll(fab);
+    else { /* wake the disturbed points too */
       const PetscInt *src = fab->front_box;
       fab->awake_box[0] = PetscMin(fab->awake_box[0], src[0]), fab->awake_box[1] = PetscMax(fab->awake_box[1], src[1]);
       fab->awake_box[2] = PetscMin(fab->awake_box[2], src[2]), fab->awake_box[3] = PetscMax(fab->awake_box[3], src[3]);
-    } else {
-      fab->awake_box[0] = 0, fab->awake_box[1] = s->nx, fab->awake_box[2] = 0, fab->awake_box[3] = s->ny;
     }
   }
 }
 
+/* sleeping: every point awake */
+void FrontWakeAll(Fabric fab)
+{
+  fab->awake_box[0] = 0, fab->awake_box[1] = fab->s.nx, fab->awake_box[2] = 0, fab->awake_box[3] = fab->s.ny;
+}
+
 /* The box of points the next te step computes: global (same on every rank), and the
-   owned part of it. Returns the number of points in the global box. */
+   owned part of it. Returns the number of crossings it updates: those that exist when it is
+   the whole grid (a disc or bias specimen has holes), its area otherwise. */
 PetscInt64 FrontStepBox(Fabric fab, PetscInt global[4], PetscInt local[4])
 {
   const Scene *s = &fab->s;
@@ -137,5 +141,6 @@ PetscInt64 FrontStepBox(Fabric fab, PetscInt global[4], PetscInt local[4])
   local[0] = global[0], local[1] = global[1], local[2] = global[2], local[3] = global[3];
   BoxIntersect(local, owned);
   if (BoxEmpty(local)) local[0] = local[1] = local[2] = local[3] = 0;
+  if (global[0] == 0 && global[1] == s->nx && global[2] == 0 && global[3] == s->ny) return fab->points;
   return (PetscInt64)(global[1] - global[0]) * (global[3] - global[2]);
 }

@@ -89,7 +89,7 @@ static PetscErrorCode Run(int argc, char **argv)
     const CurveRow *last = &fab->curve[fab->s.load_steps - 1];
     for (PetscInt k = 0; k < fab->s.load_steps; k++) peak = PetscMax(peak, fab->curve[k].force);
     /* the jaw tests end at an elongation, the others at a travel (sphere, load point, drop) */
-    if (fab->s.test == TEST_STRIP || fab->s.test == TEST_BIAS) PetscCall(PetscSNPrintf(where, sizeof where, "%.3g %% elongation", (double)(100 * last->elongation)));
+    if (JawTest(&fab->s)) PetscCall(PetscSNPrintf(where, sizeof where, "%.3g %% elongation", (double)(100 * last->elongation)));
     else PetscCall(PetscSNPrintf(where, sizeof where, "%.4g mm travel", (double)(1e3 * last->travel)));
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fabric: done in %.2f s: %" PetscInt64_FMT " te steps, %.3e point updates/s; peak force %.4g N, last load step at %s; %s\n", (double)fab->wall, fab->te_steps, fab->wall > 0 ? (double)fab->point_updates / fab->wall : 0.0, (double)peak,
                           where, fab->converged ? "every load step balanced" : "some load steps did NOT balance (see curve.csv residual)"));

@@ -120,7 +120,7 @@ PetscErrorCode OutputProgress(Fabric fab, const CurveRow *r)
 
   PetscFunctionBeginUser;
   if (fab->s.quiet) PetscFunctionReturn(0);
-  if (fab->s.test == TEST_SQUARE || fab->s.test == TEST_PUSHING) { /* no jaws: the load point's or the ball's travel */
+  if (!JawTest(&fab->s)) { /* no jaws: the load point's or the ball's travel, the drape's drop */
     PetscCall(PetscPrintf(fab->comm, "load step %4" PetscInt_FMT "/%" PetscInt_FMT "  travel %8.3f mm  force %10.4f N  N' %6" PetscInt_FMT "%s  residual %.2e  te %.3g s  elapsed %.1f s  ETA %.1f s\n", r->load_step, K, (double)(1e3 * r->travel), (double)r->force, r->inner_steps, r->balanced ? " " : "*", (double)r->residual, (double)fab->te, (double)fab->wall, (double)eta));
     PetscFunctionReturn(0);
   }

@@ -397,14 +397,14 @@ PetscErrorCode RelaxLoadStep(Fabric fab, CurveRow *row)
     PetscCall(CheckBreaks(fab, &broke));
     if (broke) {
       fab->front_covered = PETSC_TRUE;
-      fab->awake_box[0] = 0, fab->awake_box[1] = s->nx, fab->awake_box[2] = 0, fab->awake_box[3] = s->ny;
+      FrontWakeAll(fab);
     }
     if (!broke || round >= MAX_BREAK_ROUNDS) break;
   }
   row->load_step   = fab->load_step;
   row->residual    = st.residual;
   row->balanced    = st.balanced;
-  row->elongation  = (s->test == TEST_STRIP || s->test == TEST_BIAS) ? GripElongation(fab, fab->grip_disp) : 0.0;
+  row->elongation  = JawTest(s) ? GripElongation(fab, fab->grip_disp) : 0.0;
   row->time        = TestTime(fab);
   PetscCall(GripReaction(fab, &row->force));
   if (s->test == TEST_SQUARE) PetscCall(LoadPointTravel(fab, row));

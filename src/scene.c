@@ -212,7 +212,7 @@ PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s)
   CHECK_NONNEG(disc_mm, "-disc_diameter_mm");
   PetscCall(PetscOptionsReal("-jaw_depth_mm", "bias specimen: length held in each jaw beyond the gauge length (mm)", NULL, jaw_mm, &jaw_mm, NULL));
   CHECK_POSITIVE(jaw_mm, "-jaw_depth_mm");
-  s->clamp = (s->test == TEST_STRIP || s->test == TEST_BIAS) ? CLAMP_JAW : (s->test == TEST_DRAPE ? CLAMP_RING : CLAMP_EDGE);
+  s->clamp = JawTest(s) ? CLAMP_JAW : (s->test == TEST_DRAPE ? CLAMP_RING : CLAMP_EDGE);
   PetscCall(PetscOptionsEnum("-clamp", "clamped crossings: jaw (the strip's or bias specimen's fixed jaw; the other end is the moving jaw), edge (every crossing of the shape's outline), ring (an annulus around the grid centre), none", NULL, ClampNames, (PetscEnum)s->clamp, (PetscEnum *)&s->clamp, NULL));
   {
     PetscInt  n = 2;
@@ -285,8 +285,8 @@ PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s)
   PetscOptionsEnd();
 
   PetscOptionsBegin(comm, NULL, "Clamps", NULL);
-  PetscCheck((s->clamp == CLAMP_JAW) == (s->test == TEST_STRIP || s->test == TEST_BIAS) || (s->clamp == CLAMP_NONE && s->grip_lines > 0), comm, PETSC_ERR_USER_INPUT, "-clamp %s with -test %s: the jaws are the strip and bias tests' clamps, and only theirs (without jaws, these tests need -grip_line_mm)", ClampNames[s->clamp], TestNames[s->test]);
-  PetscCheck(s->grip_lines == 0 || s->test == TEST_STRIP || s->test == TEST_BIAS, comm, PETSC_ERR_USER_INPUT, "-grip_line_mm with -test %s: only the strip and bias tests move grips", TestNames[s->test]);
+  PetscCheck((s->clamp == CLAMP_JAW) == JawTest(s) || (s->clamp == CLAMP_NONE && s->grip_lines > 0), comm, PETSC_ERR_USER_INPUT, "-clamp %s with -test %s: the jaws are the strip and bias tests' clamps, and only theirs (without jaws, these tests need -grip_line_mm)", ClampNames[s->clamp], TestNames[s->test]);
+  PetscCheck(s->grip_lines == 0 || JawTest(s), comm, PETSC_ERR_USER_INPUT, "-grip_line_mm with -test %s: only the strip and bias tests move grips", TestNames[s->test]);
   PetscCheck((s->shape == SHAPE_BIAS) == (s->test == TEST_BIAS), comm, PETSC_ERR_USER_INPUT, "-shape %s with -test %s: the bias shape is the bias test's, and it needs it", ShapeNames[s->shape], TestNames[s->test]);
   PetscCheck(s->test != TEST_STRIP || (s->shape == SHAPE_RECTANGLE && (s->clamp == CLAMP_JAW || (s->clamp == CLAMP_NONE && s->grip_lines > 0))), comm, PETSC_ERR_USER_INPUT, "-test strip is a rectangle between jaws: -shape %s and -clamp %s are for the other tests (a strip without jaws: -clamp none and -grip_line_mm)", ShapeNames[s->shape], ClampNames[s->clamp]);
   PetscOptionsEnd();
@@ -325,7 +325,7 @@ PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s)
   if (s->test != TEST_STRIP && s->test != TEST_BIAS) elong_pct = 0; /* no jaws */
   PetscCall(PetscOptionsReal("-elongation_pct", "final elongation: grip travel / gauge length (%)", NULL, elong_pct, &elong_pct, NULL));
   PetscCheck(isfinite(elong_pct) && elong_pct >= 0 && elong_pct <= 100, comm, PETSC_ERR_USER_INPUT, "-elongation_pct must be in [0,100], got %g", (double)elong_pct);
-  PetscCheck(s->test == TEST_STRIP || s->test == TEST_BIAS || elong_pct == 0, comm, PETSC_ERR_USER_INPUT, "-elongation_pct %g: -test %s has no jaws to pull", (double)elong_pct, TestNames[s->test]);
+  PetscCheck(JawTest(s) || elong_pct == 0, comm, PETSC_ERR_USER_INPUT, "-elongation_pct %g: -test %s has no jaws to pull", (double)elong_pct, TestNames[s->test]);
   PetscCall(PetscOptionsReal("-speed_mm_min", "test speed of the moving jaw (mm/min); gives time_s", NULL, speed_mm_min, &speed_mm_min, NULL));
   CHECK_POSITIVE(speed_mm_min, "-speed_mm_min");
   PetscCall(PetscOptionsRealArray("-point_load_N", "final point load fx,fy,fz (N), ramped with the load steps", NULL, s->point_load, &n3, &set));
@@ -335,7 +335,7 @@ PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s)
   PetscCall(PetscOptionsIntArray("-point_load_at", "crossing i,j of the point load (default: the centre)", NULL, s->load_at, &n2, &set));
   PetscCheck(!set || n2 == 2, comm, PETSC_ERR_USER_INPUT, "-point_load_at needs two indices i,j, got %" PetscInt_FMT, n2);
   PetscCall(PathOptions(comm, PetscOptionsObject, s));
-  PetscCheck(s->waypoints == 0 || s->test == TEST_STRIP || s->test == TEST_BIAS, comm, PETSC_ERR_USER_INPUT, "-grip_path_mm with -test %s: only the strip and bias tests move grips", TestNames[s->test]);
+  PetscCheck(s->waypoints == 0 || JawTest(s), comm, PETSC_ERR_USER_INPUT, "-grip_path_mm with -test %s: only the strip and bias tests move grips", TestNames[s->test]);
   s->load_steps      = 50;
   s->max_inner_steps = 20000;
   PetscCall(PetscOptionsInt("-load_steps", "number of load steps K", NULL, s->load_steps, &s->load_steps, NULL));
