@@ -36,9 +36,11 @@ check '[[ $rc -ne 0 && ! -e $work/killed/summary.json && $rows_at_kill -lt 12 ]]
 
 attr() { h5dump -a "$2" "$1" | sed -n 's/ *(0): //p'; }
 echo "checkpoint at load step $(attr "$work/killed/checkpoint.h5" /load_step) with $(attr "$work/killed/checkpoint.h5" /frames) frames; $(h5ls "$work/killed/fabric.h5/frames" | wc -l) frames in fabric.h5 when killed"
-mpiexec -n 2 "$fabric" "${opts[@]}" -output_dir "$work/killed" -positions_out "$work/killed/positions.bin" -restart "$work/killed/checkpoint.h5"
+at=$(attr "$work/killed/checkpoint.h5" /load_step)
+mpiexec -n 2 "$fabric" "${opts[@]}" -quiet false -output_dir "$work/killed" -positions_out "$work/killed/positions.bin" -restart "$work/killed/checkpoint.h5" >"$work/restart.log" 2>&1
 rc=$?
 check '[[ $rc -eq 0 ]]' "the restarted run ends normally"
+check 'grep -q "restart from .*checkpoint.h5 at load step $at/12" "$work/restart.log"' "the restarted run resumed at the checkpoint's load step $at, not from the start"
 check 'cmp -s "$work/whole/positions.bin" "$work/killed/positions.bin"' "final positions bit-identical to the uninterrupted run"
 check 'cmp -s "$work/whole/curve.csv" "$work/killed/curve.csv"' "curve.csv identical ($(($(wc -l <"$work/whole/curve.csv") - 1)) load steps)"
 h5diff -r "$work/whole/fabric.h5" "$work/killed/fabric.h5" >"$work/h5diff.log" 2>&1; rc=$?

@@ -24,8 +24,9 @@ variant() {
   local a="$work/$name/whole" b="$work/$name/restarted"
   mpiexec -n "$np" "$fabric" "${base[@]}" "$@" -output_dir "$a" -positions_out "$a/positions.bin" >/dev/null 2>&1 || { echo "FAIL $name: the uninterrupted run failed"; fail=1; return; }
   mpiexec -n "$np" "$fabric" "${base[@]}" "$@" -output_dir "$b" -checkpoint_every 4 >/dev/null 2>&1 || { echo "FAIL $name: the checkpointed run failed"; fail=1; return; }
-  mpiexec -n "$np_restart" "$fabric" "${base[@]}" "$@" -output_dir "$b" -checkpoint_every 4 -positions_out "$b/positions.bin" -restart "$b/checkpoint.h5" >/dev/null 2>&1 || { echo "FAIL $name: the restart failed"; fail=1; return; }
+  mpiexec -n "$np_restart" "$fabric" "${base[@]}" "$@" -quiet false -output_dir "$b" -checkpoint_every 4 -positions_out "$b/positions.bin" -restart "$b/checkpoint.h5" >"$work/$name.log" 2>&1 || { echo "FAIL $name: the restart failed"; fail=1; return; }
   local what=""
+  grep -q "restart from .*checkpoint.h5 at load step 4/6" "$work/$name.log" || what+=" (did not resume at load step 4)"
   cmp -s "$a/positions.bin" "$b/positions.bin" || what+=" positions"
   cmp -s "$a/curve.csv" "$b/curve.csv" || what+=" curve.csv"
   h5diff -r "$a/fabric.h5" "$b/fabric.h5" >/dev/null 2>&1 || what+=" fabric.h5"
