@@ -169,6 +169,7 @@ PetscErrorCode OutputSummary(Fabric fab, const char *error)
   fprintf(fp, "  \"te_s\": %.6e,\n  \"te_bound_s\": %.6e,\n  \"load_steps\": %" PetscInt_FMT ",\n  \"load_steps_done\": %" PetscInt_FMT ",\n", (double)fab->te, (double)fab->te_bound, s->load_steps, done);
   fprintf(fp, "  \"te_steps\": %" PetscInt64_FMT ",\n  \"point_updates\": %" PetscInt64_FMT ",\n  \"wall_s\": %.6f,\n  \"point_updates_per_s\": %.6e,\n", fab->te_steps, fab->point_updates, (double)fab->wall, fab->wall > 0 ? (double)fab->point_updates / fab->wall : 0.0);
   fprintf(fp, "  \"gauge_mm\": %.6g,\n  \"width_mm\": %.6g,\n  \"peak_force_N\": %.9g,\n", (double)(s->gauge * 1e3), (double)(s->width * 1e3), (double)peak);
+  if (s->kinetic_damping) fprintf(fp, "  \"kinetic_damping_resets\": %" PetscInt64_FMT ",\n", (PetscInt64)fab->ke_resets);
   if (s->test == TEST_DRAPE) fprintf(fp, "  \"drape_coefficient_pct\": %.6g,\n  \"folds\": %" PetscInt_FMT ",\n", (double)fab->drape_pct, fab->folds);
   fprintf(fp, "  \"converged\": %s", (fab->converged && !error && done == s->load_steps) ? "true" : "false");
   if (error) {

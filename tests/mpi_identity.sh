@@ -22,10 +22,14 @@ for np in 2 3 4; do
   if cmp -s "$work/pos1.bin" "$work/pos$np.bin"; then echo "PASS positions after 600 te steps: $np ranks == 1 rank (bit-identical)"
   else echo "FAIL positions differ between 1 and $np ranks"; fail=1; fi
 done
+resets() { sed -n 's/.*"kinetic_damping_resets": \([0-9]*\).*/\1/p' "$1/summary.json"; }
 for np in 2 3; do
   if cmp -s "$work/kd1.bin" "$work/kd$np.bin"; then echo "PASS kinetic damping, positions after 1500 te steps: $np ranks == 1 rank (bit-identical)"
   else echo "FAIL kinetic damping: positions differ between 1 and $np ranks"; fail=1; fi
 done
+r1="$(resets "$work/k1")"
+if [[ -n "$r1" && "$r1" -gt 0 && "$r1" == "$(resets "$work/k2")" && "$r1" == "$(resets "$work/k3")" ]]; then echo "PASS kinetic damping reset the velocities $r1 times, as often on 1, 2 and 3 ranks"
+else echo "FAIL kinetic damping resets: '$r1' on 1 rank, '$(resets "$work/k2")' on 2, '$(resets "$work/k3")' on 3 (expected > 0 and equal)"; fail=1; fi
 steps1="$(cut -d, -f5 "$work/e1/curve.csv" | tr '\n' ' ')"
 echo "inner steps per load step on 1 rank: $steps1"
 for np in 2 3; do
