@@ -56,7 +56,6 @@ strip = ["-width_mm", "2"]
 
 def table1():
     scenes = ["strip_warp.yaml", "strip_weft.yaml"]
-    summary_lines = []
     for scene in scenes:
         ref, _ = run(scene, strip + ["-predict", "linear", "-balance_tol", "1e-8", "-speed_tol", "1e-8"])
         # plain multi-sampling: smallest fixed N that reaches 1 % of the peak force
@@ -88,7 +87,6 @@ def table1():
             lines.append(["predict=%s early_exit=%s front=%s sleep=%s" % (predict, early, front, sleep), "%.2f" % s["wall_s"], "%.1f" % (base_wall / s["wall_s"]), s["te_steps"], nmax, s["point_updates"], "%.3f" % e])
         table("%s (5 yarns, 50 load steps): every combination; plain multi-sampling N = %d; speed-up vs the first row" % (scene, n_plain),
               ["configuration", "wall_s", "speedup", "te_steps", "max_N'", "point_updates", "err_%peak"], lines)
-        summary_lines.append((scene, n_plain, lines))
 
 
 

@@ -259,9 +259,6 @@ static PetscErrorCode LinearPrediction(void)
   PetscFunctionReturn(0);
 }
 
-/* With every speed-up on (prediction, early exit, front, sleeping), the crimped strip's
-   curve stays within the balance tolerance of the all-off reference (plain multi-sampling,
-   fixed N large enough to converge): max |dF| / peak <= balance_tol. */
 /* Square net (MODEL.md 12): a 10 mm x 10 mm net, linear yarns without crimp, bending or shear,
    clamped on all four edges with no pretension, under a central point load. With no
    pretension the net's only out-of-plane stiffness is the tension the deflection itself
@@ -566,6 +563,9 @@ static PetscErrorCode GripPath(void)
   PetscFunctionReturn(0);
 }
 
+/* With every speed-up on (prediction, early exit, front, sleeping), the crimped strip's
+   curve stays within the balance tolerance of the all-off reference (plain multi-sampling,
+   fixed N large enough to converge): max |dF| / peak <= balance_tol. */
 static PetscErrorCode SpeedupsCurve(void)
 {
   Fabric    fab;
