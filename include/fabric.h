@@ -203,6 +203,7 @@ PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s);
 PetscErrorCode SceneDestroy(Scene *s);
 /* fabric.c */
 PetscErrorCode FabricCreate(MPI_Comm comm, Fabric *fab);
+void           BiasCoords(const Scene *s, PetscInt i, PetscInt j, PetscReal *along, PetscReal *across);
 PetscErrorCode FabricDestroy(Fabric *fab);
 /* comm.c: halo exchange and reductions, the only place that communicates */
 PetscErrorCode HaloExchange(Fabric fab);

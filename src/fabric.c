@@ -37,6 +37,16 @@ static void FromCentre(const Scene *s, PetscInt i, PetscInt j, PetscReal *x, Pet
   *y = (j - 0.5 * (s->ny - 1)) / s->ends_per_m;
 }
 
+/* A bias specimen's coordinates of crossing (i,j) at rest, m: along the specimen (the grid
+   diagonal) and across it, from its centre. */
+void BiasCoords(const Scene *s, PetscInt i, PetscInt j, PetscReal *along, PetscReal *across)
+{
+  PetscReal x, y;
+  FromCentre(s, i, j, &x, &y);
+  *along  = (x + y) / PetscSqrtReal(2.0);
+  *across = (y - x) / PetscSqrtReal(2.0);
+}
+
 /* Does crossing (i,j) exist? The shape cuts the grid: a point outside it has no mass, no
    segment and no force (the kernels read the ghosted mask patch.exists). */
 static int PointExists(const Scene *s, PetscInt i, PetscInt j)
@@ -49,10 +59,10 @@ static int PointExists(const Scene *s, PetscInt i, PetscInt j)
   case SHAPE_DISC:
     FromCentre(s, i, j, &x, &y);
     return x * x + y * y <= s->disc_radius * s->disc_radius * (1.0 + 1e-12);
-  case SHAPE_BIAS: { /* s along the specimen (the grid diagonal), t across it */
+  case SHAPE_BIAS: {
     const PetscReal tol = 1e-9 * s->gauge;
-    FromCentre(s, i, j, &x, &y);
-    return PetscAbsReal(x + y) / PetscSqrtReal(2.0) <= 0.5 * s->gauge + s->jaw_depth + tol && PetscAbsReal(y - x) / PetscSqrtReal(2.0) <= 0.5 * s->width + tol;
+    BiasCoords(s, i, j, &x, &y);
+    return PetscAbsReal(x) <= 0.5 * s->gauge + s->jaw_depth + tol && PetscAbsReal(y) <= 0.5 * s->width + tol;
   }
   }
   return 0;
@@ -74,8 +84,8 @@ static PointKind RegionKind(const Scene *s, PetscInt i, PetscInt j)
   case CLAMP_JAW: { /* clamped jaw at the start of the pull axis, moving jaw at its end */
     if (s->shape == SHAPE_BIAS) { /* the jaws hold the specimen beyond the lines |s| = gauge/2 across it */
       const PetscReal tol = 1e-9 * s->gauge;
-      FromCentre(s, i, j, &x, &y);
-      const PetscReal along = (x + y) / PetscSqrtReal(2.0);
+      PetscReal       along, across;
+      BiasCoords(s, i, j, &along, &across);
       return along <= -0.5 * s->gauge + tol ? POINT_CLAMPED : (along >= 0.5 * s->gauge - tol ? POINT_GRIP : POINT_FREE);
     }
     const PetscInt along = s->pull == PULL_WARP ? i : j, n = s->pull == PULL_WARP ? s->nx : s->ny;

@@ -176,9 +176,9 @@ static PetscErrorCode CenterShear(Fabric fab, CurveRow *row)
   PetscCall(VecGetArrayRead(fab->Xl, &xl));
   for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
     for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
-      const PetscReal xc = (i - 0.5 * (s->nx - 1)) / s->picks_per_m, yc = (j - 0.5 * (s->ny - 1)) / s->ends_per_m;
-      if (PetscAbsReal(xc + yc) / PetscSqrtReal(2.0) > half || PetscAbsReal(yc - xc) / PetscSqrtReal(2.0) > half) continue;
-      PetscReal c, tmin;
+      PetscReal along, across, c, tmin;
+      BiasCoords(s, i, j, &along, &across);
+      if (PetscAbsReal(along) > half || PetscAbsReal(across) > half) continue;
       if (!CrossingShear(p, xl, i, j, &c, &tmin)) continue;
       acc[0] += PetscAsinReal(c) * 180.0 / PETSC_PI;
       acc[1] += 1;
