@@ -156,6 +156,7 @@ struct _p_Fabric {
   Vec            anchor[3];      /* friction anchors of the sphere, plane, pedestal (kernels.h), NULL = none */
   PetscReal      gravity_now[3]; /* m/s^2: gravity of the current load step (ramped with the load steps in the drape test) */
   PetscReal      drape_pct;      /* drape coefficient (%), drape test */
+  PetscReal      drape_flat_area; /* m^2: the flat specimen's shadow, measured once (0: not yet) */
   PetscInt       folds;          /* folds of the draped outline, drape test */
   PetscReal      ke_prev;        /* kinetic damping: total kinetic energy after the last te step, J */
   PetscReal     *ke_terms;       /* kinetic damping: owned points' kinetic energies (work) */
@@ -207,6 +208,7 @@ void           BiasCoords(const Scene *s, PetscInt i, PetscInt j, PetscReal *alo
 PetscErrorCode FabricDestroy(Fabric *fab);
 /* comm.c: halo exchange and reductions, the only place that communicates */
 PetscErrorCode HaloExchange(Fabric fab);
+PetscErrorCode HaloExchangeVec(Fabric fab, Vec X, Vec Xl);
 PetscErrorCode GlobalMax(MPI_Comm comm, PetscReal *v, PetscInt n);
 PetscErrorCode GlobalSum(MPI_Comm comm, PetscReal *v, PetscInt n);
 PetscErrorCode GlobalSumExact(MPI_Comm comm, const PetscReal *terms, PetscInt n, PetscReal *sum);
@@ -228,6 +230,8 @@ PetscErrorCode PredictLoadStep(Fabric fab, PetscReal grip_step, const PetscReal 
 PetscErrorCode FabricRun(Fabric fab);
 PetscErrorCode ApplyLoadStep(Fabric fab, PetscInt k);
 PetscErrorCode RelaxLoadStep(Fabric fab, CurveRow *row);
+/* drape test: drape_pct and folds of the current positions, the largest drop into row->travel */
+PetscErrorCode DrapeOutline(Fabric fab, CurveRow *row);
 PetscErrorCode GripReaction(Fabric fab, PetscReal *force);
 PetscReal      LoadTravel(const Scene *s);
 PetscReal      TestTime(Fabric fab);

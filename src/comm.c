@@ -10,9 +10,17 @@
 PetscErrorCode HaloExchange(Fabric fab)
 {
   PetscFunctionBeginUser;
+  PetscCall(HaloExchangeVec(fab, fab->X, fab->Xl));
+  PetscFunctionReturn(0);
+}
+
+/* the same for any field of crossing points X (e.g. the rest positions) into its ghosted Xl */
+PetscErrorCode HaloExchangeVec(Fabric fab, Vec X, Vec Xl)
+{
+  PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(EV_Halo, 0, 0, 0, 0));
-  PetscCall(DMGlobalToLocalBegin(fab->da, fab->X, INSERT_VALUES, fab->Xl));
-  PetscCall(DMGlobalToLocalEnd(fab->da, fab->X, INSERT_VALUES, fab->Xl));
+  PetscCall(DMGlobalToLocalBegin(fab->da, X, INSERT_VALUES, Xl));
+  PetscCall(DMGlobalToLocalEnd(fab->da, X, INSERT_VALUES, Xl));
   PetscCall(PetscLogEventEnd(EV_Halo, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }

@@ -2,7 +2,7 @@
  *
  *   test_verification -case linear_strip|crimp_knee|wave_speed|transverse_load|
  *                           stable_095|unstable_110|paper_parasitic|square_net|bias_extension|plane_rest|pedestal_rest|friction_incline|
- *                           grip_lines|grip_path
+ *                           grip_lines|grip_path|drape_measure
  */
 #include "fabric.h"
 
@@ -592,6 +592,76 @@ static PetscErrorCode SpeedupsCurve(void)
   PetscFunctionReturn(0);
 }
 
+/* The drape measure (relax.c DrapeOutline) on shapes with exact answers, drape.yaml's disc
+   (30 cm on a 18 cm support, 2 threads/cm) moved by hand, no relaxation:
+   - the flat specimen: DC = 100 % and no fold (by construction: its own area is the reference);
+   - shrunk about the centre by s = 0.8: every ray's crossing with a shrunk segment is s times
+     the flat one, so A = s^2 A_flat and DC = (s^2 A_flat - A_disc)/(A_flat - A_disc) x 100,
+     to 1e-12;
+   - turned by 10.1 degrees about the centre (the area is unchanged): DC = 100 % to 1e-2 %
+     (the rays sample the outline every 0.25 degrees);
+   - the shrunk specimen with every crossing moved by up to 1e-7 m: DC changes by at most
+     1e-3 % (the outline moves with the crossings; the bins of crossings it replaced jumped by
+     0.2 % for a 6e-8 m move);
+   - the flat specimen waved into n = 6 and 7 lobes, r' = r (1 - 0.15 (1 - cos n theta)):
+     n folds. */
+static PetscErrorCode SetShape(Fabric fab, PetscReal scale, PetscReal turn, PetscReal jitter, PetscInt lobes)
+{
+  const PetscScalar *x0;
+  PetscScalar       *x;
+  const PetscReal    c = PetscCosReal(turn), sn = PetscSinReal(turn);
+
+  PetscFunctionBeginUser;
+  PetscCall(VecGetArrayRead(fab->X0, &x0));
+  PetscCall(VecGetArray(fab->X, &x));
+  for (PetscInt k = 0; k < fab->nloc; k++) {
+    const PetscReal dx = x0[3 * k] - fab->centre[0], dy = x0[3 * k + 1] - fab->centre[1];
+    PetscReal       f = scale;
+    if (lobes) f *= 1.0 - 0.15 * (1.0 - PetscCosReal(lobes * atan2(dy, dx)));
+    x[3 * k]     = fab->centre[0] + f * (c * dx - sn * dy) + jitter * PetscSinReal(12.9898 * x0[3 * k] * 1e3 + 78.233 * x0[3 * k + 1] * 1e3);
+    x[3 * k + 1] = fab->centre[1] + f * (sn * dx + c * dy) + jitter * PetscCosReal(39.3468 * x0[3 * k] * 1e3 + 11.135 * x0[3 * k + 1] * 1e3);
+    x[3 * k + 2] = x0[3 * k + 2];
+  }
+  PetscCall(VecRestoreArray(fab->X, &x));
+  PetscCall(VecRestoreArrayRead(fab->X0, &x0));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode DrapeMeasure(void)
+{
+  Fabric          fab;
+  CurveRow        row;
+  const PetscReal s = 0.8;
+  PetscReal       a_disc, dc_s;
+
+  PetscFunctionBeginUser;
+  PetscCall(NewFabric("-output_dir none -quiet -test drape -shape disc -disc_diameter_mm 300 -gauge_mm 300 -width_mm 300 -clamp ring -clamp_ring_mm 0,180 -ends_per_cm 2 -picks_per_cm 2 -pedestal_diameter_mm 180", &fab));
+  a_disc = PETSC_PI * PetscSqr(fab->s.pedestal_radius);
+  PetscCall(VecCopy(fab->X0, fab->X));
+  PetscCall(DrapeOutline(fab, &row));
+  CheckTrue("flat specimen: DC = 100 % exactly", fab->drape_pct == 100.0, fab->drape_pct);
+  CheckTrue("flat specimen: no fold", fab->folds == 0, (double)fab->folds);
+  PetscCall(SetShape(fab, s, 0, 0, 0));
+  PetscCall(DrapeOutline(fab, &row));
+  dc_s = fab->drape_pct;
+  CheckRel("shrunk by 0.8: DC (%) = (s^2 A_flat - A_disc)/(A_flat - A_disc) x 100", dc_s, 100.0 * (s * s * fab->drape_flat_area - a_disc) / (fab->drape_flat_area - a_disc), 1e-12);
+  PetscCall(SetShape(fab, 1, 10.1 * PETSC_PI / 180.0, 0, 0));
+  PetscCall(DrapeOutline(fab, &row));
+  CheckTrue("turned by 10.1 degrees (not a whole number of rays): |DC - 100 %| <= 1e-2 %", PetscAbsReal(fab->drape_pct - 100.0) <= 1e-2, fab->drape_pct - 100.0);
+  PetscCall(SetShape(fab, s, 0, 1e-7, 0));
+  PetscCall(DrapeOutline(fab, &row));
+  CheckTrue("shrunk, every crossing moved by up to 1e-7 m: |change of DC| <= 1e-3 %", PetscAbsReal(fab->drape_pct - dc_s) <= 1e-3, fab->drape_pct - dc_s);
+  for (PetscInt n = 6; n <= 7; n++) {
+    char what[64];
+    PetscCall(SetShape(fab, 1, 0, 0, n));
+    PetscCall(DrapeOutline(fab, &row));
+    PetscCall(PetscSNPrintf(what, sizeof what, "waved into %d lobes: %d folds", (int)n, (int)n));
+    CheckTrue(what, fab->folds == n, (double)fab->folds);
+  }
+  PetscCall(FabricDestroy(&fab));
+  PetscFunctionReturn(0);
+}
+
 int main(int argc, char **argv)
 {
   char name[64] = "";
@@ -614,6 +684,7 @@ int main(int argc, char **argv)
   else if (!strcmp(name, "friction_incline")) PetscCall(FrictionIncline());
   else if (!strcmp(name, "grip_lines")) PetscCall(GripLines());
   else if (!strcmp(name, "grip_path")) PetscCall(GripPath());
+  else if (!strcmp(name, "drape_measure")) PetscCall(DrapeMeasure());
   else SETERRQ(PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT, "unknown -case %s", name);
   PetscCall(PetscFinalize());
   return failures ? 1 : 0;
