@@ -420,12 +420,19 @@ static int CheckDataset(hid_t fid, const char *path, int rank, const hsize_t *wa
 /* a scene value for a message: enums by name, numbers with as many digits as tell them apart */
 static void KeyValue(const char *name, double v, char *buf, size_t len, double other)
 {
-  const char *const *names = !strcmp(name, "pull") ? PullAxisNames : !strcmp(name, "integrator") ? IntegratorNames : !strcmp(name, "predict") ? PredictNames : NULL;
-  char              a[64], b[64];
-  if (names && v >= 0 && v < 3 && v == (int)v && (strcmp(name, "predict") == 0 || v < 2)) {
-    snprintf(buf, len, "%s", names[(int)v]);
-    return;
-  }
+  static const struct {
+    const char        *key;
+    const char *const *names;
+    int                count;
+  } enums[] = {
+    {"pull", PullAxisNames, 2}, {"integrator", IntegratorNames, 2}, {"predict", PredictNames, 3}, {"test", TestNames, 5}, {"shape", ShapeNames, 3}, {"clamp", ClampNames, 4},
+  };
+  char a[64], b[64];
+  for (size_t e = 0; e < sizeof enums / sizeof enums[0]; e++)
+    if (!strcmp(name, enums[e].key) && v >= 0 && v < enums[e].count && v == (int)v) {
+      snprintf(buf, len, "%s", enums[e].names[(int)v]);
+      return;
+    }
   snprintf(a, sizeof a, "%.10g", v);
   snprintf(b, sizeof b, "%.10g", other);
   snprintf(buf, len, strcmp(a, b) ? "%.10g" : "%.17g", v);
