@@ -306,9 +306,13 @@ static inline const PetscReal *Pos(const Patch *p, const PetscReal *x, PetscInt 
   return x + 3 * ((j - p->gys) * p->gxm + (i - p->gxs));
 }
 
+/* existence of the point at global (i, j); points beyond the ghosted patch (two or more
+   crossings outside the grid, where the padding of epad ends) do not exist */
 static inline int ExistsG(const Patch *p, PetscInt i, PetscInt j)
 {
-  return Exists(p, i - p->gxs, j - p->gys);
+  const PetscInt li = i - p->gxs, lj = j - p->gys;
+  if (li < -1 || li > p->gxm || lj < -1 || lj > p->gym) return 0;
+  return Exists(p, li, lj);
 }
 
 /* chord from (i,j) along x (dir 0) or y (dir 1) */

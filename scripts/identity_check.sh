@@ -1,0 +1,78 @@
+#!/usr/bin/env bash
+# Same results as a reference revision, bit for bit: scripts/identity_check.sh [REV] [-quick]
+#
+# Builds REV (default: HEAD, the last commit) into build-ref/ beside the working tree's build/,
+# runs the shipped scenes (shortened where a full run takes minutes) with both binaries on 1, 2
+# and 3 ranks, and compares the final positions (cmp), curve.csv (cmp), summary.json (without
+# its wall-clock fields), fabric.h5 and checkpoint.h5 (h5diff, exact). A restructuring that
+# changes no physics must print PASS for every case; the exit status is the number of failures.
+set -uo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+rev="${1:-HEAD}"
+quick=0; [[ "${2:-}" == "-quick" || "${1:-}" == "-quick" ]] && quick=1
+[[ "$rev" == "-quick" ]] && rev=HEAD
+source "$ROOT/scripts/setup.sh"
+
+ref_src="$ROOT/build-ref/src"
+rm -rf "$ref_src"; mkdir -p "$ref_src"
+git -C "$ROOT" archive "$rev" | tar -x -C "$ref_src" || { echo "identity_check: cannot export revision $rev" >&2; exit 1; }
+cmake -S "$ref_src" -B "$ROOT/build-ref/build" -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build "$ROOT/build-ref/build" -j "$(nproc)" --target fabric >/dev/null || { echo "identity_check: $rev does not build" >&2; exit 1; }
+ref="$ROOT/build-ref/build/fabric"; new="$ROOT/build/fabric"
+work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
+IN="$ROOT/inputs"
+
+# name | ranks | options
+cases=(
+  "strip_warp|1 2 3|-scene $IN/strip_warp.yaml -checkpoint_every 10"
+  "strip_weft|1|-scene $IN/strip_weft.yaml"
+  "strip_paper|1 2|-scene $IN/strip_warp.yaml -integrator paper -load_steps 3 -max_inner_steps 400"
+  "strip_kinetic|1 3|-scene $IN/strip_warp.yaml -gauge_mm 20 -width_mm 5 -kinetic_damping -load_steps 3 -early_exit 0 -max_inner_steps 500"
+  "strip_fixed|1 2 3|-scene $IN/strip_warp.yaml -predict none -load_steps 2 -early_exit 0 -max_inner_steps 300 -point_load_N 0,0,0.02"
+  "strip_path|1 2|-scene $IN/strip_warp.yaml -gauge_mm 40 -width_mm 10 -grip_path_mm 2,0,0,2,1,0.5 -load_steps 4"
+  "strip_break|1 2|-scene $IN/strip_warp.yaml -gauge_mm 20 -width_mm 5 -elongation_pct 20 -load_steps 20 -max_inner_steps 2000"
+  "bias|1 2|-scene $IN/bias.yaml -load_steps 2 -max_inner_steps 3000"
+  "square_net|1 2 3|-scene $IN/square_net.yaml -max_inner_steps 3000"
+  "pushing|1 2|-scene $IN/pushing.yaml -load_steps 2 -max_inner_steps 3000 -output_te_every 1000"
+  "pushing_friction|1 2|-scene $IN/pushing.yaml -load_steps 2 -max_inner_steps 2000 -friction_mu 0.3"
+  "drape|1 2|-scene $IN/drape.yaml -max_inner_steps 3000 -checkpoint_every 1"
+  "large|2|-scene $IN/large.yaml -gauge_mm 100 -width_mm 100 -max_inner_steps 200"
+  "local|1|-scene $IN/local_2000.yaml -yarns 200 -gauge_mm 83 -max_inner_steps 100"
+)
+((quick)) && cases=("${cases[@]:0:5}")
+
+fail=0
+strip_json() { grep -v -E '"(wall_s|point_updates_per_s)"' "$1"; }
+# exact h5diff, apart from the checkpoint's wall-clock attribute wall_s
+h5same() {
+  diff -q <(h5ls -r "$1" 2>&1) <(h5ls -r "$2" 2>&1) >/dev/null || return 1
+  h5diff -v "$1" "$2" 2>&1 | awk '/^attribute: <wall_s / {skip = 1} /^[1-9][0-9]* differences found/ && !skip {bad = 1}
+    /differences found/ {skip = 0} /^(file1|Not comparable|Objects are not)/ {} END {exit bad}'
+}
+compare() { # name dir_ref dir_new
+  local n="$1" a="$2" b="$3" bad=""
+  cmp -s "$a/pos.bin" "$b/pos.bin" || bad+=" positions"
+  cmp -s "$a/out/curve.csv" "$b/out/curve.csv" || bad+=" curve.csv"
+  diff -q <(strip_json "$a/out/summary.json") <(strip_json "$b/out/summary.json") >/dev/null || bad+=" summary.json"
+  for h in fabric.h5 checkpoint.h5; do
+    [[ -f "$a/out/$h" || -f "$b/out/$h" ]] || continue
+    h5same "$a/out/$h" "$b/out/$h" || bad+=" $h"
+  done
+  cmp -s "$a/out/fabric.xmf" "$b/out/fabric.xmf" 2>/dev/null || [[ ! -f "$a/out/fabric.xmf" ]] || bad+=" fabric.xmf"
+  if [[ -z "$bad" ]]; then echo "PASS $n"; else echo "FAIL $n:$bad differ"; fail=$((fail + 1)); fi
+}
+for c in "${cases[@]}"; do
+  IFS='|' read -r name ranks opts <<<"$c"
+  for np in $ranks; do
+    for which in ref new; do
+      bin="$ref"; [[ $which == new ]] && bin="$new"
+      d="$work/$name.$np.$which"; mkdir -p "$d"
+      # shellcheck disable=SC2086
+      mpiexec -n "$np" "$bin" $opts -quiet -output_dir "$d/out" -positions_out "$d/pos.bin" >"$d/log" 2>&1 ||
+        echo "note: $name on $np ranks ($which) exited non-zero: $(tail -n 1 "$d/log")"
+    done
+    compare "$name on $np ranks" "$work/$name.$np.ref" "$work/$name.$np.new"
+  done
+done
+echo "identity_check: $fail case(s) differ from $rev"
+exit "$fail"
