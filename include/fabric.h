@@ -13,6 +13,7 @@
 #include <petscdmda.h>
 
 #include "kernels.h"
+#include "bodies.h"
 #include "material.h"
 
 #define MAX_LINES     8  /* -clamp_line_mm, -grip_line_mm */
