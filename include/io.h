@@ -33,7 +33,7 @@ struct _p_FabricIO {
   PetscInt  checkpoint_every; /* DIR/checkpoint.h5 every K load steps (0: never) */
   char      restart[PETSC_MAX_PATH_LEN]; /* -restart FILE, "" for a fresh run */
   /* frames */
-  DM         da1;             /* dof 1, the layout of fab->da: scalar point fields */
+  DM         da1;             /* dof 1, the layout of fab->grid.da: scalar point fields */
   PetscInt   frames, frames_cap;
   FrameInfo *frame;           /* every frame written so far (the same on all ranks) */
   PetscInt   te_load_step;    /* load step of the te-frame counter */

@@ -51,15 +51,15 @@ static PetscInt SceneKeys(Fabric fab, SceneKey *key)
     PetscSNPrintf(nm3_, sizeof nm3_, "%s_%c%s", prefix, "xyz"[d_], unit); \
     KEY(nm3_, (v)[d_]); \
   }
-  KEY("grid_nx", s->nx);
-  KEY("grid_ny", s->ny);
-  KEY("pull", s->pull);
-  KEY("ends_per_m", s->ends_per_m);
-  KEY("picks_per_m", s->picks_per_m);
-  KEY("gauge_m", s->gauge);
-  KEY("width_m", s->width);
+  KEY("grid_nx", s->spec.nx);
+  KEY("grid_ny", s->spec.ny);
+  KEY("pull", s->spec.pull);
+  KEY("ends_per_m", s->spec.ends_per_m);
+  KEY("picks_per_m", s->spec.picks_per_m);
+  KEY("gauge_m", s->spec.gauge);
+  KEY("width_m", s->spec.width);
   for (int y = 0; y < 2; y++) {
-    const YarnLaw *l = y ? &s->weft : &s->warp;
+    const YarnLaw *l = y ? &s->yarns.weft : &s->yarns.warp;
     char           nm[40];
 #define YKEY(suffix, v) (PetscSNPrintf(nm, sizeof nm, "%s_" suffix, y ? "weft" : "warp"), KEY(nm, v))
     YKEY("mu_kg_m", l->mu);
@@ -75,61 +75,61 @@ static PetscInt SceneKeys(Fabric fab, SceneKey *key)
     YKEY("law_smoothing", l->smoothing);
 #undef YKEY
   }
-  KEY("shear_G_N_m", s->shear_G);
-  KEY("shear_lock_deg", s->lock_deg);
-  KEY("jam_factor", s->jam_factor);
-  KEY("traction", s->traction);
-  KEY("bending", s->bending);
-  KEY("shear", s->shear);
-  KEY3("gravity", "", s->gravity);
-  KEY("nu", s->nu);
-  KEY("damping_ratio", s->damping_ratio);
-  KEY("elongation", s->elongation);
-  KEY("speed_m_s", s->speed);
-  KEY3("point_load", "_N", s->point_load);
-  KEY("point_load_i", s->load_at[0]);
-  KEY("point_load_j", s->load_at[1]);
-  KEY("load_steps", s->load_steps);
-  KEY("max_inner_steps", s->max_inner_steps);
-  KEY("integrator", s->integrator);
-  KEY("te_s", s->te_user);
-  KEY("te_safety", s->te_safety);
-  KEY("te_strain_window", s->te_window);
-  KEY("te_check", s->te_check);
-  KEY("early_exit", s->early_exit);
-  KEY("balance_tol", s->balance_tol);
-  KEY("speed_tol_m_s", s->speed_tol);
-  KEY("predict", s->predict);
-  KEY("front", s->front);
-  KEY("sleep_tol", s->sleep_tol);
-  KEY("kinetic_damping", s->kinetic_damping);
-  KEY("grip_ramp_steps", s->grip_ramp);
+  KEY("shear_G_N_m", s->terms.shear_G);
+  KEY("shear_lock_deg", s->terms.lock_deg);
+  KEY("jam_factor", s->terms.jam_factor);
+  KEY("traction", s->terms.traction);
+  KEY("bending", s->terms.bending);
+  KEY("shear", s->terms.shear);
+  KEY3("gravity", "", s->terms.gravity);
+  KEY("nu", s->num.nu);
+  KEY("damping_ratio", s->num.damping_ratio);
+  KEY("elongation", s->load.elongation);
+  KEY("speed_m_s", s->load.speed);
+  KEY3("point_load", "_N", s->load.point_load);
+  KEY("point_load_i", s->load.load_at[0]);
+  KEY("point_load_j", s->load.load_at[1]);
+  KEY("load_steps", s->load.load_steps);
+  KEY("max_inner_steps", s->load.max_inner_steps);
+  KEY("integrator", s->num.integrator);
+  KEY("te_s", s->num.te_user);
+  KEY("te_safety", s->num.te_safety);
+  KEY("te_strain_window", s->num.te_window);
+  KEY("te_check", s->num.te_check);
+  KEY("early_exit", s->num.early_exit);
+  KEY("balance_tol", s->num.balance_tol);
+  KEY("speed_tol_m_s", s->num.speed_tol);
+  KEY("predict", s->num.predict);
+  KEY("front", s->num.front);
+  KEY("sleep_tol", s->num.sleep_tol);
+  KEY("kinetic_damping", s->num.kinetic_damping);
+  KEY("grip_ramp_steps", s->num.grip_ramp);
   KEY("test", s->test);
-  KEY("shape", s->shape);
-  KEY("disc_radius_m", s->disc_radius);
-  KEY("clamp", s->clamp);
-  KEY("clamp_ring_inner_m", s->ring[0]);
-  KEY("clamp_ring_outer_m", s->ring[1]);
-  KEY("jaw_depth_m", s->jaw_depth);
-  KEY("sphere_radius_m", s->sphere_radius);
-  KEY3("sphere_start", "_m", s->sphere_start);
-  KEY3("sphere_dir", "", s->sphere_dir);
-  KEY("sphere_travel_m", s->sphere_travel);
-  KEY("thickness_m", s->thickness);
-  KEY("plane", s->plane);
-  KEY3("plane_point", "_m", s->plane_point);
-  KEY3("plane_normal", "", s->plane_normal);
-  KEY("contact_stiffness_N_m", s->contact_k);
-  KEY("pedestal_radius_m", s->pedestal_radius);
-  KEY3("pedestal_top", "_m", s->pedestal_top);
-  KEY("pedestal_height_m", s->pedestal_height);
-  KEY("friction_mu", s->friction_mu);
+  KEY("shape", s->spec.shape);
+  KEY("disc_radius_m", s->spec.disc_radius);
+  KEY("clamp", s->clamps.clamp);
+  KEY("clamp_ring_inner_m", s->clamps.ring[0]);
+  KEY("clamp_ring_outer_m", s->clamps.ring[1]);
+  KEY("jaw_depth_m", s->spec.jaw_depth);
+  KEY("sphere_radius_m", s->bodies.sphere_radius);
+  KEY3("sphere_start", "_m", s->bodies.sphere_start);
+  KEY3("sphere_dir", "", s->bodies.sphere_dir);
+  KEY("sphere_travel_m", s->bodies.sphere_travel);
+  KEY("thickness_m", s->bodies.thickness);
+  KEY("plane", s->bodies.plane);
+  KEY3("plane_point", "_m", s->bodies.plane_point);
+  KEY3("plane_normal", "", s->bodies.plane_normal);
+  KEY("contact_stiffness_N_m", s->bodies.contact_k);
+  KEY("pedestal_radius_m", s->bodies.pedestal_radius);
+  KEY3("pedestal_top", "_m", s->bodies.pedestal_top);
+  KEY("pedestal_height_m", s->bodies.pedestal_height);
+  KEY("friction_mu", s->bodies.friction_mu);
   /* clamp and grip lines, the grip's path: every slot (unused ones are 0) */
-  KEY("clamp_lines", s->clamp_lines);
-  KEY("grip_lines", s->grip_lines);
-  KEY("grip_path_waypoints", s->waypoints);
+  KEY("clamp_lines", s->clamps.clamp_lines);
+  KEY("grip_lines", s->clamps.grip_lines);
+  KEY("grip_path_waypoints", s->load.waypoints);
   for (int l = 0; l < 2 * MAX_LINES; l++) {
-    const PetscReal *line = l < MAX_LINES ? s->clamp_line[l] : s->grip_line[l - MAX_LINES];
+    const PetscReal *line = l < MAX_LINES ? s->clamps.clamp_line[l] : s->clamps.grip_line[l - MAX_LINES];
     const char      *what[4] = {"x_m", "y_m", "angle_rad", "half_width_m"};
     for (int c = 0; c < 4; c++) {
       char nm[40];
@@ -140,7 +140,7 @@ static PetscInt SceneKeys(Fabric fab, SceneKey *key)
   for (int w = 0; w < MAX_WAYPOINTS; w++) {
     char nm[40];
     PetscSNPrintf(nm, sizeof nm, "grip_path_%d", w + 1);
-    KEY3(nm, "_m", s->waypoint[w]);
+    KEY3(nm, "_m", s->load.waypoint[w]);
   }
 #undef KEY3
 #undef KEY
@@ -158,22 +158,22 @@ typedef struct {
 static PetscInt StateVecs(Fabric fab, StateVec *sv)
 {
   PetscInt n = 0;
-  sv[n++]    = (StateVec){"positions", &fab->X, ""};
-  sv[n++]    = (StateVec){"velocities", &fab->V, ""};
-  sv[n++]    = (StateVec){"positions_old", &fab->Xold, "has_positions_old"};
-  sv[n++]    = (StateVec){"velocities_old", &fab->Vold, "has_velocities_old"};
-  sv[n++]    = (StateVec){"converged_positions", &fab->Xconv, "has_converged_positions"};
-  sv[n++]    = (StateVec){"converged_positions_prev", &fab->Xconv_prev, "has_converged_positions_prev"};
-  sv[n++]    = (StateVec){"friction_anchors_sphere", &fab->anchor[0], "has_friction_anchors_sphere"};
-  sv[n++]    = (StateVec){"friction_anchors_plane", &fab->anchor[1], "has_friction_anchors_plane"};
-  sv[n++]    = (StateVec){"friction_anchors_pedestal", &fab->anchor[2], "has_friction_anchors_pedestal"};
+  sv[n++]    = (StateVec){"positions", &fab->state.X, ""};
+  sv[n++]    = (StateVec){"velocities", &fab->state.V, ""};
+  sv[n++]    = (StateVec){"positions_old", &fab->state.Xold, "has_positions_old"};
+  sv[n++]    = (StateVec){"velocities_old", &fab->state.Vold, "has_velocities_old"};
+  sv[n++]    = (StateVec){"converged_positions", &fab->state.Xconv, "has_converged_positions"};
+  sv[n++]    = (StateVec){"converged_positions_prev", &fab->state.Xconv_prev, "has_converged_positions_prev"};
+  sv[n++]    = (StateVec){"friction_anchors_sphere", &fab->state.anchor[0], "has_friction_anchors_sphere"};
+  sv[n++]    = (StateVec){"friction_anchors_plane", &fab->state.anchor[1], "has_friction_anchors_plane"};
+  sv[n++]    = (StateVec){"friction_anchors_pedestal", &fab->state.anchor[2], "has_friction_anchors_pedestal"};
   return n;
 }
 
 /* broken segments of the owned points as a dof-2 vector: [to i+1, to j+1] */
 static PetscErrorCode BrokenToVec(Fabric fab, Vec B)
 {
-  const Patch *p = &fab->patch;
+  const Patch *p = &fab->grid.patch;
   PetscScalar *b;
 
   PetscFunctionBeginUser;
@@ -191,21 +191,21 @@ static PetscErrorCode BrokenToVec(Fabric fab, Vec B)
 /* the ghosted broken flags from the owned ones: one global-to-local exchange */
 static PetscErrorCode BrokenFromVec(Fabric fab, Vec B)
 {
-  Patch             *p = &fab->patch;
+  Patch             *p = &fab->grid.patch;
   Vec                Bl;
   const PetscScalar *b;
 
   PetscFunctionBeginUser;
-  PetscCall(DMGetLocalVector(fab->da2, &Bl));
-  PetscCall(DMGlobalToLocalBegin(fab->da2, B, INSERT_VALUES, Bl));
-  PetscCall(DMGlobalToLocalEnd(fab->da2, B, INSERT_VALUES, Bl));
+  PetscCall(DMGetLocalVector(fab->grid.da_seg, &Bl));
+  PetscCall(DMGlobalToLocalBegin(fab->grid.da_seg, B, INSERT_VALUES, Bl));
+  PetscCall(DMGlobalToLocalEnd(fab->grid.da_seg, B, INSERT_VALUES, Bl));
   PetscCall(VecGetArrayRead(Bl, &b));
   for (PetscInt k = 0; k < p->gxm * p->gym; k++) {
     p->broken_x[k] = b[2 * k] != 0;
     p->broken_y[k] = b[2 * k + 1] != 0;
   }
   PetscCall(VecRestoreArrayRead(Bl, &b));
-  PetscCall(DMRestoreLocalVector(fab->da2, &Bl));
+  PetscCall(DMRestoreLocalVector(fab->grid.da_seg, &Bl));
   PetscFunctionReturn(0);
 }
 
@@ -229,7 +229,7 @@ static PetscErrorCode ViewRankZero(Fabric fab, PetscViewer v, const char *name, 
 static PetscErrorCode CheckpointWrite(Fabric fab)
 {
   FabricIO    io = fab->io;
-  const char *dir = fab->s.output_dir;
+  const char *dir = fab->s.out.output_dir;
   char        file[PETSC_MAX_PATH_LEN], tmp[PETSC_MAX_PATH_LEN];
   PetscViewer v;
   StateVec    sv[MAX_STATE];
@@ -260,28 +260,28 @@ static PetscErrorCode CheckpointWrite(Fabric fab)
   }
   {
     Vec B;
-    PetscCall(DMGetGlobalVector(fab->da2, &B));
+    PetscCall(DMGetGlobalVector(fab->grid.da_seg, &B));
     PetscCall(BrokenToVec(fab, B));
     PetscCall(PetscObjectSetName((PetscObject)B, "broken_segments"));
     PetscCall(VecView(B, v));
-    PetscCall(DMRestoreGlobalVector(fab->da2, &B));
+    PetscCall(DMRestoreGlobalVector(fab->grid.da_seg, &B));
   }
   PetscCall(PetscViewerHDF5PopGroup(v));
-  PetscCall(PetscObjectSetName((PetscObject)fab->X, "positions"));
-  PetscCall(PetscObjectSetName((PetscObject)fab->V, NULL));
+  PetscCall(PetscObjectSetName((PetscObject)fab->state.X, "positions"));
+  PetscCall(PetscObjectSetName((PetscObject)fab->state.V, NULL));
 
   /* the curve rows and the frame list, held by rank 0 */
   PetscCall(PetscViewerHDF5PushGroup(v, "/history"));
   {
     PetscReal *rows;
-    PetscCall(PetscMalloc1(CURVE_COLS * fab->load_step, &rows));
-    for (PetscInt k = 0; k < fab->load_step; k++) {
-      const CurveRow *r = &fab->curve[k];
+    PetscCall(PetscMalloc1(CURVE_COLS * fab->load.load_step, &rows));
+    for (PetscInt k = 0; k < fab->load.load_step; k++) {
+      const CurveRow *r = &fab->stats.curve[k];
       PetscReal       a[CURVE_COLS] = {(PetscReal)r->load_step, r->time, r->elongation, r->force, (PetscReal)r->inner_steps, r->residual, (PetscReal)r->balanced, r->travel, r->center_shear};
       for (int d = 0; d < 3; d++) a[9 + d] = r->plane_force[d], a[12 + d] = r->pedestal_force[d], a[15 + d] = r->clamp_force[d], a[18 + d] = r->weight[d];
       PetscCall(PetscArraycpy(rows + CURVE_COLS * k, a, CURVE_COLS));
     }
-    PetscCall(ViewRankZero(fab, v, "curve", rows, CURVE_COLS * fab->load_step));
+    PetscCall(ViewRankZero(fab, v, "curve", rows, CURVE_COLS * fab->load.load_step));
     PetscCall(PetscFree(rows));
   }
   if (io->frames) {
@@ -301,19 +301,19 @@ static PetscErrorCode CheckpointWrite(Fabric fab)
   PetscCall(PetscViewerHDF5PushGroup(v, "/scene"));
   PetscCall(PetscViewerHDF5WriteGroup(v, NULL));
   for (PetscInt k = 0; k < nkey; k++) PetscCall(PetscViewerHDF5WriteAttribute(v, NULL, key[k].name, PETSC_REAL, &key[k].value));
-  PetscCall(PetscViewerHDF5WriteAttribute(v, NULL, "scene", PETSC_STRING, fab->s.name));
+  PetscCall(PetscViewerHDF5WriteAttribute(v, NULL, "scene", PETSC_STRING, fab->s.out.name));
   PetscCall(PetscViewerHDF5PopGroup(v));
 
   /* the counters of the run */
   {
-    int       version = CHECKPOINT_VERSION, load_step = (int)fab->load_step, frames = (int)io->frames, converged = fab->converged, broken = fab->broken_any, ranks = fab->size;
-    long      te_steps = (long)fab->te_steps, updates = (long)fab->point_updates;
-    PetscReal time = TestTime(fab), wall = fab->wall;
+    int       version = CHECKPOINT_VERSION, load_step = (int)fab->load.load_step, frames = (int)io->frames, converged = fab->stats.converged, broken = fab->stats.broken_any, ranks = fab->size;
+    long      te_steps = (long)fab->stats.te_steps, updates = (long)fab->stats.point_updates;
+    PetscReal time = TestTime(fab), wall = fab->stats.wall;
     PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "fabric_checkpoint", PETSC_INT, &version));
     PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "load_step", PETSC_INT, &load_step));
     PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "time_s", PETSC_REAL, &time));
-    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "grip_disp_m", PETSC_REAL, &fab->grip_disp));
-    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "grip_step_prev_m", PETSC_REAL, &fab->grip_step_prev));
+    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "grip_disp_m", PETSC_REAL, &fab->load.travel));
+    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "grip_step_prev_m", PETSC_REAL, &fab->load.travel_step_prev));
     PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "te_steps", PETSC_LONG, &te_steps));
     PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "point_updates", PETSC_LONG, &updates));
     PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "converged", PETSC_INT, &converged));
@@ -324,14 +324,14 @@ static PetscErrorCode CheckpointWrite(Fabric fab)
     /* sleeping: the awake box and the force scale of the last te step */
     for (int c = 0; c < 4; c++) {
       char nm[32];
-      int  b = (int)fab->awake_box[c];
+      int  b = (int)fab->front.awake_box[c];
       PetscCall(PetscSNPrintf(nm, sizeof nm, "awake_box_%d", c));
       PetscCall(PetscViewerHDF5WriteAttribute(v, "/", nm, PETSC_INT, &b));
     }
-    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "last_tension_max_N", PETSC_REAL, &fab->last.tension_max));
+    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "last_tension_max_N", PETSC_REAL, &fab->step.last.tension_max));
     { /* kinetic damping: the kinetic energy after the last te step (a reset is decided on it) */
-      long resets = (long)fab->ke_resets;
-      PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "kinetic_energy_J", PETSC_REAL, &fab->ke_prev));
+      long resets = (long)fab->step.ke_resets;
+      PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "kinetic_energy_J", PETSC_REAL, &fab->step.ke_prev));
       PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "kinetic_resets", PETSC_LONG, &resets));
     }
   }
@@ -353,7 +353,7 @@ static PetscErrorCode CheckpointWrite(Fabric fab)
   PetscCallMPI(MPI_Bcast(&ok, 1, MPI_INT, 0, fab->comm));
   PetscCheck(ok, fab->comm, PETSC_ERR_FILE_WRITE, "-output_dir %s: cannot write checkpoint.h5", dir);
   PetscCall(PetscLogEventEnd(EV_Output, 0, 0, 0, 0));
-  if (!fab->s.quiet) PetscCall(PetscPrintf(fab->comm, "checkpoint at load step %" PetscInt_FMT ": %s\n", fab->load_step, file));
+  if (!fab->s.out.quiet) PetscCall(PetscPrintf(fab->comm, "checkpoint at load step %" PetscInt_FMT ": %s\n", fab->load.load_step, file));
   PetscFunctionReturn(0);
 }
 
@@ -363,7 +363,7 @@ PetscErrorCode CheckpointLoadStep(Fabric fab)
   FabricIO io = fab->io;
 
   PetscFunctionBeginUser;
-  if (!io || !io->checkpoint_every || !fab->s.output_dir[0] || fab->load_step % io->checkpoint_every) PetscFunctionReturn(0);
+  if (!io || !io->checkpoint_every || !fab->s.out.output_dir[0] || fab->load.load_step % io->checkpoint_every) PetscFunctionReturn(0);
   PetscCall(CheckpointWrite(fab));
   PetscFunctionReturn(0);
 }
@@ -456,7 +456,7 @@ static PetscErrorCode ReadHeader(Fabric fab, const char *file, Header *h, double
   SceneKey     key[MAX_KEYS];
   StateVec     sv[MAX_STATE];
   PetscInt     nkey = SceneKeys(fab, key), nsv = StateVecs(fab, sv);
-  const hsize_t dims3[3] = {(hsize_t)s->ny, (hsize_t)s->nx, 3}, dims2[3] = {(hsize_t)s->ny, (hsize_t)s->nx, 2};
+  const hsize_t dims3[3] = {(hsize_t)s->spec.ny, (hsize_t)s->spec.nx, 3}, dims2[3] = {(hsize_t)s->spec.ny, (hsize_t)s->spec.nx, 2};
   int          version = 0;
 
   PetscFunctionBeginUser;
@@ -488,14 +488,14 @@ static PetscErrorCode ReadHeader(Fabric fab, const char *file, Header *h, double
         H5Aclose(a);
       }
     }
-    if (there[0] != (double)s->nx || there[1] != (double)s->ny)
-      FAIL("-restart %s: the checkpoint is of another grid: %g x %g crossings there (scene %s), %" PetscInt_FMT " x %" PetscInt_FMT " here (scene %s): restart with the scene and options of the checkpointed run", file, there[0], there[1], name, s->nx, s->ny, s->name);
+    if (there[0] != (double)s->spec.nx || there[1] != (double)s->spec.ny)
+      FAIL("-restart %s: the checkpoint is of another grid: %g x %g crossings there (scene %s), %" PetscInt_FMT " x %" PetscInt_FMT " here (scene %s): restart with the scene and options of the checkpointed run", file, there[0], there[1], name, s->spec.nx, s->spec.ny, s->out.name);
     for (PetscInt k = 2; k < nkey; k++)
       if (there[k] != (double)key[k].value) {
         char a[64], b[64];
         KeyValue(key[k].name, there[k], a, sizeof a, (double)key[k].value);
         KeyValue(key[k].name, (double)key[k].value, b, sizeof b, there[k]);
-        FAIL("-restart %s: the checkpoint is of another scene: %s = %s there (scene %s), %s here (scene %s): restart with the scene and options of the checkpointed run", file, key[k].name, a, name, b, s->name);
+        FAIL("-restart %s: the checkpoint is of another scene: %s = %s there (scene %s), %s here (scene %s): restart with the scene and options of the checkpointed run", file, key[k].name, a, name, b, s->out.name);
       }
   }
   H5Gclose(g);
@@ -509,7 +509,7 @@ static PetscErrorCode ReadHeader(Fabric fab, const char *file, Header *h, double
       !ReadAttr(g, "last_tension_max_N", H5T_NATIVE_DOUBLE, &h->last_tension_max))
     FAIL("-restart %s: damaged checkpoint: the sleeping state is missing", file);
   if (!ReadAttr(g, "kinetic_energy_J", H5T_NATIVE_DOUBLE, &h->ke_prev) || !ReadAttr(g, "kinetic_resets", H5T_NATIVE_LLONG, &h->ke_resets)) FAIL("-restart %s: damaged checkpoint: the kinetic damping state is missing", file);
-  if (h->load_step < 1 || h->load_step > s->load_steps || h->frames < 0 || h->te_steps < 0) FAIL("-restart %s: damaged checkpoint: load step %d of %" PetscInt_FMT, file, h->load_step, s->load_steps);
+  if (h->load_step < 1 || h->load_step > s->load.load_steps || h->frames < 0 || h->te_steps < 0) FAIL("-restart %s: damaged checkpoint: load step %d of %" PetscInt_FMT, file, h->load_step, s->load.load_steps);
 
   /* the state vectors: there, of this grid */
   for (PetscInt k = 0; k < nsv; k++) {
@@ -519,10 +519,10 @@ static PetscErrorCode ReadHeader(Fabric fab, const char *file, Header *h, double
     if (!h->has[k]) continue;
     snprintf(path, sizeof path, "/state/%s", sv[k].name);
     snprintf(nm, sizeof nm, "max_abs_%s", sv[k].name);
-    if (!CheckDataset(fid, path, 3, dims3, NULL) || !ReadAttr(g, nm, H5T_NATIVE_DOUBLE, &h->max_abs[k])) FAIL("-restart %s: damaged checkpoint: %s is missing or not of the %" PetscInt_FMT " x %" PetscInt_FMT " grid", file, path, s->nx, s->ny);
+    if (!CheckDataset(fid, path, 3, dims3, NULL) || !ReadAttr(g, nm, H5T_NATIVE_DOUBLE, &h->max_abs[k])) FAIL("-restart %s: damaged checkpoint: %s is missing or not of the %" PetscInt_FMT " x %" PetscInt_FMT " grid", file, path, s->spec.nx, s->spec.ny);
   }
   if (!CheckDataset(fid, "/state/broken_segments", 3, dims2, NULL)) FAIL("-restart %s: damaged checkpoint: /state/broken_segments is missing or not of this grid", file);
-  if (s->integrator == INTEGRATOR_PAPER && !h->has[2]) FAIL("-restart %s: damaged checkpoint: the paper integrator needs positions_old", file);
+  if (s->num.integrator == INTEGRATOR_PAPER && !h->has[2]) FAIL("-restart %s: damaged checkpoint: the paper integrator needs positions_old", file);
 
   /* the history */
   {
@@ -550,7 +550,7 @@ static void CheckFramesFile(Fabric fab, Header *h)
   hid_t       fid;
   int         nx = 0, ny = 0;
 
-  if (snprintf(file, sizeof file, "%s/fabric.h5", fab->s.output_dir) >= (int)sizeof file) file[0] = 0;
+  if (snprintf(file, sizeof file, "%s/fabric.h5", fab->s.out.output_dir) >= (int)sizeof file) file[0] = 0;
   H5Eget_auto2(H5E_DEFAULT, &efunc, &edata);
   H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
   fid = H5Fis_hdf5(file) > 0 ? H5Fopen(file, H5F_ACC_RDONLY, H5P_DEFAULT) : -1;
@@ -559,9 +559,9 @@ static void CheckFramesFile(Fabric fab, Header *h)
     snprintf(h->msg, sizeof h->msg, "-restart %s: %s, which holds the %d frames written before the checkpoint, is missing or cannot be opened (damaged); restart into the -output_dir of the checkpointed run, or with -output_every 0 -output_te_every 0", fab->io->restart, file, h->frames);
   } else {
     hid_t g = H5Gopen2(fid, "/", H5P_DEFAULT);
-    if (!ReadAttr(g, "nx", H5T_NATIVE_INT, &nx) || !ReadAttr(g, "ny", H5T_NATIVE_INT, &ny) || nx != fab->s.nx || ny != fab->s.ny) {
+    if (!ReadAttr(g, "nx", H5T_NATIVE_INT, &nx) || !ReadAttr(g, "ny", H5T_NATIVE_INT, &ny) || nx != fab->s.spec.nx || ny != fab->s.spec.ny) {
       h->status = 1;
-      snprintf(h->msg, sizeof h->msg, "-restart %s: %s is not of this grid (%d x %d crossings, this run has %" PetscInt_FMT " x %" PetscInt_FMT ")", fab->io->restart, file, nx, ny, fab->s.nx, fab->s.ny);
+      snprintf(h->msg, sizeof h->msg, "-restart %s: %s is not of this grid (%d x %d crossings, this run has %" PetscInt_FMT " x %" PetscInt_FMT ")", fab->io->restart, file, nx, ny, fab->s.spec.nx, fab->s.spec.ny);
     }
     for (int k = 0; k < h->frames && !h->status; k++) {
       snprintf(path, sizeof path, "/frames/%06d", k);
@@ -591,7 +591,7 @@ PetscErrorCode RestartLoad(Fabric fab)
   PetscCall(PetscMemzero(&h, sizeof h));
   if (fab->rank == 0) {
     PetscCall(ReadHeader(fab, io->restart, &h, &rows, &frames));
-    if (!h.status && h.frames > 0 && fab->s.output_dir[0] && (io->output_every > 0 || io->output_te_every > 0)) CheckFramesFile(fab, &h);
+    if (!h.status && h.frames > 0 && fab->s.out.output_dir[0] && (io->output_every > 0 || io->output_te_every > 0)) CheckFramesFile(fab, &h);
   }
   PetscCallMPI(MPI_Bcast(&h, sizeof h, MPI_BYTE, 0, fab->comm));
   if (h.status) {
@@ -612,7 +612,7 @@ PetscErrorCode RestartLoad(Fabric fab)
   for (PetscInt k = 0; k < nsv; k++) {
     PetscReal norm;
     if (!h.has[k]) continue;
-    if (!*sv[k].vec) PetscCall(VecDuplicate(fab->X, sv[k].vec));
+    if (!*sv[k].vec) PetscCall(VecDuplicate(fab->state.X, sv[k].vec));
     PetscCall(PetscObjectSetName((PetscObject)*sv[k].vec, sv[k].name));
     PetscCall(VecLoad(*sv[k].vec, v));
     PetscCall(VecNorm(*sv[k].vec, NORM_INFINITY, &norm));
@@ -620,34 +620,34 @@ PetscErrorCode RestartLoad(Fabric fab)
   }
   {
     Vec B;
-    PetscCall(DMGetGlobalVector(fab->da2, &B));
+    PetscCall(DMGetGlobalVector(fab->grid.da_seg, &B));
     PetscCall(PetscObjectSetName((PetscObject)B, "broken_segments"));
     PetscCall(VecLoad(B, v));
     PetscCall(BrokenFromVec(fab, B));
-    PetscCall(DMRestoreGlobalVector(fab->da2, &B));
+    PetscCall(DMRestoreGlobalVector(fab->grid.da_seg, &B));
   }
   PetscCall(PetscViewerHDF5PopGroup(v));
   PetscCall(PetscViewerDestroy(&v));
-  PetscCall(PetscObjectSetName((PetscObject)fab->X, "positions"));
-  PetscCall(PetscObjectSetName((PetscObject)fab->V, NULL));
+  PetscCall(PetscObjectSetName((PetscObject)fab->state.X, "positions"));
+  PetscCall(PetscObjectSetName((PetscObject)fab->state.V, NULL));
 
   /* the counters, the curve rows and the frames */
-  fab->load_step      = h.load_step;
-  fab->load_factor    = (PetscReal)h.load_step / (PetscReal)fab->s.load_steps;
-  fab->grip_disp      = h.grip_disp;
-  fab->grip_now       = h.grip_disp; /* a load step ends with its ramp done */
-  fab->grip_step_prev = h.grip_step_prev;
-  for (int c = 0; c < 4; c++) fab->awake_box[c] = h.awake_box[c];
-  fab->last.tension_max = h.last_tension_max;
-  fab->ke_prev          = h.ke_prev;
-  fab->ke_resets        = (PetscInt64)h.ke_resets;
-  fab->te_steps       = (PetscInt64)h.te_steps;
-  fab->point_updates  = (PetscInt64)h.point_updates;
-  fab->converged      = h.converged ? PETSC_TRUE : PETSC_FALSE;
-  fab->broken_any     = h.broken_any ? PETSC_TRUE : PETSC_FALSE;
+  fab->load.load_step      = h.load_step;
+  fab->load.load_factor    = (PetscReal)h.load_step / (PetscReal)fab->s.load.load_steps;
+  fab->load.travel      = h.grip_disp;
+  fab->load.travel_now       = h.grip_disp; /* a load step ends with its ramp done */
+  fab->load.travel_step_prev = h.grip_step_prev;
+  for (int c = 0; c < 4; c++) fab->front.awake_box[c] = h.awake_box[c];
+  fab->step.last.tension_max = h.last_tension_max;
+  fab->step.ke_prev          = h.ke_prev;
+  fab->step.ke_resets        = (PetscInt64)h.ke_resets;
+  fab->stats.te_steps       = (PetscInt64)h.te_steps;
+  fab->stats.point_updates  = (PetscInt64)h.point_updates;
+  fab->stats.converged      = h.converged ? PETSC_TRUE : PETSC_FALSE;
+  fab->stats.broken_any     = h.broken_any ? PETSC_TRUE : PETSC_FALSE;
   for (PetscInt k = 0; k < h.load_step; k++) {
     const double *a = rows + CURVE_COLS * k;
-    CurveRow     *r = &fab->curve[k];
+    CurveRow     *r = &fab->stats.curve[k];
     r->load_step    = (PetscInt)a[0];
     r->time         = a[1];
     r->elongation   = a[2];
@@ -665,10 +665,10 @@ PetscErrorCode RestartLoad(Fabric fab)
     PetscCall(FramesAppend(fab, &f));
   }
   io->restarted   = PETSC_TRUE;
-  fab->wall_start -= h.wall; /* elapsed time and ETA count the run before the restart */
+  fab->stats.wall_start -= h.wall; /* elapsed time and ETA count the run before the restart */
   PetscCall(PetscFree(rows));
   PetscCall(PetscFree(frames));
   PetscCall(PetscLogEventEnd(EV_Output, 0, 0, 0, 0));
-  if (!fab->s.quiet) PetscCall(PetscPrintf(fab->comm, "fabric: restart from %s at load step %" PetscInt_FMT "/%" PetscInt_FMT " (%" PetscInt64_FMT " te steps, %" PetscInt_FMT " frames so far)\n", io->restart, fab->load_step, fab->s.load_steps, fab->te_steps, io->frames));
+  if (!fab->s.out.quiet) PetscCall(PetscPrintf(fab->comm, "fabric: restart from %s at load step %" PetscInt_FMT "/%" PetscInt_FMT " (%" PetscInt64_FMT " te steps, %" PetscInt_FMT " frames so far)\n", io->restart, fab->load.load_step, fab->s.load.load_steps, fab->stats.te_steps, io->frames));
   PetscFunctionReturn(0);
 }

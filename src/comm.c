@@ -10,7 +10,7 @@
 PetscErrorCode HaloExchange(Fabric fab)
 {
   PetscFunctionBeginUser;
-  PetscCall(HaloExchangeVec(fab, fab->X, fab->Xl));
+  PetscCall(HaloExchangeVec(fab, fab->state.X, fab->state.Xl));
   PetscFunctionReturn(0);
 }
 
@@ -19,8 +19,8 @@ PetscErrorCode HaloExchangeVec(Fabric fab, Vec X, Vec Xl)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(EV_Halo, 0, 0, 0, 0));
-  PetscCall(DMGlobalToLocalBegin(fab->da, X, INSERT_VALUES, Xl));
-  PetscCall(DMGlobalToLocalEnd(fab->da, X, INSERT_VALUES, Xl));
+  PetscCall(DMGlobalToLocalBegin(fab->grid.da, X, INSERT_VALUES, Xl));
+  PetscCall(DMGlobalToLocalEnd(fab->grid.da, X, INSERT_VALUES, Xl));
   PetscCall(PetscLogEventEnd(EV_Halo, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }

@@ -33,8 +33,8 @@ static PetscErrorCode RegisterEvents(void)
    so mirrored crossings get mirrored coordinates and the shapes keep the grid's symmetries. */
 static void FromCentre(const Scene *s, PetscInt i, PetscInt j, PetscReal *x, PetscReal *y)
 {
-  *x = (i - 0.5 * (s->nx - 1)) / s->picks_per_m;
-  *y = (j - 0.5 * (s->ny - 1)) / s->ends_per_m;
+  *x = (i - 0.5 * (s->spec.nx - 1)) / s->spec.picks_per_m;
+  *y = (j - 0.5 * (s->spec.ny - 1)) / s->spec.ends_per_m;
 }
 
 /* A bias specimen's coordinates of crossing (i,j) at rest, m: along the specimen (the grid
@@ -52,17 +52,17 @@ void BiasCoords(const Scene *s, PetscInt i, PetscInt j, PetscReal *along, PetscR
 static int PointExists(const Scene *s, PetscInt i, PetscInt j)
 {
   PetscReal x, y;
-  if (i < 0 || i >= s->nx || j < 0 || j >= s->ny) return 0;
-  switch (s->shape) {
+  if (i < 0 || i >= s->spec.nx || j < 0 || j >= s->spec.ny) return 0;
+  switch (s->spec.shape) {
   case SHAPE_RECTANGLE:
     return 1;
   case SHAPE_DISC:
     FromCentre(s, i, j, &x, &y);
-    return x * x + y * y <= s->disc_radius * s->disc_radius * (1.0 + 1e-12);
+    return x * x + y * y <= s->spec.disc_radius * s->spec.disc_radius * (1.0 + 1e-12);
   case SHAPE_BIAS: {
-    const PetscReal tol = 1e-9 * s->gauge;
+    const PetscReal tol = 1e-9 * s->spec.gauge;
     BiasCoords(s, i, j, &x, &y);
-    return PetscAbsReal(x) <= 0.5 * s->gauge + s->jaw_depth + tol && PetscAbsReal(y) <= 0.5 * s->width + tol;
+    return PetscAbsReal(x) <= 0.5 * s->spec.gauge + s->spec.jaw_depth + tol && PetscAbsReal(y) <= 0.5 * s->spec.width + tol;
   }
   }
   return 0;
@@ -80,15 +80,15 @@ static int OnLine(const Scene *s, const PetscReal line[4], PetscInt i, PetscInt 
 static PointKind RegionKind(const Scene *s, PetscInt i, PetscInt j)
 {
   PetscReal x, y, r2;
-  switch (s->clamp) {
+  switch (s->clamps.clamp) {
   case CLAMP_JAW: { /* clamped jaw at the start of the pull axis, moving jaw at its end */
-    if (s->shape == SHAPE_BIAS) { /* the jaws hold the specimen beyond the lines |s| = gauge/2 across it */
-      const PetscReal tol = 1e-9 * s->gauge;
+    if (s->spec.shape == SHAPE_BIAS) { /* the jaws hold the specimen beyond the lines |s| = gauge/2 across it */
+      const PetscReal tol = 1e-9 * s->spec.gauge;
       PetscReal       along, across;
       BiasCoords(s, i, j, &along, &across);
-      return along <= -0.5 * s->gauge + tol ? POINT_CLAMPED : (along >= 0.5 * s->gauge - tol ? POINT_GRIP : POINT_FREE);
+      return along <= -0.5 * s->spec.gauge + tol ? POINT_CLAMPED : (along >= 0.5 * s->spec.gauge - tol ? POINT_GRIP : POINT_FREE);
     }
-    const PetscInt along = s->pull == PULL_WARP ? i : j, n = s->pull == PULL_WARP ? s->nx : s->ny;
+    const PetscInt along = s->spec.pull == PULL_WARP ? i : j, n = s->spec.pull == PULL_WARP ? s->spec.nx : s->spec.ny;
     if (along == 0) return POINT_CLAMPED;
     if (along == n - 1) return POINT_GRIP;
     return POINT_FREE;
@@ -98,7 +98,7 @@ static PointKind RegionKind(const Scene *s, PetscInt i, PetscInt j)
   case CLAMP_RING:
     FromCentre(s, i, j, &x, &y);
     r2 = x * x + y * y;
-    return (r2 >= s->ring[0] * s->ring[0] * (1.0 - 1e-12) && r2 <= s->ring[1] * s->ring[1] * (1.0 + 1e-12)) ? POINT_CLAMPED : POINT_FREE;
+    return (r2 >= s->clamps.ring[0] * s->clamps.ring[0] * (1.0 - 1e-12) && r2 <= s->clamps.ring[1] * s->clamps.ring[1] * (1.0 + 1e-12)) ? POINT_CLAMPED : POINT_FREE;
   case CLAMP_NONE:
     return POINT_FREE;
   }
@@ -109,10 +109,10 @@ static PointKind RegionKind(const Scene *s, PetscInt i, PetscInt j)
    FabricCreate checks it). */
 static PointKind KindOf(const Scene *s, PetscInt i, PetscInt j)
 {
-  for (PetscInt l = 0; l < s->grip_lines; l++)
-    if (OnLine(s, s->grip_line[l], i, j)) return POINT_GRIP;
-  for (PetscInt l = 0; l < s->clamp_lines; l++)
-    if (OnLine(s, s->clamp_line[l], i, j)) return POINT_CLAMPED;
+  for (PetscInt l = 0; l < s->clamps.grip_lines; l++)
+    if (OnLine(s, s->clamps.grip_line[l], i, j)) return POINT_GRIP;
+  for (PetscInt l = 0; l < s->clamps.clamp_lines; l++)
+    if (OnLine(s, s->clamps.clamp_line[l], i, j)) return POINT_CLAMPED;
   return RegionKind(s, i, j);
 }
 
@@ -125,23 +125,23 @@ static PetscErrorCode CheckLines(Fabric fab, const DMDALocalInfo *info)
   PetscInt    *both = count + 2 * MAX_LINES;
 
   PetscFunctionBeginUser;
-  if (!s->clamp_lines && !s->grip_lines) PetscFunctionReturn(0);
+  if (!s->clamps.clamp_lines && !s->clamps.grip_lines) PetscFunctionReturn(0);
   for (PetscInt j = info->ys; j < info->ys + info->ym; j++)
     for (PetscInt i = info->xs; i < info->xs + info->xm; i++) {
       if (!PointExists(s, i, j)) continue;
-      for (PetscInt c = 0; c < s->clamp_lines; c++) count[c] += OnLine(s, s->clamp_line[c], i, j);
-      for (PetscInt g = 0; g < s->grip_lines; g++) {
-        const int on = OnLine(s, s->grip_line[g], i, j);
+      for (PetscInt c = 0; c < s->clamps.clamp_lines; c++) count[c] += OnLine(s, s->clamps.clamp_line[c], i, j);
+      for (PetscInt g = 0; g < s->clamps.grip_lines; g++) {
+        const int on = OnLine(s, s->clamps.grip_line[g], i, j);
         count[MAX_LINES + g] += on;
-        for (PetscInt c = 0; c < s->clamp_lines; c++) both[g * MAX_LINES + c] += on && OnLine(s, s->clamp_line[c], i, j);
+        for (PetscInt c = 0; c < s->clamps.clamp_lines; c++) both[g * MAX_LINES + c] += on && OnLine(s, s->clamps.clamp_line[c], i, j);
       }
     }
   PetscCall(MPIU_Allreduce(MPI_IN_PLACE, count, 2 * MAX_LINES + MAX_LINES * MAX_LINES, MPIU_INT, MPI_SUM, fab->comm));
-  for (PetscInt c = 0; c < s->clamp_lines; c++)
-    PetscCheck(count[c] > 0, fab->comm, PETSC_ERR_USER_INPUT, "-clamp_line_mm line %" PetscInt_FMT " (%g,%g mm at %g deg, half-width %g mm) selects no crossing of the specimen", c + 1, (double)(1e3 * s->clamp_line[c][0]), (double)(1e3 * s->clamp_line[c][1]), (double)(s->clamp_line[c][2] * 180.0 / PETSC_PI), (double)(1e3 * s->clamp_line[c][3]));
-  for (PetscInt g = 0; g < s->grip_lines; g++) {
-    PetscCheck(count[MAX_LINES + g] > 0, fab->comm, PETSC_ERR_USER_INPUT, "-grip_line_mm line %" PetscInt_FMT " (%g,%g mm at %g deg, half-width %g mm) selects no crossing of the specimen", g + 1, (double)(1e3 * s->grip_line[g][0]), (double)(1e3 * s->grip_line[g][1]), (double)(s->grip_line[g][2] * 180.0 / PETSC_PI), (double)(1e3 * s->grip_line[g][3]));
-    for (PetscInt c = 0; c < s->clamp_lines; c++)
+  for (PetscInt c = 0; c < s->clamps.clamp_lines; c++)
+    PetscCheck(count[c] > 0, fab->comm, PETSC_ERR_USER_INPUT, "-clamp_line_mm line %" PetscInt_FMT " (%g,%g mm at %g deg, half-width %g mm) selects no crossing of the specimen", c + 1, (double)(1e3 * s->clamps.clamp_line[c][0]), (double)(1e3 * s->clamps.clamp_line[c][1]), (double)(s->clamps.clamp_line[c][2] * 180.0 / PETSC_PI), (double)(1e3 * s->clamps.clamp_line[c][3]));
+  for (PetscInt g = 0; g < s->clamps.grip_lines; g++) {
+    PetscCheck(count[MAX_LINES + g] > 0, fab->comm, PETSC_ERR_USER_INPUT, "-grip_line_mm line %" PetscInt_FMT " (%g,%g mm at %g deg, half-width %g mm) selects no crossing of the specimen", g + 1, (double)(1e3 * s->clamps.grip_line[g][0]), (double)(1e3 * s->clamps.grip_line[g][1]), (double)(s->clamps.grip_line[g][2] * 180.0 / PETSC_PI), (double)(1e3 * s->clamps.grip_line[g][3]));
+    for (PetscInt c = 0; c < s->clamps.clamp_lines; c++)
       PetscCheck(both[g * MAX_LINES + c] == 0, fab->comm, PETSC_ERR_USER_INPUT, "-grip_line_mm line %" PetscInt_FMT " and -clamp_line_mm line %" PetscInt_FMT " share %" PetscInt_FMT " crossings: a crossing cannot be clamped and gripped", g + 1, c + 1, both[g * MAX_LINES + c]);
   }
   PetscFunctionReturn(0);
@@ -187,65 +187,65 @@ PetscErrorCode FabricCreate(MPI_Comm comm, Fabric *out)
      DMDA fail on some ranks only (and the others wait forever) */
   {
     PetscInt m = 0, n = 0;
-    PetscCall(RankGrid(s->nx, s->ny, fab->size, &m, &n));
-    PetscCheck(m > 0, comm, PETSC_ERR_USER_INPUT, "grid too small: %" PetscInt_FMT " x %" PetscInt_FMT " crossings cannot be split over %d ranks (each rank needs at least 2 crossings along each direction the grid is split in); use fewer ranks", s->nx, s->ny, fab->size);
-    PetscCall(DMDACreate2d(comm, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, DMDA_STENCIL_BOX, s->nx, s->ny, m, n, 3, 2, NULL, NULL, &fab->da));
-    PetscCall(DMSetFromOptions(fab->da));
-    PetscCall(DMSetUp(fab->da));
+    PetscCall(RankGrid(s->spec.nx, s->spec.ny, fab->size, &m, &n));
+    PetscCheck(m > 0, comm, PETSC_ERR_USER_INPUT, "grid too small: %" PetscInt_FMT " x %" PetscInt_FMT " crossings cannot be split over %d ranks (each rank needs at least 2 crossings along each direction the grid is split in); use fewer ranks", s->spec.nx, s->spec.ny, fab->size);
+    PetscCall(DMDACreate2d(comm, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, DMDA_STENCIL_BOX, s->spec.nx, s->spec.ny, m, n, 3, 2, NULL, NULL, &fab->grid.da));
+    PetscCall(DMSetFromOptions(fab->grid.da));
+    PetscCall(DMSetUp(fab->grid.da));
   }
-  PetscCall(DMDASetFieldName(fab->da, 0, "x"));
-  PetscCall(DMDASetFieldName(fab->da, 1, "y"));
-  PetscCall(DMDASetFieldName(fab->da, 2, "z"));
-  PetscCall(DMDACreateCompatibleDMDA(fab->da, 2, &fab->da2));
-  PetscCall(DMDAGetLocalInfo(fab->da, &info));
-  fab->nloc = (PetscInt)info.xm * info.ym;
+  PetscCall(DMDASetFieldName(fab->grid.da, 0, "x"));
+  PetscCall(DMDASetFieldName(fab->grid.da, 1, "y"));
+  PetscCall(DMDASetFieldName(fab->grid.da, 2, "z"));
+  PetscCall(DMDACreateCompatibleDMDA(fab->grid.da, 2, &fab->grid.da_seg));
+  PetscCall(DMDAGetLocalInfo(fab->grid.da, &info));
+  fab->grid.nloc = (PetscInt)info.xm * info.ym;
 
-  PetscCall(DMCreateGlobalVector(fab->da, &fab->X));
-  PetscCall(PetscObjectSetName((PetscObject)fab->X, "positions"));
-  PetscCall(VecDuplicate(fab->X, &fab->V));
-  PetscCall(VecDuplicate(fab->X, &fab->F));
-  PetscCall(VecDuplicate(fab->X, &fab->X0));
-  PetscCall(DMCreateLocalVector(fab->da, &fab->Xl));
+  PetscCall(DMCreateGlobalVector(fab->grid.da, &fab->state.X));
+  PetscCall(PetscObjectSetName((PetscObject)fab->state.X, "positions"));
+  PetscCall(VecDuplicate(fab->state.X, &fab->state.V));
+  PetscCall(VecDuplicate(fab->state.X, &fab->state.F));
+  PetscCall(VecDuplicate(fab->state.X, &fab->grid.X0));
+  PetscCall(DMCreateLocalVector(fab->grid.da, &fab->state.Xl));
 
   /* rest positions X(i,j) = (i ax, j ay, 0) */
   {
-    const PetscReal ax = 1.0 / s->picks_per_m, ay = 1.0 / s->ends_per_m;
+    const PetscReal ax = 1.0 / s->spec.picks_per_m, ay = 1.0 / s->spec.ends_per_m;
     PetscScalar  ***x;
-    PetscCall(DMDAVecGetArrayDOF(fab->da, fab->X0, &x));
+    PetscCall(DMDAVecGetArrayDOF(fab->grid.da, fab->grid.X0, &x));
     for (PetscInt j = info.ys; j < info.ys + info.ym; j++)
       for (PetscInt i = info.xs; i < info.xs + info.xm; i++) {
         x[j][i][0] = i * ax;
         x[j][i][1] = j * ay;
         x[j][i][2] = 0.0;
       }
-    PetscCall(DMDAVecRestoreArrayDOF(fab->da, fab->X0, &x));
-    PetscCall(VecCopy(fab->X0, fab->X));
-    fab->centre[0] = 0.5 * (s->nx - 1) * ax;
-    fab->centre[1] = 0.5 * (s->ny - 1) * ay;
-    fab->centre[2] = 0.0;
-    fab->extent = PetscSqrtReal(PetscSqr((s->nx - 1) * ax) + PetscSqr((s->ny - 1) * ay));
+    PetscCall(DMDAVecRestoreArrayDOF(fab->grid.da, fab->grid.X0, &x));
+    PetscCall(VecCopy(fab->grid.X0, fab->state.X));
+    fab->grid.centre[0] = 0.5 * (s->spec.nx - 1) * ax;
+    fab->grid.centre[1] = 0.5 * (s->spec.ny - 1) * ay;
+    fab->grid.centre[2] = 0.0;
+    fab->grid.extent = PetscSqrtReal(PetscSqr((s->spec.nx - 1) * ax) + PetscSqr((s->spec.ny - 1) * ay));
   }
 
   /* the patch: ghosted existence, broken flags, constants of the force terms */
   {
-    Patch *p = &fab->patch;
-    p->nx = s->nx;
-    p->ny = s->ny;
+    Patch *p = &fab->grid.patch;
+    p->nx = s->spec.nx;
+    p->ny = s->spec.ny;
     p->xs = info.xs, p->ys = info.ys, p->xm = info.xm, p->ym = info.ym;
     p->gxs = info.gxs, p->gys = info.gys, p->gxm = info.gxm, p->gym = info.gym;
-    p->ax = 1.0 / s->picks_per_m;
-    p->ay = 1.0 / s->ends_per_m;
-    p->warp = &s->warp;
-    p->weft = &s->weft;
-    p->traction = s->traction;
-    p->bending  = (s->bending && (s->warp.bending > 0 || s->weft.bending > 0)) ? PETSC_TRUE : PETSC_FALSE;
-    p->shear    = (s->shear && s->shear_G > 0) ? PETSC_TRUE : PETSC_FALSE;
-    p->kbx      = s->warp.bending / p->ax;
-    p->kby      = s->weft.bending / p->ay;
-    p->Ks       = s->shear_G * p->ax * p->ay;
-    p->Kj       = s->jam_factor * p->Ks;
-    p->s_lock   = PetscSinReal(s->lock_deg * PETSC_PI / 180.0);
-    p->k_contact = ((s->sphere_radius > 0) + (s->plane ? 1 : 0) + (s->pedestal_radius > 0)) * s->contact_k; /* a crossing can touch every body at once */
+    p->ax = 1.0 / s->spec.picks_per_m;
+    p->ay = 1.0 / s->spec.ends_per_m;
+    p->warp = &s->yarns.warp;
+    p->weft = &s->yarns.weft;
+    p->traction = s->terms.traction;
+    p->bending  = (s->terms.bending && (s->yarns.warp.bending > 0 || s->yarns.weft.bending > 0)) ? PETSC_TRUE : PETSC_FALSE;
+    p->shear    = (s->terms.shear && s->terms.shear_G > 0) ? PETSC_TRUE : PETSC_FALSE;
+    p->kbx      = s->yarns.warp.bending / p->ax;
+    p->kby      = s->yarns.weft.bending / p->ay;
+    p->Ks       = s->terms.shear_G * p->ax * p->ay;
+    p->Kj       = s->terms.jam_factor * p->Ks;
+    p->s_lock   = PetscSinReal(s->terms.lock_deg * PETSC_PI / 180.0);
+    p->k_contact = ((s->bodies.sphere_radius > 0) + (s->bodies.plane ? 1 : 0) + (s->bodies.pedestal_radius > 0)) * s->bodies.contact_k; /* a crossing can touch every body at once */
     PetscCall(PetscCalloc1((size_t)p->gxm * p->gym, &p->exists));
     PetscCall(PetscCalloc1((size_t)p->gxm * p->gym, &p->broken_x));
     PetscCall(PetscCalloc1((size_t)p->gxm * p->gym, &p->broken_y));
@@ -256,13 +256,13 @@ PetscErrorCode FabricCreate(MPI_Comm comm, Fabric *out)
 
   PetscCall(CheckLines(fab, &info));
   /* masses (MODEL.md 4): each existing segment gives half its yarn mass to each end */
-  PetscCall(PetscMalloc4(fab->nloc, &fab->mass, fab->nloc, &fab->inv_m, fab->nloc, &fab->kind, fab->nloc, &fab->predict_w));
+  PetscCall(PetscMalloc4(fab->grid.nloc, &fab->grid.mass, fab->grid.nloc, &fab->grid.inv_m, fab->grid.nloc, &fab->grid.kind, fab->grid.nloc, &fab->grid.predict_w));
   {
-    const PetscReal mx = 0.5 * s->warp.mu * (1.0 + s->warp.crimp) * fab->patch.ax;
-    const PetscReal my = 0.5 * s->weft.mu * (1.0 + s->weft.crimp) * fab->patch.ay;
-    PetscReal       gmag = PetscSqrtReal(PetscSqr(s->gravity[0]) + PetscSqr(s->gravity[1]) + PetscSqr(s->gravity[2])), wmax = 0;
+    const PetscReal mx = 0.5 * s->yarns.warp.mu * (1.0 + s->yarns.warp.crimp) * fab->grid.patch.ax;
+    const PetscReal my = 0.5 * s->yarns.weft.mu * (1.0 + s->yarns.weft.crimp) * fab->grid.patch.ay;
+    PetscReal       gmag = PetscSqrtReal(PetscSqr(s->terms.gravity[0]) + PetscSqr(s->terms.gravity[1]) + PetscSqr(s->terms.gravity[2])), wmax = 0;
     PetscInt        count = 0;
-    fab->load_index = -1;
+    fab->grid.load_index = -1;
     for (PetscInt j = info.ys; j < info.ys + info.ym; j++)
       for (PetscInt i = info.xs; i < info.xs + info.xm; i++) {
         const PetscInt k = (j - info.ys) * info.xm + (i - info.xs);
@@ -271,50 +271,50 @@ PetscErrorCode FabricCreate(MPI_Comm comm, Fabric *out)
           m = mx * (PointExists(s, i - 1, j) + PointExists(s, i + 1, j)) + my * (PointExists(s, i, j - 1) + PointExists(s, i, j + 1));
           count++;
         }
-        fab->mass[k]  = m;
-        fab->kind[k]  = (unsigned char)(PointExists(s, i, j) ? KindOf(s, i, j) : POINT_CLAMPED);
-        fab->inv_m[k] = (fab->kind[k] == POINT_FREE && m > 0) ? 1.0 / m : 0.0;
+        fab->grid.mass[k]  = m;
+        fab->grid.kind[k]  = (unsigned char)(PointExists(s, i, j) ? KindOf(s, i, j) : POINT_CLAMPED);
+        fab->grid.inv_m[k] = (fab->grid.kind[k] == POINT_FREE && m > 0) ? 1.0 / m : 0.0;
         wmax          = PetscMax(wmax, m * gmag);
-        if (i == s->load_at[0] && j == s->load_at[1]) fab->load_index = k;
+        if (i == s->load.load_at[0] && j == s->load.load_at[1]) fab->grid.load_index = k;
       }
-    PetscCall(MPIU_Allreduce(&count, &fab->points, 1, MPIU_INT, MPI_SUM, comm));
+    PetscCall(MPIU_Allreduce(&count, &fab->grid.points, 1, MPIU_INT, MPI_SUM, comm));
     PetscCall(GlobalMax(comm, &wmax, 1));
     /* the balance test's force scale never drops below a point's weight (or 1 uN) */
-    fab->force_floor = PetscMax(wmax, 1e-6);
+    fab->step.force_floor = PetscMax(wmax, 1e-6);
   }
-  fab->pull_dir[0] = s->pull == PULL_WARP ? 1.0 : 0.0;
-  fab->pull_dir[1] = s->pull == PULL_WARP ? 0.0 : 1.0;
-  fab->pull_dir[2] = 0.0;
-  for (int d = 0; d < 3; d++) fab->gravity_now[d] = s->gravity[d];
-  if (s->shape == SHAPE_BIAS) fab->pull_dir[0] = fab->pull_dir[1] = 1.0 / PetscSqrtReal(2.0); /* along the specimen */
+  fab->grid.pull_dir[0] = s->spec.pull == PULL_WARP ? 1.0 : 0.0;
+  fab->grid.pull_dir[1] = s->spec.pull == PULL_WARP ? 0.0 : 1.0;
+  fab->grid.pull_dir[2] = 0.0;
+  for (int d = 0; d < 3; d++) fab->load.gravity_now[d] = s->terms.gravity[d];
+  if (s->spec.shape == SHAPE_BIAS) fab->grid.pull_dir[0] = fab->grid.pull_dir[1] = 1.0 / PetscSqrtReal(2.0); /* along the specimen */
 
-  if (s->integrator == INTEGRATOR_PAPER) {
-    PetscCall(VecDuplicate(fab->X, &fab->Xold));
-    PetscCall(VecDuplicate(fab->X, &fab->Vold));
-    PetscCall(VecCopy(fab->X, fab->Xold));
+  if (s->num.integrator == INTEGRATOR_PAPER) {
+    PetscCall(VecDuplicate(fab->state.X, &fab->state.Xold));
+    PetscCall(VecDuplicate(fab->state.X, &fab->state.Vold));
+    PetscCall(VecCopy(fab->state.X, fab->state.Xold));
   }
-  if (s->kinetic_damping) PetscCall(PetscCalloc1(fab->nloc, &fab->ke_terms));
-  if (s->friction_mu > 0) { /* friction anchors: each crossing's rest position in the frame of each body present */
-    const PetscBool present[3] = {s->sphere_radius > 0, s->plane, s->pedestal_radius > 0};
+  if (s->num.kinetic_damping) PetscCall(PetscCalloc1(fab->grid.nloc, &fab->step.ke_terms));
+  if (s->bodies.friction_mu > 0) { /* friction anchors: each crossing's rest position in the frame of each body present */
+    const PetscBool present[3] = {s->bodies.sphere_radius > 0, s->bodies.plane, s->bodies.pedestal_radius > 0};
     for (int b = 0; b < 3; b++) {
       PetscReal c[3];
       if (!present[b]) continue;
-      for (int d = 0; d < 3; d++) c[d] = fab->centre[d] + (b == 0 ? s->sphere_start[d] : b == 1 ? s->plane_point[d] : s->pedestal_top[d]);
-      PetscCall(VecDuplicate(fab->X, &fab->anchor[b]));
-      PetscCall(VecCopy(fab->X0, fab->anchor[b]));
+      for (int d = 0; d < 3; d++) c[d] = fab->grid.centre[d] + (b == 0 ? s->bodies.sphere_start[d] : b == 1 ? s->bodies.plane_point[d] : s->bodies.pedestal_top[d]);
+      PetscCall(VecDuplicate(fab->state.X, &fab->state.anchor[b]));
+      PetscCall(VecCopy(fab->grid.X0, fab->state.anchor[b]));
       {
         PetscScalar *a;
-        PetscCall(VecGetArray(fab->anchor[b], &a));
-        for (PetscInt k = 0; k < fab->nloc; k++)
+        PetscCall(VecGetArray(fab->state.anchor[b], &a));
+        for (PetscInt k = 0; k < fab->grid.nloc; k++)
           for (int d = 0; d < 3; d++) a[3 * k + d] -= c[d];
-        PetscCall(VecRestoreArray(fab->anchor[b], &a));
+        PetscCall(VecRestoreArray(fab->state.anchor[b], &a));
       }
     }
   }
   PetscCall(PredictSetUp(fab));
   PetscCall(FrontSetUp(fab));
-  fab->converged = PETSC_TRUE;
-  PetscCall(PetscCalloc1(s->load_steps, &fab->curve));
+  fab->stats.converged = PETSC_TRUE;
+  PetscCall(PetscCalloc1(s->load.load_steps, &fab->stats.curve));
   PetscCall(IOSetUp(fab)); /* output and checkpoint options (io.c) */
   *out = fab;
   PetscFunctionReturn(0);
@@ -326,28 +326,28 @@ PetscErrorCode FabricDestroy(Fabric *pfab)
 
   PetscFunctionBeginUser;
   if (!fab) PetscFunctionReturn(0);
-  if (fab->curve_fp) fclose(fab->curve_fp);
+  if (fab->stats.curve_fp) fclose(fab->stats.curve_fp);
   PetscCall(IODestroy(fab));
-  PetscCall(PetscFree(fab->curve));
-  PetscCall(PetscFree(fab->ke_terms));
-  PetscCall(PetscFree(fab->front_box));
-  PetscCall(PetscFree4(fab->mass, fab->inv_m, fab->kind, fab->predict_w));
-  PetscCall(PetscFree(fab->patch.exists));
-  PetscCall(PetscFree(fab->patch.broken_x));
-  PetscCall(PetscFree(fab->patch.broken_y));
-  PetscCall(PatchDestroy(&fab->patch));
-  PetscCall(VecDestroy(&fab->X));
-  PetscCall(VecDestroy(&fab->V));
-  PetscCall(VecDestroy(&fab->F));
-  PetscCall(VecDestroy(&fab->X0));
-  PetscCall(VecDestroy(&fab->Xl));
-  PetscCall(VecDestroy(&fab->Xold));
-  PetscCall(VecDestroy(&fab->Vold));
-  PetscCall(VecDestroy(&fab->Xconv));
-  PetscCall(VecDestroy(&fab->Xconv_prev));
-  for (int b = 0; b < 3; b++) PetscCall(VecDestroy(&fab->anchor[b]));
-  PetscCall(DMDestroy(&fab->da2));
-  PetscCall(DMDestroy(&fab->da));
+  PetscCall(PetscFree(fab->stats.curve));
+  PetscCall(PetscFree(fab->step.ke_terms));
+  PetscCall(PetscFree(fab->front.front_box));
+  PetscCall(PetscFree4(fab->grid.mass, fab->grid.inv_m, fab->grid.kind, fab->grid.predict_w));
+  PetscCall(PetscFree(fab->grid.patch.exists));
+  PetscCall(PetscFree(fab->grid.patch.broken_x));
+  PetscCall(PetscFree(fab->grid.patch.broken_y));
+  PetscCall(PatchDestroy(&fab->grid.patch));
+  PetscCall(VecDestroy(&fab->state.X));
+  PetscCall(VecDestroy(&fab->state.V));
+  PetscCall(VecDestroy(&fab->state.F));
+  PetscCall(VecDestroy(&fab->grid.X0));
+  PetscCall(VecDestroy(&fab->state.Xl));
+  PetscCall(VecDestroy(&fab->state.Xold));
+  PetscCall(VecDestroy(&fab->state.Vold));
+  PetscCall(VecDestroy(&fab->state.Xconv));
+  PetscCall(VecDestroy(&fab->state.Xconv_prev));
+  for (int b = 0; b < 3; b++) PetscCall(VecDestroy(&fab->state.anchor[b]));
+  PetscCall(DMDestroy(&fab->grid.da_seg));
+  PetscCall(DMDestroy(&fab->grid.da));
   PetscCall(SceneDestroy(&fab->s));
   PetscCall(PetscFree(fab));
   *pfab = NULL;

@@ -34,7 +34,7 @@ PetscErrorCode IOSetUp(Fabric fab)
   PetscFunctionBeginUser;
   PetscCall(PetscNew(&io));
   fab->io          = io;
-  io->output_every = PetscMax(1, (s->load_steps + 9) / 10); /* about ten frames */
+  io->output_every = PetscMax(1, (s->load.load_steps + 9) / 10); /* about ten frames */
   io->te_load_step = -1;
   PetscOptionsBegin(fab->comm, NULL, "Results for ParaView (DIR/fabric.h5, DIR/fabric.xmf), checkpoint and restart", NULL);
   PetscCall(PetscOptionsInt("-output_every", "write a frame to fabric.h5 every K load steps and at the last one (load steps; 0 = no frames; default: about 10 frames)", NULL, io->output_every, &io->output_every, NULL));
@@ -45,7 +45,7 @@ PetscErrorCode IOSetUp(Fabric fab)
   PetscCheck(io->checkpoint_every >= 0, fab->comm, PETSC_ERR_USER_INPUT, "-checkpoint_every must be 0 (never) or a number of load steps, got %" PetscInt_FMT, io->checkpoint_every);
   PetscCall(PetscOptionsString("-restart", "continue the run saved in this checkpoint file (written by -checkpoint_every), appending to the outputs in -output_dir", NULL, io->restart, io->restart, sizeof io->restart, &set));
   PetscOptionsEnd();
-  PetscCheck(!io->checkpoint_every || s->output_dir[0], fab->comm, PETSC_ERR_USER_INPUT, "-checkpoint_every %" PetscInt_FMT " needs an output directory: -output_dir is none", io->checkpoint_every);
+  PetscCheck(!io->checkpoint_every || s->out.output_dir[0], fab->comm, PETSC_ERR_USER_INPUT, "-checkpoint_every %" PetscInt_FMT " needs an output directory: -output_dir is none", io->checkpoint_every);
   if (set) {
     PetscBool exists;
     PetscCheck(io->restart[0], fab->comm, PETSC_ERR_USER_INPUT, "-restart needs a checkpoint file name");
@@ -70,7 +70,7 @@ PetscErrorCode IODestroy(Fabric fab)
 static PetscBool FramesOn(Fabric fab)
 {
   const FabricIO io = fab->io;
-  return (io && fab->s.output_dir[0] && (io->output_every > 0 || io->output_te_every > 0)) ? PETSC_TRUE : PETSC_FALSE;
+  return (io && fab->s.out.output_dir[0] && (io->output_every > 0 || io->output_te_every > 0)) ? PETSC_TRUE : PETSC_FALSE;
 }
 
 /* ------------------------------------------------------------------ point fields */
@@ -84,13 +84,13 @@ static inline PetscReal SegmentTension(const Patch *p, const PetscReal *x, Petsc
 
 PetscErrorCode ComputePointFields(Fabric fab, Vec warp_tension, Vec weft_tension, Vec shear_deg)
 {
-  const Patch       *p = &fab->patch;
+  const Patch       *p = &fab->grid.patch;
   const PetscScalar *x;
   PetscScalar       *tw, *tf, *sh;
 
   PetscFunctionBeginUser;
   PetscCall(HaloExchange(fab));
-  PetscCall(VecGetArrayRead(fab->Xl, &x));
+  PetscCall(VecGetArrayRead(fab->state.Xl, &x));
   PetscCall(VecGetArray(warp_tension, &tw));
   PetscCall(VecGetArray(weft_tension, &tf));
   PetscCall(VecGetArray(shear_deg, &sh));
@@ -121,7 +121,7 @@ PetscErrorCode ComputePointFields(Fabric fab, Vec warp_tension, Vec weft_tension
   PetscCall(VecRestoreArray(shear_deg, &sh));
   PetscCall(VecRestoreArray(weft_tension, &tf));
   PetscCall(VecRestoreArray(warp_tension, &tw));
-  PetscCall(VecRestoreArrayRead(fab->Xl, &x));
+  PetscCall(VecRestoreArrayRead(fab->state.Xl, &x));
   PetscFunctionReturn(0);
 }
 
@@ -139,34 +139,34 @@ static PetscErrorCode ViewAs(Vec v, const char *name, PetscViewer viewer)
 static PetscErrorCode CreateFile(Fabric fab, const char *file)
 {
   FabricIO     io = fab->io;
-  const Patch *p  = &fab->patch;
+  const Patch *p  = &fab->grid.patch;
   PetscViewer  v;
   Vec          kind;
   PetscScalar *a;
-  int          nx = (int)fab->s.nx, ny = (int)fab->s.ny, zero = 0;
+  int          nx = (int)fab->s.spec.nx, ny = (int)fab->s.spec.ny, zero = 0;
 
   PetscFunctionBeginUser;
-  if (!io->da1) PetscCall(DMDACreateCompatibleDMDA(fab->da, 1, &io->da1));
+  if (!io->da1) PetscCall(DMDACreateCompatibleDMDA(fab->grid.da, 1, &io->da1));
   PetscCall(DMGetGlobalVector(io->da1, &kind));
   PetscCall(VecGetArray(kind, &a));
   for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
     for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
       const PetscInt q = (j - p->ys) * p->xm + (i - p->xs);
-      a[q]             = p->exists[(j - p->gys) * p->gxm + (i - p->gxs)] ? (PetscReal)fab->kind[q] : -1.0;
+      a[q]             = p->exists[(j - p->gys) * p->gxm + (i - p->gxs)] ? (PetscReal)fab->grid.kind[q] : -1.0;
     }
   PetscCall(VecRestoreArray(kind, &a));
   PetscCall(PetscViewerHDF5Open(fab->comm, file, FILE_MODE_WRITE, &v));
   PetscCall(PetscViewerHDF5PushGroup(v, "/grid"));
-  PetscCall(ViewAs(fab->X0, "rest_positions", v));
+  PetscCall(ViewAs(fab->grid.X0, "rest_positions", v));
   PetscCall(ViewAs(kind, "point_kind", v));
   PetscCall(PetscViewerHDF5PopGroup(v));
   PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "nx", PETSC_INT, &nx));
   PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "ny", PETSC_INT, &ny));
-  PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "scene", PETSC_STRING, fab->s.name));
+  PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "scene", PETSC_STRING, fab->s.out.name));
   PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "frames", PETSC_INT, &zero));
   PetscCall(PetscViewerDestroy(&v));
   PetscCall(DMRestoreGlobalVector(io->da1, &kind));
-  PetscCall(PetscObjectSetName((PetscObject)fab->X0, NULL));
+  PetscCall(PetscObjectSetName((PetscObject)fab->grid.X0, NULL));
   PetscFunctionReturn(0);
 }
 
@@ -201,19 +201,19 @@ static PetscErrorCode WriteFrame(Fabric fab, const FrameInfo *f)
   PetscFunctionBeginUser;
   if (io->frames && io->frame[io->frames - 1].load_step == f->load_step && io->frame[io->frames - 1].te_step == f->te_step) index = io->frames - 1;
   PetscCall(PetscLogEventBegin(EV_Output, 0, 0, 0, 0));
-  PetscCall(DMGetGlobalVector(fab->da, &disp));
+  PetscCall(DMGetGlobalVector(fab->grid.da, &disp));
   PetscCall(DMGetGlobalVector(io->da1, &tw));
   PetscCall(DMGetGlobalVector(io->da1, &tf));
   PetscCall(DMGetGlobalVector(io->da1, &sh));
-  PetscCall(VecWAXPY(disp, -1.0, fab->X0, fab->X));
+  PetscCall(VecWAXPY(disp, -1.0, fab->grid.X0, fab->state.X));
   PetscCall(ComputePointFields(fab, tw, tf, sh));
 
-  PetscCall(PetscSNPrintf(file, sizeof file, "%s/fabric.h5", fab->s.output_dir));
+  PetscCall(PetscSNPrintf(file, sizeof file, "%s/fabric.h5", fab->s.out.output_dir));
   PetscCall(PetscSNPrintf(group, sizeof group, "/frames/%06" PetscInt_FMT, index));
   PetscCall(PetscViewerHDF5Open(fab->comm, file, FILE_MODE_APPEND, &v));
   PetscCall(PetscViewerHDF5PushGroup(v, group));
-  PetscCall(ViewAs(fab->X, "positions", v));
-  PetscCall(ViewAs(fab->V, "velocities", v));
+  PetscCall(ViewAs(fab->state.X, "positions", v));
+  PetscCall(ViewAs(fab->state.V, "velocities", v));
   PetscCall(ViewAs(disp, "displacement", v));
   PetscCall(ViewAs(tw, "warp_tension", v));
   PetscCall(ViewAs(tf, "weft_tension", v));
@@ -229,9 +229,9 @@ static PetscErrorCode WriteFrame(Fabric fab, const FrameInfo *f)
   PetscCall(DMRestoreGlobalVector(io->da1, &sh));
   PetscCall(DMRestoreGlobalVector(io->da1, &tf));
   PetscCall(DMRestoreGlobalVector(io->da1, &tw));
-  PetscCall(DMRestoreGlobalVector(fab->da, &disp));
-  PetscCall(PetscObjectSetName((PetscObject)fab->V, NULL));
-  PetscCall(PetscObjectSetName((PetscObject)fab->X, "positions"));
+  PetscCall(DMRestoreGlobalVector(fab->grid.da, &disp));
+  PetscCall(PetscObjectSetName((PetscObject)fab->state.V, NULL));
+  PetscCall(PetscObjectSetName((PetscObject)fab->state.X, "positions"));
   io->frames = index;
   PetscCall(FramesAppend(fab, f));
   PetscCall(FramesWriteXdmf(fab));
@@ -302,8 +302,8 @@ PetscErrorCode FramesOpen(Fabric fab)
   PetscFunctionBeginUser;
   if (!FramesOn(fab)) PetscFunctionReturn(0);
   PetscCall(PetscLogEventBegin(EV_Output, 0, 0, 0, 0));
-  PetscCall(PetscSNPrintf(file, sizeof file, "%s/fabric.h5", fab->s.output_dir));
-  if (!io->da1) PetscCall(DMDACreateCompatibleDMDA(fab->da, 1, &io->da1));
+  PetscCall(PetscSNPrintf(file, sizeof file, "%s/fabric.h5", fab->s.out.output_dir));
+  if (!io->da1) PetscCall(DMDACreateCompatibleDMDA(fab->grid.da, 1, &io->da1));
   if (io->restarted && io->frames > 0) {
     PetscInt kept;
     PetscCall(DropFramesFrom(fab, file, io->frames, &kept));
@@ -312,7 +312,7 @@ PetscErrorCode FramesOpen(Fabric fab)
   } else {
     FrameInfo f;
     f.time      = TestTime(fab);
-    f.load_step = fab->load_step;
+    f.load_step = fab->load.load_step;
     f.te_step   = 0;
     io->frames  = 0;
     PetscCall(CreateFile(fab, file));
@@ -330,10 +330,10 @@ PetscErrorCode FramesLoadStep(Fabric fab, const CurveRow *row)
 
   PetscFunctionBeginUser;
   if (!FramesOn(fab) || !io->output_every) PetscFunctionReturn(0);
-  if (row->load_step % io->output_every && row->load_step != fab->s.load_steps) PetscFunctionReturn(0);
+  if (row->load_step % io->output_every && row->load_step != fab->s.load.load_steps) PetscFunctionReturn(0);
   f.load_step = row->load_step;
   f.te_step   = row->inner_steps;
-  f.time      = row->time + (io->output_te_every ? row->inner_steps * fab->te : 0.0);
+  f.time      = row->time + (io->output_te_every ? row->inner_steps * fab->step.te : 0.0);
   PetscCall(WriteFrame(fab, &f));
   PetscFunctionReturn(0);
 }
@@ -347,15 +347,15 @@ PetscErrorCode FramesTeStep(Fabric fab)
 
   PetscFunctionBeginUser;
   if (!io || !io->output_te_every || !FramesOn(fab)) PetscFunctionReturn(0);
-  if (fab->load_step != io->te_load_step) { /* the first te step of a load step */
-    io->te_load_step = fab->load_step;
-    io->te_base      = fab->te_steps - 1;
+  if (fab->load.load_step != io->te_load_step) { /* the first te step of a load step */
+    io->te_load_step = fab->load.load_step;
+    io->te_base      = fab->stats.te_steps - 1;
   }
-  n = (PetscInt)(fab->te_steps - io->te_base);
+  n = (PetscInt)(fab->stats.te_steps - io->te_base);
   if (n % io->output_te_every) PetscFunctionReturn(0);
-  f.load_step = fab->load_step;
+  f.load_step = fab->load.load_step;
   f.te_step   = n;
-  f.time      = TestTime(fab) + n * fab->te;
+  f.time      = TestTime(fab) + n * fab->step.te;
   PetscCall(WriteFrame(fab, &f));
   PetscFunctionReturn(0);
 }
@@ -384,15 +384,15 @@ PetscErrorCode FramesWriteXdmf(Fabric fab)
     {"shear_angle_deg", "Scalar", 1},
   };
   FabricIO       io = fab->io;
-  const PetscInt nx = fab->s.nx, ny = fab->s.ny;
+  const PetscInt nx = fab->s.spec.nx, ny = fab->s.spec.ny;
   int            ok = 1;
 
   PetscFunctionBeginUser;
   if (fab->rank == 0) {
     char  file[PETSC_MAX_PATH_LEN], tmp[PETSC_MAX_PATH_LEN], path[128];
     FILE *fp;
-    PetscCall(PetscSNPrintf(file, sizeof file, "%s/fabric.xmf", fab->s.output_dir));
-    PetscCall(PetscSNPrintf(tmp, sizeof tmp, "%s/.fabric.xmf.tmp", fab->s.output_dir));
+    PetscCall(PetscSNPrintf(file, sizeof file, "%s/fabric.xmf", fab->s.out.output_dir));
+    PetscCall(PetscSNPrintf(tmp, sizeof tmp, "%s/.fabric.xmf.tmp", fab->s.out.output_dir));
     fp = fopen(tmp, "w");
     if (fp) {
       fprintf(fp, "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n<Xdmf Version=\"2.0\">\n  <Domain>\n");
@@ -424,7 +424,7 @@ PetscErrorCode FramesWriteXdmf(Fabric fab)
     } else ok = 0;
   }
   PetscCallMPI(MPI_Bcast(&ok, 1, MPI_INT, 0, fab->comm));
-  PetscCheck(ok, fab->comm, PETSC_ERR_FILE_WRITE, "-output_dir %s: cannot write fabric.xmf", fab->s.output_dir);
+  PetscCheck(ok, fab->comm, PETSC_ERR_FILE_WRITE, "-output_dir %s: cannot write fabric.xmf", fab->s.out.output_dir);
   PetscFunctionReturn(0);
 }
 

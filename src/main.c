@@ -71,31 +71,31 @@ static PetscErrorCode Run(int argc, char **argv)
     PetscFunctionReturn(0);
   }
   PetscCall(SceneCheckUnused(PETSC_COMM_WORLD));
-  if (!fab->s.quiet)
-    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fabric: scene %s, %" PetscInt_FMT " x %" PetscInt_FMT " crossings (%" PetscInt_FMT " points) on %d ranks, %s integrator, prediction %s, %" PetscInt_FMT " load steps, test %s, %.3g mm of travel\n", fab->s.name, fab->s.nx, fab->s.ny, fab->points, fab->size,
-                          IntegratorNames[fab->s.integrator], PredictNames[fab->s.predict], fab->s.load_steps, TestNames[fab->s.test], (double)(1e3 * LoadTravel(&fab->s))));
+  if (!fab->s.out.quiet)
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fabric: scene %s, %" PetscInt_FMT " x %" PetscInt_FMT " crossings (%" PetscInt_FMT " points) on %d ranks, %s integrator, prediction %s, %" PetscInt_FMT " load steps, test %s, %.3g mm of travel\n", fab->s.out.name, fab->s.spec.nx, fab->s.spec.ny, fab->grid.points, fab->size,
+                          IntegratorNames[fab->s.num.integrator], PredictNames[fab->s.num.predict], fab->s.load.load_steps, TestNames[fab->s.test], (double)(1e3 * LoadTravel(&fab->s))));
   ierr = FabricRun(fab);
   if (ierr) { /* a run that stops on an error still says so in summary.json */
     const char *text;
     char       *specific = NULL;
     PetscErrorMessage(ierr, &text, &specific);
-    if (fab->curve_fp) OutputSummary(fab, specific && specific[0] ? specific : text);
+    if (fab->stats.curve_fp) OutputSummary(fab, specific && specific[0] ? specific : text);
     FabricDestroy(&fab);
     return ierr;
   }
-  if (fab->s.output_dir[0]) {
+  if (fab->s.out.output_dir[0]) {
     PetscReal   peak = 0;
     char        where[64];
-    const CurveRow *last = &fab->curve[fab->s.load_steps - 1];
-    for (PetscInt k = 0; k < fab->s.load_steps; k++) peak = PetscMax(peak, fab->curve[k].force);
+    const CurveRow *last = &fab->stats.curve[fab->s.load.load_steps - 1];
+    for (PetscInt k = 0; k < fab->s.load.load_steps; k++) peak = PetscMax(peak, fab->stats.curve[k].force);
     /* the jaw tests end at an elongation, the others at a travel (sphere, load point, drop) */
     if (JawTest(&fab->s)) PetscCall(PetscSNPrintf(where, sizeof where, "%.3g %% elongation", (double)(100 * last->elongation)));
     else PetscCall(PetscSNPrintf(where, sizeof where, "%.4g mm travel", (double)(1e3 * last->travel)));
-    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fabric: done in %.2f s: %" PetscInt64_FMT " te steps, %.3e point updates/s; peak force %.4g N, last load step at %s; %s\n", (double)fab->wall, fab->te_steps, fab->wall > 0 ? (double)fab->point_updates / fab->wall : 0.0, (double)peak,
-                          where, fab->converged ? "every load step balanced" : "some load steps did NOT balance (see curve.csv residual)"));
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fabric: done in %.2f s: %" PetscInt64_FMT " te steps, %.3e point updates/s; peak force %.4g N, last load step at %s; %s\n", (double)fab->stats.wall, fab->stats.te_steps, fab->stats.wall > 0 ? (double)fab->stats.point_updates / fab->stats.wall : 0.0, (double)peak,
+                          where, fab->stats.converged ? "every load step balanced" : "some load steps did NOT balance (see curve.csv residual)"));
     char files[256];
     PetscCall(IODescribe(fab, files, sizeof files));
-    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fabric: results in %s/ (%s)\n", fab->s.output_dir, files));
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fabric: results in %s/ (%s)\n", fab->s.out.output_dir, files));
   }
   PetscCall(FabricDestroy(&fab));
   PetscFunctionReturn(0);

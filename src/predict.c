@@ -16,7 +16,7 @@
    points (DIST_INF if none is reachable). Sweeps and halo exchanges until no rank changes. */
 PetscErrorCode GraphDistance(Fabric fab, const char *source, PetscReal *dist)
 {
-  const Patch  *p = &fab->patch;
+  const Patch  *p = &fab->grid.patch;
   DM            da1;
   Vec           D, Dl;
   PetscScalar **d;
@@ -24,7 +24,7 @@ PetscErrorCode GraphDistance(Fabric fab, const char *source, PetscReal *dist)
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(EV_Predict, 0, 0, 0, 0));
-  PetscCall(DMDACreateCompatibleDMDA(fab->da, 1, &da1));
+  PetscCall(DMDACreateCompatibleDMDA(fab->grid.da, 1, &da1));
   PetscCall(DMCreateGlobalVector(da1, &D));
   PetscCall(DMCreateLocalVector(da1, &Dl));
   PetscCall(DMDAVecGetArray(da1, D, &d));
@@ -80,14 +80,14 @@ static PetscErrorCode LinearWeights(Fabric fab, const char *moving)
   char      *src;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscMalloc3(fab->nloc, &d0, fab->nloc, &d1, fab->nloc, &src));
-  for (PetscInt k = 0; k < fab->nloc; k++) src[k] = (char)(fab->kind[k] == POINT_CLAMPED);
+  PetscCall(PetscMalloc3(fab->grid.nloc, &d0, fab->grid.nloc, &d1, fab->grid.nloc, &src));
+  for (PetscInt k = 0; k < fab->grid.nloc; k++) src[k] = (char)(fab->grid.kind[k] == POINT_CLAMPED);
   PetscCall(GraphDistance(fab, src, d0));
   PetscCall(GraphDistance(fab, moving, d1));
-  for (PetscInt k = 0; k < fab->nloc; k++) {
-    if (d1[k] >= DIST_INF) fab->predict_w[k] = 0.0;      /* nothing that moves reaches it */
-    else if (d0[k] >= DIST_INF) fab->predict_w[k] = 1.0; /* moves with the sources */
-    else fab->predict_w[k] = d0[k] / (d0[k] + d1[k]);
+  for (PetscInt k = 0; k < fab->grid.nloc; k++) {
+    if (d1[k] >= DIST_INF) fab->grid.predict_w[k] = 0.0;      /* nothing that moves reaches it */
+    else if (d0[k] >= DIST_INF) fab->grid.predict_w[k] = 1.0; /* moves with the sources */
+    else fab->grid.predict_w[k] = d0[k] / (d0[k] + d1[k]);
   }
   PetscCall(PetscFree3(d0, d1, src));
   PetscFunctionReturn(0);
@@ -98,8 +98,8 @@ PetscErrorCode PredictSetUp(Fabric fab)
   char *src;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscMalloc1(fab->nloc, &src));
-  for (PetscInt k = 0; k < fab->nloc; k++) src[k] = (char)(fab->kind[k] == POINT_GRIP);
+  PetscCall(PetscMalloc1(fab->grid.nloc, &src));
+  for (PetscInt k = 0; k < fab->grid.nloc; k++) src[k] = (char)(fab->grid.kind[k] == POINT_GRIP);
   PetscCall(LinearWeights(fab, src));
   PetscCall(PetscFree(src));
   PetscFunctionReturn(0);
@@ -113,20 +113,20 @@ PetscErrorCode PredictSetUp(Fabric fab)
 static PetscErrorCode SphereWeights(Fabric fab, PetscReal disp)
 {
   const Scene       *s     = &fab->s;
-  const PetscReal    reach = s->sphere_radius + 0.5 * s->thickness;
+  const PetscReal    reach = s->bodies.sphere_radius + 0.5 * s->bodies.thickness;
   const PetscScalar *x;
   PetscReal          c[3];
   char              *src;
 
   PetscFunctionBeginUser;
-  for (int d = 0; d < 3; d++) c[d] = fab->centre[d] + s->sphere_start[d] + disp * s->sphere_dir[d];
-  PetscCall(PetscMalloc1(fab->nloc, &src));
-  PetscCall(VecGetArrayRead(fab->X, &x));
-  for (PetscInt k = 0; k < fab->nloc; k++) {
+  for (int d = 0; d < 3; d++) c[d] = fab->grid.centre[d] + s->bodies.sphere_start[d] + disp * s->bodies.sphere_dir[d];
+  PetscCall(PetscMalloc1(fab->grid.nloc, &src));
+  PetscCall(VecGetArrayRead(fab->state.X, &x));
+  for (PetscInt k = 0; k < fab->grid.nloc; k++) {
     const PetscReal r2 = PetscSqr(x[3 * k] - c[0]) + PetscSqr(x[3 * k + 1] - c[1]) + PetscSqr(x[3 * k + 2] - c[2]);
-    src[k] = (char)(fab->kind[k] == POINT_FREE && fab->mass[k] > 0 && r2 < reach * reach);
+    src[k] = (char)(fab->grid.kind[k] == POINT_FREE && fab->grid.mass[k] > 0 && r2 < reach * reach);
   }
-  PetscCall(VecRestoreArrayRead(fab->X, &x));
+  PetscCall(VecRestoreArrayRead(fab->state.X, &x));
   PetscCall(LinearWeights(fab, src));
   PetscCall(PetscFree(src));
   PetscFunctionReturn(0);
@@ -139,35 +139,35 @@ PetscErrorCode PredictLoadStep(Fabric fab, PetscReal grip_step, const PetscReal 
   const Scene *s = &fab->s;
   PetscScalar *x, *xold = NULL;
   const PetscScalar *a = NULL, *b = NULL;
-  PetscBool    extrapolate = (s->predict == PREDICT_EXTRAPOLATE && fab->Xconv_prev && fab->grip_step_prev != 0) ? PETSC_TRUE : PETSC_FALSE;
+  PetscBool    extrapolate = (s->num.predict == PREDICT_EXTRAPOLATE && fab->state.Xconv_prev && fab->load.travel_step_prev != 0) ? PETSC_TRUE : PETSC_FALSE;
 
   PetscFunctionBeginUser;
-  if (s->predict == PREDICT_NONE || grip_step == 0) PetscFunctionReturn(0);
-  if (s->sphere_radius > 0 && !extrapolate) PetscCall(SphereWeights(fab, fab->grip_disp + grip_step));
+  if (s->num.predict == PREDICT_NONE || grip_step == 0) PetscFunctionReturn(0);
+  if (s->bodies.sphere_radius > 0 && !extrapolate) PetscCall(SphereWeights(fab, fab->load.travel + grip_step));
   PetscCall(PetscLogEventBegin(EV_Predict, 0, 0, 0, 0));
-  PetscCall(VecGetArray(fab->X, &x));
-  if (fab->Xold) PetscCall(VecGetArray(fab->Xold, &xold));
+  PetscCall(VecGetArray(fab->state.X, &x));
+  if (fab->state.Xold) PetscCall(VecGetArray(fab->state.Xold, &xold));
   if (extrapolate) {
-    PetscCall(VecGetArrayRead(fab->Xconv, &a));
-    PetscCall(VecGetArrayRead(fab->Xconv_prev, &b));
+    PetscCall(VecGetArrayRead(fab->state.Xconv, &a));
+    PetscCall(VecGetArrayRead(fab->state.Xconv_prev, &b));
   }
   {
-    const PetscReal ratio = extrapolate ? grip_step / fab->grip_step_prev : 0.0;
-    for (PetscInt k = 0; k < fab->nloc; k++) {
-      if (fab->kind[k] != POINT_FREE) continue;
+    const PetscReal ratio = extrapolate ? grip_step / fab->load.travel_step_prev : 0.0;
+    for (PetscInt k = 0; k < fab->grid.nloc; k++) {
+      if (fab->grid.kind[k] != POINT_FREE) continue;
       for (int d = 0; d < 3; d++) {
-        const PetscReal du = extrapolate ? ratio * (a[3 * k + d] - b[3 * k + d]) : (s->waypoints || s->sphere_radius > 0 ? fab->predict_w[k] * grip_move[d] : fab->predict_w[k] * grip_step * fab->pull_dir[d]);
+        const PetscReal du = extrapolate ? ratio * (a[3 * k + d] - b[3 * k + d]) : (s->load.waypoints || s->bodies.sphere_radius > 0 ? fab->grid.predict_w[k] * grip_move[d] : fab->grid.predict_w[k] * grip_step * fab->grid.pull_dir[d]);
         x[3 * k + d] += du;
         if (xold) xold[3 * k + d] += du;
       }
     }
   }
   if (extrapolate) {
-    PetscCall(VecRestoreArrayRead(fab->Xconv, &a));
-    PetscCall(VecRestoreArrayRead(fab->Xconv_prev, &b));
+    PetscCall(VecRestoreArrayRead(fab->state.Xconv, &a));
+    PetscCall(VecRestoreArrayRead(fab->state.Xconv_prev, &b));
   }
-  if (xold) PetscCall(VecRestoreArray(fab->Xold, &xold));
-  PetscCall(VecRestoreArray(fab->X, &x));
+  if (xold) PetscCall(VecRestoreArray(fab->state.Xold, &xold));
+  PetscCall(VecRestoreArray(fab->state.X, &x));
   PetscCall(PetscLogEventEnd(EV_Predict, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }

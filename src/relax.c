@@ -18,13 +18,13 @@ static PetscErrorCode CheckBreaks(Fabric fab, PetscReal *broke)
 
   PetscFunctionBeginUser;
   *broke = 0;
-  if (!isfinite(fab->s.warp.break_e) && !isfinite(fab->s.weft.break_e)) PetscFunctionReturn(0);
+  if (!isfinite(fab->s.yarns.warp.break_e) && !isfinite(fab->s.yarns.weft.break_e)) PetscFunctionReturn(0);
   PetscCall(HaloExchange(fab));
-  PetscCall(VecGetArrayRead(fab->Xl, &xl));
-  *broke = (PetscReal)BreakSegments(&fab->patch, xl);
-  PetscCall(VecRestoreArrayRead(fab->Xl, &xl));
+  PetscCall(VecGetArrayRead(fab->state.Xl, &xl));
+  *broke = (PetscReal)BreakSegments(&fab->grid.patch, xl);
+  PetscCall(VecRestoreArrayRead(fab->state.Xl, &xl));
   PetscCall(GlobalMax(fab->comm, broke, 1));
-  fab->broken_any = fab->broken_any || *broke > 0;
+  fab->stats.broken_any = fab->stats.broken_any || *broke > 0;
   PetscFunctionReturn(0);
 }
 
@@ -37,10 +37,10 @@ PetscErrorCode GripReaction(Fabric fab, PetscReal *force)
 
   PetscFunctionBeginUser;
   PetscCall(ComputeForces(fab, NULL, &tension_max));
-  PetscCall(VecGetArrayRead(fab->F, &f));
-  for (PetscInt k = 0; k < fab->nloc; k++)
-    if (fab->kind[k] == POINT_GRIP) sum -= f[3 * k] * fab->pull_dir[0] + f[3 * k + 1] * fab->pull_dir[1] + f[3 * k + 2] * fab->pull_dir[2];
-  PetscCall(VecRestoreArrayRead(fab->F, &f));
+  PetscCall(VecGetArrayRead(fab->state.F, &f));
+  for (PetscInt k = 0; k < fab->grid.nloc; k++)
+    if (fab->grid.kind[k] == POINT_GRIP) sum -= f[3 * k] * fab->grid.pull_dir[0] + f[3 * k + 1] * fab->grid.pull_dir[1] + f[3 * k + 2] * fab->grid.pull_dir[2];
+  PetscCall(VecRestoreArrayRead(fab->state.F, &f));
   PetscCall(GlobalSum(fab->comm, &sum, 1));
   *force = sum;
   PetscFunctionReturn(0);
@@ -50,8 +50,8 @@ PetscErrorCode GripReaction(Fabric fab, PetscReal *force)
    the punch. */
 PetscReal LoadTravel(const Scene *s)
 {
-  if (s->test == TEST_PUSHING) return s->sphere_travel;
-  return s->waypoints ? s->path_at[s->waypoints - 1] : s->elongation * s->gauge;
+  if (s->test == TEST_PUSHING) return s->bodies.sphere_travel;
+  return s->load.waypoints ? s->load.path_at[s->load.waypoints - 1] : s->load.elongation * s->spec.gauge;
 }
 
 /* The grip's displacement at length a along its path (-grip_path_mm): piecewise linear
@@ -59,11 +59,11 @@ PetscReal LoadTravel(const Scene *s)
 static void PathPoint(const Scene *s, PetscReal a, PetscReal u[3])
 {
   PetscInt k = 0;
-  while (k < s->waypoints - 1 && a > s->path_at[k]) k++;
-  const PetscReal a0 = k ? s->path_at[k - 1] : 0.0, t = PetscMin(1.0, PetscMax(0.0, (a - a0) / (s->path_at[k] - a0)));
+  while (k < s->load.waypoints - 1 && a > s->load.path_at[k]) k++;
+  const PetscReal a0 = k ? s->load.path_at[k - 1] : 0.0, t = PetscMin(1.0, PetscMax(0.0, (a - a0) / (s->load.path_at[k] - a0)));
   for (int d = 0; d < 3; d++) {
-    const PetscReal p0 = k ? s->waypoint[k - 1][d] : 0.0;
-    u[d] = p0 + t * (s->waypoint[k][d] - p0);
+    const PetscReal p0 = k ? s->load.waypoint[k - 1][d] : 0.0;
+    u[d] = p0 + t * (s->load.waypoint[k][d] - p0);
   }
 }
 
@@ -72,9 +72,9 @@ static void PathPoint(const Scene *s, PetscReal a, PetscReal u[3])
 void GripMove(Fabric fab, PetscReal from, PetscReal to, PetscReal move[3])
 {
   const Scene *s = &fab->s;
-  if (!s->waypoints) {
+  if (!s->load.waypoints) {
     const PetscReal delta = to - from;
-    for (int d = 0; d < 3; d++) move[d] = delta * fab->pull_dir[d];
+    for (int d = 0; d < 3; d++) move[d] = delta * fab->grid.pull_dir[d];
     return;
   }
   PetscReal u0[3], u1[3];
@@ -89,9 +89,9 @@ PetscReal GripElongation(Fabric fab, PetscReal disp)
 {
   const Scene *s = &fab->s;
   PetscReal    u[3];
-  if (!s->waypoints) return disp / s->gauge;
+  if (!s->load.waypoints) return disp / s->spec.gauge;
   PathPoint(s, disp, u);
-  return (u[0] * fab->pull_dir[0] + u[1] * fab->pull_dir[1] + u[2] * fab->pull_dir[2]) / s->gauge;
+  return (u[0] * fab->grid.pull_dir[0] + u[1] * fab->grid.pull_dir[1] + u[2] * fab->grid.pull_dir[2]) / s->spec.gauge;
 }
 
 /* Time of the current load step (time_s, frame times), s: the travel at the test speed; for
@@ -99,7 +99,7 @@ PetscReal GripElongation(Fabric fab, PetscReal disp)
    distinct times. */
 PetscReal TestTime(Fabric fab)
 {
-  return LoadTravel(&fab->s) > 0 ? fab->grip_disp / fab->s.speed : (PetscReal)fab->load_step;
+  return LoadTravel(&fab->s) > 0 ? fab->load.travel / fab->s.load.speed : (PetscReal)fab->load.load_step;
 }
 
 /* Pushing: the reaction on the sphere is minus the sum of the contact forces on the fabric;
@@ -110,10 +110,10 @@ static PetscErrorCode SphereReaction(Fabric fab, CurveRow *row)
   PetscReal sum[3];
 
   PetscFunctionBeginUser; /* contact_sum: from GripReaction's ComputeForces at the balanced state */
-  for (int d = 0; d < 3; d++) sum[d] = fab->contact_sum[d];
+  for (int d = 0; d < 3; d++) sum[d] = fab->meas.sphere_sum[d];
   PetscCall(GlobalSum(fab->comm, sum, 3));
-  row->force  = sum[0] * fab->s.sphere_dir[0] + sum[1] * fab->s.sphere_dir[1] + sum[2] * fab->s.sphere_dir[2];
-  row->travel = fab->grip_disp;
+  row->force  = sum[0] * fab->s.bodies.sphere_dir[0] + sum[1] * fab->s.bodies.sphere_dir[1] + sum[2] * fab->s.bodies.sphere_dir[2];
+  row->travel = fab->load.travel;
   PetscFunctionReturn(0);
 }
 
@@ -125,28 +125,28 @@ static PetscErrorCode SphereReaction(Fabric fab, CurveRow *row)
    the residual forces of the balance test. Sums over points: reported, never fed back. */
 static PetscErrorCode SupportReactions(Fabric fab, CurveRow *row)
 {
-  const Patch       *p = &fab->patch;
+  const Patch       *p = &fab->grid.patch;
   const PetscScalar *f;
   PetscReal          acc[12];
 
   PetscFunctionBeginUser;
   for (int d = 0; d < 3; d++) {
-    acc[d]     = -fab->plane_sum[d];
-    acc[3 + d] = -fab->pedestal_sum[d];
+    acc[d]     = -fab->meas.plane_sum[d];
+    acc[3 + d] = -fab->meas.pedestal_sum[d];
     acc[6 + d] = acc[9 + d] = 0;
   }
-  PetscCall(VecGetArrayRead(fab->F, &f));
+  PetscCall(VecGetArrayRead(fab->state.F, &f));
   for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
     for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
       const PetscInt k = (j - p->ys) * p->xm + (i - p->xs);
       if (!p->exists[(j - p->gys) * p->gxm + (i - p->gxs)]) continue;
       for (int d = 0; d < 3; d++) {
-        const PetscReal w = fab->mass[k] * fab->gravity_now[d];
-        if (fab->kind[k] == POINT_CLAMPED) acc[6 + d] += f[3 * k + d] + w;
+        const PetscReal w = fab->grid.mass[k] * fab->load.gravity_now[d];
+        if (fab->grid.kind[k] == POINT_CLAMPED) acc[6 + d] += f[3 * k + d] + w;
         acc[9 + d] += w;
       }
     }
-  PetscCall(VecRestoreArrayRead(fab->F, &f));
+  PetscCall(VecRestoreArrayRead(fab->state.F, &f));
   PetscCall(GlobalSum(fab->comm, acc, 12));
   for (int d = 0; d < 3; d++) {
     row->plane_force[d]    = acc[d];
@@ -166,14 +166,14 @@ static PetscErrorCode SupportReactions(Fabric fab, CurveRow *row)
    Xl: halo-exchanged by GripReaction. A sum over crossings: reported, never fed back. */
 static PetscErrorCode CenterShear(Fabric fab, CurveRow *row)
 {
-  const Patch       *p = &fab->patch;
+  const Patch       *p = &fab->grid.patch;
   const Scene       *s = &fab->s;
   const PetscScalar *xl;
-  const PetscReal    half = 0.25 * PetscMin(s->width, s->gauge - s->width) + 1e-9 * s->gauge; /* crossings on its edge count */
+  const PetscReal    half = 0.25 * PetscMin(s->spec.width, s->spec.gauge - s->spec.width) + 1e-9 * s->spec.gauge; /* crossings on its edge count */
   PetscReal          acc[2] = {0, 0};
 
   PetscFunctionBeginUser;
-  PetscCall(VecGetArrayRead(fab->Xl, &xl));
+  PetscCall(VecGetArrayRead(fab->state.Xl, &xl));
   for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
     for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
       PetscReal along, across, c, tmin;
@@ -183,7 +183,7 @@ static PetscErrorCode CenterShear(Fabric fab, CurveRow *row)
       acc[0] += PetscAsinReal(c) * 180.0 / PETSC_PI;
       acc[1] += 1;
     }
-  PetscCall(VecRestoreArrayRead(fab->Xl, &xl));
+  PetscCall(VecRestoreArrayRead(fab->state.Xl, &xl));
   PetscCall(GlobalSum(fab->comm, acc, 2));
   row->center_shear = acc[1] > 0 ? acc[0] / acc[1] : 0.0;
   PetscFunctionReturn(0);
@@ -231,31 +231,31 @@ static void ShadowSegment(const PetscReal a[2], const PetscReal b[2], PetscReal 
    encloses and the largest drop of a crossing */
 static PetscErrorCode Outline(Fabric fab, Vec X, PetscReal r[DRAPE_RAYS], PetscReal *area, PetscReal *drop)
 {
-  const Patch       *p = &fab->patch;
+  const Patch       *p = &fab->grid.patch;
   const PetscScalar *x;
   Vec                Xl;
 
   PetscFunctionBeginUser;
   *area = *drop = 0;
   for (int q = 0; q < DRAPE_RAYS; q++) r[q] = 0;
-  PetscCall(DMGetLocalVector(fab->da, &Xl));
+  PetscCall(DMGetLocalVector(fab->grid.da, &Xl));
   PetscCall(HaloExchangeVec(fab, X, Xl));
   PetscCall(VecGetArrayRead(Xl, &x));
   for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
     for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
       const PetscInt li = i - p->gxs, lj = j - p->gys, k = lj * p->gxm + li;
       if (!p->exists[k]) continue;
-      const PetscReal a[2] = {x[3 * k] - fab->centre[0], x[3 * k + 1] - fab->centre[1]};
+      const PetscReal a[2] = {x[3 * k] - fab->grid.centre[0], x[3 * k + 1] - fab->grid.centre[1]};
       *drop = PetscMax(*drop, -x[3 * k + 2]);
       for (int dir = 0; dir < 2; dir++) { /* the segments to the +x and +y neighbours */
         const PetscInt n = dir == 0 ? k + 1 : k + p->gxm;
         if ((dir == 0 ? li + 1 >= p->gxm : lj + 1 >= p->gym) || !p->exists[n]) continue;
-        const PetscReal b[2] = {x[3 * n] - fab->centre[0], x[3 * n + 1] - fab->centre[1]};
+        const PetscReal b[2] = {x[3 * n] - fab->grid.centre[0], x[3 * n + 1] - fab->grid.centre[1]};
         ShadowSegment(a, b, r);
       }
     }
   PetscCall(VecRestoreArrayRead(Xl, &x));
-  PetscCall(DMRestoreLocalVector(fab->da, &Xl));
+  PetscCall(DMRestoreLocalVector(fab->grid.da, &Xl));
   PetscCall(GlobalMax(fab->comm, r, DRAPE_RAYS));
   PetscCall(GlobalMax(fab->comm, drop, 1));
   for (int q = 0; q < DRAPE_RAYS; q++) *area += 0.5 * r[q] * r[q] * 2 * PETSC_PI / DRAPE_RAYS;
@@ -272,10 +272,10 @@ PetscErrorCode DrapeOutline(Fabric fab, CurveRow *row)
   /* the specimen's own area measured the same way, once, on the flat specimen at rest: the
      outline of the grid's edge lies inside the nominal circle, so the flat specimen gives
      DC = 100 % */
-  if (fab->drape_flat_area <= 0) PetscCall(Outline(fab, fab->X0, r, &fab->drape_flat_area, &drop));
-  PetscCall(Outline(fab, fab->X, r, &area, &drop));
-  a_disc = PETSC_PI * PetscSqr(s->pedestal_radius > 0 ? s->pedestal_radius : s->ring[1]);
-  fab->drape_pct = 100.0 * ((area - a_disc) / (fab->drape_flat_area - a_disc)); /* the flat specimen: 100 * 1 exactly */
+  if (fab->meas.drape_flat_area <= 0) PetscCall(Outline(fab, fab->grid.X0, r, &fab->meas.drape_flat_area, &drop));
+  PetscCall(Outline(fab, fab->state.X, r, &area, &drop));
+  a_disc = PETSC_PI * PetscSqr(s->bodies.pedestal_radius > 0 ? s->bodies.pedestal_radius : s->clamps.ring[1]);
+  fab->meas.drape_pct = 100.0 * ((area - a_disc) / (fab->meas.drape_flat_area - a_disc)); /* the flat specimen: 100 * 1 exactly */
   { /* folds: the outline as its largest radius over each 5-degree sector (DRAPE_SECTOR rays) */
     PetscReal sec[DRAPE_RAYS / DRAPE_SECTOR], lo = PETSC_MAX_REAL, hi = 0;
     const int S = DRAPE_RAYS / DRAPE_SECTOR;
@@ -293,10 +293,10 @@ PetscErrorCode DrapeOutline(Fabric fab, CurveRow *row)
       if (!(v > sec[(q + S - 1) % S] && v >= sec[(q + 1) % S])) continue;
       for (int t = 1; t < S && sec[(q - t + S) % S] <= v; t++) lo_l = PetscMin(lo_l, sec[(q - t + S) % S]);
       for (int t = 1; t < S && sec[(q + t) % S] <= v; t++) lo_r = PetscMin(lo_r, sec[(q + t) % S]);
-      if (v - PetscMax(lo_l, lo_r) > PetscMax(DRAPE_PROMINENCE * (hi - lo), PetscMax(1.0 / s->picks_per_m, 1.0 / s->ends_per_m))) folds++;
+      if (v - PetscMax(lo_l, lo_r) > PetscMax(DRAPE_PROMINENCE * (hi - lo), PetscMax(1.0 / s->spec.picks_per_m, 1.0 / s->spec.ends_per_m))) folds++;
     }
   }
-  fab->folds = folds;
+  fab->meas.folds = folds;
   row->travel = drop; /* curve.csv travel_mm: the largest drop of a crossing */
   PetscFunctionReturn(0);
 }
@@ -305,22 +305,22 @@ PetscErrorCode DrapeOutline(Fabric fab, CurveRow *row)
    the crossing, the others add zeros: the sum is exact. */
 static PetscErrorCode LoadPointTravel(Fabric fab, CurveRow *row)
 {
-  const PetscReal *P = fab->s.point_load, Pn = PetscSqrtReal(P[0] * P[0] + P[1] * P[1] + P[2] * P[2]);
+  const PetscReal *P = fab->s.load.point_load, Pn = PetscSqrtReal(P[0] * P[0] + P[1] * P[1] + P[2] * P[2]);
   PetscReal        travel = 0;
 
   PetscFunctionBeginUser;
-  if (fab->load_index >= 0 && Pn > 0) {
+  if (fab->grid.load_index >= 0 && Pn > 0) {
     const PetscScalar *x, *x0;
-    const PetscInt     k = fab->load_index;
-    PetscCall(VecGetArrayRead(fab->X, &x));
-    PetscCall(VecGetArrayRead(fab->X0, &x0));
+    const PetscInt     k = fab->grid.load_index;
+    PetscCall(VecGetArrayRead(fab->state.X, &x));
+    PetscCall(VecGetArrayRead(fab->grid.X0, &x0));
     for (int d = 0; d < 3; d++) travel += (x[3 * k + d] - x0[3 * k + d]) * P[d] / Pn;
-    PetscCall(VecRestoreArrayRead(fab->X0, &x0));
-    PetscCall(VecRestoreArrayRead(fab->X, &x));
+    PetscCall(VecRestoreArrayRead(fab->grid.X0, &x0));
+    PetscCall(VecRestoreArrayRead(fab->state.X, &x));
   }
   PetscCall(GlobalSum(fab->comm, &travel, 1));
   row->travel = travel;
-  row->force  = fab->load_factor * Pn;
+  row->force  = fab->load.load_factor * Pn;
   PetscFunctionReturn(0);
 }
 
@@ -333,19 +333,19 @@ PetscErrorCode MoveGrips(Fabric fab, PetscReal disp, PetscBool shift_history)
   PetscScalar *x, *xold = NULL;
 
   PetscFunctionBeginUser;
-  GripMove(fab, fab->grip_now, disp, move);
-  PetscCall(VecGetArray(fab->X, &x));
-  if (fab->Xold && shift_history) PetscCall(VecGetArray(fab->Xold, &xold));
-  for (PetscInt q = 0; q < fab->nloc; q++) {
-    if (fab->kind[q] != POINT_GRIP) continue;
+  GripMove(fab, fab->load.travel_now, disp, move);
+  PetscCall(VecGetArray(fab->state.X, &x));
+  if (fab->state.Xold && shift_history) PetscCall(VecGetArray(fab->state.Xold, &xold));
+  for (PetscInt q = 0; q < fab->grid.nloc; q++) {
+    if (fab->grid.kind[q] != POINT_GRIP) continue;
     for (int d = 0; d < 3; d++) {
       x[3 * q + d] += move[d];
       if (xold) xold[3 * q + d] += move[d];
     }
   }
-  if (xold) PetscCall(VecRestoreArray(fab->Xold, &xold));
-  PetscCall(VecRestoreArray(fab->X, &x));
-  fab->grip_now = disp;
+  if (xold) PetscCall(VecRestoreArray(fab->state.Xold, &xold));
+  PetscCall(VecRestoreArray(fab->state.X, &x));
+  fab->load.travel_now = disp;
   PetscFunctionReturn(0);
 }
 
@@ -353,20 +353,20 @@ PetscErrorCode MoveGrips(Fabric fab, PetscReal disp, PetscBool shift_history)
 PetscErrorCode ApplyLoadStep(Fabric fab, PetscInt k)
 {
   const Scene    *s      = &fab->s;
-  const PetscReal lambda = (PetscReal)k / (PetscReal)s->load_steps;
-  const PetscReal disp   = lambda * LoadTravel(s), step = disp - fab->grip_disp;
+  const PetscReal lambda = (PetscReal)k / (PetscReal)s->load.load_steps;
+  const PetscReal disp   = lambda * LoadTravel(s), step = disp - fab->load.travel;
   PetscReal       damp_c, omega1, move[3];
 
   PetscFunctionBeginUser;
-  fab->load_step   = k;
-  fab->load_factor = lambda;
+  fab->load.load_step   = k;
+  fab->load.load_factor = lambda;
   if (s->test == TEST_DRAPE) /* the specimen is lowered onto its support: gravity grows with the load steps */
-    for (int d = 0; d < 3; d++) fab->gravity_now[d] = lambda * s->gravity[d];
+    for (int d = 0; d < 3; d++) fab->load.gravity_now[d] = lambda * s->terms.gravity[d];
   /* the damping is tuned to the balanced state before the grips jump: right after the jump
      the segment at the grip is strained far beyond the rest of the chain */
-  if (!fab->bound_fresh) PetscCall(StableStep(fab)); /* else FabricRun just took it, at this state */
-  damp_c = fab->damp_c;
-  omega1 = fab->omega1;
+  if (!fab->step.bound_fresh) PetscCall(StableStep(fab)); /* else FabricRun just took it, at this state */
+  damp_c = fab->step.damp_c;
+  omega1 = fab->step.omega1;
   /* Without prediction a jump of the jaw is an impact on the yarns (they fold and pile up):
      the jaw moves instead over a cosine ramp of half a period of the slowest mode, pi/omega_1,
      as a testing machine does, so the strain at the jaw never overshoots the step's mean
@@ -374,20 +374,20 @@ PetscErrorCode ApplyLoadStep(Fabric fab, PetscInt k)
      the prediction and the stable step see the new state; but a sphere always ramps: the
      prediction only guesses the fabric's shape, and a sphere that jumped into the crossings
      it missed would strike them with its penalty force. */
-  fab->grip_from  = fab->grip_now;
-  fab->ramp_steps = step == 0 ? 0 : s->grip_ramp >= 0 ? s->grip_ramp : ((s->predict == PREDICT_NONE || s->sphere_radius > 0) ? (PetscInt)PetscCeilReal(PETSC_PI / (omega1 * fab->te)) : 0);
-  fab->ramp_done  = 0;
-  GripMove(fab, fab->grip_disp, disp, move);
-  if (s->sphere_radius > 0) /* the sphere's move: what its linear prediction follows */
-    for (int d = 0; d < 3; d++) move[d] = step * s->sphere_dir[d];
-  if (!fab->ramp_steps) PetscCall(MoveGrips(fab, disp, PETSC_TRUE));
+  fab->load.travel_from  = fab->load.travel_now;
+  fab->load.ramp_steps = step == 0 ? 0 : s->num.grip_ramp >= 0 ? s->num.grip_ramp : ((s->num.predict == PREDICT_NONE || s->bodies.sphere_radius > 0) ? (PetscInt)PetscCeilReal(PETSC_PI / (omega1 * fab->step.te)) : 0);
+  fab->load.ramp_done  = 0;
+  GripMove(fab, fab->load.travel, disp, move);
+  if (s->bodies.sphere_radius > 0) /* the sphere's move: what its linear prediction follows */
+    for (int d = 0; d < 3; d++) move[d] = step * s->bodies.sphere_dir[d];
+  if (!fab->load.ramp_steps) PetscCall(MoveGrips(fab, disp, PETSC_TRUE));
   PetscCall(PredictLoadStep(fab, step, move));
-  fab->grip_disp      = disp;
-  fab->grip_step_prev = step;
+  fab->load.travel      = disp;
+  fab->load.travel_step_prev = step;
   FrontLoadChange(fab);
   PetscCall(StableStep(fab));
-  fab->damp_c      = damp_c;
-  fab->bound_fresh = PETSC_FALSE;
+  fab->step.damp_c      = damp_c;
+  fab->step.bound_fresh = PETSC_FALSE;
   PetscFunctionReturn(0);
 }
 
@@ -402,33 +402,33 @@ PetscErrorCode RelaxLoadStep(Fabric fab, CurveRow *row)
   row->inner_steps = 0;
   for (PetscInt round = 0;; round++) {
     PetscReal broke;
-    for (n = 1; n <= s->max_inner_steps; n++) {
+    for (n = 1; n <= s->load.max_inner_steps; n++) {
       PetscCall(TimeStep(fab, &st));
-      if (s->early_exit && st.balanced) break;
+      if (s->num.early_exit && st.balanced) break;
     }
-    row->inner_steps += PetscMin(n, s->max_inner_steps);
+    row->inner_steps += PetscMin(n, s->load.max_inner_steps);
     /* yarns break on the balanced (quasi-static) state only: the strains of the relaxation
        transient are artefacts of the load stepping. If one broke, relax this step again,
        with every point awake. */
     if (!st.balanced) break;
     PetscCall(CheckBreaks(fab, &broke));
     if (broke) {
-      fab->front_covered = PETSC_TRUE;
+      fab->front.front_covered = PETSC_TRUE;
       FrontWakeAll(fab);
     }
     if (!broke || round >= MAX_BREAK_ROUNDS) break;
   }
-  row->load_step   = fab->load_step;
+  row->load_step   = fab->load.load_step;
   row->residual    = st.residual;
   row->balanced    = st.balanced;
-  row->elongation  = JawTest(s) ? GripElongation(fab, fab->grip_disp) : 0.0;
+  row->elongation  = JawTest(s) ? GripElongation(fab, fab->load.travel) : 0.0;
   row->time        = TestTime(fab);
   PetscCall(GripReaction(fab, &row->force));
   if (s->test == TEST_SQUARE) PetscCall(LoadPointTravel(fab, row));
   if (s->test == TEST_PUSHING) PetscCall(SphereReaction(fab, row));
   if (s->test == TEST_BIAS) PetscCall(CenterShear(fab, row));
   if (s->test == TEST_DRAPE) PetscCall(DrapeOutline(fab, row));
-  if (s->plane || s->pedestal_radius > 0) PetscCall(SupportReactions(fab, row));
+  if (s->bodies.plane || s->bodies.pedestal_radius > 0) PetscCall(SupportReactions(fab, row));
   PetscFunctionReturn(0);
 }
 
@@ -438,16 +438,16 @@ static PetscErrorCode KeepConverged(Fabric fab)
   Vec t;
 
   PetscFunctionBeginUser;
-  if (fab->s.predict != PREDICT_EXTRAPOLATE) PetscFunctionReturn(0);
-  if (!fab->Xconv) {
-    PetscCall(VecDuplicate(fab->X, &fab->Xconv));
-    PetscCall(VecCopy(fab->X0, fab->Xconv));
+  if (fab->s.num.predict != PREDICT_EXTRAPOLATE) PetscFunctionReturn(0);
+  if (!fab->state.Xconv) {
+    PetscCall(VecDuplicate(fab->state.X, &fab->state.Xconv));
+    PetscCall(VecCopy(fab->grid.X0, fab->state.Xconv));
   }
-  if (!fab->Xconv_prev) PetscCall(VecDuplicate(fab->X, &fab->Xconv_prev));
-  t               = fab->Xconv_prev;
-  fab->Xconv_prev = fab->Xconv;
-  fab->Xconv      = t;
-  PetscCall(VecCopy(fab->X, fab->Xconv));
+  if (!fab->state.Xconv_prev) PetscCall(VecDuplicate(fab->state.X, &fab->state.Xconv_prev));
+  t               = fab->state.Xconv_prev;
+  fab->state.Xconv_prev = fab->state.Xconv;
+  fab->state.Xconv      = t;
+  PetscCall(VecCopy(fab->state.X, fab->state.Xconv));
   PetscFunctionReturn(0);
 }
 
@@ -456,26 +456,26 @@ PetscErrorCode FabricRun(Fabric fab)
   const Scene *s = &fab->s;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscTime(&fab->wall_start));
+  PetscCall(PetscTime(&fab->stats.wall_start));
   PetscCall(StableStep(fab)); /* refuses a -te above the bound before any output exists */
   PetscCall(RestartLoad(fab)); /* -restart: state, counters and curve rows of the checkpoint */
-  fab->bound_fresh = fab->load_step == 0 ? PETSC_TRUE : PETSC_FALSE; /* still the state it was taken at */
+  fab->step.bound_fresh = fab->load.load_step == 0 ? PETSC_TRUE : PETSC_FALSE; /* still the state it was taken at */
   PetscCall(OutputOpen(fab));
   PetscCall(FramesOpen(fab));  /* fabric.h5 and fabric.xmf */
-  for (PetscInt k = fab->load_step + 1; k <= s->load_steps; k++) {
-    CurveRow *row = &fab->curve[k - 1];
+  for (PetscInt k = fab->load.load_step + 1; k <= s->load.load_steps; k++) {
+    CurveRow *row = &fab->stats.curve[k - 1];
     PetscCall(ApplyLoadStep(fab, k));
     PetscCall(RelaxLoadStep(fab, row));
-    if (!row->balanced) fab->converged = PETSC_FALSE;
+    if (!row->balanced) fab->stats.converged = PETSC_FALSE;
     PetscCall(KeepConverged(fab));
-    PetscCall(PetscTime(&fab->wall));
-    fab->wall -= fab->wall_start;
+    PetscCall(PetscTime(&fab->stats.wall));
+    fab->stats.wall -= fab->stats.wall_start;
     PetscCall(OutputCurveRow(fab, row));
     PetscCall(FramesLoadStep(fab, row));
     PetscCall(OutputProgress(fab, row));
     PetscCall(CheckpointLoadStep(fab));
   }
   PetscCall(OutputSummary(fab, NULL));
-  if (s->positions_out[0]) PetscCall(OutputPositions(fab, s->positions_out));
+  if (s->out.positions_out[0]) PetscCall(OutputPositions(fab, s->out.positions_out));
   PetscFunctionReturn(0);
 }

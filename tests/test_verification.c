@@ -49,11 +49,11 @@ static PetscErrorCode LinearStrip(void)
   PetscFunctionBeginUser;
   PetscCall(NewFabric(BASE "-yarns 10 -gauge_mm 20 -warp_crimp_pct 0 -elongation_pct 2 -load_steps 4 -predict none -balance_tol 1e-7 -speed_tol 1e-7", &fab));
   PetscCall(FabricRun(fab));
-  for (PetscInt q = 0; q < fab->s.load_steps; q++) {
-    const CurveRow *r = &fab->curve[q];
+  for (PetscInt q = 0; q < fab->s.load.load_steps; q++) {
+    const CurveRow *r = &fab->stats.curve[q];
     char            what[64];
     PetscCall(PetscSNPrintf(what, sizeof what, "linear strip force at %.2f %% (N' %d)", (double)(100 * r->elongation), (int)r->inner_steps));
-    CheckRel(what, r->force, 10 * fab->s.warp.EA * r->elongation, 1e-6);
+    CheckRel(what, r->force, 10 * fab->s.yarns.warp.EA * r->elongation, 1e-6);
   }
   PetscCall(FabricDestroy(&fab));
   PetscFunctionReturn(0);
@@ -71,15 +71,15 @@ static PetscErrorCode CrimpKnee(void)
   PetscCall(NewFabric(BASE "-yarns 6 -gauge_mm 20 -warp_crimp_pct 8 -elongation_pct 16 -load_steps 16 -predict none -balance_tol 1e-7 -speed_tol 1e-7", &fab));
   PetscCall(FabricRun(fab));
   {
-    const CurveRow *c = fab->curve;
+    const CurveRow *c = fab->stats.curve;
     s1 = (c[2].force - c[1].force) / (c[2].elongation - c[1].elongation); /* 2-3 %: de-crimping */
     s2 = (c[15].force - c[14].force) / (c[15].elongation - c[14].elongation); /* 15-16 %: extension */
     e1 = c[1].elongation, f1 = c[1].force, e2 = c[14].elongation, f2 = c[14].force;
   }
   knee = (f2 - f1 + s1 * e1 - s2 * e2) / (s1 - s2);
   CheckRel("knee of the crimped strip's curve (chord strain)", knee, 0.08, 1e-6);
-  CheckRel("de-crimping slope (N per unit strain)", s1, 6 * fab->s.warp.Ec, 1e-6);
-  CheckRel("extension slope (N per unit strain)", s2, 6 * fab->s.warp.EA / 1.08, 1e-6);
+  CheckRel("de-crimping slope (N per unit strain)", s1, 6 * fab->s.yarns.warp.Ec, 1e-6);
+  CheckRel("extension slope (N per unit strain)", s2, 6 * fab->s.yarns.warp.EA / 1.08, 1e-6);
   PetscCall(FabricDestroy(&fab));
   PetscFunctionReturn(0);
 }
@@ -89,11 +89,11 @@ static PetscReal Ux(Fabric fab, PetscInt i)
 {
   const PetscScalar *x, *x0;
   PetscReal          u;
-  VecGetArrayRead(fab->X, &x);
-  VecGetArrayRead(fab->X0, &x0);
+  VecGetArrayRead(fab->state.X, &x);
+  VecGetArrayRead(fab->grid.X0, &x0);
   u = x[3 * i] - x0[3 * i];
-  VecRestoreArrayRead(fab->X0, &x0);
-  VecRestoreArrayRead(fab->X, &x);
+  VecRestoreArrayRead(fab->grid.X0, &x0);
+  VecRestoreArrayRead(fab->state.X, &x);
   return u;
 }
 
@@ -108,17 +108,17 @@ static PetscErrorCode WaveSpeed(void)
 
   PetscFunctionBeginUser;
   PetscCall(NewFabric(ONE_YARN "-elongation_pct 0.01 -load_steps 1 -damping_ratio 0 -predict none -early_exit 0", &fab));
-  nx = fab->s.nx;
+  nx = fab->s.spec.nx;
   PetscCall(ApplyLoadStep(fab, 1));
-  D = fab->grip_disp;
+  D = fab->load.travel;
   for (PetscInt n = 1; n <= 4 * nx && t2 < 0; n++) {
     StepStats st;
     PetscCall(TimeStep(fab, &st));
-    if (t1 < 0 && Ux(fab, nx - 1 - n1) >= D / 3) t1 = n * fab->te;
-    if (t2 < 0 && Ux(fab, nx - 1 - n2) >= D / 3) t2 = n * fab->te;
+    if (t1 < 0 && Ux(fab, nx - 1 - n1) >= D / 3) t1 = n * fab->step.te;
+    if (t2 < 0 && Ux(fab, nx - 1 - n2) >= D / 3) t2 = n * fab->step.te;
   }
-  c_exact = PetscSqrtReal(fab->s.warp.EA / fab->s.warp.mu);
-  CheckRel("wave speed along one yarn (m/s)", (n2 - n1) * fab->patch.ax / (t2 - t1), c_exact, 2e-2);
+  c_exact = PetscSqrtReal(fab->s.yarns.warp.EA / fab->s.yarns.warp.mu);
+  CheckRel("wave speed along one yarn (m/s)", (n2 - n1) * fab->grid.patch.ax / (t2 - t1), c_exact, 2e-2);
   PetscCall(FabricDestroy(&fab));
   PetscFunctionReturn(0);
 }
@@ -136,15 +136,15 @@ static PetscErrorCode TransverseLoad(void)
   PetscFunctionBeginUser;
   PetscCall(NewFabric(ONE_YARN "-gauge_mm 20 -elongation_pct 0 -point_load_N 0,0,0.05 -load_steps 10 -predict none -balance_tol 1e-8 -speed_tol 1e-8 -damping_ratio 0.05", &fab));
   PetscCall(FabricRun(fab));
-  mid = fab->s.load_at[0];
-  PetscCheck(2 * mid == fab->s.nx - 1, PETSC_COMM_SELF, PETSC_ERR_PLIB, "the load is not at the middle");
-  PetscCall(VecGetArrayRead(fab->X, &x));
+  mid = fab->s.load.load_at[0];
+  PetscCheck(2 * mid == fab->s.spec.nx - 1, PETSC_COMM_SELF, PETSC_ERR_PLIB, "the load is not at the middle");
+  PetscCall(VecGetArrayRead(fab->state.X, &x));
   d = x[3 * mid + 2];
-  PetscCall(VecRestoreArrayRead(fab->X, &x));
-  l0 = mid * fab->patch.ax;
+  PetscCall(VecRestoreArrayRead(fab->state.X, &x));
+  l0 = mid * fab->grid.patch.ax;
   l  = PetscSqrtReal(l0 * l0 + d * d);
-  EA = fab->s.warp.EA;
-  CheckTrue("every load step balanced", fab->converged, (double)fab->converged);
+  EA = fab->s.yarns.warp.EA;
+  CheckTrue("every load step balanced", fab->stats.converged, (double)fab->stats.converged);
   CheckRel("transverse load from the midpoint deflection (N)", 2 * EA * (l / l0 - 1) * d / l, P, 1e-6);
   PetscCall(FabricDestroy(&fab));
   PetscFunctionReturn(0);
@@ -154,15 +154,15 @@ static PetscErrorCode TransverseLoad(void)
 static PetscReal MaxDisp(Fabric fab)
 {
   PetscReal m = 0;
-  for (PetscInt i = 0; i < fab->s.nx; i++) m = PetscMax(m, PetscAbsReal(Ux(fab, i)));
+  for (PetscInt i = 0; i < fab->s.spec.nx; i++) m = PetscMax(m, PetscAbsReal(Ux(fab, i)));
   return m;
 }
 
 /* exact omega_max of the fixed-fixed chain of n segments (n-1 free points of mass mu L0) */
 static PetscReal ChainOmegaMax(Fabric fab)
 {
-  const PetscInt  n = fab->s.nx - 1;
-  const PetscReal k = fab->s.warp.EA / fab->patch.ax, m = fab->s.warp.mu * fab->patch.ax;
+  const PetscInt  n = fab->s.spec.nx - 1;
+  const PetscReal k = fab->s.yarns.warp.EA / fab->grid.patch.ax, m = fab->s.yarns.warp.mu * fab->grid.patch.ax;
   return 2 * PetscSqrtReal(k / m) * PetscSinReal((n - 1) * PETSC_PI / (2.0 * n));
 }
 
@@ -175,8 +175,8 @@ static PetscErrorCode Stable095(void)
   PetscFunctionBeginUser;
   PetscCall(NewFabric(ONE_YARN "-elongation_pct 0.01 -load_steps 1 -damping_ratio 0 -predict none -early_exit 0 -te_safety 0.95", &fab));
   PetscCall(ApplyLoadStep(fab, 1));
-  D = fab->grip_disp;
-  PetscPrintf(PETSC_COMM_WORLD, "te = %g s = 0.95 x bound %g s; exact chain limit 2/omega = %g s\n", (double)fab->te, (double)fab->te_bound, (double)(2 / ChainOmegaMax(fab)));
+  D = fab->load.travel;
+  PetscPrintf(PETSC_COMM_WORLD, "te = %g s = 0.95 x bound %g s; exact chain limit 2/omega = %g s\n", (double)fab->step.te, (double)fab->step.te_bound, (double)(2 / ChainOmegaMax(fab)));
   for (PetscInt n = 1; n <= 10000; n++) {
     StepStats st;
     PetscCall(TimeStep(fab, &st));
@@ -198,8 +198,8 @@ static PetscErrorCode Unstable110(void)
   PetscFunctionBeginUser;
   PetscCall(NewFabric(ONE_YARN "-elongation_pct 0.01 -load_steps 1 -damping_ratio 0 -predict none -early_exit 0 -te_check 0", &fab));
   PetscCall(ApplyLoadStep(fab, 1));
-  fab->te = 1.1 * 2.0 / ChainOmegaMax(fab);
-  PetscPrintf(PETSC_COMM_WORLD, "te = %g s = 1.1 x exact limit; the bound is %g s\n", (double)fab->te, (double)fab->te_bound);
+  fab->step.te = 1.1 * 2.0 / ChainOmegaMax(fab);
+  PetscPrintf(PETSC_COMM_WORLD, "te = %g s = 1.1 x exact limit; the bound is %g s\n", (double)fab->step.te, (double)fab->step.te_bound);
   PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
   for (n = 1; n <= 10000 && !ierr; n++) {
     StepStats st;
@@ -226,8 +226,8 @@ static PetscErrorCode PaperParasitic(void)
     PetscCall(PetscSNPrintf(opts, sizeof opts, ONE_YARN "-elongation_pct 0.01 -load_steps 1 -damping_ratio 0 -nu 7e-5 -predict none -early_exit 0 -integrator %s", scheme == 0 ? "paper" : "damped"));
     PetscCall(NewFabric(opts, &fab));
     PetscCall(ApplyLoadStep(fab, 1));
-    fab->te = 0.9 / fab->omega_max; /* within both schemes' stable bounds */
-    a       = fab->te * fab->s.nu / (fab->s.warp.mu * fab->patch.ax);
+    fab->step.te = 0.9 / fab->step.omega_max; /* within both schemes' stable bounds */
+    a       = fab->step.te * fab->s.num.nu / (fab->s.yarns.warp.mu * fab->grid.patch.ax);
     for (PetscInt n = 1; n <= 10000; n++) {
       PetscCall(TimeStep(fab, &st));
       if (n <= 500) early = PetscMax(early, st.speed);
@@ -252,9 +252,9 @@ static PetscErrorCode LinearPrediction(void)
   PetscFunctionBeginUser;
   PetscCall(NewFabric(BASE "-yarns 10 -gauge_mm 50 -warp_crimp_pct 0 -elongation_pct 5 -load_steps 10 -predict linear -balance_tol 1e-7 -speed_tol 1e-7", &fab));
   PetscCall(FabricRun(fab));
-  for (PetscInt q = 0; q < fab->s.load_steps; q++) worst = PetscMax(worst, fab->curve[q].inner_steps);
-  CheckTrue("linear prediction: every load step balanced in at most 5 te steps (largest N')", worst <= 5 && fab->converged, (double)worst);
-  CheckRel("force at 5 % with prediction (N)", fab->curve[9].force, 10 * fab->s.warp.EA * 0.05, 1e-6);
+  for (PetscInt q = 0; q < fab->s.load.load_steps; q++) worst = PetscMax(worst, fab->stats.curve[q].inner_steps);
+  CheckTrue("linear prediction: every load step balanced in at most 5 te steps (largest N')", worst <= 5 && fab->stats.converged, (double)worst);
+  CheckRel("force at 5 % with prediction (N)", fab->stats.curve[9].force, 10 * fab->s.yarns.warp.EA * 0.05, 1e-6);
   PetscCall(FabricDestroy(&fab));
   PetscFunctionReturn(0);
 }
@@ -273,8 +273,8 @@ static PetscErrorCode SquareNet(void)
   PetscFunctionBeginUser;
   PetscCall(NewFabric(BASE "-test square -gauge_mm 10 -width_mm 10 -warp_crimp_pct 0 -weft_crimp_pct 0 -bending 0 -shear 0 -point_load_N 0,0,0.5 -load_steps 12 -predict none -balance_tol 1e-6 -speed_tol 1e-6 -max_inner_steps 100000", &fab));
   PetscCall(FabricRun(fab));
-  for (PetscInt q = fab->s.load_steps / 2; q < fab->s.load_steps; q++) {
-    const CurveRow *r = &fab->curve[q];
+  for (PetscInt q = fab->s.load.load_steps / 2; q < fab->s.load.load_steps; q++) {
+    const CurveRow *r = &fab->stats.curve[q];
     const PetscReal lx = PetscLogReal(r->travel), ly = PetscLogReal(r->force);
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "  load %.4f N  deflection %.6f mm  (N' %d, balanced %d)\n", (double)r->force, (double)(1e3 * r->travel), (int)r->inner_steps, (int)r->balanced));
     CheckTrue("load step balanced", r->balanced, r->residual);
@@ -319,12 +319,12 @@ static PetscErrorCode BiasExtension(void)
 
   PetscFunctionBeginUser;
   PetscCall(NewFabric(BASE "-test bias -gauge_mm 60 -width_mm 30 -ends_per_cm 8 -picks_per_cm 8 -warp_crimp_pct 0 -weft_crimp_pct 0 -warp_modulus_cN_tex 2600 -weft_modulus_cN_tex 2600 -elongation_pct 20 -load_steps 8 -predict extrapolate -shear_lock_deg 35 -damping_ratio 0.05 -max_inner_steps 100000", &fab));
-  D = 1e3 * (fab->s.gauge - fab->s.width);
+  D = 1e3 * (fab->s.spec.gauge - fab->s.spec.width);
   CheckRel("bias specimen on the grid diagonals: D = gauge - width (mm)", D, 17 * PetscSqrtReal(2.0) * 1.25, 1e-12);
   PetscCall(FabricRun(fab));
-  for (PetscInt q = 0; q < fab->s.load_steps; q++) {
-    const CurveRow *r = &fab->curve[q];
-    const PetscReal d = 1e3 * r->elongation * fab->s.gauge, c = (D + d) / (PetscSqrtReal(2.0) * D);
+  for (PetscInt q = 0; q < fab->s.load.load_steps; q++) {
+    const CurveRow *r = &fab->stats.curve[q];
+    const PetscReal d = 1e3 * r->elongation * fab->s.spec.gauge, c = (D + d) / (PetscSqrtReal(2.0) * D);
     const PetscReal kin = c < 1 ? 90.0 - 2.0 * PetscAcosReal(c) * 180.0 / PETSC_PI : 90.0;
     char            what[160];
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "  travel %.2f mm  force %.4f N  centre %.2f deg  formula %.2f deg  (N' %d)\n", (double)d, (double)r->force, (double)r->center_shear, (double)kin, (int)r->inner_steps));
@@ -334,10 +334,10 @@ static PetscErrorCode BiasExtension(void)
       CheckTrue(what, PetscAbsReal(r->center_shear - kin) <= 2.0, r->center_shear - kin);
       compared++;
     }
-    if (q >= 1 && r->center_shear < 0.9 * lock) slope_before = (r->force - fab->curve[q - 1].force) / (r->elongation - fab->curve[q - 1].elongation);
+    if (q >= 1 && r->center_shear < 0.9 * lock) slope_before = (r->force - fab->stats.curve[q - 1].force) / (r->elongation - fab->stats.curve[q - 1].elongation);
   }
   {
-    const CurveRow *a = &fab->curve[fab->s.load_steps - 2], *b = &fab->curve[fab->s.load_steps - 1];
+    const CurveRow *a = &fab->stats.curve[fab->s.load.load_steps - 2], *b = &fab->stats.curve[fab->s.load.load_steps - 1];
     slope_after = (b->force - a->force) / (b->elongation - a->elongation);
     CheckTrue("the 5 load steps below locking (formula up to 34.2 deg) were compared with the formula", compared == 5, (double)compared);
     CheckTrue("past locking the central angle is above the lock", b->center_shear > lock, b->center_shear);
@@ -367,18 +367,18 @@ static PetscErrorCode RestOnSupport(PetscBool pedestal)
   PetscCall(PetscSNPrintf(opts, sizeof opts, "-output_dir none -quiet -warp_break_pct 0 -weft_break_pct 0 -test square -gauge_mm 10 -width_mm 10 -clamp none -bending 0 -shear 0 %s -thickness_mm 0.3 -gravity 0,0,-9.81 -load_steps 2 -predict none -balance_tol 1e-8 -speed_tol 1e-9 -max_inner_steps 200000", pedestal ? "-pedestal_diameter_mm 40" : "-plane -plane_point_mm 0,0,-0.15"));
   PetscCall(NewFabric(opts, &fab));
   PetscCall(FabricRun(fab));
-  PetscCall(VecGetArrayRead(fab->X, &x));
-  for (PetscInt k = 0; k < fab->nloc; k++) {
-    if (fab->mass[k] <= 0) continue;
-    const PetscReal expected = -fab->mass[k] * 9.81 / fab->s.contact_k;
+  PetscCall(VecGetArrayRead(fab->state.X, &x));
+  for (PetscInt k = 0; k < fab->grid.nloc; k++) {
+    if (fab->grid.mass[k] <= 0) continue;
+    const PetscReal expected = -fab->grid.mass[k] * 9.81 / fab->s.bodies.contact_k;
     err  = PetscMax(err, PetscAbsReal(x[3 * k + 2] - expected));
     sink = PetscMax(sink, PetscAbsReal(expected));
   }
-  PetscCall(VecRestoreArrayRead(fab->X, &x));
+  PetscCall(VecRestoreArrayRead(fab->state.X, &x));
   PetscCall(GlobalMax(PETSC_COMM_WORLD, &err, 1));
   PetscCall(GlobalMax(PETSC_COMM_WORLD, &sink, 1));
   {
-    const CurveRow *r = &fab->curve[fab->s.load_steps - 1];
+    const CurveRow *r = &fab->stats.curve[fab->s.load.load_steps - 1];
     CheckTrue(pedestal ? "every crossing rests on the pedestal at z = -m g / k_c (largest error / largest sink <= 1e-6)" : "every crossing rests on the plane at z = -m g / k_c (largest error / largest sink <= 1e-6)", err <= 1e-6 * sink, err / sink);
     CheckTrue("the last load step balanced", r->balanced, r->residual);
     CheckRel(pedestal ? "pedestal reaction fz = the net's weight (N)" : "plane reaction fz = the net's weight (N)", pedestal ? r->pedestal_force[2] : r->plane_force[2], r->weight[2], 1e-6);
@@ -417,31 +417,31 @@ static PetscErrorCode FrictionIncline(void)
     PetscCall(PetscSNPrintf(opts, sizeof opts, "%s -friction_mu %g -gravity %.17g,0,%.17g %s", base, (double)mu, (double)(g * PetscSinReal(alpha)), (double)(-g * PetscCosReal(alpha)), slide ? "-early_exit 0 -max_inner_steps 3000" : "-balance_tol 1e-8 -speed_tol 1e-9 -max_inner_steps 200000"));
     PetscCall(NewFabric(opts, &fab));
     PetscCall(FabricRun(fab));
-    PetscCall(VecGetArrayRead(fab->X, &x));
-    PetscCall(VecGetArrayRead(fab->X0, &x0));
-    PetscCall(VecGetArrayRead(fab->V, &v));
-    for (PetscInt k = 0; k < fab->nloc; k++) {
-      if (fab->mass[k] <= 0) continue;
-      const PetscReal m = fab->mass[k];
+    PetscCall(VecGetArrayRead(fab->state.X, &x));
+    PetscCall(VecGetArrayRead(fab->grid.X0, &x0));
+    PetscCall(VecGetArrayRead(fab->state.V, &v));
+    for (PetscInt k = 0; k < fab->grid.nloc; k++) {
+      if (fab->grid.mass[k] <= 0) continue;
+      const PetscReal m = fab->grid.mass[k];
       if (!slide) {
-        const PetscReal ex = m * g * PetscSinReal(alpha) / fab->s.contact_k, ez = -m * g * PetscCosReal(alpha) / fab->s.contact_k;
+        const PetscReal ex = m * g * PetscSinReal(alpha) / fab->s.bodies.contact_k, ez = -m * g * PetscCosReal(alpha) / fab->s.bodies.contact_k;
         err[0] = PetscMax(err[0], PetscAbsReal(x[3 * k] - x0[3 * k] - ex));
         err[1] = PetscMax(err[1], PetscAbsReal(x[3 * k + 2] - ez));
         ref[0] = PetscMax(ref[0], ex), ref[1] = PetscMax(ref[1], -ez);
       } else {
-        const PetscReal vt = m * g * (PetscSinReal(alpha) - mu * PetscCosReal(alpha)) / fab->s.nu;
+        const PetscReal vt = m * g * (PetscSinReal(alpha) - mu * PetscCosReal(alpha)) / fab->s.num.nu;
         err[0] = PetscMax(err[0], PetscAbsReal(v[3 * k] - vt));
         err[1] = PetscMax(err[1], PetscAbsReal(v[3 * k + 2]) + PetscAbsReal(v[3 * k + 1]));
         ref[0] = ref[1] = PetscMax(ref[0], vt);
       }
     }
-    PetscCall(VecRestoreArrayRead(fab->V, &v));
-    PetscCall(VecRestoreArrayRead(fab->X0, &x0));
-    PetscCall(VecRestoreArrayRead(fab->X, &x));
+    PetscCall(VecRestoreArrayRead(fab->state.V, &v));
+    PetscCall(VecRestoreArrayRead(fab->grid.X0, &x0));
+    PetscCall(VecRestoreArrayRead(fab->state.X, &x));
     PetscCall(GlobalMax(PETSC_COMM_WORLD, err, 2));
     PetscCall(GlobalMax(PETSC_COMM_WORLD, ref, 2));
     {
-      const CurveRow *r = &fab->curve[0];
+      const CurveRow *r = &fab->stats.curve[0];
       if (!slide) {
         CheckTrue("mu 0.5 > tan(alpha), sticks: the load step balanced", r->balanced, r->residual);
         CheckTrue("sticks: x - x0 = m g sin(alpha) / k_c at every crossing (largest error / largest <= 1e-6)", err[0] <= 1e-6 * ref[0], err[0] / ref[0]);
@@ -449,7 +449,7 @@ static PetscErrorCode FrictionIncline(void)
         CheckRel("sticks: plane reaction fx = the weight's x (N)", r->plane_force[0], r->weight[0], 1e-6);
         CheckRel("sticks: plane reaction fz = the weight's z (N)", r->plane_force[2], r->weight[2], 1e-6);
       } else {
-        PetscPrintf(PETSC_COMM_WORLD, "slides: %d te steps of %g s\n", (int)fab->te_steps, (double)fab->te);
+        PetscPrintf(PETSC_COMM_WORLD, "slides: %d te steps of %g s\n", (int)fab->stats.te_steps, (double)fab->step.te);
         CheckTrue("mu 0.2 < tan(alpha), slides: every crossing at the terminal speed m g (sin(alpha) - mu cos(alpha)) / nu (largest error / largest speed <= 1e-6)", isfinite(ref[0]) && ref[0] > 0 && err[0] <= 1e-6 * ref[0], err[0] / ref[0]);
         CheckTrue("slides: no speed across the slope or off the plane (largest / the terminal speed <= 1e-6)", err[1] <= 1e-6 * ref[1], err[1] / ref[1]);
         CheckRel("slides: plane tangential reaction fx = mu times the normal one (N)", r->plane_force[0], -mu * r->plane_force[2], 1e-9);
@@ -479,10 +479,10 @@ static PetscErrorCode GripLines(void)
     PetscInt n[4] = {0, 0, 0, 0}; /* clamped, gripped, wrong clamps, wrong grips */
     PetscCall(PetscSNPrintf(opts, sizeof opts, "%s -clamp_line_mm 0,-10,0,0.3 %s", grid, grips[c]));
     PetscCall(NewFabric(opts, &fab));
-    const Patch *p = &fab->patch;
+    const Patch *p = &fab->grid.patch;
     for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
       for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
-        const int kind = fab->kind[(j - p->ys) * p->xm + (i - p->xs)];
+        const int kind = fab->grid.kind[(j - p->ys) * p->xm + (i - p->xs)];
         const int on   = c == 0 ? 2 * (j - 10) == i - 10 : (j >= 9 && j <= 11);
         n[0] += kind == POINT_CLAMPED;
         n[1] += kind == POINT_GRIP;
@@ -522,12 +522,12 @@ static PetscErrorCode GripPath(void)
   {
     const PetscReal x_mm[6] = {0.1, 0.2, 0.3, 0.4, 0.3, 0.2};
     for (PetscInt q = 0; q < 6; q++) {
-      const CurveRow *r = &fab->curve[q];
+      const CurveRow *r = &fab->stats.curve[q];
       char            what[96];
       PetscCall(PetscSNPrintf(what, sizeof what, "out and back, step %d: elongation = path x / gauge", (int)q + 1));
-      CheckRel(what, r->elongation, 1e-3 * x_mm[q] / fab->s.gauge, 1e-12);
+      CheckRel(what, r->elongation, 1e-3 * x_mm[q] / fab->s.spec.gauge, 1e-12);
       PetscCall(PetscSNPrintf(what, sizeof what, "out and back, step %d: force = 10 EA strain (N' %d)", (int)q + 1, (int)r->inner_steps));
-      CheckRel(what, r->force, 10 * fab->s.warp.EA * r->elongation, 1e-6);
+      CheckRel(what, r->force, 10 * fab->s.yarns.warp.EA * r->elongation, 1e-6);
     }
   }
   PetscCall(FabricDestroy(&fab));
@@ -536,11 +536,11 @@ static PetscErrorCode GripPath(void)
   PetscCall(NewFabric(opts, &fab));
   PetscCall(FabricRun(fab));
   for (PetscInt q = 0; q < 4; q++) {
-    const PetscReal a = 2.4e-3 * (q + 1) / 4, dz = PetscMin(a, 2e-3), dx = a - dz, L = fab->s.gauge;
+    const PetscReal a = 2.4e-3 * (q + 1) / 4, dz = PetscMin(a, 2e-3), dx = a - dz, L = fab->s.spec.gauge;
     const PetscReal l = PetscSqrtReal(PetscSqr(L + dx) + dz * dz);
     char            what[96];
-    PetscCall(PetscSNPrintf(what, sizeof what, "up and along, step %d: force along the pull (N' %d)", (int)q + 1, (int)fab->curve[q].inner_steps));
-    CheckRel(what, fab->curve[q].force, 10 * fab->s.warp.EA * (l / L - 1) * (L + dx) / l, 1e-6);
+    PetscCall(PetscSNPrintf(what, sizeof what, "up and along, step %d: force along the pull (N' %d)", (int)q + 1, (int)fab->stats.curve[q].inner_steps));
+    CheckRel(what, fab->stats.curve[q].force, 10 * fab->s.yarns.warp.EA * (l / L - 1) * (L + dx) / l, 1e-6);
   }
   PetscCall(FabricDestroy(&fab));
 
@@ -550,14 +550,14 @@ static PetscErrorCode GripPath(void)
   {
     const PetscScalar *x, *x0;
     PetscReal          err = 0;
-    PetscCall(VecGetArrayRead(fab->X, &x));
-    PetscCall(VecGetArrayRead(fab->X0, &x0));
-    for (PetscInt k = 0; k < fab->nloc; k++) err = PetscMax(err, PetscAbsReal(x[3 * k] - x0[3 * k]) + PetscAbsReal(x[3 * k + 1] - x0[3 * k + 1] - 0.5e-3) + PetscAbsReal(x[3 * k + 2] - x0[3 * k + 2]));
-    PetscCall(VecRestoreArrayRead(fab->X0, &x0));
-    PetscCall(VecRestoreArrayRead(fab->X, &x));
+    PetscCall(VecGetArrayRead(fab->state.X, &x));
+    PetscCall(VecGetArrayRead(fab->grid.X0, &x0));
+    for (PetscInt k = 0; k < fab->grid.nloc; k++) err = PetscMax(err, PetscAbsReal(x[3 * k] - x0[3 * k]) + PetscAbsReal(x[3 * k + 1] - x0[3 * k + 1] - 0.5e-3) + PetscAbsReal(x[3 * k + 2] - x0[3 * k + 2]));
+    PetscCall(VecRestoreArrayRead(fab->grid.X0, &x0));
+    PetscCall(VecRestoreArrayRead(fab->state.X, &x));
     PetscCall(GlobalMax(PETSC_COMM_WORLD, &err, 1));
     CheckTrue("rigid translation across the pull: every crossing moved by 0,0.5,0 mm (max error <= 1e-12 m)", err <= 1e-12, err);
-    CheckTrue("rigid translation: no reaction (|force| <= 1e-12 N)", PetscAbsReal(fab->curve[1].force) <= 1e-12, fab->curve[1].force);
+    CheckTrue("rigid translation: no reaction (|force| <= 1e-12 N)", PetscAbsReal(fab->stats.curve[1].force) <= 1e-12, fab->stats.curve[1].force);
   }
   PetscCall(FabricDestroy(&fab));
   PetscFunctionReturn(0);
@@ -578,14 +578,14 @@ static PetscErrorCode SpeedupsCurve(void)
     PetscCall(PetscSNPrintf(opts, sizeof opts, "%s -predict none -early_exit 0 -front 0 -max_inner_steps 30000", common));
     PetscCall(NewFabric(opts, &fab));
     PetscCall(FabricRun(fab));
-    for (int k = 0; k < 8; k++) ref[k] = fab->curve[k].force, peak = PetscMax(peak, ref[k]);
-    PetscPrintf(PETSC_COMM_WORLD, "all off: %" PetscInt64_FMT " te steps, %" PetscInt64_FMT " point updates\n", fab->te_steps, fab->point_updates);
+    for (int k = 0; k < 8; k++) ref[k] = fab->stats.curve[k].force, peak = PetscMax(peak, ref[k]);
+    PetscPrintf(PETSC_COMM_WORLD, "all off: %" PetscInt64_FMT " te steps, %" PetscInt64_FMT " point updates\n", fab->stats.te_steps, fab->stats.point_updates);
     PetscCall(FabricDestroy(&fab));
     PetscCall(PetscSNPrintf(opts, sizeof opts, "%s -predict extrapolate -early_exit 1 -front 1 -sleep_tol 1e-4 -balance_tol 1e-3", common));
     PetscCall(NewFabric(opts, &fab));
     PetscCall(FabricRun(fab));
-    for (int k = 0; k < 8; k++) err = PetscMax(err, PetscAbsReal(fab->curve[k].force - ref[k]));
-    PetscPrintf(PETSC_COMM_WORLD, "all on: %" PetscInt64_FMT " te steps, %" PetscInt64_FMT " point updates\n", fab->te_steps, fab->point_updates);
+    for (int k = 0; k < 8; k++) err = PetscMax(err, PetscAbsReal(fab->stats.curve[k].force - ref[k]));
+    PetscPrintf(PETSC_COMM_WORLD, "all on: %" PetscInt64_FMT " te steps, %" PetscInt64_FMT " point updates\n", fab->stats.te_steps, fab->stats.point_updates);
   }
   CheckTrue("every speed-up on: max |F - F_ref| / peak force <= balance_tol 1e-3", err / peak <= 1e-3, err / peak);
   PetscCall(FabricDestroy(&fab));
@@ -612,18 +612,18 @@ static PetscErrorCode SetShape(Fabric fab, PetscReal scale, PetscReal turn, Pets
   const PetscReal    c = PetscCosReal(turn), sn = PetscSinReal(turn);
 
   PetscFunctionBeginUser;
-  PetscCall(VecGetArrayRead(fab->X0, &x0));
-  PetscCall(VecGetArray(fab->X, &x));
-  for (PetscInt k = 0; k < fab->nloc; k++) {
-    const PetscReal dx = x0[3 * k] - fab->centre[0], dy = x0[3 * k + 1] - fab->centre[1];
+  PetscCall(VecGetArrayRead(fab->grid.X0, &x0));
+  PetscCall(VecGetArray(fab->state.X, &x));
+  for (PetscInt k = 0; k < fab->grid.nloc; k++) {
+    const PetscReal dx = x0[3 * k] - fab->grid.centre[0], dy = x0[3 * k + 1] - fab->grid.centre[1];
     PetscReal       f = scale;
     if (lobes) f *= 1.0 - 0.15 * (1.0 - PetscCosReal(lobes * atan2(dy, dx)));
-    x[3 * k]     = fab->centre[0] + f * (c * dx - sn * dy) + jitter * PetscSinReal(12.9898 * x0[3 * k] * 1e3 + 78.233 * x0[3 * k + 1] * 1e3);
-    x[3 * k + 1] = fab->centre[1] + f * (sn * dx + c * dy) + jitter * PetscCosReal(39.3468 * x0[3 * k] * 1e3 + 11.135 * x0[3 * k + 1] * 1e3);
+    x[3 * k]     = fab->grid.centre[0] + f * (c * dx - sn * dy) + jitter * PetscSinReal(12.9898 * x0[3 * k] * 1e3 + 78.233 * x0[3 * k + 1] * 1e3);
+    x[3 * k + 1] = fab->grid.centre[1] + f * (sn * dx + c * dy) + jitter * PetscCosReal(39.3468 * x0[3 * k] * 1e3 + 11.135 * x0[3 * k + 1] * 1e3);
     x[3 * k + 2] = x0[3 * k + 2];
   }
-  PetscCall(VecRestoreArray(fab->X, &x));
-  PetscCall(VecRestoreArrayRead(fab->X0, &x0));
+  PetscCall(VecRestoreArray(fab->state.X, &x));
+  PetscCall(VecRestoreArrayRead(fab->grid.X0, &x0));
   PetscFunctionReturn(0);
 }
 
@@ -636,27 +636,27 @@ static PetscErrorCode DrapeMeasure(void)
 
   PetscFunctionBeginUser;
   PetscCall(NewFabric("-output_dir none -quiet -test drape -shape disc -disc_diameter_mm 300 -gauge_mm 300 -width_mm 300 -clamp ring -clamp_ring_mm 0,180 -ends_per_cm 2 -picks_per_cm 2 -pedestal_diameter_mm 180", &fab));
-  a_disc = PETSC_PI * PetscSqr(fab->s.pedestal_radius);
-  PetscCall(VecCopy(fab->X0, fab->X));
+  a_disc = PETSC_PI * PetscSqr(fab->s.bodies.pedestal_radius);
+  PetscCall(VecCopy(fab->grid.X0, fab->state.X));
   PetscCall(DrapeOutline(fab, &row));
-  CheckTrue("flat specimen: DC = 100 % exactly", fab->drape_pct == 100.0, fab->drape_pct);
-  CheckTrue("flat specimen: no fold", fab->folds == 0, (double)fab->folds);
+  CheckTrue("flat specimen: DC = 100 % exactly", fab->meas.drape_pct == 100.0, fab->meas.drape_pct);
+  CheckTrue("flat specimen: no fold", fab->meas.folds == 0, (double)fab->meas.folds);
   PetscCall(SetShape(fab, s, 0, 0, 0));
   PetscCall(DrapeOutline(fab, &row));
-  dc_s = fab->drape_pct;
-  CheckRel("shrunk by 0.8: DC (%) = (s^2 A_flat - A_disc)/(A_flat - A_disc) x 100", dc_s, 100.0 * (s * s * fab->drape_flat_area - a_disc) / (fab->drape_flat_area - a_disc), 1e-12);
+  dc_s = fab->meas.drape_pct;
+  CheckRel("shrunk by 0.8: DC (%) = (s^2 A_flat - A_disc)/(A_flat - A_disc) x 100", dc_s, 100.0 * (s * s * fab->meas.drape_flat_area - a_disc) / (fab->meas.drape_flat_area - a_disc), 1e-12);
   PetscCall(SetShape(fab, 1, 10.1 * PETSC_PI / 180.0, 0, 0));
   PetscCall(DrapeOutline(fab, &row));
-  CheckTrue("turned by 10.1 degrees (not a whole number of rays): |DC - 100 %| <= 1e-2 %", PetscAbsReal(fab->drape_pct - 100.0) <= 1e-2, fab->drape_pct - 100.0);
+  CheckTrue("turned by 10.1 degrees (not a whole number of rays): |DC - 100 %| <= 1e-2 %", PetscAbsReal(fab->meas.drape_pct - 100.0) <= 1e-2, fab->meas.drape_pct - 100.0);
   PetscCall(SetShape(fab, s, 0, 1e-7, 0));
   PetscCall(DrapeOutline(fab, &row));
-  CheckTrue("shrunk, every crossing moved by up to 1e-7 m: |change of DC| <= 1e-3 %", PetscAbsReal(fab->drape_pct - dc_s) <= 1e-3, fab->drape_pct - dc_s);
+  CheckTrue("shrunk, every crossing moved by up to 1e-7 m: |change of DC| <= 1e-3 %", PetscAbsReal(fab->meas.drape_pct - dc_s) <= 1e-3, fab->meas.drape_pct - dc_s);
   for (PetscInt n = 6; n <= 7; n++) {
     char what[64];
     PetscCall(SetShape(fab, 1, 0, 0, n));
     PetscCall(DrapeOutline(fab, &row));
     PetscCall(PetscSNPrintf(what, sizeof what, "waved into %d lobes: %d folds", (int)n, (int)n));
-    CheckTrue(what, fab->folds == n, (double)fab->folds);
+    CheckTrue(what, fab->meas.folds == n, (double)fab->meas.folds);
   }
   PetscCall(FabricDestroy(&fab));
   PetscFunctionReturn(0);
