@@ -18,8 +18,10 @@ rm -rf "$ref_src"; mkdir -p "$ref_src"
 git -C "$ROOT" archive "$rev" | tar -x -C "$ref_src" || { echo "identity_check: cannot export revision $rev" >&2; exit 1; }
 cmake -S "$ref_src" -B "$ROOT/build-ref/build" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$ROOT/build-ref/build" -j "$(nproc)" --target fabric >/dev/null || { echo "identity_check: $rev does not build" >&2; exit 1; }
-ref="$ROOT/build-ref/build/fabric"; new="$ROOT/build/fabric"
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
+# copies, so that a rebuild while the cases run does not mix binaries
+cp "$ROOT/build-ref/build/fabric" "$work/fabric.ref"; cp "$ROOT/build/fabric" "$work/fabric.new"
+ref="$work/fabric.ref"; new="$work/fabric.new"
 IN="$ROOT/inputs"
 
 # name | ranks | options
