@@ -21,7 +21,10 @@
  * global-to-local exchange. The state is restored bit for bit, so the run continues as if it
  * had never stopped.
  */
-#include "io.h"
+#include "checkpoint.h"
+#include "comm.h"
+#include "events.h"
+#include "load.h"
 
 #include <fcntl.h>
 #include <petscviewerhdf5.h>
@@ -308,7 +311,7 @@ static PetscErrorCode CheckpointWrite(Fabric fab)
   {
     int       version = CHECKPOINT_VERSION, load_step = (int)fab->load.load_step, frames = (int)io->frames, converged = fab->stats.converged, broken = fab->stats.broken_any, ranks = fab->size;
     long      te_steps = (long)fab->stats.te_steps, updates = (long)fab->stats.point_updates;
-    PetscReal time = TestTime(fab), wall = fab->stats.wall;
+    PetscReal time = TestTime(&fab->s, &fab->load), wall = fab->stats.wall;
     PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "fabric_checkpoint", PETSC_INT, &version));
     PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "load_step", PETSC_INT, &load_step));
     PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "time_s", PETSC_REAL, &time));

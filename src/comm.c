@@ -2,25 +2,18 @@
  * reductions (balance test, stable step, front). Max-reductions are exact, so
  * decisions taken on them are the same on any number of ranks (MODEL.md 13).
  */
-#include "fabric.h"
+#include "comm.h"
+#include "events.h"
 
 #include <math.h>
 
 /* one halo exchange per te step: refresh the ghost crossing points of Xl from X */
-PetscErrorCode HaloExchange(Fabric fab)
-{
-  PetscFunctionBeginUser;
-  PetscCall(HaloExchangeVec(fab, fab->state.X, fab->state.Xl));
-  PetscFunctionReturn(0);
-}
-
-/* the same for any field of crossing points X (e.g. the rest positions) into its ghosted Xl */
-PetscErrorCode HaloExchangeVec(Fabric fab, Vec X, Vec Xl)
+PetscErrorCode HaloExchange(DM da, Vec X, Vec Xl)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(EV_Halo, 0, 0, 0, 0));
-  PetscCall(DMGlobalToLocalBegin(fab->grid.da, X, INSERT_VALUES, Xl));
-  PetscCall(DMGlobalToLocalEnd(fab->grid.da, X, INSERT_VALUES, Xl));
+  PetscCall(DMGlobalToLocalBegin(da, X, INSERT_VALUES, Xl));
+  PetscCall(DMGlobalToLocalEnd(da, X, INSERT_VALUES, Xl));
   PetscCall(PetscLogEventEnd(EV_Halo, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }

@@ -5,29 +5,14 @@
  * so each rank computes the forces on its own points from its ghosts.
  */
 #include "fabric.h"
+#include "comm.h"
+#include "events.h"
+#include "front.h"
+#include "predict.h"
+#include "frames.h"
 
 #include <math.h>
 
-PetscLogEvent EV_Force, EV_Integrate, EV_Halo, EV_Reduce, EV_Output, EV_Bound, EV_Predict;
-
-static PetscErrorCode RegisterEvents(void)
-{
-  static PetscBool done = PETSC_FALSE;
-  PetscClassId     id;
-
-  PetscFunctionBeginUser;
-  if (done) PetscFunctionReturn(0);
-  PetscCall(PetscClassIdRegister("Fabric", &id));
-  PetscCall(PetscLogEventRegister("FabricForce", id, &EV_Force));
-  PetscCall(PetscLogEventRegister("FabricIntegrate", id, &EV_Integrate));
-  PetscCall(PetscLogEventRegister("FabricHalo", id, &EV_Halo));
-  PetscCall(PetscLogEventRegister("FabricReduce", id, &EV_Reduce));
-  PetscCall(PetscLogEventRegister("FabricOutput", id, &EV_Output));
-  PetscCall(PetscLogEventRegister("FabricStableStep", id, &EV_Bound));
-  PetscCall(PetscLogEventRegister("FabricPredict", id, &EV_Predict));
-  done = PETSC_TRUE;
-  PetscFunctionReturn(0);
-}
 
 /* Position of crossing (i,j) relative to the grid centre at rest, m. (i - (nx-1)/2) is exact,
    so mirrored crossings get mirrored coordinates and the shapes keep the grid's symmetries. */
@@ -175,7 +160,7 @@ PetscErrorCode FabricCreate(MPI_Comm comm, Fabric *out)
   DMDALocalInfo info;
 
   PetscFunctionBeginUser;
-  PetscCall(RegisterEvents());
+  PetscCall(EventsRegister());
   PetscCall(PetscNew(&fab));
   fab->comm = comm;
   PetscCallMPI(MPI_Comm_rank(comm, &fab->rank));

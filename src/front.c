@@ -16,7 +16,9 @@
  * the stencil reach (2), so a point next to an awake one is woken. The awake box rides on
  * the balance test's max-reduction: no extra message.
  */
-#include "fabric.h"
+#include "front.h"
+#include "comm.h"
+#include "predict.h"
 
 /* box = a ∩ b */
 static void BoxIntersect(PetscInt a[4], const PetscInt b[4])

@@ -9,7 +9,11 @@
  * te = safety * bound, bound = 2/omega_max (damped) or 1/omega_max (paper), with
  * omega_max^2 from the Gershgorin row sums of the tangent stiffness (kernels.c).
  */
-#include "fabric.h"
+#include "integrate.h"
+#include "bodies.h"
+#include "comm.h"
+#include "events.h"
+#include "front.h"
 
 #include <math.h>
 
@@ -24,7 +28,7 @@ PetscErrorCode ComputeForces(Fabric fab, const PetscInt box[4], PetscReal *tensi
 
   PetscFunctionBeginUser;
   if (!box) box = all;
-  PetscCall(HaloExchange(fab));
+  PetscCall(HaloExchange(fab->grid.da, fab->state.X, fab->state.Xl));
   PetscCall(PetscLogEventBegin(EV_Force, 0, 0, 0, 0));
   PetscCall(VecGetArrayRead(fab->state.Xl, &xl));
   PetscCall(VecGetArray(fab->state.F, &f));
@@ -71,7 +75,7 @@ PetscErrorCode StableStep(Fabric fab)
   PetscReal          omega2[2];
 
   PetscFunctionBeginUser;
-  PetscCall(HaloExchange(fab));
+  PetscCall(HaloExchange(fab->grid.da, fab->state.X, fab->state.Xl));
   PetscCall(PetscLogEventBegin(EV_Bound, 0, 0, 0, 0));
   PetscCall(VecGetArrayRead(fab->state.Xl, &xl));
   omega2[0] = StableOmega2(&fab->grid.patch, xl, fab->grid.inv_m, s->num.te_window, s->spec.pull == PULL_WARP ? 0 : 1, &omega2[1]);
@@ -204,10 +208,6 @@ PetscErrorCode TimeStep(Fabric fab, StepStats *out)
   PetscInt        alo = PETSC_MAX_INT, ahi = -1, ajlo = PETSC_MAX_INT, ajhi = -1;
 
   PetscFunctionBeginUser;
-  if (fab->load.ramp_done < fab->load.ramp_steps) { /* the jaw's cosine ramp to this load step's position */
-    fab->load.ramp_done++;
-    PetscCall(MoveGrips(fab, fab->load.travel_from + (fab->load.travel - fab->load.travel_from) * 0.5 * (1.0 - PetscCosReal(PETSC_PI * fab->load.ramp_done / fab->load.ramp_steps)), PETSC_FALSE));
-  }
   fab->stats.point_updates += FrontStepBox(fab, gbox, box);
   PetscCall(ComputeForces(fab, box, &tension_max));
   PetscCall(PetscLogEventBegin(EV_Integrate, 0, 0, 0, 0));
@@ -261,6 +261,5 @@ PetscErrorCode TimeStep(Fabric fab, StepStats *out)
   if (s->num.kinetic_damping) PetscCall(KineticDamping(fab));
   out->balanced = (out->residual <= s->num.balance_tol && out->speed <= s->num.speed_tol && fab->load.ramp_done >= fab->load.ramp_steps) ? PETSC_TRUE : PETSC_FALSE;
   fab->step.last     = *out;
-  if (fab->io) PetscCall(FramesTeStep(fab)); /* -output_te_every (io.c) */
   PetscFunctionReturn(0);
 }

@@ -4,7 +4,10 @@
  *
  * Phases: options and scene -> build the fabric -> run the load program -> report.
  */
-#include "fabric.h"
+#include "relax.h"
+#include "frames.h"
+#include "load.h"
+#include "report.h"
 
 #include <string.h>
 

@@ -10,7 +10,9 @@
  * forward/backward sweeps and halo exchanges until no rank changes (a max-reduction),
  * so they are exact and the same on any number of ranks.
  */
-#include "fabric.h"
+#include "predict.h"
+#include "comm.h"
+#include "events.h"
 
 /* Graph distance of every owned point to the nearest source point, through existing
    points (DIST_INF if none is reachable). Sweeps and halo exchanges until no rank changes. */

@@ -5,7 +5,16 @@
  * global balance test passes (modified multi-sampling, -early_exit 1) or N steps
  * have run. The measured response is the reaction on the grips.
  */
-#include "fabric.h"
+#include "relax.h"
+#include "checkpoint.h"
+#include "comm.h"
+#include "frames.h"
+#include "front.h"
+#include "integrate.h"
+#include "load.h"
+#include "measure.h"
+#include "predict.h"
+#include "report.h"
 
 #include <math.h>
 
@@ -19,7 +28,7 @@ static PetscErrorCode CheckBreaks(Fabric fab, PetscReal *broke)
   PetscFunctionBeginUser;
   *broke = 0;
   if (!isfinite(fab->s.yarns.warp.break_e) && !isfinite(fab->s.yarns.weft.break_e)) PetscFunctionReturn(0);
-  PetscCall(HaloExchange(fab));
+  PetscCall(HaloExchange(fab->grid.da, fab->state.X, fab->state.Xl));
   PetscCall(VecGetArrayRead(fab->state.Xl, &xl));
   *broke = (PetscReal)BreakSegments(&fab->grid.patch, xl);
   PetscCall(VecRestoreArrayRead(fab->state.Xl, &xl));
@@ -28,326 +37,6 @@ static PetscErrorCode CheckBreaks(Fabric fab, PetscReal *broke)
   PetscFunctionReturn(0);
 }
 
-/* Reaction on the moving jaw: minus the sum of the internal forces on the grip points,
-   projected on the pull direction (positive in tension). */
-PetscErrorCode GripReaction(Fabric fab, PetscReal *force)
-{
-  const PetscScalar *f;
-  PetscReal          tension_max, sum = 0;
-
-  PetscFunctionBeginUser;
-  PetscCall(ComputeForces(fab, NULL, &tension_max));
-  PetscCall(VecGetArrayRead(fab->state.F, &f));
-  for (PetscInt k = 0; k < fab->grid.nloc; k++)
-    if (fab->grid.kind[k] == POINT_GRIP) sum -= f[3 * k] * fab->grid.pull_dir[0] + f[3 * k + 1] * fab->grid.pull_dir[1] + f[3 * k + 2] * fab->grid.pull_dir[2];
-  PetscCall(VecRestoreArrayRead(fab->state.F, &f));
-  PetscCall(GlobalSum(fab->comm, &sum, 1));
-  *force = sum;
-  PetscFunctionReturn(0);
-}
-
-/* Total travel of what the load program moves, m: the strip's jaw (the length of its path) or
-   the punch. */
-PetscReal LoadTravel(const Scene *s)
-{
-  if (s->test == TEST_PUSHING) return s->bodies.sphere_travel;
-  return s->load.waypoints ? s->load.path_at[s->load.waypoints - 1] : s->load.elongation * s->spec.gauge;
-}
-
-/* The grip's displacement at length a along its path (-grip_path_mm): piecewise linear
-   through the waypoints from 0,0,0, held at the last one beyond its end. */
-static void PathPoint(const Scene *s, PetscReal a, PetscReal u[3])
-{
-  PetscInt k = 0;
-  while (k < s->load.waypoints - 1 && a > s->load.path_at[k]) k++;
-  const PetscReal a0 = k ? s->load.path_at[k - 1] : 0.0, t = PetscMin(1.0, PetscMax(0.0, (a - a0) / (s->load.path_at[k] - a0)));
-  for (int d = 0; d < 3; d++) {
-    const PetscReal p0 = k ? s->load.waypoint[k - 1][d] : 0.0;
-    u[d] = p0 + t * (s->load.waypoint[k][d] - p0);
-  }
-}
-
-/* The grips' move from length `from` to length `to` along their path: along the pull without a
-   path (the straight pull, computed as it always was). */
-void GripMove(Fabric fab, PetscReal from, PetscReal to, PetscReal move[3])
-{
-  const Scene *s = &fab->s;
-  if (!s->load.waypoints) {
-    const PetscReal delta = to - from;
-    for (int d = 0; d < 3; d++) move[d] = delta * fab->grid.pull_dir[d];
-    return;
-  }
-  PetscReal u0[3], u1[3];
-  PathPoint(s, from, u0);
-  PathPoint(s, to, u1);
-  for (int d = 0; d < 3; d++) move[d] = u1[d] - u0[d];
-}
-
-/* curve.csv's elongation at length disp along the grip's path: its displacement along the
-   pull / gauge */
-PetscReal GripElongation(Fabric fab, PetscReal disp)
-{
-  const Scene *s = &fab->s;
-  PetscReal    u[3];
-  if (!s->load.waypoints) return disp / s->spec.gauge;
-  PathPoint(s, disp, u);
-  return (u[0] * fab->grid.pull_dir[0] + u[1] * fab->grid.pull_dir[1] + u[2] * fab->grid.pull_dir[2]) / s->spec.gauge;
-}
-
-/* Time of the current load step (time_s, frame times), s: the travel at the test speed; for
-   the tests that move nothing (square net, drape), the load step number, so that frames have
-   distinct times. */
-PetscReal TestTime(Fabric fab)
-{
-  return LoadTravel(&fab->s) > 0 ? fab->load.travel / fab->s.load.speed : (PetscReal)fab->load.load_step;
-}
-
-/* Pushing: the reaction on the sphere is minus the sum of the contact forces on the fabric;
-   force_N is its component against the travel (positive while the fabric resists). A sum
-   over points: the same to rounding on any number of ranks, never fed back into positions. */
-static PetscErrorCode SphereReaction(Fabric fab, CurveRow *row)
-{
-  PetscReal sum[3];
-
-  PetscFunctionBeginUser; /* contact_sum: from GripReaction's ComputeForces at the balanced state */
-  for (int d = 0; d < 3; d++) sum[d] = fab->meas.sphere_sum[d];
-  PetscCall(GlobalSum(fab->comm, sum, 3));
-  row->force  = sum[0] * fab->s.bodies.sphere_dir[0] + sum[1] * fab->s.bodies.sphere_dir[1] + sum[2] * fab->s.bodies.sphere_dir[2];
-  row->travel = fab->load.travel;
-  PetscFunctionReturn(0);
-}
-
-/* Supports (a plane or a pedestal): the force of the fabric on each body, minus the sum of
-   the contact forces on the fabric (from GripReaction's ComputeForces at the balanced state);
-   on the clamps, the internal forces on the clamped crossings plus their weight (the clamps
-   hold them too); and the specimen's weight. At rest the free crossings balance, and the
-   internal forces sum to zero over the fabric, so plane + pedestal + clamp = weight, up to
-   the residual forces of the balance test. Sums over points: reported, never fed back. */
-static PetscErrorCode SupportReactions(Fabric fab, CurveRow *row)
-{
-  const Patch       *p = &fab->grid.patch;
-  const PetscScalar *f;
-  PetscReal          acc[12];
-
-  PetscFunctionBeginUser;
-  for (int d = 0; d < 3; d++) {
-    acc[d]     = -fab->meas.plane_sum[d];
-    acc[3 + d] = -fab->meas.pedestal_sum[d];
-    acc[6 + d] = acc[9 + d] = 0;
-  }
-  PetscCall(VecGetArrayRead(fab->state.F, &f));
-  for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
-    for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
-      const PetscInt k = (j - p->ys) * p->xm + (i - p->xs);
-      if (!p->exists[(j - p->gys) * p->gxm + (i - p->gxs)]) continue;
-      for (int d = 0; d < 3; d++) {
-        const PetscReal w = fab->grid.mass[k] * fab->load.gravity_now[d];
-        if (fab->grid.kind[k] == POINT_CLAMPED) acc[6 + d] += f[3 * k + d] + w;
-        acc[9 + d] += w;
-      }
-    }
-  PetscCall(VecRestoreArrayRead(fab->state.F, &f));
-  PetscCall(GlobalSum(fab->comm, acc, 12));
-  for (int d = 0; d < 3; d++) {
-    row->plane_force[d]    = acc[d];
-    row->pedestal_force[d] = acc[3 + d];
-    row->clamp_force[d]    = acc[6 + d];
-    row->weight[d]         = acc[9 + d];
-  }
-  PetscFunctionReturn(0);
-}
-
-/* Bias extension: the mean shear angle of the central zone, the crossings within min(W, D)/4
-   of the specimen's centre along and across it, D = gauge - width: a square inside the
-   pure-shear zone C, the diamond |along| + |across| < D/2 cut by the long edges (for
-   length/width 2 it touches the diamond at the middle of its sides). The angle
-   at a crossing is asin(cos(angle(tw, tf))) (CrossingShear), as the shear_angle_deg field of
-   fabric.h5; the zone's crossings all have four neighbours.
-   Xl: halo-exchanged by GripReaction. A sum over crossings: reported, never fed back. */
-static PetscErrorCode CenterShear(Fabric fab, CurveRow *row)
-{
-  const Patch       *p = &fab->grid.patch;
-  const Scene       *s = &fab->s;
-  const PetscScalar *xl;
-  const PetscReal    half = 0.25 * PetscMin(s->spec.width, s->spec.gauge - s->spec.width) + 1e-9 * s->spec.gauge; /* crossings on its edge count */
-  PetscReal          acc[2] = {0, 0};
-
-  PetscFunctionBeginUser;
-  PetscCall(VecGetArrayRead(fab->state.Xl, &xl));
-  for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
-    for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
-      PetscReal along, across, c, tmin;
-      BiasCoords(s, i, j, &along, &across);
-      if (PetscAbsReal(along) > half || PetscAbsReal(across) > half) continue;
-      if (!CrossingShear(p, xl, i, j, &c, &tmin)) continue;
-      acc[0] += PetscAsinReal(c) * 180.0 / PETSC_PI;
-      acc[1] += 1;
-    }
-  PetscCall(VecRestoreArrayRead(fab->state.Xl, &xl));
-  PetscCall(GlobalSum(fab->comm, acc, 2));
-  row->center_shear = acc[1] > 0 ? acc[0] / acc[1] : 0.0;
-  PetscFunctionReturn(0);
-}
-
-/* Cusick drape: the shadow of the draped specimen seen from above. The fabric's yarn
-   segments are projected on the horizontal plane; along each of DRAPE_RAYS rays from the
-   centre the outline r(theta) is the farthest point where the ray crosses a projected
-   segment (a max-reduction: exact on any number of ranks). The outline moves continuously
-   with the crossings (a yarn is a polyline: where a segment leaves a ray, its neighbour takes
-   over at the shared crossing), unlike the largest radius of the crossings in angular bins,
-   which jumped by 0.2 % of DC when a crossing moved 60 nm across a bin's edge.
-   A_shadow = sum 0.5 r^2 dtheta; DC = (A_shadow - A_disc)/(A_specimen - A_disc), with
-   A_specimen the same sum on the flat specimen at rest and A_disc the support disc's (the
-   pedestal's, else the clamp ring's).
-   Folds: the lobes of the outline taken as its largest radius over each 5-degree sector,
-   counted as the local maxima of this periodic sector radius whose prominence exceeds 15 % of
-   the outline's range (max - min) and one yarn spacing: the grid's own wobble is below (the
-   flat specimen's staircase edge), a lobe of the draped specimen far above (checked against
-   the top view, README); the flat specimen has no fold. */
-#define DRAPE_RAYS       1440
-#define DRAPE_SECTOR     20 /* rays per 5-degree sector */
-#define DRAPE_PROMINENCE 0.15
-
-/* the farthest crossing of segment a-b (projected, relative to the centre) with each ray it
-   spans, into r */
-static void ShadowSegment(const PetscReal a[2], const PetscReal b[2], PetscReal r[DRAPE_RAYS])
-{
-  const PetscReal h = 2 * PETSC_PI / DRAPE_RAYS, dx = b[0] - a[0], dy = b[1] - a[1], axd = a[0] * dy - a[1] * dx;
-  PetscReal       ta = atan2(a[1], a[0]), span = atan2(b[1], b[0]) - ta;
-
-  if (span > PETSC_PI) span -= 2 * PETSC_PI;
-  if (span < -PETSC_PI) span += 2 * PETSC_PI;
-  if (span < 0) ta += span, span = -span; /* [ta, ta + span]: the arc the segment spans */
-  for (PetscInt q = (PetscInt)PetscCeilReal(ta / h - 0.5); (q + 0.5) * h <= ta + span; q++) {
-    const PetscReal th = (q + 0.5) * h, ux = PetscCosReal(th), uy = PetscSinReal(th), uxd = ux * dy - uy * dx;
-    const int       b_ = (int)(((q % DRAPE_RAYS) + DRAPE_RAYS) % DRAPE_RAYS);
-    if (uxd == 0) continue; /* the ray runs along the segment: its ends are on the neighbours' rays */
-    const PetscReal rr = axd / uxd;                 /* r u = a + t (b - a) */
-    if (rr > r[b_]) r[b_] = rr;
-  }
-}
-
-/* the outline r(theta) of the positions X seen from above (DRAPE_RAYS rays), the area it
-   encloses and the largest drop of a crossing */
-static PetscErrorCode Outline(Fabric fab, Vec X, PetscReal r[DRAPE_RAYS], PetscReal *area, PetscReal *drop)
-{
-  const Patch       *p = &fab->grid.patch;
-  const PetscScalar *x;
-  Vec                Xl;
-
-  PetscFunctionBeginUser;
-  *area = *drop = 0;
-  for (int q = 0; q < DRAPE_RAYS; q++) r[q] = 0;
-  PetscCall(DMGetLocalVector(fab->grid.da, &Xl));
-  PetscCall(HaloExchangeVec(fab, X, Xl));
-  PetscCall(VecGetArrayRead(Xl, &x));
-  for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
-    for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
-      const PetscInt li = i - p->gxs, lj = j - p->gys, k = lj * p->gxm + li;
-      if (!p->exists[k]) continue;
-      const PetscReal a[2] = {x[3 * k] - fab->grid.centre[0], x[3 * k + 1] - fab->grid.centre[1]};
-      *drop = PetscMax(*drop, -x[3 * k + 2]);
-      for (int dir = 0; dir < 2; dir++) { /* the segments to the +x and +y neighbours */
-        const PetscInt n = dir == 0 ? k + 1 : k + p->gxm;
-        if ((dir == 0 ? li + 1 >= p->gxm : lj + 1 >= p->gym) || !p->exists[n]) continue;
-        const PetscReal b[2] = {x[3 * n] - fab->grid.centre[0], x[3 * n + 1] - fab->grid.centre[1]};
-        ShadowSegment(a, b, r);
-      }
-    }
-  PetscCall(VecRestoreArrayRead(Xl, &x));
-  PetscCall(DMRestoreLocalVector(fab->grid.da, &Xl));
-  PetscCall(GlobalMax(fab->comm, r, DRAPE_RAYS));
-  PetscCall(GlobalMax(fab->comm, drop, 1));
-  for (int q = 0; q < DRAPE_RAYS; q++) *area += 0.5 * r[q] * r[q] * 2 * PETSC_PI / DRAPE_RAYS;
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode DrapeOutline(Fabric fab, CurveRow *row)
-{
-  const Scene *s = &fab->s;
-  PetscReal    r[DRAPE_RAYS], area, a_disc, drop;
-  PetscInt     folds = 0;
-
-  PetscFunctionBeginUser;
-  /* the specimen's own area measured the same way, once, on the flat specimen at rest: the
-     outline of the grid's edge lies inside the nominal circle, so the flat specimen gives
-     DC = 100 % */
-  if (fab->meas.drape_flat_area <= 0) PetscCall(Outline(fab, fab->grid.X0, r, &fab->meas.drape_flat_area, &drop));
-  PetscCall(Outline(fab, fab->state.X, r, &area, &drop));
-  a_disc = PETSC_PI * PetscSqr(s->bodies.pedestal_radius > 0 ? s->bodies.pedestal_radius : s->clamps.ring[1]);
-  fab->meas.drape_pct = 100.0 * ((area - a_disc) / (fab->meas.drape_flat_area - a_disc)); /* the flat specimen: 100 * 1 exactly */
-  { /* folds: the outline as its largest radius over each 5-degree sector (DRAPE_SECTOR rays) */
-    PetscReal sec[DRAPE_RAYS / DRAPE_SECTOR], lo = PETSC_MAX_REAL, hi = 0;
-    const int S = DRAPE_RAYS / DRAPE_SECTOR;
-    for (int q = 0; q < S; q++) {
-      sec[q] = 0;
-      for (int b = q * DRAPE_SECTOR; b < (q + 1) * DRAPE_SECTOR; b++) sec[q] = PetscMax(sec[q], r[b]);
-      lo = PetscMin(lo, sec[q]), hi = PetscMax(hi, sec[q]);
-    }
-    /* a fold: a local maximum of the sector radius whose prominence (its height above the
-       higher of the lowest radii on either side before a higher radius) exceeds
-       DRAPE_PROMINENCE of the outline's range and one yarn spacing */
-    for (int q = 0; q < S; q++) {
-      const PetscReal v = sec[q];
-      PetscReal       lo_l = v, lo_r = v;
-      if (!(v > sec[(q + S - 1) % S] && v >= sec[(q + 1) % S])) continue;
-      for (int t = 1; t < S && sec[(q - t + S) % S] <= v; t++) lo_l = PetscMin(lo_l, sec[(q - t + S) % S]);
-      for (int t = 1; t < S && sec[(q + t) % S] <= v; t++) lo_r = PetscMin(lo_r, sec[(q + t) % S]);
-      if (v - PetscMax(lo_l, lo_r) > PetscMax(DRAPE_PROMINENCE * (hi - lo), PetscMax(1.0 / s->spec.picks_per_m, 1.0 / s->spec.ends_per_m))) folds++;
-    }
-  }
-  fab->meas.folds = folds;
-  row->travel = drop; /* curve.csv travel_mm: the largest drop of a crossing */
-  PetscFunctionReturn(0);
-}
-
-/* Square net: the applied point load and its crossing's displacement along it. One rank owns
-   the crossing, the others add zeros: the sum is exact. */
-static PetscErrorCode LoadPointTravel(Fabric fab, CurveRow *row)
-{
-  const PetscReal *P = fab->s.load.point_load, Pn = PetscSqrtReal(P[0] * P[0] + P[1] * P[1] + P[2] * P[2]);
-  PetscReal        travel = 0;
-
-  PetscFunctionBeginUser;
-  if (fab->grid.load_index >= 0 && Pn > 0) {
-    const PetscScalar *x, *x0;
-    const PetscInt     k = fab->grid.load_index;
-    PetscCall(VecGetArrayRead(fab->state.X, &x));
-    PetscCall(VecGetArrayRead(fab->grid.X0, &x0));
-    for (int d = 0; d < 3; d++) travel += (x[3 * k + d] - x0[3 * k + d]) * P[d] / Pn;
-    PetscCall(VecRestoreArrayRead(fab->grid.X0, &x0));
-    PetscCall(VecRestoreArrayRead(fab->state.X, &x));
-  }
-  PetscCall(GlobalSum(fab->comm, &travel, 1));
-  row->travel = travel;
-  row->force  = fab->load.load_factor * Pn;
-  PetscFunctionReturn(0);
-}
-
-/* Put the grips at length disp along their path (the pull, or -grip_path_mm). A jump
-   (shift_history) also shifts the paper integrator's x(n-1), so the grips do not move back;
-   a ramp sets the position at each te step and leaves the history to the integrator. */
-PetscErrorCode MoveGrips(Fabric fab, PetscReal disp, PetscBool shift_history)
-{
-  PetscReal    move[3];
-  PetscScalar *x, *xold = NULL;
-
-  PetscFunctionBeginUser;
-  GripMove(fab, fab->load.travel_now, disp, move);
-  PetscCall(VecGetArray(fab->state.X, &x));
-  if (fab->state.Xold && shift_history) PetscCall(VecGetArray(fab->state.Xold, &xold));
-  for (PetscInt q = 0; q < fab->grid.nloc; q++) {
-    if (fab->grid.kind[q] != POINT_GRIP) continue;
-    for (int d = 0; d < 3; d++) {
-      x[3 * q + d] += move[d];
-      if (xold) xold[3 * q + d] += move[d];
-    }
-  }
-  if (xold) PetscCall(VecRestoreArray(fab->state.Xold, &xold));
-  PetscCall(VecRestoreArray(fab->state.X, &x));
-  fab->load.travel_now = disp;
-  PetscFunctionReturn(0);
-}
 
 /* Load step k of K: move the grips (at once, or start their ramp), predict, take the stable step. */
 PetscErrorCode ApplyLoadStep(Fabric fab, PetscInt k)
@@ -377,10 +66,10 @@ PetscErrorCode ApplyLoadStep(Fabric fab, PetscInt k)
   fab->load.travel_from  = fab->load.travel_now;
   fab->load.ramp_steps = step == 0 ? 0 : s->num.grip_ramp >= 0 ? s->num.grip_ramp : ((s->num.predict == PREDICT_NONE || s->bodies.sphere_radius > 0) ? (PetscInt)PetscCeilReal(PETSC_PI / (omega1 * fab->step.te)) : 0);
   fab->load.ramp_done  = 0;
-  GripMove(fab, fab->load.travel, disp, move);
+  GripPathMove(s, fab->grid.pull_dir, fab->load.travel, disp, move);
   if (s->bodies.sphere_radius > 0) /* the sphere's move: what its linear prediction follows */
     for (int d = 0; d < 3; d++) move[d] = step * s->bodies.sphere_dir[d];
-  if (!fab->load.ramp_steps) PetscCall(MoveGrips(fab, disp, PETSC_TRUE));
+  if (!fab->load.ramp_steps) PetscCall(PlaceGrips(fab, disp, PETSC_TRUE));
   PetscCall(PredictLoadStep(fab, step, move));
   fab->load.travel      = disp;
   fab->load.travel_step_prev = step;
@@ -403,7 +92,9 @@ PetscErrorCode RelaxLoadStep(Fabric fab, CurveRow *row)
   for (PetscInt round = 0;; round++) {
     PetscReal broke;
     for (n = 1; n <= s->load.max_inner_steps; n++) {
+      PetscCall(RampGrips(fab));
       PetscCall(TimeStep(fab, &st));
+      if (fab->io) PetscCall(FramesTeStep(fab)); /* -output_te_every */
       if (s->num.early_exit && st.balanced) break;
     }
     row->inner_steps += PetscMin(n, s->load.max_inner_steps);
@@ -421,14 +112,9 @@ PetscErrorCode RelaxLoadStep(Fabric fab, CurveRow *row)
   row->load_step   = fab->load.load_step;
   row->residual    = st.residual;
   row->balanced    = st.balanced;
-  row->elongation  = JawTest(s) ? GripElongation(fab, fab->load.travel) : 0.0;
-  row->time        = TestTime(fab);
-  PetscCall(GripReaction(fab, &row->force));
-  if (s->test == TEST_SQUARE) PetscCall(LoadPointTravel(fab, row));
-  if (s->test == TEST_PUSHING) PetscCall(SphereReaction(fab, row));
-  if (s->test == TEST_BIAS) PetscCall(CenterShear(fab, row));
-  if (s->test == TEST_DRAPE) PetscCall(DrapeOutline(fab, row));
-  if (s->bodies.plane || s->bodies.pedestal_radius > 0) PetscCall(SupportReactions(fab, row));
+  row->elongation  = JawTest(s) ? GripElongation(s, fab->grid.pull_dir, fab->load.travel) : 0.0;
+  row->time        = TestTime(s, &fab->load);
+  PetscCall(MeasureLoadStep(fab, row));
   PetscFunctionReturn(0);
 }
 

@@ -4,7 +4,7 @@
  * overrides it. Textile units at the edges (tex, threads/cm, %, cN/tex, mm),
  * converted here, once, to SI. -help lists every option with unit and default.
  */
-#include "fabric.h"
+#include "scene.h"
 
 #include <math.h>
 #include <string.h>

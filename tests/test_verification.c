@@ -4,7 +4,10 @@
  *                           stable_095|unstable_110|paper_parasitic|square_net|bias_extension|plane_rest|pedestal_rest|friction_incline|
  *                           grip_lines|grip_path|drape_measure
  */
-#include "fabric.h"
+#include "comm.h"
+#include "integrate.h"
+#include "measure.h"
+#include "relax.h"
 
 #include <math.h>
 
@@ -592,7 +595,7 @@ static PetscErrorCode SpeedupsCurve(void)
   PetscFunctionReturn(0);
 }
 
-/* The drape measure (relax.c DrapeOutline) on shapes with exact answers, drape.yaml's disc
+/* The drape measure (measure.c DrapeOutline) on shapes with exact answers, drape.yaml's disc
    (30 cm on a 18 cm support, 2 threads/cm) moved by hand, no relaxation:
    - the flat specimen: DC = 100 % and no fold (by construction: its own area is the reference);
    - shrunk about the centre by s = 0.8: every ray's crossing with a shrunk segment is s times

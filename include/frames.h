@@ -1,4 +1,4 @@
-/* io.h - results for ParaView and checkpoint/restart: the state shared by io.c and checkpoint.c.
+/* frames.h - results for ParaView (frames.c) and the output state shared with checkpoint.c.
  *
  * DIR/fabric.h5 (parallel HDF5 through PETSc's HDF5 viewer, every rank writes its own patch):
  *   /grid/rest_positions        (ny, nx, 3)  m, the rest state X0
@@ -13,12 +13,11 @@
  *   3-D points, nx x ny x 1), rewritten by rank 0 after every frame (aside, then renamed).
  * DIR/checkpoint.h5: everything a run needs to continue exactly (checkpoint.c).
  */
-#ifndef FABRIC_IO_H
-#define FABRIC_IO_H
+#ifndef FABRIC_FRAMES_H
+#define FABRIC_FRAMES_H
 
 #include "fabric.h"
 
-#define CHECKPOINT_VERSION 2 /* 2: body and clamp reactions in the curve rows, friction anchors, kinetic damping */
 
 typedef struct { /* one frame of fabric.h5 */
   PetscReal time;      /* s: the load step's test time, plus n te for a frame n te steps into it */
@@ -43,7 +42,13 @@ struct _p_FabricIO {
 };
 typedef struct _p_FabricIO *FabricIO;
 
-/* io.c */
+/* frames.c */
+PetscErrorCode IOSetUp(Fabric fab);
+PetscErrorCode IODestroy(Fabric fab);
+PetscErrorCode FramesOpen(Fabric fab);
+PetscErrorCode FramesLoadStep(Fabric fab, const CurveRow *row);
+PetscErrorCode FramesTeStep(Fabric fab);
+PetscErrorCode IODescribe(Fabric fab, char *buf, size_t len);
 PetscErrorCode ComputePointFields(Fabric fab, Vec warp_tension, Vec weft_tension, Vec shear_deg);
 PetscErrorCode FramesWriteXdmf(Fabric fab);
 PetscErrorCode FramesAppend(Fabric fab, const FrameInfo *f);

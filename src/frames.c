@@ -19,7 +19,10 @@
  *   tw = x(i+1,j) - x(i-1,j) and weft tangent tf = x(i,j+1) - x(i,j-1), one-sided at an edge
  *   (MODEL.md 5.3, as kernels.c ComputeShearRow); 0 at a point without a warp or a weft neighbour.
  */
-#include "io.h"
+#include "frames.h"
+#include "comm.h"
+#include "events.h"
+#include "load.h"
 
 #include <math.h>
 #include <petscviewerhdf5.h>
@@ -89,7 +92,7 @@ PetscErrorCode ComputePointFields(Fabric fab, Vec warp_tension, Vec weft_tension
   PetscScalar       *tw, *tf, *sh;
 
   PetscFunctionBeginUser;
-  PetscCall(HaloExchange(fab));
+  PetscCall(HaloExchange(fab->grid.da, fab->state.X, fab->state.Xl));
   PetscCall(VecGetArrayRead(fab->state.Xl, &x));
   PetscCall(VecGetArray(warp_tension, &tw));
   PetscCall(VecGetArray(weft_tension, &tf));
@@ -311,7 +314,7 @@ PetscErrorCode FramesOpen(Fabric fab)
     PetscCall(FramesWriteXdmf(fab));
   } else {
     FrameInfo f;
-    f.time      = TestTime(fab);
+    f.time      = TestTime(&fab->s, &fab->load);
     f.load_step = fab->load.load_step;
     f.te_step   = 0;
     io->frames  = 0;
@@ -355,7 +358,7 @@ PetscErrorCode FramesTeStep(Fabric fab)
   if (n % io->output_te_every) PetscFunctionReturn(0);
   f.load_step = fab->load.load_step;
   f.te_step   = n;
-  f.time      = TestTime(fab) + n * fab->step.te;
+  f.time      = TestTime(&fab->s, &fab->load) + n * fab->step.te;
   PetscCall(WriteFrame(fab, &f));
   PetscFunctionReturn(0);
 }

@@ -4,7 +4,11 @@
  * goes (flushed, so a long run can be watched). Nothing is created before the scene
  * has been read and checked, so bad input leaves no output behind.
  */
-#include "fabric.h"
+#include "report.h"
+#include "comm.h"
+#include "events.h"
+#include "frames.h"
+#include "load.h"
 
 #include <errno.h>
 #include <string.h>

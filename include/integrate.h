@@ -1,0 +1,15 @@
+/* integrate.h - explicit integration (MODEL.md 7): forces, the stable step, one te step (integrate.c). */
+#ifndef FABRIC_INTEGRATE_H
+#define FABRIC_INTEGRATE_H
+
+#include "fabric.h"
+
+/* internal forces at the current positions on the owned points of box (NULL: all), the point
+   load and the rigid bodies' contact */
+PetscErrorCode ComputeForces(Fabric fab, const PetscInt box[4], PetscReal *tension_max);
+/* te from the Gershgorin bound of the tangent stiffness; the damping of the slowest mode */
+PetscErrorCode StableStep(Fabric fab);
+/* one te step: forces, integration, the balance test and the stability watch */
+PetscErrorCode TimeStep(Fabric fab, StepStats *st);
+
+#endif

@@ -1,0 +1,13 @@
+/* measure.h - the measurements of a balanced load step for curve.csv (measure.c). */
+#ifndef FABRIC_MEASURE_H
+#define FABRIC_MEASURE_H
+
+#include "fabric.h"
+
+/* the reactions on the grips, bodies and clamps, the load point's travel, the centre shear
+   (bias) and the drape outline (drape: drape_pct, folds, the largest drop in row->travel) */
+PetscErrorCode MeasureLoadStep(Fabric fab, CurveRow *row);
+/* drape test: drape_pct and folds of the current positions, the largest drop into row->travel */
+PetscErrorCode DrapeOutline(Fabric fab, CurveRow *row);
+
+#endif

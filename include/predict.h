@@ -1,0 +1,13 @@
+/* predict.h - displacement prediction (MODEL.md 10): graph distances and the predicted move (predict.c). */
+#ifndef FABRIC_PREDICT_H
+#define FABRIC_PREDICT_H
+
+#include "fabric.h"
+
+#define DIST_INF 1e30
+/* graph distance of every owned point to the points of kind source ("clamped", "grip") */
+PetscErrorCode GraphDistance(Fabric fab, const char *source, PetscReal *dist);
+PetscErrorCode PredictSetUp(Fabric fab);
+PetscErrorCode PredictLoadStep(Fabric fab, PetscReal grip_step, const PetscReal grip_move[3]);
+
+#endif
