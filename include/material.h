@@ -26,7 +26,8 @@ typedef struct {
   PetscReal   mu;         /* linear density, kg/m */
   PetscReal   crimp;      /* c, fraction */
   PetscReal   EA;         /* yarn stiffness, N per unit yarn strain (table: its largest slope) */
-  PetscReal   Ec;         /* de-crimping stiffness, N per unit chord strain */
+  PetscReal   Ec;         /* de-crimping stiffness, N per unit chord strain (decrimp_ratio EA) */
+  PetscReal   decrimp_ratio; /* Ec / EA (a table: its largest slope) */
   PetscReal   k_comp;     /* compression stiffness as a fraction of EA */
   PetscReal   e_contact;  /* chord strain (< 0) at which neighbouring crossings touch */
   PetscReal   smoothing;  /* half-width (chord strain) of the C1 blends at the law's kinks */

@@ -17,7 +17,7 @@ typedef enum { PULL_WARP, PULL_WEFT } PullAxis;
 typedef enum { INTEGRATOR_DAMPED, INTEGRATOR_PAPER } IntegratorType;
 typedef enum { PREDICT_NONE, PREDICT_LINEAR, PREDICT_EXTRAPOLATE } PredictType;
 typedef enum { POINT_FREE = 0, POINT_CLAMPED = 1, POINT_GRIP = 2 } PointKind;
-typedef enum { TEST_STRIP, TEST_SQUARE, TEST_PUSHING, TEST_BIAS, TEST_DRAPE } TestType;           /* the scene's test (its load program and curve) */
+typedef enum { TEST_STRIP, TEST_SQUARE, TEST_PUSHING, TEST_BIAS, TEST_DRAPE, TEST_COUNT } TestType;           /* the scene's test (its load program and curve) */
 typedef enum { SHAPE_RECTANGLE, SHAPE_DISC, SHAPE_BIAS } ShapeType;      /* which crossings of the grid exist */
 typedef enum { CLAMP_JAW, CLAMP_EDGE, CLAMP_RING, CLAMP_NONE } ClampType; /* which existing crossings never move */
 
@@ -29,12 +29,52 @@ extern const char *const ShapeNames[];
 extern const char *const ClampNames[];
 
 /* Everything a scene file or the command line sets, converted to SI, by concern. */
+/* The options as given, in their own units (tex, threads/cm, %, cN/tex, mm): what the option
+   table of scene.c reads, and what checkpoints and summary.json record. */
+typedef struct {
+  PetscReal tex, crimp_pct, modulus_cN_tex, decrimp_ratio, compression_ratio, contact_pct, law_smoothing_pct;
+  PetscReal bending_Nm2, break_pct;
+  char      law_csv[PETSC_MAX_PATH_LEN];
+} YarnInput;
+
+typedef struct {
+  char      scene[PETSC_MAX_PATH_LEN];
+  PetscReal ends_per_cm, picks_per_cm, gauge_mm, width_mm;
+  PetscInt  yarns, pull, test, shape, clamp;
+  PetscReal disc_diameter_mm, jaw_depth_mm;
+  PetscReal clamp_ring_mm[2], clamp_line_mm[4 * MAX_LINES], grip_line_mm[4 * MAX_LINES];
+  PetscInt  n_clamp_ring_mm, n_clamp_line_mm, n_grip_line_mm;
+  PetscReal sphere_diameter_mm, thickness_mm, sphere_direction[3], sphere_start_mm[3], sphere_travel_mm;
+  PetscInt  n_sphere_direction, n_sphere_start_mm;
+  PetscReal contact_stiffness_N_m, plane_point_mm[3], plane_normal[3];
+  PetscInt  n_plane_point_mm, n_plane_normal;
+  PetscBool plane;
+  PetscReal pedestal_diameter_mm, pedestal_height_mm, pedestal_top_mm[3], friction_mu;
+  PetscInt  n_pedestal_top_mm;
+  YarnInput yarn[2]; /* warp, weft */
+  PetscBool traction, bending, shear;
+  PetscReal shear_G_N_m, shear_lock_deg, jam_factor, gravity[3], nu, damping_ratio;
+  PetscInt  n_gravity;
+  PetscReal elongation_pct, speed_mm_min, point_load_N[3], grip_path_mm[3 * MAX_WAYPOINTS];
+  PetscInt  n_point_load_N, point_load_at[2], n_point_load_at, n_grip_path_mm, load_steps, max_inner_steps;
+  PetscInt  integrator, predict, grip_ramp_steps;
+  PetscReal te, te_safety, te_strain_window, balance_tol, speed_tol, sleep_tol;
+  PetscBool te_check, early_exit, front, kinetic_damping;
+  char      output_dir[PETSC_MAX_PATH_LEN], positions_out[PETSC_MAX_PATH_LEN], restart[PETSC_MAX_PATH_LEN];
+  PetscBool quiet;
+  PetscInt  output_every, output_te_every, checkpoint_every;
+} SceneInput;
+
 typedef struct { /* what is written where */
   char      name[PETSC_MAX_PATH_LEN];          /* scene name: the scene file's base name */
   char      file[PETSC_MAX_PATH_LEN];          /* scene file, "" if none */
   char      output_dir[PETSC_MAX_PATH_LEN];    /* "" = no output files */
   char      positions_out[PETSC_MAX_PATH_LEN]; /* final positions, PETSc binary ("" = none) */
   PetscBool quiet;                             /* no progress line per load step */
+  PetscInt  output_every;                      /* a frame every K load steps and at the last (0: none) */
+  PetscInt  output_te_every;                   /* a frame every M te steps within a load step (0: none) */
+  PetscInt  checkpoint_every;                  /* checkpoint.h5 every K load steps (0: never) */
+  char      restart[PETSC_MAX_PATH_LEN];       /* -restart FILE, "" for a fresh run */
 } SceneOutput;
 
 typedef struct { /* the specimen: densities, size, shape and the grid they give */
@@ -117,6 +157,7 @@ typedef struct { /* integration, balance test and speed-ups */
 } Numerics;
 
 typedef struct {
+  SceneInput  in;   /* the options as given */
   TestType    test; /* the scene's test: its load program and curve */
   SceneOutput out;
   Specimen    spec;
@@ -135,5 +176,9 @@ PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv);
 PetscErrorCode SceneCheckUnused(MPI_Comm comm);
 PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s);
 PetscErrorCode SceneDestroy(Scene *s);
+
+/* The numeric options of the option table as (name, values): the checkpoint's scene keys and
+   summary.json's options. k = 0, 1, ... until it returns 0; n values into v (at most 96). */
+int SceneOptionValues(const Scene *s, PetscInt k, char name[64], PetscReal v[], PetscInt *n);
 
 #endif

@@ -32,29 +32,15 @@ PetscErrorCode IOSetUp(Fabric fab)
 {
   const Scene *s = &fab->s;
   FabricIO     io;
-  PetscBool    set;
 
   PetscFunctionBeginUser;
   PetscCall(PetscNew(&io));
   fab->io          = io;
-  io->output_every = PetscMax(1, (s->load.load_steps + 9) / 10); /* about ten frames */
-  io->te_load_step = -1;
-  PetscOptionsBegin(fab->comm, NULL, "Results for ParaView (DIR/fabric.h5, DIR/fabric.xmf), checkpoint and restart", NULL);
-  PetscCall(PetscOptionsInt("-output_every", "write a frame to fabric.h5 every K load steps and at the last one (load steps; 0 = no frames; default: about 10 frames)", NULL, io->output_every, &io->output_every, NULL));
-  PetscCheck(io->output_every >= 0, fab->comm, PETSC_ERR_USER_INPUT, "-output_every must be 0 (no frames) or a number of load steps, got %" PetscInt_FMT, io->output_every);
-  PetscCall(PetscOptionsInt("-output_te_every", "also write a frame every M te steps within each load step, for dynamic scenes (te steps; 0 = off)", NULL, io->output_te_every, &io->output_te_every, NULL));
-  PetscCheck(io->output_te_every >= 0, fab->comm, PETSC_ERR_USER_INPUT, "-output_te_every must be 0 (off) or a number of te steps, got %" PetscInt_FMT, io->output_te_every);
-  PetscCall(PetscOptionsInt("-checkpoint_every", "write DIR/checkpoint.h5 every K load steps (load steps; 0 = never)", NULL, io->checkpoint_every, &io->checkpoint_every, NULL));
-  PetscCheck(io->checkpoint_every >= 0, fab->comm, PETSC_ERR_USER_INPUT, "-checkpoint_every must be 0 (never) or a number of load steps, got %" PetscInt_FMT, io->checkpoint_every);
-  PetscCall(PetscOptionsString("-restart", "continue the run saved in this checkpoint file (written by -checkpoint_every), appending to the outputs in -output_dir", NULL, io->restart, io->restart, sizeof io->restart, &set));
-  PetscOptionsEnd();
-  PetscCheck(!io->checkpoint_every || s->out.output_dir[0], fab->comm, PETSC_ERR_USER_INPUT, "-checkpoint_every %" PetscInt_FMT " needs an output directory: -output_dir is none", io->checkpoint_every);
-  if (set) {
-    PetscBool exists;
-    PetscCheck(io->restart[0], fab->comm, PETSC_ERR_USER_INPUT, "-restart needs a checkpoint file name");
-    PetscCall(PetscTestFile(io->restart, 'r', &exists));
-    PetscCheck(exists, fab->comm, PETSC_ERR_FILE_OPEN, "-restart %s: no such file, or not readable", io->restart);
-  }
+  io->output_every     = s->out.output_every;
+  io->output_te_every  = s->out.output_te_every;
+  io->checkpoint_every = s->out.checkpoint_every;
+  PetscCall(PetscStrncpy(io->restart, s->out.restart, sizeof io->restart));
+  io->te_load_step     = -1;
   PetscFunctionReturn(0);
 }
 

@@ -164,6 +164,7 @@ PetscErrorCode YarnLawSetUp(YarnLaw *y, MPI_Comm comm)
   y->mu      = y->tex * 1e-6;
   y->break_e = y->break_ey > 0.0 ? y->crimp + y->break_ey * (1.0 + y->crimp) : INFINITY;
   if (y->csv[0]) PetscCall(BuildTable(comm, y));
+  if (y->decrimp_ratio > 0) y->Ec = y->decrimp_ratio * y->EA; /* before the blends, which join this piece */
   y->nblend = 0;
   kinks[nk++] = y->e_contact;
   kinks[nk++] = 0.0;

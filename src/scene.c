@@ -1,13 +1,24 @@
-/* scene.c - the scene: every parameter from the PETSc options database.
+/* scene.c - the scene: every parameter of a run, from the PETSc options database.
  *
- * A scene file is a YAML option file (-scene inputs/X.yaml); the command line
- * overrides it. Textile units at the edges (tex, threads/cm, %, cN/tex, mm),
- * converted here, once, to SI. -help lists every option with unit and default.
+ * One table of option descriptors (Options[]) drives reading the options, -help, and the
+ * values that checkpoints and summary.json record. A scene file is a YAML option file
+ * (-scene inputs/X.yaml); the command line overrides it. Options are read as text and parsed
+ * here, so that every bad value (empty, not a number, NaN or Inf, an integer out of range, a
+ * choice that does not exist, an array of the wrong length) is refused with the option's name.
+ * Defaults that depend on the test (-test drape: a 300 mm disc on a 180 mm pedestal) are
+ * resolved before the options that use them are read, so a value given on the command line
+ * always wins and -help shows the true default. Textile units at the edges (tex, threads/cm,
+ * %, cN/tex, mm) are converted here, once, to SI (SceneDerive).
  */
 #include "scene.h"
 
+#include <errno.h>
+#include <limits.h>
 #include <math.h>
+#include <stddef.h>
+#include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 const char *const PullAxisNames[]   = {"warp", "weft", "PullAxis", "PULL_", NULL};
 const char *const IntegratorNames[] = {"damped", "paper", "IntegratorType", "INTEGRATOR_", NULL};
@@ -16,109 +27,446 @@ const char *const TestNames[]       = {"strip", "square", "pushing", "bias", "dr
 const char *const ShapeNames[]      = {"rectangle", "disc", "bias", "ShapeType", "SHAPE_", NULL};
 const char *const ClampNames[]      = {"jaw", "edge", "ring", "none", "ClampType", "CLAMP_", NULL};
 
-#define CHECK_POSITIVE(v, opt) PetscCheck(isfinite((double)(v)) && (v) > 0, comm, PETSC_ERR_USER_INPUT, "%s must be a positive number, got %g", opt, (double)(v))
-#define CHECK_NONNEG(v, opt)   PetscCheck(isfinite((double)(v)) && (v) >= 0, comm, PETSC_ERR_USER_INPUT, "%s must be zero or positive, got %g", opt, (double)(v))
+typedef enum { OPT_REAL, OPT_INT, OPT_BOOL, OPT_ENUM, OPT_STRING, OPT_REALS, OPT_INTS } OptType;
+typedef enum { ANY, POSITIVE, NONNEG, RANGE } OptCheck; /* RANGE: lo <= v <= hi, ends open by lo_open/hi_open */
 
-static PetscErrorCode YarnOptions(MPI_Comm comm, PetscOptionItems *PetscOptionsObject, YarnLaw *y, const char *name, PetscReal crimp_pct)
+typedef struct {
+  const char        *group;   /* -help group, "" = same as the entry before */
+  const char        *name;    /* without the dash; "%s_..." is a yarn option (warp_..., weft_...) */
+  OptType            type;
+  size_t             at;      /* offsetof(SceneInput, field), or of YarnInput for yarn options */
+  size_t             at_n;    /* arrays: offsetof the count (0 = none) */
+  PetscReal          def[3];  /* default (option units); yarn options: warp, weft; arrays: the values */
+  PetscInt           ndef;    /* arrays: default count */
+  const PetscReal   *by_test; /* defaults by test (TEST_COUNT values), NULL = def */
+  OptCheck           check;
+  PetscReal          lo, hi;
+  int                lo_open, hi_open;
+  const char        *must;    /* what a failed check says the value must be */
+  const char *const *choices; /* enum names */
+  PetscInt           per, nmax; /* arrays: values per item (count a multiple of it), most values */
+  const char        *needs;   /* arrays: what a bad count says is needed */
+  const char        *help;
+} OptionDesc;
+
+#define IN(f)       offsetof(SceneInput, f)
+#define YIN(f)      offsetof(YarnInput, f)
+#define NONE        0, {0, 0, 0}, 0, NULL
+#define DEF(v)      0, {v, v, 0}, 0, NULL
+#define YDEF(w, f)  0, {w, f, 0}, 0, NULL
+#define TDEF(tab)   0, {0, 0, 0}, 0, tab
+#define REAL(g, n, f, d, chk, must, help)         {g, n, OPT_REAL, IN(f), d, chk, 0, 0, 0, 0, must, NULL, 0, 0, NULL, help}
+#define RANGED(g, n, f, d, lo, hi, lo_open, hi_open, must, help) \
+  {g, n, OPT_REAL, IN(f), d, RANGE, lo, hi, lo_open, hi_open, must, NULL, 0, 0, NULL, help}
+#define INT(g, n, f, d, lo, must, help)           {g, n, OPT_INT, IN(f), d, RANGE, lo, PETSC_MAX_INT, 0, 0, must, NULL, 0, 0, NULL, help}
+#define BOOL(g, n, f, d, help)                    {g, n, OPT_BOOL, IN(f), d, ANY, 0, 0, 0, 0, NULL, NULL, 0, 0, NULL, help}
+#define ENUM(g, n, f, d, names, help)             {g, n, OPT_ENUM, IN(f), d, ANY, 0, 0, 0, 0, NULL, names, 0, 0, NULL, help}
+#define STRING(g, n, f, help)                     {g, n, OPT_STRING, IN(f), NONE, ANY, 0, 0, 0, 0, NULL, NULL, 0, 0, NULL, help}
+#define REALS(g, n, f, nd, d0, d1, d2, per, nmax, needs, help) \
+  {g, n, OPT_REALS, IN(f), IN(n_##f), {d0, d1, d2}, nd, NULL, ANY, 0, 0, 0, 0, NULL, NULL, per, nmax, needs, help}
+#define YREAL(n, f, d, chk, lo, hi, lo_open, hi_open, must, help) \
+  {"", n, OPT_REAL, YIN(f), d, chk, lo, hi, lo_open, hi_open, must, NULL, 0, 0, NULL, help}
+
+#define POS_MUST "a positive number"
+#define NONNEG_MUST "zero or positive"
+#define XYZ "three components x,y,z"
+
+/* test-dependent defaults, indexed by TestType: strip, square, pushing, bias, drape */
+static const PetscReal GaugeByTest[TEST_COUNT]    = {200, 200, 200, 200, 300}; /* Cusick: a 30 cm specimen */
+static const PetscReal WidthByTest[TEST_COUNT]    = {50, 50, 50, 50, 300};
+static const PetscReal ShapeByTest[TEST_COUNT]    = {SHAPE_RECTANGLE, SHAPE_RECTANGLE, SHAPE_RECTANGLE, SHAPE_BIAS, SHAPE_DISC};
+static const PetscReal ClampByTest[TEST_COUNT]    = {CLAMP_JAW, CLAMP_EDGE, CLAMP_EDGE, CLAMP_JAW, CLAMP_RING};
+static const PetscReal SphereByTest[TEST_COUNT]   = {0, 0, 25.4, 0, 0};  /* ASTM D3787's ball */
+static const PetscReal TravelByTest[TEST_COUNT]   = {0, 0, 20, 0, 0};
+static const PetscReal PedestalByTest[TEST_COUNT] = {0, 0, 0, 0, 180}; /* Cusick: the 18 cm support disc */
+static const PetscReal ElongByTest[TEST_COUNT]    = {13, 0, 0, 13, 0};  /* only the jaw tests pull */
+
+static const OptionDesc Options[] = {
+  /* the test first: the defaults of the options below depend on it */
+  ENUM("Test", "test", test, DEF(TEST_STRIP), TestNames,
+       "strip: ISO 13934-1 strip between jaws; square: clamped net of gauge x width (mm) under the point load, no jaws; "
+       "pushing: a rigid sphere pushed through the clamped fabric (ASTM D3787); bias: a 45 degree specimen between "
+       "jaws; drape: Cusick drape, a disc specimen on a pedestal under gravity"),
+  STRING("", "scene", scene, "scene file (YAML options); the command line overrides it"),
+  REAL("Specimen", "ends_per_cm", ends_per_cm, DEF(24), POSITIVE, POS_MUST,
+       "warp density (ends/cm): warp yarns run along x, spaced along y"),
+  REAL("", "picks_per_cm", picks_per_cm, DEF(24), POSITIVE, POS_MUST,
+       "weft density (picks/cm): weft yarns run along y, spaced along x"),
+  REAL("", "gauge_mm", gauge_mm, TDEF(GaugeByTest), POSITIVE, POS_MUST,
+       "gauge length between the jaws; the net's or disc grid's length along x (mm)"),
+  REAL("", "width_mm", width_mm, TDEF(WidthByTest), POSITIVE, POS_MUST, "strip width; the net's length along y (mm)"),
+  INT("", "yarns", yarns, DEF(0), 0, NONNEG_MUST, "yarns across the strip (0 = width * density)"),
+  ENUM("", "pull", pull, DEF(PULL_WARP), PullAxisNames, "yarn family pulled by the jaws"),
+  ENUM("", "shape", shape, TDEF(ShapeByTest), ShapeNames,
+       "specimen shape cut from the grid: rectangle (the whole grid), disc (centred) or bias (-gauge_mm x -width_mm "
+       "between jaws, its length at 45 degrees to the yarns)"),
+  REAL("", "disc_diameter_mm", disc_diameter_mm, DEF(0), NONNEG, NONNEG_MUST,
+       "disc specimen diameter (mm), centred on the grid; 0 = the smaller grid side"),
+  REAL("", "jaw_depth_mm", jaw_depth_mm, DEF(2), POSITIVE, POS_MUST,
+       "bias specimen: length held in each jaw beyond the gauge length (mm)"),
+  ENUM("Clamps", "clamp", clamp, TDEF(ClampByTest), ClampNames,
+       "clamped crossings: jaw (the strip's or bias specimen's fixed jaw; the other end is the moving jaw), edge "
+       "(every crossing of the shape's outline), ring (an annulus around the grid centre), none"),
+  {"", "clamp_ring_mm", OPT_REALS, IN(clamp_ring_mm), IN(n_clamp_ring_mm), {0, 180, 0}, 0, NULL, ANY, 0, 0, 0, 0,
+   NULL, NULL, 2, 2, "two diameters inner,outer",
+   "inner,outer diameter of the clamping ring (mm), centred on the grid (drape default: 0,180)"},
+  REALS("", "clamp_line_mm", clamp_line_mm, 0, 0, 0, 0, 4, 4 * MAX_LINES,
+        "x,y,angle_deg,half_width_mm for each line (4 numbers per line, 1 to 8 lines)",
+        "clamp lines across the grid, on top of -clamp: x,y,angle_deg,half_width_mm per line (a point from the grid "
+        "centre in mm, the angle to the warp (x) axis, the band's half-width in mm); its crossings never move"),
+  REALS("", "grip_line_mm", grip_line_mm, 0, 0, 0, 0, 4, 4 * MAX_LINES,
+        "x,y,angle_deg,half_width_mm for each line (4 numbers per line, 1 to 8 lines)",
+        "grip lines across the grid (strip and bias tests): x,y,angle_deg,half_width_mm per line, as -clamp_line_mm; "
+        "its crossings move with the grip"),
+  REAL("Rigid bodies (MODEL.md 5.5)", "sphere_diameter_mm", sphere_diameter_mm, TDEF(SphereByTest), NONNEG,
+       NONNEG_MUST, "sphere diameter (mm), 0 = no sphere (pushing: ASTM D3787's 25.4 mm ball)"),
+  REAL("", "thickness_mm", thickness_mm, DEF(0.3), NONNEG, NONNEG_MUST,
+       "fabric thickness (mm): a crossing touches a body at half of it"),
+  REALS("", "sphere_direction", sphere_direction, 3, 0, 0, 1, 3, 3, XYZ,
+        "direction of the sphere's straight path x,y,z (normalised)"),
+  REALS("", "sphere_start_mm", sphere_start_mm, 0, 0, 0, 0, 3, 3, XYZ,
+        "sphere centre at the start, x,y,z from the grid centre (mm); default: touching the fabric from behind along "
+        "-sphere_direction"),
+  REAL("", "sphere_travel_mm", sphere_travel_mm, TDEF(TravelByTest), NONNEG, NONNEG_MUST,
+       "sphere travel along its path over the load steps (mm)"),
+  REAL("", "contact_stiffness_N_m", contact_stiffness_N_m, DEF(0), NONNEG, NONNEG_MUST,
+       "penalty stiffness of the contact per crossing (N/m); 0 = the warp yarn segment's EA/L0"),
+  BOOL("", "plane", plane, DEF(0), "a rigid plane (table): the fabric stays on the side -plane_normal points to"),
+  REALS("", "plane_point_mm", plane_point_mm, 3, 0, 0, 0, 3, 3, XYZ, "a point of the plane, x,y,z from the grid centre (mm)"),
+  REALS("", "plane_normal", plane_normal, 3, 0, 0, 1, 3, 3, XYZ, "the plane's normal x,y,z, towards the fabric (normalised)"),
+  REAL("", "pedestal_diameter_mm", pedestal_diameter_mm, TDEF(PedestalByTest), NONNEG, NONNEG_MUST,
+       "a rigid pedestal (disc, flat cylinder with a vertical axis) with contact on its top face, rim and edge: its "
+       "diameter (mm), 0 = none (drape: Cusick's 180 mm support disc)"),
+  REAL("", "pedestal_height_mm", pedestal_height_mm, DEF(50), POSITIVE, POS_MUST, "the pedestal's height below its top face (mm)"),
+  REALS("", "pedestal_top_mm", pedestal_top_mm, 0, 0, 0, 0, 3, 3, XYZ,
+        "centre of the pedestal's top face x,y,z from the grid centre (mm); default: under the centre, touching the "
+        "fabric at rest (z = -thickness/2)"),
+  REAL("", "friction_mu", friction_mu, DEF(0), NONNEG, NONNEG_MUST,
+       "Coulomb friction coefficient between the fabric and every rigid body; 0 = frictionless"),
+  /* yarn options: "%s" is warp or weft */
+  YREAL("%s_tex", tex, DEF(20), POSITIVE, 0, 0, 0, 0, POS_MUST, "linear density, tex (g/km)"),
+  YREAL("%s_crimp_pct", crimp_pct, YDEF(8, 5), RANGE, 0, 100, 0, 1, "in [0,100)", "crimp: extra yarn length between crossings (%)"),
+  YREAL("%s_modulus_cN_tex", modulus_cN_tex, DEF(260), POSITIVE, 0, 0, 0, 0, POS_MUST,
+        "yarn modulus of the linear law (cN/tex): EA = modulus * tex"),
+  YREAL("%s_decrimp_ratio", decrimp_ratio, DEF(0.05), NONNEG, 0, 0, 0, 0, NONNEG_MUST, "de-crimping stiffness Ec as a fraction of EA"),
+  YREAL("%s_compression_ratio", compression_ratio, DEF(1e-3), NONNEG, 0, 0, 0, 0, NONNEG_MUST,
+        "compression stiffness as a fraction of EA (yarns buckle)"),
+  YREAL("%s_contact_pct", contact_pct, DEF(50), RANGE, 0, 100, 1, 1, "in (0,100)",
+        "chord compression at which neighbouring crossings touch (%): below it the chord is as stiff as the yarn"),
+  YREAL("%s_law_smoothing_pct", law_smoothing_pct, DEF(0), RANGE, 0, 5, 0, 1, "in [0,5)",
+        "half-width of the C1 blend at each kink of the tension law (% chord strain); 0 = sharp kinks"),
+  YREAL("%s_bending_Nm2", bending_Nm2, DEF(2e-9), NONNEG, 0, 0, 0, 0, NONNEG_MUST, "bending rigidity B per yarn (N m^2)"),
+  YREAL("%s_break_pct", break_pct, DEF(0), NONNEG, 0, 0, 0, 0, NONNEG_MUST, "yarn breaking strain (%), 0 = never breaks"),
+  {"", "%s_law_csv", OPT_STRING, YIN(law_csv), NONE, ANY, 0, 0, 0, 0, NULL, NULL, 0, 0, NULL,
+   "tabulated yarn law, CSV 'strain_pct,force_cN' (empty = linear EA)"},
+  BOOL("Fabric terms (each can be switched off)", "traction", traction, DEF(1), "yarn traction (MODEL.md 5.1)"),
+  BOOL("", "bending", bending, DEF(1), "yarn bending along both families (MODEL.md 5.2)"),
+  BOOL("", "shear", shear, DEF(1), "in-plane shear with jamming (MODEL.md 5.3)"),
+  REAL("", "shear_G_N_m", shear_G_N_m, DEF(50), NONNEG, NONNEG_MUST, "in-plane shear rigidity G (N/m per radian)"),
+  RANGED("", "shear_lock_deg", shear_lock_deg, DEF(35), 0, 90, 1, 1, "in (0,90)", "jamming (locking) shear angle (degrees)"),
+  REAL("", "jam_factor", jam_factor, DEF(100), NONNEG, NONNEG_MUST,
+       "jamming stiffness as a multiple of the shear stiffness (0 = no jamming)"),
+  REALS("", "gravity", gravity, 3, 0, 0, -9.81, 3, 3, "three components gx,gy,gz", "gravity vector gx,gy,gz (m/s^2); 0,0,0 = off"),
+  REAL("", "nu", nu, DEF(0), NONNEG, NONNEG_MUST, "air viscosity per point (N s/m), the paper's coefficient"),
+  REAL("", "damping_ratio", damping_ratio, DEF(1), NONNEG, NONNEG_MUST,
+       "mass-proportional damping as a fraction of critical for the slowest mode along the pull (0 = off)"),
+  RANGED("Load program", "elongation_pct", elongation_pct, TDEF(ElongByTest), 0, 100, 0, 0, "in [0,100]",
+         "final elongation: grip travel / gauge length (%)"),
+  REAL("", "speed_mm_min", speed_mm_min, DEF(100), POSITIVE, POS_MUST, "test speed of the moving jaw (mm/min); gives time_s"),
+  REALS("", "point_load_N", point_load_N, 3, 0, 0, 0, 3, 3, "three components fx,fy,fz",
+        "final point load fx,fy,fz (N), ramped with the load steps"),
+  {"", "point_load_at", OPT_INTS, IN(point_load_at), IN(n_point_load_at), {0, 0, 0}, 0, NULL, ANY, 0, 0, 0, 0, NULL,
+   NULL, 2, 2, "two indices i,j", "crossing i,j of the point load (default: the centre)"},
+  REALS("", "grip_path_mm", grip_path_mm, 0, 0, 0, 0, 3, 3 * MAX_WAYPOINTS,
+        "dx,dy,dz for each waypoint (3 numbers per waypoint, 1 to 32 waypoints)",
+        "the grip's path, replacing the straight pull of -elongation_pct: waypoints dx,dy,dz (mm, from the grip's rest "
+        "position) joined by straight lines from 0,0,0 and travelled at the test speed; the load steps divide its "
+        "length equally; curve.csv's elongation is the displacement along the pull / gauge"),
+  INT("", "load_steps", load_steps, DEF(50), 1, "at least 1", "number of load steps K"),
+  INT("", "max_inner_steps", max_inner_steps, DEF(20000), 1, "at least 1",
+      "te steps per load step N (the most if it balances earlier)"),
+  ENUM("Numerics", "integrator", integrator, DEF(INTEGRATOR_DAMPED), IntegratorNames,
+       "damped: damped central differences; paper: the paper's eq. (10)"),
+  REAL("", "te", te, DEF(0), NONNEG, NONNEG_MUST, "time step te (s); 0 = from the stable bound"),
+  RANGED("", "te_safety", te_safety, DEF(0.9), 0, 1, 1, 0, "in (0,1]", "te = safety * stable bound (Gershgorin)"),
+  BOOL("", "te_check", te_check, DEF(1), "refuse a -te above the stable bound (0: experts and stability tests only)"),
+  REAL("", "te_strain_window", te_strain_window, DEF(1), NONNEG, NONNEG_MUST,
+       "chord-strain margin around each segment's strain over which the yarn tangent is maximised for the bound, and "
+       "margin in sin(shear angle) below the locking angle from which the jamming stiffness counts"),
+  BOOL("", "early_exit", early_exit, DEF(1), "end a load step as soon as the balance test passes (modified multi-sampling)"),
+  REAL("", "balance_tol", balance_tol, DEF(1e-3), POSITIVE, POS_MUST,
+       "balance: max residual force on a free point / largest yarn tension"),
+  REAL("", "speed_tol", speed_tol, DEF(0), NONNEG, NONNEG_MUST, "balance: max speed of a free point (m/s); 0 = the test speed"),
+  ENUM("", "predict", predict, DEF(PREDICT_LINEAR), PredictNames, "displacement prediction at each load step"),
+  INT("", "grip_ramp_steps", grip_ramp_steps, DEF(-1), -1, "-1 (auto) or >= 0",
+      "te steps over which the jaw (or the sphere) moves to each load step's position (cosine ramp); -1 = half a "
+      "period of the slowest mode without prediction or with a sphere, 0 (a jump) with prediction"),
+  BOOL("", "front", front, DEF(0), "rank propagation: compute only the points a load change can have reached"),
+  REAL("", "sleep_tol", sleep_tol, DEF(0), NONNEG, NONNEG_MUST,
+       "sleeping: skip points whose residual (relative, like -balance_tol) and speed stay below this; 0 = off"),
+  BOOL("", "kinetic_damping", kinetic_damping, DEF(0),
+       "kinetic damping: all velocities are set to zero whenever the total kinetic energy has passed a peak"),
+  STRING("Output", "output_dir", output_dir, "directory for the results (\"none\": write nothing); default results/SCENE"),
+  STRING("", "positions_out", positions_out, "write the final positions (natural order, PETSc binary) to this file"),
+  BOOL("", "quiet", quiet, DEF(0), "no progress line per load step"),
+  INT("", "output_every", output_every, DEF(-1), 0, "0 (no frames) or a number of load steps",
+      "write a frame to fabric.h5 every K load steps and at the last one (0 = no frames; default: about 10 frames)"),
+  INT("", "output_te_every", output_te_every, DEF(0), 0, "0 (off) or a number of te steps",
+      "also write a frame every M te steps within each load step, for dynamic scenes (0 = off)"),
+  INT("", "checkpoint_every", checkpoint_every, DEF(0), 0, "0 (never) or a number of load steps",
+      "write DIR/checkpoint.h5 every K load steps (0 = never)"),
+  STRING("", "restart", restart,
+         "continue the run saved in this checkpoint file (written by -checkpoint_every), appending to -output_dir"),
+};
+#define NOPTIONS ((PetscInt)(sizeof Options / sizeof Options[0]))
+
+/* ---------------- reading one option ---------------- */
+
+static void *Field(void *base, const OptionDesc *o) { return (char *)base + o->at; }
+
+static const char *YarnName(int y) { return y ? "weft" : "warp"; }
+
+/* the option's name with its yarn filled in */
+static void OptName(const OptionDesc *o, int yarn, char name[64])
 {
-  char      opt[64], help[256];
-  PetscReal modulus = 260.0, ratio = 0.05, brk = 0.0;
+  if (strncmp(o->name, "%s", 2) == 0) snprintf(name, 64, "%s%s", YarnName(yarn), o->name + 2);
+  else snprintf(name, 64, "%s", o->name);
+}
+
+static PetscReal DefaultOf(const OptionDesc *o, const SceneInput *in, int yarn)
+{
+  if (o->by_test) return o->by_test[in->test];
+  if (!strcmp(o->name, "output_every")) return (PetscReal)PetscMax(1, (in->load_steps + 9) / 10); /* about ten frames */
+  return o->def[yarn];
+}
+
+/* a real number of the option (text as given), or an error naming both */
+static PetscErrorCode ParseReal(MPI_Comm comm, const char *name, const char *text, PetscReal *v)
+{
+  char  *end;
+  double d;
 
   PetscFunctionBeginUser;
-  y->name = name;
-  y->tex  = 20.0;
-  y->k_comp = 1e-3;
-  y->bending = 2e-9;
-#define YOPT(suffix) (PetscSNPrintf(opt, sizeof opt, "-%s_" suffix, name), opt)
-#define YHELP(text)  (PetscSNPrintf(help, sizeof help, "%s yarn: " text, name), help)
-  PetscCall(PetscOptionsReal(YOPT("tex"), YHELP("linear density, tex (g/km)"), NULL, y->tex, &y->tex, NULL));
-  CHECK_POSITIVE(y->tex, opt);
-  PetscCall(PetscOptionsReal(YOPT("crimp_pct"), YHELP("crimp: extra yarn length between crossings (%%)"), NULL, crimp_pct, &crimp_pct, NULL));
-  PetscCheck(isfinite(crimp_pct) && crimp_pct >= 0 && crimp_pct < 100, comm, PETSC_ERR_USER_INPUT, "%s must be in [0,100), got %g", opt, (double)crimp_pct);
-  y->crimp = crimp_pct / 100.0;
-  PetscCall(PetscOptionsReal(YOPT("modulus_cN_tex"), YHELP("yarn modulus of the linear law (cN/tex): EA = modulus * tex"), NULL, modulus, &modulus, NULL));
-  CHECK_POSITIVE(modulus, opt);
-  y->EA = modulus * 1e-2 * y->tex;
-  PetscCall(PetscOptionsReal(YOPT("decrimp_ratio"), YHELP("de-crimping stiffness Ec as a fraction of EA"), NULL, ratio, &ratio, NULL));
-  CHECK_NONNEG(ratio, opt);
-  PetscCall(PetscOptionsReal(YOPT("compression_ratio"), YHELP("compression stiffness as a fraction of EA (yarns buckle)"), NULL, y->k_comp, &y->k_comp, NULL));
-  CHECK_NONNEG(y->k_comp, opt);
-  {
-    PetscReal contact = 50;
-    PetscCall(PetscOptionsReal(YOPT("contact_pct"), YHELP("chord compression at which neighbouring crossings touch (%%): below it the chord is as stiff as the yarn"), NULL, contact, &contact, NULL));
-    PetscCheck(isfinite(contact) && contact > 0 && contact < 100, comm, PETSC_ERR_USER_INPUT, "%s must be in (0,100), got %g", opt, (double)contact);
-    y->e_contact = -contact / 100.0;
-  }
-  {
-    PetscReal smooth = 0;
-    PetscCall(PetscOptionsReal(YOPT("law_smoothing_pct"), YHELP("half-width of the C1 blend at each kink of the tension law (%% chord strain); 0 = sharp kinks"), NULL, smooth, &smooth, NULL));
-    PetscCheck(isfinite(smooth) && smooth >= 0 && smooth < 5, comm, PETSC_ERR_USER_INPUT, "%s must be in [0,5), got %g", opt, (double)smooth);
-    y->smoothing = smooth / 100.0;
-  }
-  PetscCall(PetscOptionsReal(YOPT("bending_Nm2"), YHELP("bending rigidity B per yarn (N m^2)"), NULL, y->bending, &y->bending, NULL));
-  CHECK_NONNEG(y->bending, opt);
-  PetscCall(PetscOptionsReal(YOPT("break_pct"), YHELP("yarn breaking strain (%%), 0 = never breaks"), NULL, brk, &brk, NULL));
-  CHECK_NONNEG(brk, opt);
-  y->break_ey = brk / 100.0;
-  y->csv[0]   = 0;
-  PetscCall(PetscOptionsString(YOPT("law_csv"), YHELP("tabulated yarn law, CSV 'strain_pct,force_cN' (empty = linear EA)"), NULL, y->csv, y->csv, sizeof y->csv, NULL));
-  PetscCall(YarnLawSetUp(y, comm));
-  y->Ec = ratio * (y->ntab ? y->EA : modulus * 1e-2 * y->tex);
-#undef YOPT
-#undef YHELP
+  errno = 0;
+  d     = strtod(text, &end);
+  while (*end == ' ') end++;
+  PetscCheck(end != text && !*end, comm, PETSC_ERR_USER_INPUT, "-%s %s: not a number", name, text);
+  PetscCheck(isfinite(d) && errno != ERANGE, comm, PETSC_ERR_USER_INPUT, "-%s %s: not a finite number", name, text);
+  *v = (PetscReal)d;
   PetscFunctionReturn(0);
 }
 
-/* -clamp_line_mm / -grip_line_mm x,y,angle_deg,half_width_mm[,x,y,...]: up to MAX_LINES lines, in SI */
-static PetscErrorCode LineOptions(MPI_Comm comm, PetscOptionItems *PetscOptionsObject, const char *opt, const char *help, PetscInt *nlines, PetscReal line[][4])
+static PetscErrorCode ParseInt(MPI_Comm comm, const char *name, const char *text, PetscInt *v)
 {
-  PetscReal v[4 * MAX_LINES + 1];
-  PetscInt  n = 4 * MAX_LINES + 1;
-  PetscBool set;
+  char     *end;
+  long long l;
 
   PetscFunctionBeginUser;
-  *nlines = 0;
-  PetscCall(PetscOptionsRealArray(opt, help, NULL, v, &n, &set));
-  if (!set) PetscFunctionReturn(0);
-  PetscCheck(n > 0 && n % 4 == 0 && n <= 4 * MAX_LINES, comm, PETSC_ERR_USER_INPUT, "%s needs x,y,angle_deg,half_width_mm for each line (4 numbers per line, 1 to %d lines), got %" PetscInt_FMT " numbers", opt, MAX_LINES, n);
-  for (PetscInt k = 0; k < n / 4; k++) {
-    const PetscReal *l = v + 4 * k;
-    PetscCheck(isfinite(l[0]) && isfinite(l[1]) && isfinite(l[2]), comm, PETSC_ERR_USER_INPUT, "%s line %" PetscInt_FMT ": x, y and the angle must be finite numbers, got %g,%g,%g", opt, k + 1, (double)l[0], (double)l[1], (double)l[2]);
-    PetscCheck(isfinite(l[3]) && l[3] > 0, comm, PETSC_ERR_USER_INPUT, "%s line %" PetscInt_FMT ": the half-width must be a positive number of mm, got %g", opt, k + 1, (double)l[3]);
-    line[k][0] = 1e-3 * l[0];
-    line[k][1] = 1e-3 * l[1];
-    line[k][2] = l[2] * PETSC_PI / 180.0;
-    line[k][3] = 1e-3 * l[3];
-  }
-  *nlines = n / 4;
+  errno = 0;
+  l     = strtoll(text, &end, 10);
+  while (*end == ' ') end++;
+  PetscCheck(end != text && !*end, comm, PETSC_ERR_USER_INPUT, "-%s %s: not an integer", name, text);
+  PetscCheck(errno != ERANGE && l <= PETSC_MAX_INT && l >= PETSC_MIN_INT, comm, PETSC_ERR_USER_INPUT,
+             "-%s %s: out of range (integers from %d to %d)", name, text, (int)PETSC_MIN_INT, (int)PETSC_MAX_INT);
+  *v = (PetscInt)l;
   PetscFunctionReturn(0);
 }
 
-/* -grip_path_mm dx,dy,dz[,dx,dy,dz...]: the grip's waypoints (mm) after the start (0,0,0), in
-   SI, with the length along the path to each */
-static PetscErrorCode PathOptions(MPI_Comm comm, PetscOptionItems *PetscOptionsObject, Scene *s)
+static PetscErrorCode ParseBool(MPI_Comm comm, const char *name, const char *text, PetscBool *v)
 {
-  PetscReal v[3 * MAX_WAYPOINTS + 1], at = 0;
-  PetscInt  n = 3 * MAX_WAYPOINTS + 1;
-  PetscBool set;
+  const char *yes[] = {"", "1", "true", "yes", "on"}, *no[] = {"0", "false", "no", "off"};
 
   PetscFunctionBeginUser;
-  s->load.waypoints = 0;
-  PetscCall(PetscOptionsRealArray("-grip_path_mm", "the grip's path, replacing the straight pull of -elongation_pct: waypoints dx,dy,dz (mm, displacements from the grip's rest position, x along the warp, y along the weft) joined by straight lines from 0,0,0 and travelled at the test speed; the load steps divide its length equally; curve.csv's elongation is the displacement along the pull / gauge, force_N the reaction along the pull", NULL, v, &n, &set));
-  if (!set) PetscFunctionReturn(0);
-  PetscCheck(n > 0 && n % 3 == 0 && n <= 3 * MAX_WAYPOINTS, comm, PETSC_ERR_USER_INPUT, "-grip_path_mm needs dx,dy,dz for each waypoint (3 numbers per waypoint, 1 to %d waypoints), got %" PetscInt_FMT " numbers", MAX_WAYPOINTS, n);
-  for (PetscInt k = 0; k < n / 3; k++) {
-    PetscReal len2 = 0;
-    for (int d = 0; d < 3; d++) {
-      PetscCheck(isfinite(v[3 * k + d]), comm, PETSC_ERR_USER_INPUT, "-grip_path_mm waypoint %" PetscInt_FMT ": not a finite displacement", k + 1);
-      s->load.waypoint[k][d] = 1e-3 * v[3 * k + d];
-      len2 += PetscSqr(s->load.waypoint[k][d] - (k ? s->load.waypoint[k - 1][d] : 0.0));
+  for (int k = 0; k < 5; k++)
+    if (!strcasecmp(text, yes[k])) *v = PETSC_TRUE;
+  for (int k = 0; k < 4; k++)
+    if (!strcasecmp(text, no[k])) *v = PETSC_FALSE;
+  for (int k = 0; k < 5; k++)
+    if (!strcasecmp(text, yes[k]) || (k < 4 && !strcasecmp(text, no[k]))) PetscFunctionReturn(0);
+  SETERRQ(comm, PETSC_ERR_USER_INPUT, "-%s %s: not a yes/no value (use 1 or 0, true or false)", name, text);
+}
+
+static PetscErrorCode ParseEnum(MPI_Comm comm, const char *name, const char *text, const char *const *choices, PetscInt *v)
+{
+  char list[256] = "";
+  int  n         = 0;
+
+  PetscFunctionBeginUser;
+  while (choices[n + 2]) n++; /* PETSc's enum arrays end with the type name, the prefix and NULL */
+  for (int k = 0; k < n; k++) {
+    if (!strcasecmp(text, choices[k])) {
+      *v = k;
+      PetscFunctionReturn(0);
     }
-    PetscCheck(len2 > 0, comm, PETSC_ERR_USER_INPUT, "-grip_path_mm waypoint %" PetscInt_FMT " (%g,%g,%g mm) repeats the point before it: a path segment of zero length", k + 1, (double)v[3 * k], (double)v[3 * k + 1], (double)v[3 * k + 2]);
-    at += PetscSqrtReal(len2);
-    s->load.path_at[k] = at;
+    PetscCall(PetscStrlcat(list, k ? ", " : "", sizeof list));
+    PetscCall(PetscStrlcat(list, choices[k], sizeof list));
   }
-  s->load.waypoints = n / 3;
+  SETERRQ(comm, PETSC_ERR_USER_INPUT, "-%s %s: unknown choice (one of %s)", name, text, list);
+}
+
+/* comma-separated numbers into v (at most nmax), their count into n */
+static PetscErrorCode ParseArray(MPI_Comm comm, const OptionDesc *o, const char *name, const char *text, void *v, PetscInt *n)
+{
+  char buf[4096], *save = NULL;
+
+  PetscFunctionBeginUser;
+  PetscCheck(strlen(text) < sizeof buf, comm, PETSC_ERR_USER_INPUT, "-%s: value too long", name);
+  PetscCall(PetscStrncpy(buf, text, sizeof buf));
+  *n = 0;
+  for (char *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+    while (*tok == ' ') tok++;
+    if (*n < o->nmax) {
+      if (o->type == OPT_INTS) PetscCall(ParseInt(comm, name, tok, (PetscInt *)v + *n));
+      else PetscCall(ParseReal(comm, name, tok, (PetscReal *)v + *n));
+    }
+    (*n)++;
+  }
+  PetscCheck(*n > 0 && *n % o->per == 0 && *n <= o->nmax, comm, PETSC_ERR_USER_INPUT, "-%s needs %s, got %" PetscInt_FMT "%s",
+             name, o->needs, *n, o->nmax > o->per ? " numbers" : "");
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode CheckReal(MPI_Comm comm, const OptionDesc *o, const char *name, PetscReal v)
+{
+  PetscBool ok = PETSC_TRUE;
+
+  PetscFunctionBeginUser;
+  if (o->check == POSITIVE) ok = v > 0 ? PETSC_TRUE : PETSC_FALSE;
+  if (o->check == NONNEG) ok = v >= 0 ? PETSC_TRUE : PETSC_FALSE;
+  if (o->check == RANGE)
+    ok = ((o->lo_open ? v > o->lo : v >= o->lo) && (o->hi_open ? v < o->hi : v <= o->hi)) ? PETSC_TRUE : PETSC_FALSE;
+  PetscCheck(ok, comm, PETSC_ERR_USER_INPUT, "-%s must be %s, got %g", name, o->must, (double)v);
+  PetscFunctionReturn(0);
+}
+
+/* the default as -help shows it */
+static void DefaultText(const OptionDesc *o, const void *field, PetscReal def, char *out, size_t len)
+{
+  switch (o->type) {
+  case OPT_REAL: snprintf(out, len, "%g", (double)def); break;
+  case OPT_INT: snprintf(out, len, "%d", (int)def); break;
+  case OPT_BOOL: snprintf(out, len, "%s", def != 0 ? "true" : "false"); break;
+  case OPT_ENUM: snprintf(out, len, "%s", o->choices[(int)def]); break;
+  case OPT_STRING: snprintf(out, len, "%s", (const char *)field); break;
+  default: {
+    const PetscInt nd = o->ndef;
+    out[0]            = 0;
+    if (!nd) snprintf(out, len, "unset");
+    for (PetscInt k = 0; k < nd; k++) {
+      const size_t at = strlen(out);
+      snprintf(out + at, len - at, "%s%g", k ? "," : "", (double)o->def[k]);
+    }
+  }
+  }
+}
+
+/* Read one option (for yarn options, of one yarn) into base (SceneInput or YarnInput): its
+   default first, then the value given, parsed and checked. With -help, print it. */
+static PetscErrorCode ReadOption(MPI_Comm comm, const OptionDesc *o, int yarn, const SceneInput *in, void *base, PetscBool help)
+{
+  char      name[64], opt[66], text[4096], deftext[256];
+  PetscBool set;
+  void     *f   = Field(base, o);
+  PetscReal def = DefaultOf(o, in, yarn);
+
+  PetscFunctionBeginUser;
+  OptName(o, yarn, name);
+  if (o->type == OPT_REAL) *(PetscReal *)f = def;
+  if (o->type == OPT_INT || o->type == OPT_ENUM) *(PetscInt *)f = (PetscInt)def;
+  if (o->type == OPT_BOOL) *(PetscBool *)f = def != 0 ? PETSC_TRUE : PETSC_FALSE;
+  if (o->type == OPT_REALS)
+    for (PetscInt k = 0; k < o->ndef; k++) ((PetscReal *)f)[k] = o->def[k];
+  if (o->at_n) *(PetscInt *)Field(base, &(OptionDesc){.at = o->at_n}) = o->ndef;
+  DefaultText(o, f, def, deftext, sizeof deftext);
+  if (help) PetscCall(PetscPrintf(comm, "  -%s <%s>: %s\n", name, deftext, o->help));
+  snprintf(opt, sizeof opt, "-%s", name);
+  PetscCall(PetscOptionsGetString(NULL, NULL, opt, text, sizeof text, &set));
+  if (!set) PetscFunctionReturn(0);
+  PetscCheck(text[0] || o->type == OPT_BOOL || !strcmp(o->name, "%s_law_csv"), comm, PETSC_ERR_USER_INPUT,
+             "-%s: empty value (give a value or leave the option out)", name);
+  switch (o->type) {
+  case OPT_REAL:
+    PetscCall(ParseReal(comm, name, text, (PetscReal *)f));
+    PetscCall(CheckReal(comm, o, name, *(PetscReal *)f));
+    break;
+  case OPT_INT:
+    PetscCall(ParseInt(comm, name, text, (PetscInt *)f));
+    PetscCheck(*(PetscInt *)f >= (PetscInt)o->lo, comm, PETSC_ERR_USER_INPUT, "-%s must be %s, got %" PetscInt_FMT, name,
+               o->must, *(PetscInt *)f);
+    break;
+  case OPT_BOOL: PetscCall(ParseBool(comm, name, text, (PetscBool *)f)); break;
+  case OPT_ENUM: PetscCall(ParseEnum(comm, name, text, o->choices, (PetscInt *)f)); break;
+  case OPT_STRING: PetscCall(PetscStrncpy((char *)f, text, PETSC_MAX_PATH_LEN)); break;
+  default: PetscCall(ParseArray(comm, o, name, text, f, (PetscInt *)Field(base, &(OptionDesc){.at = o->at_n})));
+  }
+  PetscFunctionReturn(0);
+}
+
+/* every option of the table into in, group by group */
+static PetscErrorCode ReadOptions(MPI_Comm comm, SceneInput *in)
+{
+  PetscBool help;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsHasHelp(NULL, &help));
+  for (PetscInt k = 0; k < NOPTIONS; k++) {
+    const OptionDesc *o = &Options[k];
+    if (help && o->group[0]) PetscCall(PetscPrintf(comm, "%s:\n", o->group));
+    if (strncmp(o->name, "%s", 2)) {
+      PetscCall(ReadOption(comm, o, 0, in, in, help));
+      continue;
+    }
+    for (int y = 0; y < 2; y++) PetscCall(ReadOption(comm, o, y, in, &in->yarn[y], help && y == 0));
+    if (help && !strcmp(o->name, "%s_tex")) PetscCall(PetscPrintf(comm, "  (each -warp_... option has its -weft_... twin)\n"));
+  }
+  PetscFunctionReturn(0);
+}
+
+int SceneOptionValues(const Scene *s, PetscInt k, char name[64], PetscReal v[], PetscInt *n)
+{
+  PetscInt q = 0;
+  for (PetscInt e = 0; e < NOPTIONS; e++) {
+    const OptionDesc *o     = &Options[e];
+    const int         yarns = strncmp(o->name, "%s", 2) ? 1 : 2;
+    if (o->type == OPT_STRING) continue;
+    for (int y = 0; y < yarns; y++, q++) {
+      const void *base = yarns == 2 ? (const void *)&s->in.yarn[y] : (const void *)&s->in;
+      const void *f    = (const char *)base + o->at;
+      if (q != k) continue;
+      OptName(o, y, name);
+      *n = 1;
+      if (o->type == OPT_REAL) v[0] = *(const PetscReal *)f;
+      if (o->type == OPT_INT || o->type == OPT_ENUM) v[0] = (PetscReal) * (const PetscInt *)f;
+      if (o->type == OPT_BOOL) v[0] = (PetscReal) * (const PetscBool *)f;
+      if (o->type == OPT_REALS || o->type == OPT_INTS) {
+        *n = *(const PetscInt *)((const char *)base + o->at_n);
+        for (PetscInt c = 0; c < *n; c++)
+          v[c] = o->type == OPT_REALS ? ((const PetscReal *)f)[c] : (PetscReal)((const PetscInt *)f)[c];
+      }
+      return 1;
+    }
+  }
+  return 0;
+}
+
+/* ---------------- the scene file and unused options ---------------- */
+
+/* a scene file with no option in it would run the default strip without a word: refuse it */
+static PetscErrorCode CheckSceneHasOptions(MPI_Comm comm, const char *file)
+{
+  char  line[1024];
+  int   found = 0;
+  FILE *fp    = fopen(file, "r");
+
+  PetscFunctionBeginUser;
+  PetscCheck(fp, comm, PETSC_ERR_FILE_OPEN, "-scene %s: no such file, or not readable", file);
+  while (!found && fgets(line, sizeof line, fp)) {
+    const char *c = line;
+    while (*c == ' ' || *c == '\t') c++;
+    if (*c && *c != '#' && *c != '\n' && *c != '\r' && strchr(c, ':')) found = 1;
+  }
+  fclose(fp);
+  PetscCheck(found, comm, PETSC_ERR_USER_INPUT, "-scene %s: the file holds no option (an empty scene would run the default strip)", file);
   PetscFunctionReturn(0);
 }
 
@@ -135,6 +483,7 @@ PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv)
   PetscCheck(file[0], comm, PETSC_ERR_USER_INPUT, "-scene needs a file name");
   PetscCall(PetscTestFile(file, 'r', &exists));
   PetscCheck(exists, comm, PETSC_ERR_FILE_OPEN, "-scene %s: no such file, or not readable", file);
+  PetscCall(CheckSceneHasOptions(comm, file));
   PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
   ierr = PetscOptionsInsertFileYAML(comm, NULL, file, PETSC_TRUE);
   PetscCall(PetscPopErrorHandler());
@@ -166,237 +515,232 @@ PetscErrorCode SceneCheckUnused(MPI_Comm comm)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s)
+/* ---------------- from the options to the SI scene ---------------- */
+
+static PetscErrorCode DeriveYarn(MPI_Comm comm, const YarnInput *in, const char *name, YarnLaw *y)
 {
-  PetscReal ends_cm = 24, picks_cm = 24, gauge_mm = 200, width_mm = 50, elong_pct = 13, speed_mm_min = 100;
-  PetscReal disc_mm = 0, ring_mm[2] = {0, 0}, sphere_mm = 0, start_mm[3] = {0, 0, 0}, travel_mm = 0, thick_mm = 0.3, kc = 0;
-  PetscBool start_set;
-  PetscReal jaw_mm = 2;
-  PetscInt  n3 = 3, n2 = 2;
-  PetscBool set;
+  PetscFunctionBeginUser;
+  y->name      = name;
+  y->tex       = in->tex;
+  y->crimp     = in->crimp_pct / 100.0;
+  y->EA        = in->modulus_cN_tex * 1e-2 * y->tex;
+  y->k_comp    = in->compression_ratio;
+  y->e_contact = -in->contact_pct / 100.0;
+  y->smoothing = in->law_smoothing_pct / 100.0;
+  y->bending   = in->bending_Nm2;
+  y->break_ey  = in->break_pct / 100.0;
+  y->decrimp_ratio = in->decrimp_ratio;
+  PetscCall(PetscStrncpy(y->csv, in->law_csv, sizeof y->csv));
+  PetscCall(YarnLawSetUp(y, comm));
+  PetscFunctionReturn(0);
+}
+
+/* -clamp_line_mm / -grip_line_mm x,y,angle_deg,half_width_mm[,...] in SI */
+static PetscErrorCode DeriveLines(MPI_Comm comm, const char *opt, const PetscReal *v, PetscInt n, PetscInt *nlines, PetscReal line[][4])
+{
+  PetscFunctionBeginUser;
+  *nlines = n / 4;
+  for (PetscInt k = 0; k < n / 4; k++) {
+    const PetscReal *l = v + 4 * k;
+    PetscCheck(l[3] > 0, comm, PETSC_ERR_USER_INPUT,
+               "-%s line %" PetscInt_FMT ": the half-width must be a positive number of mm, got %g", opt, k + 1, (double)l[3]);
+    line[k][0] = 1e-3 * l[0];
+    line[k][1] = 1e-3 * l[1];
+    line[k][2] = l[2] * PETSC_PI / 180.0;
+    line[k][3] = 1e-3 * l[3];
+  }
+  PetscFunctionReturn(0);
+}
+
+/* -grip_path_mm: the waypoints in SI and the length along the path to each */
+static PetscErrorCode DerivePath(MPI_Comm comm, const SceneInput *in, LoadProgram *lp)
+{
+  PetscReal at = 0;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscMemzero(s, sizeof *s));
-  PetscCall(PetscOptionsGetString(NULL, NULL, "-scene", s->out.file, sizeof s->out.file, NULL));
-  {
-    const char *base = strrchr(s->out.file, '/');
-    base             = base ? base + 1 : s->out.file;
-    PetscCall(PetscStrncpy(s->out.name, base[0] ? base : "default", sizeof s->out.name));
-    char *dot = strrchr(s->out.name, '.');
-    if (dot && dot != s->out.name) *dot = 0;
+  lp->waypoints = in->n_grip_path_mm / 3;
+  for (PetscInt k = 0; k < lp->waypoints; k++) {
+    const PetscReal *v    = in->grip_path_mm + 3 * k;
+    PetscReal        len2 = 0;
+    for (int d = 0; d < 3; d++) {
+      lp->waypoint[k][d] = 1e-3 * v[d];
+      len2 += PetscSqr(lp->waypoint[k][d] - (k ? lp->waypoint[k - 1][d] : 0.0));
+    }
+    PetscCheck(len2 > 0, comm, PETSC_ERR_USER_INPUT,
+               "-grip_path_mm waypoint %" PetscInt_FMT " (%g,%g,%g mm) repeats the point before it: a path segment of zero length",
+               k + 1, (double)v[0], (double)v[1], (double)v[2]);
+    at += PetscSqrtReal(len2);
+    lp->path_at[k] = at;
   }
+  PetscFunctionReturn(0);
+}
 
-  PetscOptionsBegin(comm, NULL, "Specimen: ISO 13934-1 strip between a clamped and a moving jaw", NULL);
-  PetscCall(PetscOptionsString("-scene", "scene file (YAML options); the command line overrides it", NULL, s->out.file, s->out.file, sizeof s->out.file, NULL));
-  PetscCall(PetscOptionsReal("-ends_per_cm", "warp density (ends/cm): warp yarns run along x, spaced along y", NULL, ends_cm, &ends_cm, NULL));
-  CHECK_POSITIVE(ends_cm, "-ends_per_cm");
-  PetscCall(PetscOptionsReal("-picks_per_cm", "weft density (picks/cm): weft yarns run along y, spaced along x", NULL, picks_cm, &picks_cm, NULL));
-  CHECK_POSITIVE(picks_cm, "-picks_per_cm");
-  PetscCall(PetscOptionsReal("-gauge_mm", "gauge length between the jaws (mm)", NULL, gauge_mm, &gauge_mm, NULL));
-  CHECK_POSITIVE(gauge_mm, "-gauge_mm");
-  PetscCall(PetscOptionsReal("-width_mm", "strip width (mm)", NULL, width_mm, &width_mm, NULL));
-  CHECK_POSITIVE(width_mm, "-width_mm");
-  PetscCall(PetscOptionsInt("-yarns", "yarns across the strip (0 = width * density)", NULL, s->spec.yarns, &s->spec.yarns, NULL));
-  PetscCheck(s->spec.yarns >= 0, comm, PETSC_ERR_USER_INPUT, "-yarns must be zero or positive, got %" PetscInt_FMT, s->spec.yarns);
-  s->spec.pull = PULL_WARP;
-  PetscCall(PetscOptionsEnum("-pull", "yarn family pulled by the jaws", NULL, PullAxisNames, (PetscEnum)s->spec.pull, (PetscEnum *)&s->spec.pull, NULL));
-  PetscOptionsEnd();
+/* a direction option as a unit vector */
+static PetscErrorCode UnitVector(MPI_Comm comm, const char *opt, const PetscReal v[3], PetscReal u[3])
+{
+  const PetscReal norm = PetscSqrtReal(PetscSqr(v[0]) + PetscSqr(v[1]) + PetscSqr(v[2]));
 
-  PetscOptionsBegin(comm, NULL, "Test, shape and clamps (strip: the jaws; square: a net of -gauge_mm x -width_mm clamped on its edges)", NULL);
-  s->test = TEST_STRIP;
-  PetscCall(PetscOptionsEnum("-test", "drape: Cusick drape, a disc specimen held between discs (-clamp_ring_mm 0,D) under gravity ramped with the load steps; strip: ISO 13934-1 strip between jaws; square: clamped net of gauge x width (mm) under the point load, no jaws; pushing: a rigid sphere pushed through the clamped fabric", NULL, TestNames, (PetscEnum)s->test, (PetscEnum *)&s->test, NULL));
-  s->spec.shape = s->test == TEST_BIAS ? SHAPE_BIAS : (s->test == TEST_DRAPE ? SHAPE_DISC : SHAPE_RECTANGLE);
-  if (s->test == TEST_DRAPE) gauge_mm = width_mm = 300, ring_mm[1] = 180; /* Cusick: 30 cm specimen held between 18 cm discs */
-  PetscCall(PetscOptionsEnum("-shape", "specimen shape cut from the grid: rectangle (the whole grid), disc (centred) or bias (-gauge_mm x -width_mm between jaws, its length at 45 degrees to the yarns)", NULL, ShapeNames, (PetscEnum)s->spec.shape, (PetscEnum *)&s->spec.shape, NULL));
-  PetscCall(PetscOptionsReal("-disc_diameter_mm", "disc specimen diameter (mm), centred on the grid; 0 = the smaller grid side", NULL, disc_mm, &disc_mm, NULL));
-  CHECK_NONNEG(disc_mm, "-disc_diameter_mm");
-  PetscCall(PetscOptionsReal("-jaw_depth_mm", "bias specimen: length held in each jaw beyond the gauge length (mm)", NULL, jaw_mm, &jaw_mm, NULL));
-  CHECK_POSITIVE(jaw_mm, "-jaw_depth_mm");
-  s->clamps.clamp = JawTest(s) ? CLAMP_JAW : (s->test == TEST_DRAPE ? CLAMP_RING : CLAMP_EDGE);
-  PetscCall(PetscOptionsEnum("-clamp", "clamped crossings: jaw (the strip's or bias specimen's fixed jaw; the other end is the moving jaw), edge (every crossing of the shape's outline), ring (an annulus around the grid centre), none", NULL, ClampNames, (PetscEnum)s->clamps.clamp, (PetscEnum *)&s->clamps.clamp, NULL));
+  PetscFunctionBeginUser;
+  PetscCheck(isfinite(norm) && norm > 0, comm, PETSC_ERR_USER_INPUT, "-%s must be a finite non-zero vector, got %g,%g,%g", opt,
+             (double)v[0], (double)v[1], (double)v[2]);
+  for (int d = 0; d < 3; d++) u[d] = v[d] / norm;
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode DeriveBodies(MPI_Comm comm, const SceneInput *in, Scene *s)
+{
+  Bodies *b = &s->bodies;
+
+  PetscFunctionBeginUser;
+  b->sphere_radius = 0.5e-3 * in->sphere_diameter_mm;
+  b->thickness     = 1e-3 * in->thickness_mm;
+  b->sphere_travel = 1e-3 * in->sphere_travel_mm;
+  PetscCall(UnitVector(comm, "sphere_direction", in->sphere_direction, b->sphere_dir));
+  for (int d = 0; d < 3; d++)
+    b->sphere_start[d] = in->n_sphere_start_mm ? 1e-3 * in->sphere_start_mm[d] : -(b->sphere_radius + 0.5 * b->thickness) * b->sphere_dir[d];
+  b->plane = in->plane;
+  for (int d = 0; d < 3; d++) b->plane_point[d] = 1e-3 * in->plane_point_mm[d];
+  PetscCall(UnitVector(comm, "plane_normal", in->plane_normal, b->plane_normal));
+  b->pedestal_radius = 0.5e-3 * in->pedestal_diameter_mm;
+  b->pedestal_height = 1e-3 * in->pedestal_height_mm;
+  for (int d = 0; d < 3; d++)
+    b->pedestal_top[d] = in->n_pedestal_top_mm ? 1e-3 * in->pedestal_top_mm[d] : (d == 2 ? -0.5 * b->thickness : 0.0);
+  b->friction_mu = in->friction_mu;
+  b->contact_k   = in->contact_stiffness_N_m > 0 ? in->contact_stiffness_N_m : s->yarns.warp.EA * s->spec.picks_per_m; /* EA/L0 */
+  PetscCheck(s->test != TEST_PUSHING || b->sphere_radius > 0, comm, PETSC_ERR_USER_INPUT,
+             "-test pushing needs a sphere: -sphere_diameter_mm must be positive, got %g", (double)in->sphere_diameter_mm);
+  PetscCheck(s->test == TEST_PUSHING || b->sphere_radius == 0, comm, PETSC_ERR_USER_INPUT,
+             "-sphere_diameter_mm %g: the sphere is the pushing test's punch (-test pushing)", (double)in->sphere_diameter_mm);
+  PetscFunctionReturn(0);
+}
+
+/* the options that must agree with the test, the shape and the clamps */
+static PetscErrorCode CheckTestOptions(MPI_Comm comm, const SceneInput *in, const Scene *s)
+{
+  const Clamps *c = &s->clamps;
+
+  PetscFunctionBeginUser;
+  PetscCheck(c->clamp != CLAMP_RING || (c->ring[0] >= 0 && c->ring[1] > c->ring[0]), comm, PETSC_ERR_USER_INPUT,
+             "-clamp ring needs -clamp_ring_mm inner,outer with 0 <= inner < outer, got %g,%g", (double)(2e3 * c->ring[0]),
+             (double)(2e3 * c->ring[1]));
+  PetscCheck((c->clamp == CLAMP_JAW) == JawTest(s) || (c->clamp == CLAMP_NONE && c->grip_lines > 0), comm, PETSC_ERR_USER_INPUT,
+             "-clamp %s with -test %s: the jaws are the strip and bias tests' clamps, and only theirs (without jaws, these "
+             "tests need -grip_line_mm)", ClampNames[c->clamp], TestNames[s->test]);
+  PetscCheck(c->grip_lines == 0 || JawTest(s), comm, PETSC_ERR_USER_INPUT,
+             "-grip_line_mm with -test %s: only the strip and bias tests move grips", TestNames[s->test]);
+  PetscCheck((s->spec.shape == SHAPE_BIAS) == (s->test == TEST_BIAS), comm, PETSC_ERR_USER_INPUT,
+             "-shape %s with -test %s: the bias shape is the bias test's, and it needs it", ShapeNames[s->spec.shape], TestNames[s->test]);
+  PetscCheck(s->test != TEST_STRIP || (s->spec.shape == SHAPE_RECTANGLE && (c->clamp == CLAMP_JAW || (c->clamp == CLAMP_NONE && c->grip_lines > 0))),
+             comm, PETSC_ERR_USER_INPUT,
+             "-test strip is a rectangle between jaws: -shape %s and -clamp %s are for the other tests (a strip without jaws: "
+             "-clamp none and -grip_line_mm)", ShapeNames[s->spec.shape], ClampNames[c->clamp]);
+  PetscCheck(JawTest(s) || in->elongation_pct == 0, comm, PETSC_ERR_USER_INPUT, "-elongation_pct %g: -test %s has no jaws to pull",
+             (double)in->elongation_pct, TestNames[s->test]);
+  PetscCheck(s->load.waypoints == 0 || JawTest(s), comm, PETSC_ERR_USER_INPUT,
+             "-grip_path_mm with -test %s: only the strip and bias tests move grips", TestNames[s->test]);
+  PetscCheck(!s->num.kinetic_damping || s->num.integrator == INTEGRATOR_DAMPED, comm, PETSC_ERR_USER_INPUT,
+             "-kinetic_damping needs -integrator damped (the paper's integrator keeps two velocity chains), got -integrator %s",
+             IntegratorNames[s->num.integrator]);
+  PetscCheck(s->num.sleep_tol <= s->num.balance_tol, comm, PETSC_ERR_USER_INPUT,
+             "-sleep_tol %g is above -balance_tol %g: points would sleep before they balance", (double)s->num.sleep_tol,
+             (double)s->num.balance_tol);
+  PetscCheck((s->bodies.sphere_radius == 0 && !s->bodies.plane && s->bodies.pedestal_radius == 0) || (!s->num.front && s->num.sleep_tol == 0),
+             comm, PETSC_ERR_USER_INPUT,
+             "-front and -sleep_tol follow the jaws and the point load only: switch them off with a sphere, a plane or a pedestal");
+  PetscFunctionReturn(0);
+}
+
+static void DeriveNumerics(const SceneInput *in, Scene *s)
+{
+  Numerics *n = &s->num;
+
+  n->integrator      = (IntegratorType)in->integrator;
+  n->te_user         = in->te;
+  n->te_safety       = in->te_safety;
+  n->te_window       = in->te_strain_window;
+  n->te_check        = in->te_check;
+  n->early_exit      = in->early_exit;
+  n->balance_tol     = in->balance_tol;
+  n->speed_tol       = in->speed_tol;
+  n->predict         = (PredictType)in->predict;
+  n->front           = in->front;
+  n->grip_ramp       = in->grip_ramp_steps;
+  n->sleep_tol       = in->sleep_tol;
+  n->kinetic_damping = in->kinetic_damping;
+  n->nu              = in->nu;
+  n->damping_ratio   = in->damping_ratio;
+}
+
+static void DeriveTermsAndLoad(const SceneInput *in, Scene *s)
+{
+  s->terms.traction   = in->traction;
+  s->terms.bending    = in->bending;
+  s->terms.shear      = in->shear;
+  s->terms.shear_G    = in->shear_G_N_m;
+  s->terms.lock_deg   = in->shear_lock_deg;
+  s->terms.jam_factor = in->jam_factor;
+  for (int d = 0; d < 3; d++) s->terms.gravity[d] = in->gravity[d];
+  s->load.elongation      = in->elongation_pct / 100.0;
+  s->load.speed           = in->speed_mm_min * 1e-3 / 60.0;
+  s->load.load_steps      = in->load_steps;
+  s->load.max_inner_steps = in->max_inner_steps;
+  for (int d = 0; d < 3; d++) s->load.point_load[d] = in->n_point_load_N ? in->point_load_N[d] : 0.0;
+  s->load.load_at[0] = in->n_point_load_at ? in->point_load_at[0] : -1;
+  s->load.load_at[1] = in->n_point_load_at ? in->point_load_at[1] : -1;
+  if (s->num.speed_tol == 0) s->num.speed_tol = s->load.speed;
+}
+
+static PetscErrorCode DeriveOutput(MPI_Comm comm, const SceneInput *in, Scene *s)
+{
+  SceneOutput *o = &s->out;
+  const char  *base;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscStrncpy(o->file, in->scene, sizeof o->file));
+  base = strrchr(o->file, '/');
+  base = base ? base + 1 : o->file;
+  PetscCall(PetscStrncpy(o->name, base[0] ? base : "default", sizeof o->name));
   {
-    PetscInt  n = 2;
-    PetscBool rset;
-    PetscCall(PetscOptionsRealArray("-clamp_ring_mm", "inner,outer diameter of the clamping ring (mm), centred on the grid", NULL, ring_mm, &n, &rset));
-    PetscCheck(!rset || n == 2, comm, PETSC_ERR_USER_INPUT, "-clamp_ring_mm needs two diameters inner,outer, got %" PetscInt_FMT, n);
-    PetscCheck(s->clamps.clamp != CLAMP_RING || ((rset || s->test == TEST_DRAPE) && ring_mm[0] >= 0 && ring_mm[1] > ring_mm[0] && isfinite(ring_mm[1])), comm, PETSC_ERR_USER_INPUT, "-clamp ring needs -clamp_ring_mm inner,outer with 0 <= inner < outer, got %g,%g", (double)ring_mm[0], (double)ring_mm[1]);
+    char *dot = strrchr(o->name, '.');
+    if (dot && dot != o->name) *dot = 0;
   }
-  PetscCall(LineOptions(comm, PetscOptionsObject, "-clamp_line_mm", "clamp lines across the grid, on top of -clamp: x,y,angle_deg,half_width_mm per line (a point from the grid centre in mm, the angle to the warp (x) axis, the band's half-width in mm); the existing crossings within the band never move", &s->clamps.clamp_lines, s->clamps.clamp_line));
-  PetscCall(LineOptions(comm, PetscOptionsObject, "-grip_line_mm", "grip lines across the grid (strip and bias tests): x,y,angle_deg,half_width_mm per line, as -clamp_line_mm; the existing crossings within the band move with the grip", &s->clamps.grip_lines, s->clamps.grip_line));
-  PetscOptionsEnd();
-
-  PetscOptionsBegin(comm, NULL, "Rigid bodies with penalty contact (MODEL.md 5.5): a sphere (centre = grid centre + start + d * direction, d = 0 .. travel over the load steps), a plane, a pedestal; Coulomb friction", NULL);
-  if (s->test == TEST_PUSHING) sphere_mm = 25.4, travel_mm = 20;
-  PetscCall(PetscOptionsReal("-sphere_diameter_mm", "sphere diameter (mm), 0 = no sphere (pushing: ASTM D3787's 25.4 mm ball)", NULL, sphere_mm, &sphere_mm, NULL));
-  CHECK_NONNEG(sphere_mm, "-sphere_diameter_mm");
-  PetscCall(PetscOptionsReal("-thickness_mm", "fabric thickness (mm): a crossing touches a body at half of it", NULL, thick_mm, &thick_mm, NULL));
-  CHECK_NONNEG(thick_mm, "-thickness_mm");
-  s->bodies.sphere_dir[2] = 1;
-  {
-    PetscInt n = 3;
-    PetscBool dset;
-    PetscCall(PetscOptionsRealArray("-sphere_direction", "direction of the sphere's straight path x,y,z (normalised)", NULL, s->bodies.sphere_dir, &n, &dset));
-    PetscCheck(!dset || n == 3, comm, PETSC_ERR_USER_INPUT, "-sphere_direction needs three components x,y,z, got %" PetscInt_FMT, n);
-    const PetscReal norm = PetscSqrtReal(PetscSqr(s->bodies.sphere_dir[0]) + PetscSqr(s->bodies.sphere_dir[1]) + PetscSqr(s->bodies.sphere_dir[2]));
-    PetscCheck(isfinite(norm) && norm > 0, comm, PETSC_ERR_USER_INPUT, "-sphere_direction must be a finite non-zero vector, got %g,%g,%g", (double)s->bodies.sphere_dir[0], (double)s->bodies.sphere_dir[1], (double)s->bodies.sphere_dir[2]);
-    for (int d = 0; d < 3; d++) s->bodies.sphere_dir[d] /= norm;
-    n = 3;
-    PetscCall(PetscOptionsRealArray("-sphere_start_mm", "sphere centre at the start, x,y,z from the grid centre (mm); default: touching the fabric from behind along -sphere_direction", NULL, start_mm, &n, &start_set));
-    PetscCheck(!start_set || n == 3, comm, PETSC_ERR_USER_INPUT, "-sphere_start_mm needs three components x,y,z, got %" PetscInt_FMT, n);
+  if (in->output_dir[0]) PetscCall(PetscStrncpy(o->output_dir, in->output_dir, sizeof o->output_dir));
+  else PetscCall(PetscSNPrintf(o->output_dir, sizeof o->output_dir, "results/%s", o->name));
+  if (!strcmp(o->output_dir, "none")) o->output_dir[0] = 0;
+  PetscCall(PetscStrncpy(o->positions_out, in->positions_out, sizeof o->positions_out));
+  PetscCall(PetscStrncpy(o->restart, in->restart, sizeof o->restart));
+  o->quiet            = in->quiet;
+  o->output_every     = in->output_every;
+  o->output_te_every  = in->output_te_every;
+  o->checkpoint_every = in->checkpoint_every;
+  PetscCheck(!o->checkpoint_every || o->output_dir[0], comm, PETSC_ERR_USER_INPUT,
+             "-checkpoint_every %" PetscInt_FMT " needs an output directory: -output_dir is none", o->checkpoint_every);
+  if (o->restart[0]) {
+    PetscBool exists;
+    PetscCall(PetscTestFile(o->restart, 'r', &exists));
+    PetscCheck(exists, comm, PETSC_ERR_FILE_OPEN, "-restart %s: no such file, or not readable", o->restart);
   }
-  PetscCall(PetscOptionsReal("-sphere_travel_mm", "sphere travel along its path over the load steps (mm)", NULL, travel_mm, &travel_mm, NULL));
-  CHECK_NONNEG(travel_mm, "-sphere_travel_mm");
-  PetscCall(PetscOptionsReal("-contact_stiffness_N_m", "penalty stiffness of the contact per crossing (N/m); 0 = the warp yarn segment's EA/L0 (enters the stable step)", NULL, kc, &kc, NULL));
-  CHECK_NONNEG(kc, "-contact_stiffness_N_m");
-  PetscCall(PetscOptionsBool("-plane", "a rigid plane (table) with penalty contact: the fabric stays on the side -plane_normal points to", NULL, s->bodies.plane, &s->bodies.plane, NULL));
-  s->bodies.plane_normal[2] = 1;
-  {
-    PetscInt  n = 3;
-    PetscBool nset;
-    PetscCall(PetscOptionsRealArray("-plane_point_mm", "a point of the plane, x,y,z from the grid centre (mm)", NULL, s->bodies.plane_point, &n, &nset));
-    PetscCheck(!nset || n == 3, comm, PETSC_ERR_USER_INPUT, "-plane_point_mm needs three components x,y,z, got %" PetscInt_FMT, n);
-    for (int d = 0; d < 3; d++) s->bodies.plane_point[d] *= 1e-3;
-    n = 3;
-    PetscCall(PetscOptionsRealArray("-plane_normal", "the plane's normal x,y,z, towards the fabric (normalised)", NULL, s->bodies.plane_normal, &n, &nset));
-    PetscCheck(!nset || n == 3, comm, PETSC_ERR_USER_INPUT, "-plane_normal needs three components x,y,z, got %" PetscInt_FMT, n);
-    const PetscReal norm = PetscSqrtReal(PetscSqr(s->bodies.plane_normal[0]) + PetscSqr(s->bodies.plane_normal[1]) + PetscSqr(s->bodies.plane_normal[2]));
-    PetscCheck(isfinite(norm) && norm > 0, comm, PETSC_ERR_USER_INPUT, "-plane_normal must be a finite non-zero vector, got %g,%g,%g", (double)s->bodies.plane_normal[0], (double)s->bodies.plane_normal[1], (double)s->bodies.plane_normal[2]);
-    for (int d = 0; d < 3; d++) s->bodies.plane_normal[d] /= norm;
-  }
-  {
-    PetscReal ped_mm = s->test == TEST_DRAPE ? 180 : 0, ped_h_mm = 50, top_mm[3] = {0, 0, 0};
-    PetscInt  n = 3;
-    PetscBool tset;
-    PetscCall(PetscOptionsReal("-pedestal_diameter_mm", "a rigid pedestal (disc, flat cylinder with a vertical axis) with penalty contact on its top face, rim and edge: its diameter (mm), 0 = none (drape: Cusick's 180 mm support disc)", NULL, ped_mm, &ped_mm, NULL));
-    CHECK_NONNEG(ped_mm, "-pedestal_diameter_mm");
-    PetscCall(PetscOptionsReal("-pedestal_height_mm", "the pedestal's height below its top face (mm)", NULL, ped_h_mm, &ped_h_mm, NULL));
-    CHECK_POSITIVE(ped_h_mm, "-pedestal_height_mm");
-    PetscCall(PetscOptionsRealArray("-pedestal_top_mm", "centre of the pedestal's top face x,y,z from the grid centre (mm); default: under the centre, touching the fabric at rest (z = -thickness/2)", NULL, top_mm, &n, &tset));
-    PetscCheck(!tset || n == 3, comm, PETSC_ERR_USER_INPUT, "-pedestal_top_mm needs three components x,y,z, got %" PetscInt_FMT, n);
-    for (int d = 0; d < 3; d++) PetscCheck(isfinite(top_mm[d]), comm, PETSC_ERR_USER_INPUT, "-pedestal_top_mm component %d is not a finite number", d);
-    s->bodies.pedestal_radius = 0.5e-3 * ped_mm;
-    s->bodies.pedestal_height = 1e-3 * ped_h_mm;
-    for (int d = 0; d < 3; d++) s->bodies.pedestal_top[d] = tset ? 1e-3 * top_mm[d] : (d == 2 ? -0.5e-3 * thick_mm : 0.0);
-  }
-  PetscCall(PetscOptionsReal("-friction_mu", "Coulomb friction coefficient between the fabric and every rigid body (stick spring of the contact stiffness, slip at mu times the normal force); 0 = frictionless", NULL, s->bodies.friction_mu, &s->bodies.friction_mu, NULL));
-  CHECK_NONNEG(s->bodies.friction_mu, "-friction_mu");
-  PetscCheck(s->test != TEST_PUSHING || sphere_mm > 0, comm, PETSC_ERR_USER_INPUT, "-test pushing needs a sphere: -sphere_diameter_mm must be positive, got %g", (double)sphere_mm);
-  PetscCheck(s->test == TEST_PUSHING || sphere_mm == 0, comm, PETSC_ERR_USER_INPUT, "-sphere_diameter_mm %g: the sphere is the pushing test's punch (-test pushing)", (double)sphere_mm);
-  PetscOptionsEnd();
+  PetscFunctionReturn(0);
+}
 
-  PetscOptionsBegin(comm, NULL, "Clamps", NULL);
-  PetscCheck((s->clamps.clamp == CLAMP_JAW) == JawTest(s) || (s->clamps.clamp == CLAMP_NONE && s->clamps.grip_lines > 0), comm, PETSC_ERR_USER_INPUT, "-clamp %s with -test %s: the jaws are the strip and bias tests' clamps, and only theirs (without jaws, these tests need -grip_line_mm)", ClampNames[s->clamps.clamp], TestNames[s->test]);
-  PetscCheck(s->clamps.grip_lines == 0 || JawTest(s), comm, PETSC_ERR_USER_INPUT, "-grip_line_mm with -test %s: only the strip and bias tests move grips", TestNames[s->test]);
-  PetscCheck((s->spec.shape == SHAPE_BIAS) == (s->test == TEST_BIAS), comm, PETSC_ERR_USER_INPUT, "-shape %s with -test %s: the bias shape is the bias test's, and it needs it", ShapeNames[s->spec.shape], TestNames[s->test]);
-  PetscCheck(s->test != TEST_STRIP || (s->spec.shape == SHAPE_RECTANGLE && (s->clamps.clamp == CLAMP_JAW || (s->clamps.clamp == CLAMP_NONE && s->clamps.grip_lines > 0))), comm, PETSC_ERR_USER_INPUT, "-test strip is a rectangle between jaws: -shape %s and -clamp %s are for the other tests (a strip without jaws: -clamp none and -grip_line_mm)", ShapeNames[s->spec.shape], ClampNames[s->clamps.clamp]);
-  PetscOptionsEnd();
+/* the grid of crossings that the test, shape and size give (nx x ny), with the gauge length,
+   width and jaw depth rounded to it */
+static PetscErrorCode DeriveGrid(MPI_Comm comm, const SceneInput *in, Scene *s)
+{
+  const PetscReal ends_cm = in->ends_per_cm, picks_cm = in->picks_per_cm, gauge_mm = in->gauge_mm, width_mm = in->width_mm;
+  const PetscReal jaw_mm = in->jaw_depth_mm, disc_mm = in->disc_diameter_mm;
+  const PetscReal ring_mm[2] = {in->n_clamp_ring_mm || s->test == TEST_DRAPE ? in->clamp_ring_mm[0] : 0.0,
+                                in->n_clamp_ring_mm || s->test == TEST_DRAPE ? in->clamp_ring_mm[1] : 0.0};
 
-  PetscOptionsBegin(comm, NULL, "Yarns (warp along x, weft along y)", NULL);
-  PetscCall(YarnOptions(comm, PetscOptionsObject, &s->yarns.warp, "warp", 8.0));
-  PetscCall(YarnOptions(comm, PetscOptionsObject, &s->yarns.weft, "weft", 5.0));
-  PetscOptionsEnd();
-
-  PetscOptionsBegin(comm, NULL, "Fabric terms (each can be switched off)", NULL);
-  s->terms.traction = s->terms.bending = s->terms.shear = PETSC_TRUE;
-  PetscCall(PetscOptionsBool("-traction", "yarn traction (MODEL.md 5.1)", NULL, s->terms.traction, &s->terms.traction, NULL));
-  PetscCall(PetscOptionsBool("-bending", "yarn bending along both families (MODEL.md 5.2)", NULL, s->terms.bending, &s->terms.bending, NULL));
-  PetscCall(PetscOptionsBool("-shear", "in-plane shear with jamming (MODEL.md 5.3)", NULL, s->terms.shear, &s->terms.shear, NULL));
-  s->terms.shear_G    = 50.0;
-  s->terms.lock_deg   = 35.0;
-  s->terms.jam_factor = 100.0;
-  PetscCall(PetscOptionsReal("-shear_G_N_m", "in-plane shear rigidity G (N/m per radian)", NULL, s->terms.shear_G, &s->terms.shear_G, NULL));
-  CHECK_NONNEG(s->terms.shear_G, "-shear_G_N_m");
-  PetscCall(PetscOptionsReal("-shear_lock_deg", "jamming (locking) shear angle (degrees)", NULL, s->terms.lock_deg, &s->terms.lock_deg, NULL));
-  PetscCheck(isfinite(s->terms.lock_deg) && s->terms.lock_deg > 0 && s->terms.lock_deg < 90, comm, PETSC_ERR_USER_INPUT, "-shear_lock_deg must be in (0,90), got %g", (double)s->terms.lock_deg);
-  PetscCall(PetscOptionsReal("-jam_factor", "jamming stiffness as a multiple of the shear stiffness (0 = no jamming)", NULL, s->terms.jam_factor, &s->terms.jam_factor, NULL));
-  CHECK_NONNEG(s->terms.jam_factor, "-jam_factor");
-  s->terms.gravity[2] = -9.81;
-  PetscCall(PetscOptionsRealArray("-gravity", "gravity vector gx,gy,gz (m/s^2); 0,0,0 = off", NULL, s->terms.gravity, &n3, &set));
-  PetscCheck(!set || n3 == 3, comm, PETSC_ERR_USER_INPUT, "-gravity needs three components gx,gy,gz, got %" PetscInt_FMT, n3);
-  for (int d = 0; d < 3; d++) PetscCheck(isfinite(s->terms.gravity[d]), comm, PETSC_ERR_USER_INPUT, "-gravity component %d is not a finite number", d);
-  PetscCall(PetscOptionsReal("-nu", "air viscosity per point (N s/m), the paper's coefficient", NULL, s->num.nu, &s->num.nu, NULL));
-  CHECK_NONNEG(s->num.nu, "-nu");
-  s->num.damping_ratio = 1.0;
-  PetscCall(PetscOptionsReal("-damping_ratio", "mass-proportional damping as a fraction of critical for the slowest mode along the pull (0 = off)", NULL, s->num.damping_ratio, &s->num.damping_ratio, NULL));
-  CHECK_NONNEG(s->num.damping_ratio, "-damping_ratio");
-  PetscOptionsEnd();
-
-  PetscOptionsBegin(comm, NULL, "Load program", NULL);
-  if (s->test != TEST_STRIP && s->test != TEST_BIAS) elong_pct = 0; /* no jaws */
-  PetscCall(PetscOptionsReal("-elongation_pct", "final elongation: grip travel / gauge length (%)", NULL, elong_pct, &elong_pct, NULL));
-  PetscCheck(isfinite(elong_pct) && elong_pct >= 0 && elong_pct <= 100, comm, PETSC_ERR_USER_INPUT, "-elongation_pct must be in [0,100], got %g", (double)elong_pct);
-  PetscCheck(JawTest(s) || elong_pct == 0, comm, PETSC_ERR_USER_INPUT, "-elongation_pct %g: -test %s has no jaws to pull", (double)elong_pct, TestNames[s->test]);
-  PetscCall(PetscOptionsReal("-speed_mm_min", "test speed of the moving jaw (mm/min); gives time_s", NULL, speed_mm_min, &speed_mm_min, NULL));
-  CHECK_POSITIVE(speed_mm_min, "-speed_mm_min");
-  PetscCall(PetscOptionsRealArray("-point_load_N", "final point load fx,fy,fz (N), ramped with the load steps", NULL, s->load.point_load, &n3, &set));
-  PetscCheck(!set || n3 == 3, comm, PETSC_ERR_USER_INPUT, "-point_load_N needs three components fx,fy,fz, got %" PetscInt_FMT, n3);
-  s->load.load_at[0] = s->load.load_at[1] = -1;
-  n2 = 2;
-  PetscCall(PetscOptionsIntArray("-point_load_at", "crossing i,j of the point load (default: the centre)", NULL, s->load.load_at, &n2, &set));
-  PetscCheck(!set || n2 == 2, comm, PETSC_ERR_USER_INPUT, "-point_load_at needs two indices i,j, got %" PetscInt_FMT, n2);
-  PetscCall(PathOptions(comm, PetscOptionsObject, s));
-  PetscCheck(s->load.waypoints == 0 || JawTest(s), comm, PETSC_ERR_USER_INPUT, "-grip_path_mm with -test %s: only the strip and bias tests move grips", TestNames[s->test]);
-  s->load.load_steps      = 50;
-  s->load.max_inner_steps = 20000;
-  PetscCall(PetscOptionsInt("-load_steps", "number of load steps K", NULL, s->load.load_steps, &s->load.load_steps, NULL));
-  PetscCheck(s->load.load_steps >= 1, comm, PETSC_ERR_USER_INPUT, "-load_steps must be at least 1, got %" PetscInt_FMT, s->load.load_steps);
-  PetscCall(PetscOptionsInt("-max_inner_steps", "te steps per load step N (the most if it balances earlier)", NULL, s->load.max_inner_steps, &s->load.max_inner_steps, NULL));
-  PetscCheck(s->load.max_inner_steps >= 1, comm, PETSC_ERR_USER_INPUT, "-max_inner_steps must be at least 1, got %" PetscInt_FMT, s->load.max_inner_steps);
-  PetscOptionsEnd();
-
-  PetscOptionsBegin(comm, NULL, "Numerics", NULL);
-  s->num.integrator = INTEGRATOR_DAMPED;
-  PetscCall(PetscOptionsEnum("-integrator", "damped: damped central differences; paper: the paper's eq. (10)", NULL, IntegratorNames, (PetscEnum)s->num.integrator, (PetscEnum *)&s->num.integrator, NULL));
-  PetscCall(PetscOptionsReal("-te", "time step te (s); 0 = from the stable bound", NULL, s->num.te_user, &s->num.te_user, NULL));
-  CHECK_NONNEG(s->num.te_user, "-te");
-  s->num.te_safety = 0.9;
-  PetscCall(PetscOptionsReal("-te_safety", "te = safety * stable bound (Gershgorin)", NULL, s->num.te_safety, &s->num.te_safety, NULL));
-  PetscCheck(isfinite(s->num.te_safety) && s->num.te_safety > 0 && s->num.te_safety <= 1, comm, PETSC_ERR_USER_INPUT, "-te_safety must be in (0,1], got %g", (double)s->num.te_safety);
-  s->num.te_check = PETSC_TRUE;
-  PetscCall(PetscOptionsBool("-te_check", "refuse a -te above the stable bound (0: experts and stability tests only)", NULL, s->num.te_check, &s->num.te_check, NULL));
-  s->num.te_window = 1.0;
-  PetscCall(PetscOptionsReal("-te_strain_window", "chord-strain margin around each segment's strain over which the yarn tangent is maximised for the bound, and margin in sin(shear angle) below the locking angle from which the jamming stiffness counts (smaller: larger te while yarns are crimped and crossings far from locking, but a load step that straightens or shears them further can go unstable; 1 = the whole law)", NULL, s->num.te_window, &s->num.te_window, NULL));
-  CHECK_NONNEG(s->num.te_window, "-te_strain_window");
-  s->num.early_exit = PETSC_TRUE;
-  PetscCall(PetscOptionsBool("-early_exit", "end a load step as soon as the balance test passes (modified multi-sampling)", NULL, s->num.early_exit, &s->num.early_exit, NULL));
-  s->num.balance_tol = 1e-3;
-  PetscCall(PetscOptionsReal("-balance_tol", "balance: max residual force on a free point / largest yarn tension", NULL, s->num.balance_tol, &s->num.balance_tol, NULL));
-  CHECK_POSITIVE(s->num.balance_tol, "-balance_tol");
-  PetscCall(PetscOptionsReal("-speed_tol", "balance: max speed of a free point (m/s); 0 = the test speed", NULL, s->num.speed_tol, &s->num.speed_tol, NULL));
-  CHECK_NONNEG(s->num.speed_tol, "-speed_tol");
-  s->num.predict = PREDICT_LINEAR;
-  PetscCall(PetscOptionsEnum("-predict", "displacement prediction at each load step", NULL, PredictNames, (PetscEnum)s->num.predict, (PetscEnum *)&s->num.predict, NULL));
-  s->num.grip_ramp = -1;
-  PetscCall(PetscOptionsInt("-grip_ramp_steps", "te steps over which the jaw (or the sphere) moves to each load step's position (cosine ramp); -1 = half a period of the slowest mode without prediction or with a sphere, 0 (a jump) with prediction", NULL, s->num.grip_ramp, &s->num.grip_ramp, NULL));
-  PetscCheck(s->num.grip_ramp >= -1, comm, PETSC_ERR_USER_INPUT, "-grip_ramp_steps must be -1 (auto) or >= 0, got %" PetscInt_FMT, s->num.grip_ramp);
-  PetscCall(PetscOptionsBool("-front", "rank propagation: compute only the points a load change can have reached", NULL, s->num.front, &s->num.front, NULL));
-  PetscCall(PetscOptionsReal("-sleep_tol", "sleeping: skip points whose residual (relative, like -balance_tol) and speed stay below this, with asleep neighbours; 0 = off", NULL, s->num.sleep_tol, &s->num.sleep_tol, NULL));
-  CHECK_NONNEG(s->num.sleep_tol, "-sleep_tol");
-  PetscCall(PetscOptionsBool("-kinetic_damping", "kinetic damping (Cundall's dynamic relaxation): all velocities are set to zero whenever the total kinetic energy has passed a peak (an exact sum: the same on any number of ranks); for scenes relaxed to rest (drape)", NULL, s->num.kinetic_damping, &s->num.kinetic_damping, NULL));
-  PetscCheck(!s->num.kinetic_damping || s->num.integrator == INTEGRATOR_DAMPED, comm, PETSC_ERR_USER_INPUT, "-kinetic_damping needs -integrator damped (the paper's integrator keeps two velocity chains), got -integrator %s", IntegratorNames[s->num.integrator]);
-  PetscCheck(s->num.sleep_tol <= s->num.balance_tol, comm, PETSC_ERR_USER_INPUT, "-sleep_tol %g is above -balance_tol %g: points would sleep before they balance", (double)s->num.sleep_tol, (double)s->num.balance_tol);
-  PetscOptionsEnd();
-
-  PetscOptionsBegin(comm, NULL, "Output", NULL);
-  PetscCall(PetscSNPrintf(s->out.output_dir, sizeof s->out.output_dir, "results/%s", s->out.name));
-  PetscCall(PetscOptionsString("-output_dir", "directory for curve.csv and summary.json (\"none\": write nothing)", NULL, s->out.output_dir, s->out.output_dir, sizeof s->out.output_dir, NULL));
-  if (!strcmp(s->out.output_dir, "none")) s->out.output_dir[0] = 0;
-  PetscCall(PetscOptionsString("-positions_out", "write the final positions (natural order, PETSc binary) to this file", NULL, s->out.positions_out, s->out.positions_out, sizeof s->out.positions_out, NULL));
-  PetscCall(PetscOptionsBool("-quiet", "no progress line per load step", NULL, s->out.quiet, &s->out.quiet, NULL));
-  PetscOptionsEnd();
-
-  /* derived: SI, grid */
+  PetscFunctionBeginUser;
   s->spec.ends_per_m  = ends_cm * 100.0;
   s->spec.picks_per_m = picks_cm * 100.0;
-  s->load.elongation  = elong_pct / 100.0;
-  s->bodies.sphere_radius = 0.5e-3 * sphere_mm;
-  s->bodies.thickness     = 1e-3 * thick_mm;
-  s->bodies.sphere_travel = 1e-3 * travel_mm;
-  for (int d = 0; d < 3; d++) s->bodies.sphere_start[d] = start_set ? 1e-3 * start_mm[d] : -(s->bodies.sphere_radius + 0.5 * s->bodies.thickness) * s->bodies.sphere_dir[d];
-  s->bodies.contact_k = kc > 0 ? kc : s->yarns.warp.EA * s->spec.picks_per_m; /* EA / L0 of a warp segment */
-  PetscCheck((s->bodies.sphere_radius == 0 && !s->bodies.plane && s->bodies.pedestal_radius == 0) || (!s->num.front && s->num.sleep_tol == 0), comm, PETSC_ERR_USER_INPUT, "-front and -sleep_tol follow the jaws and the point load only: switch them off with a sphere, a plane or a pedestal");
-  s->load.speed       = speed_mm_min * 1e-3 / 60.0;
-  if (s->num.speed_tol == 0) s->num.speed_tol = s->load.speed;
+  s->spec.yarns       = in->yarns;
+  s->spec.pull        = (PullAxis)in->pull;
+  s->spec.shape       = (ShapeType)in->shape;
+  s->clamps.clamp     = (ClampType)in->clamp;
+  s->clamps.ring[0]   = 0.5e-3 * ring_mm[0];
+  s->clamps.ring[1]   = 0.5e-3 * ring_mm[1];
   if (s->test == TEST_BIAS && ends_cm == picks_cm) {
     /* The grid covers the specimen and its jaws, rotated by 45 degrees. With equal densities
        the outline lies on grid diagonals, h = spacing/sqrt(2) apart: the jaw lines at
@@ -437,8 +781,6 @@ PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s)
     s->spec.gauge = (nx - 1) / s->spec.picks_per_m;
     s->spec.width = (ny - 1) / s->spec.ends_per_m;
     s->spec.disc_radius = disc_mm > 0 ? 0.5e-3 * disc_mm : 0.5 * PetscMin(s->spec.gauge, s->spec.width);
-    s->clamps.ring[0] = 0.5e-3 * ring_mm[0];
-    s->clamps.ring[1] = 0.5e-3 * ring_mm[1];
   } else {
     const PetscReal along_density = s->spec.pull == PULL_WARP ? s->spec.picks_per_m : s->spec.ends_per_m;
     const PetscReal across_density = s->spec.pull == PULL_WARP ? s->spec.ends_per_m : s->spec.picks_per_m;
@@ -452,11 +794,33 @@ PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s)
     s->spec.gauge = (n_along - 1) / along_density;
     s->spec.width = n_across / across_density;
   }
-  if (s->load.load_at[0] < 0) {
+  if (!in->n_point_load_at) {
     s->load.load_at[0] = s->spec.nx / 2;
     s->load.load_at[1] = s->spec.ny / 2;
   }
-  PetscCheck(s->load.load_at[0] < s->spec.nx && s->load.load_at[1] >= 0 && s->load.load_at[1] < s->spec.ny, comm, PETSC_ERR_USER_INPUT, "-point_load_at %" PetscInt_FMT ",%" PetscInt_FMT " is outside the %" PetscInt_FMT " x %" PetscInt_FMT " grid", s->load.load_at[0], s->load.load_at[1], s->spec.nx, s->spec.ny);
+  PetscCheck(s->load.load_at[0] >= 0 && s->load.load_at[0] < s->spec.nx && s->load.load_at[1] >= 0 && s->load.load_at[1] < s->spec.ny, comm, PETSC_ERR_USER_INPUT, "-point_load_at %" PetscInt_FMT ",%" PetscInt_FMT " is outside the %" PetscInt_FMT " x %" PetscInt_FMT " grid", s->load.load_at[0], s->load.load_at[1], s->spec.nx, s->spec.ny);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s)
+{
+  SceneInput *in = &s->in;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(s, sizeof *s));
+  PetscCall(ReadOptions(comm, in));
+  s->test = (TestType)in->test;
+  PetscCall(DeriveOutput(comm, in, s));
+  PetscCall(DeriveYarn(comm, &in->yarn[0], "warp", &s->yarns.warp));
+  PetscCall(DeriveYarn(comm, &in->yarn[1], "weft", &s->yarns.weft));
+  DeriveNumerics(in, s);
+  DeriveTermsAndLoad(in, s);
+  PetscCall(DeriveGrid(comm, in, s));
+  PetscCall(DeriveBodies(comm, in, s));
+  PetscCall(DeriveLines(comm, "clamp_line_mm", in->clamp_line_mm, in->n_clamp_line_mm, &s->clamps.clamp_lines, s->clamps.clamp_line));
+  PetscCall(DeriveLines(comm, "grip_line_mm", in->grip_line_mm, in->n_grip_line_mm, &s->clamps.grip_lines, s->clamps.grip_line));
+  PetscCall(DerivePath(comm, in, &s->load));
+  PetscCall(CheckTestOptions(comm, in, s));
   PetscFunctionReturn(0);
 }
 
