@@ -49,6 +49,9 @@ typedef struct {
   PetscReal *zero_row;         /* 3*gxm zeros: positions of rows outside the patch */
   unsigned char *epad;         /* exists, padded by one absent point on every side */
   PetscReal *work;
+  /* traction energy of a tabulated yarn law (warp, weft): integral of Tyarn over the table's
+     cells below each node (PatchSetUp; NULL for a linear law) */
+  PetscReal *yarn_integral[2];
 } Patch;
 
 PetscErrorCode PatchSetUp(Patch *p);
@@ -74,5 +77,12 @@ int BreakSegments(Patch *p, const PetscReal *x);
    bound from the current tangent (no window) of the yarns along pull_dir (0: x, 1: y) alone:
    the highest frequency of the chain the damping is tuned to. */
 PetscReal StableOmega2(const Patch *p, const PetscReal *x, const PetscReal *inv_m, PetscReal window, int pull_dir, PetscReal *omega2_pull);
+
+/* The yarn law's derivative and integral (MODEL.md 5.1, 14). */
+/* dT/de of ChordTension: the blends' cubics, the pieces' slopes, the Hermite table's derivative */
+PetscReal ChordTensionSlope(const YarnLaw *y, PetscReal e);
+/* integral of ChordTension from 0 to e, exact (blends and Hermite cells integrate in closed form);
+   integral: the law's table from PatchSetUp (Patch.yarn_integral), or NULL (slower: sums the cells) */
+PetscReal ChordEnergy(const YarnLaw *y, const PetscReal *integral, PetscReal e);
 
 #endif

@@ -30,6 +30,8 @@
 
 #define SLOT(r) ((((r) % KERNEL_RING) + KERNEL_RING) % KERNEL_RING)
 
+static PetscErrorCode YarnIntegralSetUp(const YarnLaw *y, PetscReal **integral);
+
 static PetscErrorCode AllocRow(PetscInt n, PetscInt count, PetscReal *work, PetscReal **ptrs[])
 {
   PetscFunctionBeginUser;
@@ -77,6 +79,8 @@ PetscErrorCode PatchSetUp(Patch *p)
   PetscCall(PetscCalloc1((size_t)(p->gym + 2) * per_row, &p->epad));
   for (PetscInt j = 0; j < p->gym; j++)
     for (PetscInt i = 0; i < p->gxm; i++) p->epad[(j + 1) * per_row + i + 1] = p->exists[j * p->gxm + i];
+  PetscCall(YarnIntegralSetUp(p->warp, &p->yarn_integral[0]));
+  PetscCall(YarnIntegralSetUp(p->weft, &p->yarn_integral[1]));
   PetscFunctionReturn(0);
 }
 
@@ -86,7 +90,111 @@ PetscErrorCode PatchDestroy(Patch *p)
   PetscCall(PetscFree(p->work));
   PetscCall(PetscFree(p->zero_row));
   PetscCall(PetscFree(p->epad));
+  PetscCall(PetscFree(p->yarn_integral[0]));
+  PetscCall(PetscFree(p->yarn_integral[1]));
   PetscFunctionReturn(0);
+}
+
+/* ---------------- the yarn law's slope and integral (MODEL.md 5.1, 14) ---------------- */
+
+/* dTyarn/dey at yarn strain ey >= 0: EA, or the derivative of the Hermite cell (material.h) */
+static PetscReal YarnSlope(const YarnLaw *y, PetscReal ey)
+{
+  if (!y->ntab) return y->EA;
+  const PetscReal s = ey * y->tab_inv_h;
+  if (s >= (PetscReal)(y->ntab - 1)) return y->tab_dT[y->ntab - 1];
+  const PetscInt  k = (PetscInt)s;
+  const PetscReal t = s - (PetscReal)k;
+  return 6.0 * t * (1.0 - t) * (y->tab_T[k + 1] - y->tab_T[k]) * y->tab_inv_h +
+         (1.0 - 4.0 * t + 3.0 * t * t) * y->tab_dT[k] + (3.0 * t * t - 2.0 * t) * y->tab_dT[k + 1];
+}
+
+PetscReal ChordTensionSlope(const YarnLaw *y, PetscReal e)
+{
+  for (PetscInt k = 0; k < y->nblend; k++) /* the blends first, as ChordTension */
+    if (e >= y->blend[k].lo && e <= y->blend[k].hi) {
+      const PetscReal s = e - y->blend[k].lo;
+      return y->blend[k].c1 + s * (2.0 * y->blend[k].c2 + 3.0 * s * y->blend[k].c3);
+    }
+  if (e <= y->e_contact) return y->EA;
+  if (e <= 0.0) return y->k_comp * y->EA;
+  if (e <= y->crimp) return y->Ec;
+  return YarnSlope(y, (e - y->crimp) / (1.0 + y->crimp)) / (1.0 + y->crimp);
+}
+
+/* integral over [0, t] (t in [0,1]) of the Hermite cell k of the yarn table, in yarn strain:
+   h * int (1+2u)(1-u)^2 T0 + u(1-u)^2 h dT0 + u^2(3-2u) T1 - u^2(1-u) h dT1 du */
+static PetscReal HermiteCellIntegral(const YarnLaw *y, PetscInt k, PetscReal t)
+{
+  const PetscReal h = y->tab_h, t2 = t * t, t3 = t2 * t;
+  return h * (y->tab_T[k] * t * (1.0 + t2 * (-1.0 + 0.5 * t)) +
+              h * y->tab_dT[k] * t2 * (0.5 + t * (-2.0 / 3.0 + 0.25 * t)) + y->tab_T[k + 1] * t3 * (1.0 - 0.5 * t) +
+              h * y->tab_dT[k + 1] * t3 * (-1.0 / 3.0 + 0.25 * t));
+}
+
+/* integral[k] = integral of Tyarn over the whole cells below node k */
+static PetscErrorCode YarnIntegralSetUp(const YarnLaw *y, PetscReal **integral)
+{
+  PetscFunctionBeginUser;
+  *integral = NULL;
+  if (!y || !y->ntab) PetscFunctionReturn(0);
+  PetscCall(PetscMalloc1(y->ntab, integral));
+  (*integral)[0] = 0.0;
+  for (PetscInt k = 0; k + 1 < y->ntab; k++) (*integral)[k + 1] = (*integral)[k] + HermiteCellIntegral(y, k, 1.0);
+  PetscFunctionReturn(0);
+}
+
+static PetscReal YarnCellsBelow(const YarnLaw *y, const PetscReal *integral, PetscInt k)
+{
+  PetscReal sum = 0.0;
+  if (integral) return integral[k];
+  for (PetscInt q = 0; q < k; q++) sum += HermiteCellIntegral(y, q, 1.0); /* the table's order of summation */
+  return sum;
+}
+
+/* integral of Tyarn from 0 to ey >= 0, exact: cells below, the partial cell, the linear extension */
+static PetscReal YarnEnergy(const YarnLaw *y, const PetscReal *integral, PetscReal ey)
+{
+  if (!y->ntab) return 0.5 * y->EA * ey * ey;
+  const PetscInt  last = y->ntab - 1;
+  const PetscReal s    = ey * y->tab_inv_h;
+  if (s >= (PetscReal)last) {
+    const PetscReal d = ey - y->tab_end;
+    return YarnCellsBelow(y, integral, last) + y->tab_T[last] * d + 0.5 * y->tab_dT[last] * d * d;
+  }
+  const PetscInt k = (PetscInt)s;
+  return YarnCellsBelow(y, integral, k) + HermiteCellIntegral(y, k, s - (PetscReal)k);
+}
+
+/* integral from 0 to e of the piecewise law (ChordTensionPiecewise), MODEL.md 14 */
+static PetscReal PiecewiseEnergy(const YarnLaw *y, const PetscReal *integral, PetscReal e)
+{
+  const PetscReal ec = y->e_contact, kEA = y->k_comp * y->EA, c = y->crimp;
+  if (e <= ec) return 0.5 * kEA * ec * ec + kEA * ec * (e - ec) + 0.5 * y->EA * (e - ec) * (e - ec);
+  if (e <= 0.0) return 0.5 * kEA * e * e;
+  if (e <= c) return 0.5 * y->Ec * e * e;
+  return 0.5 * y->Ec * c * c + y->Ec * c * (e - c) + (1.0 + c) * YarnEnergy(y, integral, (e - c) / (1.0 + c));
+}
+
+/* integral over [lo, z] of blend k's cubic minus the piecewise law it replaces */
+static PetscReal BlendExcess(const YarnLaw *y, const PetscReal *integral, PetscInt k, PetscReal z)
+{
+  const PetscReal lo = y->blend[k].lo, s = z - lo;
+  const PetscReal cubic =
+    s * (y->blend[k].c0 + s * (0.5 * y->blend[k].c1 + s * (y->blend[k].c2 / 3.0 + s * 0.25 * y->blend[k].c3)));
+  return cubic - (PiecewiseEnergy(y, integral, z) - PiecewiseEnergy(y, integral, lo));
+}
+
+/* integral of ChordTension from 0 to e: the piecewise law's, corrected on each blend's part of [0, e] */
+PetscReal ChordEnergy(const YarnLaw *y, const PetscReal *integral, PetscReal e)
+{
+  PetscReal W = PiecewiseEnergy(y, integral, e);
+  for (PetscInt k = 0; k < y->nblend; k++) {
+    const PetscReal lo = y->blend[k].lo, hi = y->blend[k].hi;
+    const PetscReal ze = PetscMin(PetscMax(e, lo), hi), z0 = PetscMin(PetscMax(0.0, lo), hi);
+    if (ze != z0) W += BlendExcess(y, integral, k, ze) - BlendExcess(y, integral, k, z0);
+  }
+  return W;
 }
 
 /* padded existence of the point at local (li, lj); -1 and gxm/gym are absent */

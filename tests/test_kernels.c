@@ -4,6 +4,9 @@
  *           written here independently and differentiated by central differences, on a
  *           randomly distorted grid with absent points (holes, a cut corner) that exercises
  *           compression, de-crimping, extension, one-sided shear at edges and jamming.
+ *  law:     d/de ChordEnergy = ChordTension and ChordTensionSlope = dT/de (central differences)
+ *           over every regime of a linear and a tabulated law with smoothing blends; the energy's
+ *           increments equal Gauss integrals of T.
  *  table:   the fast yarn table equals GSL's Steffen spline of the CSV, and extends linearly.
  *  tangent: ChordTangentMax of the piecewise-linear law over strain windows.
  */
@@ -166,6 +169,122 @@ static PetscErrorCode TestForces(void)
   PetscFunctionReturn(0);
 }
 
+/* ============================ the law's slope and integral ============================ */
+
+/* the test's two laws: warp tabulated (csv, or linear if none), weft linear; both with crimp
+   and smoothing blends at their kinks */
+static PetscErrorCode LawsSetUp(YarnLaw *warp, YarnLaw *weft, const char *csv)
+{
+  PetscFunctionBeginUser;
+  warp->name = "warp", warp->tex = 20, warp->EA = 52, warp->crimp = 0.08, warp->Ec = 2.6, warp->k_comp = 1e-3;
+  warp->e_contact = -0.08, warp->smoothing = 0.004;
+  weft->name = "weft", weft->tex = 20, weft->EA = 40, weft->crimp = 0.05, weft->Ec = 3.0, weft->k_comp = 1e-3;
+  weft->e_contact = -0.2, weft->smoothing = 0.003;
+  PetscCall(PetscStrncpy(warp->csv, csv, sizeof warp->csv));
+  PetscCall(YarnLawSetUp(warp, PETSC_COMM_SELF));
+  PetscCall(YarnLawSetUp(weft, PETSC_COMM_SELF));
+  PetscFunctionReturn(0);
+}
+
+/* the law's kinks and blend ends (where dT/de jumps) and the end of its table; returns how many */
+static int LawBreaks(const YarnLaw *y, double ends[10])
+{
+  int n = 0;
+  ends[n++] = y->e_contact, ends[n++] = 0.0, ends[n++] = y->crimp;
+  for (PetscInt k = 0; k < y->nblend; k++) ends[n++] = y->blend[k].lo, ends[n++] = y->blend[k].hi;
+  if (y->ntab) ends[n++] = y->crimp + y->tab_end * (1 + y->crimp);
+  return n;
+}
+
+/* a strain at least 2h away from every kink and blend end of the law */
+static int AwayFromKinks(const YarnLaw *y, double e, double h)
+{
+  double ends[10];
+  int    n = LawBreaks(y, ends);
+  for (int k = 0; k < n; k++)
+    if (fabs(e - ends[k]) < 2 * h) return 0;
+  return 1;
+}
+
+/* integral of ChordTension over [a, b]: 5-point Gauss-Legendre on each piece between the law's breaks */
+static double GaussIntegral(const YarnLaw *y, double a, double b)
+{
+  const double xg[5] = {0, -0.5384693101056831, 0.5384693101056831, -0.9061798459386640, 0.9061798459386640};
+  const double wg[5] = {0.5688888888888889, 0.4786286704993665, 0.4786286704993665, 0.2369268850561891,
+                        0.2369268850561891};
+  double       ends[10], cuts[12], sum = 0;
+  int          n = LawBreaks(y, ends), m = 0;
+  cuts[m++] = a;
+  for (int k = 0; k < n; k++)
+    if (ends[k] > a && ends[k] < b) cuts[m++] = ends[k];
+  cuts[m++] = b;
+  for (int k = 1; k < m; k++) /* sort */
+    for (int q = k; q > 0 && cuts[q] < cuts[q - 1]; q--) {
+      double t = cuts[q];
+      cuts[q] = cuts[q - 1], cuts[q - 1] = t;
+    }
+  for (int k = 0; k + 1 < m; k++) {
+    const double mid = 0.5 * (cuts[k] + cuts[k + 1]), half = 0.5 * (cuts[k + 1] - cuts[k]);
+    for (int g = 0; g < 5; g++) sum += half * wg[g] * ChordTension(y, mid + half * xg[g]);
+  }
+  return sum;
+}
+
+/* over e in [-0.3, 0.3]: d/de ChordEnergy = ChordTension and ChordTensionSlope = dT/de by central
+   differences (h 1e-7, away from the kinks), ChordEnergy(0) = 0 and its increments = Gauss
+   integrals of T (a jump of the energy anywhere would show), and the energy with the table of
+   cell integrals = the energy summing the cells */
+static void CheckLaw(const char *name, const YarnLaw *y, const PetscReal *integral)
+{
+  const double h = 1e-7, de = 0.6 / 4000;
+  double       tbig = 0, kbig = 0, eW = 0, eK = 0, eI = 0, eG = 0, prev = -0.3;
+  char         what[256];
+  for (int q = 0; q <= 4000; q++) {
+    const double e = -0.3 + de * q + 1.234567e-5; /* contact, compression, blends, crimp, table, beyond */
+    const double T = ChordTension(y, e), dT = ChordTensionSlope(y, e);
+    tbig = fmax(tbig, fabs(T)), kbig = fmax(kbig, fabs(dT));
+    eG   = fmax(eG, fabs(ChordEnergy(y, integral, e) - ChordEnergy(y, integral, prev) - GaussIntegral(y, prev, e)));
+    eI   = fmax(eI, fabs(ChordEnergy(y, integral, e) - ChordEnergy(y, NULL, e)));
+    prev = e;
+    if (!AwayFromKinks(y, e, h)) continue;
+    const double dW = (ChordEnergy(y, integral, e + h) - ChordEnergy(y, integral, e - h)) / (2 * h);
+    const double fd = (ChordTension(y, e + h) - ChordTension(y, e - h)) / (2 * h);
+    eW = fmax(eW, fabs(dW - T)), eK = fmax(eK, fabs(fd - dT));
+  }
+  snprintf(what, sizeof what, "%s: d/de ChordEnergy vs ChordTension (h 1e-7), max error / max |T|", name);
+  Check(what, eW / tbig, 1e-7);
+  snprintf(what, sizeof what, "%s: ChordEnergy increments vs Gauss integrals of T, max error / (max |T| de)", name);
+  Check(what, eG / (tbig * de), 1e-8);
+  snprintf(what, sizeof what, "%s: ChordEnergy(0)", name);
+  Check(what, fabs(ChordEnergy(y, integral, 0.0)), 0.0);
+  snprintf(what, sizeof what, "%s: ChordTensionSlope vs dT/de (h 1e-7), max error / max slope", name);
+  Check(what, eK / kbig, 1e-6);
+  snprintf(what, sizeof what, "%s: ChordEnergy with the cell table vs summing the cells (bits)", name);
+  Check(what, eI, 0.0);
+}
+
+static PetscErrorCode TestLaw(const char *csv)
+{
+  YarnLaw       warp = {0}, weft = {0}, sharp = {0};
+  unsigned char one = 1;
+  Patch   p    = {0};
+
+  PetscFunctionBeginUser;
+  PetscCall(LawsSetUp(&warp, &weft, csv));
+  p.warp = &warp, p.weft = &weft, p.exists = &one, p.gxm = p.gym = 1;
+  PetscCall(PatchSetUp(&p)); /* the warp law's integral table */
+  printf("laws: warp %s, %" PetscInt_FMT " blends, EA %.4g N; weft linear, %" PetscInt_FMT " blends\n",
+         warp.ntab ? "tabulated" : "linear", warp.nblend, (double)warp.EA, weft.nblend);
+  CheckLaw("warp law", &warp, p.yarn_integral[0]);
+  CheckLaw("weft law", &weft, NULL);
+  sharp = weft, sharp.nblend = 0; /* sharp kinks */
+  CheckLaw("linear law with sharp kinks", &sharp, NULL);
+  p.exists = NULL;
+  PetscCall(PatchDestroy(&p));
+  PetscCall(YarnLawDestroy(&warp));
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode TestTable(const char *csv)
 {
   YarnLaw           y = {0};
@@ -226,6 +345,7 @@ int main(int argc, char **argv)
   PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
   PetscCall(PetscOptionsGetString(NULL, NULL, "-csv", csv, sizeof csv, NULL));
   PetscCall(TestForces());
+  PetscCall(TestLaw(csv));
   if (csv[0]) PetscCall(TestTable(csv));
   TestTangent();
   PetscCall(PetscFinalize());
