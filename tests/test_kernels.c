@@ -6,7 +6,14 @@
  *            that exercises compression, de-crimping, extension, one-sided shear at edges and
  *            jamming; the kernel's energy (InternalEnergy) equals the one written here.
  *  law:      d/de ChordEnergy = ChordTension and ChordTensionSlope = dT/de (central differences)
- *            over every regime of a linear and a tabulated law with smoothing blends.
+ *            over every regime of a linear and a tabulated law with smoothing blends; the energy's
+ *            increments equal Gauss integrals of T.
+ *  terms:    on a distorted patch with crimp, a tabulated warp law, smoothing blends, jamming on
+ *            some crossings, edges, absent points and broken segments, each term alone and all together:
+ *            (a) forces = -grad(energy) by central differences; the instances' gradients = the forces;
+ *            (b) tangent = central differences of the forces; the DMDA matrix (dof 3, box stencil
+ *                width 2) assembled with TermBlocksAddToMat = the same tangent;
+ *            energy and tangent over sub-boxes add up to the whole patch's.
  *  identity: (c) StableOmega2 and the per-term row bounds, (d) ComputeInternalForces: bit-identical
  *            to the implementation before the terms were split (kept below as the reference).
  *  table:    the fast yarn table equals GSL's Steffen spline of the CSV, and extends linearly.
@@ -649,7 +656,7 @@ static PetscErrorCode TestLaw(const char *csv)
   PetscFunctionReturn(0);
 }
 
-/* ============================== a distorted patch, rich in regimes ============================== */
+/* ================== the terms on a distorted patch: energy, forces, tangent ================== */
 
 /* The test's patch: with offset 0 the whole NX x NY grid on one rank; with offset 1 a rank's
    patch inside a 20 x 15 grid: ghosted NX x NY from (5,4), owned [7,12) x [6,9). Crimp, a
@@ -680,6 +687,260 @@ static PetscErrorCode RichPatch(Patch *p, const YarnLaw *warp, const YarnLaw *we
 static void OwnedBox(const Patch *p, PetscInt box[4])
 {
   box[0] = p->xs, box[1] = p->xs + p->xm, box[2] = p->ys, box[3] = p->ys + p->ym;
+}
+
+/* forces of term t alone (NULL: all terms, the fused pipeline) on the owned points */
+static void Forces(Patch *p, const ForceTerm *t, const double *x, double *f)
+{
+  PetscInt  box[4];
+  PetscReal tm;
+  OwnedBox(p, box);
+  if (t) t->forces(p, x, box, f);
+  else ComputeInternalForces(p, x, box, f, &tm);
+}
+
+static double EnergyOf(const Patch *p, const ForceTerm *t, const double *x, const PetscInt box[4])
+{
+  return t ? TermEnergy(t, p, x, box) : InternalEnergy(p, x, box);
+}
+
+static const char *NameOf(const ForceTerm *t) { return t ? t->name : "all terms"; }
+
+/* (a) forces = -grad(energy), central differences with step 1e-6 of the chord */
+static void CheckGradient(Patch *p, const ForceTerm *t, double *x)
+{
+  double   f[3 * NP], fbig = 0, err = 0;
+  PetscInt box[4];
+  char     what[256];
+  OwnedBox(p, box);
+  Forces(p, t, x, f);
+  for (int k = 0; k < 3 * NP; k++) {
+    const double keep = x[k], h = 1e-6 * p->ax;
+    if (!p->exists[k / 3]) continue;
+    x[k]            = keep + h;
+    const double Ep = EnergyOf(p, t, x, box);
+    x[k]            = keep - h;
+    const double Em = EnergyOf(p, t, x, box);
+    x[k]            = keep;
+    const double fd = -(Ep - Em) / ((keep + h) - (keep - h));
+    fbig = fmax(fbig, fabs(f[k])), err = fmax(err, fabs(fd - f[k]));
+  }
+  snprintf(what, sizeof what, "(a) %s: force vs -grad(energy) (h 1e-6 chord), max error / max force", NameOf(t));
+  Check(what, err / fbig, 1e-6);
+}
+
+/* (a) the instances' gradients, scattered, equal the pipeline's forces (to round-off) */
+static void CheckInstanceGradients(Patch *p, const ForceTerm *t, const double *x)
+{
+  double       f[3 * NP], g[3 * NP] = {0}, fbig = 0, err = 0;
+  TermInstance inst;
+  char         what[256];
+  Forces(p, t, x, f);
+  for (int q = 0; q < INTERNAL_TERMS; q++) {
+    const ForceTerm *term = InternalTerms[q];
+    if ((t && term != t) || !term->enabled(p)) continue;
+    for (int j = 0; j < NY; j++)
+      for (int i = 0; i < NX; i++)
+        for (int k = 0; k < term->per_point; k++)
+          if (term->instance(p, x, i, j, k, TERM_GRADIENT, &inst))
+            for (int a = 0; a < inst.n; a++)
+              for (int d = 0; d < 3; d++) g[3 * (inst.j[a] * NX + inst.i[a]) + d] -= inst.g[3 * a + d];
+  }
+  for (int k = 0; k < 3 * NP; k++) /* absent points: the shear gather adds neighbouring crossings there (unused) */
+    if (p->exists[k / 3]) fbig = fmax(fbig, fabs(f[k])), err = fmax(err, fabs(g[k] - f[k]));
+  snprintf(what, sizeof what, "(a) %s: -(instance gradients) vs the pipeline's forces, max error / max force",
+           NameOf(t));
+  Check(what, err / fbig, 1e-12);
+}
+
+typedef struct {
+  const Patch *p;
+  double      *K; /* dense 3NP x 3NP, patch-local points */
+} Dense;
+
+static PetscErrorCode AddDense(void *ctx, PetscInt n, const PetscInt i[], const PetscInt j[], const PetscReal K[])
+{
+  Dense *d = (Dense *)ctx;
+  PetscFunctionBeginUser;
+  for (PetscInt a = 0; a < n; a++)
+    for (PetscInt b = 0; b < n; b++) {
+      const PetscInt ka = (j[a] - d->p->gys) * NX + i[a] - d->p->gxs, kb = (j[b] - d->p->gys) * NX + i[b] - d->p->gxs;
+      for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) d->K[(3 * ka + r) * 3 * NP + 3 * kb + c] += K[(3 * a + r) * 3 * n + 3 * b + c];
+    }
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode DenseTangent(const Patch *p, const ForceTerm *t, const double *x, const PetscInt box[4],
+                                   double *K)
+{
+  Dense d = {p, K};
+  PetscFunctionBeginUser;
+  if (t) PetscCall(TermTangent(t, p, x, box, AddDense, &d));
+  else PetscCall(InternalTangent(p, x, box, AddDense, &d));
+  PetscFunctionReturn(0);
+}
+
+static double MaxAbs(const double *a, int n)
+{
+  double m = 0;
+  for (int k = 0; k < n; k++) m = fmax(m, fabs(a[k]));
+  return m;
+}
+
+/* (b) tangent = -d(forces)/dx by central differences, step 1e-7 of the chord */
+static void CheckTangent(Patch *p, const ForceTerm *t, double *x, const double *K)
+{
+  const int N = 3 * NP;
+  double    fp[3 * NP], fm[3 * NP], err = 0, asym = 0, big = MaxAbs(K, N * N);
+  char      what[256];
+  for (int k = 0; k < N; k++) {
+    const double keep = x[k], h = 1e-7 * p->ax, dx = (keep + h) - (keep - h);
+    if (!p->exists[k / 3]) continue;
+    x[k] = keep + h;
+    Forces(p, t, x, fp);
+    x[k] = keep - h;
+    Forces(p, t, x, fm);
+    x[k] = keep;
+    for (int m = 0; m < N; m++)
+      if (p->exists[m / 3]) err = fmax(err, fabs(-(fp[m] - fm[m]) / dx - K[m * N + k]));
+  }
+  for (int m = 0; m < N; m++)
+    for (int k = 0; k < N; k++) asym = fmax(asym, fabs(K[m * N + k] - K[k * N + m]));
+  snprintf(what, sizeof what, "(b) %s: tangent vs -d(force)/dx (h 1e-7 chord), max error / max entry (%.2e N/m)",
+           NameOf(t), big);
+  Check(what, err / big, 1e-6);
+  snprintf(what, sizeof what, "(b) %s: tangent symmetry, max |K - K^T| / max entry", NameOf(t));
+  Check(what, asym / big, 1e-14);
+}
+
+/* the tangent assembled in a DMDA matrix (dof 3, box stencil width 2) equals the dense one */
+static PetscErrorCode CheckMat(const Patch *p, const double *x, const double *K)
+{
+  const int N = 3 * NP;
+  DM        da;
+  Mat       A;
+  PetscInt  box[4], cols[3 * NP];
+  double    row[3 * NP], err = 0;
+
+  PetscFunctionBeginUser;
+  OwnedBox(p, box);
+  PetscCall(DMDACreate2d(PETSC_COMM_SELF, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, DMDA_STENCIL_BOX, NX, NY, 1, 1, 3, 2,
+                         NULL, NULL, &da));
+  PetscCall(DMSetUp(da));
+  PetscCall(DMCreateMatrix(da, &A));
+  PetscCall(MatSetOption(A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE)); /* the stencil holds every block */
+  PetscCall(InternalTangent(p, x, box, TermBlocksAddToMat, A));
+  PetscCall(MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY));
+  for (PetscInt k = 0; k < N; k++) cols[k] = k;
+  for (PetscInt m = 0; m < N; m++) {
+    PetscCall(MatGetValues(A, 1, &m, N, cols, row));
+    for (int k = 0; k < N; k++) err = fmax(err, fabs(row[k] - K[m * N + k]));
+  }
+  Check("(b) DMDA matrix (TermBlocksAddToMat) vs the dense tangent, max difference / max entry",
+        err / MaxAbs(K, N * N), 1e-14);
+  PetscCall(MatDestroy(&A));
+  PetscCall(DMDestroy(&da));
+  PetscFunctionReturn(0);
+}
+
+/* energy and tangent over sub-boxes (a split over ranks) add up to the whole patch's */
+static PetscErrorCode CheckPartition(const Patch *p, const double *x, const double *K)
+{
+  const PetscInt full[4] = {0, NX, 0, NY}, parts[3][4] = {{0, 4, 0, 3}, {4, NX, 0, 3}, {0, NX, 3, NY}};
+  const int      N       = 3 * NP;
+  double        *Ks, E = 0, err = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscCalloc1(N * N, &Ks));
+  for (int b = 0; b < 3; b++) {
+    E += InternalEnergy(p, x, parts[b]);
+    PetscCall(DenseTangent(p, NULL, x, parts[b], Ks));
+  }
+  for (int m = 0; m < N * N; m++) err = fmax(err, fabs(Ks[m] - K[m]));
+  Check("energy over three sub-boxes vs the whole patch's, relative",
+        fabs(E - InternalEnergy(p, x, full)) / InternalEnergy(p, x, full), 1e-14);
+  Check("tangent over three sub-boxes vs the whole patch's, max difference / max entry", err / MaxAbs(K, N * N),
+        1e-14);
+  PetscCall(PetscFree(Ks));
+  PetscFunctionReturn(0);
+}
+
+/* what the distorted rich patch exercises; 0 if it has every regime the tests need */
+static int RichRegimes(const Patch *p, const double *x)
+{
+  int n[9] = {0}; /* contact, compressed, de-crimping, table, beyond the table, blends, jammed, free, broken */
+  for (int j = 0; j < NY; j++)
+    for (int i = 0; i + 1 < NX; i++) {
+      const double *a = x + 3 * (j * NX + i), *b = a + 3;
+      const double  e = Dist(a, b) / p->ax - 1, ey = (1 + e) / (1 + p->warp->crimp) - 1;
+      if (!p->exists[j * NX + i] || !p->exists[j * NX + i + 1]) continue;
+      if (p->broken_x[j * NX + i]) n[8]++;
+      else if (e < p->warp->e_contact) n[0]++;
+      else if (e < 0) n[1]++;
+      else if (e < p->warp->crimp) n[2]++;
+      else if (ey < p->warp->tab_end) n[3]++;
+      else n[4]++;
+      for (PetscInt k = 0; k < p->warp->nblend; k++) n[5] += e >= p->warp->blend[k].lo && e <= p->warp->blend[k].hi;
+    }
+  for (int j = 0; j < NY; j++)
+    for (int i = 0; i < NX; i++) {
+      PetscReal s, tmin;
+      if (CrossingShear(p, x, i, j, &s, &tmin)) n[PetscAbsReal(s) > p->s_lock ? 6 : 7]++;
+    }
+  printf("rich patch, segments along x: %d in contact, %d compressed, %d de-crimping, %d on the yarn table, "
+         "%d beyond it, %d in blends, %d broken; crossings: %d jammed, %d below the lock\n",
+         n[0], n[1], n[2], n[3], n[4], n[5], n[8], n[6], n[7]);
+  for (int k = 0; k < 9; k++) /* blends: not required; the table: if the warp law has one */
+    if (k != 5 && (k != 3 || p->warp->ntab) && n[k] == 0) return 1;
+  return 0;
+}
+
+static PetscErrorCode CountBlocks(void *ctx, PetscInt n, const PetscInt i[], const PetscInt j[], const PetscReal K[])
+{
+  (*(int *)ctx)++;
+  return 0;
+}
+
+static PetscErrorCode TestTerms(const char *csv)
+{
+  YarnLaw  warp = {0}, weft = {0};
+  Patch    p;
+  double   x[3 * NP], *K;
+  PetscInt full[4] = {0, NX, 0, NY};
+
+  PetscFunctionBeginUser;
+  PetscCall(LawsSetUp(&warp, &weft, csv));
+  PetscCall(RichPatch(&p, &warp, &weft, 0));
+  DistortedState(&p, x, 2024);
+  Check("rich patch has contact, compression, de-crimping, table, beyond-table, broken segments, jammed and "
+        "free crossings (0 = yes)", RichRegimes(&p, x), 0);
+  PetscCall(PetscMalloc1(9 * NP * NP, &K));
+  for (int t = 0; t < INTERNAL_TERMS; t++) {
+    PetscCall(PetscArrayzero(K, 9 * NP * NP));
+    PetscCall(DenseTangent(&p, InternalTerms[t], x, full, K));
+    CheckGradient(&p, InternalTerms[t], x);
+    CheckInstanceGradients(&p, InternalTerms[t], x);
+    CheckTangent(&p, InternalTerms[t], x, K);
+  }
+  PetscCall(PetscArrayzero(K, 9 * NP * NP));
+  PetscCall(DenseTangent(&p, NULL, x, full, K));
+  CheckGradient(&p, NULL, x);
+  CheckInstanceGradients(&p, NULL, x);
+  CheckTangent(&p, NULL, x, K);
+  PetscCall(CheckMat(&p, x, K));
+  PetscCall(CheckPartition(&p, x, K));
+  { /* a term switched off costs nothing: no energy, no blocks */
+    int calls = 0;
+    p.bending = PETSC_FALSE;
+    PetscCall(TermTangent(&BendingTerm, &p, x, full, CountBlocks, &calls));
+    Check("bending off: its energy and number of tangent blocks", TermEnergy(&BendingTerm, &p, x, full) + calls, 0);
+  }
+  PetscCall(PetscFree(K));
+  PetscCall(PatchFree(&p));
+  PetscCall(YarnLawDestroy(&warp));
+  PetscFunctionReturn(0);
 }
 
 /* ======== (c), (d): the stable-step bound and the forces, bit for bit against the reference ======== */
@@ -830,6 +1091,7 @@ int main(int argc, char **argv)
   PetscCall(PetscOptionsGetString(NULL, NULL, "-csv", csv, sizeof csv, NULL));
   PetscCall(TestForces());
   PetscCall(TestLaw(csv));
+  PetscCall(TestTerms(csv));
   PetscCall(TestIdentity(csv));
   if (csv[0]) PetscCall(TestTable(csv));
   TestTangent();
