@@ -1,12 +1,19 @@
-/* kernels.h - force kernels over one rank's patch (MODEL.md 5.1-5.3, 7.3).
+/* kernels.h - the internal force terms over one rank's patch (MODEL.md 5.1-5.3, 7.3, 14).
  *
  * Kernels take loop bounds and arrays only: no MPI, no options, no I/O.
  * The patch is the rank's ghosted part of the DMDA (box stencil, width 2).
  * Every rank computes the force on its own points from its ghosts ("gather"),
  * in a fixed order per point, so results do not depend on how the grid is split.
+ *
+ * Three terms, each switched by the patch (traction, bending, shear) and each described by a
+ * ForceTerm: its energy, its forces, its tangent stiffness and its share of the stable-step
+ * bound. The explicit path uses ComputeInternalForces (all terms fused in one row pipeline)
+ * and StableOmega2; the quasi-static path uses TermEnergy, the forces and TermTangent.
  */
 #ifndef FABRIC_KERNELS_H
 #define FABRIC_KERNELS_H
+
+#include <petscmat.h>
 
 #include "material.h"
 
@@ -49,8 +56,12 @@ typedef struct {
   PetscReal *zero_row;         /* 3*gxm zeros: positions of rows outside the patch */
   unsigned char *epad;         /* exists, padded by one absent point on every side */
   PetscReal *work;
+  /* traction energy of a tabulated yarn law (warp, weft): integral of Tyarn over the table's
+     cells below each node (PatchSetUp; NULL for a linear law) */
+  PetscReal *yarn_integral[2];
 } Patch;
 
+/* Allocates the pipeline's rows and the yarn integral tables: after YarnLawSetUp of both laws. */
 PetscErrorCode PatchSetUp(Patch *p);
 PetscErrorCode PatchDestroy(Patch *p);
 
@@ -58,7 +69,8 @@ PetscErrorCode PatchDestroy(Patch *p);
    (global indices, half-open, inside the owned patch); points outside it are not touched.
    x: ghosted positions (3 per point), f: owned forces (3 per point).
    tension_max: largest |T| of a segment at a point of the box (the balance test's force scale). */
-void ComputeInternalForces(Patch *p, const PetscReal *x, const PetscInt box[4], PetscReal *f, PetscReal *tension_max);
+void ComputeInternalForces(Patch *p, const PetscReal *x, const PetscInt box[4], PetscReal *f,
+                           PetscReal *tension_max);
 
 /* cos of the warp/weft tangent angle at crossing (i,j) (global indices, within the ghosted
    patch) and the shorter tangent's length; 0 if the crossing has no shear */
@@ -68,11 +80,77 @@ int CrossingShear(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j, Pe
 int BreakSegments(Patch *p, const PetscReal *x);
 
 /* Largest Gershgorin row sum of the tangent stiffness over the point mass, over owned
-   points with inv_m > 0 (omega_max^2 bound, MODEL.md 7.3). window: chord-strain margin
-   around the current strain over which the yarn tangent is maximised, and the margin in
-   sin(shear angle) below the lock from which the jamming stiffness counts (1: always). omega2_pull: the same
-   bound from the current tangent (no window) of the yarns along pull_dir (0: x, 1: y) alone:
-   the highest frequency of the chain the damping is tuned to. */
-PetscReal StableOmega2(const Patch *p, const PetscReal *x, const PetscReal *inv_m, PetscReal window, int pull_dir, PetscReal *omega2_pull);
+   points with inv_m > 0 (omega_max^2 bound, MODEL.md 7.3): the sum of the terms' bound_row
+   plus the contact penalty. window: chord-strain margin around the current strain over which
+   the yarn tangent is maximised, and the margin in sin(shear angle) below the lock from which
+   the jamming stiffness counts (1: always). omega2_pull: the same bound from the current
+   tangent (no window) of the yarns along pull_dir (0: x, 1: y) alone: the highest frequency
+   of the chain the damping is tuned to. */
+PetscReal StableOmega2(const Patch *p, const PetscReal *x, const PetscReal *inv_m, PetscReal window, int pull_dir,
+                       PetscReal *omega2_pull);
+
+/* ---------------- force terms as plug-ins (MODEL.md 5.1-5.3, 7.3, 14) ---------------- */
+
+#define TERM_MAX_POINTS 5 /* a shear crossing couples its centre and four neighbours */
+
+enum { TERM_ENERGY = 1, TERM_GRADIENT = 2, TERM_HESSIAN = 4 }; /* what an instance computes */
+
+/* One instance of a term: a yarn segment (2 points), a bending centre (3) or a crossing
+   (3 to 5 points). Every instance is owned by one point, so a sum over the owned points of
+   all ranks counts each instance once. */
+typedef struct {
+  PetscInt  n;                                        /* points it couples */
+  PetscInt  i[TERM_MAX_POINTS], j[TERM_MAX_POINTS];   /* their global indices */
+  PetscReal E;                                        /* energy, J (TERM_ENERGY) */
+  PetscReal g[3 * TERM_MAX_POINTS];                   /* dE/dx, 3 per point (TERM_GRADIENT) */
+  PetscReal K[9 * TERM_MAX_POINTS * TERM_MAX_POINTS]; /* d2E/dx2, row-major 3n x 3n (TERM_HESSIAN) */
+} TermInstance;
+
+/* receives the 3n x 3n tangent K (row-major, 3x3 blocks) of the points (i[q], j[q]), q < n */
+typedef PetscErrorCode (*TermBlocksFn)(void *ctx, PetscInt n, const PetscInt i[], const PetscInt j[],
+                                       const PetscReal K[]);
+
+typedef struct {
+  const char *name;      /* "traction", "bending", "shear" */
+  int         per_point; /* instances owned by a point: 2 (x and y) for traction and bending, 1 for shear */
+  /* the patch's switch of the term: off, it is neither computed nor summed anywhere */
+  PetscBool (*enabled)(const Patch *p);
+  /* instance k (< per_point) owned by point (i,j) (global, owned or ghost within 1 of the owned
+     patch): fills what want asks for and returns 1, or returns 0 if the instance does not exist
+     (absent point, broken segment, crossing without a warp or weft neighbour) */
+  int (*instance)(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j, int k, int want, TermInstance *t);
+  /* the forces of this term alone on the owned points of box (written, not added), by the row
+     pipeline of ComputeInternalForces with the other terms off */
+  void (*forces)(Patch *p, const PetscReal *x, const PetscInt box[4], PetscReal *f);
+  /* adds the term's Gershgorin row sum at owned point (i,j) to *rs (and the pull-direction
+     yarns' to *rp), as StableOmega2 sums them (MODEL.md 7.3) */
+  void (*bound_row)(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j, PetscReal window, int pull_dir,
+                    PetscReal *rs, PetscReal *rp);
+} ForceTerm;
+
+extern const ForceTerm TractionTerm, BendingTerm, ShearTerm;
+#define INTERNAL_TERMS 3
+extern const ForceTerm *const InternalTerms[INTERNAL_TERMS]; /* traction, bending, shear */
+
+/* energy of the instances owned by the points of box (global, half-open, owned): 0 if off */
+PetscReal TermEnergy(const ForceTerm *t, const Patch *p, const PetscReal *x, const PetscInt box[4]);
+/* the tangent of every instance owned by a point of box, one call of add per instance
+   (its blocks reach ghost points within 1 of the box); nothing if the term is off */
+PetscErrorCode TermTangent(const ForceTerm *t, const Patch *p, const PetscReal *x, const PetscInt box[4],
+                           TermBlocksFn add, void *ctx);
+/* the same summed over the three internal terms */
+PetscReal      InternalEnergy(const Patch *p, const PetscReal *x, const PetscInt box[4]);
+PetscErrorCode InternalTangent(const Patch *p, const PetscReal *x, const PetscInt box[4], TermBlocksFn add,
+                               void *ctx);
+/* a TermBlocksFn for ctx = a Mat of the DMDA (DMCreateMatrix, dof 3, box stencil width 2):
+   MatSetValuesBlockedStencil with ADD_VALUES (rows of ghost points go to their owners at assembly) */
+PetscErrorCode TermBlocksAddToMat(void *ctx, PetscInt n, const PetscInt i[], const PetscInt j[], const PetscReal K[]);
+
+/* The yarn law's derivative and integral (MODEL.md 5.1, 14). */
+/* dT/de of ChordTension: the blends' cubics, the pieces' slopes, the Hermite table's derivative */
+PetscReal ChordTensionSlope(const YarnLaw *y, PetscReal e);
+/* integral of ChordTension from 0 to e, exact (blends and Hermite cells integrate in closed form);
+   integral: the law's table from PatchSetUp (Patch.yarn_integral), or NULL (slower: sums the cells) */
+PetscReal ChordEnergy(const YarnLaw *y, const PetscReal *integral, PetscReal e);
 
 #endif

@@ -1,21 +1,27 @@
-/* kernels.c - internal forces of the crossing-point model and the stable-step bound.
+/* kernels.c - the internal force terms of the crossing-point model and the stable-step bound.
  *
- * Forces are minus the gradient of the energies of MODEL.md 5.1-5.3:
- *  - traction, per yarn segment: force T d/L on its first point, -T d/L on its second
- *    (a broken segment carries nothing; BreakSegments breaks them between te sweeps);
- *  - bending, per yarn centre c with chords e1 (into c) and e2 (out of c):
+ * Each term derives from an energy (MODEL.md 5.1-5.3, 14); its force is minus the gradient:
+ *  - traction, per yarn segment (2 points): E = L0 * integral_0^e T, force T d/L on its first
+ *    point, -T d/L on its second (a broken segment carries nothing; BreakSegments breaks them);
+ *  - bending, per yarn centre c with chords e1 (into c) and e2 (out of c) (3 points):
  *      E = kb (1 - s), s = u1.u2, kb = B/L0; with g1 = (u2 - s u1)/|e1|, g2 = (u1 - s u2)/|e2|
  *      (evaluated as cross products, see ComputeBendRow)
  *      the force is -kb g1 on c-1, kb (g1 - g2) on c, kb g2 on c+1;
  *  - shear, per crossing c with warp tangent tw = x(c+ex) - x(c-ex) and weft tangent
- *    tf = x(c+ey) - x(c-ey) (one-sided at an edge): s = cos(tw,tf),
+ *    tf = x(c+ey) - x(c-ey) (one-sided at an edge; 3 to 5 points): s = cos(tw,tf),
  *      E = Ks s^2/2 + Kj max(0,|s|-s_lock)^2/2; with Hw = E'(s) (uf - s uw)/|tw| the force
  *      is -Hw on the plus end of tw and +Hw on its minus end (likewise Hf for tf).
  *
- * The patch is swept row by row (a pipeline that keeps the y-segment, y-bending and shear
- * rows j-2..j+1 in a ring), so every term is evaluated once per step and the rows stay in
- * cache. Each owned point then sums its contributions in a fixed order: results do not
- * depend on the decomposition. A term that is switched off is neither computed nor summed.
+ * The file has one section per term, each with: the row function of the force pipeline and
+ * its gather, the instance (energy, gradient and dense Hessian of one segment, centre or
+ * crossing, for the quasi-static path) and the term's Gershgorin row bound (MODEL.md 7.3).
+ * Then: the fused row pipeline, the terms' descriptors with the loops over a box (energy,
+ * tangent), and the stable-step bound.
+ *
+ * The pipeline sweeps the patch row by row (it keeps the y-segment, y-bending and shear rows
+ * j-2..j+1 in a ring), so every term is evaluated once per step and the rows stay in cache.
+ * Each owned point then sums its contributions in a fixed order: results do not depend on
+ * the decomposition. A term that is switched off is neither computed nor summed.
  */
 #include "kernels.h"
 
@@ -30,6 +36,8 @@
 
 #define SLOT(r) ((((r) % KERNEL_RING) + KERNEL_RING) % KERNEL_RING)
 
+/* ================================ the patch ================================ */
+
 static PetscErrorCode AllocRow(PetscInt n, PetscInt count, PetscReal *work, PetscReal **ptrs[])
 {
   PetscFunctionBeginUser;
@@ -37,7 +45,9 @@ static PetscErrorCode AllocRow(PetscInt n, PetscInt count, PetscReal *work, Pets
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode PatchSetUp(Patch *p)
+static PetscErrorCode YarnIntegralSetUp(const YarnLaw *y, PetscReal **integral);
+
+static PetscErrorCode PatchAllocRows(Patch *p)
 {
   PetscInt n = p->gxm, per_row = n + 2, rows = 0, k = 0;
 
@@ -45,38 +55,49 @@ PetscErrorCode PatchSetUp(Patch *p)
   rows = 8 + 8 * KERNEL_RING + 6 + 6 * KERNEL_RING + 9 * KERNEL_RING;
   PetscCall(PetscCalloc1((size_t)rows * per_row, &p->work));
   {
-    SegmentRow *s = &p->xs_row;
+    SegmentRow *s      = &p->xs_row;
     PetscReal **ptrs[] = {&s->ux, &s->uy, &s->uz, &s->inv_len, &s->fx, &s->fy, &s->fz, &s->T};
     PetscCall(AllocRow(n, 8, p->work + (k++) * 8 * per_row, ptrs));
   }
   for (PetscInt r = 0; r < KERNEL_RING; r++) {
-    SegmentRow *s = &p->ys_ring[r];
+    SegmentRow *s      = &p->ys_ring[r];
     PetscReal **ptrs[] = {&s->ux, &s->uy, &s->uz, &s->inv_len, &s->fx, &s->fy, &s->fz, &s->T};
     PetscCall(AllocRow(n, 8, p->work + (k++) * 8 * per_row, ptrs));
   }
   {
-    BendRow    *b = &p->bx_row;
+    BendRow    *b      = &p->bx_row;
     PetscReal **ptrs[] = {&b->g1x, &b->g1y, &b->g1z, &b->g2x, &b->g2y, &b->g2z};
     PetscCall(AllocRow(n, 6, p->work + k * 8 * per_row, ptrs));
   }
   {
     PetscReal *base = p->work + (k * 8 + 6) * per_row;
     for (PetscInt r = 0; r < KERNEL_RING; r++) {
-      BendRow    *b = &p->by_ring[r];
+      BendRow    *b      = &p->by_ring[r];
       PetscReal **ptrs[] = {&b->g1x, &b->g1y, &b->g1z, &b->g2x, &b->g2y, &b->g2z};
       PetscCall(AllocRow(n, 6, base + r * 6 * per_row, ptrs));
     }
     base += 6 * KERNEL_RING * per_row;
     for (PetscInt r = 0; r < KERNEL_RING; r++) {
-      ShearRow   *s = &p->sh_ring[r];
+      ShearRow   *s      = &p->sh_ring[r];
       PetscReal **ptrs[] = {&s->hwx, &s->hwy, &s->hwz, &s->hfx, &s->hfy, &s->hfz, &s->sx, &s->sy, &s->sz};
       PetscCall(AllocRow(n, 9, base + r * 9 * per_row, ptrs));
     }
   }
-  PetscCall(PetscCalloc1(3 * (size_t)n, &p->zero_row));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode PatchSetUp(Patch *p)
+{
+  PetscInt per_row = p->gxm + 2;
+
+  PetscFunctionBeginUser;
+  PetscCall(PatchAllocRows(p));
+  PetscCall(PetscCalloc1(3 * (size_t)p->gxm, &p->zero_row));
   PetscCall(PetscCalloc1((size_t)(p->gym + 2) * per_row, &p->epad));
   for (PetscInt j = 0; j < p->gym; j++)
     for (PetscInt i = 0; i < p->gxm; i++) p->epad[(j + 1) * per_row + i + 1] = p->exists[j * p->gxm + i];
+  PetscCall(YarnIntegralSetUp(p->warp, &p->yarn_integral[0]));
+  PetscCall(YarnIntegralSetUp(p->weft, &p->yarn_integral[1]));
   PetscFunctionReturn(0);
 }
 
@@ -86,6 +107,8 @@ PetscErrorCode PatchDestroy(Patch *p)
   PetscCall(PetscFree(p->work));
   PetscCall(PetscFree(p->zero_row));
   PetscCall(PetscFree(p->epad));
+  PetscCall(PetscFree(p->yarn_integral[0]));
+  PetscCall(PetscFree(p->yarn_integral[1]));
   PetscFunctionReturn(0);
 }
 
@@ -95,14 +118,161 @@ static inline unsigned char Exists(const Patch *p, PetscInt li, PetscInt lj)
   return p->epad[(lj + 1) * (p->gxm + 2) + li + 1];
 }
 
+/* existence of the point at global (i, j); points beyond the ghosted patch (two or more
+   crossings outside the grid, where the padding of epad ends) do not exist */
+static inline int ExistsG(const Patch *p, PetscInt i, PetscInt j)
+{
+  const PetscInt li = i - p->gxs, lj = j - p->gys;
+  if (li < -1 || li > p->gxm || lj < -1 || lj > p->gym) return 0;
+  return Exists(p, li, lj);
+}
+
+static inline const PetscReal *Pos(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j)
+{
+  return x + 3 * ((j - p->gys) * p->gxm + (i - p->gxs));
+}
+
+/* the segment from (i,j) along x (dir 0) or y (dir 1): both ends exist and it is not broken */
+static inline int SegmentAlive(const Patch *p, PetscInt i, PetscInt j, int dir)
+{
+  const unsigned char *broken = dir == 0 ? p->broken_x : p->broken_y;
+  if (!ExistsG(p, i, j) || !ExistsG(p, i + (dir == 0), j + (dir == 1))) return 0;
+  return !broken[(j - p->gys) * p->gxm + (i - p->gxs)];
+}
+
+typedef struct {
+  PetscReal L; /* chord length */
+  int       alive;
+} Chord;
+
+/* chord from (i,j) along x (dir 0) or y (dir 1) */
+static Chord ChordAt(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j, int dir)
+{
+  Chord c = {0.0, 0};
+  if (!SegmentAlive(p, i, j, dir)) return c;
+  const PetscReal *a = Pos(p, x, i, j), *b = Pos(p, x, i + (dir == 0), j + (dir == 1));
+  c.L     = PetscSqrtReal(PetscSqr(b[0] - a[0]) + PetscSqr(b[1] - a[1]) + PetscSqr(b[2] - a[2]));
+  c.alive = 1;
+  return c;
+}
+
+/* ======================= traction (MODEL.md 5.1, 7.3, 14) ======================= */
+
+/* --- the yarn law's slope and integral --- */
+
+/* dTyarn/dey at yarn strain ey >= 0: EA, or the derivative of the Hermite cell (material.h) */
+static PetscReal YarnSlope(const YarnLaw *y, PetscReal ey)
+{
+  if (!y->ntab) return y->EA;
+  const PetscReal s = ey * y->tab_inv_h;
+  if (s >= (PetscReal)(y->ntab - 1)) return y->tab_dT[y->ntab - 1];
+  const PetscInt  k = (PetscInt)s;
+  const PetscReal t = s - (PetscReal)k;
+  return 6.0 * t * (1.0 - t) * (y->tab_T[k + 1] - y->tab_T[k]) * y->tab_inv_h +
+         (1.0 - 4.0 * t + 3.0 * t * t) * y->tab_dT[k] + (3.0 * t * t - 2.0 * t) * y->tab_dT[k + 1];
+}
+
+PetscReal ChordTensionSlope(const YarnLaw *y, PetscReal e)
+{
+  for (PetscInt k = 0; k < y->nblend; k++) /* the blends first, as ChordTension */
+    if (e >= y->blend[k].lo && e <= y->blend[k].hi) {
+      const PetscReal s = e - y->blend[k].lo;
+      return y->blend[k].c1 + s * (2.0 * y->blend[k].c2 + 3.0 * s * y->blend[k].c3);
+    }
+  if (e <= y->e_contact) return y->EA;
+  if (e <= 0.0) return y->k_comp * y->EA;
+  if (e <= y->crimp) return y->Ec;
+  return YarnSlope(y, (e - y->crimp) / (1.0 + y->crimp)) / (1.0 + y->crimp);
+}
+
+/* integral over [0, t] (t in [0,1]) of the Hermite cell k of the yarn table, in yarn strain:
+   h * int (1+2u)(1-u)^2 T0 + u(1-u)^2 h dT0 + u^2(3-2u) T1 - u^2(1-u) h dT1 du */
+static PetscReal HermiteCellIntegral(const YarnLaw *y, PetscInt k, PetscReal t)
+{
+  const PetscReal h = y->tab_h, t2 = t * t, t3 = t2 * t;
+  return h * (y->tab_T[k] * t * (1.0 + t2 * (-1.0 + 0.5 * t)) +
+              h * y->tab_dT[k] * t2 * (0.5 + t * (-2.0 / 3.0 + 0.25 * t)) + y->tab_T[k + 1] * t3 * (1.0 - 0.5 * t) +
+              h * y->tab_dT[k + 1] * t3 * (-1.0 / 3.0 + 0.25 * t));
+}
+
+/* integral[k] = integral of Tyarn over the whole cells below node k */
+static PetscErrorCode YarnIntegralSetUp(const YarnLaw *y, PetscReal **integral)
+{
+  PetscFunctionBeginUser;
+  *integral = NULL;
+  if (!y || !y->ntab) PetscFunctionReturn(0);
+  PetscCall(PetscMalloc1(y->ntab, integral));
+  (*integral)[0] = 0.0;
+  for (PetscInt k = 0; k + 1 < y->ntab; k++) (*integral)[k + 1] = (*integral)[k] + HermiteCellIntegral(y, k, 1.0);
+  PetscFunctionReturn(0);
+}
+
+static PetscReal YarnCellsBelow(const YarnLaw *y, const PetscReal *integral, PetscInt k)
+{
+  PetscReal sum = 0.0;
+  if (integral) return integral[k];
+  for (PetscInt q = 0; q < k; q++) sum += HermiteCellIntegral(y, q, 1.0); /* the table's order of summation */
+  return sum;
+}
+
+/* integral of Tyarn from 0 to ey >= 0, exact: cells below, the partial cell, the linear extension */
+static PetscReal YarnEnergy(const YarnLaw *y, const PetscReal *integral, PetscReal ey)
+{
+  if (!y->ntab) return 0.5 * y->EA * ey * ey;
+  const PetscInt  last = y->ntab - 1;
+  const PetscReal s    = ey * y->tab_inv_h;
+  if (s >= (PetscReal)last) {
+    const PetscReal d = ey - y->tab_end;
+    return YarnCellsBelow(y, integral, last) + y->tab_T[last] * d + 0.5 * y->tab_dT[last] * d * d;
+  }
+  const PetscInt k = (PetscInt)s;
+  return YarnCellsBelow(y, integral, k) + HermiteCellIntegral(y, k, s - (PetscReal)k);
+}
+
+/* integral from 0 to e of the piecewise law (ChordTensionPiecewise), MODEL.md 14 */
+static PetscReal PiecewiseEnergy(const YarnLaw *y, const PetscReal *integral, PetscReal e)
+{
+  const PetscReal ec = y->e_contact, kEA = y->k_comp * y->EA, c = y->crimp;
+  if (e <= ec) return 0.5 * kEA * ec * ec + kEA * ec * (e - ec) + 0.5 * y->EA * (e - ec) * (e - ec);
+  if (e <= 0.0) return 0.5 * kEA * e * e;
+  if (e <= c) return 0.5 * y->Ec * e * e;
+  return 0.5 * y->Ec * c * c + y->Ec * c * (e - c) + (1.0 + c) * YarnEnergy(y, integral, (e - c) / (1.0 + c));
+}
+
+/* integral over [lo, z] of blend k's cubic minus the piecewise law it replaces */
+static PetscReal BlendExcess(const YarnLaw *y, const PetscReal *integral, PetscInt k, PetscReal z)
+{
+  const PetscReal lo = y->blend[k].lo, s = z - lo;
+  const PetscReal cubic =
+    s * (y->blend[k].c0 + s * (0.5 * y->blend[k].c1 + s * (y->blend[k].c2 / 3.0 + s * 0.25 * y->blend[k].c3)));
+  return cubic - (PiecewiseEnergy(y, integral, z) - PiecewiseEnergy(y, integral, lo));
+}
+
+/* integral of ChordTension from 0 to e: the piecewise law's, corrected on each blend's part of [0, e] */
+PetscReal ChordEnergy(const YarnLaw *y, const PetscReal *integral, PetscReal e)
+{
+  PetscReal W = PiecewiseEnergy(y, integral, e);
+  for (PetscInt k = 0; k < y->nblend; k++) {
+    const PetscReal lo = y->blend[k].lo, hi = y->blend[k].hi;
+    const PetscReal ze = PetscMin(PetscMax(e, lo), hi), z0 = PetscMin(PetscMax(0.0, lo), hi);
+    if (ze != z0) W += BlendExcess(y, integral, k, ze) - BlendExcess(y, integral, k, z0);
+  }
+  return W;
+}
+
+/* --- force rows --- */
+
 static void ZeroSegmentRow(SegmentRow *s, PetscInt c0, PetscInt c1)
 {
   PetscReal *a[] = {s->ux, s->uy, s->uz, s->inv_len, s->fx, s->fy, s->fz, s->T};
   for (int k = 0; k < 8; k++) memset(a[k] + c0, 0, sizeof(PetscReal) * (size_t)(c1 - c0));
 }
 
-/* Segments a[i] -> b[i], c0 <= i < c1: chord and tension (MODEL.md 5.1). */
-static void ComputeSegmentRow(const YarnLaw *law, PetscReal L0, PetscBool traction, PetscInt c0, PetscInt c1, const PetscReal *restrict xa, const PetscReal *restrict xb, const unsigned char *ea, const unsigned char *eb, const unsigned char *broken, SegmentRow *s)
+/* Segments a[i] -> b[i], c0 <= i < c1: chord and tension (MODEL.md 5.1). The chords are
+   computed even with traction off: bending needs them. */
+static void ComputeSegmentRow(const YarnLaw *law, PetscReal L0, PetscBool traction, PetscInt c0, PetscInt c1,
+                              const PetscReal *restrict xa, const PetscReal *restrict xb, const unsigned char *ea,
+                              const unsigned char *eb, const unsigned char *broken, SegmentRow *s)
 {
   const PetscReal inv_L0 = 1.0 / L0;
 
@@ -113,9 +283,9 @@ static void ComputeSegmentRow(const YarnLaw *law, PetscReal L0, PetscBool tracti
     const int       alive = ea[i] && eb[i] && !broken[i];
     const PetscReal inv   = alive ? 1.0 / L : 0.0;
     const PetscReal T     = (alive && traction) ? ChordTension(law, e) : 0.0;
-    s->ux[i] = dx * inv;
-    s->uy[i] = dy * inv;
-    s->uz[i] = dz * inv;
+    s->ux[i]      = dx * inv;
+    s->uy[i]      = dy * inv;
+    s->uz[i]      = dz * inv;
     s->inv_len[i] = inv;
     s->T[i]       = T;
     s->fx[i]      = T * dx * inv;
@@ -124,144 +294,77 @@ static void ComputeSegmentRow(const YarnLaw *law, PetscReal L0, PetscBool tracti
   }
 }
 
-/* Bending centres c0 <= i < c1 with incoming chord s1[i] and outgoing chord s2[i] (MODEL.md 5.2). */
-static void ComputeBendRow(PetscReal kb, PetscInt c0, PetscInt c1, const PetscReal *u1x, const PetscReal *u1y, const PetscReal *u1z, const PetscReal *i1, const PetscReal *u2x, const PetscReal *u2y, const PetscReal *u2z, const PetscReal *i2, BendRow *b, PetscInt off)
+/* traction on the points i0 <= i < i1 of row j (written: the first term of the sum), from the
+   x-segments of the row and the y-segments below (yd) and above (yu); returns the largest |T| */
+static PetscReal GatherTraction(const SegmentRow *xs, const SegmentRow *yd, const SegmentRow *yu, PetscInt i0,
+                                PetscInt i1, PetscReal *restrict fr, PetscReal tmax)
 {
-  /* u2 - s u1 = (u1 x u2) x u1 and u1 - s u2 = u2 x (u1 x u2): the cross-product form has no
-     cancellation for nearly straight yarns and is exactly zero for parallel chords */
-  for (PetscInt i = c0; i < c1; i++) {
-    const PetscReal cx = u1y[i] * u2z[i] - u1z[i] * u2y[i], cy = u1z[i] * u2x[i] - u1x[i] * u2z[i], cz = u1x[i] * u2y[i] - u1y[i] * u2x[i];
-    const PetscReal c1 = kb * i1[i], c2 = kb * i2[i];
-    b->g1x[i + off] = c1 * (cy * u1z[i] - cz * u1y[i]);
-    b->g1y[i + off] = c1 * (cz * u1x[i] - cx * u1z[i]);
-    b->g1z[i + off] = c1 * (cx * u1y[i] - cy * u1x[i]);
-    b->g2x[i + off] = c2 * (u2y[i] * cz - u2z[i] * cy);
-    b->g2y[i + off] = c2 * (u2z[i] * cx - u2x[i] * cz);
-    b->g2z[i + off] = c2 * (u2x[i] * cy - u2y[i] * cx);
+  for (PetscInt i = i0; i < i1; i++) {
+    fr[3 * i]     = xs->fx[i] - xs->fx[i - 1] + yu->fx[i] - yd->fx[i];
+    fr[3 * i + 1] = xs->fy[i] - xs->fy[i - 1] + yu->fy[i] - yd->fy[i];
+    fr[3 * i + 2] = xs->fz[i] - xs->fz[i - 1] + yu->fz[i] - yd->fz[i];
+    const PetscReal t = PetscMax(PetscMax(PetscAbsReal(xs->T[i]), PetscAbsReal(xs->T[i - 1])),
+                                 PetscMax(PetscAbsReal(yu->T[i]), PetscAbsReal(yd->T[i])));
+    tmax              = PetscMax(tmax, t);
   }
+  return tmax;
 }
 
-/* Shear crossings of row r (global), local columns [c0, c1) (MODEL.md 5.3). */
-static void ComputeShearRow(const Patch *p, const PetscReal *x, PetscInt r, PetscInt c0, PetscInt c1, ShearRow *sh)
-{
-  const PetscInt   n = p->gxm, lr = r - p->gys;
-  const PetscReal *xr = (lr >= 0 && lr < p->gym) ? x + 3 * lr * n : p->zero_row;
-  const PetscReal *xd = (lr - 1 >= 0 && lr - 1 < p->gym) ? x + 3 * (lr - 1) * n : p->zero_row;
-  const PetscReal *xu = (lr + 1 >= 0 && lr + 1 < p->gym) ? x + 3 * (lr + 1) * n : p->zero_row;
-  const PetscReal  Ks = p->Ks, Kj = p->Kj, sl = p->s_lock;
+/* --- instance: energy, gradient and Hessian of segment (i,j) -> (i,j) + e_dir --- */
 
-  if (lr < 0 || lr >= p->gym) { /* no crossing outside the patch */
-    PetscReal *a[] = {sh->hwx, sh->hwy, sh->hwz, sh->hfx, sh->hfy, sh->hfz, sh->sx, sh->sy, sh->sz};
-    for (int k = 0; k < 9; k++) memset(a[k] + c0, 0, sizeof(PetscReal) * (size_t)(c1 - c0));
-    return;
-  }
-  for (PetscInt li = c0; li < c1; li++) {
-    const int      self = Exists(p, li, lr), hl = Exists(p, li - 1, lr), hr = Exists(p, li + 1, lr);
-    const int      hd = Exists(p, li, lr - 1), hu = Exists(p, li, lr + 1);
-    const PetscInt il = hl ? li - 1 : li, ir = hr ? li + 1 : li;
-    const PetscReal *xp = xr + 3 * ir, *xm = xr + 3 * il, *yp = hu ? xu + 3 * li : xr + 3 * li, *ym = hd ? xd + 3 * li : xr + 3 * li;
-    const PetscReal twx = xp[0] - xm[0], twy = xp[1] - xm[1], twz = xp[2] - xm[2];
-    const PetscReal tfx = yp[0] - ym[0], tfy = yp[1] - ym[1], tfz = yp[2] - ym[2];
-    const int       active = self && (hl || hr) && (hd || hu);
-    const PetscReal iw = active ? 1.0 / PetscSqrtReal(twx * twx + twy * twy + twz * twz) : 0.0;
-    const PetscReal jf = active ? 1.0 / PetscSqrtReal(tfx * tfx + tfy * tfy + tfz * tfz) : 0.0;
-    const PetscReal uwx = twx * iw, uwy = twy * iw, uwz = twz * iw, ufx = tfx * jf, ufy = tfy * jf, ufz = tfz * jf;
-    const PetscReal s = uwx * ufx + uwy * ufy + uwz * ufz, as = PetscAbsReal(s);
-    const PetscReal jam = as > sl ? (s > 0 ? as - sl : sl - as) : 0.0;
-    const PetscReal Ep = Ks * s + Kj * jam;
-    const PetscReal cw = Ep * iw, cf = Ep * jf;
-    const PetscReal hwx = cw * (ufx - s * uwx), hwy = cw * (ufy - s * uwy), hwz = cw * (ufz - s * uwz);
-    const PetscReal hfx = cf * (uwx - s * ufx), hfy = cf * (uwy - s * ufy), hfz = cf * (uwz - s * ufz);
-    const PetscReal aw = (PetscReal)(hr - hl), af = (PetscReal)(hu - hd);
-    sh->hwx[li] = hwx;
-    sh->hwy[li] = hwy;
-    sh->hwz[li] = hwz;
-    sh->hfx[li] = hfx;
-    sh->hfy[li] = hfy;
-    sh->hfz[li] = hfz;
-    sh->sx[li]  = aw * hwx + af * hfx;
-    sh->sy[li]  = aw * hwy + af * hfy;
-    sh->sz[li]  = aw * hwz + af * hfz;
-  }
+/* K = (dT/dL) n n^T + (T/L)(I - n n^T), dT/dL = T'(e)/L0, on [a a; a b; b a; b b] with signs + - - + */
+static void SegmentHessian(PetscReal kn, PetscReal kg, const PetscReal n[3], PetscReal K[36])
+{
+  for (int r = 0; r < 3; r++)
+    for (int c = 0; c < 3; c++) {
+      const PetscReal k = (kn - kg) * n[r] * n[c] + (r == c ? kg : 0.0);
+      K[r * 6 + c] = K[(r + 3) * 6 + c + 3] = k;
+      K[r * 6 + c + 3] = K[(r + 3) * 6 + c] = -k;
+    }
 }
 
-/* y-segments between rows r and r+1, local columns [c0, c1) */
-static void YSegments(Patch *p, const PetscReal *x, PetscInt r, PetscInt c0, PetscInt c1)
+static int TractionInstance(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j, int dir, int want,
+                            TermInstance *t)
 {
-  const PetscInt n = p->gxm, lr = r - p->gys;
-  SegmentRow    *s = &p->ys_ring[SLOT(r)];
+  const YarnLaw  *law = dir == 0 ? p->warp : p->weft;
+  const PetscReal L0  = dir == 0 ? p->ax : p->ay;
+  const PetscInt  i2 = i + (dir == 0), j2 = j + (dir == 1);
+  PetscReal       d[3], n[3];
 
-  if (lr < 0 || lr + 1 >= p->gym) {
-    ZeroSegmentRow(s, c0, c1);
-    return;
-  }
-  ComputeSegmentRow(p->weft, p->ay, p->traction, c0, c1, x + 3 * lr * n, x + 3 * (lr + 1) * n, p->exists + lr * n, p->exists + (lr + 1) * n, p->broken_y + lr * n, s);
+  if (!SegmentAlive(p, i, j, dir)) return 0;
+  const PetscReal *a = Pos(p, x, i, j), *b = Pos(p, x, i2, j2);
+  for (int q = 0; q < 3; q++) d[q] = b[q] - a[q];
+  const PetscReal L = PetscSqrtReal(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]), e_raw = L / L0 - 1.0;
+  const PetscReal e = PetscAbsReal(e_raw) < STRAIN_ROUNDOFF ? 0.0 : e_raw; /* as the force rows */
+  const PetscReal T = ChordTension(law, e);
+  for (int q = 0; q < 3; q++) n[q] = d[q] / L;
+  t->n = 2;
+  t->i[0] = i, t->j[0] = j, t->i[1] = i2, t->j[1] = j2;
+  if (want & TERM_ENERGY) t->E = L0 * ChordEnergy(law, p->yarn_integral[dir], e);
+  if (want & TERM_GRADIENT)
+    for (int q = 0; q < 3; q++) t->g[q] = -T * n[q], t->g[3 + q] = T * n[q];
+  if (want & TERM_HESSIAN) SegmentHessian(ChordTensionSlope(law, e) / L0, T / L, n, t->K);
+  return 1;
 }
 
-/* y-bending centres of row r: chords y(r-1) and y(r) */
-static void YBending(Patch *p, PetscInt r, PetscInt c0, PetscInt c1)
+/* --- stable-step bound: a spring adds 2 max(dT/de / L0, T/L) to each end's row --- */
+
+static void TractionBoundRow(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j, PetscReal window,
+                             int pull_dir, PetscReal *rs, PetscReal *rp)
 {
-  const SegmentRow *a = &p->ys_ring[SLOT(r - 1)], *b = &p->ys_ring[SLOT(r)];
-  ComputeBendRow(p->kby, c0, c1, a->ux, a->uy, a->uz, a->inv_len, b->ux, b->uy, b->uz, b->inv_len, &p->by_ring[SLOT(r)], 0);
-}
-
-void ComputeInternalForces(Patch *p, const PetscReal *x, const PetscInt box[4], PetscReal *f, PetscReal *tension_max)
-{
-  const PetscInt  n = p->gxm, i0 = box[0] - p->gxs, i1 = box[1] - p->gxs, j0 = box[2], j1 = box[3];
-  const PetscInt  c0 = PetscMax(i0 - 2, 0), c1 = PetscMin(i1 + 2, n); /* columns the box's forces need */
-  const PetscBool bend = p->bending, shear = p->shear;
-  PetscReal       tmax = 0.0;
-
-  *tension_max = 0.0;
-  if (i1 <= i0 || j1 <= j0) return;
-  /* prime the pipeline: rows below the first row of the box */
-  for (PetscInt r = j0 - 2; r <= j0; r++) YSegments(p, x, r, c0, c1);
-  if (bend)
-    for (PetscInt r = j0 - 1; r <= j0; r++) YBending(p, r, c0, c1);
-  if (shear)
-    for (PetscInt r = j0 - 1; r <= j0; r++) ComputeShearRow(p, x, r, c0, c1, &p->sh_ring[SLOT(r)]);
-
-  for (PetscInt j = j0; j < j1; j++) {
-    const PetscInt lj = j - p->gys;
-    SegmentRow    *xs = &p->xs_row;
-
-    /* advance the pipeline by one row */
-    YSegments(p, x, j + 1, c0, c1);
-    if (bend) YBending(p, j + 1, c0, c1);
-    if (shear) ComputeShearRow(p, x, j + 1, c0, c1, &p->sh_ring[SLOT(j + 1)]);
-    ComputeSegmentRow(p->warp, p->ax, p->traction, c0, PetscMin(c1, n - 1), x + 3 * lj * n, x + 3 * lj * n + 3, p->exists + lj * n, p->exists + lj * n + 1, p->broken_x + lj * n, xs);
-    if (bend) ComputeBendRow(p->kbx, c0, PetscMin(c1, n - 1) - 1, xs->ux, xs->uy, xs->uz, xs->inv_len, xs->ux + 1, xs->uy + 1, xs->uz + 1, xs->inv_len + 1, &p->bx_row, 1);
-
-    /* gather: each point of row j in the box sums its terms in a fixed order */
-    {
-      const SegmentRow *yd = &p->ys_ring[SLOT(j - 1)], *yu = &p->ys_ring[SLOT(j)];
-      PetscReal *restrict fr = f + 3 * (j - p->ys) * p->xm - 3 * (p->xs - p->gxs);
-      for (PetscInt i = i0; i < i1; i++) {
-        fr[3 * i]     = xs->fx[i] - xs->fx[i - 1] + yu->fx[i] - yd->fx[i];
-        fr[3 * i + 1] = xs->fy[i] - xs->fy[i - 1] + yu->fy[i] - yd->fy[i];
-        fr[3 * i + 2] = xs->fz[i] - xs->fz[i - 1] + yu->fz[i] - yd->fz[i];
-        const PetscReal t = PetscMax(PetscMax(PetscAbsReal(xs->T[i]), PetscAbsReal(xs->T[i - 1])), PetscMax(PetscAbsReal(yu->T[i]), PetscAbsReal(yd->T[i])));
-        tmax = PetscMax(tmax, t);
-      }
-      if (bend) {
-        const BendRow *bx = &p->bx_row, *bd = &p->by_ring[SLOT(j - 1)], *bc = &p->by_ring[SLOT(j)], *bu = &p->by_ring[SLOT(j + 1)];
-        for (PetscInt i = i0; i < i1; i++) {
-          fr[3 * i] += bx->g2x[i - 1] + bx->g1x[i] - bx->g2x[i] - bx->g1x[i + 1] + bd->g2x[i] + bc->g1x[i] - bc->g2x[i] - bu->g1x[i];
-          fr[3 * i + 1] += bx->g2y[i - 1] + bx->g1y[i] - bx->g2y[i] - bx->g1y[i + 1] + bd->g2y[i] + bc->g1y[i] - bc->g2y[i] - bu->g1y[i];
-          fr[3 * i + 2] += bx->g2z[i - 1] + bx->g1z[i] - bx->g2z[i] - bx->g1z[i + 1] + bd->g2z[i] + bc->g1z[i] - bc->g2z[i] - bu->g1z[i];
-        }
-      }
-      if (shear) {
-        const ShearRow *sd = &p->sh_ring[SLOT(j - 1)], *sc = &p->sh_ring[SLOT(j)], *su = &p->sh_ring[SLOT(j + 1)];
-        for (PetscInt i = i0; i < i1; i++) {
-          fr[3 * i] += sc->hwx[i + 1] - sc->hwx[i - 1] + su->hfx[i] - sd->hfx[i] + sc->sx[i];
-          fr[3 * i + 1] += sc->hwy[i + 1] - sc->hwy[i - 1] + su->hfy[i] - sd->hfy[i] + sc->sy[i];
-          fr[3 * i + 2] += sc->hwz[i + 1] - sc->hwz[i - 1] + su->hfz[i] - sd->hfz[i] + sc->sz[i];
-        }
-      }
+  for (int dir = 0; dir < 2; dir++) {
+    const YarnLaw  *law = dir == 0 ? p->warp : p->weft;
+    const PetscReal L0  = dir == 0 ? p->ax : p->ay;
+    for (int side = -1; side <= 0; side++) {
+      const PetscInt ia = i + (dir == 0 ? side : 0), ja = j + (dir == 1 ? side : 0);
+      const Chord    c  = ChordAt(p, x, ia, ja, dir);
+      if (!c.alive) continue;
+      const PetscReal e = c.L / L0 - 1.0, T = ChordTension(law, e);
+      *rs += 2.0 * PetscMax(ChordTangentMax(law, e - window, e + window) / L0, PetscAbsReal(T) / c.L);
+      if (dir == pull_dir) /* current stiffness, tension side */
+        *rp += 2.0 * PetscMax(ChordTangentMax(law, e, e + 0.005) / L0, PetscAbsReal(T) / c.L);
     }
   }
-  *tension_max = tmax;
 }
 
 /* Break every segment of the patch whose yarn strain exceeds the breaking strain
@@ -271,8 +374,8 @@ int BreakSegments(Patch *p, const PetscReal *x)
 {
   int broke = 0;
   for (int dir = 0; dir < 2; dir++) {
-    const YarnLaw  *law = dir == 0 ? p->warp : p->weft;
-    const PetscReal L0 = dir == 0 ? p->ax : p->ay;
+    const YarnLaw  *law    = dir == 0 ? p->warp : p->weft;
+    const PetscReal L0     = dir == 0 ? p->ax : p->ay;
     unsigned char  *broken = dir == 0 ? p->broken_x : p->broken_y;
     if (!isfinite(law->break_e)) continue;
     for (PetscInt lj = 0; lj + (dir == 1) < p->gym; lj++)
@@ -294,39 +397,198 @@ int BreakSegments(Patch *p, const PetscReal *x)
   return broke;
 }
 
-/* ---------------- stable step: Gershgorin bound of the tangent stiffness ---------------- */
+/* ============ the angle between two tangents: bending and shear (MODEL.md 5, 14) ============ */
 
+/* s = a.b/(|a||b|) and its derivatives: ga = ds/da = (b^ - s a^)/|a|, gb = (a^ - s b^)/|b|,
+   Haa = -(a^ ga^T + ga a^T)/|a| - s (I - a^ a^T)/|a|^2, Hab = ((I - b^ b^T)/|b| - a^ gb^T)/|a|,
+   Hbb as Haa with a and b swapped (a^ = a/|a|) */
 typedef struct {
-  PetscReal L;   /* chord length */
-  int       alive;
-} Chord;
+  PetscReal s, ga[3], gb[3], Haa[9], Hab[9], Hbb[9];
+} Cosine;
 
-static inline const PetscReal *Pos(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j)
+static void CosineDerivatives(const PetscReal a[3], const PetscReal b[3], int hessian, Cosine *c)
 {
-  return x + 3 * ((j - p->gys) * p->gxm + (i - p->gxs));
+  const PetscReal A = PetscSqrtReal(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+  const PetscReal B = PetscSqrtReal(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
+  PetscReal       ua[3], ub[3];
+
+  for (int q = 0; q < 3; q++) ua[q] = a[q] / A, ub[q] = b[q] / B;
+  c->s = ua[0] * ub[0] + ua[1] * ub[1] + ua[2] * ub[2];
+  for (int q = 0; q < 3; q++) c->ga[q] = (ub[q] - c->s * ua[q]) / A, c->gb[q] = (ua[q] - c->s * ub[q]) / B;
+  if (!hessian) return;
+  for (int r = 0; r < 3; r++)
+    for (int q = 0; q < 3; q++) {
+      const PetscReal id = r == q ? 1.0 : 0.0;
+      c->Haa[3 * r + q]  = -(ua[r] * c->ga[q] + c->ga[r] * ua[q]) / A - c->s * (id - ua[r] * ua[q]) / (A * A);
+      c->Hbb[3 * r + q]  = -(ub[r] * c->gb[q] + c->gb[r] * ub[q]) / B - c->s * (id - ub[r] * ub[q]) / (B * B);
+      c->Hab[3 * r + q]  = ((id - ub[r] * ub[q]) / B - ua[r] * c->gb[q]) / A;
+    }
 }
 
-/* existence of the point at global (i, j); points beyond the ghosted patch (two or more
-   crossings outside the grid, where the padding of epad ends) do not exist */
-static inline int ExistsG(const Patch *p, PetscInt i, PetscInt j)
+/* Gradient and Hessian of E = phi(s) over n points, with the tangents a = sum_q ca[q] x_q and
+   b = sum_q cb[q] x_q; dphi = phi'(s), d2phi = phi''(s) (chain rule). */
+static void CosineTermDerivatives(const Cosine *c, PetscReal dphi, PetscReal d2phi, PetscInt n, const PetscReal ca[],
+                                  const PetscReal cb[], int want, TermInstance *t)
 {
-  const PetscInt li = i - p->gxs, lj = j - p->gys;
-  if (li < -1 || li > p->gxm || lj < -1 || lj > p->gym) return 0;
-  return Exists(p, li, lj);
+  const PetscInt ld = 3 * n;
+  PetscReal      Maa[9], Mab[9], Mbb[9];
+
+  if (want & TERM_GRADIENT)
+    for (PetscInt q = 0; q < n; q++)
+      for (int d = 0; d < 3; d++) t->g[3 * q + d] = dphi * (ca[q] * c->ga[d] + cb[q] * c->gb[d]);
+  if (!(want & TERM_HESSIAN)) return;
+  for (int r = 0; r < 3; r++) /* second derivatives of E in the tangents */
+    for (int q = 0; q < 3; q++) {
+      Maa[3 * r + q] = d2phi * c->ga[r] * c->ga[q] + dphi * c->Haa[3 * r + q];
+      Mab[3 * r + q] = d2phi * c->ga[r] * c->gb[q] + dphi * c->Hab[3 * r + q];
+      Mbb[3 * r + q] = d2phi * c->gb[r] * c->gb[q] + dphi * c->Hbb[3 * r + q];
+    }
+  for (PetscInt P = 0; P < n; P++)
+    for (PetscInt Q = 0; Q < n; Q++)
+      for (int r = 0; r < 3; r++)
+        for (int q = 0; q < 3; q++)
+          t->K[(3 * P + r) * ld + 3 * Q + q] = ca[P] * ca[Q] * Maa[3 * r + q] + ca[P] * cb[Q] * Mab[3 * r + q] +
+                                               cb[P] * ca[Q] * Mab[3 * q + r] + cb[P] * cb[Q] * Mbb[3 * r + q];
 }
 
-/* chord from (i,j) along x (dir 0) or y (dir 1) */
-static Chord ChordAt(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j, int dir)
+/* ======================= bending (MODEL.md 5.2, 7.3, 14) ======================= */
+
+/* Bending centres c0 <= i < c1 with incoming chord s1[i] and outgoing chord s2[i] (MODEL.md 5.2). */
+static void ComputeBendRow(PetscReal kb, PetscInt c0, PetscInt c1, const PetscReal *u1x, const PetscReal *u1y,
+                           const PetscReal *u1z, const PetscReal *i1, const PetscReal *u2x, const PetscReal *u2y,
+                           const PetscReal *u2z, const PetscReal *i2, BendRow *b, PetscInt off)
 {
-  Chord          c  = {0.0, 0};
-  const PetscInt i2 = i + (dir == 0), j2 = j + (dir == 1);
-  if (!ExistsG(p, i, j) || !ExistsG(p, i2, j2)) return c;
-  const unsigned char *broken = dir == 0 ? p->broken_x : p->broken_y;
-  if (broken[(j - p->gys) * p->gxm + (i - p->gxs)]) return c;
-  const PetscReal *a = Pos(p, x, i, j), *b = Pos(p, x, i2, j2);
-  c.L     = PetscSqrtReal(PetscSqr(b[0] - a[0]) + PetscSqr(b[1] - a[1]) + PetscSqr(b[2] - a[2]));
-  c.alive = 1;
-  return c;
+  /* u2 - s u1 = (u1 x u2) x u1 and u1 - s u2 = u2 x (u1 x u2): the cross-product form has no
+     cancellation for nearly straight yarns and is exactly zero for parallel chords */
+  for (PetscInt i = c0; i < c1; i++) {
+    const PetscReal cx = u1y[i] * u2z[i] - u1z[i] * u2y[i], cy = u1z[i] * u2x[i] - u1x[i] * u2z[i];
+    const PetscReal cz = u1x[i] * u2y[i] - u1y[i] * u2x[i];
+    const PetscReal c1 = kb * i1[i], c2 = kb * i2[i];
+    b->g1x[i + off] = c1 * (cy * u1z[i] - cz * u1y[i]);
+    b->g1y[i + off] = c1 * (cz * u1x[i] - cx * u1z[i]);
+    b->g1z[i + off] = c1 * (cx * u1y[i] - cy * u1x[i]);
+    b->g2x[i + off] = c2 * (u2y[i] * cz - u2z[i] * cy);
+    b->g2y[i + off] = c2 * (u2z[i] * cx - u2x[i] * cz);
+    b->g2z[i + off] = c2 * (u2x[i] * cy - u2y[i] * cx);
+  }
+}
+
+/* bending on the points i0 <= i < i1 of row j, added: x-centres i-1, i, i+1 of the row (bx)
+   and y-centres of rows j-1 (bd), j (bc), j+1 (bu) */
+static void GatherBending(const BendRow *bx, const BendRow *bd, const BendRow *bc, const BendRow *bu, PetscInt i0,
+                          PetscInt i1, PetscReal *restrict fr)
+{
+  for (PetscInt i = i0; i < i1; i++) {
+    fr[3 * i] += bx->g2x[i - 1] + bx->g1x[i] - bx->g2x[i] - bx->g1x[i + 1] + bd->g2x[i] + bc->g1x[i] - bc->g2x[i] -
+                 bu->g1x[i];
+    fr[3 * i + 1] += bx->g2y[i - 1] + bx->g1y[i] - bx->g2y[i] - bx->g1y[i + 1] + bd->g2y[i] + bc->g1y[i] -
+                     bc->g2y[i] - bu->g1y[i];
+    fr[3 * i + 2] += bx->g2z[i - 1] + bx->g1z[i] - bx->g2z[i] - bx->g1z[i + 1] + bd->g2z[i] + bc->g1z[i] -
+                     bc->g2z[i] - bu->g1z[i];
+  }
+}
+
+/* --- instance: centre (i,j) of the yarn along x (dir 0) or y (dir 1): E = kb (1 - s) --- */
+static int BendingInstance(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j, int dir, int want,
+                           TermInstance *t)
+{
+  static const PetscReal ca[3] = {-1.0, 1.0, 0.0}, cb[3] = {0.0, -1.0, 1.0}; /* e1 = x1 - x0, e2 = x2 - x1 */
+  const PetscInt         di = dir == 0, dj = dir == 1;
+  const PetscReal        kb = dir == 0 ? p->kbx : p->kby;
+  PetscReal              e1[3], e2[3];
+  Cosine                 c;
+
+  if (!SegmentAlive(p, i - di, j - dj, dir) || !SegmentAlive(p, i, j, dir)) return 0;
+  for (int q = 0; q < 3; q++) {
+    t->i[q] = i + (q - 1) * di;
+    t->j[q] = j + (q - 1) * dj;
+  }
+  t->n = 3;
+  {
+    const PetscReal *x0 = Pos(p, x, t->i[0], t->j[0]), *x1 = Pos(p, x, i, j), *x2 = Pos(p, x, t->i[2], t->j[2]);
+    for (int q = 0; q < 3; q++) e1[q] = x1[q] - x0[q], e2[q] = x2[q] - x1[q];
+  }
+  CosineDerivatives(e1, e2, want & TERM_HESSIAN, &c);
+  if (want & TERM_ENERGY) t->E = kb * (1.0 - c.s);
+  CosineTermDerivatives(&c, -kb, 0.0, 3, ca, cb, want, t);
+  return 1;
+}
+
+/* --- stable-step bound: centre c in {p-1, p, p+1}; row sums 12, 24, 12 times kb / Lmin^2, with
+   Lmin no longer than the contact length (a chord can be squeezed that far in a step) --- */
+static void BendingBoundRow(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j, PetscReal window,
+                            int pull_dir, PetscReal *rs, PetscReal *rp)
+{
+  for (int dir = 0; dir < 2; dir++) {
+    const PetscReal kb = dir == 0 ? p->kbx : p->kby;
+    const PetscReal Lc = (1.0 + (dir == 0 ? p->warp : p->weft)->e_contact) * (dir == 0 ? p->ax : p->ay);
+    for (int k = -1; k <= 1; k++) {
+      const PetscInt ic = i + (dir == 0 ? k : 0), jc = j + (dir == 1 ? k : 0);
+      const Chord    c1 = ChordAt(p, x, ic - (dir == 0), jc - (dir == 1), dir), c2 = ChordAt(p, x, ic, jc, dir);
+      if (!c1.alive || !c2.alive) continue;
+      const PetscReal Lmin = PetscMin(PetscMin(c1.L, c2.L), Lc);
+      *rs += kb * (k == 0 ? 24.0 : 12.0) / (Lmin * Lmin);
+    }
+  }
+}
+
+/* ===================== shear and jamming (MODEL.md 5.3, 7.3, 14) ===================== */
+
+/* Shear crossings of row r (global), local columns [c0, c1) (MODEL.md 5.3). */
+static void ComputeShearRow(const Patch *p, const PetscReal *x, PetscInt r, PetscInt c0, PetscInt c1, ShearRow *sh)
+{
+  const PetscInt   n = p->gxm, lr = r - p->gys;
+  const PetscReal *xr = (lr >= 0 && lr < p->gym) ? x + 3 * lr * n : p->zero_row;
+  const PetscReal *xd = (lr - 1 >= 0 && lr - 1 < p->gym) ? x + 3 * (lr - 1) * n : p->zero_row;
+  const PetscReal *xu = (lr + 1 >= 0 && lr + 1 < p->gym) ? x + 3 * (lr + 1) * n : p->zero_row;
+  const PetscReal  Ks = p->Ks, Kj = p->Kj, sl = p->s_lock;
+
+  if (lr < 0 || lr >= p->gym) { /* no crossing outside the patch */
+    PetscReal *a[] = {sh->hwx, sh->hwy, sh->hwz, sh->hfx, sh->hfy, sh->hfz, sh->sx, sh->sy, sh->sz};
+    for (int k = 0; k < 9; k++) memset(a[k] + c0, 0, sizeof(PetscReal) * (size_t)(c1 - c0));
+    return;
+  }
+  for (PetscInt li = c0; li < c1; li++) {
+    const int        self = Exists(p, li, lr), hl = Exists(p, li - 1, lr), hr = Exists(p, li + 1, lr);
+    const int        hd = Exists(p, li, lr - 1), hu = Exists(p, li, lr + 1);
+    const PetscInt   il = hl ? li - 1 : li, ir = hr ? li + 1 : li;
+    const PetscReal *xp = xr + 3 * ir, *xm = xr + 3 * il;
+    const PetscReal *yp = hu ? xu + 3 * li : xr + 3 * li, *ym = hd ? xd + 3 * li : xr + 3 * li;
+    const PetscReal  twx = xp[0] - xm[0], twy = xp[1] - xm[1], twz = xp[2] - xm[2];
+    const PetscReal  tfx = yp[0] - ym[0], tfy = yp[1] - ym[1], tfz = yp[2] - ym[2];
+    const int        active = self && (hl || hr) && (hd || hu);
+    const PetscReal  iw = active ? 1.0 / PetscSqrtReal(twx * twx + twy * twy + twz * twz) : 0.0;
+    const PetscReal  jf = active ? 1.0 / PetscSqrtReal(tfx * tfx + tfy * tfy + tfz * tfz) : 0.0;
+    const PetscReal  uwx = twx * iw, uwy = twy * iw, uwz = twz * iw, ufx = tfx * jf, ufy = tfy * jf, ufz = tfz * jf;
+    const PetscReal  s = uwx * ufx + uwy * ufy + uwz * ufz, as = PetscAbsReal(s);
+    const PetscReal  jam = as > sl ? (s > 0 ? as - sl : sl - as) : 0.0;
+    const PetscReal  Ep  = Ks * s + Kj * jam;
+    const PetscReal  cw = Ep * iw, cf = Ep * jf;
+    const PetscReal  hwx = cw * (ufx - s * uwx), hwy = cw * (ufy - s * uwy), hwz = cw * (ufz - s * uwz);
+    const PetscReal  hfx = cf * (uwx - s * ufx), hfy = cf * (uwy - s * ufy), hfz = cf * (uwz - s * ufz);
+    const PetscReal  aw = (PetscReal)(hr - hl), af = (PetscReal)(hu - hd);
+    sh->hwx[li] = hwx;
+    sh->hwy[li] = hwy;
+    sh->hwz[li] = hwz;
+    sh->hfx[li] = hfx;
+    sh->hfy[li] = hfy;
+    sh->hfz[li] = hfz;
+    sh->sx[li]  = aw * hwx + af * hfx;
+    sh->sy[li]  = aw * hwy + af * hfy;
+    sh->sz[li]  = aw * hwz + af * hfz;
+  }
+}
+
+/* shear on the points i0 <= i < i1 of row j, added: crossings i-1, i+1 of the row (sc), below
+   (sd) and above (su), and the point's own crossing where it is a tangent's end (one-sided) */
+static void GatherShear(const ShearRow *sd, const ShearRow *sc, const ShearRow *su, PetscInt i0, PetscInt i1,
+                        PetscReal *restrict fr)
+{
+  for (PetscInt i = i0; i < i1; i++) {
+    fr[3 * i] += sc->hwx[i + 1] - sc->hwx[i - 1] + su->hfx[i] - sd->hfx[i] + sc->sx[i];
+    fr[3 * i + 1] += sc->hwy[i + 1] - sc->hwy[i - 1] + su->hfy[i] - sd->hfy[i] + sc->sy[i];
+    fr[3 * i + 2] += sc->hwz[i + 1] - sc->hwz[i - 1] + su->hfz[i] - sd->hfz[i] + sc->sz[i];
+  }
 }
 
 /* The cosine s of the angle between crossing (i,j)'s warp tangent x(i+1,j) - x(i-1,j) and
@@ -344,25 +606,242 @@ int CrossingShear(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j, Pe
     tw[d] = xp[d] - xm[d];
     tf[d] = yp[d] - ym[d];
   }
-  const PetscReal nw = PetscSqrtReal(tw[0] * tw[0] + tw[1] * tw[1] + tw[2] * tw[2]), nf = PetscSqrtReal(tf[0] * tf[0] + tf[1] * tf[1] + tf[2] * tf[2]);
+  const PetscReal nw = PetscSqrtReal(tw[0] * tw[0] + tw[1] * tw[1] + tw[2] * tw[2]);
+  const PetscReal nf = PetscSqrtReal(tf[0] * tf[0] + tf[1] * tf[1] + tf[2] * tf[2]);
   if (!(nw > 0 && nf > 0)) return 0;
   *s    = PetscMax(-1.0, PetscMin(1.0, (tw[0] * tf[0] + tw[1] * tf[1] + tw[2] * tf[2]) / (nw * nf)));
   *tmin = PetscMin(nw, nf);
   return 1;
 }
 
+/* --- instance: crossing (i,j), E = Ks s^2/2 + Kj max(0,|s|-s_lock)^2/2; points: the crossing,
+   then its neighbours left, right, below, above that exist (tw = x(right) - x(left), the
+   crossing itself standing for an absent end; likewise tf) --- */
+static int ShearInstance(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j, int k, int want, TermInstance *t)
+{
+  PetscReal ca[TERM_MAX_POINTS], cb[TERM_MAX_POINTS], a[3] = {0, 0, 0}, b[3] = {0, 0, 0};
+  Cosine    c;
+
+  if (!ExistsG(p, i, j)) return 0;
+  const int has[4] = {ExistsG(p, i - 1, j), ExistsG(p, i + 1, j), ExistsG(p, i, j - 1), ExistsG(p, i, j + 1)};
+  if (!(has[0] || has[1]) || !(has[2] || has[3])) return 0;
+  const PetscInt  di[4] = {-1, 1, 0, 0}, dj[4] = {0, 0, -1, 1};
+  const PetscReal wa[4] = {-1, 1, 0, 0}, wb[4] = {0, 0, -1, 1};
+  t->n = 1;
+  t->i[0] = i, t->j[0] = j;
+  ca[0] = (PetscReal)(has[0] - has[1]), cb[0] = (PetscReal)(has[2] - has[3]);
+  for (int q = 0; q < 4; q++)
+    if (has[q]) {
+      t->i[t->n] = i + di[q], t->j[t->n] = j + dj[q];
+      ca[t->n] = wa[q], cb[t->n] = wb[q];
+      t->n++;
+    }
+  for (PetscInt q = 0; q < t->n; q++) {
+    const PetscReal *xq = Pos(p, x, t->i[q], t->j[q]);
+    for (int d = 0; d < 3; d++) a[d] += ca[q] * xq[d], b[d] += cb[q] * xq[d];
+  }
+  CosineDerivatives(a, b, want & TERM_HESSIAN, &c);
+  {
+    const PetscReal s = c.s, as = PetscAbsReal(s), over = as > p->s_lock ? as - p->s_lock : 0.0;
+    if (want & TERM_ENERGY) t->E = 0.5 * p->Ks * s * s + 0.5 * p->Kj * over * over;
+    CosineTermDerivatives(&c, p->Ks * s + p->Kj * (s > 0 ? over : -over), p->Ks + (over > 0 ? p->Kj : 0.0), t->n, ca,
+                          cb, want, t);
+  }
+  return 1;
+}
+
+/* --- stable-step bound --- */
+
 /* Gershgorin contribution of crossing (i,j)'s shear energy to one of its points:
-   |E''| |grad s|_a sum_b |grad s|_b + |E'| |hess s| row <= (Ks+Kj)(4 + 12|s|)/tmin^2 */
-/* the jamming stiffness counts once the crossing is within the window of the lock (in
+   |E''| |grad s|_a sum_b |grad s|_b + |E'| |hess s| row <= (Ks+Kj)(4 + 12|s|)/tmin^2;
+   the jamming stiffness counts once the crossing is within the window of the lock (in
    s = sin(shear angle)); the default window (1) always counts it */
-static PetscReal ShearRowBound(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j, PetscReal window)
+static PetscReal ShearCrossingBound(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j, PetscReal window)
 {
   PetscReal s, tmin;
   if (!CrossingShear(p, x, i, j, &s, &tmin)) return 0.0;
-  return (p->Ks + (PetscAbsReal(s) + window >= p->s_lock ? p->Kj : 0.0)) * (4.0 + 12.0 * PetscAbsReal(s)) / (tmin * tmin);
+  return (p->Ks + (PetscAbsReal(s) + window >= p->s_lock ? p->Kj : 0.0)) * (4.0 + 12.0 * PetscAbsReal(s)) /
+         (tmin * tmin);
 }
 
-PetscReal StableOmega2(const Patch *p, const PetscReal *x, const PetscReal *inv_m, PetscReal window, int pull_dir, PetscReal *omega2_pull)
+/* the crossings that involve point (i,j): its four neighbours', and its own at an edge */
+static void ShearBoundRow(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j, PetscReal window, int pull_dir,
+                          PetscReal *rs, PetscReal *rp)
+{
+  *rs += ShearCrossingBound(p, x, i - 1, j, window) + ShearCrossingBound(p, x, i + 1, j, window) +
+         ShearCrossingBound(p, x, i, j - 1, window) + ShearCrossingBound(p, x, i, j + 1, window);
+  if (!ExistsG(p, i - 1, j) || !ExistsG(p, i + 1, j) || !ExistsG(p, i, j - 1) || !ExistsG(p, i, j + 1))
+    *rs += ShearCrossingBound(p, x, i, j, window);
+}
+
+/* ============================ the fused row pipeline ============================ */
+
+/* y-segments between rows r and r+1, local columns [c0, c1) */
+static void YSegments(Patch *p, const PetscReal *x, PetscInt r, PetscInt c0, PetscInt c1)
+{
+  const PetscInt n = p->gxm, lr = r - p->gys;
+  SegmentRow    *s = &p->ys_ring[SLOT(r)];
+
+  if (lr < 0 || lr + 1 >= p->gym) {
+    ZeroSegmentRow(s, c0, c1);
+    return;
+  }
+  ComputeSegmentRow(p->weft, p->ay, p->traction, c0, c1, x + 3 * lr * n, x + 3 * (lr + 1) * n, p->exists + lr * n,
+                    p->exists + (lr + 1) * n, p->broken_y + lr * n, s);
+}
+
+/* y-bending centres of row r: chords y(r-1) and y(r) */
+static void YBending(Patch *p, PetscInt r, PetscInt c0, PetscInt c1)
+{
+  const SegmentRow *a = &p->ys_ring[SLOT(r - 1)], *b = &p->ys_ring[SLOT(r)];
+  ComputeBendRow(p->kby, c0, c1, a->ux, a->uy, a->uz, a->inv_len, b->ux, b->uy, b->uz, b->inv_len,
+                 &p->by_ring[SLOT(r)], 0);
+}
+
+/* advance the pipeline to row j: y-rows j+1 into the ring, x-segments and x-bending of row j */
+static void AdvancePipeline(Patch *p, const PetscReal *x, PetscInt j, PetscInt c0, PetscInt c1)
+{
+  const PetscInt n = p->gxm, lj = j - p->gys, cx = PetscMin(c1, n - 1);
+  SegmentRow    *xs = &p->xs_row;
+
+  YSegments(p, x, j + 1, c0, c1);
+  if (p->bending) YBending(p, j + 1, c0, c1);
+  if (p->shear) ComputeShearRow(p, x, j + 1, c0, c1, &p->sh_ring[SLOT(j + 1)]);
+  ComputeSegmentRow(p->warp, p->ax, p->traction, c0, cx, x + 3 * lj * n, x + 3 * lj * n + 3, p->exists + lj * n,
+                    p->exists + lj * n + 1, p->broken_x + lj * n, xs);
+  if (p->bending)
+    ComputeBendRow(p->kbx, c0, cx - 1, xs->ux, xs->uy, xs->uz, xs->inv_len, xs->ux + 1, xs->uy + 1, xs->uz + 1,
+                   xs->inv_len + 1, &p->bx_row, 1);
+}
+
+void ComputeInternalForces(Patch *p, const PetscReal *x, const PetscInt box[4], PetscReal *f,
+                           PetscReal *tension_max)
+{
+  const PetscInt  n = p->gxm, i0 = box[0] - p->gxs, i1 = box[1] - p->gxs, j0 = box[2], j1 = box[3];
+  const PetscInt  c0 = PetscMax(i0 - 2, 0), c1 = PetscMin(i1 + 2, n); /* columns the box's forces need */
+  const PetscBool bend = p->bending, shear = p->shear;
+  PetscReal       tmax = 0.0;
+
+  *tension_max = 0.0;
+  if (i1 <= i0 || j1 <= j0) return;
+  /* prime the pipeline: rows below the first row of the box */
+  for (PetscInt r = j0 - 2; r <= j0; r++) YSegments(p, x, r, c0, c1);
+  if (bend)
+    for (PetscInt r = j0 - 1; r <= j0; r++) YBending(p, r, c0, c1);
+  if (shear)
+    for (PetscInt r = j0 - 1; r <= j0; r++) ComputeShearRow(p, x, r, c0, c1, &p->sh_ring[SLOT(r)]);
+
+  for (PetscInt j = j0; j < j1; j++) {
+    /* gather: each point of row j in the box sums its terms in a fixed order */
+    PetscReal *restrict fr = f + 3 * (j - p->ys) * p->xm - 3 * (p->xs - p->gxs);
+    AdvancePipeline(p, x, j, c0, c1);
+    tmax = GatherTraction(&p->xs_row, &p->ys_ring[SLOT(j - 1)], &p->ys_ring[SLOT(j)], i0, i1, fr, tmax);
+    if (bend)
+      GatherBending(&p->bx_row, &p->by_ring[SLOT(j - 1)], &p->by_ring[SLOT(j)], &p->by_ring[SLOT(j + 1)], i0, i1, fr);
+    if (shear) GatherShear(&p->sh_ring[SLOT(j - 1)], &p->sh_ring[SLOT(j)], &p->sh_ring[SLOT(j + 1)], i0, i1, fr);
+  }
+  *tension_max = tmax;
+}
+
+/* ======================= the terms as plug-ins (MODEL.md 14) ======================= */
+
+/* the pipeline with only the given terms left on (those the patch has on) */
+static void SoloForces(Patch *p, const PetscReal *x, const PetscInt box[4], PetscReal *f, PetscBool traction,
+                       PetscBool bending, PetscBool shear)
+{
+  const PetscBool keep[3] = {p->traction, p->bending, p->shear};
+  PetscReal       tmax;
+
+  p->traction = traction && keep[0] ? PETSC_TRUE : PETSC_FALSE;
+  p->bending  = bending && keep[1] ? PETSC_TRUE : PETSC_FALSE;
+  p->shear    = shear && keep[2] ? PETSC_TRUE : PETSC_FALSE;
+  ComputeInternalForces(p, x, box, f, &tmax);
+  p->traction = keep[0], p->bending = keep[1], p->shear = keep[2];
+}
+
+static void TractionForces(Patch *p, const PetscReal *x, const PetscInt box[4], PetscReal *f)
+{
+  SoloForces(p, x, box, f, PETSC_TRUE, PETSC_FALSE, PETSC_FALSE);
+}
+static void BendingForces(Patch *p, const PetscReal *x, const PetscInt box[4], PetscReal *f)
+{
+  SoloForces(p, x, box, f, PETSC_FALSE, PETSC_TRUE, PETSC_FALSE);
+}
+static void ShearForces(Patch *p, const PetscReal *x, const PetscInt box[4], PetscReal *f)
+{
+  SoloForces(p, x, box, f, PETSC_FALSE, PETSC_FALSE, PETSC_TRUE);
+}
+
+static PetscBool TractionEnabled(const Patch *p) { return p->traction; }
+static PetscBool BendingEnabled(const Patch *p) { return p->bending; }
+static PetscBool ShearEnabled(const Patch *p) { return p->shear; }
+
+const ForceTerm TractionTerm = {"traction", 2, TractionEnabled, TractionInstance, TractionForces, TractionBoundRow};
+const ForceTerm BendingTerm  = {"bending", 2, BendingEnabled, BendingInstance, BendingForces, BendingBoundRow};
+const ForceTerm ShearTerm    = {"shear", 1, ShearEnabled, ShearInstance, ShearForces, ShearBoundRow};
+const ForceTerm *const InternalTerms[INTERNAL_TERMS] = {&TractionTerm, &BendingTerm, &ShearTerm};
+
+PetscReal TermEnergy(const ForceTerm *t, const Patch *p, const PetscReal *x, const PetscInt box[4])
+{
+  PetscReal    E = 0.0;
+  TermInstance inst;
+
+  if (!t->enabled(p)) return 0.0;
+  for (PetscInt j = box[2]; j < box[3]; j++)
+    for (PetscInt i = box[0]; i < box[1]; i++)
+      for (int k = 0; k < t->per_point; k++)
+        if (t->instance(p, x, i, j, k, TERM_ENERGY, &inst)) E += inst.E;
+  return E;
+}
+
+PetscErrorCode TermTangent(const ForceTerm *t, const Patch *p, const PetscReal *x, const PetscInt box[4],
+                           TermBlocksFn add, void *ctx)
+{
+  TermInstance inst;
+
+  PetscFunctionBeginUser;
+  if (!t->enabled(p)) PetscFunctionReturn(0);
+  for (PetscInt j = box[2]; j < box[3]; j++)
+    for (PetscInt i = box[0]; i < box[1]; i++)
+      for (int k = 0; k < t->per_point; k++)
+        if (t->instance(p, x, i, j, k, TERM_HESSIAN, &inst)) PetscCall(add(ctx, inst.n, inst.i, inst.j, inst.K));
+  PetscFunctionReturn(0);
+}
+
+PetscReal InternalEnergy(const Patch *p, const PetscReal *x, const PetscInt box[4])
+{
+  PetscReal E = 0.0;
+  for (int t = 0; t < INTERNAL_TERMS; t++) E += TermEnergy(InternalTerms[t], p, x, box);
+  return E;
+}
+
+PetscErrorCode InternalTangent(const Patch *p, const PetscReal *x, const PetscInt box[4], TermBlocksFn add, void *ctx)
+{
+  PetscFunctionBeginUser;
+  for (int t = 0; t < INTERNAL_TERMS; t++) PetscCall(TermTangent(InternalTerms[t], p, x, box, add, ctx));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode TermBlocksAddToMat(void *ctx, PetscInt n, const PetscInt i[], const PetscInt j[], const PetscReal K[])
+{
+  Mat        A = (Mat)ctx;
+  MatStencil s[TERM_MAX_POINTS];
+
+  PetscFunctionBeginUser;
+  for (PetscInt q = 0; q < n; q++) {
+    s[q].k = 0;
+    s[q].j = j[q];
+    s[q].i = i[q];
+    s[q].c = 0;
+  }
+  PetscCall(MatSetValuesBlockedStencil(A, n, s, n, s, K, ADD_VALUES));
+  PetscFunctionReturn(0);
+}
+
+/* ============== stable step: Gershgorin bound of the tangent stiffness (MODEL.md 7.3) ============== */
+
+PetscReal StableOmega2(const Patch *p, const PetscReal *x, const PetscReal *inv_m, PetscReal window, int pull_dir,
+                       PetscReal *omega2_pull)
 {
   PetscReal omega2 = 0.0, pull2 = 0.0;
 
@@ -371,39 +850,11 @@ PetscReal StableOmega2(const Patch *p, const PetscReal *x, const PetscReal *inv_
       const PetscReal im = inv_m[(j - p->ys) * p->xm + (i - p->xs)];
       PetscReal       rs = 0.0, rp = 0.0;
       if (im <= 0.0) continue;
-      /* traction: a spring adds 2 max(dT/de / L0, T/L) to each end's row */
-      for (int dir = 0; dir < 2; dir++) {
-        const YarnLaw *law = dir == 0 ? p->warp : p->weft;
-        const PetscReal L0 = dir == 0 ? p->ax : p->ay;
-        for (int side = -1; side <= 0; side++) {
-          const PetscInt ia = i + (dir == 0 ? side : 0), ja = j + (dir == 1 ? side : 0);
-          const Chord    c  = ChordAt(p, x, ia, ja, dir);
-          if (!c.alive || !p->traction) continue;
-          const PetscReal e = c.L / L0 - 1.0, T = ChordTension(law, e);
-          rs += 2.0 * PetscMax(ChordTangentMax(law, e - window, e + window) / L0, PetscAbsReal(T) / c.L);
-          if (dir == pull_dir) rp += 2.0 * PetscMax(ChordTangentMax(law, e, e + 0.005) / L0, PetscAbsReal(T) / c.L); /* current stiffness, tension side */
-        }
-      }
-      /* bending: centre c in {p-1, p, p+1}; row sums 12, 24, 12 times kb / Lmin^2, with
-         Lmin no longer than the contact length (a chord can be squeezed that far in a step) */
-      if (p->bending) {
-        for (int dir = 0; dir < 2; dir++) {
-          const PetscReal kb = dir == 0 ? p->kbx : p->kby;
-          const PetscReal Lc = (1.0 + (dir == 0 ? p->warp : p->weft)->e_contact) * (dir == 0 ? p->ax : p->ay);
-          for (int k = -1; k <= 1; k++) {
-            const PetscInt ic = i + (dir == 0 ? k : 0), jc = j + (dir == 1 ? k : 0);
-            const Chord    c1 = ChordAt(p, x, ic - (dir == 0), jc - (dir == 1), dir), c2 = ChordAt(p, x, ic, jc, dir);
-            if (!c1.alive || !c2.alive) continue;
-            const PetscReal Lmin = PetscMin(PetscMin(c1.L, c2.L), Lc);
-            rs += kb * (k == 0 ? 24.0 : 12.0) / (Lmin * Lmin);
-          }
-        }
-      }
-      /* shear: the crossings that involve this point */
-      if (p->shear) {
-        rs += ShearRowBound(p, x, i - 1, j, window) + ShearRowBound(p, x, i + 1, j, window) + ShearRowBound(p, x, i, j - 1, window) + ShearRowBound(p, x, i, j + 1, window);
-        if (!ExistsG(p, i - 1, j) || !ExistsG(p, i + 1, j) || !ExistsG(p, i, j - 1) || !ExistsG(p, i, j + 1)) rs += ShearRowBound(p, x, i, j, window);
-      }
+      /* the terms' bound_row in the order of InternalTerms, called directly (inlined: the loop
+         through the descriptors' pointers costs 10 % here) */
+      if (p->traction) TractionBoundRow(p, x, i, j, window, pull_dir, &rs, &rp);
+      if (p->bending) BendingBoundRow(p, x, i, j, window, pull_dir, &rs, &rp);
+      if (p->shear) ShearBoundRow(p, x, i, j, window, pull_dir, &rs, &rp);
       rs += p->k_contact; /* a rigid body's penalty spring, whether in contact or not */
       omega2 = PetscMax(omega2, rs * im);
       pull2  = PetscMax(pull2, rp * im);

@@ -1,16 +1,30 @@
-/* test_kernels.c - unit tests of the force kernel and the yarn law.
+/* test_kernels.c - unit tests of the force terms and the yarn law (MODEL.md 5.1-5.3, 7.3, 14).
  *
- *  forces:  the kernel's forces equal minus the gradient of the energies of MODEL.md 5.1-5.3,
- *           written here independently and differentiated by central differences, on a
- *           randomly distorted grid with absent points (holes, a cut corner) that exercises
- *           compression, de-crimping, extension, one-sided shear at edges and jamming.
- *  table:   the fast yarn table equals GSL's Steffen spline of the CSV, and extends linearly.
- *  tangent: ChordTangentMax of the piecewise-linear law over strain windows.
+ *  forces:   the kernel's forces equal minus the gradient of the energies of MODEL.md 5.1-5.3,
+ *            written here independently (linear laws, sharp kinks) and differentiated by central
+ *            differences, on a randomly distorted grid with absent points (holes, a cut corner)
+ *            that exercises compression, de-crimping, extension, one-sided shear at edges and
+ *            jamming; the kernel's energy (InternalEnergy) equals the one written here.
+ *  law:      d/de ChordEnergy = ChordTension and ChordTensionSlope = dT/de (central differences)
+ *            over every regime of a linear and a tabulated law with smoothing blends; the energy's
+ *            increments equal Gauss integrals of T.
+ *  terms:    on a distorted patch with crimp, a tabulated warp law, smoothing blends, jamming on
+ *            some crossings, edges, absent points and broken segments, each term alone and all together:
+ *            (a) forces = -grad(energy) by central differences; the instances' gradients = the forces;
+ *            (b) tangent = central differences of the forces; the DMDA matrix (dof 3, box stencil
+ *                width 2) assembled with TermBlocksAddToMat = the same tangent;
+ *            energy and tangent over sub-boxes add up to the whole patch's.
+ *  identity: (c) StableOmega2 and the per-term row bounds, (d) ComputeInternalForces: bit-identical
+ *            to the implementation before the terms were split (kept below as the reference).
+ *  table:    the fast yarn table equals GSL's Steffen spline of the CSV, and extends linearly.
+ *  tangent:  ChordTangentMax of the piecewise-linear law over strain windows.
  */
 #include "kernels.h"
 
 #include <gsl/gsl_interp.h>
 #include <math.h>
+#include <petscdmda.h>
+#include <string.h>
 
 static int failures = 0;
 
@@ -23,102 +37,477 @@ static void Check(const char *what, double err, double tol)
 
 #define NX 9
 #define NY 7
+#define NP (NX * NY)
+
+/* ================= the reference: the pipeline and the bound before the split ================= */
+/* A verbatim copy (names prefixed Ref, lines wrapped) of kernels.c at adb6773, so that a change of
+   the kernels' floating-point expressions or summation order shows as a bit difference. */
+
+#define STRAIN_ROUNDOFF 1e-12
+#define SLOT(r)         ((((r) % KERNEL_RING) + KERNEL_RING) % KERNEL_RING)
+
+/* padded existence of the point at local (li, lj); -1 and gxm/gym are absent */
+static inline unsigned char RefExists(const Patch *p, PetscInt li, PetscInt lj)
+{
+  return p->epad[(lj + 1) * (p->gxm + 2) + li + 1];
+}
+
+static void RefZeroSegmentRow(SegmentRow *s, PetscInt c0, PetscInt c1)
+{
+  PetscReal *a[] = {s->ux, s->uy, s->uz, s->inv_len, s->fx, s->fy, s->fz, s->T};
+  for (int k = 0; k < 8; k++) memset(a[k] + c0, 0, sizeof(PetscReal) * (size_t)(c1 - c0));
+}
+
+/* Segments a[i] -> b[i], c0 <= i < c1: chord and tension (MODEL.md 5.1). */
+static void RefComputeSegmentRow(const YarnLaw *law, PetscReal L0, PetscBool traction, PetscInt c0, PetscInt c1,
+    const PetscReal *restrict xa, const PetscReal *restrict xb, const unsigned char *ea, const unsigned char *eb,
+    const unsigned char *broken, SegmentRow *s)
+{
+  const PetscReal inv_L0 = 1.0 / L0;
+
+  for (PetscInt i = c0; i < c1; i++) {
+    const PetscReal dx = xb[3 * i] - xa[3 * i], dy = xb[3 * i + 1] - xa[3 * i + 1], dz = xb[3 * i + 2] - xa[3 * i + 2];
+    const PetscReal L = PetscSqrtReal(dx * dx + dy * dy + dz * dz), e_raw = L * inv_L0 - 1.0;
+    const PetscReal e = PetscAbsReal(e_raw) < STRAIN_ROUNDOFF ? 0.0 : e_raw;
+    const int       alive = ea[i] && eb[i] && !broken[i];
+    const PetscReal inv   = alive ? 1.0 / L : 0.0;
+    const PetscReal T     = (alive && traction) ? ChordTension(law, e) : 0.0;
+    s->ux[i] = dx * inv;
+    s->uy[i] = dy * inv;
+    s->uz[i] = dz * inv;
+    s->inv_len[i] = inv;
+    s->T[i]       = T;
+    s->fx[i]      = T * dx * inv;
+    s->fy[i]      = T * dy * inv;
+    s->fz[i]      = T * dz * inv;
+  }
+}
+
+/* Bending centres c0 <= i < c1 with incoming chord s1[i] and outgoing chord s2[i] (MODEL.md 5.2). */
+static void RefComputeBendRow(PetscReal kb, PetscInt c0, PetscInt c1, const PetscReal *u1x, const PetscReal *u1y,
+    const PetscReal *u1z, const PetscReal *i1, const PetscReal *u2x, const PetscReal *u2y, const PetscReal *u2z,
+    const PetscReal *i2, BendRow *b, PetscInt off)
+{
+  /* u2 - s u1 = (u1 x u2) x u1 and u1 - s u2 = u2 x (u1 x u2): the cross-product form has no
+     cancellation for nearly straight yarns and is exactly zero for parallel chords */
+  for (PetscInt i = c0; i < c1; i++) {
+    const PetscReal cx = u1y[i] * u2z[i] - u1z[i] * u2y[i], cy = u1z[i] * u2x[i] - u1x[i] * u2z[i],
+        cz = u1x[i] * u2y[i] - u1y[i] * u2x[i];
+    const PetscReal c1 = kb * i1[i], c2 = kb * i2[i];
+    b->g1x[i + off] = c1 * (cy * u1z[i] - cz * u1y[i]);
+    b->g1y[i + off] = c1 * (cz * u1x[i] - cx * u1z[i]);
+    b->g1z[i + off] = c1 * (cx * u1y[i] - cy * u1x[i]);
+    b->g2x[i + off] = c2 * (u2y[i] * cz - u2z[i] * cy);
+    b->g2y[i + off] = c2 * (u2z[i] * cx - u2x[i] * cz);
+    b->g2z[i + off] = c2 * (u2x[i] * cy - u2y[i] * cx);
+  }
+}
+
+/* Shear crossings of row r (global), local columns [c0, c1) (MODEL.md 5.3). */
+static void RefComputeShearRow(const Patch *p, const PetscReal *x, PetscInt r, PetscInt c0, PetscInt c1, ShearRow *sh)
+{
+  const PetscInt   n = p->gxm, lr = r - p->gys;
+  const PetscReal *xr = (lr >= 0 && lr < p->gym) ? x + 3 * lr * n : p->zero_row;
+  const PetscReal *xd = (lr - 1 >= 0 && lr - 1 < p->gym) ? x + 3 * (lr - 1) * n : p->zero_row;
+  const PetscReal *xu = (lr + 1 >= 0 && lr + 1 < p->gym) ? x + 3 * (lr + 1) * n : p->zero_row;
+  const PetscReal  Ks = p->Ks, Kj = p->Kj, sl = p->s_lock;
+
+  if (lr < 0 || lr >= p->gym) { /* no crossing outside the patch */
+    PetscReal *a[] = {sh->hwx, sh->hwy, sh->hwz, sh->hfx, sh->hfy, sh->hfz, sh->sx, sh->sy, sh->sz};
+    for (int k = 0; k < 9; k++) memset(a[k] + c0, 0, sizeof(PetscReal) * (size_t)(c1 - c0));
+    return;
+  }
+  for (PetscInt li = c0; li < c1; li++) {
+    const int      self = RefExists(p, li, lr), hl = RefExists(p, li - 1, lr), hr = RefExists(p, li + 1, lr);
+    const int      hd = RefExists(p, li, lr - 1), hu = RefExists(p, li, lr + 1);
+    const PetscInt il = hl ? li - 1 : li, ir = hr ? li + 1 : li;
+    const PetscReal *xp = xr + 3 * ir, *xm = xr + 3 * il, *yp = hu ? xu + 3 * li : xr + 3 * li, *ym = hd ? xd
+        + 3 * li : xr + 3 * li;
+    const PetscReal twx = xp[0] - xm[0], twy = xp[1] - xm[1], twz = xp[2] - xm[2];
+    const PetscReal tfx = yp[0] - ym[0], tfy = yp[1] - ym[1], tfz = yp[2] - ym[2];
+    const int       active = self && (hl || hr) && (hd || hu);
+    const PetscReal iw = active ? 1.0 / PetscSqrtReal(twx * twx + twy * twy + twz * twz) : 0.0;
+    const PetscReal jf = active ? 1.0 / PetscSqrtReal(tfx * tfx + tfy * tfy + tfz * tfz) : 0.0;
+    const PetscReal uwx = twx * iw, uwy = twy * iw, uwz = twz * iw, ufx = tfx * jf, ufy = tfy * jf, ufz = tfz * jf;
+    const PetscReal s = uwx * ufx + uwy * ufy + uwz * ufz, as = PetscAbsReal(s);
+    const PetscReal jam = as > sl ? (s > 0 ? as - sl : sl - as) : 0.0;
+    const PetscReal Ep = Ks * s + Kj * jam;
+    const PetscReal cw = Ep * iw, cf = Ep * jf;
+    const PetscReal hwx = cw * (ufx - s * uwx), hwy = cw * (ufy - s * uwy), hwz = cw * (ufz - s * uwz);
+    const PetscReal hfx = cf * (uwx - s * ufx), hfy = cf * (uwy - s * ufy), hfz = cf * (uwz - s * ufz);
+    const PetscReal aw = (PetscReal)(hr - hl), af = (PetscReal)(hu - hd);
+    sh->hwx[li] = hwx;
+    sh->hwy[li] = hwy;
+    sh->hwz[li] = hwz;
+    sh->hfx[li] = hfx;
+    sh->hfy[li] = hfy;
+    sh->hfz[li] = hfz;
+    sh->sx[li]  = aw * hwx + af * hfx;
+    sh->sy[li]  = aw * hwy + af * hfy;
+    sh->sz[li]  = aw * hwz + af * hfz;
+  }
+}
+
+/* y-segments between rows r and r+1, local columns [c0, c1) */
+static void RefYSegments(Patch *p, const PetscReal *x, PetscInt r, PetscInt c0, PetscInt c1)
+{
+  const PetscInt n = p->gxm, lr = r - p->gys;
+  SegmentRow    *s = &p->ys_ring[SLOT(r)];
+
+  if (lr < 0 || lr + 1 >= p->gym) {
+    RefZeroSegmentRow(s, c0, c1);
+    return;
+  }
+  RefComputeSegmentRow(p->weft, p->ay, p->traction, c0, c1, x + 3 * lr * n, x + 3 * (lr + 1) * n, p->exists
+      + lr * n, p->exists + (lr + 1) * n, p->broken_y + lr * n, s);
+}
+
+/* y-bending centres of row r: chords y(r-1) and y(r) */
+static void RefYBending(Patch *p, PetscInt r, PetscInt c0, PetscInt c1)
+{
+  const SegmentRow *a = &p->ys_ring[SLOT(r - 1)], *b = &p->ys_ring[SLOT(r)];
+  RefComputeBendRow(p->kby, c0, c1, a->ux, a->uy, a->uz, a->inv_len, b->ux, b->uy, b->uz, b->inv_len,
+      &p->by_ring[SLOT(r)], 0);
+}
+
+static void RefComputeInternalForces(Patch *p, const PetscReal *x, const PetscInt box[4], PetscReal *f,
+    PetscReal *tension_max)
+{
+  const PetscInt  n = p->gxm, i0 = box[0] - p->gxs, i1 = box[1] - p->gxs, j0 = box[2], j1 = box[3];
+  const PetscInt  c0 = PetscMax(i0 - 2, 0), c1 = PetscMin(i1 + 2, n); /* columns the box's forces need */
+  const PetscBool bend = p->bending, shear = p->shear;
+  PetscReal       tmax = 0.0;
+
+  *tension_max = 0.0;
+  if (i1 <= i0 || j1 <= j0) return;
+  /* prime the pipeline: rows below the first row of the box */
+  for (PetscInt r = j0 - 2; r <= j0; r++) RefYSegments(p, x, r, c0, c1);
+  if (bend)
+    for (PetscInt r = j0 - 1; r <= j0; r++) RefYBending(p, r, c0, c1);
+  if (shear)
+    for (PetscInt r = j0 - 1; r <= j0; r++) RefComputeShearRow(p, x, r, c0, c1, &p->sh_ring[SLOT(r)]);
+
+  for (PetscInt j = j0; j < j1; j++) {
+    const PetscInt lj = j - p->gys;
+    SegmentRow    *xs = &p->xs_row;
+
+    /* advance the pipeline by one row */
+    RefYSegments(p, x, j + 1, c0, c1);
+    if (bend) RefYBending(p, j + 1, c0, c1);
+    if (shear) RefComputeShearRow(p, x, j + 1, c0, c1, &p->sh_ring[SLOT(j + 1)]);
+    RefComputeSegmentRow(p->warp, p->ax, p->traction, c0, PetscMin(c1, n - 1), x + 3 * lj * n, x + 3 * lj * n + 3,
+        p->exists + lj * n, p->exists + lj * n + 1, p->broken_x + lj * n, xs);
+    if (bend) RefComputeBendRow(p->kbx, c0, PetscMin(c1, n - 1) - 1, xs->ux, xs->uy, xs->uz, xs->inv_len, xs->ux
+        + 1, xs->uy + 1, xs->uz + 1, xs->inv_len + 1, &p->bx_row, 1);
+
+    /* gather: each point of row j in the box sums its terms in a fixed order */
+    {
+      const SegmentRow *yd = &p->ys_ring[SLOT(j - 1)], *yu = &p->ys_ring[SLOT(j)];
+      PetscReal *restrict fr = f + 3 * (j - p->ys) * p->xm - 3 * (p->xs - p->gxs);
+      for (PetscInt i = i0; i < i1; i++) {
+        fr[3 * i]     = xs->fx[i] - xs->fx[i - 1] + yu->fx[i] - yd->fx[i];
+        fr[3 * i + 1] = xs->fy[i] - xs->fy[i - 1] + yu->fy[i] - yd->fy[i];
+        fr[3 * i + 2] = xs->fz[i] - xs->fz[i - 1] + yu->fz[i] - yd->fz[i];
+        const PetscReal t = PetscMax(PetscMax(PetscAbsReal(xs->T[i]), PetscAbsReal(xs->T[i - 1])),
+            PetscMax(PetscAbsReal(yu->T[i]), PetscAbsReal(yd->T[i])));
+        tmax = PetscMax(tmax, t);
+      }
+      if (bend) {
+        const BendRow *bx = &p->bx_row, *bd = &p->by_ring[SLOT(j - 1)], *bc = &p->by_ring[SLOT(j)],
+            *bu = &p->by_ring[SLOT(j + 1)];
+        for (PetscInt i = i0; i < i1; i++) {
+          fr[3 * i] += bx->g2x[i - 1] + bx->g1x[i] - bx->g2x[i] - bx->g1x[i + 1] + bd->g2x[i] + bc->g1x[i]
+              - bc->g2x[i] - bu->g1x[i];
+          fr[3 * i + 1] += bx->g2y[i - 1] + bx->g1y[i] - bx->g2y[i] - bx->g1y[i + 1] + bd->g2y[i] + bc->g1y[i]
+              - bc->g2y[i] - bu->g1y[i];
+          fr[3 * i + 2] += bx->g2z[i - 1] + bx->g1z[i] - bx->g2z[i] - bx->g1z[i + 1] + bd->g2z[i] + bc->g1z[i]
+              - bc->g2z[i] - bu->g1z[i];
+        }
+      }
+      if (shear) {
+        const ShearRow *sd = &p->sh_ring[SLOT(j - 1)], *sc = &p->sh_ring[SLOT(j)], *su = &p->sh_ring[SLOT(j + 1)];
+        for (PetscInt i = i0; i < i1; i++) {
+          fr[3 * i] += sc->hwx[i + 1] - sc->hwx[i - 1] + su->hfx[i] - sd->hfx[i] + sc->sx[i];
+          fr[3 * i + 1] += sc->hwy[i + 1] - sc->hwy[i - 1] + su->hfy[i] - sd->hfy[i] + sc->sy[i];
+          fr[3 * i + 2] += sc->hwz[i + 1] - sc->hwz[i - 1] + su->hfz[i] - sd->hfz[i] + sc->sz[i];
+        }
+      }
+    }
+  }
+  *tension_max = tmax;
+}
+/* ---------------- stable step: Gershgorin bound of the tangent stiffness ---------------- */
+
+typedef struct {
+  PetscReal L;   /* chord length */
+  int       alive;
+} RefChord;
+
+static inline const PetscReal *RefPos(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j)
+{
+  return x + 3 * ((j - p->gys) * p->gxm + (i - p->gxs));
+}
+
+/* existence of the point at global (i, j); points beyond the ghosted patch (two or more
+   crossings outside the grid, where the padding of epad ends) do not exist */
+static inline int RefExistsG(const Patch *p, PetscInt i, PetscInt j)
+{
+  const PetscInt li = i - p->gxs, lj = j - p->gys;
+  if (li < -1 || li > p->gxm || lj < -1 || lj > p->gym) return 0;
+  return RefExists(p, li, lj);
+}
+
+/* chord from (i,j) along x (dir 0) or y (dir 1) */
+static RefChord RefChordAt(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j, int dir)
+{
+  RefChord          c  = {0.0, 0};
+  const PetscInt i2 = i + (dir == 0), j2 = j + (dir == 1);
+  if (!RefExistsG(p, i, j) || !RefExistsG(p, i2, j2)) return c;
+  const unsigned char *broken = dir == 0 ? p->broken_x : p->broken_y;
+  if (broken[(j - p->gys) * p->gxm + (i - p->gxs)]) return c;
+  const PetscReal *a = RefPos(p, x, i, j), *b = RefPos(p, x, i2, j2);
+  c.L     = PetscSqrtReal(PetscSqr(b[0] - a[0]) + PetscSqr(b[1] - a[1]) + PetscSqr(b[2] - a[2]));
+  c.alive = 1;
+  return c;
+}
+
+/* The cosine s of the angle between crossing (i,j)'s warp tangent x(i+1,j) - x(i-1,j) and
+   weft tangent x(i,j+1) - x(i,j-1), one-sided at an edge (MODEL.md 5.3), and the shorter
+   tangent's length. 0 if the crossing has no shear (absent, or no warp or no weft neighbour). */
+static int RefCrossingShear(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j, PetscReal *s, PetscReal *tmin)
+{
+  if (!RefExistsG(p, i, j)) return 0;
+  const int hl = RefExistsG(p, i - 1, j), hr = RefExistsG(p, i + 1, j), hd = RefExistsG(p, i, j - 1),
+      hu = RefExistsG(p, i, j + 1);
+  if (!(hl || hr) || !(hd || hu)) return 0;
+  const PetscReal *xp = RefPos(p, x, hr ? i + 1 : i, j), *xm = RefPos(p, x, hl ? i - 1 : i, j);
+  const PetscReal *yp = RefPos(p, x, i, hu ? j + 1 : j), *ym = RefPos(p, x, i, hd ? j - 1 : j);
+  PetscReal        tw[3], tf[3];
+  for (int d = 0; d < 3; d++) {
+    tw[d] = xp[d] - xm[d];
+    tf[d] = yp[d] - ym[d];
+  }
+  const PetscReal nw = PetscSqrtReal(tw[0] * tw[0] + tw[1] * tw[1] + tw[2] * tw[2]),
+      nf = PetscSqrtReal(tf[0] * tf[0] + tf[1] * tf[1] + tf[2] * tf[2]);
+  if (!(nw > 0 && nf > 0)) return 0;
+  *s    = PetscMax(-1.0, PetscMin(1.0, (tw[0] * tf[0] + tw[1] * tf[1] + tw[2] * tf[2]) / (nw * nf)));
+  *tmin = PetscMin(nw, nf);
+  return 1;
+}
+
+/* Gershgorin contribution of crossing (i,j)'s shear energy to one of its points:
+   |E''| |grad s|_a sum_b |grad s|_b + |E'| |hess s| row <= (Ks+Kj)(4 + 12|s|)/tmin^2 */
+/* the jamming stiffness counts once the crossing is within the window of the lock (in
+   s = sin(shear angle)); the default window (1) always counts it */
+static PetscReal RefShearRowBound(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j, PetscReal window)
+{
+  PetscReal s, tmin;
+  if (!RefCrossingShear(p, x, i, j, &s, &tmin)) return 0.0;
+  return (p->Ks + (PetscAbsReal(s) + window >= p->s_lock ? p->Kj : 0.0)) * (4.0
+      + 12.0 * PetscAbsReal(s)) / (tmin * tmin);
+}
+
+static PetscReal RefStableOmega2(const Patch *p, const PetscReal *x, const PetscReal *inv_m, PetscReal window,
+    int pull_dir, PetscReal *omega2_pull)
+{
+  PetscReal omega2 = 0.0, pull2 = 0.0;
+
+  for (PetscInt j = p->ys; j < p->ys + p->ym; j++) {
+    for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
+      const PetscReal im = inv_m[(j - p->ys) * p->xm + (i - p->xs)];
+      PetscReal       rs = 0.0, rp = 0.0;
+      if (im <= 0.0) continue;
+      /* traction: a spring adds 2 max(dT/de / L0, T/L) to each end's row */
+      for (int dir = 0; dir < 2; dir++) {
+        const YarnLaw *law = dir == 0 ? p->warp : p->weft;
+        const PetscReal L0 = dir == 0 ? p->ax : p->ay;
+        for (int side = -1; side <= 0; side++) {
+          const PetscInt ia = i + (dir == 0 ? side : 0), ja = j + (dir == 1 ? side : 0);
+          const RefChord    c  = RefChordAt(p, x, ia, ja, dir);
+          if (!c.alive || !p->traction) continue;
+          const PetscReal e = c.L / L0 - 1.0, T = ChordTension(law, e);
+          rs += 2.0 * PetscMax(ChordTangentMax(law, e - window, e + window) / L0, PetscAbsReal(T) / c.L);
+          if (dir == pull_dir) rp += 2.0 * PetscMax(ChordTangentMax(law, e, e + 0.005) / L0,
+              PetscAbsReal(T) / c.L); /* current stiffness, tension side */
+        }
+      }
+      /* bending: centre c in {p-1, p, p+1}; row sums 12, 24, 12 times kb / Lmin^2, with
+         Lmin no longer than the contact length (a chord can be squeezed that far in a step) */
+      if (p->bending) {
+        for (int dir = 0; dir < 2; dir++) {
+          const PetscReal kb = dir == 0 ? p->kbx : p->kby;
+          const PetscReal Lc = (1.0 + (dir == 0 ? p->warp : p->weft)->e_contact) * (dir == 0 ? p->ax : p->ay);
+          for (int k = -1; k <= 1; k++) {
+            const PetscInt ic = i + (dir == 0 ? k : 0), jc = j + (dir == 1 ? k : 0);
+            const RefChord    c1 = RefChordAt(p, x, ic - (dir == 0), jc - (dir == 1), dir), c2 = RefChordAt(p, x,
+                ic, jc, dir);
+            if (!c1.alive || !c2.alive) continue;
+            const PetscReal Lmin = PetscMin(PetscMin(c1.L, c2.L), Lc);
+            rs += kb * (k == 0 ? 24.0 : 12.0) / (Lmin * Lmin);
+          }
+        }
+      }
+      /* shear: the crossings that involve this point */
+      if (p->shear) {
+        rs += RefShearRowBound(p, x, i - 1, j, window) + RefShearRowBound(p, x, i + 1, j, window)
+            + RefShearRowBound(p, x, i, j - 1, window) + RefShearRowBound(p, x, i, j + 1, window);
+        if (!RefExistsG(p, i - 1, j) || !RefExistsG(p, i + 1, j) || !RefExistsG(p, i, j - 1) || !RefExistsG(p, i,
+            j + 1)) rs += RefShearRowBound(p, x, i, j, window);
+      }
+      rs += p->k_contact; /* a rigid body's penalty spring, whether in contact or not */
+      omega2 = PetscMax(omega2, rs * im);
+      pull2  = PetscMax(pull2, rp * im);
+    }
+  }
+  *omega2_pull = pull2;
+  return omega2;
+}
+
+/* ============ forces against an energy written here (linear laws, sharp kinks) ============ */
 
 static int Ex(const Patch *p, int i, int j) { return i >= 0 && i < NX && j >= 0 && j < NY && p->exists[j * NX + i]; }
 
 /* traction energy per unit rest length: W(e) = integral of T(e) de (linear laws) */
 static double W(const YarnLaw *y, double e)
 {
-  const double c = y->crimp;
-  if (e <= y->e_contact) return 0.5 * y->k_comp * y->EA * y->e_contact * y->e_contact + y->k_comp * y->EA * y->e_contact * (e - y->e_contact) + 0.5 * y->EA * (e - y->e_contact) * (e - y->e_contact);
-  if (e <= 0) return 0.5 * y->k_comp * y->EA * e * e;
+  const double c = y->crimp, kEA = y->k_comp * y->EA, ec = y->e_contact;
+  if (e <= ec) return 0.5 * kEA * ec * ec + kEA * ec * (e - ec) + 0.5 * y->EA * (e - ec) * (e - ec);
+  if (e <= 0) return 0.5 * kEA * e * e;
   if (e <= c) return 0.5 * y->Ec * e * e;
   return 0.5 * y->Ec * c * c + y->Ec * c * (e - c) + y->EA * (e - c) * (e - c) / (2 * (1 + c));
 }
 
-static double Dist(const double *a, const double *b) { return sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) + (b[2] - a[2]) * (b[2] - a[2])); }
+static double Dist(const double *a, const double *b)
+{
+  return sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) + (b[2] - a[2]) * (b[2] - a[2]));
+}
+
+#define X(i, j) (x + 3 * ((j) * NX + (i)))
+
+/* bending energy of centre (i,j) along x (dir 0) or y (dir 1) */
+static double BendEnergy(const Patch *p, const double *x, int i, int j, int dir)
+{
+  const int     di = dir == 0, dj = dir == 1;
+  const double *a = X(i - di, j - dj), *b = X(i, j), *c = X(i + di, j + dj);
+  double        e1[3], e2[3], s = 0;
+  if (!Ex(p, i - di, j - dj) || !Ex(p, i + di, j + dj)) return 0;
+  for (int d = 0; d < 3; d++) e1[d] = b[d] - a[d], e2[d] = c[d] - b[d];
+  for (int d = 0; d < 3; d++) s += e1[d] * e2[d];
+  s /= Dist(a, b) * Dist(b, c);
+  return (dir == 0 ? p->kbx : p->kby) * (1 - s);
+}
+
+/* shear energy at crossing (i,j), one-sided tangents at edges */
+static double ShearEnergy(const Patch *p, const double *x, int i, int j)
+{
+  int hl = Ex(p, i - 1, j), hr = Ex(p, i + 1, j), hd = Ex(p, i, j - 1), hu = Ex(p, i, j + 1);
+  if (!(hl || hr) || !(hd || hu)) return 0;
+  const double *xp = X(hr ? i + 1 : i, j), *xm = X(hl ? i - 1 : i, j), *yp = X(i, hu ? j + 1 : j);
+  const double *ym = X(i, hd ? j - 1 : j);
+  double        tw[3], tf[3], s = 0;
+  for (int d = 0; d < 3; d++) tw[d] = xp[d] - xm[d], tf[d] = yp[d] - ym[d];
+  for (int d = 0; d < 3; d++) s += tw[d] * tf[d];
+  s /= Dist(xm, xp) * Dist(ym, yp);
+  double jam = fabs(s) > p->s_lock ? fabs(s) - p->s_lock : 0;
+  return 0.5 * p->Ks * s * s + 0.5 * p->Kj * jam * jam;
+}
 
 /* total energy of MODEL.md 5.1-5.3 */
 static double Energy(const Patch *p, const double *x)
 {
   double E = 0;
-#define X(i, j) (x + 3 * ((j) * NX + (i)))
   for (int j = 0; j < NY; j++)
     for (int i = 0; i < NX; i++) {
       if (!Ex(p, i, j)) continue;
-      /* traction */
       if (Ex(p, i + 1, j)) E += p->ax * W(p->warp, Dist(X(i, j), X(i + 1, j)) / p->ax - 1);
       if (Ex(p, i, j + 1)) E += p->ay * W(p->weft, Dist(X(i, j), X(i, j + 1)) / p->ay - 1);
-      /* bending, centre (i,j) along x and along y */
-      for (int dir = 0; dir < 2; dir++) {
-        int di = dir == 0, dj = dir == 1;
-        if (!Ex(p, i - di, j - dj) || !Ex(p, i + di, j + dj)) continue;
-        const double *a = X(i - di, j - dj), *b = X(i, j), *c = X(i + di, j + dj);
-        double        e1[3], e2[3], s = 0;
-        for (int d = 0; d < 3; d++) e1[d] = b[d] - a[d], e2[d] = c[d] - b[d];
-        for (int d = 0; d < 3; d++) s += e1[d] * e2[d];
-        s /= Dist(a, b) * Dist(b, c);
-        E += (dir == 0 ? p->kbx : p->kby) * (1 - s);
-      }
-      /* shear at crossing (i,j), one-sided tangents at edges */
-      {
-        int hl = Ex(p, i - 1, j), hr = Ex(p, i + 1, j), hd = Ex(p, i, j - 1), hu = Ex(p, i, j + 1);
-        if ((hl || hr) && (hd || hu)) {
-          const double *xp = X(hr ? i + 1 : i, j), *xm = X(hl ? i - 1 : i, j), *yp = X(i, hu ? j + 1 : j), *ym = X(i, hd ? j - 1 : j);
-          double        tw[3], tf[3], s = 0;
-          for (int d = 0; d < 3; d++) tw[d] = xp[d] - xm[d], tf[d] = yp[d] - ym[d];
-          for (int d = 0; d < 3; d++) s += tw[d] * tf[d];
-          s /= Dist(xm, xp) * Dist(ym, yp);
-          double jam = fabs(s) > p->s_lock ? fabs(s) - p->s_lock : 0;
-          E += 0.5 * p->Ks * s * s + 0.5 * p->Kj * jam * jam;
-        }
-      }
+      E += BendEnergy(p, x, i, j, 0) + BendEnergy(p, x, i, j, 1) + ShearEnergy(p, x, i, j);
     }
-#undef X
   return E;
+}
+
+/* what a distorted state exercises: x-segments compressed, in contact, in yarn extension;
+   interior crossings jammed */
+static void CountRegimes(const Patch *p, const double *x, int *compressed, int *contact, int *extended, int *jammed)
+{
+  *compressed = *contact = *extended = *jammed = 0;
+  for (int j = 0; j < NY; j++)
+    for (int i = 0; i + 1 < NX; i++)
+      if (Ex(p, i, j) && Ex(p, i + 1, j)) {
+        double e = Dist(X(i, j), X(i + 1, j)) / p->ax - 1;
+        *compressed += e < 0, *extended += e > p->warp->crimp, *contact += e < p->warp->e_contact;
+      }
+  for (int j = 1; j + 1 < NY; j++)
+    for (int i = 1; i + 1 < NX; i++) {
+      const double *a = X(i - 1, j), *b = X(i + 1, j), *c = X(i, j - 1), *d = X(i, j + 1);
+      double        s = 0;
+      if (!Ex(p, i, j) || !Ex(p, i - 1, j) || !Ex(p, i + 1, j) || !Ex(p, i, j - 1) || !Ex(p, i, j + 1)) continue;
+      for (int q = 0; q < 3; q++) s += (b[q] - a[q]) * (d[q] - c[q]);
+      *jammed += fabs(s / (Dist(a, b) * Dist(c, d))) > p->s_lock;
+    }
+}
+#undef X
+
+/* randomly distorted grid (patch-local arrays, global indices): ~17 deg shear, strains of
+   -0.2..0.3 along x */
+static void DistortedState(const Patch *p, double *x, unsigned seed)
+{
+  srand(seed);
+  for (int lj = 0; lj < p->gym; lj++)
+    for (int li = 0; li < p->gxm; li++) {
+      const int i = p->gxs + li, j = p->gys + lj;
+      double   *q = x + 3 * (lj * p->gxm + li);
+      q[0]        = i * p->ax * 1.04 + 0.3 * j * p->ay + 0.12 * p->ax * (2.0 * rand() / RAND_MAX - 1);
+      q[1]        = j * p->ay + 0.12 * p->ay * (2.0 * rand() / RAND_MAX - 1);
+      q[2]        = 0.2 * p->ax * (2.0 * rand() / RAND_MAX - 1);
+    }
+}
+
+static PetscErrorCode PatchFree(Patch *p)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PatchDestroy(p));
+  PetscCall(PetscFree(p->exists));
+  PetscCall(PetscFree(p->broken_x));
+  PetscCall(PetscFree(p->broken_y));
+  PetscFunctionReturn(0);
 }
 
 static PetscErrorCode TestForces(void)
 {
   YarnLaw warp = {0}, weft = {0};
   Patch   p    = {0};
-  double  x[3 * NX * NY], f[3 * NX * NY], tmax, fbig = 0, errmax = 0;
-  int     jammed = 0, compressed = 0, extended = 0, contact = 0;
+  double  x[3 * NP], f[3 * NP], tmax, fbig = 0, errmax = 0;
+  int     jammed, compressed, extended, contact;
 
   PetscFunctionBeginUser;
-  warp.name = "warp", warp.EA = 52, warp.crimp = 0.08, warp.Ec = 2.6, warp.k_comp = 1e-3, warp.e_contact = -0.08, warp.break_e = INFINITY;
-  weft.name = "weft", weft.EA = 40, weft.crimp = 0.05, weft.Ec = 3.0, weft.k_comp = 1e-3, weft.e_contact = -0.2, weft.break_e = INFINITY;
+  warp.name = "warp", warp.EA = 52, warp.crimp = 0.08, warp.Ec = 2.6, warp.k_comp = 1e-3, warp.e_contact = -0.08;
+  weft.name = "weft", weft.EA = 40, weft.crimp = 0.05, weft.Ec = 3.0, weft.k_comp = 1e-3, weft.e_contact = -0.2;
+  warp.break_e = weft.break_e = INFINITY;
   p.nx = NX, p.ny = NY, p.xm = p.gxm = NX, p.ym = p.gym = NY;
   p.ax = 4.2e-4, p.ay = 3.9e-4, p.warp = &warp, p.weft = &weft;
   p.traction = p.bending = p.shear = PETSC_TRUE;
   p.kbx = 1e-6 / p.ax, p.kby = 2e-6 / p.ay;
   p.Ks = 5000 * p.ax * p.ay, p.Kj = 30 * p.Ks, p.s_lock = sin(10 * M_PI / 180);
-  PetscCall(PetscCalloc1(NX * NY, &p.exists));
-  PetscCall(PetscCalloc1(NX * NY, &p.broken_x));
-  PetscCall(PetscCalloc1(NX * NY, &p.broken_y));
-  for (int k = 0; k < NX * NY; k++) p.exists[k] = 1;
+  PetscCall(PetscCalloc1(NP, &p.exists));
+  PetscCall(PetscCalloc1(NP, &p.broken_x));
+  PetscCall(PetscCalloc1(NP, &p.broken_y));
+  for (int k = 0; k < NP; k++) p.exists[k] = 1;
   p.exists[3 * NX + 4] = 0; /* a hole */
   p.exists[0]          = 0; /* a cut corner */
   p.exists[NX - 1]     = 0;
   PetscCall(PatchSetUp(&p));
-
-  srand(12345);
-  for (int j = 0; j < NY; j++)
-    for (int i = 0; i < NX; i++) {
-      double *q = x + 3 * (j * NX + i);
-      q[0]      = i * p.ax * 1.04 + 0.3 * j * p.ay + 0.12 * p.ax * (2.0 * rand() / RAND_MAX - 1); /* ~17 deg shear: jams */
-      q[1]      = j * p.ay + 0.12 * p.ay * (2.0 * rand() / RAND_MAX - 1);
-      q[2]      = 0.2 * p.ax * (2.0 * rand() / RAND_MAX - 1);
-    }
+  DistortedState(&p, x, 12345);
   {
     const PetscInt box[4] = {0, NX, 0, NY};
     ComputeInternalForces(&p, x, box, f, &tmax);
+    Check("kernel energy (InternalEnergy) vs the energy written here, relative", fabs(InternalEnergy(&p, x, box) -
+          Energy(&p, x)) / Energy(&p, x), 1e-13);
   }
-  for (int k = 0; k < 3 * NX * NY; k++) {
-    const int    point = k / 3;
-    const double h     = 1e-6 * p.ax, keep = x[k];
+  for (int k = 0; k < 3 * NP; k++) {
+    const double h = 1e-6 * p.ax, keep = x[k];
     double       Ep, Em, fd;
-    if (!p.exists[point]) continue;
+    if (!p.exists[k / 3]) continue;
     x[k] = keep + h;
     Ep   = Energy(&p, x);
     x[k] = keep - h;
@@ -128,27 +517,13 @@ static PetscErrorCode TestForces(void)
     fbig   = fbig > fabs(fd) ? fbig : fabs(fd);
     errmax = errmax > fabs(fd - f[k]) ? errmax : fabs(fd - f[k]);
   }
-  /* what the distorted state exercises */
-  for (int j = 0; j < NY; j++)
-    for (int i = 0; i + 1 < NX; i++)
-      if (Ex(&p, i, j) && Ex(&p, i + 1, j)) {
-        double e = Dist(x + 3 * (j * NX + i), x + 3 * (j * NX + i + 1)) / p.ax - 1;
-        compressed += e < 0, extended += e > warp.crimp, contact += e < warp.e_contact;
-      }
-  for (int j = 1; j + 1 < NY; j++)
-    for (int i = 1; i + 1 < NX; i++) {
-      const double *a = x + 3 * (j * NX + i - 1), *b = x + 3 * (j * NX + i + 1), *c = x + 3 * ((j - 1) * NX + i), *d = x + 3 * ((j + 1) * NX + i);
-      double        s = 0;
-      if (!Ex(&p, i, j) || !Ex(&p, i - 1, j) || !Ex(&p, i + 1, j) || !Ex(&p, i, j - 1) || !Ex(&p, i, j + 1)) continue;
-      for (int q = 0; q < 3; q++) s += (b[q] - a[q]) * (d[q] - c[q]);
-      jammed += fabs(s / (Dist(a, b) * Dist(c, d))) > p.s_lock;
-    }
+  CountRegimes(&p, x, &compressed, &contact, &extended, &jammed);
   /* a sub-box computes exactly the forces the full sweep computes on its points */
   {
     const PetscInt boxes[4][4] = {{3, NX, 0, NY}, {0, 4, 2, 6}, {2, 7, 1, 5}, {5, 6, 6, 7}};
-    double         g[3 * NX * NY], tm, worst = 0;
+    double         g[3 * NP], tm, worst = 0;
     for (int b = 0; b < 4; b++) {
-      for (int k = 0; k < 3 * NX * NY; k++) g[k] = -12345.0;
+      for (int k = 0; k < 3 * NP; k++) g[k] = -12345.0;
       ComputeInternalForces(&p, x, boxes[b], g, &tm);
       for (int j = boxes[b][2]; j < boxes[b][3]; j++)
         for (int i = boxes[b][0]; i < boxes[b][1]; i++)
@@ -156,15 +531,503 @@ static PetscErrorCode TestForces(void)
     }
     Check("forces on sub-boxes equal the full sweep's (bit-identical: max difference)", worst, 0.0);
   }
-  printf("segments along x: %d compressed (%d in contact), %d in yarn extension; %d jammed crossings; largest force %.3e N\n", compressed, contact, extended, jammed, fbig);
+  printf("segments along x: %d compressed (%d in contact), %d in yarn extension; %d jammed crossings; "
+         "largest force %.3e N\n", compressed, contact, extended, jammed, fbig);
   Check("kernel force vs -grad(energy) by central differences, max error / max force", errmax / fbig, 1e-6);
-  Check("distorted state has compressed, in-contact, extended segments and jammed crossings (0 = yes)", (compressed > 0 && contact > 0 && extended > 0 && jammed > 0) ? 0 : 1, 0);
-  PetscCall(PatchDestroy(&p));
-  PetscCall(PetscFree(p.exists));
-  PetscCall(PetscFree(p.broken_x));
-  PetscCall(PetscFree(p.broken_y));
+  Check("distorted state has compressed, in-contact, extended segments and jammed crossings (0 = yes)",
+        (compressed > 0 && contact > 0 && extended > 0 && jammed > 0) ? 0 : 1, 0);
+  PetscCall(PatchFree(&p));
   PetscFunctionReturn(0);
 }
+
+/* ============================ the law's slope and integral ============================ */
+
+/* the test's two laws: warp tabulated (csv, or linear if none), weft linear; both with crimp
+   and smoothing blends at their kinks */
+static PetscErrorCode LawsSetUp(YarnLaw *warp, YarnLaw *weft, const char *csv)
+{
+  PetscFunctionBeginUser;
+  warp->name = "warp", warp->tex = 20, warp->EA = 52, warp->crimp = 0.08, warp->Ec = 2.6, warp->k_comp = 1e-3;
+  warp->e_contact = -0.08, warp->smoothing = 0.004;
+  weft->name = "weft", weft->tex = 20, weft->EA = 40, weft->crimp = 0.05, weft->Ec = 3.0, weft->k_comp = 1e-3;
+  weft->e_contact = -0.2, weft->smoothing = 0.003;
+  PetscCall(PetscStrncpy(warp->csv, csv, sizeof warp->csv));
+  PetscCall(YarnLawSetUp(warp, PETSC_COMM_SELF));
+  PetscCall(YarnLawSetUp(weft, PETSC_COMM_SELF));
+  PetscFunctionReturn(0);
+}
+
+/* the law's kinks and blend ends (where dT/de jumps) and the end of its table; returns how many */
+static int LawBreaks(const YarnLaw *y, double ends[10])
+{
+  int n = 0;
+  ends[n++] = y->e_contact, ends[n++] = 0.0, ends[n++] = y->crimp;
+  for (PetscInt k = 0; k < y->nblend; k++) ends[n++] = y->blend[k].lo, ends[n++] = y->blend[k].hi;
+  if (y->ntab) ends[n++] = y->crimp + y->tab_end * (1 + y->crimp);
+  return n;
+}
+
+/* a strain at least 2h away from every kink and blend end of the law */
+static int AwayFromKinks(const YarnLaw *y, double e, double h)
+{
+  double ends[10];
+  int    n = LawBreaks(y, ends);
+  for (int k = 0; k < n; k++)
+    if (fabs(e - ends[k]) < 2 * h) return 0;
+  return 1;
+}
+
+/* integral of ChordTension over [a, b]: 5-point Gauss-Legendre on each piece between the law's breaks */
+static double GaussIntegral(const YarnLaw *y, double a, double b)
+{
+  const double xg[5] = {0, -0.5384693101056831, 0.5384693101056831, -0.9061798459386640, 0.9061798459386640};
+  const double wg[5] = {0.5688888888888889, 0.4786286704993665, 0.4786286704993665, 0.2369268850561891,
+                        0.2369268850561891};
+  double       ends[10], cuts[12], sum = 0;
+  int          n = LawBreaks(y, ends), m = 0;
+  cuts[m++] = a;
+  for (int k = 0; k < n; k++)
+    if (ends[k] > a && ends[k] < b) cuts[m++] = ends[k];
+  cuts[m++] = b;
+  for (int k = 1; k < m; k++) /* sort */
+    for (int q = k; q > 0 && cuts[q] < cuts[q - 1]; q--) {
+      double t = cuts[q];
+      cuts[q] = cuts[q - 1], cuts[q - 1] = t;
+    }
+  for (int k = 0; k + 1 < m; k++) {
+    const double mid = 0.5 * (cuts[k] + cuts[k + 1]), half = 0.5 * (cuts[k + 1] - cuts[k]);
+    for (int g = 0; g < 5; g++) sum += half * wg[g] * ChordTension(y, mid + half * xg[g]);
+  }
+  return sum;
+}
+
+/* over e in [-0.3, 0.3]: d/de ChordEnergy = ChordTension and ChordTensionSlope = dT/de by central
+   differences (h 1e-7, away from the kinks), ChordEnergy(0) = 0 and its increments = Gauss
+   integrals of T (a jump of the energy anywhere would show), and the energy with the table of
+   cell integrals = the energy summing the cells */
+static void CheckLaw(const char *name, const YarnLaw *y, const PetscReal *integral)
+{
+  const double h = 1e-7, de = 0.6 / 4000;
+  double       tbig = 0, kbig = 0, eW = 0, eK = 0, eI = 0, eG = 0, prev = -0.3;
+  char         what[256];
+  for (int q = 0; q <= 4000; q++) {
+    const double e = -0.3 + de * q + 1.234567e-5; /* contact, compression, blends, crimp, table, beyond */
+    const double T = ChordTension(y, e), dT = ChordTensionSlope(y, e);
+    tbig = fmax(tbig, fabs(T)), kbig = fmax(kbig, fabs(dT));
+    eG   = fmax(eG, fabs(ChordEnergy(y, integral, e) - ChordEnergy(y, integral, prev) - GaussIntegral(y, prev, e)));
+    eI   = fmax(eI, fabs(ChordEnergy(y, integral, e) - ChordEnergy(y, NULL, e)));
+    prev = e;
+    if (!AwayFromKinks(y, e, h)) continue;
+    const double dW = (ChordEnergy(y, integral, e + h) - ChordEnergy(y, integral, e - h)) / (2 * h);
+    const double fd = (ChordTension(y, e + h) - ChordTension(y, e - h)) / (2 * h);
+    eW = fmax(eW, fabs(dW - T)), eK = fmax(eK, fabs(fd - dT));
+  }
+  snprintf(what, sizeof what, "%s: d/de ChordEnergy vs ChordTension (h 1e-7), max error / max |T|", name);
+  Check(what, eW / tbig, 1e-7);
+  snprintf(what, sizeof what, "%s: ChordEnergy increments vs Gauss integrals of T, max error / (max |T| de)", name);
+  Check(what, eG / (tbig * de), 1e-8);
+  snprintf(what, sizeof what, "%s: ChordEnergy(0)", name);
+  Check(what, fabs(ChordEnergy(y, integral, 0.0)), 0.0);
+  snprintf(what, sizeof what, "%s: ChordTensionSlope vs dT/de (h 1e-7), max error / max slope", name);
+  Check(what, eK / kbig, 1e-6);
+  snprintf(what, sizeof what, "%s: ChordEnergy with the cell table vs summing the cells (bits)", name);
+  Check(what, eI, 0.0);
+}
+
+static PetscErrorCode TestLaw(const char *csv)
+{
+  YarnLaw       warp = {0}, weft = {0}, sharp = {0};
+  unsigned char one = 1;
+  Patch   p    = {0};
+
+  PetscFunctionBeginUser;
+  PetscCall(LawsSetUp(&warp, &weft, csv));
+  p.warp = &warp, p.weft = &weft, p.exists = &one, p.gxm = p.gym = 1;
+  PetscCall(PatchSetUp(&p)); /* the warp law's integral table */
+  printf("laws: warp %s, %" PetscInt_FMT " blends, EA %.4g N; weft linear, %" PetscInt_FMT " blends\n",
+         warp.ntab ? "tabulated" : "linear", warp.nblend, (double)warp.EA, weft.nblend);
+  CheckLaw("warp law", &warp, p.yarn_integral[0]);
+  CheckLaw("weft law", &weft, NULL);
+  sharp = weft, sharp.nblend = 0; /* sharp kinks */
+  CheckLaw("linear law with sharp kinks", &sharp, NULL);
+  p.exists = NULL;
+  PetscCall(PatchDestroy(&p));
+  PetscCall(YarnLawDestroy(&warp));
+  PetscFunctionReturn(0);
+}
+
+/* ================== the terms on a distorted patch: energy, forces, tangent ================== */
+
+/* The test's patch: with offset 0 the whole NX x NY grid on one rank; with offset 1 a rank's
+   patch inside a 20 x 15 grid: ghosted NX x NY from (5,4), owned [7,12) x [6,9). Crimp, a
+   tabulated warp law, smoothing blends, a hole, cut corners and two broken segments. */
+static PetscErrorCode RichPatch(Patch *p, const YarnLaw *warp, const YarnLaw *weft, int offset)
+{
+  PetscFunctionBeginUser;
+  memset(p, 0, sizeof *p);
+  p->nx = offset ? 20 : NX, p->ny = offset ? 15 : NY, p->gxm = NX, p->gym = NY;
+  p->gxs = offset ? 5 : 0, p->gys = offset ? 4 : 0, p->xs = offset ? 7 : 0, p->ys = offset ? 6 : 0;
+  p->xm = offset ? 5 : NX, p->ym = offset ? 3 : NY;
+  p->ax = 4.2e-4, p->ay = 3.9e-4, p->warp = warp, p->weft = weft;
+  p->traction = p->bending = p->shear = PETSC_TRUE;
+  p->kbx = 1e-6 / p->ax, p->kby = 2e-6 / p->ay;
+  p->Ks = 5000 * p->ax * p->ay, p->Kj = 30 * p->Ks, p->s_lock = sin(17 * M_PI / 180); /* about half jam */
+  PetscCall(PetscCalloc1(NP, &p->exists));
+  PetscCall(PetscCalloc1(NP, &p->broken_x));
+  PetscCall(PetscCalloc1(NP, &p->broken_y));
+  for (int k = 0; k < NP; k++) p->exists[k] = 1;
+  p->exists[3 * NX + 4] = 0; /* a hole */
+  p->exists[0] = p->exists[NX - 1] = p->exists[NP - 1] = 0; /* cut corners */
+  p->broken_x[4 * NX + 2] = 1; /* segment (2,4)-(3,4) */
+  p->broken_y[2 * NX + 6] = 1; /* segment (6,2)-(6,3) */
+  PetscCall(PatchSetUp(p));
+  PetscFunctionReturn(0);
+}
+
+static void OwnedBox(const Patch *p, PetscInt box[4])
+{
+  box[0] = p->xs, box[1] = p->xs + p->xm, box[2] = p->ys, box[3] = p->ys + p->ym;
+}
+
+/* forces of term t alone (NULL: all terms, the fused pipeline) on the owned points */
+static void Forces(Patch *p, const ForceTerm *t, const double *x, double *f)
+{
+  PetscInt  box[4];
+  PetscReal tm;
+  OwnedBox(p, box);
+  if (t) t->forces(p, x, box, f);
+  else ComputeInternalForces(p, x, box, f, &tm);
+}
+
+static double EnergyOf(const Patch *p, const ForceTerm *t, const double *x, const PetscInt box[4])
+{
+  return t ? TermEnergy(t, p, x, box) : InternalEnergy(p, x, box);
+}
+
+static const char *NameOf(const ForceTerm *t) { return t ? t->name : "all terms"; }
+
+/* (a) forces = -grad(energy), central differences with step 1e-6 of the chord */
+static void CheckGradient(Patch *p, const ForceTerm *t, double *x)
+{
+  double   f[3 * NP], fbig = 0, err = 0;
+  PetscInt box[4];
+  char     what[256];
+  OwnedBox(p, box);
+  Forces(p, t, x, f);
+  for (int k = 0; k < 3 * NP; k++) {
+    const double keep = x[k], h = 1e-6 * p->ax;
+    if (!p->exists[k / 3]) continue;
+    x[k]            = keep + h;
+    const double Ep = EnergyOf(p, t, x, box);
+    x[k]            = keep - h;
+    const double Em = EnergyOf(p, t, x, box);
+    x[k]            = keep;
+    const double fd = -(Ep - Em) / ((keep + h) - (keep - h));
+    fbig = fmax(fbig, fabs(f[k])), err = fmax(err, fabs(fd - f[k]));
+  }
+  snprintf(what, sizeof what, "(a) %s: force vs -grad(energy) (h 1e-6 chord), max error / max force", NameOf(t));
+  Check(what, err / fbig, 1e-6);
+}
+
+/* (a) the instances' gradients, scattered, equal the pipeline's forces (to round-off) */
+static void CheckInstanceGradients(Patch *p, const ForceTerm *t, const double *x)
+{
+  double       f[3 * NP], g[3 * NP] = {0}, fbig = 0, err = 0;
+  TermInstance inst;
+  char         what[256];
+  Forces(p, t, x, f);
+  for (int q = 0; q < INTERNAL_TERMS; q++) {
+    const ForceTerm *term = InternalTerms[q];
+    if ((t && term != t) || !term->enabled(p)) continue;
+    for (int j = 0; j < NY; j++)
+      for (int i = 0; i < NX; i++)
+        for (int k = 0; k < term->per_point; k++)
+          if (term->instance(p, x, i, j, k, TERM_GRADIENT, &inst))
+            for (int a = 0; a < inst.n; a++)
+              for (int d = 0; d < 3; d++) g[3 * (inst.j[a] * NX + inst.i[a]) + d] -= inst.g[3 * a + d];
+  }
+  for (int k = 0; k < 3 * NP; k++) /* absent points: the shear gather adds neighbouring crossings there (unused) */
+    if (p->exists[k / 3]) fbig = fmax(fbig, fabs(f[k])), err = fmax(err, fabs(g[k] - f[k]));
+  snprintf(what, sizeof what, "(a) %s: -(instance gradients) vs the pipeline's forces, max error / max force",
+           NameOf(t));
+  Check(what, err / fbig, 1e-12);
+}
+
+typedef struct {
+  const Patch *p;
+  double      *K; /* dense 3NP x 3NP, patch-local points */
+} Dense;
+
+static PetscErrorCode AddDense(void *ctx, PetscInt n, const PetscInt i[], const PetscInt j[], const PetscReal K[])
+{
+  Dense *d = (Dense *)ctx;
+  PetscFunctionBeginUser;
+  for (PetscInt a = 0; a < n; a++)
+    for (PetscInt b = 0; b < n; b++) {
+      const PetscInt ka = (j[a] - d->p->gys) * NX + i[a] - d->p->gxs, kb = (j[b] - d->p->gys) * NX + i[b] - d->p->gxs;
+      for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) d->K[(3 * ka + r) * 3 * NP + 3 * kb + c] += K[(3 * a + r) * 3 * n + 3 * b + c];
+    }
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode DenseTangent(const Patch *p, const ForceTerm *t, const double *x, const PetscInt box[4],
+                                   double *K)
+{
+  Dense d = {p, K};
+  PetscFunctionBeginUser;
+  if (t) PetscCall(TermTangent(t, p, x, box, AddDense, &d));
+  else PetscCall(InternalTangent(p, x, box, AddDense, &d));
+  PetscFunctionReturn(0);
+}
+
+static double MaxAbs(const double *a, int n)
+{
+  double m = 0;
+  for (int k = 0; k < n; k++) m = fmax(m, fabs(a[k]));
+  return m;
+}
+
+/* (b) tangent = -d(forces)/dx by central differences, step 1e-7 of the chord */
+static void CheckTangent(Patch *p, const ForceTerm *t, double *x, const double *K)
+{
+  const int N = 3 * NP;
+  double    fp[3 * NP], fm[3 * NP], err = 0, asym = 0, big = MaxAbs(K, N * N);
+  char      what[256];
+  for (int k = 0; k < N; k++) {
+    const double keep = x[k], h = 1e-7 * p->ax, dx = (keep + h) - (keep - h);
+    if (!p->exists[k / 3]) continue;
+    x[k] = keep + h;
+    Forces(p, t, x, fp);
+    x[k] = keep - h;
+    Forces(p, t, x, fm);
+    x[k] = keep;
+    for (int m = 0; m < N; m++)
+      if (p->exists[m / 3]) err = fmax(err, fabs(-(fp[m] - fm[m]) / dx - K[m * N + k]));
+  }
+  for (int m = 0; m < N; m++)
+    for (int k = 0; k < N; k++) asym = fmax(asym, fabs(K[m * N + k] - K[k * N + m]));
+  snprintf(what, sizeof what, "(b) %s: tangent vs -d(force)/dx (h 1e-7 chord), max error / max entry (%.2e N/m)",
+           NameOf(t), big);
+  Check(what, err / big, 1e-6);
+  snprintf(what, sizeof what, "(b) %s: tangent symmetry, max |K - K^T| / max entry", NameOf(t));
+  Check(what, asym / big, 1e-14);
+}
+
+/* the tangent assembled in a DMDA matrix (dof 3, box stencil width 2) equals the dense one */
+static PetscErrorCode CheckMat(const Patch *p, const double *x, const double *K)
+{
+  const int N = 3 * NP;
+  DM        da;
+  Mat       A;
+  PetscInt  box[4], cols[3 * NP];
+  double    row[3 * NP], err = 0;
+
+  PetscFunctionBeginUser;
+  OwnedBox(p, box);
+  PetscCall(DMDACreate2d(PETSC_COMM_SELF, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, DMDA_STENCIL_BOX, NX, NY, 1, 1, 3, 2,
+                         NULL, NULL, &da));
+  PetscCall(DMSetUp(da));
+  PetscCall(DMCreateMatrix(da, &A));
+  PetscCall(MatSetOption(A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE)); /* the stencil holds every block */
+  PetscCall(InternalTangent(p, x, box, TermBlocksAddToMat, A));
+  PetscCall(MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY));
+  for (PetscInt k = 0; k < N; k++) cols[k] = k;
+  for (PetscInt m = 0; m < N; m++) {
+    PetscCall(MatGetValues(A, 1, &m, N, cols, row));
+    for (int k = 0; k < N; k++) err = fmax(err, fabs(row[k] - K[m * N + k]));
+  }
+  Check("(b) DMDA matrix (TermBlocksAddToMat) vs the dense tangent, max difference / max entry",
+        err / MaxAbs(K, N * N), 1e-14);
+  PetscCall(MatDestroy(&A));
+  PetscCall(DMDestroy(&da));
+  PetscFunctionReturn(0);
+}
+
+/* energy and tangent over sub-boxes (a split over ranks) add up to the whole patch's */
+static PetscErrorCode CheckPartition(const Patch *p, const double *x, const double *K)
+{
+  const PetscInt full[4] = {0, NX, 0, NY}, parts[3][4] = {{0, 4, 0, 3}, {4, NX, 0, 3}, {0, NX, 3, NY}};
+  const int      N       = 3 * NP;
+  double        *Ks, E = 0, err = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscCalloc1(N * N, &Ks));
+  for (int b = 0; b < 3; b++) {
+    E += InternalEnergy(p, x, parts[b]);
+    PetscCall(DenseTangent(p, NULL, x, parts[b], Ks));
+  }
+  for (int m = 0; m < N * N; m++) err = fmax(err, fabs(Ks[m] - K[m]));
+  Check("energy over three sub-boxes vs the whole patch's, relative",
+        fabs(E - InternalEnergy(p, x, full)) / InternalEnergy(p, x, full), 1e-14);
+  Check("tangent over three sub-boxes vs the whole patch's, max difference / max entry", err / MaxAbs(K, N * N),
+        1e-14);
+  PetscCall(PetscFree(Ks));
+  PetscFunctionReturn(0);
+}
+
+/* what the distorted rich patch exercises; 0 if it has every regime the tests need */
+static int RichRegimes(const Patch *p, const double *x)
+{
+  int n[9] = {0}; /* contact, compressed, de-crimping, table, beyond the table, blends, jammed, free, broken */
+  for (int j = 0; j < NY; j++)
+    for (int i = 0; i + 1 < NX; i++) {
+      const double *a = x + 3 * (j * NX + i), *b = a + 3;
+      const double  e = Dist(a, b) / p->ax - 1, ey = (1 + e) / (1 + p->warp->crimp) - 1;
+      if (!p->exists[j * NX + i] || !p->exists[j * NX + i + 1]) continue;
+      if (p->broken_x[j * NX + i]) n[8]++;
+      else if (e < p->warp->e_contact) n[0]++;
+      else if (e < 0) n[1]++;
+      else if (e < p->warp->crimp) n[2]++;
+      else if (ey < p->warp->tab_end) n[3]++;
+      else n[4]++;
+      for (PetscInt k = 0; k < p->warp->nblend; k++) n[5] += e >= p->warp->blend[k].lo && e <= p->warp->blend[k].hi;
+    }
+  for (int j = 0; j < NY; j++)
+    for (int i = 0; i < NX; i++) {
+      PetscReal s, tmin;
+      if (CrossingShear(p, x, i, j, &s, &tmin)) n[PetscAbsReal(s) > p->s_lock ? 6 : 7]++;
+    }
+  printf("rich patch, segments along x: %d in contact, %d compressed, %d de-crimping, %d on the yarn table, "
+         "%d beyond it, %d in blends, %d broken; crossings: %d jammed, %d below the lock\n",
+         n[0], n[1], n[2], n[3], n[4], n[5], n[8], n[6], n[7]);
+  for (int k = 0; k < 9; k++) /* blends: not required; the table: if the warp law has one */
+    if (k != 5 && (k != 3 || p->warp->ntab) && n[k] == 0) return 1;
+  return 0;
+}
+
+static PetscErrorCode CountBlocks(void *ctx, PetscInt n, const PetscInt i[], const PetscInt j[], const PetscReal K[])
+{
+  (*(int *)ctx)++;
+  return 0;
+}
+
+static PetscErrorCode TestTerms(const char *csv)
+{
+  YarnLaw  warp = {0}, weft = {0};
+  Patch    p;
+  double   x[3 * NP], *K;
+  PetscInt full[4] = {0, NX, 0, NY};
+
+  PetscFunctionBeginUser;
+  PetscCall(LawsSetUp(&warp, &weft, csv));
+  PetscCall(RichPatch(&p, &warp, &weft, 0));
+  DistortedState(&p, x, 2024);
+  Check("rich patch has contact, compression, de-crimping, table, beyond-table, broken segments, jammed and "
+        "free crossings (0 = yes)", RichRegimes(&p, x), 0);
+  PetscCall(PetscMalloc1(9 * NP * NP, &K));
+  for (int t = 0; t < INTERNAL_TERMS; t++) {
+    PetscCall(PetscArrayzero(K, 9 * NP * NP));
+    PetscCall(DenseTangent(&p, InternalTerms[t], x, full, K));
+    CheckGradient(&p, InternalTerms[t], x);
+    CheckInstanceGradients(&p, InternalTerms[t], x);
+    CheckTangent(&p, InternalTerms[t], x, K);
+  }
+  PetscCall(PetscArrayzero(K, 9 * NP * NP));
+  PetscCall(DenseTangent(&p, NULL, x, full, K));
+  CheckGradient(&p, NULL, x);
+  CheckInstanceGradients(&p, NULL, x);
+  CheckTangent(&p, NULL, x, K);
+  PetscCall(CheckMat(&p, x, K));
+  PetscCall(CheckPartition(&p, x, K));
+  { /* a term switched off costs nothing: no energy, no blocks */
+    int calls = 0;
+    p.bending = PETSC_FALSE;
+    PetscCall(TermTangent(&BendingTerm, &p, x, full, CountBlocks, &calls));
+    Check("bending off: its energy and number of tangent blocks", TermEnergy(&BendingTerm, &p, x, full) + calls, 0);
+  }
+  PetscCall(PetscFree(K));
+  PetscCall(PatchFree(&p));
+  PetscCall(YarnLawDestroy(&warp));
+  PetscFunctionReturn(0);
+}
+
+/* ======== (c), (d): the stable-step bound and the forces, bit for bit against the reference ======== */
+
+static void RandomMasses(const Patch *p, double *inv_m)
+{
+  for (int lj = 0; lj < p->ym; lj++)
+    for (int li = 0; li < p->xm; li++) {
+      const int k = (p->ys - p->gys + lj) * p->gxm + p->xs - p->gxs + li, r = rand();
+      inv_m[lj * p->xm + li] = !p->exists[k] || r % 7 == 0 ? 0.0 : 1.0 / (1e-6 * (1.0 + (double)r / RAND_MAX));
+    }
+}
+
+/* bit differences between the kernels and the reference at one state and switch setting:
+   bad[0] in the forces (d), bad[1] in the bound and its rows (c) */
+static void CompareWithReference(Patch *p, const double *x, const double *inv_m, int bad[2])
+{
+  const PetscReal windows[3] = {0.0, 0.02, 1.0}, contact[2] = {0.0, 2e3};
+  double          f[3 * NP], g[3 * NP], inv1[NP];
+  PetscInt        own[4], boxes[3][4];
+
+  OwnedBox(p, own);
+  for (int k = 0; k < 4; k++) boxes[0][k] = own[k];
+  boxes[1][0] = own[0] + 1, boxes[1][1] = own[1] - 1, boxes[1][2] = own[2], boxes[1][3] = own[2] + 2;
+  boxes[2][0] = own[0] + 2, boxes[2][1] = own[0] + 3, boxes[2][2] = own[3] - 1, boxes[2][3] = own[3];
+  for (int b = 0; b < 3; b++) { /* (d) forces and the tension scale */
+    PetscReal t1, t2;
+    for (int k = 0; k < 3 * NP; k++) f[k] = g[k] = -12345.0;
+    ComputeInternalForces(p, x, boxes[b], f, &t1);
+    RefComputeInternalForces(p, x, boxes[b], g, &t2);
+    bad[0] += memcmp(f, g, sizeof f) != 0 || memcmp(&t1, &t2, sizeof t1) != 0;
+  }
+  for (int w = 0; w < 6; w++) { /* (c) the bound, and each row as the sum of the terms' rows */
+    const PetscReal window = windows[w % 3];
+    const int       pull   = w / 3;
+    PetscReal       o1, o2, p1, p2;
+    p->k_contact = contact[w % 2];
+    o1           = StableOmega2(p, x, inv_m, window, pull, &p1);
+    o2           = RefStableOmega2(p, x, inv_m, window, pull, &p2);
+    bad[1] += memcmp(&o1, &o2, sizeof o1) != 0 || memcmp(&p1, &p2, sizeof p1) != 0;
+    for (int k = 0; k < p->xm * p->ym; k++) {
+      const PetscInt i = p->xs + k % p->xm, j = p->ys + k / p->xm;
+      PetscReal      rs = 0.0, rp = 0.0;
+      if (inv_m[k] <= 0) continue;
+      for (int q = 0; q < p->xm * p->ym; q++) inv1[q] = q == k;
+      o2 = RefStableOmega2(p, x, inv1, window, pull, &p2); /* row k of the reference */
+      for (int t = 0; t < INTERNAL_TERMS; t++)
+        if (InternalTerms[t]->enabled(p)) InternalTerms[t]->bound_row(p, x, i, j, window, pull, &rs, &rp);
+      rs += p->k_contact;
+      bad[1] += memcmp(&rs, &o2, sizeof rs) != 0 || memcmp(&rp, &p2, sizeof rp) != 0;
+    }
+  }
+}
+
+static PetscErrorCode TestIdentity(const char *csv)
+{
+  YarnLaw warp = {0}, weft = {0};
+  Patch   p;
+  double  x[3 * NP], inv_m[NP];
+  int     bad[2] = {0, 0}, cases = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(LawsSetUp(&warp, &weft, csv));
+  for (int offset = 0; offset < 2; offset++) {
+    PetscCall(RichPatch(&p, &warp, &weft, offset));
+    for (unsigned seed = 1; seed <= 3; seed++) {
+      DistortedState(&p, x, seed);
+      RandomMasses(&p, inv_m);
+      for (int mask = 0; mask < 8; mask++, cases++) { /* every combination of the switches */
+        p.traction = mask & 1 ? PETSC_TRUE : PETSC_FALSE;
+        p.bending  = mask & 2 ? PETSC_TRUE : PETSC_FALSE;
+        p.shear    = mask & 4 ? PETSC_TRUE : PETSC_FALSE;
+        CompareWithReference(&p, x, inv_m, bad);
+      }
+    }
+    PetscCall(PatchFree(&p));
+  }
+  printf("identity: %d cases (2 patches x 3 states x 8 switch settings; 3 boxes, 6 bound settings, every row)\n",
+         cases);
+  Check("(c) StableOmega2 and each row as the sum of the terms' bound_row vs the reference: bit differences",
+        bad[1], 0);
+  Check("(d) ComputeInternalForces (forces, tension_max) vs the reference pipeline: bit differences", bad[0], 0);
+  PetscCall(YarnLawDestroy(&warp));
+  PetscFunctionReturn(0);
+}
+
+/* ===================================== the yarn table ===================================== */
 
 static PetscErrorCode TestTable(const char *csv)
 {
@@ -199,7 +1062,8 @@ static PetscErrorCode TestTable(const char *csv)
   Check("fast yarn table vs GSL Steffen spline, max error / max tension", errmax / tmax, 1e-6);
   {
     double slope = gsl_interp_eval_deriv(sp, es, fs, es[n - 1], acc), e = es[n - 1] + 0.01;
-    Check("linear extension past the table, relative error", fabs(YarnTension(&y, e) - (tmax + slope * 0.01)) / tmax, 1e-9);
+    Check("linear extension past the table, relative error", fabs(YarnTension(&y, e) - (tmax + slope * 0.01)) / tmax,
+          1e-9);
   }
   gsl_interp_accel_free(acc);
   gsl_interp_free(sp);
@@ -226,6 +1090,9 @@ int main(int argc, char **argv)
   PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
   PetscCall(PetscOptionsGetString(NULL, NULL, "-csv", csv, sizeof csv, NULL));
   PetscCall(TestForces());
+  PetscCall(TestLaw(csv));
+  PetscCall(TestTerms(csv));
+  PetscCall(TestIdentity(csv));
   if (csv[0]) PetscCall(TestTable(csv));
   TestTangent();
   PetscCall(PetscFinalize());
