@@ -15,44 +15,42 @@
 #include "kernels.h"
 #include "scene.h"
 
-
-
 typedef struct { /* one row of curve.csv */
   PetscInt  load_step, inner_steps;
   PetscReal time, elongation, force, residual;
-  PetscReal travel; /* m: the load point's displacement along the load (square), the sphere's travel (pushing) */
+  PetscReal travel;       /* m: the load point's displacement along the load (square), the sphere's travel (pushing) */
   PetscReal center_shear; /* degrees: mean shear angle of the central zone (bias) */
   PetscReal plane_force[3], pedestal_force[3]; /* N: force of the fabric on each body (its reaction) */
-  PetscReal clamp_force[3];  /* N: force on the clamps: the pull of the fabric plus the clamped crossings' weight */
-  PetscReal weight[3];       /* N: the specimen's weight at this load step's gravity */
+  PetscReal clamp_force[3]; /* N: force on the clamps: the pull of the fabric plus the clamped crossings' weight */
+  PetscReal weight[3];      /* N: the specimen's weight at this load step's gravity */
   PetscBool balanced;
 } CurveRow;
 
-typedef struct { /* what the balance test and the stability watch see after a te step */
+typedef struct {      /* what the balance test and the stability watch see after a te step */
   PetscReal residual; /* max |F| on a free point / force scale */
   PetscReal speed;    /* max |v| on a free point, m/s */
   PetscReal tension_max;
   PetscBool balanced;
 } StepStats;
 
-typedef struct { /* the grid of crossings: layout, rest state, masses and point kinds */
-  DM             da;          /* dof 3: positions, velocities, forces (box stencil, width 2) */
-  DM             da_seg;      /* dof 2, same layout: per point, its segments to i+1 and to j+1
-                                 (broken flags in checkpoints) or two graph distances (prediction) */
-  Vec            X0;          /* rest positions */
-  Patch          patch;       /* the rank's ghosted patch for the force kernels */
-  PetscInt       nloc;        /* owned points xm*ym */
+typedef struct {               /* the grid of crossings: layout, rest state, masses and point kinds */
+  DM da;                       /* dof 3: positions, velocities, forces (box stencil, width 2) */
+  DM da_seg;                   /* dof 2, same layout: per point, its segments to i+1 and to j+1
+                                  (broken flags in checkpoints) or two graph distances (prediction) */
+  Vec            X0;           /* rest positions */
+  Patch          patch;        /* the rank's ghosted patch for the force kernels */
+  PetscInt       nloc;         /* owned points xm*ym */
   PetscReal     *mass, *inv_m; /* owned; inv_m = 0 for clamped, grip and absent points */
-  unsigned char *kind;        /* owned PointKind */
-  PetscReal     *predict_w;   /* owned: linear-prediction weight d0/(d0+d1) */
-  PetscInt       points;      /* existing points, global */
-  PetscInt       load_index;  /* owned index of the point load, -1 if not here */
+  unsigned char *kind;         /* owned PointKind */
+  PetscReal     *predict_w;    /* owned: linear-prediction weight d0/(d0+d1) */
+  PetscInt       points;       /* existing points, global */
+  PetscInt       load_index;   /* owned index of the point load, -1 if not here */
   PetscReal      pull_dir[3];
-  PetscReal      extent;      /* fabric size, m: runaway threshold */
-  PetscReal      centre[3];   /* m: the grid centre at rest */
+  PetscReal      extent;    /* fabric size, m: runaway threshold */
+  PetscReal      centre[3]; /* m: the grid centre at rest */
 } FabricGrid;
 
-typedef struct { /* the dynamic state */
+typedef struct {         /* the dynamic state */
   Vec X, V, F, Xl;       /* positions, velocities, forces, ghosted positions */
   Vec Xold, Vold;        /* paper scheme: x(n-1), V(n-1) */
   Vec Xconv, Xconv_prev; /* converged positions of the last two load steps (extrapolation) */
@@ -61,27 +59,27 @@ typedef struct { /* the dynamic state */
 
 typedef struct { /* where the load program is */
   PetscInt  load_step;
-  PetscReal load_factor;      /* load_step / load_steps */
-  PetscReal travel;           /* m: this load step's target travel of the grips or the sphere */
-  PetscReal travel_step_prev; /* m: the last load step's travel increment */
-  PetscReal travel_now;       /* m: where the grips or the sphere are (ramping towards travel) */
-  PetscReal travel_from;      /* m: where the ramp started */
+  PetscReal load_factor;           /* load_step / load_steps */
+  PetscReal travel;                /* m: this load step's target travel of the grips or the sphere */
+  PetscReal travel_step_prev;      /* m: the last load step's travel increment */
+  PetscReal travel_now;            /* m: where the grips or the sphere are (ramping towards travel) */
+  PetscReal travel_from;           /* m: where the ramp started */
   PetscInt  ramp_steps, ramp_done; /* the ramp of this load step, te steps */
-  PetscReal gravity_now[3];   /* m/s^2: gravity of the current load step */
+  PetscReal gravity_now[3];        /* m/s^2: gravity of the current load step */
 } LoadState;
 
 typedef struct { /* the time step, damping and the balance test's scales */
-  PetscReal te, te_bound, omega_max, damp_c;
-  PetscReal omega1;        /* slowest mode along the pull (estimate), rad/s */
-  PetscBool bound_fresh;   /* the stable step was just taken at the current state */
-  StepStats last;
-  PetscReal force_floor;   /* smallest force scale of the balance test, N */
-  PetscReal ke_prev;       /* kinetic damping: total kinetic energy after the last te step, J */
-  PetscReal *ke_terms;     /* kinetic damping: owned points' kinetic energies (work) */
-  PetscInt64 ke_resets;    /* kinetic damping: velocity resets so far */
+  PetscReal  te, te_bound, omega_max, damp_c;
+  PetscReal  omega1;      /* slowest mode along the pull (estimate), rad/s */
+  PetscBool  bound_fresh; /* the stable step was just taken at the current state */
+  StepStats  last;
+  PetscReal  force_floor; /* smallest force scale of the balance test, N */
+  PetscReal  ke_prev;     /* kinetic damping: total kinetic energy after the last te step, J */
+  PetscReal *ke_terms;    /* kinetic damping: owned points' kinetic energies (work) */
+  PetscInt64 ke_resets;   /* kinetic damping: velocity resets so far */
 } StepControl;
 
-typedef struct { /* rank propagation and sleeping (front.c) */
+typedef struct {           /* rank propagation and sleeping (front.c) */
   PetscInt  front_dmax;    /* largest graph distance to a disturbed point */
   PetscInt *front_box;     /* [4 (dmax+1)]: global bounding box of {d <= R} */
   PetscInt  front_step;    /* te steps since the last load change */
@@ -96,12 +94,12 @@ typedef struct { /* run statistics and the curve */
   PetscBool      broken_any; /* a yarn segment broke */
   PetscLogDouble wall_start, wall;
   CurveRow      *curve;
-  FILE          *curve_fp;   /* rank 0 */
+  FILE          *curve_fp; /* rank 0 */
 } RunStats;
 
 typedef struct { /* measurements of the last force evaluation and of the drape */
   PetscReal sphere_sum[3], plane_sum[3], pedestal_sum[3]; /* this rank's sum of each body's contact forces */
-  PetscReal drape_pct;       /* drape coefficient (%), drape test */
+  PetscReal drape_pct;                                    /* drape coefficient (%), drape test */
   PetscReal drape_flat_area; /* m^2: the flat specimen's shadow, measured once (0: not yet) */
   PetscInt  folds;           /* folds of the draped outline, drape test */
 } Measures;
@@ -109,16 +107,16 @@ typedef struct { /* measurements of the last force evaluation and of the drape *
 typedef struct _p_Fabric *Fabric;
 struct _p_FabricIO; /* io.h */
 struct _p_Fabric {
-  MPI_Comm    comm;
-  PetscMPIInt rank, size;
-  Scene       s;
-  FabricGrid  grid;
-  FabricState state;
-  LoadState   load;
-  StepControl step;
-  FrontState  front;
-  RunStats    stats;
-  Measures    meas;
+  MPI_Comm            comm;
+  PetscMPIInt         rank, size;
+  Scene               s;
+  FabricGrid          grid;
+  FabricState         state;
+  LoadState           load;
+  StepControl         step;
+  FrontState          front;
+  RunStats            stats;
+  Measures            meas;
   struct _p_FabricIO *io; /* frames of fabric.h5/.xmf, checkpoint and restart; NULL: none (io.h) */
 };
 

@@ -18,8 +18,7 @@
 
 #include "fabric.h"
 
-
-typedef struct { /* one frame of fabric.h5 */
+typedef struct {       /* one frame of fabric.h5 */
   PetscReal time;      /* s: the load step's test time, plus n te for a frame n te steps into it */
   PetscInt  load_step; /* 0: the rest state */
   PetscInt  te_step;   /* te steps into the load step when the frame was taken */
@@ -27,18 +26,18 @@ typedef struct { /* one frame of fabric.h5 */
 
 struct _p_FabricIO {
   /* options */
-  PetscInt  output_every;     /* a frame every K load steps and at the last (0: none) */
-  PetscInt  output_te_every;  /* a frame every M te steps within a load step (0: none) */
-  PetscInt  checkpoint_every; /* DIR/checkpoint.h5 every K load steps (0: never) */
-  char      restart[PETSC_MAX_PATH_LEN]; /* -restart FILE, "" for a fresh run */
+  PetscInt output_every;                /* a frame every K load steps and at the last (0: none) */
+  PetscInt output_te_every;             /* a frame every M te steps within a load step (0: none) */
+  PetscInt checkpoint_every;            /* DIR/checkpoint.h5 every K load steps (0: never) */
+  char     restart[PETSC_MAX_PATH_LEN]; /* -restart FILE, "" for a fresh run */
   /* frames */
-  DM         da1;             /* dof 1, the layout of fab->grid.da: scalar point fields */
+  DM         da1; /* dof 1, the layout of fab->grid.da: scalar point fields */
   PetscInt   frames, frames_cap;
-  FrameInfo *frame;           /* every frame written so far (the same on all ranks) */
-  PetscInt   te_load_step;    /* load step of the te-frame counter */
-  PetscInt64 te_base;         /* te_steps when that load step began */
+  FrameInfo *frame;        /* every frame written so far (the same on all ranks) */
+  PetscInt   te_load_step; /* load step of the te-frame counter */
+  PetscInt64 te_base;      /* te_steps when that load step began */
   /* restart */
-  PetscBool      restarted;
+  PetscBool restarted;
 };
 typedef struct _p_FabricIO *FabricIO;
 

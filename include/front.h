@@ -8,6 +8,6 @@ PetscErrorCode FrontSetUp(Fabric fab);
 void           FrontLoadChange(Fabric fab);
 void           FrontWakeAll(Fabric fab);
 /* the box of points to compute this te step (global and owned), and how many points it holds */
-PetscInt64     FrontStepBox(Fabric fab, PetscInt global[4], PetscInt local[4]);
+PetscInt64 FrontStepBox(Fabric fab, PetscInt global[4], PetscInt local[4]);
 
 #endif

@@ -19,7 +19,7 @@
 
 #define KERNEL_RING 4 /* rows kept by the row pipeline: y-segments j-2..j+1 */
 
-typedef struct { /* a row of yarn segments */
+typedef struct {           /* a row of yarn segments */
   PetscReal *ux, *uy, *uz; /* unit chord (0 if the segment is absent or broken) */
   PetscReal *inv_len;      /* 1/L (0 if absent) */
   PetscReal *fx, *fy, *fz; /* T * unit chord: force on the segment's first point */
@@ -36,26 +36,26 @@ typedef struct { /* shear crossings of a row: E'(s) ds/dtw, E'(s) ds/dtf, one-si
 
 typedef struct {
   /* grid and patch, global indices */
-  PetscInt nx, ny;
-  PetscInt xs, ys, xm, ym;     /* owned */
-  PetscInt gxs, gys, gxm, gym; /* ghosted */
-  PetscReal ax, ay;            /* rest chords: x-segments (warp) and y-segments (weft), m */
-  const YarnLaw *warp, *weft;  /* warp yarns run along x, weft along y */
+  PetscInt       nx, ny;
+  PetscInt       xs, ys, xm, ym;     /* owned */
+  PetscInt       gxs, gys, gxm, gym; /* ghosted */
+  PetscReal      ax, ay;             /* rest chords: x-segments (warp) and y-segments (weft), m */
+  const YarnLaw *warp, *weft;        /* warp yarns run along x, weft along y */
   /* switches and constants */
   PetscBool traction, bending, shear;
-  PetscReal kbx, kby;          /* B / L0 along x and y, N m */
-  PetscReal Ks, Kj, s_lock;    /* shear stiffness per crossing, jamming stiffness (N m), sin(gamma_lock) */
-  PetscReal k_contact;         /* penalty stiffness of rigid-body contact (N/m), 0 = no body */
+  PetscReal kbx, kby;       /* B / L0 along x and y, N m */
+  PetscReal Ks, Kj, s_lock; /* shear stiffness per crossing, jamming stiffness (N m), sin(gamma_lock) */
+  PetscReal k_contact;      /* penalty stiffness of rigid-body contact (N/m), 0 = no body */
   /* ghosted per-point and per-segment state */
-  unsigned char *exists;       /* point exists (inside the shape), ghosted */
+  unsigned char *exists;              /* point exists (inside the shape), ghosted */
   unsigned char *broken_x, *broken_y; /* segment (i,j)-(i+1,j) / (i,j)-(i,j+1) broke */
   /* work space of the row pipeline */
-  SegmentRow xs_row, ys_ring[KERNEL_RING];
-  BendRow    by_ring[KERNEL_RING], bx_row;
-  ShearRow   sh_ring[KERNEL_RING];
-  PetscReal *zero_row;         /* 3*gxm zeros: positions of rows outside the patch */
-  unsigned char *epad;         /* exists, padded by one absent point on every side */
-  PetscReal *work;
+  SegmentRow     xs_row, ys_ring[KERNEL_RING];
+  BendRow        by_ring[KERNEL_RING], bx_row;
+  ShearRow       sh_ring[KERNEL_RING];
+  PetscReal     *zero_row; /* 3*gxm zeros: positions of rows outside the patch */
+  unsigned char *epad;     /* exists, padded by one absent point on every side */
+  PetscReal     *work;
   /* traction energy of a tabulated yarn law (warp, weft): integral of Tyarn over the table's
      cells below each node (PatchSetUp; NULL for a linear law) */
   PetscReal *yarn_integral[2];
@@ -69,8 +69,7 @@ PetscErrorCode PatchDestroy(Patch *p);
    (global indices, half-open, inside the owned patch); points outside it are not touched.
    x: ghosted positions (3 per point), f: owned forces (3 per point).
    tension_max: largest |T| of a segment at a point of the box (the balance test's force scale). */
-void ComputeInternalForces(Patch *p, const PetscReal *x, const PetscInt box[4], PetscReal *f,
-                           PetscReal *tension_max);
+void ComputeInternalForces(Patch *p, const PetscReal *x, const PetscInt box[4], PetscReal *f, PetscReal *tension_max);
 
 /* cos of the warp/weft tangent angle at crossing (i,j) (global indices, within the ghosted
    patch) and the shorter tangent's length; 0 if the crossing has no shear */
@@ -140,8 +139,7 @@ PetscErrorCode TermTangent(const ForceTerm *t, const Patch *p, const PetscReal *
                            TermBlocksFn add, void *ctx);
 /* the same summed over the three internal terms */
 PetscReal      InternalEnergy(const Patch *p, const PetscReal *x, const PetscInt box[4]);
-PetscErrorCode InternalTangent(const Patch *p, const PetscReal *x, const PetscInt box[4], TermBlocksFn add,
-                               void *ctx);
+PetscErrorCode InternalTangent(const Patch *p, const PetscReal *x, const PetscInt box[4], TermBlocksFn add, void *ctx);
 /* a TermBlocksFn for ctx = a Mat of the DMDA (DMCreateMatrix, dof 3, box stencil width 2):
    MatSetValuesBlockedStencil with ADD_VALUES (rows of ghost points go to their owners at assembly) */
 PetscErrorCode TermBlocksAddToMat(void *ctx, PetscInt n, const PetscInt i[], const PetscInt j[], const PetscReal K[]);

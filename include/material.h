@@ -21,23 +21,23 @@
 #define YARN_TABLE_NODES 4097 /* uniform nodes of the fast yarn table */
 
 typedef struct {
-  const char *name;       /* "warp" or "weft": names the options in messages */
-  PetscReal   tex;        /* linear density, g/km (input unit) */
-  PetscReal   mu;         /* linear density, kg/m */
-  PetscReal   crimp;      /* c, fraction */
-  PetscReal   EA;         /* yarn stiffness, N per unit yarn strain (table: its largest slope) */
-  PetscReal   Ec;         /* de-crimping stiffness, N per unit chord strain (decrimp_ratio EA) */
+  const char *name;          /* "warp" or "weft": names the options in messages */
+  PetscReal   tex;           /* linear density, g/km (input unit) */
+  PetscReal   mu;            /* linear density, kg/m */
+  PetscReal   crimp;         /* c, fraction */
+  PetscReal   EA;            /* yarn stiffness, N per unit yarn strain (table: its largest slope) */
+  PetscReal   Ec;            /* de-crimping stiffness, N per unit chord strain (decrimp_ratio EA) */
   PetscReal   decrimp_ratio; /* Ec / EA (a table: its largest slope) */
-  PetscReal   k_comp;     /* compression stiffness as a fraction of EA */
-  PetscReal   e_contact;  /* chord strain (< 0) at which neighbouring crossings touch */
-  PetscReal   smoothing;  /* half-width (chord strain) of the C1 blends at the law's kinks */
-  PetscInt    nblend;     /* blends: cubic Hermite on [lo, hi], T = c0 + s (c1 + s (c2 + s c3)), s = e - lo */
+  PetscReal   k_comp;        /* compression stiffness as a fraction of EA */
+  PetscReal   e_contact;     /* chord strain (< 0) at which neighbouring crossings touch */
+  PetscReal   smoothing;     /* half-width (chord strain) of the C1 blends at the law's kinks */
+  PetscInt    nblend;        /* blends: cubic Hermite on [lo, hi], T = c0 + s (c1 + s (c2 + s c3)), s = e - lo */
   struct {
     PetscReal lo, hi, c0, c1, c2, c3, slope_max;
   } blend[3];
-  PetscReal   bending;    /* bending rigidity B, N m^2 */
-  PetscReal   break_ey;   /* yarn strain at break; <= 0: never breaks */
-  PetscReal   break_e;    /* the same as chord strain (INFINITY if none) */
+  PetscReal bending;  /* bending rigidity B, N m^2 */
+  PetscReal break_ey; /* yarn strain at break; <= 0: never breaks */
+  PetscReal break_e;  /* the same as chord strain (INFINITY if none) */
   /* fast form of a tabulated law (ntab == 0: linear law) */
   PetscInt    ntab;
   PetscReal   tab_h, tab_inv_h, tab_end; /* node spacing and last node, in yarn strain */
@@ -52,10 +52,11 @@ static inline PetscReal YarnTension(const YarnLaw *y, PetscReal ey)
 {
   if (!y->ntab) return y->EA * ey;
   PetscReal s = ey * y->tab_inv_h;
-  if (s >= (PetscReal)(y->ntab - 1)) return y->tab_T[y->ntab - 1] + y->tab_dT[y->ntab - 1] * (ey - y->tab_end);
-  PetscInt  k = (PetscInt)s;
-  PetscReal t = s - (PetscReal)k, u = 1.0 - t, h = y->tab_h;
-  return (1.0 + 2.0 * t) * u * u * y->tab_T[k] + t * u * u * h * y->tab_dT[k] + t * t * (3.0 - 2.0 * t) * y->tab_T[k + 1] - t * t * u * h * y->tab_dT[k + 1];
+  if (s >= (PetscReal) (y->ntab - 1)) return y->tab_T[y->ntab - 1] + y->tab_dT[y->ntab - 1] * (ey - y->tab_end);
+  PetscInt  k = (PetscInt) s;
+  PetscReal t = s - (PetscReal) k, u = 1.0 - t, h = y->tab_h;
+  return (1.0 + 2.0 * t) * u * u * y->tab_T[k] + t * u * u * h * y->tab_dT[k] +
+         t * t * (3.0 - 2.0 * t) * y->tab_T[k + 1] - t * t * u * h * y->tab_dT[k + 1];
 }
 
 /* the piecewise law of MODEL.md 5.1 as written, with kinks */
@@ -83,6 +84,6 @@ static inline PetscReal ChordTension(const YarnLaw *y, PetscReal e)
 PetscErrorCode YarnLawSetUp(YarnLaw *y, MPI_Comm comm);
 PetscErrorCode YarnLawDestroy(YarnLaw *y);
 /* largest dT/de over chord strains [a,b]: the tangent used by the stable-step bound */
-PetscReal      ChordTangentMax(const YarnLaw *y, PetscReal a, PetscReal b);
+PetscReal ChordTangentMax(const YarnLaw *y, PetscReal a, PetscReal b);
 
 #endif

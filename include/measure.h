@@ -7,6 +7,10 @@
 /* the reactions on the grips, bodies and clamps, the load point's travel, the centre shear
    (bias) and the drape outline (drape: drape_pct, folds, the largest drop in row->travel) */
 PetscErrorCode MeasureLoadStep(Fabric fab, CurveRow *row);
+/* a curve row as CURVE_COLS numbers and back (checkpoints) */
+#define CURVE_COLS 21
+void CurveRowPack(const CurveRow *r, PetscReal a[CURVE_COLS]);
+void CurveRowUnpack(const PetscReal a[CURVE_COLS], CurveRow *r);
 /* drape test: drape_pct and folds of the current positions, the largest drop into row->travel */
 PetscErrorCode DrapeOutline(Fabric fab, CurveRow *row);
 

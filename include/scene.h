@@ -17,8 +17,15 @@ typedef enum { PULL_WARP, PULL_WEFT } PullAxis;
 typedef enum { INTEGRATOR_DAMPED, INTEGRATOR_PAPER } IntegratorType;
 typedef enum { PREDICT_NONE, PREDICT_LINEAR, PREDICT_EXTRAPOLATE } PredictType;
 typedef enum { POINT_FREE = 0, POINT_CLAMPED = 1, POINT_GRIP = 2 } PointKind;
-typedef enum { TEST_STRIP, TEST_SQUARE, TEST_PUSHING, TEST_BIAS, TEST_DRAPE, TEST_COUNT } TestType;           /* the scene's test (its load program and curve) */
-typedef enum { SHAPE_RECTANGLE, SHAPE_DISC, SHAPE_BIAS } ShapeType;      /* which crossings of the grid exist */
+typedef enum {
+  TEST_STRIP,
+  TEST_SQUARE,
+  TEST_PUSHING,
+  TEST_BIAS,
+  TEST_DRAPE,
+  TEST_COUNT
+} TestType;                                                         /* the scene's test (its load program and curve) */
+typedef enum { SHAPE_RECTANGLE, SHAPE_DISC, SHAPE_BIAS } ShapeType; /* which crossings of the grid exist */
 typedef enum { CLAMP_JAW, CLAMP_EDGE, CLAMP_RING, CLAMP_NONE } ClampType; /* which existing crossings never move */
 
 extern const char *const PullAxisNames[];
@@ -65,7 +72,7 @@ typedef struct {
   PetscInt  output_every, output_te_every, checkpoint_every;
 } SceneInput;
 
-typedef struct { /* what is written where */
+typedef struct {                               /* what is written where */
   char      name[PETSC_MAX_PATH_LEN];          /* scene name: the scene file's base name */
   char      file[PETSC_MAX_PATH_LEN];          /* scene file, "" if none */
   char      output_dir[PETSC_MAX_PATH_LEN];    /* "" = no output files */
@@ -77,15 +84,15 @@ typedef struct { /* what is written where */
   char      restart[PETSC_MAX_PATH_LEN];       /* -restart FILE, "" for a fresh run */
 } SceneOutput;
 
-typedef struct { /* the specimen: densities, size, shape and the grid they give */
+typedef struct {                     /* the specimen: densities, size, shape and the grid they give */
   PetscReal ends_per_m, picks_per_m; /* warp and weft thread densities */
   PetscReal gauge, width;            /* m */
   PetscInt  yarns;                   /* yarns across the strip (0: from width) */
   PullAxis  pull;
-  PetscInt  nx, ny;                  /* grid, derived */
+  PetscInt  nx, ny; /* grid, derived */
   ShapeType shape;
-  PetscReal disc_radius;             /* m, SHAPE_DISC: from the grid centre */
-  PetscReal jaw_depth;               /* m, SHAPE_BIAS: the specimen reaches this far into each jaw */
+  PetscReal disc_radius; /* m, SHAPE_DISC: from the grid centre */
+  PetscReal jaw_depth;   /* m, SHAPE_BIAS: the specimen reaches this far into each jaw */
 } Specimen;
 
 /* lines across the grid at any angle (on top of -clamp): the existing crossings within a band
@@ -109,7 +116,7 @@ typedef struct { /* the force terms and their constants */
   PetscReal gravity[3]; /* m/s^2 */
 } Terms;
 
-typedef struct { /* the load program */
+typedef struct {           /* the load program */
   PetscReal elongation;    /* final grip displacement / gauge */
   PetscReal speed;         /* test speed, m/s (gives time_s) */
   PetscReal point_load[3]; /* final point load, N */
@@ -170,7 +177,10 @@ typedef struct {
 } Scene;
 
 /* the strip and bias tests pull jaws (their curve is force vs elongation); the others have none */
-static inline PetscBool JawTest(const Scene *s) { return (s->test == TEST_STRIP || s->test == TEST_BIAS) ? PETSC_TRUE : PETSC_FALSE; }
+static inline PetscBool JawTest(const Scene *s)
+{
+  return (s->test == TEST_STRIP || s->test == TEST_BIAS) ? PETSC_TRUE : PETSC_FALSE;
+}
 
 PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv);
 PetscErrorCode SceneCheckUnused(MPI_Comm comm);

@@ -22,6 +22,7 @@
  * had never stopped.
  */
 #include "checkpoint.h"
+#include "measure.h"
 #include "comm.h"
 #include "events.h"
 #include "load.h"
@@ -32,28 +33,52 @@
 #include <string.h>
 #include <unistd.h>
 
-#define MAX_KEYS 320
-#define CURVE_COLS 21
-#define MAX_STATE  12 /* state vectors (StateVecs) */
+#define MAX_KEYS  320
+#define MAX_STATE 12 /* state vectors (StateVecs) */
 
 typedef struct {
   char      name[40];
   PetscReal value;
 } SceneKey;
 
+#define KEY(nm, v) (PetscStrncpy(key[n].name, nm, sizeof key[n].name), key[n].value = (PetscReal) (v), n++)
+/* a 3-vector as PREFIX_x UNIT, PREFIX_y UNIT, PREFIX_z UNIT */
+#define KEY3(prefix, unit, v)                                             \
+  for (int d_ = 0; d_ < 3; d_++) {                                        \
+    char nm3_[40];                                                        \
+    PetscSNPrintf(nm3_, sizeof nm3_, "%s_%c%s", prefix, "xyz"[d_], unit); \
+    KEY(nm3_, (v)[d_]);                                                   \
+  }
+
+/* the keys of the clamp and grip lines and of the grip's path, after the n keys before them */
+static PetscInt LineAndPathKeys(const Scene *s, SceneKey *key, PetscInt n)
+{
+  /* every slot (unused ones are 0) */
+  KEY("clamp_lines", s->clamps.clamp_lines);
+  KEY("grip_lines", s->clamps.grip_lines);
+  KEY("grip_path_waypoints", s->load.waypoints);
+  for (int l = 0; l < 2 * MAX_LINES; l++) {
+    const PetscReal *line    = l < MAX_LINES ? s->clamps.clamp_line[l] : s->clamps.grip_line[l - MAX_LINES];
+    const char      *what[4] = {"x_m", "y_m", "angle_rad", "half_width_m"};
+    for (int c = 0; c < 4; c++) {
+      char nm[40];
+      PetscSNPrintf(nm, sizeof nm, "%s_line_%d_%s", l < MAX_LINES ? "clamp" : "grip", l % MAX_LINES + 1, what[c]);
+      KEY(nm, line[c]);
+    }
+  }
+  for (int w = 0; w < MAX_WAYPOINTS; w++) {
+    char nm[40];
+    PetscSNPrintf(nm, sizeof nm, "grip_path_%d", w + 1);
+    KEY3(nm, "_m", s->load.waypoint[w]);
+  }
+  return n;
+}
+
 /* what the run computes with, in SI (names say the unit) */
 static PetscInt SceneKeys(Fabric fab, SceneKey *key)
 {
   const Scene *s = &fab->s;
   PetscInt     n = 0;
-#define KEY(nm, v) (PetscStrncpy(key[n].name, nm, sizeof key[n].name), key[n].value = (PetscReal)(v), n++)
-  /* a 3-vector as PREFIX_x UNIT, PREFIX_y UNIT, PREFIX_z UNIT */
-#define KEY3(prefix, unit, v) \
-  for (int d_ = 0; d_ < 3; d_++) { \
-    char nm3_[40]; \
-    PetscSNPrintf(nm3_, sizeof nm3_, "%s_%c%s", prefix, "xyz"[d_], unit); \
-    KEY(nm3_, (v)[d_]); \
-  }
   KEY("grid_nx", s->spec.nx);
   KEY("grid_ny", s->spec.ny);
   KEY("pull", s->spec.pull);
@@ -127,27 +152,10 @@ static PetscInt SceneKeys(Fabric fab, SceneKey *key)
   KEY3("pedestal_top", "_m", s->bodies.pedestal_top);
   KEY("pedestal_height_m", s->bodies.pedestal_height);
   KEY("friction_mu", s->bodies.friction_mu);
-  /* clamp and grip lines, the grip's path: every slot (unused ones are 0) */
-  KEY("clamp_lines", s->clamps.clamp_lines);
-  KEY("grip_lines", s->clamps.grip_lines);
-  KEY("grip_path_waypoints", s->load.waypoints);
-  for (int l = 0; l < 2 * MAX_LINES; l++) {
-    const PetscReal *line = l < MAX_LINES ? s->clamps.clamp_line[l] : s->clamps.grip_line[l - MAX_LINES];
-    const char      *what[4] = {"x_m", "y_m", "angle_rad", "half_width_m"};
-    for (int c = 0; c < 4; c++) {
-      char nm[40];
-      PetscSNPrintf(nm, sizeof nm, "%s_line_%d_%s", l < MAX_LINES ? "clamp" : "grip", l % MAX_LINES + 1, what[c]);
-      KEY(nm, line[c]);
-    }
-  }
-  for (int w = 0; w < MAX_WAYPOINTS; w++) {
-    char nm[40];
-    PetscSNPrintf(nm, sizeof nm, "grip_path_%d", w + 1);
-    KEY3(nm, "_m", s->load.waypoint[w]);
-  }
+  n = LineAndPathKeys(s, key, n);
 #undef KEY3
 #undef KEY
-  PetscCheckAbort(n <= MAX_KEYS, PETSC_COMM_SELF, PETSC_ERR_PLIB, "SceneKeys: %d keys, raise MAX_KEYS", (int)n);
+  PetscCheckAbort(n <= MAX_KEYS, PETSC_COMM_SELF, PETSC_ERR_PLIB, "SceneKeys: %d keys, raise MAX_KEYS", (int) n);
   return n;
 }
 
@@ -184,8 +192,8 @@ static PetscErrorCode BrokenToVec(Fabric fab, Vec B)
   for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
     for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
       const PetscInt q = (j - p->ys) * p->xm + (i - p->xs), k = (j - p->gys) * p->gxm + (i - p->gxs);
-      b[2 * q]         = p->broken_x[k];
-      b[2 * q + 1]     = p->broken_y[k];
+      b[2 * q]     = p->broken_x[k];
+      b[2 * q + 1] = p->broken_y[k];
     }
   PetscCall(VecRestoreArray(B, &b));
   PetscFunctionReturn(0);
@@ -223,15 +231,55 @@ static PetscErrorCode ViewRankZero(Fabric fab, PetscViewer v, const char *name, 
   PetscCall(VecGetArray(w, &x));
   if (fab->rank == 0) PetscCall(PetscArraycpy(x, a, n));
   PetscCall(VecRestoreArray(w, &x));
-  PetscCall(PetscObjectSetName((PetscObject)w, name));
+  PetscCall(PetscObjectSetName((PetscObject) w, name));
   PetscCall(VecView(w, v));
   PetscCall(VecDestroy(&w));
   PetscFunctionReturn(0);
 }
 
+/* the counters of the run, as attributes of / */
+static PetscErrorCode WriteCounters(Fabric fab, PetscViewer v)
+{
+  FabricIO io = fab->io;
+
+  PetscFunctionBeginUser;
+  {
+    int version = CHECKPOINT_VERSION, load_step = (int) fab->load.load_step, frames = (int) io->frames,
+        converged = fab->stats.converged, broken = fab->stats.broken_any, ranks = fab->size;
+    long      te_steps = (long) fab->stats.te_steps, updates = (long) fab->stats.point_updates;
+    PetscReal time = TestTime(&fab->s, &fab->load), wall = fab->stats.wall;
+    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "fabric_checkpoint", PETSC_INT, &version));
+    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "load_step", PETSC_INT, &load_step));
+    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "time_s", PETSC_REAL, &time));
+    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "grip_disp_m", PETSC_REAL, &fab->load.travel));
+    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "grip_step_prev_m", PETSC_REAL, &fab->load.travel_step_prev));
+    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "te_steps", PETSC_LONG, &te_steps));
+    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "point_updates", PETSC_LONG, &updates));
+    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "converged", PETSC_INT, &converged));
+    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "broken_any", PETSC_INT, &broken));
+    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "frames", PETSC_INT, &frames));
+    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "wall_s", PETSC_REAL, &wall));
+    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "ranks", PETSC_INT, &ranks));
+    /* sleeping: the awake box and the force scale of the last te step */
+    for (int c = 0; c < 4; c++) {
+      char nm[32];
+      int  b = (int) fab->front.awake_box[c];
+      PetscCall(PetscSNPrintf(nm, sizeof nm, "awake_box_%d", c));
+      PetscCall(PetscViewerHDF5WriteAttribute(v, "/", nm, PETSC_INT, &b));
+    }
+    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "last_tension_max_N", PETSC_REAL, &fab->step.last.tension_max));
+    { /* kinetic damping: the kinetic energy after the last te step (a reset is decided on it) */
+      long resets = (long) fab->step.ke_resets;
+      PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "kinetic_energy_J", PETSC_REAL, &fab->step.ke_prev));
+      PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "kinetic_resets", PETSC_LONG, &resets));
+    }
+  }
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode CheckpointWrite(Fabric fab)
 {
-  FabricIO    io = fab->io;
+  FabricIO    io  = fab->io;
   const char *dir = fab->s.out.output_dir;
   char        file[PETSC_MAX_PATH_LEN], tmp[PETSC_MAX_PATH_LEN];
   PetscViewer v;
@@ -255,7 +303,7 @@ static PetscErrorCode CheckpointWrite(Fabric fab)
     int       has = x != NULL;
     if (sv[k].root_flag[0]) PetscCall(PetscViewerHDF5WriteAttribute(v, "/", sv[k].root_flag, PETSC_INT, &has));
     if (!x) continue;
-    PetscCall(PetscObjectSetName((PetscObject)x, sv[k].name));
+    PetscCall(PetscObjectSetName((PetscObject) x, sv[k].name));
     PetscCall(VecView(x, v));
     PetscCall(VecNorm(x, NORM_INFINITY, &norm));
     PetscCall(PetscSNPrintf(nm, sizeof nm, "max_abs_%s", sv[k].name));
@@ -265,25 +313,20 @@ static PetscErrorCode CheckpointWrite(Fabric fab)
     Vec B;
     PetscCall(DMGetGlobalVector(fab->grid.da_seg, &B));
     PetscCall(BrokenToVec(fab, B));
-    PetscCall(PetscObjectSetName((PetscObject)B, "broken_segments"));
+    PetscCall(PetscObjectSetName((PetscObject) B, "broken_segments"));
     PetscCall(VecView(B, v));
     PetscCall(DMRestoreGlobalVector(fab->grid.da_seg, &B));
   }
   PetscCall(PetscViewerHDF5PopGroup(v));
-  PetscCall(PetscObjectSetName((PetscObject)fab->state.X, "positions"));
-  PetscCall(PetscObjectSetName((PetscObject)fab->state.V, NULL));
+  PetscCall(PetscObjectSetName((PetscObject) fab->state.X, "positions"));
+  PetscCall(PetscObjectSetName((PetscObject) fab->state.V, NULL));
 
   /* the curve rows and the frame list, held by rank 0 */
   PetscCall(PetscViewerHDF5PushGroup(v, "/history"));
   {
     PetscReal *rows;
     PetscCall(PetscMalloc1(CURVE_COLS * fab->load.load_step, &rows));
-    for (PetscInt k = 0; k < fab->load.load_step; k++) {
-      const CurveRow *r = &fab->stats.curve[k];
-      PetscReal       a[CURVE_COLS] = {(PetscReal)r->load_step, r->time, r->elongation, r->force, (PetscReal)r->inner_steps, r->residual, (PetscReal)r->balanced, r->travel, r->center_shear};
-      for (int d = 0; d < 3; d++) a[9 + d] = r->plane_force[d], a[12 + d] = r->pedestal_force[d], a[15 + d] = r->clamp_force[d], a[18 + d] = r->weight[d];
-      PetscCall(PetscArraycpy(rows + CURVE_COLS * k, a, CURVE_COLS));
-    }
+    for (PetscInt k = 0; k < fab->load.load_step; k++) CurveRowPack(&fab->stats.curve[k], rows + CURVE_COLS * k);
     PetscCall(ViewRankZero(fab, v, "curve", rows, CURVE_COLS * fab->load.load_step));
     PetscCall(PetscFree(rows));
   }
@@ -292,8 +335,8 @@ static PetscErrorCode CheckpointWrite(Fabric fab)
     PetscCall(PetscMalloc1(3 * io->frames, &fr));
     for (PetscInt k = 0; k < io->frames; k++) {
       fr[3 * k]     = io->frame[k].time;
-      fr[3 * k + 1] = (PetscReal)io->frame[k].load_step;
-      fr[3 * k + 2] = (PetscReal)io->frame[k].te_step;
+      fr[3 * k + 1] = (PetscReal) io->frame[k].load_step;
+      fr[3 * k + 2] = (PetscReal) io->frame[k].te_step;
     }
     PetscCall(ViewRankZero(fab, v, "frames", fr, 3 * io->frames));
     PetscCall(PetscFree(fr));
@@ -303,41 +346,12 @@ static PetscErrorCode CheckpointWrite(Fabric fab)
   /* the scene it belongs to */
   PetscCall(PetscViewerHDF5PushGroup(v, "/scene"));
   PetscCall(PetscViewerHDF5WriteGroup(v, NULL));
-  for (PetscInt k = 0; k < nkey; k++) PetscCall(PetscViewerHDF5WriteAttribute(v, NULL, key[k].name, PETSC_REAL, &key[k].value));
+  for (PetscInt k = 0; k < nkey; k++)
+    PetscCall(PetscViewerHDF5WriteAttribute(v, NULL, key[k].name, PETSC_REAL, &key[k].value));
   PetscCall(PetscViewerHDF5WriteAttribute(v, NULL, "scene", PETSC_STRING, fab->s.out.name));
   PetscCall(PetscViewerHDF5PopGroup(v));
 
-  /* the counters of the run */
-  {
-    int       version = CHECKPOINT_VERSION, load_step = (int)fab->load.load_step, frames = (int)io->frames, converged = fab->stats.converged, broken = fab->stats.broken_any, ranks = fab->size;
-    long      te_steps = (long)fab->stats.te_steps, updates = (long)fab->stats.point_updates;
-    PetscReal time = TestTime(&fab->s, &fab->load), wall = fab->stats.wall;
-    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "fabric_checkpoint", PETSC_INT, &version));
-    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "load_step", PETSC_INT, &load_step));
-    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "time_s", PETSC_REAL, &time));
-    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "grip_disp_m", PETSC_REAL, &fab->load.travel));
-    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "grip_step_prev_m", PETSC_REAL, &fab->load.travel_step_prev));
-    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "te_steps", PETSC_LONG, &te_steps));
-    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "point_updates", PETSC_LONG, &updates));
-    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "converged", PETSC_INT, &converged));
-    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "broken_any", PETSC_INT, &broken));
-    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "frames", PETSC_INT, &frames));
-    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "wall_s", PETSC_REAL, &wall));
-    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "ranks", PETSC_INT, &ranks));
-    /* sleeping: the awake box and the force scale of the last te step */
-    for (int c = 0; c < 4; c++) {
-      char nm[32];
-      int  b = (int)fab->front.awake_box[c];
-      PetscCall(PetscSNPrintf(nm, sizeof nm, "awake_box_%d", c));
-      PetscCall(PetscViewerHDF5WriteAttribute(v, "/", nm, PETSC_INT, &b));
-    }
-    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "last_tension_max_N", PETSC_REAL, &fab->step.last.tension_max));
-    { /* kinetic damping: the kinetic energy after the last te step (a reset is decided on it) */
-      long resets = (long)fab->step.ke_resets;
-      PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "kinetic_energy_J", PETSC_REAL, &fab->step.ke_prev));
-      PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "kinetic_resets", PETSC_LONG, &resets));
-    }
-  }
+  PetscCall(WriteCounters(fab, v));
   PetscCall(PetscViewerDestroy(&v));
 
   /* every rank has closed the file: rank 0 syncs it to disk and renames it into place */
@@ -349,14 +363,15 @@ static PetscErrorCode CheckpointWrite(Fabric fab)
     ok = ok && !rename(tmp, file);
     fd = open(dir, O_RDONLY);
     if (fd >= 0) {
-      (void)fsync(fd);
+      (void) fsync(fd);
       close(fd);
     }
   }
   PetscCallMPI(MPI_Bcast(&ok, 1, MPI_INT, 0, fab->comm));
   PetscCheck(ok, fab->comm, PETSC_ERR_FILE_WRITE, "-output_dir %s: cannot write checkpoint.h5", dir);
   PetscCall(PetscLogEventEnd(EV_Output, 0, 0, 0, 0));
-  if (!fab->s.out.quiet) PetscCall(PetscPrintf(fab->comm, "checkpoint at load step %" PetscInt_FMT ": %s\n", fab->load.load_step, file));
+  if (!fab->s.out.quiet)
+    PetscCall(PetscPrintf(fab->comm, "checkpoint at load step %" PetscInt_FMT ": %s\n", fab->load.load_step, file));
   PetscFunctionReturn(0);
 }
 
@@ -366,14 +381,15 @@ PetscErrorCode CheckpointLoadStep(Fabric fab)
   FabricIO io = fab->io;
 
   PetscFunctionBeginUser;
-  if (!io || !io->checkpoint_every || !fab->s.out.output_dir[0] || fab->load.load_step % io->checkpoint_every) PetscFunctionReturn(0);
+  if (!io || !io->checkpoint_every || !fab->s.out.output_dir[0] || fab->load.load_step % io->checkpoint_every)
+    PetscFunctionReturn(0);
   PetscCall(CheckpointWrite(fab));
   PetscFunctionReturn(0);
 }
 
 /* ------------------------------------------------------------------ restart */
 
-typedef struct { /* what rank 0 reads alone, then broadcasts */
+typedef struct {    /* what rank 0 reads alone, then broadcasts */
   int       status; /* 0: fine; otherwise msg says what is wrong */
   char      msg[5 * PETSC_MAX_PATH_LEN];
   int       load_step, frames, converged, broken_any;
@@ -428,12 +444,13 @@ static void KeyValue(const char *name, double v, char *buf, size_t len, double o
     const char *const *names;
     int                count;
   } enums[] = {
-    {"pull", PullAxisNames, 2}, {"integrator", IntegratorNames, 2}, {"predict", PredictNames, 3}, {"test", TestNames, 5}, {"shape", ShapeNames, 3}, {"clamp", ClampNames, 4},
+      {"pull", PullAxisNames, 2}, {"integrator", IntegratorNames, 2}, {"predict", PredictNames, 3},
+      {"test", TestNames, 5},     {"shape", ShapeNames, 3},           {"clamp", ClampNames, 4},
   };
   char a[64], b[64];
   for (size_t e = 0; e < sizeof enums / sizeof enums[0]; e++)
-    if (!strcmp(name, enums[e].key) && v >= 0 && v < enums[e].count && v == (int)v) {
-      snprintf(buf, len, "%s", enums[e].names[(int)v]);
+    if (!strcmp(name, enums[e].key) && v >= 0 && v < enums[e].count && v == (int) v) {
+      snprintf(buf, len, "%s", enums[e].names[(int) v]);
       return;
     }
   snprintf(a, sizeof a, "%.10g", v);
@@ -441,47 +458,26 @@ static void KeyValue(const char *name, double v, char *buf, size_t len, double o
   snprintf(buf, len, strcmp(a, b) ? "%.10g" : "%.17g", v);
 }
 
-#define FAIL(...) \
-  do { \
-    h->status = 1; \
+#define FAIL(...)                                 \
+  do {                                            \
+    h->status = 1;                                \
     snprintf(h->msg, sizeof h->msg, __VA_ARGS__); \
-    goto done; \
+    goto done;                                    \
   } while (0)
 
-/* Rank 0, alone (serial HDF5): is FILE a complete checkpoint of this scene? Fills h and, on
-   success, the curve rows (*rows, CURVE_COLS per load step) and the frame list (*frames). */
-static PetscErrorCode ReadHeader(Fabric fab, const char *file, Header *h, double **rows, double **frames)
+/* the checkpoint's /scene group g against this run's scene and grid; 0 (and h->msg) if they differ */
+static int SameScene(Fabric fab, hid_t g, const char *file, Header *h)
 {
   const Scene *s = &fab->s;
-  H5E_auto2_t  efunc;
-  void        *edata;
-  hid_t        fid = -1, g = -1;
   SceneKey     key[MAX_KEYS];
-  StateVec     sv[MAX_STATE];
-  PetscInt     nkey = SceneKeys(fab, key), nsv = StateVecs(fab, sv);
-  const hsize_t dims3[3] = {(hsize_t)s->spec.ny, (hsize_t)s->spec.nx, 3}, dims2[3] = {(hsize_t)s->spec.ny, (hsize_t)s->spec.nx, 2};
-  int          version = 0;
+  PetscInt     nkey = SceneKeys(fab, key);
 
-  PetscFunctionBeginUser;
-  *rows = *frames = NULL;
-  H5Eget_auto2(H5E_DEFAULT, &efunc, &edata);
-  H5Eset_auto2(H5E_DEFAULT, NULL, NULL); /* failures become one message, not an HDF5 error stack */
-  if (H5Fis_hdf5(file) <= 0) FAIL("-restart %s: not an HDF5 file, so not a checkpoint (give the checkpoint.h5 that -checkpoint_every wrote)", file);
-  fid = H5Fopen(file, H5F_ACC_RDONLY, H5P_DEFAULT);
-  if (fid < 0) FAIL("-restart %s: the HDF5 file cannot be opened: it is damaged or truncated", file);
-  g = H5Gopen2(fid, "/", H5P_DEFAULT);
-  if (!ReadAttr(g, "fabric_checkpoint", H5T_NATIVE_INT, &version)) FAIL("-restart %s: not a fabric checkpoint (no fabric_checkpoint attribute): give the checkpoint.h5 that -checkpoint_every wrote", file);
-  if (version != CHECKPOINT_VERSION) FAIL("-restart %s: checkpoint format %d, this fabric reads format %d", file, version, CHECKPOINT_VERSION);
-  H5Gclose(g);
-  g = -1;
-
-  /* the same scene and grid */
-  if (H5Lexists(fid, "/scene", H5P_DEFAULT) <= 0 || (g = H5Gopen2(fid, "/scene", H5P_DEFAULT)) < 0) FAIL("-restart %s: damaged checkpoint: no /scene group", file);
   {
     double there[MAX_KEYS];
     char   name[PETSC_MAX_PATH_LEN] = "?";
     for (PetscInt k = 0; k < nkey; k++)
-      if (!ReadAttr(g, key[k].name, H5T_NATIVE_DOUBLE, &there[k])) FAIL("-restart %s: damaged checkpoint: /scene has no %s", file, key[k].name);
+      if (!ReadAttr(g, key[k].name, H5T_NATIVE_DOUBLE, &there[k]))
+        FAIL("-restart %s: damaged checkpoint: /scene has no %s", file, key[k].name);
     {
       hid_t a = H5Aexists(g, "scene") > 0 ? H5Aopen(g, "scene", H5P_DEFAULT) : -1;
       if (a >= 0) {
@@ -491,50 +487,115 @@ static PetscErrorCode ReadHeader(Fabric fab, const char *file, Header *h, double
         H5Aclose(a);
       }
     }
-    if (there[0] != (double)s->spec.nx || there[1] != (double)s->spec.ny)
-      FAIL("-restart %s: the checkpoint is of another grid: %g x %g crossings there (scene %s), %" PetscInt_FMT " x %" PetscInt_FMT " here (scene %s): restart with the scene and options of the checkpointed run", file, there[0], there[1], name, s->spec.nx, s->spec.ny, s->out.name);
+    if (there[0] != (double) s->spec.nx || there[1] != (double) s->spec.ny)
+      FAIL("-restart %s: the checkpoint is of another grid: %g x %g crossings there (scene %s), %" PetscInt_FMT
+           " x %" PetscInt_FMT " here (scene %s): restart with the scene and options of the checkpointed run",
+           file, there[0], there[1], name, s->spec.nx, s->spec.ny, s->out.name);
     for (PetscInt k = 2; k < nkey; k++)
-      if (there[k] != (double)key[k].value) {
+      if (there[k] != (double) key[k].value) {
         char a[64], b[64];
-        KeyValue(key[k].name, there[k], a, sizeof a, (double)key[k].value);
-        KeyValue(key[k].name, (double)key[k].value, b, sizeof b, there[k]);
-        FAIL("-restart %s: the checkpoint is of another scene: %s = %s there (scene %s), %s here (scene %s): restart with the scene and options of the checkpointed run", file, key[k].name, a, name, b, s->out.name);
+        KeyValue(key[k].name, there[k], a, sizeof a, (double) key[k].value);
+        KeyValue(key[k].name, (double) key[k].value, b, sizeof b, there[k]);
+        FAIL("-restart %s: the checkpoint is of another scene: %s = %s there (scene %s), %s here (scene %s): restart "
+             "with the scene and options of the checkpointed run",
+             file, key[k].name, a, name, b, s->out.name);
       }
   }
+  return 1;
+done:
+  return 0;
+}
+
+/* Rank 0, alone (serial HDF5): is FILE a complete checkpoint of this scene? Fills h and, on
+   success, the curve rows (*rows, CURVE_COLS per load step) and the frame list (*frames). */
+static PetscErrorCode ReadHeader(Fabric fab, const char *file, Header *h, double **rows, double **frames)
+{
+  const Scene  *s = &fab->s;
+  H5E_auto2_t   efunc;
+  void         *edata;
+  hid_t         fid = -1, g = -1;
+  StateVec      sv[MAX_STATE];
+  PetscInt      nsv      = StateVecs(fab, sv);
+  const hsize_t dims3[3] = {(hsize_t) s->spec.ny, (hsize_t) s->spec.nx, 3},
+                dims2[3] = {(hsize_t) s->spec.ny, (hsize_t) s->spec.nx, 2};
+  int version            = 0;
+
+  PetscFunctionBeginUser;
+  *rows = *frames = NULL;
+  H5Eget_auto2(H5E_DEFAULT, &efunc, &edata);
+  H5Eset_auto2(H5E_DEFAULT, NULL, NULL); /* failures become one message, not an HDF5 error stack */
+  if (H5Fis_hdf5(file) <= 0)
+    FAIL("-restart %s: not an HDF5 file, so not a checkpoint (give the checkpoint.h5 that -checkpoint_every wrote)",
+         file);
+  fid = H5Fopen(file, H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (fid < 0) FAIL("-restart %s: the HDF5 file cannot be opened: it is damaged or truncated", file);
+  g = H5Gopen2(fid, "/", H5P_DEFAULT);
+  if (!ReadAttr(g, "fabric_checkpoint", H5T_NATIVE_INT, &version))
+    FAIL("-restart %s: not a fabric checkpoint (no fabric_checkpoint attribute): give the checkpoint.h5 that "
+         "-checkpoint_every wrote",
+         file);
+  if (version != CHECKPOINT_VERSION)
+    FAIL("-restart %s: checkpoint format %d, this fabric reads format %d", file, version, CHECKPOINT_VERSION);
+  H5Gclose(g);
+  g = -1;
+
+  /* the same scene and grid */
+  if (H5Lexists(fid, "/scene", H5P_DEFAULT) <= 0 || (g = H5Gopen2(fid, "/scene", H5P_DEFAULT)) < 0)
+    FAIL("-restart %s: damaged checkpoint: no /scene group", file);
+  if (!SameScene(fab, g, file, h)) goto done;
   H5Gclose(g);
   g = H5Gopen2(fid, "/", H5P_DEFAULT);
 
   /* the counters */
-  if (!ReadAttr(g, "load_step", H5T_NATIVE_INT, &h->load_step) || !ReadAttr(g, "frames", H5T_NATIVE_INT, &h->frames) || !ReadAttr(g, "converged", H5T_NATIVE_INT, &h->converged) || !ReadAttr(g, "broken_any", H5T_NATIVE_INT, &h->broken_any) || !ReadAttr(g, "te_steps", H5T_NATIVE_LLONG, &h->te_steps) ||
-      !ReadAttr(g, "point_updates", H5T_NATIVE_LLONG, &h->point_updates) || !ReadAttr(g, "grip_disp_m", H5T_NATIVE_DOUBLE, &h->grip_disp) || !ReadAttr(g, "grip_step_prev_m", H5T_NATIVE_DOUBLE, &h->grip_step_prev) || !ReadAttr(g, "wall_s", H5T_NATIVE_DOUBLE, &h->wall))
+  if (!ReadAttr(g, "load_step", H5T_NATIVE_INT, &h->load_step) || !ReadAttr(g, "frames", H5T_NATIVE_INT, &h->frames) ||
+      !ReadAttr(g, "converged", H5T_NATIVE_INT, &h->converged) ||
+      !ReadAttr(g, "broken_any", H5T_NATIVE_INT, &h->broken_any) ||
+      !ReadAttr(g, "te_steps", H5T_NATIVE_LLONG, &h->te_steps) ||
+      !ReadAttr(g, "point_updates", H5T_NATIVE_LLONG, &h->point_updates) ||
+      !ReadAttr(g, "grip_disp_m", H5T_NATIVE_DOUBLE, &h->grip_disp) ||
+      !ReadAttr(g, "grip_step_prev_m", H5T_NATIVE_DOUBLE, &h->grip_step_prev) ||
+      !ReadAttr(g, "wall_s", H5T_NATIVE_DOUBLE, &h->wall))
     FAIL("-restart %s: damaged checkpoint: a counter of the run is missing", file);
-  if (!ReadAttr(g, "awake_box_0", H5T_NATIVE_INT, &h->awake_box[0]) || !ReadAttr(g, "awake_box_1", H5T_NATIVE_INT, &h->awake_box[1]) || !ReadAttr(g, "awake_box_2", H5T_NATIVE_INT, &h->awake_box[2]) || !ReadAttr(g, "awake_box_3", H5T_NATIVE_INT, &h->awake_box[3]) ||
+  if (!ReadAttr(g, "awake_box_0", H5T_NATIVE_INT, &h->awake_box[0]) ||
+      !ReadAttr(g, "awake_box_1", H5T_NATIVE_INT, &h->awake_box[1]) ||
+      !ReadAttr(g, "awake_box_2", H5T_NATIVE_INT, &h->awake_box[2]) ||
+      !ReadAttr(g, "awake_box_3", H5T_NATIVE_INT, &h->awake_box[3]) ||
       !ReadAttr(g, "last_tension_max_N", H5T_NATIVE_DOUBLE, &h->last_tension_max))
     FAIL("-restart %s: damaged checkpoint: the sleeping state is missing", file);
-  if (!ReadAttr(g, "kinetic_energy_J", H5T_NATIVE_DOUBLE, &h->ke_prev) || !ReadAttr(g, "kinetic_resets", H5T_NATIVE_LLONG, &h->ke_resets)) FAIL("-restart %s: damaged checkpoint: the kinetic damping state is missing", file);
-  if (h->load_step < 1 || h->load_step > s->load.load_steps || h->frames < 0 || h->te_steps < 0) FAIL("-restart %s: damaged checkpoint: load step %d of %" PetscInt_FMT, file, h->load_step, s->load.load_steps);
+  if (!ReadAttr(g, "kinetic_energy_J", H5T_NATIVE_DOUBLE, &h->ke_prev) ||
+      !ReadAttr(g, "kinetic_resets", H5T_NATIVE_LLONG, &h->ke_resets))
+    FAIL("-restart %s: damaged checkpoint: the kinetic damping state is missing", file);
+  if (h->load_step < 1 || h->load_step > s->load.load_steps || h->frames < 0 || h->te_steps < 0)
+    FAIL("-restart %s: damaged checkpoint: load step %d of %" PetscInt_FMT, file, h->load_step, s->load.load_steps);
 
   /* the state vectors: there, of this grid */
   for (PetscInt k = 0; k < nsv; k++) {
     char path[128], nm[64];
     h->has[k] = 1;
-    if (sv[k].root_flag[0] && !ReadAttr(g, sv[k].root_flag, H5T_NATIVE_INT, &h->has[k])) FAIL("-restart %s: damaged checkpoint: no %s attribute", file, sv[k].root_flag);
+    if (sv[k].root_flag[0] && !ReadAttr(g, sv[k].root_flag, H5T_NATIVE_INT, &h->has[k]))
+      FAIL("-restart %s: damaged checkpoint: no %s attribute", file, sv[k].root_flag);
     if (!h->has[k]) continue;
     snprintf(path, sizeof path, "/state/%s", sv[k].name);
     snprintf(nm, sizeof nm, "max_abs_%s", sv[k].name);
-    if (!CheckDataset(fid, path, 3, dims3, NULL) || !ReadAttr(g, nm, H5T_NATIVE_DOUBLE, &h->max_abs[k])) FAIL("-restart %s: damaged checkpoint: %s is missing or not of the %" PetscInt_FMT " x %" PetscInt_FMT " grid", file, path, s->spec.nx, s->spec.ny);
+    if (!CheckDataset(fid, path, 3, dims3, NULL) || !ReadAttr(g, nm, H5T_NATIVE_DOUBLE, &h->max_abs[k]))
+      FAIL("-restart %s: damaged checkpoint: %s is missing or not of the %" PetscInt_FMT " x %" PetscInt_FMT " grid",
+           file, path, s->spec.nx, s->spec.ny);
   }
-  if (!CheckDataset(fid, "/state/broken_segments", 3, dims2, NULL)) FAIL("-restart %s: damaged checkpoint: /state/broken_segments is missing or not of this grid", file);
-  if (s->num.integrator == INTEGRATOR_PAPER && !h->has[2]) FAIL("-restart %s: damaged checkpoint: the paper integrator needs positions_old", file);
+  if (!CheckDataset(fid, "/state/broken_segments", 3, dims2, NULL))
+    FAIL("-restart %s: damaged checkpoint: /state/broken_segments is missing or not of this grid", file);
+  if (s->num.integrator == INTEGRATOR_PAPER && !h->has[2])
+    FAIL("-restart %s: damaged checkpoint: the paper integrator needs positions_old", file);
 
   /* the history */
   {
-    const hsize_t nrows = (hsize_t)CURVE_COLS * h->load_step, nfr = (hsize_t)3 * h->frames;
+    const hsize_t nrows = (hsize_t) CURVE_COLS * h->load_step, nfr = (hsize_t) 3 * h->frames;
     PetscCall(PetscMalloc1(nrows, rows));
-    if (!CheckDataset(fid, "/history/curve", 1, &nrows, *rows)) FAIL("-restart %s: damaged checkpoint: /history/curve does not hold %d load steps", file, h->load_step);
+    if (!CheckDataset(fid, "/history/curve", 1, &nrows, *rows))
+      FAIL("-restart %s: damaged checkpoint: /history/curve does not hold %d load steps", file, h->load_step);
     if (h->frames) {
       PetscCall(PetscMalloc1(nfr, frames));
-      if (!CheckDataset(fid, "/history/frames", 1, &nfr, *frames)) FAIL("-restart %s: damaged checkpoint: /history/frames does not hold %d frames", file, h->frames);
+      if (!CheckDataset(fid, "/history/frames", 1, &nfr, *frames))
+        FAIL("-restart %s: damaged checkpoint: /history/frames does not hold %d frames", file, h->frames);
     }
   }
 done:
@@ -553,30 +614,61 @@ static void CheckFramesFile(Fabric fab, Header *h)
   hid_t       fid;
   int         nx = 0, ny = 0;
 
-  if (snprintf(file, sizeof file, "%s/fabric.h5", fab->s.out.output_dir) >= (int)sizeof file) file[0] = 0;
+  if (snprintf(file, sizeof file, "%s/fabric.h5", fab->s.out.output_dir) >= (int) sizeof file) file[0] = 0;
   H5Eget_auto2(H5E_DEFAULT, &efunc, &edata);
   H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
   fid = H5Fis_hdf5(file) > 0 ? H5Fopen(file, H5F_ACC_RDONLY, H5P_DEFAULT) : -1;
   if (fid < 0) {
     h->status = 1;
-    snprintf(h->msg, sizeof h->msg, "-restart %s: %s, which holds the %d frames written before the checkpoint, is missing or cannot be opened (damaged); restart into the -output_dir of the checkpointed run, or with -output_every 0 -output_te_every 0", fab->io->restart, file, h->frames);
+    snprintf(
+        h->msg, sizeof h->msg,
+        "-restart %s: %s, which holds the %d frames written before the checkpoint, is missing or cannot be opened "
+        "(damaged); restart into the -output_dir of the checkpointed run, or with -output_every 0 -output_te_every 0",
+        fab->io->restart, file, h->frames);
   } else {
     hid_t g = H5Gopen2(fid, "/", H5P_DEFAULT);
-    if (!ReadAttr(g, "nx", H5T_NATIVE_INT, &nx) || !ReadAttr(g, "ny", H5T_NATIVE_INT, &ny) || nx != fab->s.spec.nx || ny != fab->s.spec.ny) {
+    if (!ReadAttr(g, "nx", H5T_NATIVE_INT, &nx) || !ReadAttr(g, "ny", H5T_NATIVE_INT, &ny) || nx != fab->s.spec.nx ||
+        ny != fab->s.spec.ny) {
       h->status = 1;
-      snprintf(h->msg, sizeof h->msg, "-restart %s: %s is not of this grid (%d x %d crossings, this run has %" PetscInt_FMT " x %" PetscInt_FMT ")", fab->io->restart, file, nx, ny, fab->s.spec.nx, fab->s.spec.ny);
+      snprintf(h->msg, sizeof h->msg,
+               "-restart %s: %s is not of this grid (%d x %d crossings, this run has %" PetscInt_FMT " x %" PetscInt_FMT
+               ")",
+               fab->io->restart, file, nx, ny, fab->s.spec.nx, fab->s.spec.ny);
     }
     for (int k = 0; k < h->frames && !h->status; k++) {
       snprintf(path, sizeof path, "/frames/%06d", k);
       if (H5Lexists(fid, "/frames", H5P_DEFAULT) <= 0 || H5Lexists(fid, path, H5P_DEFAULT) <= 0) {
         h->status = 1;
-        snprintf(h->msg, sizeof h->msg, "-restart %s: %s lacks frame %d of the %d written before the checkpoint: it is not the file of this run", fab->io->restart, file, k, h->frames);
+        snprintf(
+            h->msg, sizeof h->msg,
+            "-restart %s: %s lacks frame %d of the %d written before the checkpoint: it is not the file of this run",
+            fab->io->restart, file, k, h->frames);
       }
     }
     H5Gclose(g);
     H5Fclose(fid);
   }
   H5Eset_auto2(H5E_DEFAULT, efunc, edata);
+}
+
+/* the run's counters from a checkpoint's header */
+static void RestoreCounters(Fabric fab, const Header *hp)
+{
+  const Header h = *hp;
+
+  fab->load.load_step        = h.load_step;
+  fab->load.load_factor      = (PetscReal) h.load_step / (PetscReal) fab->s.load.load_steps;
+  fab->load.travel           = h.grip_disp;
+  fab->load.travel_now       = h.grip_disp; /* a load step ends with its ramp done */
+  fab->load.travel_step_prev = h.grip_step_prev;
+  for (int c = 0; c < 4; c++) fab->front.awake_box[c] = h.awake_box[c];
+  fab->step.last.tension_max = h.last_tension_max;
+  fab->step.ke_prev          = h.ke_prev;
+  fab->step.ke_resets        = (PetscInt64) h.ke_resets;
+  fab->stats.te_steps        = (PetscInt64) h.te_steps;
+  fab->stats.point_updates   = (PetscInt64) h.point_updates;
+  fab->stats.converged       = h.converged ? PETSC_TRUE : PETSC_FALSE;
+  fab->stats.broken_any      = h.broken_any ? PETSC_TRUE : PETSC_FALSE;
 }
 
 PetscErrorCode RestartLoad(Fabric fab)
@@ -594,7 +686,8 @@ PetscErrorCode RestartLoad(Fabric fab)
   PetscCall(PetscMemzero(&h, sizeof h));
   if (fab->rank == 0) {
     PetscCall(ReadHeader(fab, io->restart, &h, &rows, &frames));
-    if (!h.status && h.frames > 0 && fab->s.out.output_dir[0] && (io->output_every > 0 || io->output_te_every > 0)) CheckFramesFile(fab, &h);
+    if (!h.status && h.frames > 0 && fab->s.out.output_dir[0] && (io->output_every > 0 || io->output_te_every > 0))
+      CheckFramesFile(fab, &h);
   }
   PetscCallMPI(MPI_Bcast(&h, sizeof h, MPI_BYTE, 0, fab->comm));
   if (h.status) {
@@ -616,62 +709,42 @@ PetscErrorCode RestartLoad(Fabric fab)
     PetscReal norm;
     if (!h.has[k]) continue;
     if (!*sv[k].vec) PetscCall(VecDuplicate(fab->state.X, sv[k].vec));
-    PetscCall(PetscObjectSetName((PetscObject)*sv[k].vec, sv[k].name));
+    PetscCall(PetscObjectSetName((PetscObject) *sv[k].vec, sv[k].name));
     PetscCall(VecLoad(*sv[k].vec, v));
     PetscCall(VecNorm(*sv[k].vec, NORM_INFINITY, &norm));
-    PetscCheck(norm == (PetscReal)h.max_abs[k], fab->comm, PETSC_ERR_FILE_UNEXPECTED, "-restart %s: damaged checkpoint: %s read back with largest |value| %.17g, saved with %.17g", io->restart, sv[k].name, (double)norm, h.max_abs[k]);
+    PetscCheck(norm == (PetscReal) h.max_abs[k], fab->comm, PETSC_ERR_FILE_UNEXPECTED,
+               "-restart %s: damaged checkpoint: %s read back with largest |value| %.17g, saved with %.17g",
+               io->restart, sv[k].name, (double) norm, h.max_abs[k]);
   }
   {
     Vec B;
     PetscCall(DMGetGlobalVector(fab->grid.da_seg, &B));
-    PetscCall(PetscObjectSetName((PetscObject)B, "broken_segments"));
+    PetscCall(PetscObjectSetName((PetscObject) B, "broken_segments"));
     PetscCall(VecLoad(B, v));
     PetscCall(BrokenFromVec(fab, B));
     PetscCall(DMRestoreGlobalVector(fab->grid.da_seg, &B));
   }
   PetscCall(PetscViewerHDF5PopGroup(v));
   PetscCall(PetscViewerDestroy(&v));
-  PetscCall(PetscObjectSetName((PetscObject)fab->state.X, "positions"));
-  PetscCall(PetscObjectSetName((PetscObject)fab->state.V, NULL));
+  PetscCall(PetscObjectSetName((PetscObject) fab->state.X, "positions"));
+  PetscCall(PetscObjectSetName((PetscObject) fab->state.V, NULL));
 
-  /* the counters, the curve rows and the frames */
-  fab->load.load_step      = h.load_step;
-  fab->load.load_factor    = (PetscReal)h.load_step / (PetscReal)fab->s.load.load_steps;
-  fab->load.travel      = h.grip_disp;
-  fab->load.travel_now       = h.grip_disp; /* a load step ends with its ramp done */
-  fab->load.travel_step_prev = h.grip_step_prev;
-  for (int c = 0; c < 4; c++) fab->front.awake_box[c] = h.awake_box[c];
-  fab->step.last.tension_max = h.last_tension_max;
-  fab->step.ke_prev          = h.ke_prev;
-  fab->step.ke_resets        = (PetscInt64)h.ke_resets;
-  fab->stats.te_steps       = (PetscInt64)h.te_steps;
-  fab->stats.point_updates  = (PetscInt64)h.point_updates;
-  fab->stats.converged      = h.converged ? PETSC_TRUE : PETSC_FALSE;
-  fab->stats.broken_any     = h.broken_any ? PETSC_TRUE : PETSC_FALSE;
-  for (PetscInt k = 0; k < h.load_step; k++) {
-    const double *a = rows + CURVE_COLS * k;
-    CurveRow     *r = &fab->stats.curve[k];
-    r->load_step    = (PetscInt)a[0];
-    r->time         = a[1];
-    r->elongation   = a[2];
-    r->force        = a[3];
-    r->inner_steps  = (PetscInt)a[4];
-    r->residual     = a[5];
-    r->balanced     = a[6] != 0 ? PETSC_TRUE : PETSC_FALSE;
-    r->travel       = a[7];
-    r->center_shear = a[8];
-    for (int d = 0; d < 3; d++) r->plane_force[d] = a[9 + d], r->pedestal_force[d] = a[12 + d], r->clamp_force[d] = a[15 + d], r->weight[d] = a[18 + d];
-  }
+  RestoreCounters(fab, &h);
+  for (PetscInt k = 0; k < h.load_step; k++) CurveRowUnpack(rows + CURVE_COLS * k, &fab->stats.curve[k]);
   io->frames = 0;
   for (PetscInt k = 0; k < h.frames; k++) {
-    FrameInfo f = {frames[3 * k], (PetscInt)frames[3 * k + 1], (PetscInt)frames[3 * k + 2]};
+    FrameInfo f = {frames[3 * k], (PetscInt) frames[3 * k + 1], (PetscInt) frames[3 * k + 2]};
     PetscCall(FramesAppend(fab, &f));
   }
-  io->restarted   = PETSC_TRUE;
+  io->restarted = PETSC_TRUE;
   fab->stats.wall_start -= h.wall; /* elapsed time and ETA count the run before the restart */
   PetscCall(PetscFree(rows));
   PetscCall(PetscFree(frames));
   PetscCall(PetscLogEventEnd(EV_Output, 0, 0, 0, 0));
-  if (!fab->s.out.quiet) PetscCall(PetscPrintf(fab->comm, "fabric: restart from %s at load step %" PetscInt_FMT "/%" PetscInt_FMT " (%" PetscInt64_FMT " te steps, %" PetscInt_FMT " frames so far)\n", io->restart, fab->load.load_step, fab->s.load.load_steps, fab->stats.te_steps, io->frames));
+  if (!fab->s.out.quiet)
+    PetscCall(PetscPrintf(fab->comm,
+                          "fabric: restart from %s at load step %" PetscInt_FMT "/%" PetscInt_FMT " (%" PetscInt64_FMT
+                          " te steps, %" PetscInt_FMT " frames so far)\n",
+                          io->restart, fab->load.load_step, fab->s.load.load_steps, fab->stats.te_steps, io->frames));
   PetscFunctionReturn(0);
 }

@@ -22,7 +22,7 @@ PetscErrorCode GlobalMax(MPI_Comm comm, PetscReal *v, PetscInt n)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(EV_Reduce, 0, 0, 0, 0));
-  PetscCall(MPIU_Allreduce(MPI_IN_PLACE, v, (PetscMPIInt)n, MPIU_REAL, MPIU_MAX, comm));
+  PetscCall(MPIU_Allreduce(MPI_IN_PLACE, v, (PetscMPIInt) n, MPIU_REAL, MPIU_MAX, comm));
   PetscCall(PetscLogEventEnd(EV_Reduce, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
@@ -31,7 +31,7 @@ PetscErrorCode GlobalSum(MPI_Comm comm, PetscReal *v, PetscInt n)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(EV_Reduce, 0, 0, 0, 0));
-  PetscCall(MPIU_Allreduce(MPI_IN_PLACE, v, (PetscMPIInt)n, MPIU_REAL, MPIU_SUM, comm));
+  PetscCall(MPIU_Allreduce(MPI_IN_PLACE, v, (PetscMPIInt) n, MPIU_REAL, MPIU_SUM, comm));
   PetscCall(PetscLogEventEnd(EV_Reduce, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
@@ -47,7 +47,7 @@ PetscErrorCode GlobalSum(MPI_Comm comm, PetscReal *v, PetscInt n)
 PetscErrorCode GlobalSumExact(MPI_Comm comm, const PetscReal *terms, PetscInt n, PetscReal *sum)
 {
   PetscReal scale = 0;
-  long long isum  = 0, total = 0;
+  long long isum = 0, total = 0;
 
   PetscFunctionBeginUser;
   for (PetscInt k = 0; k < n; k++) scale = PetscMax(scale, PetscAbsReal(terms[k]));
@@ -63,6 +63,6 @@ PetscErrorCode GlobalSumExact(MPI_Comm comm, const PetscReal *terms, PetscInt n,
   PetscCall(PetscLogEventBegin(EV_Reduce, 0, 0, 0, 0));
   PetscCallMPI(MPI_Allreduce(&isum, &total, 1, MPI_LONG_LONG, MPI_SUM, comm));
   PetscCall(PetscLogEventEnd(EV_Reduce, 0, 0, 0, 0));
-  *sum = (PetscReal)total * (scale / ldexp(1.0, EXACT_SUM_BITS));
+  *sum = (PetscReal) total * (scale / ldexp(1.0, EXACT_SUM_BITS));
   PetscFunctionReturn(0);
 }

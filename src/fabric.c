@@ -13,7 +13,6 @@
 
 #include <math.h>
 
-
 /* Position of crossing (i,j) relative to the grid centre at rest, m. (i - (nx-1)/2) is exact,
    so mirrored crossings get mirrored coordinates and the shapes keep the grid's symmetries. */
 static void FromCentre(const Scene *s, PetscInt i, PetscInt j, PetscReal *x, PetscReal *y)
@@ -39,15 +38,15 @@ static int PointExists(const Scene *s, PetscInt i, PetscInt j)
   PetscReal x, y;
   if (i < 0 || i >= s->spec.nx || j < 0 || j >= s->spec.ny) return 0;
   switch (s->spec.shape) {
-  case SHAPE_RECTANGLE:
-    return 1;
+  case SHAPE_RECTANGLE: return 1;
   case SHAPE_DISC:
     FromCentre(s, i, j, &x, &y);
     return x * x + y * y <= s->spec.disc_radius * s->spec.disc_radius * (1.0 + 1e-12);
   case SHAPE_BIAS: {
     const PetscReal tol = 1e-9 * s->spec.gauge;
     BiasCoords(s, i, j, &x, &y);
-    return PetscAbsReal(x) <= 0.5 * s->spec.gauge + s->spec.jaw_depth + tol && PetscAbsReal(y) <= 0.5 * s->spec.width + tol;
+    return PetscAbsReal(x) <= 0.5 * s->spec.gauge + s->spec.jaw_depth + tol &&
+           PetscAbsReal(y) <= 0.5 * s->spec.width + tol;
   }
   }
   return 0;
@@ -58,7 +57,8 @@ static int OnLine(const Scene *s, const PetscReal line[4], PetscInt i, PetscInt 
 {
   PetscReal x, y;
   FromCentre(s, i, j, &x, &y);
-  return PetscAbsReal(-(x - line[0]) * PetscSinReal(line[2]) + (y - line[1]) * PetscCosReal(line[2])) <= line[3] * (1.0 + 1e-9);
+  return PetscAbsReal(-(x - line[0]) * PetscSinReal(line[2]) + (y - line[1]) * PetscCosReal(line[2])) <=
+         line[3] * (1.0 + 1e-9);
 }
 
 /* The clamp region (MODEL.md 6); the strip's moving jaw is its grip. */
@@ -66,12 +66,13 @@ static PointKind RegionKind(const Scene *s, PetscInt i, PetscInt j)
 {
   PetscReal x, y, r2;
   switch (s->clamps.clamp) {
-  case CLAMP_JAW: { /* clamped jaw at the start of the pull axis, moving jaw at its end */
+  case CLAMP_JAW: {                    /* clamped jaw at the start of the pull axis, moving jaw at its end */
     if (s->spec.shape == SHAPE_BIAS) { /* the jaws hold the specimen beyond the lines |s| = gauge/2 across it */
       const PetscReal tol = 1e-9 * s->spec.gauge;
       PetscReal       along, across;
       BiasCoords(s, i, j, &along, &across);
-      return along <= -0.5 * s->spec.gauge + tol ? POINT_CLAMPED : (along >= 0.5 * s->spec.gauge - tol ? POINT_GRIP : POINT_FREE);
+      return along <= -0.5 * s->spec.gauge + tol ? POINT_CLAMPED
+                                                 : (along >= 0.5 * s->spec.gauge - tol ? POINT_GRIP : POINT_FREE);
     }
     const PetscInt along = s->spec.pull == PULL_WARP ? i : j, n = s->spec.pull == PULL_WARP ? s->spec.nx : s->spec.ny;
     if (along == 0) return POINT_CLAMPED;
@@ -79,13 +80,18 @@ static PointKind RegionKind(const Scene *s, PetscInt i, PetscInt j)
     return POINT_FREE;
   }
   case CLAMP_EDGE: /* the shape's outline: an existing crossing with a missing yarn neighbour */
-    return (!PointExists(s, i - 1, j) || !PointExists(s, i + 1, j) || !PointExists(s, i, j - 1) || !PointExists(s, i, j + 1)) ? POINT_CLAMPED : POINT_FREE;
+    return (!PointExists(s, i - 1, j) || !PointExists(s, i + 1, j) || !PointExists(s, i, j - 1) ||
+            !PointExists(s, i, j + 1))
+               ? POINT_CLAMPED
+               : POINT_FREE;
   case CLAMP_RING:
     FromCentre(s, i, j, &x, &y);
     r2 = x * x + y * y;
-    return (r2 >= s->clamps.ring[0] * s->clamps.ring[0] * (1.0 - 1e-12) && r2 <= s->clamps.ring[1] * s->clamps.ring[1] * (1.0 + 1e-12)) ? POINT_CLAMPED : POINT_FREE;
-  case CLAMP_NONE:
-    return POINT_FREE;
+    return (r2 >= s->clamps.ring[0] * s->clamps.ring[0] * (1.0 - 1e-12) &&
+            r2 <= s->clamps.ring[1] * s->clamps.ring[1] * (1.0 + 1e-12))
+               ? POINT_CLAMPED
+               : POINT_FREE;
+  case CLAMP_NONE: return POINT_FREE;
   }
   return POINT_FREE;
 }
@@ -105,9 +111,9 @@ static PointKind KindOf(const Scene *s, PetscInt i, PetscInt j)
    clamp line and a grip line (integer counts: exact on any number of ranks). */
 static PetscErrorCode CheckLines(Fabric fab, const DMDALocalInfo *info)
 {
-  const Scene *s = &fab->s;
+  const Scene *s                                            = &fab->s;
   PetscInt     count[2 * MAX_LINES + MAX_LINES * MAX_LINES] = {0};
-  PetscInt    *both = count + 2 * MAX_LINES;
+  PetscInt    *both                                         = count + 2 * MAX_LINES;
 
   PetscFunctionBeginUser;
   if (!s->clamps.clamp_lines && !s->clamps.grip_lines) PetscFunctionReturn(0);
@@ -118,16 +124,28 @@ static PetscErrorCode CheckLines(Fabric fab, const DMDALocalInfo *info)
       for (PetscInt g = 0; g < s->clamps.grip_lines; g++) {
         const int on = OnLine(s, s->clamps.grip_line[g], i, j);
         count[MAX_LINES + g] += on;
-        for (PetscInt c = 0; c < s->clamps.clamp_lines; c++) both[g * MAX_LINES + c] += on && OnLine(s, s->clamps.clamp_line[c], i, j);
+        for (PetscInt c = 0; c < s->clamps.clamp_lines; c++)
+          both[g * MAX_LINES + c] += on && OnLine(s, s->clamps.clamp_line[c], i, j);
       }
     }
   PetscCall(MPIU_Allreduce(MPI_IN_PLACE, count, 2 * MAX_LINES + MAX_LINES * MAX_LINES, MPIU_INT, MPI_SUM, fab->comm));
   for (PetscInt c = 0; c < s->clamps.clamp_lines; c++)
-    PetscCheck(count[c] > 0, fab->comm, PETSC_ERR_USER_INPUT, "-clamp_line_mm line %" PetscInt_FMT " (%g,%g mm at %g deg, half-width %g mm) selects no crossing of the specimen", c + 1, (double)(1e3 * s->clamps.clamp_line[c][0]), (double)(1e3 * s->clamps.clamp_line[c][1]), (double)(s->clamps.clamp_line[c][2] * 180.0 / PETSC_PI), (double)(1e3 * s->clamps.clamp_line[c][3]));
+    PetscCheck(count[c] > 0, fab->comm, PETSC_ERR_USER_INPUT,
+               "-clamp_line_mm line %" PetscInt_FMT
+               " (%g,%g mm at %g deg, half-width %g mm) selects no crossing of the specimen",
+               c + 1, (double) (1e3 * s->clamps.clamp_line[c][0]), (double) (1e3 * s->clamps.clamp_line[c][1]),
+               (double) (s->clamps.clamp_line[c][2] * 180.0 / PETSC_PI), (double) (1e3 * s->clamps.clamp_line[c][3]));
   for (PetscInt g = 0; g < s->clamps.grip_lines; g++) {
-    PetscCheck(count[MAX_LINES + g] > 0, fab->comm, PETSC_ERR_USER_INPUT, "-grip_line_mm line %" PetscInt_FMT " (%g,%g mm at %g deg, half-width %g mm) selects no crossing of the specimen", g + 1, (double)(1e3 * s->clamps.grip_line[g][0]), (double)(1e3 * s->clamps.grip_line[g][1]), (double)(s->clamps.grip_line[g][2] * 180.0 / PETSC_PI), (double)(1e3 * s->clamps.grip_line[g][3]));
+    PetscCheck(count[MAX_LINES + g] > 0, fab->comm, PETSC_ERR_USER_INPUT,
+               "-grip_line_mm line %" PetscInt_FMT
+               " (%g,%g mm at %g deg, half-width %g mm) selects no crossing of the specimen",
+               g + 1, (double) (1e3 * s->clamps.grip_line[g][0]), (double) (1e3 * s->clamps.grip_line[g][1]),
+               (double) (s->clamps.grip_line[g][2] * 180.0 / PETSC_PI), (double) (1e3 * s->clamps.grip_line[g][3]));
     for (PetscInt c = 0; c < s->clamps.clamp_lines; c++)
-      PetscCheck(both[g * MAX_LINES + c] == 0, fab->comm, PETSC_ERR_USER_INPUT, "-grip_line_mm line %" PetscInt_FMT " and -clamp_line_mm line %" PetscInt_FMT " share %" PetscInt_FMT " crossings: a crossing cannot be clamped and gripped", g + 1, c + 1, both[g * MAX_LINES + c]);
+      PetscCheck(both[g * MAX_LINES + c] == 0, fab->comm, PETSC_ERR_USER_INPUT,
+                 "-grip_line_mm line %" PetscInt_FMT " and -clamp_line_mm line %" PetscInt_FMT " share %" PetscInt_FMT
+                 " crossings: a crossing cannot be clamped and gripped",
+                 g + 1, c + 1, both[g * MAX_LINES + c]);
   }
   PetscFunctionReturn(0);
 }
@@ -143,11 +161,185 @@ static PetscErrorCode RankGrid(PetscInt nx, PetscInt ny, PetscMPIInt size, Petsc
   for (PetscInt a = 1; a <= size; a++) {
     const PetscInt b = size / a;
     if (size % a || (a > 1 && nx / a < 2) || (b > 1 && ny / b < 2)) continue;
-    const PetscReal perimeter = (PetscReal)nx / a + (PetscReal)ny / b;
+    const PetscReal perimeter = (PetscReal) nx / a + (PetscReal) ny / b;
     if (perimeter < best) {
       best = perimeter;
       *m   = a;
       *n   = b;
+    }
+  }
+  PetscFunctionReturn(0);
+}
+
+/* the DMDA (dof 3, box stencil of width 2) and its dof-2 twin; the rank grid is picked here, since a patch narrower
+ * than the stencil makes the DMDA fail on some ranks only (and the others wait forever) */
+static PetscErrorCode CreateGrid(Fabric fab)
+{
+  const Scene *s    = &fab->s;
+  MPI_Comm     comm = fab->comm;
+
+  PetscFunctionBeginUser;
+  {
+    PetscInt m = 0, n = 0;
+    PetscCall(RankGrid(s->spec.nx, s->spec.ny, fab->size, &m, &n));
+    PetscCheck(m > 0, comm, PETSC_ERR_USER_INPUT,
+               "grid too small: %" PetscInt_FMT " x %" PetscInt_FMT
+               " crossings cannot be split over %d ranks (each rank needs at least 2 crossings along each direction "
+               "the grid is split in); use fewer ranks",
+               s->spec.nx, s->spec.ny, fab->size);
+    PetscCall(DMDACreate2d(comm, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, DMDA_STENCIL_BOX, s->spec.nx, s->spec.ny, m, n, 3,
+                           2, NULL, NULL, &fab->grid.da));
+    PetscCall(DMSetFromOptions(fab->grid.da));
+    PetscCall(DMSetUp(fab->grid.da));
+  }
+  PetscCall(DMDASetFieldName(fab->grid.da, 0, "x"));
+  PetscCall(DMDASetFieldName(fab->grid.da, 1, "y"));
+  PetscCall(DMDASetFieldName(fab->grid.da, 2, "z"));
+  PetscCall(DMDACreateCompatibleDMDA(fab->grid.da, 2, &fab->grid.da_seg));
+  PetscFunctionReturn(0);
+}
+
+/* the state vectors and the rest positions X(i,j) = (i ax, j ay, 0) */
+static PetscErrorCode CreateState(Fabric fab, const DMDALocalInfo *info_)
+{
+  const Scene        *s    = &fab->s;
+  const DMDALocalInfo info = *info_;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMCreateGlobalVector(fab->grid.da, &fab->state.X));
+  PetscCall(PetscObjectSetName((PetscObject) fab->state.X, "positions"));
+  PetscCall(VecDuplicate(fab->state.X, &fab->state.V));
+  PetscCall(VecDuplicate(fab->state.X, &fab->state.F));
+  PetscCall(VecDuplicate(fab->state.X, &fab->grid.X0));
+  PetscCall(DMCreateLocalVector(fab->grid.da, &fab->state.Xl));
+
+  {
+    const PetscReal ax = 1.0 / s->spec.picks_per_m, ay = 1.0 / s->spec.ends_per_m;
+    PetscScalar  ***x;
+    PetscCall(DMDAVecGetArrayDOF(fab->grid.da, fab->grid.X0, &x));
+    for (PetscInt j = info.ys; j < info.ys + info.ym; j++)
+      for (PetscInt i = info.xs; i < info.xs + info.xm; i++) {
+        x[j][i][0] = i * ax;
+        x[j][i][1] = j * ay;
+        x[j][i][2] = 0.0;
+      }
+    PetscCall(DMDAVecRestoreArrayDOF(fab->grid.da, fab->grid.X0, &x));
+    PetscCall(VecCopy(fab->grid.X0, fab->state.X));
+    fab->grid.centre[0] = 0.5 * (s->spec.nx - 1) * ax;
+    fab->grid.centre[1] = 0.5 * (s->spec.ny - 1) * ay;
+    fab->grid.centre[2] = 0.0;
+    fab->grid.extent    = PetscSqrtReal(PetscSqr((s->spec.nx - 1) * ax) + PetscSqr((s->spec.ny - 1) * ay));
+  }
+
+  PetscFunctionReturn(0);
+}
+
+/* the force kernels' patch: ghosted existence, broken flags, constants of the force terms */
+static PetscErrorCode SetUpPatch(Fabric fab, const DMDALocalInfo *info_)
+{
+  const Scene        *s    = &fab->s;
+  const DMDALocalInfo info = *info_;
+
+  PetscFunctionBeginUser;
+  {
+    Patch *p = &fab->grid.patch;
+    p->nx    = s->spec.nx;
+    p->ny    = s->spec.ny;
+    p->xs = info.xs, p->ys = info.ys, p->xm = info.xm, p->ym = info.ym;
+    p->gxs = info.gxs, p->gys = info.gys, p->gxm = info.gxm, p->gym = info.gym;
+    p->ax       = 1.0 / s->spec.picks_per_m;
+    p->ay       = 1.0 / s->spec.ends_per_m;
+    p->warp     = &s->yarns.warp;
+    p->weft     = &s->yarns.weft;
+    p->traction = s->terms.traction;
+    p->bending =
+        (s->terms.bending && (s->yarns.warp.bending > 0 || s->yarns.weft.bending > 0)) ? PETSC_TRUE : PETSC_FALSE;
+    p->shear     = (s->terms.shear && s->terms.shear_G > 0) ? PETSC_TRUE : PETSC_FALSE;
+    p->kbx       = s->yarns.warp.bending / p->ax;
+    p->kby       = s->yarns.weft.bending / p->ay;
+    p->Ks        = s->terms.shear_G * p->ax * p->ay;
+    p->Kj        = s->terms.jam_factor * p->Ks;
+    p->s_lock    = PetscSinReal(s->terms.lock_deg * PETSC_PI / 180.0);
+    p->k_contact = ((s->bodies.sphere_radius > 0) + (s->bodies.plane ? 1 : 0) + (s->bodies.pedestal_radius > 0)) *
+                   s->bodies.contact_k; /* a crossing can touch every body at once */
+    PetscCall(PetscCalloc1((size_t) p->gxm * p->gym, &p->exists));
+    PetscCall(PetscCalloc1((size_t) p->gxm * p->gym, &p->broken_x));
+    PetscCall(PetscCalloc1((size_t) p->gxm * p->gym, &p->broken_y));
+    for (PetscInt j = 0; j < p->gym; j++)
+      for (PetscInt i = 0; i < p->gxm; i++)
+        p->exists[j * p->gxm + i] = (unsigned char) PointExists(s, p->gxs + i, p->gys + j);
+    PetscCall(PatchSetUp(p));
+  }
+
+  PetscFunctionReturn(0);
+}
+
+/* masses (MODEL.md 4): each existing segment gives half its yarn mass to each end; point kinds, the point load's
+ * crossing and the balance test's force floor */
+static PetscErrorCode SetUpMasses(Fabric fab, const DMDALocalInfo *info_)
+{
+  const Scene        *s    = &fab->s;
+  MPI_Comm            comm = fab->comm;
+  const DMDALocalInfo info = *info_;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc4(fab->grid.nloc, &fab->grid.mass, fab->grid.nloc, &fab->grid.inv_m, fab->grid.nloc,
+                         &fab->grid.kind, fab->grid.nloc, &fab->grid.predict_w));
+  {
+    const PetscReal mx   = 0.5 * s->yarns.warp.mu * (1.0 + s->yarns.warp.crimp) * fab->grid.patch.ax;
+    const PetscReal my   = 0.5 * s->yarns.weft.mu * (1.0 + s->yarns.weft.crimp) * fab->grid.patch.ay;
+    PetscReal       gmag = PetscSqrtReal(PetscSqr(s->terms.gravity[0]) + PetscSqr(s->terms.gravity[1]) +
+                                         PetscSqr(s->terms.gravity[2])),
+              wmax       = 0;
+    PetscInt count       = 0;
+    fab->grid.load_index = -1;
+    for (PetscInt j = info.ys; j < info.ys + info.ym; j++)
+      for (PetscInt i = info.xs; i < info.xs + info.xm; i++) {
+        const PetscInt k = (j - info.ys) * info.xm + (i - info.xs);
+        PetscReal      m = 0;
+        if (PointExists(s, i, j)) {
+          m = mx * (PointExists(s, i - 1, j) + PointExists(s, i + 1, j)) +
+              my * (PointExists(s, i, j - 1) + PointExists(s, i, j + 1));
+          count++;
+        }
+        fab->grid.mass[k]  = m;
+        fab->grid.kind[k]  = (unsigned char) (PointExists(s, i, j) ? KindOf(s, i, j) : POINT_CLAMPED);
+        fab->grid.inv_m[k] = (fab->grid.kind[k] == POINT_FREE && m > 0) ? 1.0 / m : 0.0;
+        wmax               = PetscMax(wmax, m * gmag);
+        if (i == s->load.load_at[0] && j == s->load.load_at[1]) fab->grid.load_index = k;
+      }
+    PetscCall(MPIU_Allreduce(&count, &fab->grid.points, 1, MPIU_INT, MPI_SUM, comm));
+    PetscCall(GlobalMax(comm, &wmax, 1));
+    /* the balance test's force scale never drops below a point's weight (or 1 uN) */
+    fab->step.force_floor = PetscMax(wmax, 1e-6);
+  }
+  PetscFunctionReturn(0);
+}
+
+/* friction anchors: each crossing's rest position in the frame of each body present */
+static PetscErrorCode SetUpAnchors(Fabric fab)
+{
+  const Scene *s    = &fab->s;
+
+  PetscFunctionBeginUser;
+  if (s->bodies.friction_mu > 0) {
+    const PetscBool present[3] = {s->bodies.sphere_radius > 0, s->bodies.plane, s->bodies.pedestal_radius > 0};
+    for (int b = 0; b < 3; b++) {
+      PetscReal c[3];
+      if (!present[b]) continue;
+      for (int d = 0; d < 3; d++)
+        c[d] = fab->grid.centre[d] + (b == 0   ? s->bodies.sphere_start[d]
+                                      : b == 1 ? s->bodies.plane_point[d]
+                                               : s->bodies.pedestal_top[d]);
+      PetscCall(VecDuplicate(fab->state.X, &fab->state.anchor[b]));
+      PetscCall(VecCopy(fab->grid.X0, fab->state.anchor[b]));
+      {
+        PetscScalar *a;
+        PetscCall(VecGetArray(fab->state.anchor[b], &a));
+        for (PetscInt k = 0; k < fab->grid.nloc; k++)
+          for (int d = 0; d < 3; d++) a[3 * k + d] -= c[d];
+        PetscCall(VecRestoreArray(fab->state.anchor[b], &a));
+      }
     }
   }
   PetscFunctionReturn(0);
@@ -167,140 +359,31 @@ PetscErrorCode FabricCreate(MPI_Comm comm, Fabric *out)
   PetscCallMPI(MPI_Comm_size(comm, &fab->size));
   s = &fab->s;
   PetscCall(SceneLoad(comm, s));
-
-  /* the DMDA: pick the rank grid here, since a patch narrower than the stencil makes the
-     DMDA fail on some ranks only (and the others wait forever) */
-  {
-    PetscInt m = 0, n = 0;
-    PetscCall(RankGrid(s->spec.nx, s->spec.ny, fab->size, &m, &n));
-    PetscCheck(m > 0, comm, PETSC_ERR_USER_INPUT, "grid too small: %" PetscInt_FMT " x %" PetscInt_FMT " crossings cannot be split over %d ranks (each rank needs at least 2 crossings along each direction the grid is split in); use fewer ranks", s->spec.nx, s->spec.ny, fab->size);
-    PetscCall(DMDACreate2d(comm, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, DMDA_STENCIL_BOX, s->spec.nx, s->spec.ny, m, n, 3, 2, NULL, NULL, &fab->grid.da));
-    PetscCall(DMSetFromOptions(fab->grid.da));
-    PetscCall(DMSetUp(fab->grid.da));
-  }
-  PetscCall(DMDASetFieldName(fab->grid.da, 0, "x"));
-  PetscCall(DMDASetFieldName(fab->grid.da, 1, "y"));
-  PetscCall(DMDASetFieldName(fab->grid.da, 2, "z"));
-  PetscCall(DMDACreateCompatibleDMDA(fab->grid.da, 2, &fab->grid.da_seg));
+  PetscCall(CreateGrid(fab));
   PetscCall(DMDAGetLocalInfo(fab->grid.da, &info));
-  fab->grid.nloc = (PetscInt)info.xm * info.ym;
-
-  PetscCall(DMCreateGlobalVector(fab->grid.da, &fab->state.X));
-  PetscCall(PetscObjectSetName((PetscObject)fab->state.X, "positions"));
-  PetscCall(VecDuplicate(fab->state.X, &fab->state.V));
-  PetscCall(VecDuplicate(fab->state.X, &fab->state.F));
-  PetscCall(VecDuplicate(fab->state.X, &fab->grid.X0));
-  PetscCall(DMCreateLocalVector(fab->grid.da, &fab->state.Xl));
-
-  /* rest positions X(i,j) = (i ax, j ay, 0) */
-  {
-    const PetscReal ax = 1.0 / s->spec.picks_per_m, ay = 1.0 / s->spec.ends_per_m;
-    PetscScalar  ***x;
-    PetscCall(DMDAVecGetArrayDOF(fab->grid.da, fab->grid.X0, &x));
-    for (PetscInt j = info.ys; j < info.ys + info.ym; j++)
-      for (PetscInt i = info.xs; i < info.xs + info.xm; i++) {
-        x[j][i][0] = i * ax;
-        x[j][i][1] = j * ay;
-        x[j][i][2] = 0.0;
-      }
-    PetscCall(DMDAVecRestoreArrayDOF(fab->grid.da, fab->grid.X0, &x));
-    PetscCall(VecCopy(fab->grid.X0, fab->state.X));
-    fab->grid.centre[0] = 0.5 * (s->spec.nx - 1) * ax;
-    fab->grid.centre[1] = 0.5 * (s->spec.ny - 1) * ay;
-    fab->grid.centre[2] = 0.0;
-    fab->grid.extent = PetscSqrtReal(PetscSqr((s->spec.nx - 1) * ax) + PetscSqr((s->spec.ny - 1) * ay));
-  }
-
-  /* the patch: ghosted existence, broken flags, constants of the force terms */
-  {
-    Patch *p = &fab->grid.patch;
-    p->nx = s->spec.nx;
-    p->ny = s->spec.ny;
-    p->xs = info.xs, p->ys = info.ys, p->xm = info.xm, p->ym = info.ym;
-    p->gxs = info.gxs, p->gys = info.gys, p->gxm = info.gxm, p->gym = info.gym;
-    p->ax = 1.0 / s->spec.picks_per_m;
-    p->ay = 1.0 / s->spec.ends_per_m;
-    p->warp = &s->yarns.warp;
-    p->weft = &s->yarns.weft;
-    p->traction = s->terms.traction;
-    p->bending  = (s->terms.bending && (s->yarns.warp.bending > 0 || s->yarns.weft.bending > 0)) ? PETSC_TRUE : PETSC_FALSE;
-    p->shear    = (s->terms.shear && s->terms.shear_G > 0) ? PETSC_TRUE : PETSC_FALSE;
-    p->kbx      = s->yarns.warp.bending / p->ax;
-    p->kby      = s->yarns.weft.bending / p->ay;
-    p->Ks       = s->terms.shear_G * p->ax * p->ay;
-    p->Kj       = s->terms.jam_factor * p->Ks;
-    p->s_lock   = PetscSinReal(s->terms.lock_deg * PETSC_PI / 180.0);
-    p->k_contact = ((s->bodies.sphere_radius > 0) + (s->bodies.plane ? 1 : 0) + (s->bodies.pedestal_radius > 0)) * s->bodies.contact_k; /* a crossing can touch every body at once */
-    PetscCall(PetscCalloc1((size_t)p->gxm * p->gym, &p->exists));
-    PetscCall(PetscCalloc1((size_t)p->gxm * p->gym, &p->broken_x));
-    PetscCall(PetscCalloc1((size_t)p->gxm * p->gym, &p->broken_y));
-    for (PetscInt j = 0; j < p->gym; j++)
-      for (PetscInt i = 0; i < p->gxm; i++) p->exists[j * p->gxm + i] = (unsigned char)PointExists(s, p->gxs + i, p->gys + j);
-    PetscCall(PatchSetUp(p));
-  }
-
+  fab->grid.nloc = (PetscInt) info.xm * info.ym;
+  PetscCall(CreateState(fab, &info));
+  PetscCall(SetUpPatch(fab, &info));
   PetscCall(CheckLines(fab, &info));
-  /* masses (MODEL.md 4): each existing segment gives half its yarn mass to each end */
-  PetscCall(PetscMalloc4(fab->grid.nloc, &fab->grid.mass, fab->grid.nloc, &fab->grid.inv_m, fab->grid.nloc, &fab->grid.kind, fab->grid.nloc, &fab->grid.predict_w));
-  {
-    const PetscReal mx = 0.5 * s->yarns.warp.mu * (1.0 + s->yarns.warp.crimp) * fab->grid.patch.ax;
-    const PetscReal my = 0.5 * s->yarns.weft.mu * (1.0 + s->yarns.weft.crimp) * fab->grid.patch.ay;
-    PetscReal       gmag = PetscSqrtReal(PetscSqr(s->terms.gravity[0]) + PetscSqr(s->terms.gravity[1]) + PetscSqr(s->terms.gravity[2])), wmax = 0;
-    PetscInt        count = 0;
-    fab->grid.load_index = -1;
-    for (PetscInt j = info.ys; j < info.ys + info.ym; j++)
-      for (PetscInt i = info.xs; i < info.xs + info.xm; i++) {
-        const PetscInt k = (j - info.ys) * info.xm + (i - info.xs);
-        PetscReal      m = 0;
-        if (PointExists(s, i, j)) {
-          m = mx * (PointExists(s, i - 1, j) + PointExists(s, i + 1, j)) + my * (PointExists(s, i, j - 1) + PointExists(s, i, j + 1));
-          count++;
-        }
-        fab->grid.mass[k]  = m;
-        fab->grid.kind[k]  = (unsigned char)(PointExists(s, i, j) ? KindOf(s, i, j) : POINT_CLAMPED);
-        fab->grid.inv_m[k] = (fab->grid.kind[k] == POINT_FREE && m > 0) ? 1.0 / m : 0.0;
-        wmax          = PetscMax(wmax, m * gmag);
-        if (i == s->load.load_at[0] && j == s->load.load_at[1]) fab->grid.load_index = k;
-      }
-    PetscCall(MPIU_Allreduce(&count, &fab->grid.points, 1, MPIU_INT, MPI_SUM, comm));
-    PetscCall(GlobalMax(comm, &wmax, 1));
-    /* the balance test's force scale never drops below a point's weight (or 1 uN) */
-    fab->step.force_floor = PetscMax(wmax, 1e-6);
-  }
+  PetscCall(SetUpMasses(fab, &info));
   fab->grid.pull_dir[0] = s->spec.pull == PULL_WARP ? 1.0 : 0.0;
   fab->grid.pull_dir[1] = s->spec.pull == PULL_WARP ? 0.0 : 1.0;
   fab->grid.pull_dir[2] = 0.0;
   for (int d = 0; d < 3; d++) fab->load.gravity_now[d] = s->terms.gravity[d];
-  if (s->spec.shape == SHAPE_BIAS) fab->grid.pull_dir[0] = fab->grid.pull_dir[1] = 1.0 / PetscSqrtReal(2.0); /* along the specimen */
-
+  if (s->spec.shape == SHAPE_BIAS)
+    fab->grid.pull_dir[0] = fab->grid.pull_dir[1] = 1.0 / PetscSqrtReal(2.0); /* along the specimen */
   if (s->num.integrator == INTEGRATOR_PAPER) {
     PetscCall(VecDuplicate(fab->state.X, &fab->state.Xold));
     PetscCall(VecDuplicate(fab->state.X, &fab->state.Vold));
     PetscCall(VecCopy(fab->state.X, fab->state.Xold));
   }
   if (s->num.kinetic_damping) PetscCall(PetscCalloc1(fab->grid.nloc, &fab->step.ke_terms));
-  if (s->bodies.friction_mu > 0) { /* friction anchors: each crossing's rest position in the frame of each body present */
-    const PetscBool present[3] = {s->bodies.sphere_radius > 0, s->bodies.plane, s->bodies.pedestal_radius > 0};
-    for (int b = 0; b < 3; b++) {
-      PetscReal c[3];
-      if (!present[b]) continue;
-      for (int d = 0; d < 3; d++) c[d] = fab->grid.centre[d] + (b == 0 ? s->bodies.sphere_start[d] : b == 1 ? s->bodies.plane_point[d] : s->bodies.pedestal_top[d]);
-      PetscCall(VecDuplicate(fab->state.X, &fab->state.anchor[b]));
-      PetscCall(VecCopy(fab->grid.X0, fab->state.anchor[b]));
-      {
-        PetscScalar *a;
-        PetscCall(VecGetArray(fab->state.anchor[b], &a));
-        for (PetscInt k = 0; k < fab->grid.nloc; k++)
-          for (int d = 0; d < 3; d++) a[3 * k + d] -= c[d];
-        PetscCall(VecRestoreArray(fab->state.anchor[b], &a));
-      }
-    }
-  }
+  PetscCall(SetUpAnchors(fab));
   PetscCall(PredictSetUp(fab));
   PetscCall(FrontSetUp(fab));
   fab->stats.converged = PETSC_TRUE;
   PetscCall(PetscCalloc1(s->load.load_steps, &fab->stats.curve));
-  PetscCall(IOSetUp(fab)); /* output and checkpoint options (io.c) */
+  PetscCall(IOSetUp(fab)); /* the output state of frames and checkpoints */
   *out = fab;
   PetscFunctionReturn(0);
 }

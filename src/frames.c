@@ -35,12 +35,12 @@ PetscErrorCode IOSetUp(Fabric fab)
 
   PetscFunctionBeginUser;
   PetscCall(PetscNew(&io));
-  fab->io          = io;
+  fab->io              = io;
   io->output_every     = s->out.output_every;
   io->output_te_every  = s->out.output_te_every;
   io->checkpoint_every = s->out.checkpoint_every;
   PetscCall(PetscStrncpy(io->restart, s->out.restart, sizeof io->restart));
-  io->te_load_step     = -1;
+  io->te_load_step = -1;
   PetscFunctionReturn(0);
 }
 
@@ -59,12 +59,14 @@ PetscErrorCode IODestroy(Fabric fab)
 static PetscBool FramesOn(Fabric fab)
 {
   const FabricIO io = fab->io;
-  return (io && fab->s.out.output_dir[0] && (io->output_every > 0 || io->output_te_every > 0)) ? PETSC_TRUE : PETSC_FALSE;
+  return (io && fab->s.out.output_dir[0] && (io->output_every > 0 || io->output_te_every > 0)) ? PETSC_TRUE
+                                                                                               : PETSC_FALSE;
 }
 
 /* ------------------------------------------------------------------ point fields */
 
-static inline PetscReal SegmentTension(const Patch *p, const PetscReal *x, PetscInt ka, PetscInt kb, const YarnLaw *law, PetscReal L0)
+static inline PetscReal SegmentTension(const Patch *p, const PetscReal *x, PetscInt ka, PetscInt kb, const YarnLaw *law,
+                                       PetscReal L0)
 {
   const PetscReal *a = x + 3 * ka, *b = x + 3 * kb;
   const PetscReal  L = PetscSqrtReal(PetscSqr(b[0] - a[0]) + PetscSqr(b[1] - a[1]) + PetscSqr(b[2] - a[2]));
@@ -85,12 +87,12 @@ PetscErrorCode ComputePointFields(Fabric fab, Vec warp_tension, Vec weft_tension
   PetscCall(VecGetArray(shear_deg, &sh));
   for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
     for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
-      const PetscInt  q = (j - p->ys) * p->xm + (i - p->xs), k = (j - p->gys) * p->gxm + (i - p->gxs), w = p->gxm;
-      const int       self = p->exists[k];
-      const int       hl = self && i > 0 && p->exists[k - 1], hr = self && i < p->nx - 1 && p->exists[k + 1];
-      const int       hd = self && j > 0 && p->exists[k - w], hu = self && j < p->ny - 1 && p->exists[k + w];
-      PetscReal       sum = 0;
-      int             n   = 0;
+      const PetscInt q = (j - p->ys) * p->xm + (i - p->xs), k = (j - p->gys) * p->gxm + (i - p->gxs), w = p->gxm;
+      const int      self = p->exists[k];
+      const int      hl = self && i > 0 && p->exists[k - 1], hr = self && i < p->nx - 1 && p->exists[k + 1];
+      const int      hd = self && j > 0 && p->exists[k - w], hu = self && j < p->ny - 1 && p->exists[k + w];
+      PetscReal      sum = 0;
+      int            n   = 0;
 
       /* warp: segments (i-1,j)-(i,j) and (i,j)-(i+1,j); weft: (i,j-1)-(i,j) and (i,j)-(i,j+1) */
       if (hl && !p->broken_x[k - 1]) sum += SegmentTension(p, x, k - 1, k, p->warp, p->ax), n++;
@@ -119,7 +121,7 @@ PetscErrorCode ComputePointFields(Fabric fab, Vec warp_tension, Vec weft_tension
 static PetscErrorCode ViewAs(Vec v, const char *name, PetscViewer viewer)
 {
   PetscFunctionBeginUser;
-  PetscCall(PetscObjectSetName((PetscObject)v, name));
+  PetscCall(PetscObjectSetName((PetscObject) v, name));
   PetscCall(VecView(v, viewer));
   PetscFunctionReturn(0);
 }
@@ -132,7 +134,7 @@ static PetscErrorCode CreateFile(Fabric fab, const char *file)
   PetscViewer  v;
   Vec          kind;
   PetscScalar *a;
-  int          nx = (int)fab->s.spec.nx, ny = (int)fab->s.spec.ny, zero = 0;
+  int          nx = (int) fab->s.spec.nx, ny = (int) fab->s.spec.ny, zero = 0;
 
   PetscFunctionBeginUser;
   if (!io->da1) PetscCall(DMDACreateCompatibleDMDA(fab->grid.da, 1, &io->da1));
@@ -141,7 +143,7 @@ static PetscErrorCode CreateFile(Fabric fab, const char *file)
   for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
     for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
       const PetscInt q = (j - p->ys) * p->xm + (i - p->xs);
-      a[q]             = p->exists[(j - p->gys) * p->gxm + (i - p->gxs)] ? (PetscReal)fab->grid.kind[q] : -1.0;
+      a[q]             = p->exists[(j - p->gys) * p->gxm + (i - p->gxs)] ? (PetscReal) fab->grid.kind[q] : -1.0;
     }
   PetscCall(VecRestoreArray(kind, &a));
   PetscCall(PetscViewerHDF5Open(fab->comm, file, FILE_MODE_WRITE, &v));
@@ -155,7 +157,7 @@ static PetscErrorCode CreateFile(Fabric fab, const char *file)
   PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "frames", PETSC_INT, &zero));
   PetscCall(PetscViewerDestroy(&v));
   PetscCall(DMRestoreGlobalVector(io->da1, &kind));
-  PetscCall(PetscObjectSetName((PetscObject)fab->grid.X0, NULL));
+  PetscCall(PetscObjectSetName((PetscObject) fab->grid.X0, NULL));
   PetscFunctionReturn(0);
 }
 
@@ -185,10 +187,12 @@ static PetscErrorCode WriteFrame(Fabric fab, const FrameInfo *f)
   Vec         disp, tw, tf, sh;
   char        file[PETSC_MAX_PATH_LEN], group[64];
   PetscInt    index = io->frames;
-  int         count, load_step = (int)f->load_step, te_step = (int)f->te_step;
+  int         count, load_step = (int) f->load_step, te_step = (int) f->te_step;
 
   PetscFunctionBeginUser;
-  if (io->frames && io->frame[io->frames - 1].load_step == f->load_step && io->frame[io->frames - 1].te_step == f->te_step) index = io->frames - 1;
+  if (io->frames && io->frame[io->frames - 1].load_step == f->load_step &&
+      io->frame[io->frames - 1].te_step == f->te_step)
+    index = io->frames - 1;
   PetscCall(PetscLogEventBegin(EV_Output, 0, 0, 0, 0));
   PetscCall(DMGetGlobalVector(fab->grid.da, &disp));
   PetscCall(DMGetGlobalVector(io->da1, &tw));
@@ -211,7 +215,7 @@ static PetscErrorCode WriteFrame(Fabric fab, const FrameInfo *f)
   PetscCall(PetscViewerHDF5WriteAttribute(v, NULL, "load_step", PETSC_INT, &load_step));
   PetscCall(PetscViewerHDF5WriteAttribute(v, NULL, "te_step", PETSC_INT, &te_step));
   PetscCall(PetscViewerHDF5PopGroup(v));
-  count = (int)index + 1;
+  count = (int) index + 1;
   PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "frames", PETSC_INT, &count));
   PetscCall(PetscViewerDestroy(&v));
 
@@ -219,8 +223,8 @@ static PetscErrorCode WriteFrame(Fabric fab, const FrameInfo *f)
   PetscCall(DMRestoreGlobalVector(io->da1, &tf));
   PetscCall(DMRestoreGlobalVector(io->da1, &tw));
   PetscCall(DMRestoreGlobalVector(fab->grid.da, &disp));
-  PetscCall(PetscObjectSetName((PetscObject)fab->state.V, NULL));
-  PetscCall(PetscObjectSetName((PetscObject)fab->state.X, "positions"));
+  PetscCall(PetscObjectSetName((PetscObject) fab->state.V, NULL));
+  PetscCall(PetscObjectSetName((PetscObject) fab->state.X, "positions"));
   io->frames = index;
   PetscCall(FramesAppend(fab, f));
   PetscCall(FramesWriteXdmf(fab));
@@ -242,12 +246,13 @@ static PetscErrorCode DropFramesFrom(Fabric fab, const char *file, PetscInt firs
     hid_t       fid, g;
     H5G_info_t  info;
     char        name[64];
-    int         count = (int)first;
+    int         count = (int) first;
 
     H5Eget_auto2(H5E_DEFAULT, &efunc, &edata);
     H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
     fid = H5Fopen(file, H5F_ACC_RDWR, H5P_DEFAULT);
-    if (fid < 0) status[1] = 1;
+    if (fid < 0)
+      status[1] = 1;
     else {
       if (H5Lexists(fid, "/frames", H5P_DEFAULT) > 0 && (g = H5Gopen2(fid, "/frames", H5P_DEFAULT)) >= 0) {
         if (H5Gget_info(g, &info) >= 0) {
@@ -260,10 +265,13 @@ static PetscErrorCode DropFramesFrom(Fabric fab, const char *file, PetscInt firs
               continue;
             }
             index = strtol(name, &end, 10);
-            if (*end || index < first) status[0]++;
-            else if (H5Ldelete(g, name, H5P_DEFAULT) < 0) status[1] = 1;
+            if (*end || index < first)
+              status[0]++;
+            else if (H5Ldelete(g, name, H5P_DEFAULT) < 0)
+              status[1] = 1;
           }
-        } else status[1] = 1;
+        } else
+          status[1] = 1;
         H5Gclose(g);
       }
       {
@@ -276,7 +284,8 @@ static PetscErrorCode DropFramesFrom(Fabric fab, const char *file, PetscInt firs
     H5Eset_auto2(H5E_DEFAULT, efunc, edata);
   }
   PetscCallMPI(MPI_Bcast(status, 2, MPI_INT, 0, fab->comm));
-  PetscCheck(!status[1], fab->comm, PETSC_ERR_FILE_WRITE, "-restart %s: cannot remove the frames written after the checkpoint from %s", fab->io->restart, file);
+  PetscCheck(!status[1], fab->comm, PETSC_ERR_FILE_WRITE,
+             "-restart %s: cannot remove the frames written after the checkpoint from %s", fab->io->restart, file);
   *kept = status[0];
   PetscFunctionReturn(0);
 }
@@ -296,7 +305,10 @@ PetscErrorCode FramesOpen(Fabric fab)
   if (io->restarted && io->frames > 0) {
     PetscInt kept;
     PetscCall(DropFramesFrom(fab, file, io->frames, &kept));
-    PetscCheck(kept == io->frames, fab->comm, PETSC_ERR_FILE_UNEXPECTED, "-restart %s: %s holds %" PetscInt_FMT " of the %" PetscInt_FMT " frames written before the checkpoint: it is not the file of this run", io->restart, file, kept, io->frames);
+    PetscCheck(kept == io->frames, fab->comm, PETSC_ERR_FILE_UNEXPECTED,
+               "-restart %s: %s holds %" PetscInt_FMT " of the %" PetscInt_FMT
+               " frames written before the checkpoint: it is not the file of this run",
+               io->restart, file, kept, io->frames);
     PetscCall(FramesWriteXdmf(fab));
   } else {
     FrameInfo f;
@@ -340,7 +352,7 @@ PetscErrorCode FramesTeStep(Fabric fab)
     io->te_load_step = fab->load.load_step;
     io->te_base      = fab->stats.te_steps - 1;
   }
-  n = (PetscInt)(fab->stats.te_steps - io->te_base);
+  n = (PetscInt) (fab->stats.te_steps - io->te_base);
   if (n % io->output_te_every) PetscFunctionReturn(0);
   f.load_step = fab->load.load_step;
   f.te_step   = n;
@@ -355,8 +367,16 @@ PetscErrorCode FramesTeStep(Fabric fab)
    attributes of a 2DSMesh, and all its XDMF readers read this (nx x ny x 1 points) */
 static void XdmfItem(FILE *fp, const char *indent, PetscInt nx, PetscInt ny, int dof, const char *path)
 {
-  if (dof > 1) fprintf(fp, "%s<DataItem Dimensions=\"1 %" PetscInt_FMT " %" PetscInt_FMT " %d\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">fabric.h5:%s</DataItem>\n", indent, ny, nx, dof, path);
-  else fprintf(fp, "%s<DataItem Dimensions=\"1 %" PetscInt_FMT " %" PetscInt_FMT "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">fabric.h5:%s</DataItem>\n", indent, ny, nx, path);
+  if (dof > 1)
+    fprintf(fp,
+            "%s<DataItem Dimensions=\"1 %" PetscInt_FMT " %" PetscInt_FMT
+            " %d\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">fabric.h5:%s</DataItem>\n",
+            indent, ny, nx, dof, path);
+  else
+    fprintf(fp,
+            "%s<DataItem Dimensions=\"1 %" PetscInt_FMT " %" PetscInt_FMT
+            "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">fabric.h5:%s</DataItem>\n",
+            indent, ny, nx, path);
 }
 
 /* Rank 0 writes the XDMF index of the frames aside, then renames it into place. */
@@ -366,11 +386,8 @@ PetscErrorCode FramesWriteXdmf(Fabric fab)
     const char *name, *type;
     int         dof;
   } field[] = {
-    {"velocities",      "Vector", 3},
-    {"displacement",    "Vector", 3},
-    {"warp_tension",    "Scalar", 1},
-    {"weft_tension",    "Scalar", 1},
-    {"shear_angle_deg", "Scalar", 1},
+      {"velocities", "Vector", 3},   {"displacement", "Vector", 3},    {"warp_tension", "Scalar", 1},
+      {"weft_tension", "Scalar", 1}, {"shear_angle_deg", "Scalar", 1},
   };
   FabricIO       io = fab->io;
   const PetscInt nx = fab->s.spec.nx, ny = fab->s.spec.ny;
@@ -384,20 +401,27 @@ PetscErrorCode FramesWriteXdmf(Fabric fab)
     PetscCall(PetscSNPrintf(tmp, sizeof tmp, "%s/.fabric.xmf.tmp", fab->s.out.output_dir));
     fp = fopen(tmp, "w");
     if (fp) {
-      fprintf(fp, "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n<Xdmf Version=\"2.0\">\n  <Domain>\n");
+      fprintf(fp,
+              "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n<Xdmf Version=\"2.0\">\n  <Domain>\n");
       fprintf(fp, "    <Grid Name=\"fabric\" GridType=\"Collection\" CollectionType=\"Temporal\">\n");
       for (PetscInt k = 0; k < io->frames; k++) {
         const FrameInfo *f = &io->frame[k];
         fprintf(fp, "      <Grid Name=\"frame_%06" PetscInt_FMT "\" GridType=\"Uniform\">\n", k);
-        fprintf(fp, "        <Time TimeType=\"Single\" Value=\"%.17g\"/>\n", (double)f->time);
-        fprintf(fp, "        <Information Name=\"load_step\" Value=\"%" PetscInt_FMT "\"/>\n        <Information Name=\"te_step\" Value=\"%" PetscInt_FMT "\"/>\n", f->load_step, f->te_step);
-        fprintf(fp, "        <Topology TopologyType=\"3DSMesh\" Dimensions=\"1 %" PetscInt_FMT " %" PetscInt_FMT "\"/>\n", ny, nx);
+        fprintf(fp, "        <Time TimeType=\"Single\" Value=\"%.17g\"/>\n", (double) f->time);
+        fprintf(fp,
+                "        <Information Name=\"load_step\" Value=\"%" PetscInt_FMT
+                "\"/>\n        <Information Name=\"te_step\" Value=\"%" PetscInt_FMT "\"/>\n",
+                f->load_step, f->te_step);
+        fprintf(fp,
+                "        <Topology TopologyType=\"3DSMesh\" Dimensions=\"1 %" PetscInt_FMT " %" PetscInt_FMT "\"/>\n",
+                ny, nx);
         fprintf(fp, "        <Geometry GeometryType=\"XYZ\">\n");
         snprintf(path, sizeof path, "/frames/%06" PetscInt_FMT "/positions", k);
         XdmfItem(fp, "          ", nx, ny, 3, path);
         fprintf(fp, "        </Geometry>\n");
         for (size_t a = 0; a < sizeof field / sizeof field[0]; a++) {
-          fprintf(fp, "        <Attribute Name=\"%s\" AttributeType=\"%s\" Center=\"Node\">\n", field[a].name, field[a].type);
+          fprintf(fp, "        <Attribute Name=\"%s\" AttributeType=\"%s\" Center=\"Node\">\n", field[a].name,
+                  field[a].type);
           snprintf(path, sizeof path, "/frames/%06" PetscInt_FMT "/%s", k, field[a].name);
           XdmfItem(fp, "          ", nx, ny, field[a].dof, path);
           fprintf(fp, "        </Attribute>\n");
@@ -410,7 +434,8 @@ PetscErrorCode FramesWriteXdmf(Fabric fab)
       ok = !ferror(fp);
       ok = !fclose(fp) && ok;
       ok = ok && !rename(tmp, file);
-    } else ok = 0;
+    } else
+      ok = 0;
   }
   PetscCallMPI(MPI_Bcast(&ok, 1, MPI_INT, 0, fab->comm));
   PetscCheck(ok, fab->comm, PETSC_ERR_FILE_WRITE, "-output_dir %s: cannot write fabric.xmf", fab->s.out.output_dir);

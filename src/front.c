@@ -29,7 +29,10 @@ static void BoxIntersect(PetscInt a[4], const PetscInt b[4])
   a[3] = PetscMin(a[3], b[3]);
 }
 
-static PetscBool BoxEmpty(const PetscInt b[4]) { return (b[1] <= b[0] || b[3] <= b[2]) ? PETSC_TRUE : PETSC_FALSE; }
+static PetscBool BoxEmpty(const PetscInt b[4])
+{
+  return (b[1] <= b[0] || b[3] <= b[2]) ? PETSC_TRUE : PETSC_FALSE;
+}
 
 PetscErrorCode FrontSetUp(Fabric fab)
 {
@@ -44,24 +47,29 @@ PetscErrorCode FrontSetUp(Fabric fab)
     PetscReal b[4] = {-PETSC_MAX_INT, -PETSC_MAX_INT, -PETSC_MAX_INT, -PETSC_MAX_INT};
     for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
       for (PetscInt i = p->xs; i < p->xs + p->xm; i++)
-        if (fab->grid.kind[(j - p->ys) * p->xm + (i - p->xs)] == POINT_GRIP && p->exists[(j - p->gys) * p->gxm + (i - p->gxs)]) {
-          b[0] = PetscMax(b[0], -i), b[1] = PetscMax(b[1], i + 1), b[2] = PetscMax(b[2], -j), b[3] = PetscMax(b[3], j + 1);
+        if (fab->grid.kind[(j - p->ys) * p->xm + (i - p->xs)] == POINT_GRIP &&
+            p->exists[(j - p->gys) * p->gxm + (i - p->gxs)]) {
+          b[0] = PetscMax(b[0], -i), b[1] = PetscMax(b[1], i + 1), b[2] = PetscMax(b[2], -j),
+          b[3] = PetscMax(b[3], j + 1);
         }
     PetscCall(GlobalMax(fab->comm, b, 4));
-    fab->front.grip_box[0] = (PetscInt)-b[0], fab->front.grip_box[1] = (PetscInt)b[1], fab->front.grip_box[2] = (PetscInt)-b[2], fab->front.grip_box[3] = (PetscInt)b[3];
+    fab->front.grip_box[0] = (PetscInt) -b[0], fab->front.grip_box[1] = (PetscInt) b[1],
+    fab->front.grip_box[2] = (PetscInt) -b[2], fab->front.grip_box[3] = (PetscInt) b[3];
   }
   if (!fab->s.num.front) PetscFunctionReturn(0);
   PetscCall(PetscMalloc2(fab->grid.nloc, &dist, fab->grid.nloc, &sources));
   {
-    const Scene *s = &fab->s;
-    const int    pulled = s->load.elongation > 0 || s->load.waypoints > 0, loaded = s->load.point_load[0] != 0 || s->load.point_load[1] != 0 || s->load.point_load[2] != 0;
-    for (PetscInt k = 0; k < fab->grid.nloc; k++) sources[k] = (char)((pulled && fab->grid.kind[k] == POINT_GRIP) || (loaded && k == fab->grid.load_index));
+    const Scene *s      = &fab->s;
+    const int    pulled = s->load.elongation > 0 || s->load.waypoints > 0,
+              loaded    = s->load.point_load[0] != 0 || s->load.point_load[1] != 0 || s->load.point_load[2] != 0;
+    for (PetscInt k = 0; k < fab->grid.nloc; k++)
+      sources[k] = (char) ((pulled && fab->grid.kind[k] == POINT_GRIP) || (loaded && k == fab->grid.load_index));
   }
   PetscCall(GraphDistance(fab, sources, dist));
   for (PetscInt k = 0; k < fab->grid.nloc; k++)
     if (dist[k] < DIST_INF) dmax = PetscMax(dmax, dist[k]);
   PetscCall(GlobalMax(fab->comm, &dmax, 1));
-  fab->front.front_dmax = (PetscInt)dmax;
+  fab->front.front_dmax = (PetscInt) dmax;
   /* boxes[R] = global bounding box of {d <= R}, as maxima of (-imin, imax+1, -jmin, jmax+1) */
   n = fab->front.front_dmax + 1;
   {
@@ -72,18 +80,19 @@ PetscErrorCode FrontSetUp(Fabric fab)
       for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
         const PetscReal d = dist[(j - p->ys) * p->xm + (i - p->xs)];
         if (d >= DIST_INF) continue;
-        PetscReal *q = b + 4 * (PetscInt)d;
-        q[0] = PetscMax(q[0], -i), q[1] = PetscMax(q[1], i + 1), q[2] = PetscMax(q[2], -j), q[3] = PetscMax(q[3], j + 1);
+        PetscReal *q = b + 4 * (PetscInt) d;
+        q[0] = PetscMax(q[0], -i), q[1] = PetscMax(q[1], i + 1), q[2] = PetscMax(q[2], -j),
+        q[3] = PetscMax(q[3], j + 1);
       }
     for (PetscInt r = 1; r < n; r++) /* prefix over R */
       for (int c = 0; c < 4; c++) b[4 * r + c] = PetscMax(b[4 * r + c], b[4 * (r - 1) + c]);
     PetscCall(GlobalMax(fab->comm, b, 4 * n));
     PetscCall(PetscMalloc1(4 * n, &fab->front.front_box));
     for (PetscInt r = 0; r < n; r++) {
-      fab->front.front_box[4 * r]     = (PetscInt)-b[4 * r];
-      fab->front.front_box[4 * r + 1] = (PetscInt)b[4 * r + 1];
-      fab->front.front_box[4 * r + 2] = (PetscInt)-b[4 * r + 2];
-      fab->front.front_box[4 * r + 3] = (PetscInt)b[4 * r + 3];
+      fab->front.front_box[4 * r]     = (PetscInt) -b[4 * r];
+      fab->front.front_box[4 * r + 1] = (PetscInt) b[4 * r + 1];
+      fab->front.front_box[4 * r + 2] = (PetscInt) -b[4 * r + 2];
+      fab->front.front_box[4 * r + 3] = (PetscInt) b[4 * r + 3];
     }
     PetscCall(PetscFree(b));
   }
@@ -95,16 +104,21 @@ PetscErrorCode FrontSetUp(Fabric fab)
    reachable point, and gravity at the first step disturbs every point: then it is covered. */
 void FrontLoadChange(Fabric fab)
 {
-  const Scene *s = &fab->s;
-  const int    gravity = s->terms.gravity[0] != 0 || s->terms.gravity[1] != 0 || s->terms.gravity[2] != 0;
+  const Scene *s           = &fab->s;
+  const int    gravity     = s->terms.gravity[0] != 0 || s->terms.gravity[1] != 0 || s->terms.gravity[2] != 0;
   fab->front.front_step    = 0;
-  fab->front.front_covered = (!s->num.front || s->num.predict != PREDICT_NONE || (gravity && fab->load.load_step == 1)) ? PETSC_TRUE : PETSC_FALSE;
+  fab->front.front_covered = (!s->num.front || s->num.predict != PREDICT_NONE || (gravity && fab->load.load_step == 1))
+                                 ? PETSC_TRUE
+                                 : PETSC_FALSE;
   if (s->num.sleep_tol > 0) {
-    if (s->num.predict != PREDICT_NONE || fab->load.load_step == 1 || !fab->front.front_box) FrontWakeAll(fab);
+    if (s->num.predict != PREDICT_NONE || fab->load.load_step == 1 || !fab->front.front_box)
+      FrontWakeAll(fab);
     else { /* wake the disturbed points too */
-      const PetscInt *src = fab->front.front_box;
-      fab->front.awake_box[0] = PetscMin(fab->front.awake_box[0], src[0]), fab->front.awake_box[1] = PetscMax(fab->front.awake_box[1], src[1]);
-      fab->front.awake_box[2] = PetscMin(fab->front.awake_box[2], src[2]), fab->front.awake_box[3] = PetscMax(fab->front.awake_box[3], src[3]);
+      const PetscInt *src     = fab->front.front_box;
+      fab->front.awake_box[0] = PetscMin(fab->front.awake_box[0], src[0]),
+      fab->front.awake_box[1] = PetscMax(fab->front.awake_box[1], src[1]);
+      fab->front.awake_box[2] = PetscMin(fab->front.awake_box[2], src[2]),
+      fab->front.awake_box[3] = PetscMax(fab->front.awake_box[3], src[3]);
     }
   }
 }
@@ -112,7 +126,8 @@ void FrontLoadChange(Fabric fab)
 /* sleeping: every point awake */
 void FrontWakeAll(Fabric fab)
 {
-  fab->front.awake_box[0] = 0, fab->front.awake_box[1] = fab->s.spec.nx, fab->front.awake_box[2] = 0, fab->front.awake_box[3] = fab->s.spec.ny;
+  fab->front.awake_box[0] = 0, fab->front.awake_box[1] = fab->s.spec.nx, fab->front.awake_box[2] = 0,
+  fab->front.awake_box[3] = fab->s.spec.ny;
 }
 
 /* The box of points the next te step computes: global (same on every rank), and the
@@ -120,22 +135,27 @@ void FrontWakeAll(Fabric fab)
    the whole grid (a disc or bias specimen has holes), its area otherwise. */
 PetscInt64 FrontStepBox(Fabric fab, PetscInt global[4], PetscInt local[4])
 {
-  const Scene *s = &fab->s;
-  const Patch *p = &fab->grid.patch;
+  const Scene *s        = &fab->s;
+  const Patch *p        = &fab->grid.patch;
   PetscInt     owned[4] = {p->xs, p->xs + p->xm, p->ys, p->ys + p->ym};
 
   global[0] = 0, global[1] = s->spec.nx, global[2] = 0, global[3] = s->spec.ny;
   fab->front.front_step++;
   if (!fab->front.front_covered) {
     const PetscInt R = 2 * fab->front.front_step;
-    if (R >= fab->front.front_dmax) fab->front.front_covered = PETSC_TRUE;
-    else BoxIntersect(global, fab->front.front_box + 4 * R);
+    if (R >= fab->front.front_dmax)
+      fab->front.front_covered = PETSC_TRUE;
+    else
+      BoxIntersect(global, fab->front.front_box + 4 * R);
   }
   if (s->num.sleep_tol > 0) {
-    PetscInt grown[4] = {fab->front.awake_box[0] - 2, fab->front.awake_box[1] + 2, fab->front.awake_box[2] - 2, fab->front.awake_box[3] + 2};
+    PetscInt grown[4] = {fab->front.awake_box[0] - 2, fab->front.awake_box[1] + 2, fab->front.awake_box[2] - 2,
+                         fab->front.awake_box[3] + 2};
     if (fab->load.ramp_done < fab->load.ramp_steps) { /* the jaw is moving: its neighbours are awake */
-      grown[0] = PetscMin(grown[0], fab->front.grip_box[0] - 2), grown[1] = PetscMax(grown[1], fab->front.grip_box[1] + 2);
-      grown[2] = PetscMin(grown[2], fab->front.grip_box[2] - 2), grown[3] = PetscMax(grown[3], fab->front.grip_box[3] + 2);
+      grown[0] = PetscMin(grown[0], fab->front.grip_box[0] - 2),
+      grown[1] = PetscMax(grown[1], fab->front.grip_box[1] + 2);
+      grown[2] = PetscMin(grown[2], fab->front.grip_box[2] - 2),
+      grown[3] = PetscMax(grown[3], fab->front.grip_box[3] + 2);
     }
     BoxIntersect(global, grown);
   }
@@ -144,5 +164,5 @@ PetscInt64 FrontStepBox(Fabric fab, PetscInt global[4], PetscInt local[4])
   BoxIntersect(local, owned);
   if (BoxEmpty(local)) local[0] = local[1] = local[2] = local[3] = 0;
   if (global[0] == 0 && global[1] == s->spec.nx && global[2] == 0 && global[3] == s->spec.ny) return fab->grid.points;
-  return (PetscInt64)(global[1] - global[0]) * (global[3] - global[2]);
+  return (PetscInt64) (global[1] - global[0]) * (global[3] - global[2]);
 }

@@ -21,7 +21,7 @@
    the point load */
 PetscErrorCode ComputeForces(Fabric fab, const PetscInt box[4], PetscReal *tension_max)
 {
-  const Patch       *p = &fab->grid.patch;
+  const Patch       *p      = &fab->grid.patch;
   const PetscInt     all[4] = {p->xs, p->xs + p->xm, p->ys, p->ys + p->ym};
   const PetscScalar *xl;
   PetscScalar       *f;
@@ -39,13 +39,15 @@ PetscErrorCode ComputeForces(Fabric fab, const PetscInt box[4], PetscReal *tensi
       for (int d = 0; d < 3; d++) f[3 * fab->grid.load_index + d] += fab->load.load_factor * fab->s.load.point_load[d];
   }
   for (int d = 0; d < 3; d++) fab->meas.sphere_sum[d] = fab->meas.plane_sum[d] = fab->meas.pedestal_sum[d] = 0;
-  if (fab->s.bodies.sphere_radius > 0 || fab->s.bodies.plane || fab->s.bodies.pedestal_radius > 0) { /* the rigid bodies, each adding to its own reaction sum */
+  if (fab->s.bodies.sphere_radius > 0 || fab->s.bodies.plane ||
+      fab->s.bodies.pedestal_radius > 0) { /* the rigid bodies, each adding to its own reaction sum */
     const Scene       *s = &fab->s;
     const PetscScalar *x;
     PetscScalar       *anchor[3] = {NULL, NULL, NULL};
     PetscReal          c[3], p0[3], top[3];
     for (int d = 0; d < 3; d++) {
-      c[d]   = fab->grid.centre[d] + s->bodies.sphere_start[d] + fab->load.travel_now * s->bodies.sphere_dir[d]; /* the punch, where the load program has moved it */
+      c[d] = fab->grid.centre[d] + s->bodies.sphere_start[d] +
+             fab->load.travel_now * s->bodies.sphere_dir[d]; /* the punch, where the load program has moved it */
       p0[d]  = fab->grid.centre[d] + s->bodies.plane_point[d];
       top[d] = fab->grid.centre[d] + s->bodies.pedestal_top[d];
     }
@@ -54,9 +56,18 @@ PetscErrorCode ComputeForces(Fabric fab, const PetscInt box[4], PetscReal *tensi
       if (fab->state.anchor[b]) PetscCall(VecGetArray(fab->state.anchor[b], &anchor[b]));
     for (PetscInt j = box[2]; j < box[3]; j++) {
       const PetscInt k0 = (j - p->ys) * p->xm + (box[0] - p->xs), n = box[1] - box[0];
-      if (s->bodies.sphere_radius > 0) SphereContact(n, x + 3 * k0, fab->grid.inv_m + k0, c, s->bodies.sphere_radius + 0.5 * s->bodies.thickness, s->bodies.contact_k, s->bodies.friction_mu, anchor[0] ? anchor[0] + 3 * k0 : NULL, f + 3 * k0, fab->meas.sphere_sum);
-      if (s->bodies.plane) PlaneContact(n, x + 3 * k0, fab->grid.inv_m + k0, p0, s->bodies.plane_normal, 0.5 * s->bodies.thickness, s->bodies.contact_k, s->bodies.friction_mu, anchor[1] ? anchor[1] + 3 * k0 : NULL, f + 3 * k0, fab->meas.plane_sum);
-      if (s->bodies.pedestal_radius > 0) DiscContact(n, x + 3 * k0, fab->grid.inv_m + k0, top, s->bodies.pedestal_radius, s->bodies.pedestal_height, 0.5 * s->bodies.thickness, s->bodies.contact_k, s->bodies.friction_mu, anchor[2] ? anchor[2] + 3 * k0 : NULL, f + 3 * k0, fab->meas.pedestal_sum);
+      if (s->bodies.sphere_radius > 0)
+        SphereContact(n, x + 3 * k0, fab->grid.inv_m + k0, c, s->bodies.sphere_radius + 0.5 * s->bodies.thickness,
+                      s->bodies.contact_k, s->bodies.friction_mu, anchor[0] ? anchor[0] + 3 * k0 : NULL, f + 3 * k0,
+                      fab->meas.sphere_sum);
+      if (s->bodies.plane)
+        PlaneContact(n, x + 3 * k0, fab->grid.inv_m + k0, p0, s->bodies.plane_normal, 0.5 * s->bodies.thickness,
+                     s->bodies.contact_k, s->bodies.friction_mu, anchor[1] ? anchor[1] + 3 * k0 : NULL, f + 3 * k0,
+                     fab->meas.plane_sum);
+      if (s->bodies.pedestal_radius > 0)
+        DiscContact(n, x + 3 * k0, fab->grid.inv_m + k0, top, s->bodies.pedestal_radius, s->bodies.pedestal_height,
+                    0.5 * s->bodies.thickness, s->bodies.contact_k, s->bodies.friction_mu,
+                    anchor[2] ? anchor[2] + 3 * k0 : NULL, f + 3 * k0, fab->meas.pedestal_sum);
     }
     for (int b = 0; b < 3; b++)
       if (fab->state.anchor[b]) PetscCall(VecRestoreArray(fab->state.anchor[b], &anchor[b]));
@@ -78,24 +89,32 @@ PetscErrorCode StableStep(Fabric fab)
   PetscCall(HaloExchange(fab->grid.da, fab->state.X, fab->state.Xl));
   PetscCall(PetscLogEventBegin(EV_Bound, 0, 0, 0, 0));
   PetscCall(VecGetArrayRead(fab->state.Xl, &xl));
-  omega2[0] = StableOmega2(&fab->grid.patch, xl, fab->grid.inv_m, s->num.te_window, s->spec.pull == PULL_WARP ? 0 : 1, &omega2[1]);
+  omega2[0] = StableOmega2(&fab->grid.patch, xl, fab->grid.inv_m, s->num.te_window, s->spec.pull == PULL_WARP ? 0 : 1,
+                           &omega2[1]);
   PetscCall(VecRestoreArrayRead(fab->state.Xl, &xl));
   PetscCall(PetscLogEventEnd(EV_Bound, 0, 0, 0, 0));
   PetscCall(GlobalMax(fab->comm, omega2, 2));
-  PetscCheck(omega2[0] > 0, fab->comm, PETSC_ERR_USER_INPUT, "no free crossing point has any stiffness: nothing to integrate (check -traction, -bending, -shear and the clamps)");
+  PetscCheck(omega2[0] > 0, fab->comm, PETSC_ERR_USER_INPUT,
+             "no free crossing point has any stiffness: nothing to integrate (check -traction, -bending, -shear and "
+             "the clamps)");
   fab->step.omega_max = PetscSqrtReal(omega2[0]);
   fab->step.te_bound  = (s->num.integrator == INTEGRATOR_PAPER ? 1.0 : 2.0) / fab->step.omega_max;
   if (s->num.te_user > 0) {
-    PetscCheck(!s->num.te_check || s->num.te_user <= fab->step.te_bound, fab->comm, PETSC_ERR_USER_INPUT, "-te %g s is above the stable bound %g s at load step %" PetscInt_FMT " (%s integrator, omega_max = %g rad/s): use -te %g or less, or leave -te unset", (double)s->num.te_user, (double)fab->step.te_bound, fab->load.load_step, IntegratorNames[s->num.integrator], (double)fab->step.omega_max, (double)fab->step.te_bound);
+    PetscCheck(!s->num.te_check || s->num.te_user <= fab->step.te_bound, fab->comm, PETSC_ERR_USER_INPUT,
+               "-te %g s is above the stable bound %g s at load step %" PetscInt_FMT
+               " (%s integrator, omega_max = %g rad/s): use -te %g or less, or leave -te unset",
+               (double) s->num.te_user, (double) fab->step.te_bound, fab->load.load_step,
+               IntegratorNames[s->num.integrator], (double) fab->step.omega_max, (double) fab->step.te_bound);
     fab->step.te = s->num.te_user;
-  } else fab->step.te = s->num.te_safety * fab->step.te_bound;
+  } else
+    fab->step.te = s->num.te_safety * fab->step.te_bound;
   /* damping: the paper's nu per point, plus a mass-proportional part c = 2 zeta omega_1 with
      omega_1 ~ pi omega_pull / (2 n) the slowest mode of the chain of n segments along the
      pull, omega_pull = 2 sqrt(k/m) its highest (from the pull-direction springs alone) */
   {
     const PetscInt n = (s->spec.pull == PULL_WARP ? s->spec.nx : s->spec.ny) - 1;
-    fab->step.omega1      = PETSC_PI * PetscSqrtReal(omega2[1]) / (2.0 * n);
-    fab->step.damp_c      = 2.0 * s->num.damping_ratio * fab->step.omega1;
+    fab->step.omega1 = PETSC_PI * PetscSqrtReal(omega2[1]) / (2.0 * n);
+    fab->step.damp_c = 2.0 * s->num.damping_ratio * fab->step.omega1;
   }
   PetscFunctionReturn(0);
 }
@@ -108,7 +127,9 @@ typedef struct {
   PetscInt  awake_lo, awake_hi; /* first and one past the last awake index, or lo >= hi */
 } SweepStats;
 
-static void IntegrateDamped(PetscInt n, PetscReal te, PetscReal c0, PetscReal nu, const PetscReal g[3], const PetscReal *mass, const PetscReal *inv_m, const PetscReal *f, PetscReal f2, PetscReal v2max, PetscReal *restrict x, PetscReal *restrict v, SweepStats *st)
+static void IntegrateDamped(PetscInt n, PetscReal te, PetscReal c0, PetscReal nu, const PetscReal g[3],
+                            const PetscReal *mass, const PetscReal *inv_m, const PetscReal *f, PetscReal f2,
+                            PetscReal v2max, PetscReal *restrict x, PetscReal *restrict v, SweepStats *st)
 {
   PetscReal res2 = 0, v2 = 0, v2sum = 0;
   st->awake_lo = n, st->awake_hi = 0;
@@ -137,7 +158,10 @@ static void IntegrateDamped(PetscInt n, PetscReal te, PetscReal c0, PetscReal nu
   st->v2sum = v2sum;
 }
 
-static void IntegratePaper(PetscInt n, PetscReal te, PetscReal c0, PetscReal nu, const PetscReal g[3], const PetscReal *mass, const PetscReal *inv_m, const PetscReal *f, PetscReal f2, PetscReal v2max, PetscReal *restrict x, PetscReal *restrict v, PetscReal *restrict xold, PetscReal *restrict vold, SweepStats *st)
+static void IntegratePaper(PetscInt n, PetscReal te, PetscReal c0, PetscReal nu, const PetscReal g[3],
+                           const PetscReal *mass, const PetscReal *inv_m, const PetscReal *f, PetscReal f2,
+                           PetscReal v2max, PetscReal *restrict x, PetscReal *restrict v, PetscReal *restrict xold,
+                           PetscReal *restrict vold, SweepStats *st)
 {
   PetscReal res2 = 0, v2 = 0, v2sum = 0;
   st->awake_lo = n, st->awake_hi = 0;
@@ -147,10 +171,10 @@ static void IntegratePaper(PetscInt n, PetscReal te, PetscReal c0, PetscReal nu,
     for (int d = 0; d < 3; d++) {
       const PetscReal F = f[3 * k + d] + m * g[d], Vn = v[3 * k + d], xn = x[3 * k + d];
       const PetscReal Vnew = vold[3 * k + d] + 2.0 * te * (F * im - c * Vn);
-      vold[3 * k + d] = Vn;
-      v[3 * k + d]    = Vnew;
-      x[3 * k + d]    = xold[3 * k + d] + 2.0 * te * Vn;
-      xold[3 * k + d] = xn;
+      vold[3 * k + d]      = Vn;
+      v[3 * k + d]         = Vnew;
+      x[3 * k + d]         = xold[3 * k + d] + 2.0 * te * Vn;
+      xold[3 * k + d]      = xn;
       r2 += F * F;
       w2 += Vnew * Vnew;
     }
@@ -180,13 +204,18 @@ static PetscErrorCode KineticDamping(Fabric fab)
 
   PetscFunctionBeginUser;
   PetscCall(VecGetArray(fab->state.V, &v));
-  for (PetscInt k = 0; k < fab->grid.nloc; k++) fab->step.ke_terms[k] = fab->grid.inv_m[k] > 0 ? 0.5 * fab->grid.mass[k] * (v[3 * k] * v[3 * k] + v[3 * k + 1] * v[3 * k + 1] + v[3 * k + 2] * v[3 * k + 2]) : 0.0;
+  for (PetscInt k = 0; k < fab->grid.nloc; k++)
+    fab->step.ke_terms[k] = fab->grid.inv_m[k] > 0
+                                ? 0.5 * fab->grid.mass[k] *
+                                      (v[3 * k] * v[3 * k] + v[3 * k + 1] * v[3 * k + 1] + v[3 * k + 2] * v[3 * k + 2])
+                                : 0.0;
   PetscCall(GlobalSumExact(fab->comm, fab->step.ke_terms, fab->grid.nloc, &ke));
   if (ke < fab->step.ke_prev) { /* past the peak: start again from rest */
     for (PetscInt k = 0; k < 3 * fab->grid.nloc; k++) v[k] = 0;
     fab->step.ke_prev = 0;
     fab->step.ke_resets++;
-  } else fab->step.ke_prev = ke;
+  } else
+    fab->step.ke_prev = ke;
   PetscCall(VecRestoreArray(fab->state.V, &v));
   PetscFunctionReturn(0);
 }
@@ -196,16 +225,18 @@ static PetscErrorCode KineticDamping(Fabric fab)
    which also carries the awake box). Stops with an error on NaN, Inf or runaway motion. */
 PetscErrorCode TimeStep(Fabric fab, StepStats *out)
 {
-  const Scene *s = &fab->s;
-  const Patch *p = &fab->grid.patch;
-  PetscReal    tension_max, red[8];
-  PetscInt     gbox[4], box[4];
-  SweepStats   all = {0, 0, 0, 0, 0};
-  PetscScalar *x, *v, *f, *xold = NULL, *vold = NULL;
-  const PetscBool sleep = s->num.sleep_tol > 0;
-  const PetscReal scale = PetscMax(fab->step.last.tension_max, fab->step.force_floor);
-  const PetscReal sleep_f2 = sleep ? PetscSqr(s->num.sleep_tol * scale) : PETSC_MAX_REAL, sleep_v2 = sleep ? PetscSqr(s->num.speed_tol * s->num.sleep_tol / s->num.balance_tol) : PETSC_MAX_REAL;
-  PetscInt        alo = PETSC_MAX_INT, ahi = -1, ajlo = PETSC_MAX_INT, ajhi = -1;
+  const Scene    *s = &fab->s;
+  const Patch    *p = &fab->grid.patch;
+  PetscReal       tension_max, red[8];
+  PetscInt        gbox[4], box[4];
+  SweepStats      all = {0, 0, 0, 0, 0};
+  PetscScalar    *x, *v, *f, *xold = NULL, *vold = NULL;
+  const PetscBool sleep    = s->num.sleep_tol > 0;
+  const PetscReal scale    = PetscMax(fab->step.last.tension_max, fab->step.force_floor);
+  const PetscReal sleep_f2 = sleep ? PetscSqr(s->num.sleep_tol * scale) : PETSC_MAX_REAL,
+                  sleep_v2 =
+                      sleep ? PetscSqr(s->num.speed_tol * s->num.sleep_tol / s->num.balance_tol) : PETSC_MAX_REAL;
+  PetscInt alo = PETSC_MAX_INT, ahi = -1, ajlo = PETSC_MAX_INT, ajhi = -1;
 
   PetscFunctionBeginUser;
   fab->stats.point_updates += FrontStepBox(fab, gbox, box);
@@ -221,8 +252,13 @@ PetscErrorCode TimeStep(Fabric fab, StepStats *out)
   for (PetscInt j = box[2]; j < box[3]; j++) {
     const PetscInt k0 = (j - p->ys) * p->xm + (box[0] - p->xs), n = box[1] - box[0];
     SweepStats     st;
-    if (s->num.integrator == INTEGRATOR_PAPER) IntegratePaper(n, fab->step.te, fab->step.damp_c, s->num.nu, fab->load.gravity_now, fab->grid.mass + k0, fab->grid.inv_m + k0, f + 3 * k0, sleep_f2, sleep_v2, x + 3 * k0, v + 3 * k0, xold + 3 * k0, vold + 3 * k0, &st);
-    else IntegrateDamped(n, fab->step.te, fab->step.damp_c, s->num.nu, fab->load.gravity_now, fab->grid.mass + k0, fab->grid.inv_m + k0, f + 3 * k0, sleep_f2, sleep_v2, x + 3 * k0, v + 3 * k0, &st);
+    if (s->num.integrator == INTEGRATOR_PAPER)
+      IntegratePaper(n, fab->step.te, fab->step.damp_c, s->num.nu, fab->load.gravity_now, fab->grid.mass + k0,
+                     fab->grid.inv_m + k0, f + 3 * k0, sleep_f2, sleep_v2, x + 3 * k0, v + 3 * k0, xold + 3 * k0,
+                     vold + 3 * k0, &st);
+    else
+      IntegrateDamped(n, fab->step.te, fab->step.damp_c, s->num.nu, fab->load.gravity_now, fab->grid.mass + k0,
+                      fab->grid.inv_m + k0, f + 3 * k0, sleep_f2, sleep_v2, x + 3 * k0, v + 3 * k0, &st);
     all.res2 = PetscMax(all.res2, st.res2);
     all.v2   = PetscMax(all.v2, st.v2);
     all.v2sum += st.v2sum;
@@ -246,20 +282,32 @@ PetscErrorCode TimeStep(Fabric fab, StepStats *out)
   red[1] = all.v2;
   red[2] = tension_max;
   red[3] = isfinite(all.v2sum) ? 0.0 : 1.0;
-  red[4] = -(PetscReal)alo, red[5] = (PetscReal)ahi, red[6] = -(PetscReal)ajlo, red[7] = (PetscReal)ajhi; /* awake box */
+  red[4] = -(PetscReal) alo, red[5] = (PetscReal) ahi, red[6] = -(PetscReal) ajlo,
+  red[7] = (PetscReal) ajhi; /* awake box */
   PetscCall(GlobalMax(fab->comm, red, sleep ? 8 : 4));
   if (sleep) {
-    fab->front.awake_box[0] = (PetscInt)-red[4], fab->front.awake_box[1] = (PetscInt)red[5];
-    fab->front.awake_box[2] = (PetscInt)-red[6], fab->front.awake_box[3] = (PetscInt)red[7];
+    fab->front.awake_box[0] = (PetscInt) -red[4], fab->front.awake_box[1] = (PetscInt) red[5];
+    fab->front.awake_box[2] = (PetscInt) -red[6], fab->front.awake_box[3] = (PetscInt) red[7];
   }
   fab->stats.te_steps++;
-  PetscCheck(red[3] == 0.0, fab->comm, PETSC_ERR_FP, "numerical instability at load step %" PetscInt_FMT ", te step %" PetscInt64_FMT ": velocities became NaN or Inf (te = %g s, stable bound %g s)", fab->load.load_step, fab->stats.te_steps, (double)fab->step.te, (double)fab->step.te_bound);
+  PetscCheck(red[3] == 0.0, fab->comm, PETSC_ERR_FP,
+             "numerical instability at load step %" PetscInt_FMT ", te step %" PetscInt64_FMT
+             ": velocities became NaN or Inf (te = %g s, stable bound %g s)",
+             fab->load.load_step, fab->stats.te_steps, (double) fab->step.te, (double) fab->step.te_bound);
   out->speed       = PetscSqrtReal(red[1]);
   out->tension_max = red[2];
   out->residual    = PetscSqrtReal(red[0]) / PetscMax(red[2], fab->step.force_floor);
-  PetscCheck(out->speed * fab->step.te <= fab->grid.extent, fab->comm, PETSC_ERR_FP, "numerical instability at load step %" PetscInt_FMT ", te step %" PetscInt64_FMT ": runaway motion, a point moved %g m in one step, more than the fabric's size %g m (te = %g s, stable bound %g s)", fab->load.load_step, fab->stats.te_steps, (double)(out->speed * fab->step.te), (double)fab->grid.extent, (double)fab->step.te, (double)fab->step.te_bound);
+  PetscCheck(out->speed * fab->step.te <= fab->grid.extent, fab->comm, PETSC_ERR_FP,
+             "numerical instability at load step %" PetscInt_FMT ", te step %" PetscInt64_FMT
+             ": runaway motion, a point moved %g m in one step, more than the fabric's size %g m (te = %g s, stable "
+             "bound %g s)",
+             fab->load.load_step, fab->stats.te_steps, (double) (out->speed * fab->step.te), (double) fab->grid.extent,
+             (double) fab->step.te, (double) fab->step.te_bound);
   if (s->num.kinetic_damping) PetscCall(KineticDamping(fab));
-  out->balanced = (out->residual <= s->num.balance_tol && out->speed <= s->num.speed_tol && fab->load.ramp_done >= fab->load.ramp_steps) ? PETSC_TRUE : PETSC_FALSE;
-  fab->step.last     = *out;
+  out->balanced  = (out->residual <= s->num.balance_tol && out->speed <= s->num.speed_tol &&
+                   fab->load.ramp_done >= fab->load.ramp_steps)
+                       ? PETSC_TRUE
+                       : PETSC_FALSE;
+  fab->step.last = *out;
   PetscFunctionReturn(0);
 }

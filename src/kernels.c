@@ -53,7 +53,7 @@ static PetscErrorCode PatchAllocRows(Patch *p)
 
   PetscFunctionBeginUser;
   rows = 8 + 8 * KERNEL_RING + 6 + 6 * KERNEL_RING + 9 * KERNEL_RING;
-  PetscCall(PetscCalloc1((size_t)rows * per_row, &p->work));
+  PetscCall(PetscCalloc1((size_t) rows * per_row, &p->work));
   {
     SegmentRow *s      = &p->xs_row;
     PetscReal **ptrs[] = {&s->ux, &s->uy, &s->uz, &s->inv_len, &s->fx, &s->fy, &s->fz, &s->T};
@@ -92,8 +92,8 @@ PetscErrorCode PatchSetUp(Patch *p)
 
   PetscFunctionBeginUser;
   PetscCall(PatchAllocRows(p));
-  PetscCall(PetscCalloc1(3 * (size_t)p->gxm, &p->zero_row));
-  PetscCall(PetscCalloc1((size_t)(p->gym + 2) * per_row, &p->epad));
+  PetscCall(PetscCalloc1(3 * (size_t) p->gxm, &p->zero_row));
+  PetscCall(PetscCalloc1((size_t) (p->gym + 2) * per_row, &p->epad));
   for (PetscInt j = 0; j < p->gym; j++)
     for (PetscInt i = 0; i < p->gxm; i++) p->epad[(j + 1) * per_row + i + 1] = p->exists[j * p->gxm + i];
   PetscCall(YarnIntegralSetUp(p->warp, &p->yarn_integral[0]));
@@ -165,9 +165,9 @@ static PetscReal YarnSlope(const YarnLaw *y, PetscReal ey)
 {
   if (!y->ntab) return y->EA;
   const PetscReal s = ey * y->tab_inv_h;
-  if (s >= (PetscReal)(y->ntab - 1)) return y->tab_dT[y->ntab - 1];
-  const PetscInt  k = (PetscInt)s;
-  const PetscReal t = s - (PetscReal)k;
+  if (s >= (PetscReal) (y->ntab - 1)) return y->tab_dT[y->ntab - 1];
+  const PetscInt  k = (PetscInt) s;
+  const PetscReal t = s - (PetscReal) k;
   return 6.0 * t * (1.0 - t) * (y->tab_T[k + 1] - y->tab_T[k]) * y->tab_inv_h +
          (1.0 - 4.0 * t + 3.0 * t * t) * y->tab_dT[k] + (3.0 * t * t - 2.0 * t) * y->tab_dT[k + 1];
 }
@@ -221,12 +221,12 @@ static PetscReal YarnEnergy(const YarnLaw *y, const PetscReal *integral, PetscRe
   if (!y->ntab) return 0.5 * y->EA * ey * ey;
   const PetscInt  last = y->ntab - 1;
   const PetscReal s    = ey * y->tab_inv_h;
-  if (s >= (PetscReal)last) {
+  if (s >= (PetscReal) last) {
     const PetscReal d = ey - y->tab_end;
     return YarnCellsBelow(y, integral, last) + y->tab_T[last] * d + 0.5 * y->tab_dT[last] * d * d;
   }
-  const PetscInt k = (PetscInt)s;
-  return YarnCellsBelow(y, integral, k) + HermiteCellIntegral(y, k, s - (PetscReal)k);
+  const PetscInt k = (PetscInt) s;
+  return YarnCellsBelow(y, integral, k) + HermiteCellIntegral(y, k, s - (PetscReal) k);
 }
 
 /* integral from 0 to e of the piecewise law (ChordTensionPiecewise), MODEL.md 14 */
@@ -244,7 +244,7 @@ static PetscReal BlendExcess(const YarnLaw *y, const PetscReal *integral, PetscI
 {
   const PetscReal lo = y->blend[k].lo, s = z - lo;
   const PetscReal cubic =
-    s * (y->blend[k].c0 + s * (0.5 * y->blend[k].c1 + s * (y->blend[k].c2 / 3.0 + s * 0.25 * y->blend[k].c3)));
+      s * (y->blend[k].c0 + s * (0.5 * y->blend[k].c1 + s * (y->blend[k].c2 / 3.0 + s * 0.25 * y->blend[k].c3)));
   return cubic - (PiecewiseEnergy(y, integral, z) - PiecewiseEnergy(y, integral, lo));
 }
 
@@ -265,7 +265,7 @@ PetscReal ChordEnergy(const YarnLaw *y, const PetscReal *integral, PetscReal e)
 static void ZeroSegmentRow(SegmentRow *s, PetscInt c0, PetscInt c1)
 {
   PetscReal *a[] = {s->ux, s->uy, s->uz, s->inv_len, s->fx, s->fy, s->fz, s->T};
-  for (int k = 0; k < 8; k++) memset(a[k] + c0, 0, sizeof(PetscReal) * (size_t)(c1 - c0));
+  for (int k = 0; k < 8; k++) memset(a[k] + c0, 0, sizeof(PetscReal) * (size_t) (c1 - c0));
 }
 
 /* Segments a[i] -> b[i], c0 <= i < c1: chord and tension (MODEL.md 5.1). The chords are
@@ -279,18 +279,18 @@ static void ComputeSegmentRow(const YarnLaw *law, PetscReal L0, PetscBool tracti
   for (PetscInt i = c0; i < c1; i++) {
     const PetscReal dx = xb[3 * i] - xa[3 * i], dy = xb[3 * i + 1] - xa[3 * i + 1], dz = xb[3 * i + 2] - xa[3 * i + 2];
     const PetscReal L = PetscSqrtReal(dx * dx + dy * dy + dz * dz), e_raw = L * inv_L0 - 1.0;
-    const PetscReal e = PetscAbsReal(e_raw) < STRAIN_ROUNDOFF ? 0.0 : e_raw;
+    const PetscReal e     = PetscAbsReal(e_raw) < STRAIN_ROUNDOFF ? 0.0 : e_raw;
     const int       alive = ea[i] && eb[i] && !broken[i];
     const PetscReal inv   = alive ? 1.0 / L : 0.0;
     const PetscReal T     = (alive && traction) ? ChordTension(law, e) : 0.0;
-    s->ux[i]      = dx * inv;
-    s->uy[i]      = dy * inv;
-    s->uz[i]      = dz * inv;
-    s->inv_len[i] = inv;
-    s->T[i]       = T;
-    s->fx[i]      = T * dx * inv;
-    s->fy[i]      = T * dy * inv;
-    s->fz[i]      = T * dz * inv;
+    s->ux[i]              = dx * inv;
+    s->uy[i]              = dy * inv;
+    s->uz[i]              = dz * inv;
+    s->inv_len[i]         = inv;
+    s->T[i]               = T;
+    s->fx[i]              = T * dx * inv;
+    s->fy[i]              = T * dy * inv;
+    s->fz[i]              = T * dz * inv;
   }
 }
 
@@ -300,9 +300,9 @@ static PetscReal GatherTraction(const SegmentRow *xs, const SegmentRow *yd, cons
                                 PetscInt i1, PetscReal *restrict fr, PetscReal tmax)
 {
   for (PetscInt i = i0; i < i1; i++) {
-    fr[3 * i]     = xs->fx[i] - xs->fx[i - 1] + yu->fx[i] - yd->fx[i];
-    fr[3 * i + 1] = xs->fy[i] - xs->fy[i - 1] + yu->fy[i] - yd->fy[i];
-    fr[3 * i + 2] = xs->fz[i] - xs->fz[i - 1] + yu->fz[i] - yd->fz[i];
+    fr[3 * i]         = xs->fx[i] - xs->fx[i - 1] + yu->fx[i] - yd->fx[i];
+    fr[3 * i + 1]     = xs->fy[i] - xs->fy[i - 1] + yu->fy[i] - yd->fy[i];
+    fr[3 * i + 2]     = xs->fz[i] - xs->fz[i - 1] + yu->fz[i] - yd->fz[i];
     const PetscReal t = PetscMax(PetscMax(PetscAbsReal(xs->T[i]), PetscAbsReal(xs->T[i - 1])),
                                  PetscMax(PetscAbsReal(yu->T[i]), PetscAbsReal(yd->T[i])));
     tmax              = PetscMax(tmax, t);
@@ -338,7 +338,7 @@ static int TractionInstance(const Patch *p, const PetscReal *x, PetscInt i, Pets
   const PetscReal e = PetscAbsReal(e_raw) < STRAIN_ROUNDOFF ? 0.0 : e_raw; /* as the force rows */
   const PetscReal T = ChordTension(law, e);
   for (int q = 0; q < 3; q++) n[q] = d[q] / L;
-  t->n = 2;
+  t->n    = 2;
   t->i[0] = i, t->j[0] = j, t->i[1] = i2, t->j[1] = j2;
   if (want & TERM_ENERGY) t->E = L0 * ChordEnergy(law, p->yarn_integral[dir], e);
   if (want & TERM_GRADIENT)
@@ -349,15 +349,15 @@ static int TractionInstance(const Patch *p, const PetscReal *x, PetscInt i, Pets
 
 /* --- stable-step bound: a spring adds 2 max(dT/de / L0, T/L) to each end's row --- */
 
-static void TractionBoundRow(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j, PetscReal window,
-                             int pull_dir, PetscReal *rs, PetscReal *rp)
+static void TractionBoundRow(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j, PetscReal window, int pull_dir,
+                             PetscReal *rs, PetscReal *rp)
 {
   for (int dir = 0; dir < 2; dir++) {
     const YarnLaw  *law = dir == 0 ? p->warp : p->weft;
     const PetscReal L0  = dir == 0 ? p->ax : p->ay;
     for (int side = -1; side <= 0; side++) {
       const PetscInt ia = i + (dir == 0 ? side : 0), ja = j + (dir == 1 ? side : 0);
-      const Chord    c  = ChordAt(p, x, ia, ja, dir);
+      const Chord    c = ChordAt(p, x, ia, ja, dir);
       if (!c.alive) continue;
       const PetscReal e = c.L / L0 - 1.0, T = ChordTension(law, e);
       *rs += 2.0 * PetscMax(ChordTangentMax(law, e - window, e + window) / L0, PetscAbsReal(T) / c.L);
@@ -388,8 +388,8 @@ int BreakSegments(Patch *p, const PetscReal *x)
         broken[k] = 1;
         {
           const PetscInt i = p->gxs + li, j = p->gys + lj, i2 = i + (dir == 0), j2 = j + (dir == 1);
-          const int own_a = i >= p->xs && i < p->xs + p->xm && j >= p->ys && j < p->ys + p->ym;
-          const int own_b = i2 >= p->xs && i2 < p->xs + p->xm && j2 >= p->ys && j2 < p->ys + p->ym;
+          const int      own_a = i >= p->xs && i < p->xs + p->xm && j >= p->ys && j < p->ys + p->ym;
+          const int      own_b = i2 >= p->xs && i2 < p->xs + p->xm && j2 >= p->ys && j2 < p->ys + p->ym;
           if (own_a || own_b) broke = 1;
         }
       }
@@ -479,12 +479,12 @@ static void GatherBending(const BendRow *bx, const BendRow *bd, const BendRow *b
                           PetscInt i1, PetscReal *restrict fr)
 {
   for (PetscInt i = i0; i < i1; i++) {
-    fr[3 * i] += bx->g2x[i - 1] + bx->g1x[i] - bx->g2x[i] - bx->g1x[i + 1] + bd->g2x[i] + bc->g1x[i] - bc->g2x[i] -
-                 bu->g1x[i];
-    fr[3 * i + 1] += bx->g2y[i - 1] + bx->g1y[i] - bx->g2y[i] - bx->g1y[i + 1] + bd->g2y[i] + bc->g1y[i] -
-                     bc->g2y[i] - bu->g1y[i];
-    fr[3 * i + 2] += bx->g2z[i - 1] + bx->g1z[i] - bx->g2z[i] - bx->g1z[i + 1] + bd->g2z[i] + bc->g1z[i] -
-                     bc->g2z[i] - bu->g1z[i];
+    fr[3 * i] +=
+        bx->g2x[i - 1] + bx->g1x[i] - bx->g2x[i] - bx->g1x[i + 1] + bd->g2x[i] + bc->g1x[i] - bc->g2x[i] - bu->g1x[i];
+    fr[3 * i + 1] +=
+        bx->g2y[i - 1] + bx->g1y[i] - bx->g2y[i] - bx->g1y[i + 1] + bd->g2y[i] + bc->g1y[i] - bc->g2y[i] - bu->g1y[i];
+    fr[3 * i + 2] +=
+        bx->g2z[i - 1] + bx->g1z[i] - bx->g2z[i] - bx->g1z[i + 1] + bd->g2z[i] + bc->g1z[i] - bc->g2z[i] - bu->g1z[i];
   }
 }
 
@@ -516,8 +516,8 @@ static int BendingInstance(const Patch *p, const PetscReal *x, PetscInt i, Petsc
 
 /* --- stable-step bound: centre c in {p-1, p, p+1}; row sums 12, 24, 12 times kb / Lmin^2, with
    Lmin no longer than the contact length (a chord can be squeezed that far in a step) --- */
-static void BendingBoundRow(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j, PetscReal window,
-                            int pull_dir, PetscReal *rs, PetscReal *rp)
+static void BendingBoundRow(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j, PetscReal window, int pull_dir,
+                            PetscReal *rs, PetscReal *rp)
 {
   for (int dir = 0; dir < 2; dir++) {
     const PetscReal kb = dir == 0 ? p->kbx : p->kby;
@@ -545,7 +545,7 @@ static void ComputeShearRow(const Patch *p, const PetscReal *x, PetscInt r, Pets
 
   if (lr < 0 || lr >= p->gym) { /* no crossing outside the patch */
     PetscReal *a[] = {sh->hwx, sh->hwy, sh->hwz, sh->hfx, sh->hfy, sh->hfz, sh->sx, sh->sy, sh->sz};
-    for (int k = 0; k < 9; k++) memset(a[k] + c0, 0, sizeof(PetscReal) * (size_t)(c1 - c0));
+    for (int k = 0; k < 9; k++) memset(a[k] + c0, 0, sizeof(PetscReal) * (size_t) (c1 - c0));
     return;
   }
   for (PetscInt li = c0; li < c1; li++) {
@@ -557,8 +557,8 @@ static void ComputeShearRow(const Patch *p, const PetscReal *x, PetscInt r, Pets
     const PetscReal  twx = xp[0] - xm[0], twy = xp[1] - xm[1], twz = xp[2] - xm[2];
     const PetscReal  tfx = yp[0] - ym[0], tfy = yp[1] - ym[1], tfz = yp[2] - ym[2];
     const int        active = self && (hl || hr) && (hd || hu);
-    const PetscReal  iw = active ? 1.0 / PetscSqrtReal(twx * twx + twy * twy + twz * twz) : 0.0;
-    const PetscReal  jf = active ? 1.0 / PetscSqrtReal(tfx * tfx + tfy * tfy + tfz * tfz) : 0.0;
+    const PetscReal  iw     = active ? 1.0 / PetscSqrtReal(twx * twx + twy * twy + twz * twz) : 0.0;
+    const PetscReal  jf     = active ? 1.0 / PetscSqrtReal(tfx * tfx + tfy * tfy + tfz * tfz) : 0.0;
     const PetscReal  uwx = twx * iw, uwy = twy * iw, uwz = twz * iw, ufx = tfx * jf, ufy = tfy * jf, ufz = tfz * jf;
     const PetscReal  s = uwx * ufx + uwy * ufy + uwz * ufz, as = PetscAbsReal(s);
     const PetscReal  jam = as > sl ? (s > 0 ? as - sl : sl - as) : 0.0;
@@ -566,7 +566,7 @@ static void ComputeShearRow(const Patch *p, const PetscReal *x, PetscInt r, Pets
     const PetscReal  cw = Ep * iw, cf = Ep * jf;
     const PetscReal  hwx = cw * (ufx - s * uwx), hwy = cw * (ufy - s * uwy), hwz = cw * (ufz - s * uwz);
     const PetscReal  hfx = cf * (uwx - s * ufx), hfy = cf * (uwy - s * ufy), hfz = cf * (uwz - s * ufz);
-    const PetscReal  aw = (PetscReal)(hr - hl), af = (PetscReal)(hu - hd);
+    const PetscReal  aw = (PetscReal) (hr - hl), af = (PetscReal) (hu - hd);
     sh->hwx[li] = hwx;
     sh->hwy[li] = hwy;
     sh->hwz[li] = hwz;
@@ -627,9 +627,9 @@ static int ShearInstance(const Patch *p, const PetscReal *x, PetscInt i, PetscIn
   if (!(has[0] || has[1]) || !(has[2] || has[3])) return 0;
   const PetscInt  di[4] = {-1, 1, 0, 0}, dj[4] = {0, 0, -1, 1};
   const PetscReal wa[4] = {-1, 1, 0, 0}, wb[4] = {0, 0, -1, 1};
-  t->n = 1;
+  t->n    = 1;
   t->i[0] = i, t->j[0] = j;
-  ca[0] = (PetscReal)(has[0] - has[1]), cb[0] = (PetscReal)(has[2] - has[3]);
+  ca[0] = (PetscReal) (has[0] - has[1]), cb[0] = (PetscReal) (has[2] - has[3]);
   for (int q = 0; q < 4; q++)
     if (has[q]) {
       t->i[t->n] = i + di[q], t->j[t->n] = j + dj[q];
@@ -694,8 +694,8 @@ static void YSegments(Patch *p, const PetscReal *x, PetscInt r, PetscInt c0, Pet
 static void YBending(Patch *p, PetscInt r, PetscInt c0, PetscInt c1)
 {
   const SegmentRow *a = &p->ys_ring[SLOT(r - 1)], *b = &p->ys_ring[SLOT(r)];
-  ComputeBendRow(p->kby, c0, c1, a->ux, a->uy, a->uz, a->inv_len, b->ux, b->uy, b->uz, b->inv_len,
-                 &p->by_ring[SLOT(r)], 0);
+  ComputeBendRow(p->kby, c0, c1, a->ux, a->uy, a->uz, a->inv_len, b->ux, b->uy, b->uz, b->inv_len, &p->by_ring[SLOT(r)],
+                 0);
 }
 
 /* advance the pipeline to row j: y-rows j+1 into the ring, x-segments and x-bending of row j */
@@ -714,8 +714,7 @@ static void AdvancePipeline(Patch *p, const PetscReal *x, PetscInt j, PetscInt c
                    xs->inv_len + 1, &p->bx_row, 1);
 }
 
-void ComputeInternalForces(Patch *p, const PetscReal *x, const PetscInt box[4], PetscReal *f,
-                           PetscReal *tension_max)
+void ComputeInternalForces(Patch *p, const PetscReal *x, const PetscInt box[4], PetscReal *f, PetscReal *tension_max)
 {
   const PetscInt  n = p->gxm, i0 = box[0] - p->gxs, i1 = box[1] - p->gxs, j0 = box[2], j1 = box[3];
   const PetscInt  c0 = PetscMax(i0 - 2, 0), c1 = PetscMin(i1 + 2, n); /* columns the box's forces need */
@@ -772,9 +771,18 @@ static void ShearForces(Patch *p, const PetscReal *x, const PetscInt box[4], Pet
   SoloForces(p, x, box, f, PETSC_FALSE, PETSC_FALSE, PETSC_TRUE);
 }
 
-static PetscBool TractionEnabled(const Patch *p) { return p->traction; }
-static PetscBool BendingEnabled(const Patch *p) { return p->bending; }
-static PetscBool ShearEnabled(const Patch *p) { return p->shear; }
+static PetscBool TractionEnabled(const Patch *p)
+{
+  return p->traction;
+}
+static PetscBool BendingEnabled(const Patch *p)
+{
+  return p->bending;
+}
+static PetscBool ShearEnabled(const Patch *p)
+{
+  return p->shear;
+}
 
 const ForceTerm TractionTerm = {"traction", 2, TractionEnabled, TractionInstance, TractionForces, TractionBoundRow};
 const ForceTerm BendingTerm  = {"bending", 2, BendingEnabled, BendingInstance, BendingForces, BendingBoundRow};
@@ -824,7 +832,7 @@ PetscErrorCode InternalTangent(const Patch *p, const PetscReal *x, const PetscIn
 
 PetscErrorCode TermBlocksAddToMat(void *ctx, PetscInt n, const PetscInt i[], const PetscInt j[], const PetscReal K[])
 {
-  Mat        A = (Mat)ctx;
+  Mat        A = (Mat) ctx;
   MatStencil s[TERM_MAX_POINTS];
 
   PetscFunctionBeginUser;

@@ -13,7 +13,7 @@ void PathPoint(const LoadProgram *lp, PetscReal a, PetscReal u[3])
   const PetscReal a0 = k ? lp->path_at[k - 1] : 0.0, t = PetscMin(1.0, PetscMax(0.0, (a - a0) / (lp->path_at[k] - a0)));
   for (int d = 0; d < 3; d++) {
     const PetscReal p0 = k ? lp->waypoint[k - 1][d] : 0.0;
-    u[d] = p0 + t * (lp->waypoint[k][d] - p0);
+    u[d]               = p0 + t * (lp->waypoint[k][d] - p0);
   }
 }
 
@@ -44,7 +44,7 @@ void GripPathMove(const Scene *s, const PetscReal pull_dir[3], PetscReal from, P
    pull / gauge */
 PetscReal GripElongation(const Scene *s, const PetscReal pull_dir[3], PetscReal disp)
 {
-  PetscReal    u[3];
+  PetscReal u[3];
   if (!s->load.waypoints) return disp / s->spec.gauge;
   PathPoint(&s->load, disp, u);
   return (u[0] * pull_dir[0] + u[1] * pull_dir[1] + u[2] * pull_dir[2]) / s->spec.gauge;
@@ -55,7 +55,7 @@ PetscReal GripElongation(const Scene *s, const PetscReal pull_dir[3], PetscReal 
    distinct times. */
 PetscReal TestTime(const Scene *s, const LoadState *ls)
 {
-  return LoadTravel(s) > 0 ? ls->travel / s->load.speed : (PetscReal)ls->load_step;
+  return LoadTravel(s) > 0 ? ls->travel / s->load.speed : (PetscReal) ls->load_step;
 }
 
 /* Put the grips at length disp along their path (the pull, or -grip_path_mm). A jump
@@ -91,6 +91,9 @@ PetscErrorCode RampGrips(Fabric fab)
   PetscFunctionBeginUser;
   if (ls->ramp_done >= ls->ramp_steps) PetscFunctionReturn(0);
   ls->ramp_done++;
-  PetscCall(PlaceGrips(fab, ls->travel_from + (ls->travel - ls->travel_from) * 0.5 * (1.0 - PetscCosReal(PETSC_PI * ls->ramp_done / ls->ramp_steps)), PETSC_FALSE));
+  PetscCall(PlaceGrips(fab,
+                       ls->travel_from + (ls->travel - ls->travel_from) * 0.5 *
+                                             (1.0 - PetscCosReal(PETSC_PI * ls->ramp_done / ls->ramp_steps)),
+                       PETSC_FALSE));
   PetscFunctionReturn(0);
 }

@@ -19,12 +19,12 @@ static const char help[] = "fabric: woven-fabric mechanics at the yarn-crossing 
 static void NameTheOption(const char *mess, char *out, size_t len)
 {
   const char *pre = "Input string ", *post = " has no numeric value";
-  char        value[256], *all = NULL;
+  char        value[256], *all             = NULL;
   size_t      lp = strlen(pre);
 
   snprintf(out, len, "%s", mess);
   if (strncmp(mess, pre, lp) || !strstr(mess, post)) return;
-  snprintf(value, sizeof value, "%.*s", (int)(strstr(mess, post) - mess - lp), mess + lp);
+  snprintf(value, sizeof value, "%.*s", (int) (strstr(mess, post) - mess - lp), mess + lp);
   if (PetscOptionsGetAll(NULL, &all) || !all) return;
   for (char *tok = strtok(all, " "), *prev = NULL; tok; prev = tok, tok = strtok(NULL, " "))
     if (prev && prev[0] == '-' && !strcmp(tok, value)) {
@@ -36,20 +36,21 @@ static void NameTheOption(const char *mess, char *out, size_t len)
 
 /* One clear line per error. Input errors are seen by every rank alike, so rank 0 says them;
    other ranks speak only of errors that are theirs alone (memory, numerics, library). */
-static PetscErrorCode OneLineErrorHandler(MPI_Comm comm, int line, const char *fun, const char *file, PetscErrorCode n, PetscErrorType p, const char *mess, void *ctx)
+static PetscErrorCode OneLineErrorHandler(MPI_Comm comm, int line, const char *fun, const char *file, PetscErrorCode n,
+                                          PetscErrorType p, const char *mess, void *ctx)
 {
   PetscMPIInt rank = 0, world = 0;
   char        text[1024];
-  (void)ctx;
+  (void) ctx;
   if (p != PETSC_ERROR_INITIAL) return n;
   if (comm != MPI_COMM_NULL) MPI_Comm_rank(comm, &rank);
   MPI_Comm_rank(PETSC_COMM_WORLD, &world);
-  if (world == 0 || (rank == 0 && (n == PETSC_ERR_MEM || n == PETSC_ERR_PLIB || n == PETSC_ERR_LIB || n == PETSC_ERR_SYS))) {
+  if (world == 0 ||
+      (rank == 0 && (n == PETSC_ERR_MEM || n == PETSC_ERR_PLIB || n == PETSC_ERR_LIB || n == PETSC_ERR_SYS))) {
     if (mess && mess[0]) {
       NameTheOption(mess, text, sizeof text);
       fprintf(stderr, "fabric: error: %s\n", text);
-    }
-    else {
+    } else {
       const char *text = NULL;
       PetscErrorMessage(n, &text, NULL);
       fprintf(stderr, "fabric: error: %s (in %s, %s:%d)\n", text ? text : "unknown", fun, file, line);
@@ -75,8 +76,13 @@ static PetscErrorCode Run(int argc, char **argv)
   }
   PetscCall(SceneCheckUnused(PETSC_COMM_WORLD));
   if (!fab->s.out.quiet)
-    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fabric: scene %s, %" PetscInt_FMT " x %" PetscInt_FMT " crossings (%" PetscInt_FMT " points) on %d ranks, %s integrator, prediction %s, %" PetscInt_FMT " load steps, test %s, %.3g mm of travel\n", fab->s.out.name, fab->s.spec.nx, fab->s.spec.ny, fab->grid.points, fab->size,
-                          IntegratorNames[fab->s.num.integrator], PredictNames[fab->s.num.predict], fab->s.load.load_steps, TestNames[fab->s.test], (double)(1e3 * LoadTravel(&fab->s))));
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD,
+                          "fabric: scene %s, %" PetscInt_FMT " x %" PetscInt_FMT " crossings (%" PetscInt_FMT
+                          " points) on %d ranks, %s integrator, prediction %s, %" PetscInt_FMT
+                          " load steps, test %s, %.3g mm of travel\n",
+                          fab->s.out.name, fab->s.spec.nx, fab->s.spec.ny, fab->grid.points, fab->size,
+                          IntegratorNames[fab->s.num.integrator], PredictNames[fab->s.num.predict],
+                          fab->s.load.load_steps, TestNames[fab->s.test], (double) (1e3 * LoadTravel(&fab->s))));
   ierr = FabricRun(fab);
   if (ierr) { /* a run that stops on an error still says so in summary.json */
     const char *text;
@@ -87,15 +93,23 @@ static PetscErrorCode Run(int argc, char **argv)
     return ierr;
   }
   if (fab->s.out.output_dir[0]) {
-    PetscReal   peak = 0;
-    char        where[64];
+    PetscReal       peak = 0;
+    char            where[64];
     const CurveRow *last = &fab->stats.curve[fab->s.load.load_steps - 1];
     for (PetscInt k = 0; k < fab->s.load.load_steps; k++) peak = PetscMax(peak, fab->stats.curve[k].force);
     /* the jaw tests end at an elongation, the others at a travel (sphere, load point, drop) */
-    if (JawTest(&fab->s)) PetscCall(PetscSNPrintf(where, sizeof where, "%.3g %% elongation", (double)(100 * last->elongation)));
-    else PetscCall(PetscSNPrintf(where, sizeof where, "%.4g mm travel", (double)(1e3 * last->travel)));
-    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fabric: done in %.2f s: %" PetscInt64_FMT " te steps, %.3e point updates/s; peak force %.4g N, last load step at %s; %s\n", (double)fab->stats.wall, fab->stats.te_steps, fab->stats.wall > 0 ? (double)fab->stats.point_updates / fab->stats.wall : 0.0, (double)peak,
-                          where, fab->stats.converged ? "every load step balanced" : "some load steps did NOT balance (see curve.csv residual)"));
+    if (JawTest(&fab->s))
+      PetscCall(PetscSNPrintf(where, sizeof where, "%.3g %% elongation", (double) (100 * last->elongation)));
+    else
+      PetscCall(PetscSNPrintf(where, sizeof where, "%.4g mm travel", (double) (1e3 * last->travel)));
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD,
+                          "fabric: done in %.2f s: %" PetscInt64_FMT
+                          " te steps, %.3e point updates/s; peak force %.4g N, last load step at %s; %s\n",
+                          (double) fab->stats.wall, fab->stats.te_steps,
+                          fab->stats.wall > 0 ? (double) fab->stats.point_updates / fab->stats.wall : 0.0,
+                          (double) peak, where,
+                          fab->stats.converged ? "every load step balanced"
+                                               : "some load steps did NOT balance (see curve.csv residual)"));
     char files[256];
     PetscCall(IODescribe(fab, files, sizeof files));
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fabric: results in %s/ (%s)\n", fab->s.out.output_dir, files));

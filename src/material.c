@@ -18,9 +18,9 @@
 /* Read the CSV into SI arrays: yarn strain (-) and force (N). */
 static PetscErrorCode ReadYarnCSV(MPI_Comm comm, const YarnLaw *y, PetscInt *n, double **strain, double **force)
 {
-  FILE    *fp;
-  char     line[512];
-  PetscInt cap = 64, count = 0, lineno = 0;
+  FILE     *fp;
+  char      line[512];
+  PetscInt  cap = 64, count = 0, lineno = 0;
   PetscBool header = PETSC_FALSE;
 
   PetscFunctionBeginUser;
@@ -39,7 +39,9 @@ static PetscErrorCode ReadYarnCSV(MPI_Comm comm, const YarnLaw *y, PetscInt *n, 
       *q = 0;
       if (strcmp(p, "strain_pct,force_cN")) {
         fclose(fp);
-        SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED, "-%s_law_csv %s line %" PetscInt_FMT ": expected the header 'strain_pct,force_cN', found '%s'", y->name, y->csv, lineno, p);
+        SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED,
+                "-%s_law_csv %s line %" PetscInt_FMT ": expected the header 'strain_pct,force_cN', found '%s'", y->name,
+                y->csv, lineno, p);
       }
       header = PETSC_TRUE;
       continue;
@@ -47,22 +49,29 @@ static PetscErrorCode ReadYarnCSV(MPI_Comm comm, const YarnLaw *y, PetscInt *n, 
     s = strtod(p, &end);
     if (end == p || *end != ',') {
       fclose(fp);
-      SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED, "-%s_law_csv %s line %" PetscInt_FMT ": expected 'strain_pct,force_cN' numbers", y->name, y->csv, lineno);
+      SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED,
+              "-%s_law_csv %s line %" PetscInt_FMT ": expected 'strain_pct,force_cN' numbers", y->name, y->csv, lineno);
     }
     p = end + 1;
     f = strtod(p, &end);
     while (*end == ' ' || *end == '\t' || *end == '\r' || *end == '\n') end++;
     if (end == p || *end != 0 || !isfinite(s) || !isfinite(f)) {
       fclose(fp);
-      SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED, "-%s_law_csv %s line %" PetscInt_FMT ": expected two finite numbers 'strain_pct,force_cN'", y->name, y->csv, lineno);
+      SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED,
+              "-%s_law_csv %s line %" PetscInt_FMT ": expected two finite numbers 'strain_pct,force_cN'", y->name,
+              y->csv, lineno);
     }
     if (count == 0 && (s != 0.0 || f != 0.0)) {
       fclose(fp);
-      SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED, "-%s_law_csv %s line %" PetscInt_FMT ": the first row must be 0,0 (no force at zero yarn strain), found %g,%g", y->name, y->csv, lineno, s, f);
+      SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED,
+              "-%s_law_csv %s line %" PetscInt_FMT
+              ": the first row must be 0,0 (no force at zero yarn strain), found %g,%g",
+              y->name, y->csv, lineno, s, f);
     }
     if (count > 0 && !(s > 100.0 * (*strain)[count - 1])) {
       fclose(fp);
-      SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED, "-%s_law_csv %s line %" PetscInt_FMT ": strain %g %% does not increase", y->name, y->csv, lineno, s);
+      SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED, "-%s_law_csv %s line %" PetscInt_FMT ": strain %g %% does not increase",
+              y->name, y->csv, lineno, s);
     }
     if (count == cap) {
       double *s2, *f2;
@@ -79,8 +88,10 @@ static PetscErrorCode ReadYarnCSV(MPI_Comm comm, const YarnLaw *y, PetscInt *n, 
     count++;
   }
   fclose(fp);
-  PetscCheck(header, comm, PETSC_ERR_FILE_UNEXPECTED, "-%s_law_csv %s: empty file (expected the header 'strain_pct,force_cN' and rows)", y->name, y->csv);
-  PetscCheck(count >= 3, comm, PETSC_ERR_FILE_UNEXPECTED, "-%s_law_csv %s: %" PetscInt_FMT " rows, the spline needs at least 3", y->name, y->csv, count);
+  PetscCheck(header, comm, PETSC_ERR_FILE_UNEXPECTED,
+             "-%s_law_csv %s: empty file (expected the header 'strain_pct,force_cN' and rows)", y->name, y->csv);
+  PetscCheck(count >= 3, comm, PETSC_ERR_FILE_UNEXPECTED,
+             "-%s_law_csv %s: %" PetscInt_FMT " rows, the spline needs at least 3", y->name, y->csv, count);
   *n = count;
   PetscFunctionReturn(0);
 }
@@ -89,30 +100,32 @@ static PetscErrorCode ReadYarnCSV(MPI_Comm comm, const YarnLaw *y, PetscInt *n, 
 static PetscReal HermiteSlope(const YarnLaw *y, PetscInt k, PetscReal t)
 {
   const PetscReal h = y->tab_h;
-  return 6.0 * t * (1.0 - t) * (y->tab_T[k + 1] - y->tab_T[k]) / h + (1.0 - 4.0 * t + 3.0 * t * t) * y->tab_dT[k] + (3.0 * t * t - 2.0 * t) * y->tab_dT[k + 1];
+  return 6.0 * t * (1.0 - t) * (y->tab_T[k + 1] - y->tab_T[k]) / h + (1.0 - 4.0 * t + 3.0 * t * t) * y->tab_dT[k] +
+         (3.0 * t * t - 2.0 * t) * y->tab_dT[k + 1];
 }
 
 static PetscErrorCode BuildTable(MPI_Comm comm, YarnLaw *y)
 {
-  PetscInt     n, N = YARN_TABLE_NODES, ncell = N - 1;
-  double      *es, *fs;
-  gsl_interp  *interp;
+  PetscInt          n, N = YARN_TABLE_NODES, ncell = N - 1;
+  double           *es, *fs;
+  gsl_interp       *interp;
   gsl_interp_accel *acc;
 
   PetscFunctionBeginUser;
   PetscCall(ReadYarnCSV(comm, y, &n, &es, &fs));
   gsl_set_error_handler_off();
-  interp = gsl_interp_alloc(gsl_interp_steffen, (size_t)n);
+  interp = gsl_interp_alloc(gsl_interp_steffen, (size_t) n);
   acc    = gsl_interp_accel_alloc();
   PetscCheck(interp && acc, comm, PETSC_ERR_MEM, "GSL could not allocate the spline of %s", y->csv);
-  PetscCheck(!gsl_interp_init(interp, es, fs, (size_t)n), comm, PETSC_ERR_FILE_UNEXPECTED, "-%s_law_csv %s: GSL could not build the Steffen spline", y->name, y->csv);
+  PetscCheck(!gsl_interp_init(interp, es, fs, (size_t) n), comm, PETSC_ERR_FILE_UNEXPECTED,
+             "-%s_law_csv %s: GSL could not build the Steffen spline", y->name, y->csv);
   y->ntab      = N;
   y->tab_end   = es[n - 1];
-  y->tab_h     = y->tab_end / (PetscReal)ncell;
+  y->tab_h     = y->tab_end / (PetscReal) ncell;
   y->tab_inv_h = 1.0 / y->tab_h;
   PetscCall(PetscMalloc2(N, &y->tab_T, N, &y->tab_dT));
   for (PetscInt k = 0; k < N; k++) {
-    double e = PetscMin(k * y->tab_h, es[n - 1]);
+    double e     = PetscMin(k * y->tab_h, es[n - 1]);
     y->tab_T[k]  = gsl_interp_eval(interp, es, fs, e, acc);
     y->tab_dT[k] = gsl_interp_eval_deriv(interp, es, fs, e, acc);
   }
@@ -135,7 +148,8 @@ static PetscErrorCode BuildTable(MPI_Comm comm, YarnLaw *y)
   for (PetscInt l = 1; l < y->nlev; l++) {
     PetscInt w = 1 << l;
     PetscCall(PetscMalloc1(ncell - w + 1, &y->tab_slope_max[l]));
-    for (PetscInt k = 0; k + w <= ncell; k++) y->tab_slope_max[l][k] = PetscMax(y->tab_slope_max[l - 1][k], y->tab_slope_max[l - 1][k + w / 2]);
+    for (PetscInt k = 0; k + w <= ncell; k++)
+      y->tab_slope_max[l][k] = PetscMax(y->tab_slope_max[l - 1][k], y->tab_slope_max[l - 1][k + w / 2]);
   }
   PetscFunctionReturn(0);
 }
@@ -165,13 +179,13 @@ PetscErrorCode YarnLawSetUp(YarnLaw *y, MPI_Comm comm)
   y->break_e = y->break_ey > 0.0 ? y->crimp + y->break_ey * (1.0 + y->crimp) : INFINITY;
   if (y->csv[0]) PetscCall(BuildTable(comm, y));
   if (y->decrimp_ratio > 0) y->Ec = y->decrimp_ratio * y->EA; /* before the blends, which join this piece */
-  y->nblend = 0;
+  y->nblend   = 0;
   kinks[nk++] = y->e_contact;
   kinks[nk++] = 0.0;
   if (y->crimp > 0) kinks[nk++] = y->crimp;
   for (PetscInt k = 0; k < nk && y->smoothing > 0; k++) {
     const PetscReal e0 = kinks[k], prev = k > 0 ? kinks[k - 1] : -1.0, next = k + 1 < nk ? kinks[k + 1] : 1.0;
-    const PetscReal d  = PetscMin(y->smoothing, 0.3 * PetscMin(e0 - prev, next - e0));
+    const PetscReal d = PetscMin(y->smoothing, 0.3 * PetscMin(e0 - prev, next - e0));
     /* the blend at e = 0 lies on the tension side, so that a fabric at rest is stress-free */
     const PetscReal lo = e0 == 0.0 ? 0.0 : e0 - d, hi = e0 == 0.0 ? 2.0 * d : e0 + d, h = hi - lo;
     const PetscReal T0 = ChordTensionPiecewise(y, lo), T1 = ChordTensionPiecewise(y, hi);
@@ -185,8 +199,8 @@ PetscErrorCode YarnLawSetUp(YarnLaw *y, MPI_Comm comm)
     y->blend[y->nblend].c2 = (3.0 * (T1 - T0) / h - 2.0 * m0 - m1) / h;
     y->blend[y->nblend].c3 = (m0 + m1 - 2.0 * (T1 - T0) / h) / (h * h);
     for (int q = 0; q <= 64; q++) {
-      const PetscReal s = h * q / 64.0;
-      smax = PetscMax(smax, PetscAbsReal(y->blend[y->nblend].c1 + s * (2.0 * y->blend[y->nblend].c2 + 3.0 * s * y->blend[y->nblend].c3)));
+      const PetscReal s = h * q / 64.0, c1 = y->blend[y->nblend].c1, c2 = y->blend[y->nblend].c2;
+      smax = PetscMax(smax, PetscAbsReal(c1 + s * (2.0 * c2 + 3.0 * s * y->blend[y->nblend].c3)));
     }
     y->blend[y->nblend].slope_max = 1.05 * smax;
     y->nblend++;
@@ -215,8 +229,8 @@ static PetscReal YarnSlopeMax(const YarnLaw *y, PetscReal lo, PetscReal hi)
   if (!y->ntab) return y->EA;
   if (hi >= y->tab_end) m = y->tab_dT[y->ntab - 1]; /* linear extension */
   if (lo >= y->tab_end) return m;
-  k0 = (PetscInt)(lo * y->tab_inv_h);
-  k1 = PetscMin((PetscInt)(hi * y->tab_inv_h), ncell - 1);
+  k0 = (PetscInt) (lo * y->tab_inv_h);
+  k1 = PetscMin((PetscInt) (hi * y->tab_inv_h), ncell - 1);
   if (k1 < k0) k1 = k0;
   {
     PetscInt len = k1 - k0 + 1, l = 0;

@@ -20,7 +20,9 @@ static PetscErrorCode GripReaction(Fabric fab, PetscReal *force)
   PetscCall(ComputeForces(fab, NULL, &tension_max));
   PetscCall(VecGetArrayRead(fab->state.F, &f));
   for (PetscInt k = 0; k < fab->grid.nloc; k++)
-    if (fab->grid.kind[k] == POINT_GRIP) sum -= f[3 * k] * fab->grid.pull_dir[0] + f[3 * k + 1] * fab->grid.pull_dir[1] + f[3 * k + 2] * fab->grid.pull_dir[2];
+    if (fab->grid.kind[k] == POINT_GRIP)
+      sum -= f[3 * k] * fab->grid.pull_dir[0] + f[3 * k + 1] * fab->grid.pull_dir[1] +
+             f[3 * k + 2] * fab->grid.pull_dir[2];
   PetscCall(VecRestoreArrayRead(fab->state.F, &f));
   PetscCall(GlobalSum(fab->comm, &sum, 1));
   *force = sum;
@@ -37,7 +39,8 @@ static PetscErrorCode SphereReaction(Fabric fab, CurveRow *row)
   PetscFunctionBeginUser; /* contact_sum: from GripReaction's ComputeForces at the balanced state */
   for (int d = 0; d < 3; d++) sum[d] = fab->meas.sphere_sum[d];
   PetscCall(GlobalSum(fab->comm, sum, 3));
-  row->force  = sum[0] * fab->s.bodies.sphere_dir[0] + sum[1] * fab->s.bodies.sphere_dir[1] + sum[2] * fab->s.bodies.sphere_dir[2];
+  row->force = sum[0] * fab->s.bodies.sphere_dir[0] + sum[1] * fab->s.bodies.sphere_dir[1] +
+               sum[2] * fab->s.bodies.sphere_dir[2];
   row->travel = fab->load.travel;
   PetscFunctionReturn(0);
 }
@@ -94,8 +97,9 @@ static PetscErrorCode CenterShear(Fabric fab, CurveRow *row)
   const Patch       *p = &fab->grid.patch;
   const Scene       *s = &fab->s;
   const PetscScalar *xl;
-  const PetscReal    half = 0.25 * PetscMin(s->spec.width, s->spec.gauge - s->spec.width) + 1e-9 * s->spec.gauge; /* crossings on its edge count */
-  PetscReal          acc[2] = {0, 0};
+  const PetscReal    half = 0.25 * PetscMin(s->spec.width, s->spec.gauge - s->spec.width) +
+                         1e-9 * s->spec.gauge; /* crossings on its edge count */
+  PetscReal acc[2] = {0, 0};
 
   PetscFunctionBeginUser;
   PetscCall(VecGetArrayRead(fab->state.Xl, &xl));
@@ -143,11 +147,11 @@ static void ShadowSegment(const PetscReal a[2], const PetscReal b[2], PetscReal 
   if (span > PETSC_PI) span -= 2 * PETSC_PI;
   if (span < -PETSC_PI) span += 2 * PETSC_PI;
   if (span < 0) ta += span, span = -span; /* [ta, ta + span]: the arc the segment spans */
-  for (PetscInt q = (PetscInt)PetscCeilReal(ta / h - 0.5); (q + 0.5) * h <= ta + span; q++) {
+  for (PetscInt q = (PetscInt) PetscCeilReal(ta / h - 0.5); (q + 0.5) * h <= ta + span; q++) {
     const PetscReal th = (q + 0.5) * h, ux = PetscCosReal(th), uy = PetscSinReal(th), uxd = ux * dy - uy * dx;
-    const int       b_ = (int)(((q % DRAPE_RAYS) + DRAPE_RAYS) % DRAPE_RAYS);
-    if (uxd == 0) continue; /* the ray runs along the segment: its ends are on the neighbours' rays */
-    const PetscReal rr = axd / uxd;                 /* r u = a + t (b - a) */
+    const int       b_ = (int) (((q % DRAPE_RAYS) + DRAPE_RAYS) % DRAPE_RAYS);
+    if (uxd == 0) continue;         /* the ray runs along the segment: its ends are on the neighbours' rays */
+    const PetscReal rr = axd / uxd; /* r u = a + t (b - a) */
     if (rr > r[b_]) r[b_] = rr;
   }
 }
@@ -171,7 +175,7 @@ static PetscErrorCode Outline(Fabric fab, Vec X, PetscReal r[DRAPE_RAYS], PetscR
       const PetscInt li = i - p->gxs, lj = j - p->gys, k = lj * p->gxm + li;
       if (!p->exists[k]) continue;
       const PetscReal a[2] = {x[3 * k] - fab->grid.centre[0], x[3 * k + 1] - fab->grid.centre[1]};
-      *drop = PetscMax(*drop, -x[3 * k + 2]);
+      *drop                = PetscMax(*drop, -x[3 * k + 2]);
       for (int dir = 0; dir < 2; dir++) { /* the segments to the +x and +y neighbours */
         const PetscInt n = dir == 0 ? k + 1 : k + p->gxm;
         if ((dir == 0 ? li + 1 >= p->gxm : lj + 1 >= p->gym) || !p->exists[n]) continue;
@@ -200,7 +204,8 @@ PetscErrorCode DrapeOutline(Fabric fab, CurveRow *row)
   if (fab->meas.drape_flat_area <= 0) PetscCall(Outline(fab, fab->grid.X0, r, &fab->meas.drape_flat_area, &drop));
   PetscCall(Outline(fab, fab->state.X, r, &area, &drop));
   a_disc = PETSC_PI * PetscSqr(s->bodies.pedestal_radius > 0 ? s->bodies.pedestal_radius : s->clamps.ring[1]);
-  fab->meas.drape_pct = 100.0 * ((area - a_disc) / (fab->meas.drape_flat_area - a_disc)); /* the flat specimen: 100 * 1 exactly */
+  fab->meas.drape_pct =
+      100.0 * ((area - a_disc) / (fab->meas.drape_flat_area - a_disc)); /* the flat specimen: 100 * 1 exactly */
   { /* folds: the outline as its largest radius over each 5-degree sector (DRAPE_SECTOR rays) */
     PetscReal sec[DRAPE_RAYS / DRAPE_SECTOR], lo = PETSC_MAX_REAL, hi = 0;
     const int S = DRAPE_RAYS / DRAPE_SECTOR;
@@ -213,16 +218,18 @@ PetscErrorCode DrapeOutline(Fabric fab, CurveRow *row)
        higher of the lowest radii on either side before a higher radius) exceeds
        DRAPE_PROMINENCE of the outline's range and one yarn spacing */
     for (int q = 0; q < S; q++) {
-      const PetscReal v = sec[q];
+      const PetscReal v    = sec[q];
       PetscReal       lo_l = v, lo_r = v;
       if (!(v > sec[(q + S - 1) % S] && v >= sec[(q + 1) % S])) continue;
       for (int t = 1; t < S && sec[(q - t + S) % S] <= v; t++) lo_l = PetscMin(lo_l, sec[(q - t + S) % S]);
       for (int t = 1; t < S && sec[(q + t) % S] <= v; t++) lo_r = PetscMin(lo_r, sec[(q + t) % S]);
-      if (v - PetscMax(lo_l, lo_r) > PetscMax(DRAPE_PROMINENCE * (hi - lo), PetscMax(1.0 / s->spec.picks_per_m, 1.0 / s->spec.ends_per_m))) folds++;
+      if (v - PetscMax(lo_l, lo_r) >
+          PetscMax(DRAPE_PROMINENCE * (hi - lo), PetscMax(1.0 / s->spec.picks_per_m, 1.0 / s->spec.ends_per_m)))
+        folds++;
     }
   }
   fab->meas.folds = folds;
-  row->travel = drop; /* curve.csv travel_mm: the largest drop of a crossing */
+  row->travel     = drop; /* curve.csv travel_mm: the largest drop of a crossing */
   PetscFunctionReturn(0);
 }
 
@@ -264,4 +271,32 @@ PetscErrorCode MeasureLoadStep(Fabric fab, CurveRow *row)
   if (s->test == TEST_DRAPE) PetscCall(DrapeOutline(fab, row));
   if (s->bodies.plane || s->bodies.pedestal_radius > 0) PetscCall(SupportReactions(fab, row));
   PetscFunctionReturn(0);
+}
+
+/* A curve row as CURVE_COLS numbers (checkpoints): load step, time, elongation, force, inner steps,
+   residual, balanced, travel, centre shear, plane force (3), pedestal force (3), clamp force (3), weight (3). */
+void CurveRowPack(const CurveRow *r, PetscReal a[CURVE_COLS])
+{
+  a[0] = (PetscReal) r->load_step, a[1] = r->time, a[2] = r->elongation, a[3] = r->force;
+  a[4] = (PetscReal) r->inner_steps, a[5] = r->residual, a[6] = (PetscReal) r->balanced, a[7] = r->travel;
+  a[8] = r->center_shear;
+  for (int d = 0; d < 3; d++)
+    a[9 + d] = r->plane_force[d], a[12 + d] = r->pedestal_force[d], a[15 + d] = r->clamp_force[d],
+          a[18 + d] = r->weight[d];
+}
+
+void CurveRowUnpack(const PetscReal a[CURVE_COLS], CurveRow *r)
+{
+  r->load_step    = (PetscInt) a[0];
+  r->time         = a[1];
+  r->elongation   = a[2];
+  r->force        = a[3];
+  r->inner_steps  = (PetscInt) a[4];
+  r->residual     = a[5];
+  r->balanced     = a[6] != 0 ? PETSC_TRUE : PETSC_FALSE;
+  r->travel       = a[7];
+  r->center_shear = a[8];
+  for (int d = 0; d < 3; d++)
+    r->plane_force[d] = a[9 + d], r->pedestal_force[d] = a[12 + d], r->clamp_force[d] = a[15 + d],
+    r->weight[d] = a[18 + d];
 }

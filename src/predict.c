@@ -46,12 +46,14 @@ PetscErrorCode GraphDistance(Fabric fab, const char *source, PetscReal *dist)
       for (PetscInt jj = 0; jj < p->ym; jj++) {
         const PetscInt j = pass == 0 ? p->ys + jj : p->ys + p->ym - 1 - jj;
         for (PetscInt ii = 0; ii < p->xm; ii++) {
-          const PetscInt i = pass == 0 ? p->xs + ii : p->xs + p->xm - 1 - ii;
+          const PetscInt i  = pass == 0 ? p->xs + ii : p->xs + p->xm - 1 - ii;
           const PetscInt in = i - step, jn = j - step;
           PetscReal      best = d[j][i];
           if (!p->exists[(j - p->gys) * p->gxm + (i - p->gxs)]) continue;
-          if (in >= p->gxs && in < p->gxs + p->gxm && p->exists[(j - p->gys) * p->gxm + (in - p->gxs)]) best = PetscMin(best, d[j][in] + 1);
-          if (jn >= p->gys && jn < p->gys + p->gym && p->exists[(jn - p->gys) * p->gxm + (i - p->gxs)]) best = PetscMin(best, d[jn][i] + 1);
+          if (in >= p->gxs && in < p->gxs + p->gxm && p->exists[(j - p->gys) * p->gxm + (in - p->gxs)])
+            best = PetscMin(best, d[j][in] + 1);
+          if (jn >= p->gys && jn < p->gys + p->gym && p->exists[(jn - p->gys) * p->gxm + (i - p->gxs)])
+            best = PetscMin(best, d[jn][i] + 1);
           if (best < d[j][i]) {
             d[j][i] = best;
             changed = 1;
@@ -83,13 +85,16 @@ static PetscErrorCode LinearWeights(Fabric fab, const char *moving)
 
   PetscFunctionBeginUser;
   PetscCall(PetscMalloc3(fab->grid.nloc, &d0, fab->grid.nloc, &d1, fab->grid.nloc, &src));
-  for (PetscInt k = 0; k < fab->grid.nloc; k++) src[k] = (char)(fab->grid.kind[k] == POINT_CLAMPED);
+  for (PetscInt k = 0; k < fab->grid.nloc; k++) src[k] = (char) (fab->grid.kind[k] == POINT_CLAMPED);
   PetscCall(GraphDistance(fab, src, d0));
   PetscCall(GraphDistance(fab, moving, d1));
   for (PetscInt k = 0; k < fab->grid.nloc; k++) {
-    if (d1[k] >= DIST_INF) fab->grid.predict_w[k] = 0.0;      /* nothing that moves reaches it */
-    else if (d0[k] >= DIST_INF) fab->grid.predict_w[k] = 1.0; /* moves with the sources */
-    else fab->grid.predict_w[k] = d0[k] / (d0[k] + d1[k]);
+    if (d1[k] >= DIST_INF)
+      fab->grid.predict_w[k] = 0.0; /* nothing that moves reaches it */
+    else if (d0[k] >= DIST_INF)
+      fab->grid.predict_w[k] = 1.0; /* moves with the sources */
+    else
+      fab->grid.predict_w[k] = d0[k] / (d0[k] + d1[k]);
   }
   PetscCall(PetscFree3(d0, d1, src));
   PetscFunctionReturn(0);
@@ -101,7 +106,7 @@ PetscErrorCode PredictSetUp(Fabric fab)
 
   PetscFunctionBeginUser;
   PetscCall(PetscMalloc1(fab->grid.nloc, &src));
-  for (PetscInt k = 0; k < fab->grid.nloc; k++) src[k] = (char)(fab->grid.kind[k] == POINT_GRIP);
+  for (PetscInt k = 0; k < fab->grid.nloc; k++) src[k] = (char) (fab->grid.kind[k] == POINT_GRIP);
   PetscCall(LinearWeights(fab, src));
   PetscCall(PetscFree(src));
   PetscFunctionReturn(0);
@@ -126,7 +131,7 @@ static PetscErrorCode SphereWeights(Fabric fab, PetscReal disp)
   PetscCall(VecGetArrayRead(fab->state.X, &x));
   for (PetscInt k = 0; k < fab->grid.nloc; k++) {
     const PetscReal r2 = PetscSqr(x[3 * k] - c[0]) + PetscSqr(x[3 * k + 1] - c[1]) + PetscSqr(x[3 * k + 2] - c[2]);
-    src[k] = (char)(fab->grid.kind[k] == POINT_FREE && fab->grid.mass[k] > 0 && r2 < reach * reach);
+    src[k]             = (char) (fab->grid.kind[k] == POINT_FREE && fab->grid.mass[k] > 0 && r2 < reach * reach);
   }
   PetscCall(VecRestoreArrayRead(fab->state.X, &x));
   PetscCall(LinearWeights(fab, src));
@@ -138,10 +143,11 @@ static PetscErrorCode SphereWeights(Fabric fab, PetscReal disp)
    their path, that is by grip_move (m, a vector). */
 PetscErrorCode PredictLoadStep(Fabric fab, PetscReal grip_step, const PetscReal grip_move[3])
 {
-  const Scene *s = &fab->s;
-  PetscScalar *x, *xold = NULL;
+  const Scene       *s = &fab->s;
+  PetscScalar       *x, *xold = NULL;
   const PetscScalar *a = NULL, *b = NULL;
-  PetscBool    extrapolate = (s->num.predict == PREDICT_EXTRAPOLATE && fab->state.Xconv_prev && fab->load.travel_step_prev != 0) ? PETSC_TRUE : PETSC_FALSE;
+  const PetscBool    have_history = fab->state.Xconv_prev && fab->load.travel_step_prev != 0 ? PETSC_TRUE : PETSC_FALSE;
+  PetscBool          extrapolate  = s->num.predict == PREDICT_EXTRAPOLATE && have_history ? PETSC_TRUE : PETSC_FALSE;
 
   PetscFunctionBeginUser;
   if (s->num.predict == PREDICT_NONE || grip_step == 0) PetscFunctionReturn(0);
@@ -158,7 +164,10 @@ PetscErrorCode PredictLoadStep(Fabric fab, PetscReal grip_step, const PetscReal 
     for (PetscInt k = 0; k < fab->grid.nloc; k++) {
       if (fab->grid.kind[k] != POINT_FREE) continue;
       for (int d = 0; d < 3; d++) {
-        const PetscReal du = extrapolate ? ratio * (a[3 * k + d] - b[3 * k + d]) : (s->load.waypoints || s->bodies.sphere_radius > 0 ? fab->grid.predict_w[k] * grip_move[d] : fab->grid.predict_w[k] * grip_step * fab->grid.pull_dir[d]);
+        const PetscReal du = extrapolate ? ratio * (a[3 * k + d] - b[3 * k + d])
+                                         : (s->load.waypoints || s->bodies.sphere_radius > 0
+                                                ? fab->grid.predict_w[k] * grip_move[d]
+                                                : fab->grid.predict_w[k] * grip_step * fab->grid.pull_dir[d]);
         x[3 * k + d] += du;
         if (xold) xold[3 * k + d] += du;
       }

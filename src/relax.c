@@ -30,20 +30,19 @@ static PetscErrorCode CheckBreaks(Fabric fab, PetscReal *broke)
   if (!isfinite(fab->s.yarns.warp.break_e) && !isfinite(fab->s.yarns.weft.break_e)) PetscFunctionReturn(0);
   PetscCall(HaloExchange(fab->grid.da, fab->state.X, fab->state.Xl));
   PetscCall(VecGetArrayRead(fab->state.Xl, &xl));
-  *broke = (PetscReal)BreakSegments(&fab->grid.patch, xl);
+  *broke = (PetscReal) BreakSegments(&fab->grid.patch, xl);
   PetscCall(VecRestoreArrayRead(fab->state.Xl, &xl));
   PetscCall(GlobalMax(fab->comm, broke, 1));
   fab->stats.broken_any = fab->stats.broken_any || *broke > 0;
   PetscFunctionReturn(0);
 }
 
-
 /* Load step k of K: move the grips (at once, or start their ramp), predict, take the stable step. */
 PetscErrorCode ApplyLoadStep(Fabric fab, PetscInt k)
 {
   const Scene    *s      = &fab->s;
-  const PetscReal lambda = (PetscReal)k / (PetscReal)s->load.load_steps;
-  const PetscReal disp   = lambda * LoadTravel(s), step = disp - fab->load.travel;
+  const PetscReal lambda = (PetscReal) k / (PetscReal) s->load.load_steps;
+  const PetscReal disp = lambda * LoadTravel(s), step = disp - fab->load.travel;
   PetscReal       damp_c, omega1, move[3];
 
   PetscFunctionBeginUser;
@@ -63,15 +62,19 @@ PetscErrorCode ApplyLoadStep(Fabric fab, PetscInt k)
      the prediction and the stable step see the new state; but a sphere always ramps: the
      prediction only guesses the fabric's shape, and a sphere that jumped into the crossings
      it missed would strike them with its penalty force. */
-  fab->load.travel_from  = fab->load.travel_now;
-  fab->load.ramp_steps = step == 0 ? 0 : s->num.grip_ramp >= 0 ? s->num.grip_ramp : ((s->num.predict == PREDICT_NONE || s->bodies.sphere_radius > 0) ? (PetscInt)PetscCeilReal(PETSC_PI / (omega1 * fab->step.te)) : 0);
-  fab->load.ramp_done  = 0;
+  fab->load.travel_from = fab->load.travel_now;
+  fab->load.ramp_steps  = step == 0               ? 0
+                          : s->num.grip_ramp >= 0 ? s->num.grip_ramp
+                                                  : ((s->num.predict == PREDICT_NONE || s->bodies.sphere_radius > 0)
+                                                         ? (PetscInt) PetscCeilReal(PETSC_PI / (omega1 * fab->step.te))
+                                                         : 0);
+  fab->load.ramp_done   = 0;
   GripPathMove(s, fab->grid.pull_dir, fab->load.travel, disp, move);
   if (s->bodies.sphere_radius > 0) /* the sphere's move: what its linear prediction follows */
     for (int d = 0; d < 3; d++) move[d] = step * s->bodies.sphere_dir[d];
   if (!fab->load.ramp_steps) PetscCall(PlaceGrips(fab, disp, PETSC_TRUE));
   PetscCall(PredictLoadStep(fab, step, move));
-  fab->load.travel      = disp;
+  fab->load.travel           = disp;
   fab->load.travel_step_prev = step;
   FrontLoadChange(fab);
   PetscCall(StableStep(fab));
@@ -83,7 +86,7 @@ PetscErrorCode ApplyLoadStep(Fabric fab, PetscInt k)
 /* Relax the current load step: te steps until balance (early exit) or max_inner_steps. */
 PetscErrorCode RelaxLoadStep(Fabric fab, CurveRow *row)
 {
-  const Scene *s = &fab->s;
+  const Scene *s  = &fab->s;
   StepStats    st = {0};
   PetscInt     n;
 
@@ -109,11 +112,11 @@ PetscErrorCode RelaxLoadStep(Fabric fab, CurveRow *row)
     }
     if (!broke || round >= MAX_BREAK_ROUNDS) break;
   }
-  row->load_step   = fab->load.load_step;
-  row->residual    = st.residual;
-  row->balanced    = st.balanced;
-  row->elongation  = JawTest(s) ? GripElongation(s, fab->grid.pull_dir, fab->load.travel) : 0.0;
-  row->time        = TestTime(s, &fab->load);
+  row->load_step  = fab->load.load_step;
+  row->residual   = st.residual;
+  row->balanced   = st.balanced;
+  row->elongation = JawTest(s) ? GripElongation(s, fab->grid.pull_dir, fab->load.travel) : 0.0;
+  row->time       = TestTime(s, &fab->load);
   PetscCall(MeasureLoadStep(fab, row));
   PetscFunctionReturn(0);
 }
@@ -130,7 +133,7 @@ static PetscErrorCode KeepConverged(Fabric fab)
     PetscCall(VecCopy(fab->grid.X0, fab->state.Xconv));
   }
   if (!fab->state.Xconv_prev) PetscCall(VecDuplicate(fab->state.X, &fab->state.Xconv_prev));
-  t               = fab->state.Xconv_prev;
+  t                     = fab->state.Xconv_prev;
   fab->state.Xconv_prev = fab->state.Xconv;
   fab->state.Xconv      = t;
   PetscCall(VecCopy(fab->state.X, fab->state.Xconv));
@@ -143,11 +146,11 @@ PetscErrorCode FabricRun(Fabric fab)
 
   PetscFunctionBeginUser;
   PetscCall(PetscTime(&fab->stats.wall_start));
-  PetscCall(StableStep(fab)); /* refuses a -te above the bound before any output exists */
+  PetscCall(StableStep(fab));  /* refuses a -te above the bound before any output exists */
   PetscCall(RestartLoad(fab)); /* -restart: state, counters and curve rows of the checkpoint */
   fab->step.bound_fresh = fab->load.load_step == 0 ? PETSC_TRUE : PETSC_FALSE; /* still the state it was taken at */
   PetscCall(OutputOpen(fab));
-  PetscCall(FramesOpen(fab));  /* fabric.h5 and fabric.xmf */
+  PetscCall(FramesOpen(fab)); /* fabric.h5 and fabric.xmf */
   for (PetscInt k = fab->load.load_step + 1; k <= s->load.load_steps; k++) {
     CurveRow *row = &fab->stats.curve[k - 1];
     PetscCall(ApplyLoadStep(fab, k));

@@ -31,8 +31,8 @@ typedef enum { OPT_REAL, OPT_INT, OPT_BOOL, OPT_ENUM, OPT_STRING, OPT_REALS, OPT
 typedef enum { ANY, POSITIVE, NONNEG, RANGE } OptCheck; /* RANGE: lo <= v <= hi, ends open by lo_open/hi_open */
 
 typedef struct {
-  const char        *group;   /* -help group, "" = same as the entry before */
-  const char        *name;    /* without the dash; "%s_..." is a yarn option (warp_..., weft_...) */
+  const char        *group; /* -help group, "" = same as the entry before */
+  const char        *name;  /* without the dash; "%s_..." is a yarn option (warp_..., weft_...) */
   OptType            type;
   size_t             at;      /* offsetof(SceneInput, field), or of YarnInput for yarn options */
   size_t             at_n;    /* arrays: offsetof the count (0 = none) */
@@ -42,201 +42,280 @@ typedef struct {
   OptCheck           check;
   PetscReal          lo, hi;
   int                lo_open, hi_open;
-  const char        *must;    /* what a failed check says the value must be */
-  const char *const *choices; /* enum names */
+  const char        *must;      /* what a failed check says the value must be */
+  const char *const *choices;   /* enum names */
   PetscInt           per, nmax; /* arrays: values per item (count a multiple of it), most values */
-  const char        *needs;   /* arrays: what a bad count says is needed */
+  const char        *needs;     /* arrays: what a bad count says is needed */
   const char        *help;
 } OptionDesc;
 
-#define IN(f)       offsetof(SceneInput, f)
-#define YIN(f)      offsetof(YarnInput, f)
-#define NONE        0, {0, 0, 0}, 0, NULL
-#define DEF(v)      0, {v, v, 0}, 0, NULL
-#define YDEF(w, f)  0, {w, f, 0}, 0, NULL
-#define TDEF(tab)   0, {0, 0, 0}, 0, tab
-#define REAL(g, n, f, d, chk, must, help)         {g, n, OPT_REAL, IN(f), d, chk, 0, 0, 0, 0, must, NULL, 0, 0, NULL, help}
-#define RANGED(g, n, f, d, lo, hi, lo_open, hi_open, must, help) \
-  {g, n, OPT_REAL, IN(f), d, RANGE, lo, hi, lo_open, hi_open, must, NULL, 0, 0, NULL, help}
-#define INT(g, n, f, d, lo, must, help)           {g, n, OPT_INT, IN(f), d, RANGE, lo, PETSC_MAX_INT, 0, 0, must, NULL, 0, 0, NULL, help}
-#define BOOL(g, n, f, d, help)                    {g, n, OPT_BOOL, IN(f), d, ANY, 0, 0, 0, 0, NULL, NULL, 0, 0, NULL, help}
-#define ENUM(g, n, f, d, names, help)             {g, n, OPT_ENUM, IN(f), d, ANY, 0, 0, 0, 0, NULL, names, 0, 0, NULL, help}
-#define STRING(g, n, f, help)                     {g, n, OPT_STRING, IN(f), NONE, ANY, 0, 0, 0, 0, NULL, NULL, 0, 0, NULL, help}
-#define REALS(g, n, f, nd, d0, d1, d2, per, nmax, needs, help) \
-  {g, n, OPT_REALS, IN(f), IN(n_##f), {d0, d1, d2}, nd, NULL, ANY, 0, 0, 0, 0, NULL, NULL, per, nmax, needs, help}
-#define YREAL(n, f, d, chk, lo, hi, lo_open, hi_open, must, help) \
-  {"", n, OPT_REAL, YIN(f), d, chk, lo, hi, lo_open, hi_open, must, NULL, 0, 0, NULL, help}
+#define IN(f)      offsetof(SceneInput, f)
+#define YIN(f)     offsetof(YarnInput, f)
+#define NONE       0, {0, 0, 0}, 0, NULL
+#define DEF(v)     0, {v, v, 0}, 0, NULL
+#define YDEF(w, f) 0, {w, f, 0}, 0, NULL
+#define TDEF(tab)  0, {0, 0, 0}, 0, tab
+#define REAL(g, n, f, d, chk, must, help)                                   \
+  {                                                                         \
+    g, n, OPT_REAL, IN(f), d, chk, 0, 0, 0, 0, must, NULL, 0, 0, NULL, help \
+  }
+#define RANGED(g, n, f, d, lo, hi, lo_open, hi_open, must, help)                            \
+  {                                                                                         \
+    g, n, OPT_REAL, IN(f), d, RANGE, lo, hi, lo_open, hi_open, must, NULL, 0, 0, NULL, help \
+  }
+#define INT(g, n, f, d, lo, must, help)                                                   \
+  {                                                                                       \
+    g, n, OPT_INT, IN(f), d, RANGE, lo, PETSC_MAX_INT, 0, 0, must, NULL, 0, 0, NULL, help \
+  }
+#define BOOL(g, n, f, d, help)                                              \
+  {                                                                         \
+    g, n, OPT_BOOL, IN(f), d, ANY, 0, 0, 0, 0, NULL, NULL, 0, 0, NULL, help \
+  }
+#define ENUM(g, n, f, d, names, help)                                        \
+  {                                                                          \
+    g, n, OPT_ENUM, IN(f), d, ANY, 0, 0, 0, 0, NULL, names, 0, 0, NULL, help \
+  }
+#define STRING(g, n, f, help)                                                    \
+  {                                                                              \
+    g, n, OPT_STRING, IN(f), NONE, ANY, 0, 0, 0, 0, NULL, NULL, 0, 0, NULL, help \
+  }
+#define REALS(g, n, f, nd, d0, d1, d2, per, nmax, needs, help)                                                     \
+  {                                                                                                                \
+    g, n, OPT_REALS, IN(f), IN(n_##f), {d0, d1, d2}, nd, NULL, ANY, 0, 0, 0, 0, NULL, NULL, per, nmax, needs, help \
+  }
+#define YREAL(n, f, d, chk, lo, hi, lo_open, hi_open, must, help)                           \
+  {                                                                                         \
+    "", n, OPT_REAL, YIN(f), d, chk, lo, hi, lo_open, hi_open, must, NULL, 0, 0, NULL, help \
+  }
 
-#define POS_MUST "a positive number"
+#define POS_MUST    "a positive number"
 #define NONNEG_MUST "zero or positive"
-#define XYZ "three components x,y,z"
+#define XYZ         "three components x,y,z"
 
 /* test-dependent defaults, indexed by TestType: strip, square, pushing, bias, drape */
 static const PetscReal GaugeByTest[TEST_COUNT]    = {200, 200, 200, 200, 300}; /* Cusick: a 30 cm specimen */
 static const PetscReal WidthByTest[TEST_COUNT]    = {50, 50, 50, 50, 300};
-static const PetscReal ShapeByTest[TEST_COUNT]    = {SHAPE_RECTANGLE, SHAPE_RECTANGLE, SHAPE_RECTANGLE, SHAPE_BIAS, SHAPE_DISC};
+static const PetscReal ShapeByTest[TEST_COUNT]    = {SHAPE_RECTANGLE, SHAPE_RECTANGLE, SHAPE_RECTANGLE, SHAPE_BIAS,
+                                                     SHAPE_DISC};
 static const PetscReal ClampByTest[TEST_COUNT]    = {CLAMP_JAW, CLAMP_EDGE, CLAMP_EDGE, CLAMP_JAW, CLAMP_RING};
-static const PetscReal SphereByTest[TEST_COUNT]   = {0, 0, 25.4, 0, 0};  /* ASTM D3787's ball */
+static const PetscReal SphereByTest[TEST_COUNT]   = {0, 0, 25.4, 0, 0}; /* ASTM D3787's ball */
 static const PetscReal TravelByTest[TEST_COUNT]   = {0, 0, 20, 0, 0};
 static const PetscReal PedestalByTest[TEST_COUNT] = {0, 0, 0, 0, 180}; /* Cusick: the 18 cm support disc */
-static const PetscReal ElongByTest[TEST_COUNT]    = {13, 0, 0, 13, 0};  /* only the jaw tests pull */
+static const PetscReal ElongByTest[TEST_COUNT]    = {13, 0, 0, 13, 0}; /* only the jaw tests pull */
 
 static const OptionDesc Options[] = {
-  /* the test first: the defaults of the options below depend on it */
-  ENUM("Test", "test", test, DEF(TEST_STRIP), TestNames,
-       "strip: ISO 13934-1 strip between jaws; square: clamped net of gauge x width (mm) under the point load, no jaws; "
-       "pushing: a rigid sphere pushed through the clamped fabric (ASTM D3787); bias: a 45 degree specimen between "
-       "jaws; drape: Cusick drape, a disc specimen on a pedestal under gravity"),
-  STRING("", "scene", scene, "scene file (YAML options); the command line overrides it"),
-  REAL("Specimen", "ends_per_cm", ends_per_cm, DEF(24), POSITIVE, POS_MUST,
-       "warp density (ends/cm): warp yarns run along x, spaced along y"),
-  REAL("", "picks_per_cm", picks_per_cm, DEF(24), POSITIVE, POS_MUST,
-       "weft density (picks/cm): weft yarns run along y, spaced along x"),
-  REAL("", "gauge_mm", gauge_mm, TDEF(GaugeByTest), POSITIVE, POS_MUST,
-       "gauge length between the jaws; the net's or disc grid's length along x (mm)"),
-  REAL("", "width_mm", width_mm, TDEF(WidthByTest), POSITIVE, POS_MUST, "strip width; the net's length along y (mm)"),
-  INT("", "yarns", yarns, DEF(0), 0, NONNEG_MUST, "yarns across the strip (0 = width * density)"),
-  ENUM("", "pull", pull, DEF(PULL_WARP), PullAxisNames, "yarn family pulled by the jaws"),
-  ENUM("", "shape", shape, TDEF(ShapeByTest), ShapeNames,
-       "specimen shape cut from the grid: rectangle (the whole grid), disc (centred) or bias (-gauge_mm x -width_mm "
-       "between jaws, its length at 45 degrees to the yarns)"),
-  REAL("", "disc_diameter_mm", disc_diameter_mm, DEF(0), NONNEG, NONNEG_MUST,
-       "disc specimen diameter (mm), centred on the grid; 0 = the smaller grid side"),
-  REAL("", "jaw_depth_mm", jaw_depth_mm, DEF(2), POSITIVE, POS_MUST,
-       "bias specimen: length held in each jaw beyond the gauge length (mm)"),
-  ENUM("Clamps", "clamp", clamp, TDEF(ClampByTest), ClampNames,
-       "clamped crossings: jaw (the strip's or bias specimen's fixed jaw; the other end is the moving jaw), edge "
-       "(every crossing of the shape's outline), ring (an annulus around the grid centre), none"),
-  {"", "clamp_ring_mm", OPT_REALS, IN(clamp_ring_mm), IN(n_clamp_ring_mm), {0, 180, 0}, 0, NULL, ANY, 0, 0, 0, 0,
-   NULL, NULL, 2, 2, "two diameters inner,outer",
-   "inner,outer diameter of the clamping ring (mm), centred on the grid (drape default: 0,180)"},
-  REALS("", "clamp_line_mm", clamp_line_mm, 0, 0, 0, 0, 4, 4 * MAX_LINES,
-        "x,y,angle_deg,half_width_mm for each line (4 numbers per line, 1 to 8 lines)",
-        "clamp lines across the grid, on top of -clamp: x,y,angle_deg,half_width_mm per line (a point from the grid "
-        "centre in mm, the angle to the warp (x) axis, the band's half-width in mm); its crossings never move"),
-  REALS("", "grip_line_mm", grip_line_mm, 0, 0, 0, 0, 4, 4 * MAX_LINES,
-        "x,y,angle_deg,half_width_mm for each line (4 numbers per line, 1 to 8 lines)",
-        "grip lines across the grid (strip and bias tests): x,y,angle_deg,half_width_mm per line, as -clamp_line_mm; "
-        "its crossings move with the grip"),
-  REAL("Rigid bodies (MODEL.md 5.5)", "sphere_diameter_mm", sphere_diameter_mm, TDEF(SphereByTest), NONNEG,
-       NONNEG_MUST, "sphere diameter (mm), 0 = no sphere (pushing: ASTM D3787's 25.4 mm ball)"),
-  REAL("", "thickness_mm", thickness_mm, DEF(0.3), NONNEG, NONNEG_MUST,
-       "fabric thickness (mm): a crossing touches a body at half of it"),
-  REALS("", "sphere_direction", sphere_direction, 3, 0, 0, 1, 3, 3, XYZ,
-        "direction of the sphere's straight path x,y,z (normalised)"),
-  REALS("", "sphere_start_mm", sphere_start_mm, 0, 0, 0, 0, 3, 3, XYZ,
-        "sphere centre at the start, x,y,z from the grid centre (mm); default: touching the fabric from behind along "
-        "-sphere_direction"),
-  REAL("", "sphere_travel_mm", sphere_travel_mm, TDEF(TravelByTest), NONNEG, NONNEG_MUST,
-       "sphere travel along its path over the load steps (mm)"),
-  REAL("", "contact_stiffness_N_m", contact_stiffness_N_m, DEF(0), NONNEG, NONNEG_MUST,
-       "penalty stiffness of the contact per crossing (N/m); 0 = the warp yarn segment's EA/L0"),
-  BOOL("", "plane", plane, DEF(0), "a rigid plane (table): the fabric stays on the side -plane_normal points to"),
-  REALS("", "plane_point_mm", plane_point_mm, 3, 0, 0, 0, 3, 3, XYZ, "a point of the plane, x,y,z from the grid centre (mm)"),
-  REALS("", "plane_normal", plane_normal, 3, 0, 0, 1, 3, 3, XYZ, "the plane's normal x,y,z, towards the fabric (normalised)"),
-  REAL("", "pedestal_diameter_mm", pedestal_diameter_mm, TDEF(PedestalByTest), NONNEG, NONNEG_MUST,
-       "a rigid pedestal (disc, flat cylinder with a vertical axis) with contact on its top face, rim and edge: its "
-       "diameter (mm), 0 = none (drape: Cusick's 180 mm support disc)"),
-  REAL("", "pedestal_height_mm", pedestal_height_mm, DEF(50), POSITIVE, POS_MUST, "the pedestal's height below its top face (mm)"),
-  REALS("", "pedestal_top_mm", pedestal_top_mm, 0, 0, 0, 0, 3, 3, XYZ,
-        "centre of the pedestal's top face x,y,z from the grid centre (mm); default: under the centre, touching the "
-        "fabric at rest (z = -thickness/2)"),
-  REAL("", "friction_mu", friction_mu, DEF(0), NONNEG, NONNEG_MUST,
-       "Coulomb friction coefficient between the fabric and every rigid body; 0 = frictionless"),
-  /* yarn options: "%s" is warp or weft */
-  YREAL("%s_tex", tex, DEF(20), POSITIVE, 0, 0, 0, 0, POS_MUST, "linear density, tex (g/km)"),
-  YREAL("%s_crimp_pct", crimp_pct, YDEF(8, 5), RANGE, 0, 100, 0, 1, "in [0,100)", "crimp: extra yarn length between crossings (%)"),
-  YREAL("%s_modulus_cN_tex", modulus_cN_tex, DEF(260), POSITIVE, 0, 0, 0, 0, POS_MUST,
-        "yarn modulus of the linear law (cN/tex): EA = modulus * tex"),
-  YREAL("%s_decrimp_ratio", decrimp_ratio, DEF(0.05), NONNEG, 0, 0, 0, 0, NONNEG_MUST, "de-crimping stiffness Ec as a fraction of EA"),
-  YREAL("%s_compression_ratio", compression_ratio, DEF(1e-3), NONNEG, 0, 0, 0, 0, NONNEG_MUST,
-        "compression stiffness as a fraction of EA (yarns buckle)"),
-  YREAL("%s_contact_pct", contact_pct, DEF(50), RANGE, 0, 100, 1, 1, "in (0,100)",
-        "chord compression at which neighbouring crossings touch (%): below it the chord is as stiff as the yarn"),
-  YREAL("%s_law_smoothing_pct", law_smoothing_pct, DEF(0), RANGE, 0, 5, 0, 1, "in [0,5)",
-        "half-width of the C1 blend at each kink of the tension law (% chord strain); 0 = sharp kinks"),
-  YREAL("%s_bending_Nm2", bending_Nm2, DEF(2e-9), NONNEG, 0, 0, 0, 0, NONNEG_MUST, "bending rigidity B per yarn (N m^2)"),
-  YREAL("%s_break_pct", break_pct, DEF(0), NONNEG, 0, 0, 0, 0, NONNEG_MUST, "yarn breaking strain (%), 0 = never breaks"),
-  {"", "%s_law_csv", OPT_STRING, YIN(law_csv), NONE, ANY, 0, 0, 0, 0, NULL, NULL, 0, 0, NULL,
-   "tabulated yarn law, CSV 'strain_pct,force_cN' (empty = linear EA)"},
-  BOOL("Fabric terms (each can be switched off)", "traction", traction, DEF(1), "yarn traction (MODEL.md 5.1)"),
-  BOOL("", "bending", bending, DEF(1), "yarn bending along both families (MODEL.md 5.2)"),
-  BOOL("", "shear", shear, DEF(1), "in-plane shear with jamming (MODEL.md 5.3)"),
-  REAL("", "shear_G_N_m", shear_G_N_m, DEF(50), NONNEG, NONNEG_MUST, "in-plane shear rigidity G (N/m per radian)"),
-  RANGED("", "shear_lock_deg", shear_lock_deg, DEF(35), 0, 90, 1, 1, "in (0,90)", "jamming (locking) shear angle (degrees)"),
-  REAL("", "jam_factor", jam_factor, DEF(100), NONNEG, NONNEG_MUST,
-       "jamming stiffness as a multiple of the shear stiffness (0 = no jamming)"),
-  REALS("", "gravity", gravity, 3, 0, 0, -9.81, 3, 3, "three components gx,gy,gz", "gravity vector gx,gy,gz (m/s^2); 0,0,0 = off"),
-  REAL("", "nu", nu, DEF(0), NONNEG, NONNEG_MUST, "air viscosity per point (N s/m), the paper's coefficient"),
-  REAL("", "damping_ratio", damping_ratio, DEF(1), NONNEG, NONNEG_MUST,
-       "mass-proportional damping as a fraction of critical for the slowest mode along the pull (0 = off)"),
-  RANGED("Load program", "elongation_pct", elongation_pct, TDEF(ElongByTest), 0, 100, 0, 0, "in [0,100]",
-         "final elongation: grip travel / gauge length (%)"),
-  REAL("", "speed_mm_min", speed_mm_min, DEF(100), POSITIVE, POS_MUST, "test speed of the moving jaw (mm/min); gives time_s"),
-  REALS("", "point_load_N", point_load_N, 3, 0, 0, 0, 3, 3, "three components fx,fy,fz",
-        "final point load fx,fy,fz (N), ramped with the load steps"),
-  {"", "point_load_at", OPT_INTS, IN(point_load_at), IN(n_point_load_at), {0, 0, 0}, 0, NULL, ANY, 0, 0, 0, 0, NULL,
-   NULL, 2, 2, "two indices i,j", "crossing i,j of the point load (default: the centre)"},
-  REALS("", "grip_path_mm", grip_path_mm, 0, 0, 0, 0, 3, 3 * MAX_WAYPOINTS,
+    /* the test first: the defaults of the options below depend on it */
+    ENUM("Test", "test", test, DEF(TEST_STRIP), TestNames,
+         "strip: ISO 13934-1 strip between jaws; square: clamped net of gauge x width (mm) under the point load, no "
+         "jaws; "
+         "pushing: a rigid sphere pushed through the clamped fabric (ASTM D3787); bias: a 45 degree specimen between "
+         "jaws; drape: Cusick drape, a disc specimen on a pedestal under gravity"),
+    STRING("", "scene", scene, "scene file (YAML options); the command line overrides it"),
+    REAL("Specimen", "ends_per_cm", ends_per_cm, DEF(24), POSITIVE, POS_MUST,
+         "warp density (ends/cm): warp yarns run along x, spaced along y"),
+    REAL("", "picks_per_cm", picks_per_cm, DEF(24), POSITIVE, POS_MUST,
+         "weft density (picks/cm): weft yarns run along y, spaced along x"),
+    REAL("", "gauge_mm", gauge_mm, TDEF(GaugeByTest), POSITIVE, POS_MUST,
+         "gauge length between the jaws; the net's or disc grid's length along x (mm)"),
+    REAL("", "width_mm", width_mm, TDEF(WidthByTest), POSITIVE, POS_MUST, "strip width; the net's length along y (mm)"),
+    INT("", "yarns", yarns, DEF(0), 0, NONNEG_MUST, "yarns across the strip (0 = width * density)"),
+    ENUM("", "pull", pull, DEF(PULL_WARP), PullAxisNames, "yarn family pulled by the jaws"),
+    ENUM("", "shape", shape, TDEF(ShapeByTest), ShapeNames,
+         "specimen shape cut from the grid: rectangle (the whole grid), disc (centred) or bias (-gauge_mm x -width_mm "
+         "between jaws, its length at 45 degrees to the yarns)"),
+    REAL("", "disc_diameter_mm", disc_diameter_mm, DEF(0), NONNEG, NONNEG_MUST,
+         "disc specimen diameter (mm), centred on the grid; 0 = the smaller grid side"),
+    REAL("", "jaw_depth_mm", jaw_depth_mm, DEF(2), POSITIVE, POS_MUST,
+         "bias specimen: length held in each jaw beyond the gauge length (mm)"),
+    ENUM("Clamps", "clamp", clamp, TDEF(ClampByTest), ClampNames,
+         "clamped crossings: jaw (the strip's or bias specimen's fixed jaw; the other end is the moving jaw), edge "
+         "(every crossing of the shape's outline), ring (an annulus around the grid centre), none"),
+    {"",
+     "clamp_ring_mm",
+     OPT_REALS,
+     IN(clamp_ring_mm),
+     IN(n_clamp_ring_mm),
+     {0, 180, 0},
+     0,
+     NULL,
+     ANY,
+     0,
+     0,
+     0,
+     0,
+     NULL,
+     NULL,
+     2,
+     2,
+     "two diameters inner,outer",
+     "inner,outer diameter of the clamping ring (mm), centred on the grid (drape default: 0,180)"},
+    REALS("", "clamp_line_mm", clamp_line_mm, 0, 0, 0, 0, 4, 4 * MAX_LINES,
+          "x,y,angle_deg,half_width_mm for each line (4 numbers per line, 1 to 8 lines)",
+          "clamp lines across the grid, on top of -clamp: x,y,angle_deg,half_width_mm per line (a point from the grid "
+          "centre in mm, the angle to the warp (x) axis, the band's half-width in mm); its crossings never move"),
+    REALS("", "grip_line_mm", grip_line_mm, 0, 0, 0, 0, 4, 4 * MAX_LINES,
+          "x,y,angle_deg,half_width_mm for each line (4 numbers per line, 1 to 8 lines)",
+          "grip lines across the grid (strip and bias tests): x,y,angle_deg,half_width_mm per line, as -clamp_line_mm; "
+          "its crossings move with the grip"),
+    REAL("Rigid bodies (MODEL.md 5.5)", "sphere_diameter_mm", sphere_diameter_mm, TDEF(SphereByTest), NONNEG,
+         NONNEG_MUST, "sphere diameter (mm), 0 = no sphere (pushing: ASTM D3787's 25.4 mm ball)"),
+    REAL("", "thickness_mm", thickness_mm, DEF(0.3), NONNEG, NONNEG_MUST,
+         "fabric thickness (mm): a crossing touches a body at half of it"),
+    REALS("", "sphere_direction", sphere_direction, 3, 0, 0, 1, 3, 3, XYZ,
+          "direction of the sphere's straight path x,y,z (normalised)"),
+    REALS("", "sphere_start_mm", sphere_start_mm, 0, 0, 0, 0, 3, 3, XYZ,
+          "sphere centre at the start, x,y,z from the grid centre (mm); default: touching the fabric from behind along "
+          "-sphere_direction"),
+    REAL("", "sphere_travel_mm", sphere_travel_mm, TDEF(TravelByTest), NONNEG, NONNEG_MUST,
+         "sphere travel along its path over the load steps (mm)"),
+    REAL("", "contact_stiffness_N_m", contact_stiffness_N_m, DEF(0), NONNEG, NONNEG_MUST,
+         "penalty stiffness of the contact per crossing (N/m); 0 = the warp yarn segment's EA/L0"),
+    BOOL("", "plane", plane, DEF(0), "a rigid plane (table): the fabric stays on the side -plane_normal points to"),
+    REALS("", "plane_point_mm", plane_point_mm, 3, 0, 0, 0, 3, 3, XYZ,
+          "a point of the plane, x,y,z from the grid centre (mm)"),
+    REALS("", "plane_normal", plane_normal, 3, 0, 0, 1, 3, 3, XYZ,
+          "the plane's normal x,y,z, towards the fabric (normalised)"),
+    REAL("", "pedestal_diameter_mm", pedestal_diameter_mm, TDEF(PedestalByTest), NONNEG, NONNEG_MUST,
+         "a rigid pedestal (disc, flat cylinder with a vertical axis) with contact on its top face, rim and edge: its "
+         "diameter (mm), 0 = none (drape: Cusick's 180 mm support disc)"),
+    REAL("", "pedestal_height_mm", pedestal_height_mm, DEF(50), POSITIVE, POS_MUST,
+         "the pedestal's height below its top face (mm)"),
+    REALS("", "pedestal_top_mm", pedestal_top_mm, 0, 0, 0, 0, 3, 3, XYZ,
+          "centre of the pedestal's top face x,y,z from the grid centre (mm); default: under the centre, touching the "
+          "fabric at rest (z = -thickness/2)"),
+    REAL("", "friction_mu", friction_mu, DEF(0), NONNEG, NONNEG_MUST,
+         "Coulomb friction coefficient between the fabric and every rigid body; 0 = frictionless"),
+    /* yarn options: "%s" is warp or weft */
+    YREAL("%s_tex", tex, DEF(20), POSITIVE, 0, 0, 0, 0, POS_MUST, "linear density, tex (g/km)"),
+    YREAL("%s_crimp_pct", crimp_pct, YDEF(8, 5), RANGE, 0, 100, 0, 1, "in [0,100)",
+          "crimp: extra yarn length between crossings (%)"),
+    YREAL("%s_modulus_cN_tex", modulus_cN_tex, DEF(260), POSITIVE, 0, 0, 0, 0, POS_MUST,
+          "yarn modulus of the linear law (cN/tex): EA = modulus * tex"),
+    YREAL("%s_decrimp_ratio", decrimp_ratio, DEF(0.05), NONNEG, 0, 0, 0, 0, NONNEG_MUST,
+          "de-crimping stiffness Ec as a fraction of EA"),
+    YREAL("%s_compression_ratio", compression_ratio, DEF(1e-3), NONNEG, 0, 0, 0, 0, NONNEG_MUST,
+          "compression stiffness as a fraction of EA (yarns buckle)"),
+    YREAL("%s_contact_pct", contact_pct, DEF(50), RANGE, 0, 100, 1, 1, "in (0,100)",
+          "chord compression at which neighbouring crossings touch (%): below it the chord is as stiff as the yarn"),
+    YREAL("%s_law_smoothing_pct", law_smoothing_pct, DEF(0), RANGE, 0, 5, 0, 1, "in [0,5)",
+          "half-width of the C1 blend at each kink of the tension law (% chord strain); 0 = sharp kinks"),
+    YREAL("%s_bending_Nm2", bending_Nm2, DEF(2e-9), NONNEG, 0, 0, 0, 0, NONNEG_MUST,
+          "bending rigidity B per yarn (N m^2)"),
+    YREAL("%s_break_pct", break_pct, DEF(0), NONNEG, 0, 0, 0, 0, NONNEG_MUST,
+          "yarn breaking strain (%), 0 = never breaks"),
+    {"", "%s_law_csv", OPT_STRING, YIN(law_csv), NONE, ANY, 0, 0, 0, 0, NULL, NULL, 0, 0, NULL,
+     "tabulated yarn law, CSV 'strain_pct,force_cN' (empty = linear EA)"},
+    BOOL("Fabric terms (each can be switched off)", "traction", traction, DEF(1), "yarn traction (MODEL.md 5.1)"),
+    BOOL("", "bending", bending, DEF(1), "yarn bending along both families (MODEL.md 5.2)"),
+    BOOL("", "shear", shear, DEF(1), "in-plane shear with jamming (MODEL.md 5.3)"),
+    REAL("", "shear_G_N_m", shear_G_N_m, DEF(50), NONNEG, NONNEG_MUST, "in-plane shear rigidity G (N/m per radian)"),
+    RANGED("", "shear_lock_deg", shear_lock_deg, DEF(35), 0, 90, 1, 1, "in (0,90)",
+           "jamming (locking) shear angle (degrees)"),
+    REAL("", "jam_factor", jam_factor, DEF(100), NONNEG, NONNEG_MUST,
+         "jamming stiffness as a multiple of the shear stiffness (0 = no jamming)"),
+    REALS("", "gravity", gravity, 3, 0, 0, -9.81, 3, 3, "three components gx,gy,gz",
+          "gravity vector gx,gy,gz (m/s^2); 0,0,0 = off"),
+    REAL("", "nu", nu, DEF(0), NONNEG, NONNEG_MUST, "air viscosity per point (N s/m), the paper's coefficient"),
+    REAL("", "damping_ratio", damping_ratio, DEF(1), NONNEG, NONNEG_MUST,
+         "mass-proportional damping as a fraction of critical for the slowest mode along the pull (0 = off)"),
+    RANGED("Load program", "elongation_pct", elongation_pct, TDEF(ElongByTest), 0, 100, 0, 0, "in [0,100]",
+           "final elongation: grip travel / gauge length (%)"),
+    REAL("", "speed_mm_min", speed_mm_min, DEF(100), POSITIVE, POS_MUST,
+         "test speed of the moving jaw (mm/min); gives time_s"),
+    REALS("", "point_load_N", point_load_N, 3, 0, 0, 0, 3, 3, "three components fx,fy,fz",
+          "final point load fx,fy,fz (N), ramped with the load steps"),
+    {"",
+     "point_load_at",
+     OPT_INTS,
+     IN(point_load_at),
+     IN(n_point_load_at),
+     {0, 0, 0},
+     0,
+     NULL,
+     ANY,
+     0,
+     0,
+     0,
+     0,
+     NULL,
+     NULL,
+     2,
+     2,
+     "two indices i,j",
+     "crossing i,j of the point load (default: the centre)"},
+    REALS(
+        "", "grip_path_mm", grip_path_mm, 0, 0, 0, 0, 3, 3 * MAX_WAYPOINTS,
         "dx,dy,dz for each waypoint (3 numbers per waypoint, 1 to 32 waypoints)",
         "the grip's path, replacing the straight pull of -elongation_pct: waypoints dx,dy,dz (mm, from the grip's rest "
         "position) joined by straight lines from 0,0,0 and travelled at the test speed; the load steps divide its "
         "length equally; curve.csv's elongation is the displacement along the pull / gauge"),
-  INT("", "load_steps", load_steps, DEF(50), 1, "at least 1", "number of load steps K"),
-  INT("", "max_inner_steps", max_inner_steps, DEF(20000), 1, "at least 1",
-      "te steps per load step N (the most if it balances earlier)"),
-  ENUM("Numerics", "integrator", integrator, DEF(INTEGRATOR_DAMPED), IntegratorNames,
-       "damped: damped central differences; paper: the paper's eq. (10)"),
-  REAL("", "te", te, DEF(0), NONNEG, NONNEG_MUST, "time step te (s); 0 = from the stable bound"),
-  RANGED("", "te_safety", te_safety, DEF(0.9), 0, 1, 1, 0, "in (0,1]", "te = safety * stable bound (Gershgorin)"),
-  BOOL("", "te_check", te_check, DEF(1), "refuse a -te above the stable bound (0: experts and stability tests only)"),
-  REAL("", "te_strain_window", te_strain_window, DEF(1), NONNEG, NONNEG_MUST,
-       "chord-strain margin around each segment's strain over which the yarn tangent is maximised for the bound, and "
-       "margin in sin(shear angle) below the locking angle from which the jamming stiffness counts"),
-  BOOL("", "early_exit", early_exit, DEF(1), "end a load step as soon as the balance test passes (modified multi-sampling)"),
-  REAL("", "balance_tol", balance_tol, DEF(1e-3), POSITIVE, POS_MUST,
-       "balance: max residual force on a free point / largest yarn tension"),
-  REAL("", "speed_tol", speed_tol, DEF(0), NONNEG, NONNEG_MUST, "balance: max speed of a free point (m/s); 0 = the test speed"),
-  ENUM("", "predict", predict, DEF(PREDICT_LINEAR), PredictNames, "displacement prediction at each load step"),
-  INT("", "grip_ramp_steps", grip_ramp_steps, DEF(-1), -1, "-1 (auto) or >= 0",
-      "te steps over which the jaw (or the sphere) moves to each load step's position (cosine ramp); -1 = half a "
-      "period of the slowest mode without prediction or with a sphere, 0 (a jump) with prediction"),
-  BOOL("", "front", front, DEF(0), "rank propagation: compute only the points a load change can have reached"),
-  REAL("", "sleep_tol", sleep_tol, DEF(0), NONNEG, NONNEG_MUST,
-       "sleeping: skip points whose residual (relative, like -balance_tol) and speed stay below this; 0 = off"),
-  BOOL("", "kinetic_damping", kinetic_damping, DEF(0),
-       "kinetic damping: all velocities are set to zero whenever the total kinetic energy has passed a peak"),
-  STRING("Output", "output_dir", output_dir, "directory for the results (\"none\": write nothing); default results/SCENE"),
-  STRING("", "positions_out", positions_out, "write the final positions (natural order, PETSc binary) to this file"),
-  BOOL("", "quiet", quiet, DEF(0), "no progress line per load step"),
-  INT("", "output_every", output_every, DEF(-1), 0, "0 (no frames) or a number of load steps",
-      "write a frame to fabric.h5 every K load steps and at the last one (0 = no frames; default: about 10 frames)"),
-  INT("", "output_te_every", output_te_every, DEF(0), 0, "0 (off) or a number of te steps",
-      "also write a frame every M te steps within each load step, for dynamic scenes (0 = off)"),
-  INT("", "checkpoint_every", checkpoint_every, DEF(0), 0, "0 (never) or a number of load steps",
-      "write DIR/checkpoint.h5 every K load steps (0 = never)"),
-  STRING("", "restart", restart,
-         "continue the run saved in this checkpoint file (written by -checkpoint_every), appending to -output_dir"),
+    INT("", "load_steps", load_steps, DEF(50), 1, "at least 1", "number of load steps K"),
+    INT("", "max_inner_steps", max_inner_steps, DEF(20000), 1, "at least 1",
+        "te steps per load step N (the most if it balances earlier)"),
+    ENUM("Numerics", "integrator", integrator, DEF(INTEGRATOR_DAMPED), IntegratorNames,
+         "damped: damped central differences; paper: the paper's eq. (10)"),
+    REAL("", "te", te, DEF(0), NONNEG, NONNEG_MUST, "time step te (s); 0 = from the stable bound"),
+    RANGED("", "te_safety", te_safety, DEF(0.9), 0, 1, 1, 0, "in (0,1]", "te = safety * stable bound (Gershgorin)"),
+    BOOL("", "te_check", te_check, DEF(1), "refuse a -te above the stable bound (0: experts and stability tests only)"),
+    REAL("", "te_strain_window", te_strain_window, DEF(1), NONNEG, NONNEG_MUST,
+         "chord-strain margin around each segment's strain over which the yarn tangent is maximised for the bound, and "
+         "margin in sin(shear angle) below the locking angle from which the jamming stiffness counts"),
+    BOOL("", "early_exit", early_exit, DEF(1),
+         "end a load step as soon as the balance test passes (modified multi-sampling)"),
+    REAL("", "balance_tol", balance_tol, DEF(1e-3), POSITIVE, POS_MUST,
+         "balance: max residual force on a free point / largest yarn tension"),
+    REAL("", "speed_tol", speed_tol, DEF(0), NONNEG, NONNEG_MUST,
+         "balance: max speed of a free point (m/s); 0 = the test speed"),
+    ENUM("", "predict", predict, DEF(PREDICT_LINEAR), PredictNames, "displacement prediction at each load step"),
+    INT("", "grip_ramp_steps", grip_ramp_steps, DEF(-1), -1, "-1 (auto) or >= 0",
+        "te steps over which the jaw (or the sphere) moves to each load step's position (cosine ramp); -1 = half a "
+        "period of the slowest mode without prediction or with a sphere, 0 (a jump) with prediction"),
+    BOOL("", "front", front, DEF(0), "rank propagation: compute only the points a load change can have reached"),
+    REAL("", "sleep_tol", sleep_tol, DEF(0), NONNEG, NONNEG_MUST,
+         "sleeping: skip points whose residual (relative, like -balance_tol) and speed stay below this; 0 = off"),
+    BOOL("", "kinetic_damping", kinetic_damping, DEF(0),
+         "kinetic damping: all velocities are set to zero whenever the total kinetic energy has passed a peak"),
+    STRING("Output", "output_dir", output_dir,
+           "directory for the results (\"none\": write nothing); default results/SCENE"),
+    STRING("", "positions_out", positions_out, "write the final positions (natural order, PETSc binary) to this file"),
+    BOOL("", "quiet", quiet, DEF(0), "no progress line per load step"),
+    INT("", "output_every", output_every, DEF(-1), 0, "0 (no frames) or a number of load steps",
+        "write a frame to fabric.h5 every K load steps and at the last one (0 = no frames; default: about 10 frames)"),
+    INT("", "output_te_every", output_te_every, DEF(0), 0, "0 (off) or a number of te steps",
+        "also write a frame every M te steps within each load step, for dynamic scenes (0 = off)"),
+    INT("", "checkpoint_every", checkpoint_every, DEF(0), 0, "0 (never) or a number of load steps",
+        "write DIR/checkpoint.h5 every K load steps (0 = never)"),
+    STRING("", "restart", restart,
+           "continue the run saved in this checkpoint file (written by -checkpoint_every), appending to -output_dir"),
 };
-#define NOPTIONS ((PetscInt)(sizeof Options / sizeof Options[0]))
+#define NOPTIONS ((PetscInt) (sizeof Options / sizeof Options[0]))
 
 /* ---------------- reading one option ---------------- */
 
-static void *Field(void *base, const OptionDesc *o) { return (char *)base + o->at; }
+static void *Field(void *base, const OptionDesc *o)
+{
+  return (char *) base + o->at;
+}
 
-static const char *YarnName(int y) { return y ? "weft" : "warp"; }
+static const char *YarnName(int y)
+{
+  return y ? "weft" : "warp";
+}
 
 /* the option's name with its yarn filled in */
 static void OptName(const OptionDesc *o, int yarn, char name[64])
 {
-  if (strncmp(o->name, "%s", 2) == 0) snprintf(name, 64, "%s%s", YarnName(yarn), o->name + 2);
-  else snprintf(name, 64, "%s", o->name);
+  if (strncmp(o->name, "%s", 2) == 0)
+    snprintf(name, 64, "%s%s", YarnName(yarn), o->name + 2);
+  else
+    snprintf(name, 64, "%s", o->name);
 }
 
 static PetscReal DefaultOf(const OptionDesc *o, const SceneInput *in, int yarn)
 {
   if (o->by_test) return o->by_test[in->test];
-  if (!strcmp(o->name, "output_every")) return (PetscReal)PetscMax(1, (in->load_steps + 9) / 10); /* about ten frames */
+  if (!strcmp(o->name, "output_every"))
+    return (PetscReal) PetscMax(1, (in->load_steps + 9) / 10); /* about ten frames */
   return o->def[yarn];
 }
 
@@ -252,7 +331,7 @@ static PetscErrorCode ParseReal(MPI_Comm comm, const char *name, const char *tex
   while (*end == ' ') end++;
   PetscCheck(end != text && !*end, comm, PETSC_ERR_USER_INPUT, "-%s %s: not a number", name, text);
   PetscCheck(isfinite(d) && errno != ERANGE, comm, PETSC_ERR_USER_INPUT, "-%s %s: not a finite number", name, text);
-  *v = (PetscReal)d;
+  *v = (PetscReal) d;
   PetscFunctionReturn(0);
 }
 
@@ -267,8 +346,8 @@ static PetscErrorCode ParseInt(MPI_Comm comm, const char *name, const char *text
   while (*end == ' ') end++;
   PetscCheck(end != text && !*end, comm, PETSC_ERR_USER_INPUT, "-%s %s: not an integer", name, text);
   PetscCheck(errno != ERANGE && l <= PETSC_MAX_INT && l >= PETSC_MIN_INT, comm, PETSC_ERR_USER_INPUT,
-             "-%s %s: out of range (integers from %d to %d)", name, text, (int)PETSC_MIN_INT, (int)PETSC_MAX_INT);
-  *v = (PetscInt)l;
+             "-%s %s: out of range (integers from %d to %d)", name, text, (int) PETSC_MIN_INT, (int) PETSC_MAX_INT);
+  *v = (PetscInt) l;
   PetscFunctionReturn(0);
 }
 
@@ -286,7 +365,8 @@ static PetscErrorCode ParseBool(MPI_Comm comm, const char *name, const char *tex
   SETERRQ(comm, PETSC_ERR_USER_INPUT, "-%s %s: not a yes/no value (use 1 or 0, true or false)", name, text);
 }
 
-static PetscErrorCode ParseEnum(MPI_Comm comm, const char *name, const char *text, const char *const *choices, PetscInt *v)
+static PetscErrorCode ParseEnum(MPI_Comm comm, const char *name, const char *text, const char *const *choices,
+                                PetscInt *v)
 {
   char list[256] = "";
   int  n         = 0;
@@ -305,7 +385,8 @@ static PetscErrorCode ParseEnum(MPI_Comm comm, const char *name, const char *tex
 }
 
 /* comma-separated numbers into v (at most nmax), their count into n */
-static PetscErrorCode ParseArray(MPI_Comm comm, const OptionDesc *o, const char *name, const char *text, void *v, PetscInt *n)
+static PetscErrorCode ParseArray(MPI_Comm comm, const OptionDesc *o, const char *name, const char *text, void *v,
+                                 PetscInt *n)
 {
   char buf[4096], *save = NULL;
 
@@ -316,13 +397,15 @@ static PetscErrorCode ParseArray(MPI_Comm comm, const OptionDesc *o, const char 
   for (char *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
     while (*tok == ' ') tok++;
     if (*n < o->nmax) {
-      if (o->type == OPT_INTS) PetscCall(ParseInt(comm, name, tok, (PetscInt *)v + *n));
-      else PetscCall(ParseReal(comm, name, tok, (PetscReal *)v + *n));
+      if (o->type == OPT_INTS)
+        PetscCall(ParseInt(comm, name, tok, (PetscInt *) v + *n));
+      else
+        PetscCall(ParseReal(comm, name, tok, (PetscReal *) v + *n));
     }
     (*n)++;
   }
-  PetscCheck(*n > 0 && *n % o->per == 0 && *n <= o->nmax, comm, PETSC_ERR_USER_INPUT, "-%s needs %s, got %" PetscInt_FMT "%s",
-             name, o->needs, *n, o->nmax > o->per ? " numbers" : "");
+  PetscCheck(*n > 0 && *n % o->per == 0 && *n <= o->nmax, comm, PETSC_ERR_USER_INPUT,
+             "-%s needs %s, got %" PetscInt_FMT "%s", name, o->needs, *n, o->nmax > o->per ? " numbers" : "");
   PetscFunctionReturn(0);
 }
 
@@ -335,7 +418,7 @@ static PetscErrorCode CheckReal(MPI_Comm comm, const OptionDesc *o, const char *
   if (o->check == NONNEG) ok = v >= 0 ? PETSC_TRUE : PETSC_FALSE;
   if (o->check == RANGE)
     ok = ((o->lo_open ? v > o->lo : v >= o->lo) && (o->hi_open ? v < o->hi : v <= o->hi)) ? PETSC_TRUE : PETSC_FALSE;
-  PetscCheck(ok, comm, PETSC_ERR_USER_INPUT, "-%s must be %s, got %g", name, o->must, (double)v);
+  PetscCheck(ok, comm, PETSC_ERR_USER_INPUT, "-%s must be %s, got %g", name, o->must, (double) v);
   PetscFunctionReturn(0);
 }
 
@@ -343,18 +426,18 @@ static PetscErrorCode CheckReal(MPI_Comm comm, const OptionDesc *o, const char *
 static void DefaultText(const OptionDesc *o, const void *field, PetscReal def, char *out, size_t len)
 {
   switch (o->type) {
-  case OPT_REAL: snprintf(out, len, "%g", (double)def); break;
-  case OPT_INT: snprintf(out, len, "%d", (int)def); break;
+  case OPT_REAL: snprintf(out, len, "%g", (double) def); break;
+  case OPT_INT: snprintf(out, len, "%d", (int) def); break;
   case OPT_BOOL: snprintf(out, len, "%s", def != 0 ? "true" : "false"); break;
-  case OPT_ENUM: snprintf(out, len, "%s", o->choices[(int)def]); break;
-  case OPT_STRING: snprintf(out, len, "%s", (const char *)field); break;
+  case OPT_ENUM: snprintf(out, len, "%s", o->choices[(int) def]); break;
+  case OPT_STRING: snprintf(out, len, "%s", (const char *) field); break;
   default: {
     const PetscInt nd = o->ndef;
     out[0]            = 0;
     if (!nd) snprintf(out, len, "unset");
     for (PetscInt k = 0; k < nd; k++) {
       const size_t at = strlen(out);
-      snprintf(out + at, len - at, "%s%g", k ? "," : "", (double)o->def[k]);
+      snprintf(out + at, len - at, "%s%g", k ? "," : "", (double) o->def[k]);
     }
   }
   }
@@ -362,7 +445,8 @@ static void DefaultText(const OptionDesc *o, const void *field, PetscReal def, c
 
 /* Read one option (for yarn options, of one yarn) into base (SceneInput or YarnInput): its
    default first, then the value given, parsed and checked. With -help, print it. */
-static PetscErrorCode ReadOption(MPI_Comm comm, const OptionDesc *o, int yarn, const SceneInput *in, void *base, PetscBool help)
+static PetscErrorCode ReadOption(MPI_Comm comm, const OptionDesc *o, int yarn, const SceneInput *in, void *base,
+                                 PetscBool help)
 {
   char      name[64], opt[66], text[4096], deftext[256];
   PetscBool set;
@@ -371,12 +455,12 @@ static PetscErrorCode ReadOption(MPI_Comm comm, const OptionDesc *o, int yarn, c
 
   PetscFunctionBeginUser;
   OptName(o, yarn, name);
-  if (o->type == OPT_REAL) *(PetscReal *)f = def;
-  if (o->type == OPT_INT || o->type == OPT_ENUM) *(PetscInt *)f = (PetscInt)def;
-  if (o->type == OPT_BOOL) *(PetscBool *)f = def != 0 ? PETSC_TRUE : PETSC_FALSE;
+  if (o->type == OPT_REAL) *(PetscReal *) f = def;
+  if (o->type == OPT_INT || o->type == OPT_ENUM) *(PetscInt *) f = (PetscInt) def;
+  if (o->type == OPT_BOOL) *(PetscBool *) f = def != 0 ? PETSC_TRUE : PETSC_FALSE;
   if (o->type == OPT_REALS)
-    for (PetscInt k = 0; k < o->ndef; k++) ((PetscReal *)f)[k] = o->def[k];
-  if (o->at_n) *(PetscInt *)Field(base, &(OptionDesc){.at = o->at_n}) = o->ndef;
+    for (PetscInt k = 0; k < o->ndef; k++) ((PetscReal *) f)[k] = o->def[k];
+  if (o->at_n) *(PetscInt *) Field(base, &(OptionDesc){.at = o->at_n}) = o->ndef;
   DefaultText(o, f, def, deftext, sizeof deftext);
   if (help) PetscCall(PetscPrintf(comm, "  -%s <%s>: %s\n", name, deftext, o->help));
   snprintf(opt, sizeof opt, "-%s", name);
@@ -386,18 +470,18 @@ static PetscErrorCode ReadOption(MPI_Comm comm, const OptionDesc *o, int yarn, c
              "-%s: empty value (give a value or leave the option out)", name);
   switch (o->type) {
   case OPT_REAL:
-    PetscCall(ParseReal(comm, name, text, (PetscReal *)f));
-    PetscCall(CheckReal(comm, o, name, *(PetscReal *)f));
+    PetscCall(ParseReal(comm, name, text, (PetscReal *) f));
+    PetscCall(CheckReal(comm, o, name, *(PetscReal *) f));
     break;
   case OPT_INT:
-    PetscCall(ParseInt(comm, name, text, (PetscInt *)f));
-    PetscCheck(*(PetscInt *)f >= (PetscInt)o->lo, comm, PETSC_ERR_USER_INPUT, "-%s must be %s, got %" PetscInt_FMT, name,
-               o->must, *(PetscInt *)f);
+    PetscCall(ParseInt(comm, name, text, (PetscInt *) f));
+    PetscCheck(*(PetscInt *) f >= (PetscInt) o->lo, comm, PETSC_ERR_USER_INPUT, "-%s must be %s, got %" PetscInt_FMT,
+               name, o->must, *(PetscInt *) f);
     break;
-  case OPT_BOOL: PetscCall(ParseBool(comm, name, text, (PetscBool *)f)); break;
-  case OPT_ENUM: PetscCall(ParseEnum(comm, name, text, o->choices, (PetscInt *)f)); break;
-  case OPT_STRING: PetscCall(PetscStrncpy((char *)f, text, PETSC_MAX_PATH_LEN)); break;
-  default: PetscCall(ParseArray(comm, o, name, text, f, (PetscInt *)Field(base, &(OptionDesc){.at = o->at_n})));
+  case OPT_BOOL: PetscCall(ParseBool(comm, name, text, (PetscBool *) f)); break;
+  case OPT_ENUM: PetscCall(ParseEnum(comm, name, text, o->choices, (PetscInt *) f)); break;
+  case OPT_STRING: PetscCall(PetscStrncpy((char *) f, text, PETSC_MAX_PATH_LEN)); break;
+  default: PetscCall(ParseArray(comm, o, name, text, f, (PetscInt *) Field(base, &(OptionDesc){.at = o->at_n})));
   }
   PetscFunctionReturn(0);
 }
@@ -417,7 +501,8 @@ static PetscErrorCode ReadOptions(MPI_Comm comm, SceneInput *in)
       continue;
     }
     for (int y = 0; y < 2; y++) PetscCall(ReadOption(comm, o, y, in, &in->yarn[y], help && y == 0));
-    if (help && !strcmp(o->name, "%s_tex")) PetscCall(PetscPrintf(comm, "  (each -warp_... option has its -weft_... twin)\n"));
+    if (help && !strcmp(o->name, "%s_tex"))
+      PetscCall(PetscPrintf(comm, "  (each -warp_... option has its -weft_... twin)\n"));
   }
   PetscFunctionReturn(0);
 }
@@ -430,18 +515,18 @@ int SceneOptionValues(const Scene *s, PetscInt k, char name[64], PetscReal v[], 
     const int         yarns = strncmp(o->name, "%s", 2) ? 1 : 2;
     if (o->type == OPT_STRING) continue;
     for (int y = 0; y < yarns; y++, q++) {
-      const void *base = yarns == 2 ? (const void *)&s->in.yarn[y] : (const void *)&s->in;
-      const void *f    = (const char *)base + o->at;
+      const void *base = yarns == 2 ? (const void *) &s->in.yarn[y] : (const void *) &s->in;
+      const void *f    = (const char *) base + o->at;
       if (q != k) continue;
       OptName(o, y, name);
       *n = 1;
-      if (o->type == OPT_REAL) v[0] = *(const PetscReal *)f;
-      if (o->type == OPT_INT || o->type == OPT_ENUM) v[0] = (PetscReal) * (const PetscInt *)f;
-      if (o->type == OPT_BOOL) v[0] = (PetscReal) * (const PetscBool *)f;
+      if (o->type == OPT_REAL) v[0] = *(const PetscReal *) f;
+      if (o->type == OPT_INT || o->type == OPT_ENUM) v[0] = (PetscReal) * (const PetscInt *) f;
+      if (o->type == OPT_BOOL) v[0] = (PetscReal) * (const PetscBool *) f;
       if (o->type == OPT_REALS || o->type == OPT_INTS) {
-        *n = *(const PetscInt *)((const char *)base + o->at_n);
+        *n = *(const PetscInt *) ((const char *) base + o->at_n);
         for (PetscInt c = 0; c < *n; c++)
-          v[c] = o->type == OPT_REALS ? ((const PetscReal *)f)[c] : (PetscReal)((const PetscInt *)f)[c];
+          v[c] = o->type == OPT_REALS ? ((const PetscReal *) f)[c] : (PetscReal) ((const PetscInt *) f)[c];
       }
       return 1;
     }
@@ -466,7 +551,8 @@ static PetscErrorCode CheckSceneHasOptions(MPI_Comm comm, const char *file)
     if (*c && *c != '#' && *c != '\n' && *c != '\r' && strchr(c, ':')) found = 1;
   }
   fclose(fp);
-  PetscCheck(found, comm, PETSC_ERR_USER_INPUT, "-scene %s: the file holds no option (an empty scene would run the default strip)", file);
+  PetscCheck(found, comm, PETSC_ERR_USER_INPUT,
+             "-scene %s: the file holds no option (an empty scene would run the default strip)", file);
   PetscFunctionReturn(0);
 }
 
@@ -491,7 +577,8 @@ PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv)
     const char *text;
     char       *specific = NULL;
     PetscCall(PetscErrorMessage(ierr, &text, &specific));
-    SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED, "-scene %s: not a valid YAML option file: %s", file, specific && specific[0] ? specific : text);
+    SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED, "-scene %s: not a valid YAML option file: %s", file,
+            specific && specific[0] ? specific : text);
   }
   PetscCall(PetscOptionsInsertArgs(NULL, argc - 1, argv + 1));
   PetscFunctionReturn(0);
@@ -520,15 +607,15 @@ PetscErrorCode SceneCheckUnused(MPI_Comm comm)
 static PetscErrorCode DeriveYarn(MPI_Comm comm, const YarnInput *in, const char *name, YarnLaw *y)
 {
   PetscFunctionBeginUser;
-  y->name      = name;
-  y->tex       = in->tex;
-  y->crimp     = in->crimp_pct / 100.0;
-  y->EA        = in->modulus_cN_tex * 1e-2 * y->tex;
-  y->k_comp    = in->compression_ratio;
-  y->e_contact = -in->contact_pct / 100.0;
-  y->smoothing = in->law_smoothing_pct / 100.0;
-  y->bending   = in->bending_Nm2;
-  y->break_ey  = in->break_pct / 100.0;
+  y->name          = name;
+  y->tex           = in->tex;
+  y->crimp         = in->crimp_pct / 100.0;
+  y->EA            = in->modulus_cN_tex * 1e-2 * y->tex;
+  y->k_comp        = in->compression_ratio;
+  y->e_contact     = -in->contact_pct / 100.0;
+  y->smoothing     = in->law_smoothing_pct / 100.0;
+  y->bending       = in->bending_Nm2;
+  y->break_ey      = in->break_pct / 100.0;
   y->decrimp_ratio = in->decrimp_ratio;
   PetscCall(PetscStrncpy(y->csv, in->law_csv, sizeof y->csv));
   PetscCall(YarnLawSetUp(y, comm));
@@ -536,14 +623,16 @@ static PetscErrorCode DeriveYarn(MPI_Comm comm, const YarnInput *in, const char 
 }
 
 /* -clamp_line_mm / -grip_line_mm x,y,angle_deg,half_width_mm[,...] in SI */
-static PetscErrorCode DeriveLines(MPI_Comm comm, const char *opt, const PetscReal *v, PetscInt n, PetscInt *nlines, PetscReal line[][4])
+static PetscErrorCode DeriveLines(MPI_Comm comm, const char *opt, const PetscReal *v, PetscInt n, PetscInt *nlines,
+                                  PetscReal line[][4])
 {
   PetscFunctionBeginUser;
   *nlines = n / 4;
   for (PetscInt k = 0; k < n / 4; k++) {
     const PetscReal *l = v + 4 * k;
     PetscCheck(l[3] > 0, comm, PETSC_ERR_USER_INPUT,
-               "-%s line %" PetscInt_FMT ": the half-width must be a positive number of mm, got %g", opt, k + 1, (double)l[3]);
+               "-%s line %" PetscInt_FMT ": the half-width must be a positive number of mm, got %g", opt, k + 1,
+               (double) l[3]);
     line[k][0] = 1e-3 * l[0];
     line[k][1] = 1e-3 * l[1];
     line[k][2] = l[2] * PETSC_PI / 180.0;
@@ -567,8 +656,9 @@ static PetscErrorCode DerivePath(MPI_Comm comm, const SceneInput *in, LoadProgra
       len2 += PetscSqr(lp->waypoint[k][d] - (k ? lp->waypoint[k - 1][d] : 0.0));
     }
     PetscCheck(len2 > 0, comm, PETSC_ERR_USER_INPUT,
-               "-grip_path_mm waypoint %" PetscInt_FMT " (%g,%g,%g mm) repeats the point before it: a path segment of zero length",
-               k + 1, (double)v[0], (double)v[1], (double)v[2]);
+               "-grip_path_mm waypoint %" PetscInt_FMT
+               " (%g,%g,%g mm) repeats the point before it: a path segment of zero length",
+               k + 1, (double) v[0], (double) v[1], (double) v[2]);
     at += PetscSqrtReal(len2);
     lp->path_at[k] = at;
   }
@@ -581,8 +671,8 @@ static PetscErrorCode UnitVector(MPI_Comm comm, const char *opt, const PetscReal
   const PetscReal norm = PetscSqrtReal(PetscSqr(v[0]) + PetscSqr(v[1]) + PetscSqr(v[2]));
 
   PetscFunctionBeginUser;
-  PetscCheck(isfinite(norm) && norm > 0, comm, PETSC_ERR_USER_INPUT, "-%s must be a finite non-zero vector, got %g,%g,%g", opt,
-             (double)v[0], (double)v[1], (double)v[2]);
+  PetscCheck(isfinite(norm) && norm > 0, comm, PETSC_ERR_USER_INPUT,
+             "-%s must be a finite non-zero vector, got %g,%g,%g", opt, (double) v[0], (double) v[1], (double) v[2]);
   for (int d = 0; d < 3; d++) u[d] = v[d] / norm;
   PetscFunctionReturn(0);
 }
@@ -597,7 +687,8 @@ static PetscErrorCode DeriveBodies(MPI_Comm comm, const SceneInput *in, Scene *s
   b->sphere_travel = 1e-3 * in->sphere_travel_mm;
   PetscCall(UnitVector(comm, "sphere_direction", in->sphere_direction, b->sphere_dir));
   for (int d = 0; d < 3; d++)
-    b->sphere_start[d] = in->n_sphere_start_mm ? 1e-3 * in->sphere_start_mm[d] : -(b->sphere_radius + 0.5 * b->thickness) * b->sphere_dir[d];
+    b->sphere_start[d] = in->n_sphere_start_mm ? 1e-3 * in->sphere_start_mm[d]
+                                               : -(b->sphere_radius + 0.5 * b->thickness) * b->sphere_dir[d];
   b->plane = in->plane;
   for (int d = 0; d < 3; d++) b->plane_point[d] = 1e-3 * in->plane_point_mm[d];
   PetscCall(UnitVector(comm, "plane_normal", in->plane_normal, b->plane_normal));
@@ -606,11 +697,14 @@ static PetscErrorCode DeriveBodies(MPI_Comm comm, const SceneInput *in, Scene *s
   for (int d = 0; d < 3; d++)
     b->pedestal_top[d] = in->n_pedestal_top_mm ? 1e-3 * in->pedestal_top_mm[d] : (d == 2 ? -0.5 * b->thickness : 0.0);
   b->friction_mu = in->friction_mu;
-  b->contact_k   = in->contact_stiffness_N_m > 0 ? in->contact_stiffness_N_m : s->yarns.warp.EA * s->spec.picks_per_m; /* EA/L0 */
+  b->contact_k =
+      in->contact_stiffness_N_m > 0 ? in->contact_stiffness_N_m : s->yarns.warp.EA * s->spec.picks_per_m; /* EA/L0 */
   PetscCheck(s->test != TEST_PUSHING || b->sphere_radius > 0, comm, PETSC_ERR_USER_INPUT,
-             "-test pushing needs a sphere: -sphere_diameter_mm must be positive, got %g", (double)in->sphere_diameter_mm);
+             "-test pushing needs a sphere: -sphere_diameter_mm must be positive, got %g",
+             (double) in->sphere_diameter_mm);
   PetscCheck(s->test == TEST_PUSHING || b->sphere_radius == 0, comm, PETSC_ERR_USER_INPUT,
-             "-sphere_diameter_mm %g: the sphere is the pushing test's punch (-test pushing)", (double)in->sphere_diameter_mm);
+             "-sphere_diameter_mm %g: the sphere is the pushing test's punch (-test pushing)",
+             (double) in->sphere_diameter_mm);
   PetscFunctionReturn(0);
 }
 
@@ -621,32 +715,42 @@ static PetscErrorCode CheckTestOptions(MPI_Comm comm, const SceneInput *in, cons
 
   PetscFunctionBeginUser;
   PetscCheck(c->clamp != CLAMP_RING || (c->ring[0] >= 0 && c->ring[1] > c->ring[0]), comm, PETSC_ERR_USER_INPUT,
-             "-clamp ring needs -clamp_ring_mm inner,outer with 0 <= inner < outer, got %g,%g", (double)(2e3 * c->ring[0]),
-             (double)(2e3 * c->ring[1]));
-  PetscCheck((c->clamp == CLAMP_JAW) == JawTest(s) || (c->clamp == CLAMP_NONE && c->grip_lines > 0), comm, PETSC_ERR_USER_INPUT,
-             "-clamp %s with -test %s: the jaws are the strip and bias tests' clamps, and only theirs (without jaws, these "
-             "tests need -grip_line_mm)", ClampNames[c->clamp], TestNames[s->test]);
+             "-clamp ring needs -clamp_ring_mm inner,outer with 0 <= inner < outer, got %g,%g",
+             (double) (2e3 * c->ring[0]), (double) (2e3 * c->ring[1]));
+  PetscCheck(
+      (c->clamp == CLAMP_JAW) == JawTest(s) || (c->clamp == CLAMP_NONE && c->grip_lines > 0), comm,
+      PETSC_ERR_USER_INPUT,
+      "-clamp %s with -test %s: the jaws are the strip and bias tests' clamps, and only theirs (without jaws, these "
+      "tests need -grip_line_mm)",
+      ClampNames[c->clamp], TestNames[s->test]);
   PetscCheck(c->grip_lines == 0 || JawTest(s), comm, PETSC_ERR_USER_INPUT,
              "-grip_line_mm with -test %s: only the strip and bias tests move grips", TestNames[s->test]);
   PetscCheck((s->spec.shape == SHAPE_BIAS) == (s->test == TEST_BIAS), comm, PETSC_ERR_USER_INPUT,
-             "-shape %s with -test %s: the bias shape is the bias test's, and it needs it", ShapeNames[s->spec.shape], TestNames[s->test]);
-  PetscCheck(s->test != TEST_STRIP || (s->spec.shape == SHAPE_RECTANGLE && (c->clamp == CLAMP_JAW || (c->clamp == CLAMP_NONE && c->grip_lines > 0))),
-             comm, PETSC_ERR_USER_INPUT,
-             "-test strip is a rectangle between jaws: -shape %s and -clamp %s are for the other tests (a strip without jaws: "
-             "-clamp none and -grip_line_mm)", ShapeNames[s->spec.shape], ClampNames[c->clamp]);
-  PetscCheck(JawTest(s) || in->elongation_pct == 0, comm, PETSC_ERR_USER_INPUT, "-elongation_pct %g: -test %s has no jaws to pull",
-             (double)in->elongation_pct, TestNames[s->test]);
+             "-shape %s with -test %s: the bias shape is the bias test's, and it needs it", ShapeNames[s->spec.shape],
+             TestNames[s->test]);
+  PetscCheck(
+      s->test != TEST_STRIP || (s->spec.shape == SHAPE_RECTANGLE &&
+                                (c->clamp == CLAMP_JAW || (c->clamp == CLAMP_NONE && c->grip_lines > 0))),
+      comm, PETSC_ERR_USER_INPUT,
+      "-test strip is a rectangle between jaws: -shape %s and -clamp %s are for the other tests (a strip without jaws: "
+      "-clamp none and -grip_line_mm)",
+      ShapeNames[s->spec.shape], ClampNames[c->clamp]);
+  PetscCheck(JawTest(s) || in->elongation_pct == 0, comm, PETSC_ERR_USER_INPUT,
+             "-elongation_pct %g: -test %s has no jaws to pull", (double) in->elongation_pct, TestNames[s->test]);
   PetscCheck(s->load.waypoints == 0 || JawTest(s), comm, PETSC_ERR_USER_INPUT,
              "-grip_path_mm with -test %s: only the strip and bias tests move grips", TestNames[s->test]);
   PetscCheck(!s->num.kinetic_damping || s->num.integrator == INTEGRATOR_DAMPED, comm, PETSC_ERR_USER_INPUT,
-             "-kinetic_damping needs -integrator damped (the paper's integrator keeps two velocity chains), got -integrator %s",
+             "-kinetic_damping needs -integrator damped (the paper's integrator keeps two velocity chains), got "
+             "-integrator %s",
              IntegratorNames[s->num.integrator]);
   PetscCheck(s->num.sleep_tol <= s->num.balance_tol, comm, PETSC_ERR_USER_INPUT,
-             "-sleep_tol %g is above -balance_tol %g: points would sleep before they balance", (double)s->num.sleep_tol,
-             (double)s->num.balance_tol);
-  PetscCheck((s->bodies.sphere_radius == 0 && !s->bodies.plane && s->bodies.pedestal_radius == 0) || (!s->num.front && s->num.sleep_tol == 0),
+             "-sleep_tol %g is above -balance_tol %g: points would sleep before they balance",
+             (double) s->num.sleep_tol, (double) s->num.balance_tol);
+  PetscCheck((s->bodies.sphere_radius == 0 && !s->bodies.plane && s->bodies.pedestal_radius == 0) ||
+                 (!s->num.front && s->num.sleep_tol == 0),
              comm, PETSC_ERR_USER_INPUT,
-             "-front and -sleep_tol follow the jaws and the point load only: switch them off with a sphere, a plane or a pedestal");
+             "-front and -sleep_tol follow the jaws and the point load only: switch them off with a sphere, a plane or "
+             "a pedestal");
   PetscFunctionReturn(0);
 }
 
@@ -654,7 +758,7 @@ static void DeriveNumerics(const SceneInput *in, Scene *s)
 {
   Numerics *n = &s->num;
 
-  n->integrator      = (IntegratorType)in->integrator;
+  n->integrator      = (IntegratorType) in->integrator;
   n->te_user         = in->te;
   n->te_safety       = in->te_safety;
   n->te_window       = in->te_strain_window;
@@ -662,7 +766,7 @@ static void DeriveNumerics(const SceneInput *in, Scene *s)
   n->early_exit      = in->early_exit;
   n->balance_tol     = in->balance_tol;
   n->speed_tol       = in->speed_tol;
-  n->predict         = (PredictType)in->predict;
+  n->predict         = (PredictType) in->predict;
   n->front           = in->front;
   n->grip_ramp       = in->grip_ramp_steps;
   n->sleep_tol       = in->sleep_tol;
@@ -704,8 +808,10 @@ static PetscErrorCode DeriveOutput(MPI_Comm comm, const SceneInput *in, Scene *s
     char *dot = strrchr(o->name, '.');
     if (dot && dot != o->name) *dot = 0;
   }
-  if (in->output_dir[0]) PetscCall(PetscStrncpy(o->output_dir, in->output_dir, sizeof o->output_dir));
-  else PetscCall(PetscSNPrintf(o->output_dir, sizeof o->output_dir, "results/%s", o->name));
+  if (in->output_dir[0])
+    PetscCall(PetscStrncpy(o->output_dir, in->output_dir, sizeof o->output_dir));
+  else
+    PetscCall(PetscSNPrintf(o->output_dir, sizeof o->output_dir, "results/%s", o->name));
   if (!strcmp(o->output_dir, "none")) o->output_dir[0] = 0;
   PetscCall(PetscStrncpy(o->positions_out, in->positions_out, sizeof o->positions_out));
   PetscCall(PetscStrncpy(o->restart, in->restart, sizeof o->restart));
@@ -727,7 +833,8 @@ static PetscErrorCode DeriveOutput(MPI_Comm comm, const SceneInput *in, Scene *s
    width and jaw depth rounded to it */
 static PetscErrorCode DeriveGrid(MPI_Comm comm, const SceneInput *in, Scene *s)
 {
-  const PetscReal ends_cm = in->ends_per_cm, picks_cm = in->picks_per_cm, gauge_mm = in->gauge_mm, width_mm = in->width_mm;
+  const PetscReal ends_cm = in->ends_per_cm, picks_cm = in->picks_per_cm, gauge_mm = in->gauge_mm,
+                  width_mm = in->width_mm;
   const PetscReal jaw_mm = in->jaw_depth_mm, disc_mm = in->disc_diameter_mm;
   const PetscReal ring_mm[2] = {in->n_clamp_ring_mm || s->test == TEST_DRAPE ? in->clamp_ring_mm[0] : 0.0,
                                 in->n_clamp_ring_mm || s->test == TEST_DRAPE ? in->clamp_ring_mm[1] : 0.0};
@@ -736,9 +843,9 @@ static PetscErrorCode DeriveGrid(MPI_Comm comm, const SceneInput *in, Scene *s)
   s->spec.ends_per_m  = ends_cm * 100.0;
   s->spec.picks_per_m = picks_cm * 100.0;
   s->spec.yarns       = in->yarns;
-  s->spec.pull        = (PullAxis)in->pull;
-  s->spec.shape       = (ShapeType)in->shape;
-  s->clamps.clamp     = (ClampType)in->clamp;
+  s->spec.pull        = (PullAxis) in->pull;
+  s->spec.shape       = (ShapeType) in->shape;
+  s->clamps.clamp     = (ClampType) in->clamp;
   s->clamps.ring[0]   = 0.5e-3 * ring_mm[0];
   s->clamps.ring[1]   = 0.5e-3 * ring_mm[1];
   if (s->test == TEST_BIAS && ends_cm == picks_cm) {
@@ -753,44 +860,59 @@ static PetscErrorCode DeriveGrid(MPI_Comm comm, const SceneInput *in, Scene *s)
        length, width and jaw depth are rounded to the diagonals, as the strip's gauge length
        is rounded to its crossings. */
     const PetscReal h = 1.0 / (PetscSqrtReal(2.0) * s->spec.picks_per_m);
-    const PetscReal J = round(0.5e-3 * gauge_mm / h), E = round(0.5e-3 * width_mm / h), Jd = PetscMax(1.0, round(1e-3 * jaw_mm / h));
-    const PetscReal n = J + E + Jd + fmod(Jd, 2.0) + 1;
-    PetscCheck(E >= 1 && J > E, comm, PETSC_ERR_USER_INPUT, "bias specimen too small or too wide: -gauge_mm %g, -width_mm %g at %g threads/cm (the gauge length must exceed the width by at least one yarn spacing)", (double)gauge_mm, (double)width_mm, (double)picks_cm);
+    const PetscReal J = round(0.5e-3 * gauge_mm / h), E = round(0.5e-3 * width_mm / h),
+                    Jd = PetscMax(1.0, round(1e-3 * jaw_mm / h));
+    const PetscReal n  = J + E + Jd + fmod(Jd, 2.0) + 1;
+    PetscCheck(E >= 1 && J > E, comm, PETSC_ERR_USER_INPUT,
+               "bias specimen too small or too wide: -gauge_mm %g, -width_mm %g at %g threads/cm (the gauge length "
+               "must exceed the width by at least one yarn spacing)",
+               (double) gauge_mm, (double) width_mm, (double) picks_cm);
     PetscCheck(n * n < 2.0e9, comm, PETSC_ERR_USER_INPUT, "grid too large: %g x %g crossings", n, n);
-    s->spec.nx        = (PetscInt)n;
-    s->spec.ny        = (PetscInt)n;
+    s->spec.nx        = (PetscInt) n;
+    s->spec.ny        = (PetscInt) n;
     s->spec.gauge     = 2 * J * h; /* free length between the jaws, along the specimen */
     s->spec.width     = 2 * E * h;
     s->spec.jaw_depth = Jd * h;
   } else if (s->test == TEST_BIAS) { /* unequal densities: the diagonals are not at 45 degrees */
     const PetscReal side = (gauge_mm + 2 * jaw_mm + width_mm) * 1e-3 / PetscSqrtReal(2.0);
     const PetscReal nx = round(side * s->spec.picks_per_m) + 1, ny = round(side * s->spec.ends_per_m) + 1;
-    PetscCheck(nx >= 5 && ny >= 5 && width_mm < gauge_mm, comm, PETSC_ERR_USER_INPUT, "bias specimen too small or too wide: -gauge_mm %g, -width_mm %g (the gauge length must exceed the width) give %g x %g crossings", (double)gauge_mm, (double)width_mm, nx, ny);
+    PetscCheck(nx >= 5 && ny >= 5 && width_mm < gauge_mm, comm, PETSC_ERR_USER_INPUT,
+               "bias specimen too small or too wide: -gauge_mm %g, -width_mm %g (the gauge length must exceed the "
+               "width) give %g x %g crossings",
+               (double) gauge_mm, (double) width_mm, nx, ny);
     PetscCheck(nx * ny < 2.0e9, comm, PETSC_ERR_USER_INPUT, "grid too large: %g x %g crossings", nx, ny);
-    s->spec.nx        = (PetscInt)nx;
-    s->spec.ny        = (PetscInt)ny;
+    s->spec.nx        = (PetscInt) nx;
+    s->spec.ny        = (PetscInt) ny;
     s->spec.gauge     = gauge_mm * 1e-3; /* free length between the jaws, along the specimen */
     s->spec.width     = width_mm * 1e-3;
     s->spec.jaw_depth = jaw_mm * 1e-3;
   } else if (s->test != TEST_STRIP) { /* a gauge x width net with crossings on all four edges */
-    const PetscReal nx = round(gauge_mm * 1e-3 * s->spec.picks_per_m) + 1, ny = round(width_mm * 1e-3 * s->spec.ends_per_m) + 1;
-    PetscCheck(nx >= 3 && ny >= 3, comm, PETSC_ERR_USER_INPUT, "grid too small: -gauge_mm %g x -width_mm %g gives %g x %g crossings, at least 3 x 3 are needed", (double)gauge_mm, (double)width_mm, nx, ny);
+    const PetscReal nx = round(gauge_mm * 1e-3 * s->spec.picks_per_m) + 1,
+                    ny = round(width_mm * 1e-3 * s->spec.ends_per_m) + 1;
+    PetscCheck(nx >= 3 && ny >= 3, comm, PETSC_ERR_USER_INPUT,
+               "grid too small: -gauge_mm %g x -width_mm %g gives %g x %g crossings, at least 3 x 3 are needed",
+               (double) gauge_mm, (double) width_mm, nx, ny);
     PetscCheck(nx * ny < 2.0e9, comm, PETSC_ERR_USER_INPUT, "grid too large: %g x %g crossings", nx, ny);
-    s->spec.nx    = (PetscInt)nx;
-    s->spec.ny    = (PetscInt)ny;
-    s->spec.gauge = (nx - 1) / s->spec.picks_per_m;
-    s->spec.width = (ny - 1) / s->spec.ends_per_m;
+    s->spec.nx          = (PetscInt) nx;
+    s->spec.ny          = (PetscInt) ny;
+    s->spec.gauge       = (nx - 1) / s->spec.picks_per_m;
+    s->spec.width       = (ny - 1) / s->spec.ends_per_m;
     s->spec.disc_radius = disc_mm > 0 ? 0.5e-3 * disc_mm : 0.5 * PetscMin(s->spec.gauge, s->spec.width);
   } else {
-    const PetscReal along_density = s->spec.pull == PULL_WARP ? s->spec.picks_per_m : s->spec.ends_per_m;
+    const PetscReal along_density  = s->spec.pull == PULL_WARP ? s->spec.picks_per_m : s->spec.ends_per_m;
     const PetscReal across_density = s->spec.pull == PULL_WARP ? s->spec.ends_per_m : s->spec.picks_per_m;
-    const PetscReal n_along = round(gauge_mm * 1e-3 * along_density) + 1;
-    const PetscReal n_across = s->spec.yarns ? (PetscReal)s->spec.yarns : round(width_mm * 1e-3 * across_density);
-    PetscCheck(n_along >= 3, comm, PETSC_ERR_USER_INPUT, "grid too small: -gauge_mm %g at %g threads/cm gives %g crossings along the pull, at least 3 are needed", (double)gauge_mm, (double)(along_density / 100), (double)n_along);
-    PetscCheck(n_across >= 1, comm, PETSC_ERR_USER_INPUT, "grid too small: -width_mm %g at %g threads/cm gives no yarn across the strip", (double)width_mm, (double)(across_density / 100));
-    PetscCheck(n_along * n_across < 2.0e9, comm, PETSC_ERR_USER_INPUT, "grid too large: %g x %g crossings", (double)n_along, (double)n_across);
-    s->spec.nx    = (PetscInt)(s->spec.pull == PULL_WARP ? n_along : n_across);
-    s->spec.ny    = (PetscInt)(s->spec.pull == PULL_WARP ? n_across : n_along);
+    const PetscReal n_along        = round(gauge_mm * 1e-3 * along_density) + 1;
+    const PetscReal n_across = s->spec.yarns ? (PetscReal) s->spec.yarns : round(width_mm * 1e-3 * across_density);
+    PetscCheck(n_along >= 3, comm, PETSC_ERR_USER_INPUT,
+               "grid too small: -gauge_mm %g at %g threads/cm gives %g crossings along the pull, at least 3 are needed",
+               (double) gauge_mm, (double) (along_density / 100), (double) n_along);
+    PetscCheck(n_across >= 1, comm, PETSC_ERR_USER_INPUT,
+               "grid too small: -width_mm %g at %g threads/cm gives no yarn across the strip", (double) width_mm,
+               (double) (across_density / 100));
+    PetscCheck(n_along * n_across < 2.0e9, comm, PETSC_ERR_USER_INPUT, "grid too large: %g x %g crossings",
+               (double) n_along, (double) n_across);
+    s->spec.nx    = (PetscInt) (s->spec.pull == PULL_WARP ? n_along : n_across);
+    s->spec.ny    = (PetscInt) (s->spec.pull == PULL_WARP ? n_across : n_along);
     s->spec.gauge = (n_along - 1) / along_density;
     s->spec.width = n_across / across_density;
   }
@@ -798,7 +920,12 @@ static PetscErrorCode DeriveGrid(MPI_Comm comm, const SceneInput *in, Scene *s)
     s->load.load_at[0] = s->spec.nx / 2;
     s->load.load_at[1] = s->spec.ny / 2;
   }
-  PetscCheck(s->load.load_at[0] >= 0 && s->load.load_at[0] < s->spec.nx && s->load.load_at[1] >= 0 && s->load.load_at[1] < s->spec.ny, comm, PETSC_ERR_USER_INPUT, "-point_load_at %" PetscInt_FMT ",%" PetscInt_FMT " is outside the %" PetscInt_FMT " x %" PetscInt_FMT " grid", s->load.load_at[0], s->load.load_at[1], s->spec.nx, s->spec.ny);
+  PetscCheck(s->load.load_at[0] >= 0 && s->load.load_at[0] < s->spec.nx && s->load.load_at[1] >= 0 &&
+                 s->load.load_at[1] < s->spec.ny,
+             comm, PETSC_ERR_USER_INPUT,
+             "-point_load_at %" PetscInt_FMT ",%" PetscInt_FMT " is outside the %" PetscInt_FMT " x %" PetscInt_FMT
+             " grid",
+             s->load.load_at[0], s->load.load_at[1], s->spec.nx, s->spec.ny);
   PetscFunctionReturn(0);
 }
 
@@ -809,7 +936,7 @@ PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s)
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(s, sizeof *s));
   PetscCall(ReadOptions(comm, in));
-  s->test = (TestType)in->test;
+  s->test = (TestType) in->test;
   PetscCall(DeriveOutput(comm, in, s));
   PetscCall(DeriveYarn(comm, &in->yarn[0], "warp", &s->yarns.warp));
   PetscCall(DeriveYarn(comm, &in->yarn[1], "weft", &s->yarns.weft));
@@ -817,8 +944,10 @@ PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s)
   DeriveTermsAndLoad(in, s);
   PetscCall(DeriveGrid(comm, in, s));
   PetscCall(DeriveBodies(comm, in, s));
-  PetscCall(DeriveLines(comm, "clamp_line_mm", in->clamp_line_mm, in->n_clamp_line_mm, &s->clamps.clamp_lines, s->clamps.clamp_line));
-  PetscCall(DeriveLines(comm, "grip_line_mm", in->grip_line_mm, in->n_grip_line_mm, &s->clamps.grip_lines, s->clamps.grip_line));
+  PetscCall(DeriveLines(comm, "clamp_line_mm", in->clamp_line_mm, in->n_clamp_line_mm, &s->clamps.clamp_lines,
+                        s->clamps.clamp_line));
+  PetscCall(DeriveLines(comm, "grip_line_mm", in->grip_line_mm, in->n_grip_line_mm, &s->clamps.grip_lines,
+                        s->clamps.grip_line));
   PetscCall(DerivePath(comm, in, &s->load));
   PetscCall(CheckTestOptions(comm, in, s));
   PetscFunctionReturn(0);

@@ -55,44 +55,44 @@ static inline unsigned char RefExists(const Patch *p, PetscInt li, PetscInt lj)
 static void RefZeroSegmentRow(SegmentRow *s, PetscInt c0, PetscInt c1)
 {
   PetscReal *a[] = {s->ux, s->uy, s->uz, s->inv_len, s->fx, s->fy, s->fz, s->T};
-  for (int k = 0; k < 8; k++) memset(a[k] + c0, 0, sizeof(PetscReal) * (size_t)(c1 - c0));
+  for (int k = 0; k < 8; k++) memset(a[k] + c0, 0, sizeof(PetscReal) * (size_t) (c1 - c0));
 }
 
 /* Segments a[i] -> b[i], c0 <= i < c1: chord and tension (MODEL.md 5.1). */
 static void RefComputeSegmentRow(const YarnLaw *law, PetscReal L0, PetscBool traction, PetscInt c0, PetscInt c1,
-    const PetscReal *restrict xa, const PetscReal *restrict xb, const unsigned char *ea, const unsigned char *eb,
-    const unsigned char *broken, SegmentRow *s)
+                                 const PetscReal *restrict xa, const PetscReal *restrict xb, const unsigned char *ea,
+                                 const unsigned char *eb, const unsigned char *broken, SegmentRow *s)
 {
   const PetscReal inv_L0 = 1.0 / L0;
 
   for (PetscInt i = c0; i < c1; i++) {
     const PetscReal dx = xb[3 * i] - xa[3 * i], dy = xb[3 * i + 1] - xa[3 * i + 1], dz = xb[3 * i + 2] - xa[3 * i + 2];
     const PetscReal L = PetscSqrtReal(dx * dx + dy * dy + dz * dz), e_raw = L * inv_L0 - 1.0;
-    const PetscReal e = PetscAbsReal(e_raw) < STRAIN_ROUNDOFF ? 0.0 : e_raw;
+    const PetscReal e     = PetscAbsReal(e_raw) < STRAIN_ROUNDOFF ? 0.0 : e_raw;
     const int       alive = ea[i] && eb[i] && !broken[i];
     const PetscReal inv   = alive ? 1.0 / L : 0.0;
     const PetscReal T     = (alive && traction) ? ChordTension(law, e) : 0.0;
-    s->ux[i] = dx * inv;
-    s->uy[i] = dy * inv;
-    s->uz[i] = dz * inv;
-    s->inv_len[i] = inv;
-    s->T[i]       = T;
-    s->fx[i]      = T * dx * inv;
-    s->fy[i]      = T * dy * inv;
-    s->fz[i]      = T * dz * inv;
+    s->ux[i]              = dx * inv;
+    s->uy[i]              = dy * inv;
+    s->uz[i]              = dz * inv;
+    s->inv_len[i]         = inv;
+    s->T[i]               = T;
+    s->fx[i]              = T * dx * inv;
+    s->fy[i]              = T * dy * inv;
+    s->fz[i]              = T * dz * inv;
   }
 }
 
 /* Bending centres c0 <= i < c1 with incoming chord s1[i] and outgoing chord s2[i] (MODEL.md 5.2). */
 static void RefComputeBendRow(PetscReal kb, PetscInt c0, PetscInt c1, const PetscReal *u1x, const PetscReal *u1y,
-    const PetscReal *u1z, const PetscReal *i1, const PetscReal *u2x, const PetscReal *u2y, const PetscReal *u2z,
-    const PetscReal *i2, BendRow *b, PetscInt off)
+                              const PetscReal *u1z, const PetscReal *i1, const PetscReal *u2x, const PetscReal *u2y,
+                              const PetscReal *u2z, const PetscReal *i2, BendRow *b, PetscInt off)
 {
   /* u2 - s u1 = (u1 x u2) x u1 and u1 - s u2 = u2 x (u1 x u2): the cross-product form has no
      cancellation for nearly straight yarns and is exactly zero for parallel chords */
   for (PetscInt i = c0; i < c1; i++) {
     const PetscReal cx = u1y[i] * u2z[i] - u1z[i] * u2y[i], cy = u1z[i] * u2x[i] - u1x[i] * u2z[i],
-        cz = u1x[i] * u2y[i] - u1y[i] * u2x[i];
+                    cz = u1x[i] * u2y[i] - u1y[i] * u2x[i];
     const PetscReal c1 = kb * i1[i], c2 = kb * i2[i];
     b->g1x[i + off] = c1 * (cy * u1z[i] - cz * u1y[i]);
     b->g1y[i + off] = c1 * (cz * u1x[i] - cx * u1z[i]);
@@ -114,28 +114,28 @@ static void RefComputeShearRow(const Patch *p, const PetscReal *x, PetscInt r, P
 
   if (lr < 0 || lr >= p->gym) { /* no crossing outside the patch */
     PetscReal *a[] = {sh->hwx, sh->hwy, sh->hwz, sh->hfx, sh->hfy, sh->hfz, sh->sx, sh->sy, sh->sz};
-    for (int k = 0; k < 9; k++) memset(a[k] + c0, 0, sizeof(PetscReal) * (size_t)(c1 - c0));
+    for (int k = 0; k < 9; k++) memset(a[k] + c0, 0, sizeof(PetscReal) * (size_t) (c1 - c0));
     return;
   }
   for (PetscInt li = c0; li < c1; li++) {
-    const int      self = RefExists(p, li, lr), hl = RefExists(p, li - 1, lr), hr = RefExists(p, li + 1, lr);
-    const int      hd = RefExists(p, li, lr - 1), hu = RefExists(p, li, lr + 1);
-    const PetscInt il = hl ? li - 1 : li, ir = hr ? li + 1 : li;
-    const PetscReal *xp = xr + 3 * ir, *xm = xr + 3 * il, *yp = hu ? xu + 3 * li : xr + 3 * li, *ym = hd ? xd
-        + 3 * li : xr + 3 * li;
+    const int        self = RefExists(p, li, lr), hl = RefExists(p, li - 1, lr), hr = RefExists(p, li + 1, lr);
+    const int        hd = RefExists(p, li, lr - 1), hu = RefExists(p, li, lr + 1);
+    const PetscInt   il = hl ? li - 1 : li, ir = hr ? li + 1 : li;
+    const PetscReal *xp = xr + 3 * ir, *xm = xr + 3 * il, *yp = hu ? xu + 3 * li : xr + 3 * li,
+                    *ym = hd ? xd + 3 * li : xr + 3 * li;
     const PetscReal twx = xp[0] - xm[0], twy = xp[1] - xm[1], twz = xp[2] - xm[2];
     const PetscReal tfx = yp[0] - ym[0], tfy = yp[1] - ym[1], tfz = yp[2] - ym[2];
     const int       active = self && (hl || hr) && (hd || hu);
-    const PetscReal iw = active ? 1.0 / PetscSqrtReal(twx * twx + twy * twy + twz * twz) : 0.0;
-    const PetscReal jf = active ? 1.0 / PetscSqrtReal(tfx * tfx + tfy * tfy + tfz * tfz) : 0.0;
+    const PetscReal iw     = active ? 1.0 / PetscSqrtReal(twx * twx + twy * twy + twz * twz) : 0.0;
+    const PetscReal jf     = active ? 1.0 / PetscSqrtReal(tfx * tfx + tfy * tfy + tfz * tfz) : 0.0;
     const PetscReal uwx = twx * iw, uwy = twy * iw, uwz = twz * iw, ufx = tfx * jf, ufy = tfy * jf, ufz = tfz * jf;
     const PetscReal s = uwx * ufx + uwy * ufy + uwz * ufz, as = PetscAbsReal(s);
     const PetscReal jam = as > sl ? (s > 0 ? as - sl : sl - as) : 0.0;
-    const PetscReal Ep = Ks * s + Kj * jam;
+    const PetscReal Ep  = Ks * s + Kj * jam;
     const PetscReal cw = Ep * iw, cf = Ep * jf;
     const PetscReal hwx = cw * (ufx - s * uwx), hwy = cw * (ufy - s * uwy), hwz = cw * (ufz - s * uwz);
     const PetscReal hfx = cf * (uwx - s * ufx), hfy = cf * (uwy - s * ufy), hfz = cf * (uwz - s * ufz);
-    const PetscReal aw = (PetscReal)(hr - hl), af = (PetscReal)(hu - hd);
+    const PetscReal aw = (PetscReal) (hr - hl), af = (PetscReal) (hu - hd);
     sh->hwx[li] = hwx;
     sh->hwy[li] = hwy;
     sh->hwz[li] = hwz;
@@ -158,8 +158,8 @@ static void RefYSegments(Patch *p, const PetscReal *x, PetscInt r, PetscInt c0, 
     RefZeroSegmentRow(s, c0, c1);
     return;
   }
-  RefComputeSegmentRow(p->weft, p->ay, p->traction, c0, c1, x + 3 * lr * n, x + 3 * (lr + 1) * n, p->exists
-      + lr * n, p->exists + (lr + 1) * n, p->broken_y + lr * n, s);
+  RefComputeSegmentRow(p->weft, p->ay, p->traction, c0, c1, x + 3 * lr * n, x + 3 * (lr + 1) * n, p->exists + lr * n,
+                       p->exists + (lr + 1) * n, p->broken_y + lr * n, s);
 }
 
 /* y-bending centres of row r: chords y(r-1) and y(r) */
@@ -167,11 +167,11 @@ static void RefYBending(Patch *p, PetscInt r, PetscInt c0, PetscInt c1)
 {
   const SegmentRow *a = &p->ys_ring[SLOT(r - 1)], *b = &p->ys_ring[SLOT(r)];
   RefComputeBendRow(p->kby, c0, c1, a->ux, a->uy, a->uz, a->inv_len, b->ux, b->uy, b->uz, b->inv_len,
-      &p->by_ring[SLOT(r)], 0);
+                    &p->by_ring[SLOT(r)], 0);
 }
 
 static void RefComputeInternalForces(Patch *p, const PetscReal *x, const PetscInt box[4], PetscReal *f,
-    PetscReal *tension_max)
+                                     PetscReal *tension_max)
 {
   const PetscInt  n = p->gxm, i0 = box[0] - p->gxs, i1 = box[1] - p->gxs, j0 = box[2], j1 = box[3];
   const PetscInt  c0 = PetscMax(i0 - 2, 0), c1 = PetscMin(i1 + 2, n); /* columns the box's forces need */
@@ -196,32 +196,33 @@ static void RefComputeInternalForces(Patch *p, const PetscReal *x, const PetscIn
     if (bend) RefYBending(p, j + 1, c0, c1);
     if (shear) RefComputeShearRow(p, x, j + 1, c0, c1, &p->sh_ring[SLOT(j + 1)]);
     RefComputeSegmentRow(p->warp, p->ax, p->traction, c0, PetscMin(c1, n - 1), x + 3 * lj * n, x + 3 * lj * n + 3,
-        p->exists + lj * n, p->exists + lj * n + 1, p->broken_x + lj * n, xs);
-    if (bend) RefComputeBendRow(p->kbx, c0, PetscMin(c1, n - 1) - 1, xs->ux, xs->uy, xs->uz, xs->inv_len, xs->ux
-        + 1, xs->uy + 1, xs->uz + 1, xs->inv_len + 1, &p->bx_row, 1);
+                         p->exists + lj * n, p->exists + lj * n + 1, p->broken_x + lj * n, xs);
+    if (bend)
+      RefComputeBendRow(p->kbx, c0, PetscMin(c1, n - 1) - 1, xs->ux, xs->uy, xs->uz, xs->inv_len, xs->ux + 1,
+                        xs->uy + 1, xs->uz + 1, xs->inv_len + 1, &p->bx_row, 1);
 
     /* gather: each point of row j in the box sums its terms in a fixed order */
     {
       const SegmentRow *yd = &p->ys_ring[SLOT(j - 1)], *yu = &p->ys_ring[SLOT(j)];
       PetscReal *restrict fr = f + 3 * (j - p->ys) * p->xm - 3 * (p->xs - p->gxs);
       for (PetscInt i = i0; i < i1; i++) {
-        fr[3 * i]     = xs->fx[i] - xs->fx[i - 1] + yu->fx[i] - yd->fx[i];
-        fr[3 * i + 1] = xs->fy[i] - xs->fy[i - 1] + yu->fy[i] - yd->fy[i];
-        fr[3 * i + 2] = xs->fz[i] - xs->fz[i - 1] + yu->fz[i] - yd->fz[i];
+        fr[3 * i]         = xs->fx[i] - xs->fx[i - 1] + yu->fx[i] - yd->fx[i];
+        fr[3 * i + 1]     = xs->fy[i] - xs->fy[i - 1] + yu->fy[i] - yd->fy[i];
+        fr[3 * i + 2]     = xs->fz[i] - xs->fz[i - 1] + yu->fz[i] - yd->fz[i];
         const PetscReal t = PetscMax(PetscMax(PetscAbsReal(xs->T[i]), PetscAbsReal(xs->T[i - 1])),
-            PetscMax(PetscAbsReal(yu->T[i]), PetscAbsReal(yd->T[i])));
-        tmax = PetscMax(tmax, t);
+                                     PetscMax(PetscAbsReal(yu->T[i]), PetscAbsReal(yd->T[i])));
+        tmax              = PetscMax(tmax, t);
       }
       if (bend) {
         const BendRow *bx = &p->bx_row, *bd = &p->by_ring[SLOT(j - 1)], *bc = &p->by_ring[SLOT(j)],
-            *bu = &p->by_ring[SLOT(j + 1)];
+                      *bu = &p->by_ring[SLOT(j + 1)];
         for (PetscInt i = i0; i < i1; i++) {
-          fr[3 * i] += bx->g2x[i - 1] + bx->g1x[i] - bx->g2x[i] - bx->g1x[i + 1] + bd->g2x[i] + bc->g1x[i]
-              - bc->g2x[i] - bu->g1x[i];
-          fr[3 * i + 1] += bx->g2y[i - 1] + bx->g1y[i] - bx->g2y[i] - bx->g1y[i + 1] + bd->g2y[i] + bc->g1y[i]
-              - bc->g2y[i] - bu->g1y[i];
-          fr[3 * i + 2] += bx->g2z[i - 1] + bx->g1z[i] - bx->g2z[i] - bx->g1z[i + 1] + bd->g2z[i] + bc->g1z[i]
-              - bc->g2z[i] - bu->g1z[i];
+          fr[3 * i] += bx->g2x[i - 1] + bx->g1x[i] - bx->g2x[i] - bx->g1x[i + 1] + bd->g2x[i] + bc->g1x[i] -
+                       bc->g2x[i] - bu->g1x[i];
+          fr[3 * i + 1] += bx->g2y[i - 1] + bx->g1y[i] - bx->g2y[i] - bx->g1y[i + 1] + bd->g2y[i] + bc->g1y[i] -
+                           bc->g2y[i] - bu->g1y[i];
+          fr[3 * i + 2] += bx->g2z[i - 1] + bx->g1z[i] - bx->g2z[i] - bx->g1z[i + 1] + bd->g2z[i] + bc->g1z[i] -
+                           bc->g2z[i] - bu->g1z[i];
         }
       }
       if (shear) {
@@ -239,7 +240,7 @@ static void RefComputeInternalForces(Patch *p, const PetscReal *x, const PetscIn
 /* ---------------- stable step: Gershgorin bound of the tangent stiffness ---------------- */
 
 typedef struct {
-  PetscReal L;   /* chord length */
+  PetscReal L; /* chord length */
   int       alive;
 } RefChord;
 
@@ -260,7 +261,7 @@ static inline int RefExistsG(const Patch *p, PetscInt i, PetscInt j)
 /* chord from (i,j) along x (dir 0) or y (dir 1) */
 static RefChord RefChordAt(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j, int dir)
 {
-  RefChord          c  = {0.0, 0};
+  RefChord       c  = {0.0, 0};
   const PetscInt i2 = i + (dir == 0), j2 = j + (dir == 1);
   if (!RefExistsG(p, i, j) || !RefExistsG(p, i2, j2)) return c;
   const unsigned char *broken = dir == 0 ? p->broken_x : p->broken_y;
@@ -278,7 +279,7 @@ static int RefCrossingShear(const Patch *p, const PetscReal *x, PetscInt i, Pets
 {
   if (!RefExistsG(p, i, j)) return 0;
   const int hl = RefExistsG(p, i - 1, j), hr = RefExistsG(p, i + 1, j), hd = RefExistsG(p, i, j - 1),
-      hu = RefExistsG(p, i, j + 1);
+            hu = RefExistsG(p, i, j + 1);
   if (!(hl || hr) || !(hd || hu)) return 0;
   const PetscReal *xp = RefPos(p, x, hr ? i + 1 : i, j), *xm = RefPos(p, x, hl ? i - 1 : i, j);
   const PetscReal *yp = RefPos(p, x, i, hu ? j + 1 : j), *ym = RefPos(p, x, i, hd ? j - 1 : j);
@@ -288,7 +289,7 @@ static int RefCrossingShear(const Patch *p, const PetscReal *x, PetscInt i, Pets
     tf[d] = yp[d] - ym[d];
   }
   const PetscReal nw = PetscSqrtReal(tw[0] * tw[0] + tw[1] * tw[1] + tw[2] * tw[2]),
-      nf = PetscSqrtReal(tf[0] * tf[0] + tf[1] * tf[1] + tf[2] * tf[2]);
+                  nf = PetscSqrtReal(tf[0] * tf[0] + tf[1] * tf[1] + tf[2] * tf[2]);
   if (!(nw > 0 && nf > 0)) return 0;
   *s    = PetscMax(-1.0, PetscMin(1.0, (tw[0] * tf[0] + tw[1] * tf[1] + tw[2] * tf[2]) / (nw * nf)));
   *tmin = PetscMin(nw, nf);
@@ -303,12 +304,12 @@ static PetscReal RefShearRowBound(const Patch *p, const PetscReal *x, PetscInt i
 {
   PetscReal s, tmin;
   if (!RefCrossingShear(p, x, i, j, &s, &tmin)) return 0.0;
-  return (p->Ks + (PetscAbsReal(s) + window >= p->s_lock ? p->Kj : 0.0)) * (4.0
-      + 12.0 * PetscAbsReal(s)) / (tmin * tmin);
+  return (p->Ks + (PetscAbsReal(s) + window >= p->s_lock ? p->Kj : 0.0)) * (4.0 + 12.0 * PetscAbsReal(s)) /
+         (tmin * tmin);
 }
 
 static PetscReal RefStableOmega2(const Patch *p, const PetscReal *x, const PetscReal *inv_m, PetscReal window,
-    int pull_dir, PetscReal *omega2_pull)
+                                 int pull_dir, PetscReal *omega2_pull)
 {
   PetscReal omega2 = 0.0, pull2 = 0.0;
 
@@ -319,16 +320,17 @@ static PetscReal RefStableOmega2(const Patch *p, const PetscReal *x, const Petsc
       if (im <= 0.0) continue;
       /* traction: a spring adds 2 max(dT/de / L0, T/L) to each end's row */
       for (int dir = 0; dir < 2; dir++) {
-        const YarnLaw *law = dir == 0 ? p->warp : p->weft;
-        const PetscReal L0 = dir == 0 ? p->ax : p->ay;
+        const YarnLaw  *law = dir == 0 ? p->warp : p->weft;
+        const PetscReal L0  = dir == 0 ? p->ax : p->ay;
         for (int side = -1; side <= 0; side++) {
           const PetscInt ia = i + (dir == 0 ? side : 0), ja = j + (dir == 1 ? side : 0);
-          const RefChord    c  = RefChordAt(p, x, ia, ja, dir);
+          const RefChord c = RefChordAt(p, x, ia, ja, dir);
           if (!c.alive || !p->traction) continue;
           const PetscReal e = c.L / L0 - 1.0, T = ChordTension(law, e);
           rs += 2.0 * PetscMax(ChordTangentMax(law, e - window, e + window) / L0, PetscAbsReal(T) / c.L);
-          if (dir == pull_dir) rp += 2.0 * PetscMax(ChordTangentMax(law, e, e + 0.005) / L0,
-              PetscAbsReal(T) / c.L); /* current stiffness, tension side */
+          if (dir == pull_dir)
+            rp += 2.0 * PetscMax(ChordTangentMax(law, e, e + 0.005) / L0,
+                                 PetscAbsReal(T) / c.L); /* current stiffness, tension side */
         }
       }
       /* bending: centre c in {p-1, p, p+1}; row sums 12, 24, 12 times kb / Lmin^2, with
@@ -339,8 +341,8 @@ static PetscReal RefStableOmega2(const Patch *p, const PetscReal *x, const Petsc
           const PetscReal Lc = (1.0 + (dir == 0 ? p->warp : p->weft)->e_contact) * (dir == 0 ? p->ax : p->ay);
           for (int k = -1; k <= 1; k++) {
             const PetscInt ic = i + (dir == 0 ? k : 0), jc = j + (dir == 1 ? k : 0);
-            const RefChord    c1 = RefChordAt(p, x, ic - (dir == 0), jc - (dir == 1), dir), c2 = RefChordAt(p, x,
-                ic, jc, dir);
+            const RefChord c1 = RefChordAt(p, x, ic - (dir == 0), jc - (dir == 1), dir),
+                           c2 = RefChordAt(p, x, ic, jc, dir);
             if (!c1.alive || !c2.alive) continue;
             const PetscReal Lmin = PetscMin(PetscMin(c1.L, c2.L), Lc);
             rs += kb * (k == 0 ? 24.0 : 12.0) / (Lmin * Lmin);
@@ -349,10 +351,11 @@ static PetscReal RefStableOmega2(const Patch *p, const PetscReal *x, const Petsc
       }
       /* shear: the crossings that involve this point */
       if (p->shear) {
-        rs += RefShearRowBound(p, x, i - 1, j, window) + RefShearRowBound(p, x, i + 1, j, window)
-            + RefShearRowBound(p, x, i, j - 1, window) + RefShearRowBound(p, x, i, j + 1, window);
-        if (!RefExistsG(p, i - 1, j) || !RefExistsG(p, i + 1, j) || !RefExistsG(p, i, j - 1) || !RefExistsG(p, i,
-            j + 1)) rs += RefShearRowBound(p, x, i, j, window);
+        rs += RefShearRowBound(p, x, i - 1, j, window) + RefShearRowBound(p, x, i + 1, j, window) +
+              RefShearRowBound(p, x, i, j - 1, window) + RefShearRowBound(p, x, i, j + 1, window);
+        if (!RefExistsG(p, i - 1, j) || !RefExistsG(p, i + 1, j) || !RefExistsG(p, i, j - 1) ||
+            !RefExistsG(p, i, j + 1))
+          rs += RefShearRowBound(p, x, i, j, window);
       }
       rs += p->k_contact; /* a rigid body's penalty spring, whether in contact or not */
       omega2 = PetscMax(omega2, rs * im);
@@ -365,7 +368,10 @@ static PetscReal RefStableOmega2(const Patch *p, const PetscReal *x, const Petsc
 
 /* ============ forces against an energy written here (linear laws, sharp kinks) ============ */
 
-static int Ex(const Patch *p, int i, int j) { return i >= 0 && i < NX && j >= 0 && j < NY && p->exists[j * NX + i]; }
+static int Ex(const Patch *p, int i, int j)
+{
+  return i >= 0 && i < NX && j >= 0 && j < NY && p->exists[j * NX + i];
+}
 
 /* traction energy per unit rest length: W(e) = integral of T(e) de (linear laws) */
 static double W(const YarnLaw *y, double e)
@@ -382,14 +388,14 @@ static double Dist(const double *a, const double *b)
   return sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) + (b[2] - a[2]) * (b[2] - a[2]));
 }
 
-#define X(i, j) (x + 3 * ((j) * NX + (i)))
+#define X(i, j) (x + 3 * ((j) *NX + (i)))
 
 /* bending energy of centre (i,j) along x (dir 0) or y (dir 1) */
 static double BendEnergy(const Patch *p, const double *x, int i, int j, int dir)
 {
   const int     di = dir == 0, dj = dir == 1;
   const double *a = X(i - di, j - dj), *b = X(i, j), *c = X(i + di, j + dj);
-  double        e1[3], e2[3], s = 0;
+  double        e1[3], e2[3], s                         = 0;
   if (!Ex(p, i - di, j - dj) || !Ex(p, i + di, j + dj)) return 0;
   for (int d = 0; d < 3; d++) e1[d] = b[d] - a[d], e2[d] = c[d] - b[d];
   for (int d = 0; d < 3; d++) s += e1[d] * e2[d];
@@ -434,8 +440,8 @@ static void CountRegimes(const Patch *p, const double *x, int *compressed, int *
   for (int j = 0; j < NY; j++)
     for (int i = 0; i + 1 < NX; i++)
       if (Ex(p, i, j) && Ex(p, i + 1, j)) {
-        double e = Dist(X(i, j), X(i + 1, j)) / p->ax - 1;
-        *compressed += e < 0, *extended += e > p->warp->crimp, *contact += e < p->warp->e_contact;
+        double                              e = Dist(X(i, j), X(i + 1, j)) / p->ax - 1;
+        *compressed += e<0, *extended += e> p->warp->crimp, *contact += e < p->warp->e_contact;
       }
   for (int j = 1; j + 1 < NY; j++)
     for (int i = 1; i + 1 < NX; i++) {
@@ -476,7 +482,7 @@ static PetscErrorCode PatchFree(Patch *p)
 static PetscErrorCode TestForces(void)
 {
   YarnLaw warp = {0}, weft = {0};
-  Patch   p    = {0};
+  Patch   p = {0};
   double  x[3 * NP], f[3 * NP], tmax, fbig = 0, errmax = 0;
   int     jammed, compressed, extended, contact;
 
@@ -501,19 +507,19 @@ static PetscErrorCode TestForces(void)
   {
     const PetscInt box[4] = {0, NX, 0, NY};
     ComputeInternalForces(&p, x, box, f, &tmax);
-    Check("kernel energy (InternalEnergy) vs the energy written here, relative", fabs(InternalEnergy(&p, x, box) -
-          Energy(&p, x)) / Energy(&p, x), 1e-13);
+    Check("kernel energy (InternalEnergy) vs the energy written here, relative",
+          fabs(InternalEnergy(&p, x, box) - Energy(&p, x)) / Energy(&p, x), 1e-13);
   }
   for (int k = 0; k < 3 * NP; k++) {
     const double h = 1e-6 * p.ax, keep = x[k];
     double       Ep, Em, fd;
     if (!p.exists[k / 3]) continue;
-    x[k] = keep + h;
-    Ep   = Energy(&p, x);
-    x[k] = keep - h;
-    Em   = Energy(&p, x);
-    x[k] = keep;
-    fd   = -(Ep - Em) / (2 * h);
+    x[k]   = keep + h;
+    Ep     = Energy(&p, x);
+    x[k]   = keep - h;
+    Em     = Energy(&p, x);
+    x[k]   = keep;
+    fd     = -(Ep - Em) / (2 * h);
     fbig   = fbig > fabs(fd) ? fbig : fabs(fd);
     errmax = errmax > fabs(fd - f[k]) ? errmax : fabs(fd - f[k]);
   }
@@ -532,7 +538,8 @@ static PetscErrorCode TestForces(void)
     Check("forces on sub-boxes equal the full sweep's (bit-identical: max difference)", worst, 0.0);
   }
   printf("segments along x: %d compressed (%d in contact), %d in yarn extension; %d jammed crossings; "
-         "largest force %.3e N\n", compressed, contact, extended, jammed, fbig);
+         "largest force %.3e N\n",
+         compressed, contact, extended, jammed, fbig);
   Check("kernel force vs -grad(energy) by central differences, max error / max force", errmax / fbig, 1e-6);
   Check("distorted state has compressed, in-contact, extended segments and jammed crossings (0 = yes)",
         (compressed > 0 && contact > 0 && extended > 0 && jammed > 0) ? 0 : 1, 0);
@@ -560,7 +567,7 @@ static PetscErrorCode LawsSetUp(YarnLaw *warp, YarnLaw *weft, const char *csv)
 /* the law's kinks and blend ends (where dT/de jumps) and the end of its table; returns how many */
 static int LawBreaks(const YarnLaw *y, double ends[10])
 {
-  int n = 0;
+  int n     = 0;
   ends[n++] = y->e_contact, ends[n++] = 0.0, ends[n++] = y->crimp;
   for (PetscInt k = 0; k < y->nblend; k++) ends[n++] = y->blend[k].lo, ends[n++] = y->blend[k].hi;
   if (y->ntab) ends[n++] = y->crimp + y->tab_end * (1 + y->crimp);
@@ -638,14 +645,14 @@ static PetscErrorCode TestLaw(const char *csv)
 {
   YarnLaw       warp = {0}, weft = {0}, sharp = {0};
   unsigned char one = 1;
-  Patch   p    = {0};
+  Patch         p   = {0};
 
   PetscFunctionBeginUser;
   PetscCall(LawsSetUp(&warp, &weft, csv));
   p.warp = &warp, p.weft = &weft, p.exists = &one, p.gxm = p.gym = 1;
   PetscCall(PatchSetUp(&p)); /* the warp law's integral table */
   printf("laws: warp %s, %" PetscInt_FMT " blends, EA %.4g N; weft linear, %" PetscInt_FMT " blends\n",
-         warp.ntab ? "tabulated" : "linear", warp.nblend, (double)warp.EA, weft.nblend);
+         warp.ntab ? "tabulated" : "linear", warp.nblend, (double) warp.EA, weft.nblend);
   CheckLaw("warp law", &warp, p.yarn_integral[0]);
   CheckLaw("weft law", &weft, NULL);
   sharp = weft, sharp.nblend = 0; /* sharp kinks */
@@ -676,10 +683,10 @@ static PetscErrorCode RichPatch(Patch *p, const YarnLaw *warp, const YarnLaw *we
   PetscCall(PetscCalloc1(NP, &p->broken_x));
   PetscCall(PetscCalloc1(NP, &p->broken_y));
   for (int k = 0; k < NP; k++) p->exists[k] = 1;
-  p->exists[3 * NX + 4] = 0; /* a hole */
+  p->exists[3 * NX + 4] = 0;                                /* a hole */
   p->exists[0] = p->exists[NX - 1] = p->exists[NP - 1] = 0; /* cut corners */
-  p->broken_x[4 * NX + 2] = 1; /* segment (2,4)-(3,4) */
-  p->broken_y[2 * NX + 6] = 1; /* segment (6,2)-(6,3) */
+  p->broken_x[4 * NX + 2]                              = 1; /* segment (2,4)-(3,4) */
+  p->broken_y[2 * NX + 6]                              = 1; /* segment (6,2)-(6,3) */
   PetscCall(PatchSetUp(p));
   PetscFunctionReturn(0);
 }
@@ -695,8 +702,10 @@ static void Forces(Patch *p, const ForceTerm *t, const double *x, double *f)
   PetscInt  box[4];
   PetscReal tm;
   OwnedBox(p, box);
-  if (t) t->forces(p, x, box, f);
-  else ComputeInternalForces(p, x, box, f, &tm);
+  if (t)
+    t->forces(p, x, box, f);
+  else
+    ComputeInternalForces(p, x, box, f, &tm);
 }
 
 static double EnergyOf(const Patch *p, const ForceTerm *t, const double *x, const PetscInt box[4])
@@ -704,7 +713,10 @@ static double EnergyOf(const Patch *p, const ForceTerm *t, const double *x, cons
   return t ? TermEnergy(t, p, x, box) : InternalEnergy(p, x, box);
 }
 
-static const char *NameOf(const ForceTerm *t) { return t ? t->name : "all terms"; }
+static const char *NameOf(const ForceTerm *t)
+{
+  return t ? t->name : "all terms";
+}
 
 /* (a) forces = -grad(energy), central differences with step 1e-6 of the chord */
 static void CheckGradient(Patch *p, const ForceTerm *t, double *x)
@@ -760,7 +772,7 @@ typedef struct {
 
 static PetscErrorCode AddDense(void *ctx, PetscInt n, const PetscInt i[], const PetscInt j[], const PetscReal K[])
 {
-  Dense *d = (Dense *)ctx;
+  Dense *d = (Dense *) ctx;
   PetscFunctionBeginUser;
   for (PetscInt a = 0; a < n; a++)
     for (PetscInt b = 0; b < n; b++) {
@@ -776,8 +788,10 @@ static PetscErrorCode DenseTangent(const Patch *p, const ForceTerm *t, const dou
 {
   Dense d = {p, K};
   PetscFunctionBeginUser;
-  if (t) PetscCall(TermTangent(t, p, x, box, AddDense, &d));
-  else PetscCall(InternalTangent(p, x, box, AddDense, &d));
+  if (t)
+    PetscCall(TermTangent(t, p, x, box, AddDense, &d));
+  else
+    PetscCall(InternalTangent(p, x, box, AddDense, &d));
   PetscFunctionReturn(0);
 }
 
@@ -838,8 +852,8 @@ static PetscErrorCode CheckMat(const Patch *p, const double *x, const double *K)
     PetscCall(MatGetValues(A, 1, &m, N, cols, row));
     for (int k = 0; k < N; k++) err = fmax(err, fabs(row[k] - K[m * N + k]));
   }
-  Check("(b) DMDA matrix (TermBlocksAddToMat) vs the dense tangent, max difference / max entry",
-        err / MaxAbs(K, N * N), 1e-14);
+  Check("(b) DMDA matrix (TermBlocksAddToMat) vs the dense tangent, max difference / max entry", err / MaxAbs(K, N * N),
+        1e-14);
   PetscCall(MatDestroy(&A));
   PetscCall(DMDestroy(&da));
   PetscFunctionReturn(0);
@@ -849,7 +863,7 @@ static PetscErrorCode CheckMat(const Patch *p, const double *x, const double *K)
 static PetscErrorCode CheckPartition(const Patch *p, const double *x, const double *K)
 {
   const PetscInt full[4] = {0, NX, 0, NY}, parts[3][4] = {{0, 4, 0, 3}, {4, NX, 0, 3}, {0, NX, 3, NY}};
-  const int      N       = 3 * NP;
+  const int      N = 3 * NP;
   double        *Ks, E = 0, err = 0;
 
   PetscFunctionBeginUser;
@@ -861,8 +875,7 @@ static PetscErrorCode CheckPartition(const Patch *p, const double *x, const doub
   for (int m = 0; m < N * N; m++) err = fmax(err, fabs(Ks[m] - K[m]));
   Check("energy over three sub-boxes vs the whole patch's, relative",
         fabs(E - InternalEnergy(p, x, full)) / InternalEnergy(p, x, full), 1e-14);
-  Check("tangent over three sub-boxes vs the whole patch's, max difference / max entry", err / MaxAbs(K, N * N),
-        1e-14);
+  Check("tangent over three sub-boxes vs the whole patch's, max difference / max entry", err / MaxAbs(K, N * N), 1e-14);
   PetscCall(PetscFree(Ks));
   PetscFunctionReturn(0);
 }
@@ -876,12 +889,18 @@ static int RichRegimes(const Patch *p, const double *x)
       const double *a = x + 3 * (j * NX + i), *b = a + 3;
       const double  e = Dist(a, b) / p->ax - 1, ey = (1 + e) / (1 + p->warp->crimp) - 1;
       if (!p->exists[j * NX + i] || !p->exists[j * NX + i + 1]) continue;
-      if (p->broken_x[j * NX + i]) n[8]++;
-      else if (e < p->warp->e_contact) n[0]++;
-      else if (e < 0) n[1]++;
-      else if (e < p->warp->crimp) n[2]++;
-      else if (ey < p->warp->tab_end) n[3]++;
-      else n[4]++;
+      if (p->broken_x[j * NX + i])
+        n[8]++;
+      else if (e < p->warp->e_contact)
+        n[0]++;
+      else if (e < 0)
+        n[1]++;
+      else if (e < p->warp->crimp)
+        n[2]++;
+      else if (ey < p->warp->tab_end)
+        n[3]++;
+      else
+        n[4]++;
       for (PetscInt k = 0; k < p->warp->nblend; k++) n[5] += e >= p->warp->blend[k].lo && e <= p->warp->blend[k].hi;
     }
   for (int j = 0; j < NY; j++)
@@ -899,7 +918,7 @@ static int RichRegimes(const Patch *p, const double *x)
 
 static PetscErrorCode CountBlocks(void *ctx, PetscInt n, const PetscInt i[], const PetscInt j[], const PetscReal K[])
 {
-  (*(int *)ctx)++;
+  (*(int *) ctx)++;
   return 0;
 }
 
@@ -915,7 +934,8 @@ static PetscErrorCode TestTerms(const char *csv)
   PetscCall(RichPatch(&p, &warp, &weft, 0));
   DistortedState(&p, x, 2024);
   Check("rich patch has contact, compression, de-crimping, table, beyond-table, broken segments, jammed and "
-        "free crossings (0 = yes)", RichRegimes(&p, x), 0);
+        "free crossings (0 = yes)",
+        RichRegimes(&p, x), 0);
   PetscCall(PetscMalloc1(9 * NP * NP, &K));
   for (int t = 0; t < INTERNAL_TERMS; t++) {
     PetscCall(PetscArrayzero(K, 9 * NP * NP));
@@ -950,7 +970,7 @@ static void RandomMasses(const Patch *p, double *inv_m)
   for (int lj = 0; lj < p->ym; lj++)
     for (int li = 0; li < p->xm; li++) {
       const int k = (p->ys - p->gys + lj) * p->gxm + p->xs - p->gxs + li, r = rand();
-      inv_m[lj * p->xm + li] = !p->exists[k] || r % 7 == 0 ? 0.0 : 1.0 / (1e-6 * (1.0 + (double)r / RAND_MAX));
+      inv_m[lj * p->xm + li] = !p->exists[k] || r % 7 == 0 ? 0.0 : 1.0 / (1e-6 * (1.0 + (double) r / RAND_MAX));
     }
 }
 
@@ -1020,8 +1040,8 @@ static PetscErrorCode TestIdentity(const char *csv)
   }
   printf("identity: %d cases (2 patches x 3 states x 8 switch settings; 3 boxes, 6 bound settings, every row)\n",
          cases);
-  Check("(c) StableOmega2 and each row as the sum of the terms' bound_row vs the reference: bit differences",
-        bad[1], 0);
+  Check("(c) StableOmega2 and each row as the sum of the terms' bound_row vs the reference: bit differences", bad[1],
+        0);
   Check("(d) ComputeInternalForces (forces, tension_max) vs the reference pipeline: bit differences", bad[0], 0);
   PetscCall(YarnLawDestroy(&warp));
   PetscFunctionReturn(0);

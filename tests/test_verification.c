@@ -1,7 +1,8 @@
 /* test_verification.c - the verification cases of MODEL.md 12, each against an exact answer.
  *
  *   test_verification -case linear_strip|crimp_knee|wave_speed|transverse_load|
- *                           stable_095|unstable_110|paper_parasitic|square_net|bias_extension|plane_rest|pedestal_rest|friction_incline|
+ *                           stable_095|unstable_110|paper_parasitic|square_net|bias_extension|plane_rest|
+ *                           pedestal_rest|friction_incline|
  *                           grip_lines|grip_path|drape_measure
  */
 #include "comm.h"
@@ -18,7 +19,8 @@ static void CheckRel(const char *what, double value, double expected, double tol
 {
   double err = fabs(value - expected) / fabs(expected);
   int    ok  = err <= tol_rel;
-  PetscPrintf(PETSC_COMM_WORLD, "%s %s: %.9g, expected %.9g, relative error %.3e (tolerance %.1e)\n", ok ? "PASS" : "FAIL", what, value, expected, err, tol_rel);
+  PetscPrintf(PETSC_COMM_WORLD, "%s %s: %.9g, expected %.9g, relative error %.3e (tolerance %.1e)\n",
+              ok ? "PASS" : "FAIL", what, value, expected, err, tol_rel);
   if (!ok) failures++;
 }
 
@@ -41,21 +43,25 @@ static PetscErrorCode NewFabric(const char *opts, Fabric *fab)
 #define BASE "-gravity 0,0,0 -output_dir none -quiet -warp_break_pct 0 -weft_break_pct 0 "
 /* one yarn along x, no crimp, tension linear through zero (compression ratio 1); the grip
    steps at once (a step response) */
-#define ONE_YARN BASE "-yarns 1 -gauge_mm 100 -warp_crimp_pct 0 -warp_compression_ratio 1 -bending 0 -shear 0 -grip_ramp_steps 0 "
+#define ONE_YARN \
+  BASE "-yarns 1 -gauge_mm 100 -warp_crimp_pct 0 -warp_compression_ratio 1 -bending 0 -shear 0 -grip_ramp_steps 0 "
 
-/* Linear strip (no crimp): reaction = n_yarns * EA * strain, within 1e-6 (the load steps balance to 1e-7). No prediction:
-   the damped relaxation has to find the balance itself. */
+/* Linear strip (no crimp): reaction = n_yarns * EA * strain, within 1e-6 (the load steps balance to 1e-7). No
+   prediction: the damped relaxation has to find the balance itself. */
 static PetscErrorCode LinearStrip(void)
 {
   Fabric fab;
 
   PetscFunctionBeginUser;
-  PetscCall(NewFabric(BASE "-yarns 10 -gauge_mm 20 -warp_crimp_pct 0 -elongation_pct 2 -load_steps 4 -predict none -balance_tol 1e-7 -speed_tol 1e-7", &fab));
+  PetscCall(NewFabric(BASE "-yarns 10 -gauge_mm 20 -warp_crimp_pct 0 -elongation_pct 2 -load_steps 4 -predict none "
+                           "-balance_tol 1e-7 -speed_tol 1e-7",
+                      &fab));
   PetscCall(FabricRun(fab));
   for (PetscInt q = 0; q < fab->s.load.load_steps; q++) {
     const CurveRow *r = &fab->stats.curve[q];
     char            what[64];
-    PetscCall(PetscSNPrintf(what, sizeof what, "linear strip force at %.2f %% (N' %d)", (double)(100 * r->elongation), (int)r->inner_steps));
+    PetscCall(PetscSNPrintf(what, sizeof what, "linear strip force at %.2f %% (N' %d)", (double) (100 * r->elongation),
+                            (int) r->inner_steps));
     CheckRel(what, r->force, 10 * fab->s.yarns.warp.EA * r->elongation, 1e-6);
   }
   PetscCall(FabricDestroy(&fab));
@@ -71,12 +77,14 @@ static PetscErrorCode CrimpKnee(void)
   PetscReal s1, s2, e1, e2, f1, f2, knee;
 
   PetscFunctionBeginUser;
-  PetscCall(NewFabric(BASE "-yarns 6 -gauge_mm 20 -warp_crimp_pct 8 -elongation_pct 16 -load_steps 16 -predict none -balance_tol 1e-7 -speed_tol 1e-7", &fab));
+  PetscCall(NewFabric(BASE "-yarns 6 -gauge_mm 20 -warp_crimp_pct 8 -elongation_pct 16 -load_steps 16 -predict none "
+                           "-balance_tol 1e-7 -speed_tol 1e-7",
+                      &fab));
   PetscCall(FabricRun(fab));
   {
     const CurveRow *c = fab->stats.curve;
-    s1 = (c[2].force - c[1].force) / (c[2].elongation - c[1].elongation); /* 2-3 %: de-crimping */
-    s2 = (c[15].force - c[14].force) / (c[15].elongation - c[14].elongation); /* 15-16 %: extension */
+    s1                = (c[2].force - c[1].force) / (c[2].elongation - c[1].elongation);     /* 2-3 %: de-crimping */
+    s2                = (c[15].force - c[14].force) / (c[15].elongation - c[14].elongation); /* 15-16 %: extension */
     e1 = c[1].elongation, f1 = c[1].force, e2 = c[14].elongation, f2 = c[14].force;
   }
   knee = (f2 - f1 + s1 * e1 - s2 * e2) / (s1 - s2);
@@ -110,7 +118,8 @@ static PetscErrorCode WaveSpeed(void)
   PetscInt  n1 = 60, n2 = 180, nx;
 
   PetscFunctionBeginUser;
-  PetscCall(NewFabric(ONE_YARN "-elongation_pct 0.01 -load_steps 1 -damping_ratio 0 -predict none -early_exit 0", &fab));
+  PetscCall(
+      NewFabric(ONE_YARN "-elongation_pct 0.01 -load_steps 1 -damping_ratio 0 -predict none -early_exit 0", &fab));
   nx = fab->s.spec.nx;
   PetscCall(ApplyLoadStep(fab, 1));
   D = fab->load.travel;
@@ -137,7 +146,9 @@ static PetscErrorCode TransverseLoad(void)
   PetscInt           mid;
 
   PetscFunctionBeginUser;
-  PetscCall(NewFabric(ONE_YARN "-gauge_mm 20 -elongation_pct 0 -point_load_N 0,0,0.05 -load_steps 10 -predict none -balance_tol 1e-8 -speed_tol 1e-8 -damping_ratio 0.05", &fab));
+  PetscCall(NewFabric(ONE_YARN "-gauge_mm 20 -elongation_pct 0 -point_load_N 0,0,0.05 -load_steps 10 -predict none "
+                               "-balance_tol 1e-8 -speed_tol 1e-8 -damping_ratio 0.05",
+                      &fab));
   PetscCall(FabricRun(fab));
   mid = fab->s.load.load_at[0];
   PetscCheck(2 * mid == fab->s.spec.nx - 1, PETSC_COMM_SELF, PETSC_ERR_PLIB, "the load is not at the middle");
@@ -147,7 +158,7 @@ static PetscErrorCode TransverseLoad(void)
   l0 = mid * fab->grid.patch.ax;
   l  = PetscSqrtReal(l0 * l0 + d * d);
   EA = fab->s.yarns.warp.EA;
-  CheckTrue("every load step balanced", fab->stats.converged, (double)fab->stats.converged);
+  CheckTrue("every load step balanced", fab->stats.converged, (double) fab->stats.converged);
   CheckRel("transverse load from the midpoint deflection (N)", 2 * EA * (l / l0 - 1) * d / l, P, 1e-6);
   PetscCall(FabricDestroy(&fab));
   PetscFunctionReturn(0);
@@ -176,16 +187,20 @@ static PetscErrorCode Stable095(void)
   PetscReal D, umax = 0;
 
   PetscFunctionBeginUser;
-  PetscCall(NewFabric(ONE_YARN "-elongation_pct 0.01 -load_steps 1 -damping_ratio 0 -predict none -early_exit 0 -te_safety 0.95", &fab));
+  PetscCall(NewFabric(ONE_YARN
+                      "-elongation_pct 0.01 -load_steps 1 -damping_ratio 0 -predict none -early_exit 0 -te_safety 0.95",
+                      &fab));
   PetscCall(ApplyLoadStep(fab, 1));
   D = fab->load.travel;
-  PetscPrintf(PETSC_COMM_WORLD, "te = %g s = 0.95 x bound %g s; exact chain limit 2/omega = %g s\n", (double)fab->step.te, (double)fab->step.te_bound, (double)(2 / ChainOmegaMax(fab)));
+  PetscPrintf(PETSC_COMM_WORLD, "te = %g s = 0.95 x bound %g s; exact chain limit 2/omega = %g s\n",
+              (double) fab->step.te, (double) fab->step.te_bound, (double) (2 / ChainOmegaMax(fab)));
   for (PetscInt n = 1; n <= 10000; n++) {
     StepStats st;
     PetscCall(TimeStep(fab, &st));
     if (n % 100 == 0) umax = PetscMax(umax, MaxDisp(fab));
   }
-  CheckTrue("undamped run at 0.95x the bound stays bounded for 1e4 steps: max |u| / D <= 3 (D > 0)", D > 0 && umax <= 3 * D, umax / D);
+  CheckTrue("undamped run at 0.95x the bound stays bounded for 1e4 steps: max |u| / D <= 3 (D > 0)",
+            D > 0 && umax <= 3 * D, umax / D);
   PetscCall(FabricDestroy(&fab));
   PetscFunctionReturn(0);
 }
@@ -199,17 +214,20 @@ static PetscErrorCode Unstable110(void)
   PetscInt       n;
 
   PetscFunctionBeginUser;
-  PetscCall(NewFabric(ONE_YARN "-elongation_pct 0.01 -load_steps 1 -damping_ratio 0 -predict none -early_exit 0 -te_check 0", &fab));
+  PetscCall(NewFabric(
+      ONE_YARN "-elongation_pct 0.01 -load_steps 1 -damping_ratio 0 -predict none -early_exit 0 -te_check 0", &fab));
   PetscCall(ApplyLoadStep(fab, 1));
   fab->step.te = 1.1 * 2.0 / ChainOmegaMax(fab);
-  PetscPrintf(PETSC_COMM_WORLD, "te = %g s = 1.1 x exact limit; the bound is %g s\n", (double)fab->step.te, (double)fab->step.te_bound);
+  PetscPrintf(PETSC_COMM_WORLD, "te = %g s = 1.1 x exact limit; the bound is %g s\n", (double) fab->step.te,
+              (double) fab->step.te_bound);
   PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
   for (n = 1; n <= 10000 && !ierr; n++) {
     StepStats st;
     ierr = TimeStep(fab, &st);
   }
   PetscCall(PetscPopErrorHandler());
-  CheckTrue("run at 1.1x the stable limit is stopped with a numerical-instability error (at te step)", ierr == PETSC_ERR_FP, (double)(n - 1));
+  CheckTrue("run at 1.1x the stable limit is stopped with a numerical-instability error (at te step)",
+            ierr == PETSC_ERR_FP, (double) (n - 1));
   PetscCall(FabricDestroy(&fab));
   PetscFunctionReturn(0);
 }
@@ -226,18 +244,25 @@ static PetscErrorCode PaperParasitic(void)
     StepStats st;
     PetscReal early = 0, late = 0, a;
     char      opts[512];
-    PetscCall(PetscSNPrintf(opts, sizeof opts, ONE_YARN "-elongation_pct 0.01 -load_steps 1 -damping_ratio 0 -nu 7e-5 -predict none -early_exit 0 -integrator %s", scheme == 0 ? "paper" : "damped"));
+    PetscCall(PetscSNPrintf(
+        opts, sizeof opts,
+        ONE_YARN
+        "-elongation_pct 0.01 -load_steps 1 -damping_ratio 0 -nu 7e-5 -predict none -early_exit 0 -integrator %s",
+        scheme == 0 ? "paper" : "damped"));
     PetscCall(NewFabric(opts, &fab));
     PetscCall(ApplyLoadStep(fab, 1));
     fab->step.te = 0.9 / fab->step.omega_max; /* within both schemes' stable bounds */
-    a       = fab->step.te * fab->s.num.nu / (fab->s.yarns.warp.mu * fab->grid.patch.ax);
+    a            = fab->step.te * fab->s.num.nu / (fab->s.yarns.warp.mu * fab->grid.patch.ax);
     for (PetscInt n = 1; n <= 10000; n++) {
       PetscCall(TimeStep(fab, &st));
       if (n <= 500) early = PetscMax(early, st.speed);
       if (n > 9500) late = PetscMax(late, st.speed);
     }
     ratio[scheme] = late / early;
-    PetscPrintf(PETSC_COMM_WORLD, "%s scheme: a = te nu / m = %.3g, |z| of the parasitic mode = %.6f; speed ratio late/early = %.3g\n", scheme == 0 ? "paper" : "damped", (double)a, (double)(a + PetscSqrtReal(1 + a * a)), (double)ratio[scheme]);
+    PetscPrintf(PETSC_COMM_WORLD,
+                "%s scheme: a = te nu / m = %.3g, |z| of the parasitic mode = %.6f; speed ratio late/early = %.3g\n",
+                scheme == 0 ? "paper" : "damped", (double) a, (double) (a + PetscSqrtReal(1 + a * a)),
+                (double) ratio[scheme]);
     PetscCall(FabricDestroy(&fab));
   }
   CheckTrue("paper scheme with damping: the parasitic mode grows (late/early speed > 10)", ratio[0] > 10, ratio[0]);
@@ -253,10 +278,13 @@ static PetscErrorCode LinearPrediction(void)
   PetscInt worst = 0;
 
   PetscFunctionBeginUser;
-  PetscCall(NewFabric(BASE "-yarns 10 -gauge_mm 50 -warp_crimp_pct 0 -elongation_pct 5 -load_steps 10 -predict linear -balance_tol 1e-7 -speed_tol 1e-7", &fab));
+  PetscCall(NewFabric(BASE "-yarns 10 -gauge_mm 50 -warp_crimp_pct 0 -elongation_pct 5 -load_steps 10 -predict linear "
+                           "-balance_tol 1e-7 -speed_tol 1e-7",
+                      &fab));
   PetscCall(FabricRun(fab));
   for (PetscInt q = 0; q < fab->s.load.load_steps; q++) worst = PetscMax(worst, fab->stats.curve[q].inner_steps);
-  CheckTrue("linear prediction: every load step balanced in at most 5 te steps (largest N')", worst <= 5 && fab->stats.converged, (double)worst);
+  CheckTrue("linear prediction: every load step balanced in at most 5 te steps (largest N')",
+            worst <= 5 && fab->stats.converged, (double) worst);
   CheckRel("force at 5 % with prediction (N)", fab->stats.curve[9].force, 10 * fab->s.yarns.warp.EA * 0.05, 1e-6);
   PetscCall(FabricDestroy(&fab));
   PetscFunctionReturn(0);
@@ -274,12 +302,17 @@ static PetscErrorCode SquareNet(void)
   PetscInt  n = 0;
 
   PetscFunctionBeginUser;
-  PetscCall(NewFabric(BASE "-test square -gauge_mm 10 -width_mm 10 -warp_crimp_pct 0 -weft_crimp_pct 0 -bending 0 -shear 0 -point_load_N 0,0,0.5 -load_steps 12 -predict none -balance_tol 1e-6 -speed_tol 1e-6 -max_inner_steps 100000", &fab));
+  PetscCall(NewFabric(
+      BASE
+      "-test square -gauge_mm 10 -width_mm 10 -warp_crimp_pct 0 -weft_crimp_pct 0 -bending 0 -shear 0 -point_load_N "
+      "0,0,0.5 -load_steps 12 -predict none -balance_tol 1e-6 -speed_tol 1e-6 -max_inner_steps 100000",
+      &fab));
   PetscCall(FabricRun(fab));
   for (PetscInt q = fab->s.load.load_steps / 2; q < fab->s.load.load_steps; q++) {
-    const CurveRow *r = &fab->stats.curve[q];
+    const CurveRow *r  = &fab->stats.curve[q];
     const PetscReal lx = PetscLogReal(r->travel), ly = PetscLogReal(r->force);
-    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "  load %.4f N  deflection %.6f mm  (N' %d, balanced %d)\n", (double)r->force, (double)(1e3 * r->travel), (int)r->inner_steps, (int)r->balanced));
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "  load %.4f N  deflection %.6f mm  (N' %d, balanced %d)\n",
+                          (double) r->force, (double) (1e3 * r->travel), (int) r->inner_steps, (int) r->balanced));
     CheckTrue("load step balanced", r->balanced, r->residual);
     sx += lx, sy += ly, sxx += lx * lx, sxy += lx * ly, n++;
   }
@@ -321,7 +354,11 @@ static PetscErrorCode BiasExtension(void)
   PetscInt        compared = 0;
 
   PetscFunctionBeginUser;
-  PetscCall(NewFabric(BASE "-test bias -gauge_mm 60 -width_mm 30 -ends_per_cm 8 -picks_per_cm 8 -warp_crimp_pct 0 -weft_crimp_pct 0 -warp_modulus_cN_tex 2600 -weft_modulus_cN_tex 2600 -elongation_pct 20 -load_steps 8 -predict extrapolate -shear_lock_deg 35 -damping_ratio 0.05 -max_inner_steps 100000", &fab));
+  PetscCall(NewFabric(
+      BASE "-test bias -gauge_mm 60 -width_mm 30 -ends_per_cm 8 -picks_per_cm 8 -warp_crimp_pct 0 -weft_crimp_pct 0 "
+           "-warp_modulus_cN_tex 2600 -weft_modulus_cN_tex 2600 -elongation_pct 20 -load_steps 8 -predict extrapolate "
+           "-shear_lock_deg 35 -damping_ratio 0.05 -max_inner_steps 100000",
+      &fab));
   D = 1e3 * (fab->s.spec.gauge - fab->s.spec.width);
   CheckRel("bias specimen on the grid diagonals: D = gauge - width (mm)", D, 17 * PetscSqrtReal(2.0) * 1.25, 1e-12);
   PetscCall(FabricRun(fab));
@@ -330,21 +367,30 @@ static PetscErrorCode BiasExtension(void)
     const PetscReal d = 1e3 * r->elongation * fab->s.spec.gauge, c = (D + d) / (PetscSqrtReal(2.0) * D);
     const PetscReal kin = c < 1 ? 90.0 - 2.0 * PetscAcosReal(c) * 180.0 / PETSC_PI : 90.0;
     char            what[160];
-    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "  travel %.2f mm  force %.4f N  centre %.2f deg  formula %.2f deg  (N' %d)\n", (double)d, (double)r->force, (double)r->center_shear, (double)kin, (int)r->inner_steps));
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD,
+                          "  travel %.2f mm  force %.4f N  centre %.2f deg  formula %.2f deg  (N' %d)\n", (double) d,
+                          (double) r->force, (double) r->center_shear, (double) kin, (int) r->inner_steps));
     CheckTrue("load step balanced", r->balanced, r->residual);
     if (kin < lock) {
-      PetscCall(PetscSNPrintf(what, sizeof what, "central shear within 2 deg of the formula below locking, at %.2f mm (%.2f vs %.2f deg): difference", (double)d, (double)r->center_shear, (double)kin));
+      PetscCall(PetscSNPrintf(
+          what, sizeof what,
+          "central shear within 2 deg of the formula below locking, at %.2f mm (%.2f vs %.2f deg): difference",
+          (double) d, (double) r->center_shear, (double) kin));
       CheckTrue(what, PetscAbsReal(r->center_shear - kin) <= 2.0, r->center_shear - kin);
       compared++;
     }
-    if (q >= 1 && r->center_shear < 0.9 * lock) slope_before = (r->force - fab->stats.curve[q - 1].force) / (r->elongation - fab->stats.curve[q - 1].elongation);
+    if (q >= 1 && r->center_shear < 0.9 * lock)
+      slope_before = (r->force - fab->stats.curve[q - 1].force) / (r->elongation - fab->stats.curve[q - 1].elongation);
   }
   {
-    const CurveRow *a = &fab->stats.curve[fab->s.load.load_steps - 2], *b = &fab->stats.curve[fab->s.load.load_steps - 1];
-    slope_after = (b->force - a->force) / (b->elongation - a->elongation);
-    CheckTrue("the 5 load steps below locking (formula up to 34.2 deg) were compared with the formula", compared == 5, (double)compared);
+    const CurveRow *a = &fab->stats.curve[fab->s.load.load_steps - 2],
+                   *b = &fab->stats.curve[fab->s.load.load_steps - 1];
+    slope_after       = (b->force - a->force) / (b->elongation - a->elongation);
+    CheckTrue("the 5 load steps below locking (formula up to 34.2 deg) were compared with the formula", compared == 5,
+              (double) compared);
     CheckTrue("past locking the central angle is above the lock", b->center_shear > lock, b->center_shear);
-    CheckTrue("force slope past locking / slope before it >= 10 (the slope before > 0)", slope_before > 0 && slope_after >= 10 * slope_before, slope_after / slope_before);
+    CheckTrue("force slope past locking / slope before it >= 10 (the slope before > 0)",
+              slope_before > 0 && slope_after >= 10 * slope_before, slope_after / slope_before);
   }
   PetscCall(FabricDestroy(&fab));
   PetscFunctionReturn(0);
@@ -367,24 +413,31 @@ static PetscErrorCode RestOnSupport(PetscBool pedestal)
   char               opts[512];
 
   PetscFunctionBeginUser;
-  PetscCall(PetscSNPrintf(opts, sizeof opts, "-output_dir none -quiet -warp_break_pct 0 -weft_break_pct 0 -test square -gauge_mm 10 -width_mm 10 -clamp none -bending 0 -shear 0 %s -thickness_mm 0.3 -gravity 0,0,-9.81 -load_steps 2 -predict none -balance_tol 1e-8 -speed_tol 1e-9 -max_inner_steps 200000", pedestal ? "-pedestal_diameter_mm 40" : "-plane -plane_point_mm 0,0,-0.15"));
+  PetscCall(PetscSNPrintf(opts, sizeof opts,
+                          "-output_dir none -quiet -warp_break_pct 0 -weft_break_pct 0 -test square -gauge_mm 10 "
+                          "-width_mm 10 -clamp none -bending 0 -shear 0 %s -thickness_mm 0.3 -gravity 0,0,-9.81 "
+                          "-load_steps 2 -predict none -balance_tol 1e-8 -speed_tol 1e-9 -max_inner_steps 200000",
+                          pedestal ? "-pedestal_diameter_mm 40" : "-plane -plane_point_mm 0,0,-0.15"));
   PetscCall(NewFabric(opts, &fab));
   PetscCall(FabricRun(fab));
   PetscCall(VecGetArrayRead(fab->state.X, &x));
   for (PetscInt k = 0; k < fab->grid.nloc; k++) {
     if (fab->grid.mass[k] <= 0) continue;
     const PetscReal expected = -fab->grid.mass[k] * 9.81 / fab->s.bodies.contact_k;
-    err  = PetscMax(err, PetscAbsReal(x[3 * k + 2] - expected));
-    sink = PetscMax(sink, PetscAbsReal(expected));
+    err                      = PetscMax(err, PetscAbsReal(x[3 * k + 2] - expected));
+    sink                     = PetscMax(sink, PetscAbsReal(expected));
   }
   PetscCall(VecRestoreArrayRead(fab->state.X, &x));
   PetscCall(GlobalMax(PETSC_COMM_WORLD, &err, 1));
   PetscCall(GlobalMax(PETSC_COMM_WORLD, &sink, 1));
   {
     const CurveRow *r = &fab->stats.curve[fab->s.load.load_steps - 1];
-    CheckTrue(pedestal ? "every crossing rests on the pedestal at z = -m g / k_c (largest error / largest sink <= 1e-6)" : "every crossing rests on the plane at z = -m g / k_c (largest error / largest sink <= 1e-6)", err <= 1e-6 * sink, err / sink);
+    CheckTrue(pedestal ? "every crossing rests on the pedestal at z = -m g / k_c (largest error / largest sink <= 1e-6)"
+                       : "every crossing rests on the plane at z = -m g / k_c (largest error / largest sink <= 1e-6)",
+              err <= 1e-6 * sink, err / sink);
     CheckTrue("the last load step balanced", r->balanced, r->residual);
-    CheckRel(pedestal ? "pedestal reaction fz = the net's weight (N)" : "plane reaction fz = the net's weight (N)", pedestal ? r->pedestal_force[2] : r->plane_force[2], r->weight[2], 1e-6);
+    CheckRel(pedestal ? "pedestal reaction fz = the net's weight (N)" : "plane reaction fz = the net's weight (N)",
+             pedestal ? r->pedestal_force[2] : r->plane_force[2], r->weight[2], 1e-6);
   }
   PetscCall(FabricDestroy(&fab));
   PetscFunctionReturn(0);
@@ -408,16 +461,21 @@ static PetscErrorCode RestOnSupport(PetscBool pedestal)
 static PetscErrorCode FrictionIncline(void)
 {
   const PetscReal alpha = 20.0 * PETSC_PI / 180.0, g = 9.81;
-  const char     *base = "-output_dir none -quiet -test square -gauge_mm 4 -width_mm 4 -clamp none -traction 0 -bending 0 -shear 0 -plane -plane_point_mm 0,0,-0.15 -thickness_mm 0.3 -predict none -load_steps 1 -damping_ratio 0 -nu 2e-5 -contact_stiffness_N_m 1 -te_safety 0.5 ";
-  char            opts[1024];
+  const char *base = "-output_dir none -quiet -test square -gauge_mm 4 -width_mm 4 -clamp none -traction 0 -bending 0 "
+                     "-shear 0 -plane -plane_point_mm 0,0,-0.15 -thickness_mm 0.3 -predict none -load_steps 1 "
+                     "-damping_ratio 0 -nu 2e-5 -contact_stiffness_N_m 1 -te_safety 0.5 ";
+  char        opts[1024];
 
   PetscFunctionBeginUser;
   for (int slide = 0; slide < 2; slide++) {
     Fabric             fab;
     const PetscScalar *x, *x0, *v;
-    const PetscReal    mu = slide ? 0.2 : 0.5;
+    const PetscReal    mu     = slide ? 0.2 : 0.5;
     PetscReal          err[2] = {0, 0}, ref[2] = {0, 0};
-    PetscCall(PetscSNPrintf(opts, sizeof opts, "%s -friction_mu %g -gravity %.17g,0,%.17g %s", base, (double)mu, (double)(g * PetscSinReal(alpha)), (double)(-g * PetscCosReal(alpha)), slide ? "-early_exit 0 -max_inner_steps 3000" : "-balance_tol 1e-8 -speed_tol 1e-9 -max_inner_steps 200000"));
+    PetscCall(PetscSNPrintf(opts, sizeof opts, "%s -friction_mu %g -gravity %.17g,0,%.17g %s", base, (double) mu,
+                            (double) (g * PetscSinReal(alpha)), (double) (-g * PetscCosReal(alpha)),
+                            slide ? "-early_exit 0 -max_inner_steps 3000"
+                                  : "-balance_tol 1e-8 -speed_tol 1e-9 -max_inner_steps 200000"));
     PetscCall(NewFabric(opts, &fab));
     PetscCall(FabricRun(fab));
     PetscCall(VecGetArrayRead(fab->state.X, &x));
@@ -427,14 +485,15 @@ static PetscErrorCode FrictionIncline(void)
       if (fab->grid.mass[k] <= 0) continue;
       const PetscReal m = fab->grid.mass[k];
       if (!slide) {
-        const PetscReal ex = m * g * PetscSinReal(alpha) / fab->s.bodies.contact_k, ez = -m * g * PetscCosReal(alpha) / fab->s.bodies.contact_k;
-        err[0] = PetscMax(err[0], PetscAbsReal(x[3 * k] - x0[3 * k] - ex));
-        err[1] = PetscMax(err[1], PetscAbsReal(x[3 * k + 2] - ez));
+        const PetscReal ex = m * g * PetscSinReal(alpha) / fab->s.bodies.contact_k,
+                        ez = -m * g * PetscCosReal(alpha) / fab->s.bodies.contact_k;
+        err[0]             = PetscMax(err[0], PetscAbsReal(x[3 * k] - x0[3 * k] - ex));
+        err[1]             = PetscMax(err[1], PetscAbsReal(x[3 * k + 2] - ez));
         ref[0] = PetscMax(ref[0], ex), ref[1] = PetscMax(ref[1], -ez);
       } else {
         const PetscReal vt = m * g * (PetscSinReal(alpha) - mu * PetscCosReal(alpha)) / fab->s.num.nu;
-        err[0] = PetscMax(err[0], PetscAbsReal(v[3 * k] - vt));
-        err[1] = PetscMax(err[1], PetscAbsReal(v[3 * k + 2]) + PetscAbsReal(v[3 * k + 1]));
+        err[0]             = PetscMax(err[0], PetscAbsReal(v[3 * k] - vt));
+        err[1]             = PetscMax(err[1], PetscAbsReal(v[3 * k + 2]) + PetscAbsReal(v[3 * k + 1]));
         ref[0] = ref[1] = PetscMax(ref[0], vt);
       }
     }
@@ -447,15 +506,22 @@ static PetscErrorCode FrictionIncline(void)
       const CurveRow *r = &fab->stats.curve[0];
       if (!slide) {
         CheckTrue("mu 0.5 > tan(alpha), sticks: the load step balanced", r->balanced, r->residual);
-        CheckTrue("sticks: x - x0 = m g sin(alpha) / k_c at every crossing (largest error / largest <= 1e-6)", err[0] <= 1e-6 * ref[0], err[0] / ref[0]);
-        CheckTrue("sticks: z = -m g cos(alpha) / k_c at every crossing (largest error / largest <= 1e-6)", err[1] <= 1e-6 * ref[1], err[1] / ref[1]);
+        CheckTrue("sticks: x - x0 = m g sin(alpha) / k_c at every crossing (largest error / largest <= 1e-6)",
+                  err[0] <= 1e-6 * ref[0], err[0] / ref[0]);
+        CheckTrue("sticks: z = -m g cos(alpha) / k_c at every crossing (largest error / largest <= 1e-6)",
+                  err[1] <= 1e-6 * ref[1], err[1] / ref[1]);
         CheckRel("sticks: plane reaction fx = the weight's x (N)", r->plane_force[0], r->weight[0], 1e-6);
         CheckRel("sticks: plane reaction fz = the weight's z (N)", r->plane_force[2], r->weight[2], 1e-6);
       } else {
-        PetscPrintf(PETSC_COMM_WORLD, "slides: %d te steps of %g s\n", (int)fab->stats.te_steps, (double)fab->step.te);
-        CheckTrue("mu 0.2 < tan(alpha), slides: every crossing at the terminal speed m g (sin(alpha) - mu cos(alpha)) / nu (largest error / largest speed <= 1e-6)", isfinite(ref[0]) && ref[0] > 0 && err[0] <= 1e-6 * ref[0], err[0] / ref[0]);
-        CheckTrue("slides: no speed across the slope or off the plane (largest / the terminal speed <= 1e-6)", err[1] <= 1e-6 * ref[1], err[1] / ref[1]);
-        CheckRel("slides: plane tangential reaction fx = mu times the normal one (N)", r->plane_force[0], -mu * r->plane_force[2], 1e-9);
+        PetscPrintf(PETSC_COMM_WORLD, "slides: %d te steps of %g s\n", (int) fab->stats.te_steps,
+                    (double) fab->step.te);
+        CheckTrue("mu 0.2 < tan(alpha), slides: every crossing at the terminal speed m g (sin(alpha) - mu cos(alpha)) "
+                  "/ nu (largest error / largest speed <= 1e-6)",
+                  isfinite(ref[0]) && ref[0] > 0 && err[0] <= 1e-6 * ref[0], err[0] / ref[0]);
+        CheckTrue("slides: no speed across the slope or off the plane (largest / the terminal speed <= 1e-6)",
+                  err[1] <= 1e-6 * ref[1], err[1] / ref[1]);
+        CheckRel("slides: plane tangential reaction fx = mu times the normal one (N)", r->plane_force[0],
+                 -mu * r->plane_force[2], 1e-9);
       }
     }
     PetscCall(FabricDestroy(&fab));
@@ -471,8 +537,9 @@ static PetscErrorCode FrictionIncline(void)
    integer counts, summed over the ranks. */
 static PetscErrorCode GripLines(void)
 {
-  const char *grid = BASE "-test strip -clamp none -ends_per_cm 10 -picks_per_cm 10 -gauge_mm 20 -yarns 21 -load_steps 1 -predict none ";
-  const char *grips[2] = {"-grip_line_mm 0,0,26.565051177077990,0.3", "-grip_line_mm 5,0,0,1.5"};
+  const char *grid = BASE
+      "-test strip -clamp none -ends_per_cm 10 -picks_per_cm 10 -gauge_mm 20 -yarns 21 -load_steps 1 -predict none ";
+  const char    *grips[2]  = {"-grip_line_mm 0,0,26.565051177077990,0.3", "-grip_line_mm 5,0,0,1.5"};
   const PetscInt expect[2] = {11, 63};
 
   PetscFunctionBeginUser;
@@ -493,8 +560,10 @@ static PetscErrorCode GripLines(void)
         n[3] += (kind == POINT_GRIP) != on;
       }
     PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, n, 4, MPIU_INT, MPI_SUM, PETSC_COMM_WORLD));
-    CheckTrue("clamp line y = -10 mm: 21 clamped crossings, all on row j = 0", n[0] == 21 && n[2] == 0, (double)n[0]);
-    CheckTrue(c == 0 ? "grip line at 26.565 deg: 11 grips, exactly the crossings 2(j-10) = i-10" : "grip band 1.5 mm: 63 grips, exactly rows 9-11", n[1] == expect[c] && n[3] == 0, (double)n[1]);
+    CheckTrue("clamp line y = -10 mm: 21 clamped crossings, all on row j = 0", n[0] == 21 && n[2] == 0, (double) n[0]);
+    CheckTrue(c == 0 ? "grip line at 26.565 deg: 11 grips, exactly the crossings 2(j-10) = i-10"
+                     : "grip band 1.5 mm: 63 grips, exactly rows 9-11",
+              n[1] == expect[c] && n[3] == 0, (double) n[1]);
     PetscCall(FabricDestroy(&fab));
   }
   PetscFunctionReturn(0);
@@ -514,7 +583,8 @@ static PetscErrorCode GripLines(void)
       a rigid translation, zero reaction, every crossing moved by the path to 1e-12 m. */
 static PetscErrorCode GripPath(void)
 {
-  const char *strip = BASE "-yarns 10 -gauge_mm 20 -warp_crimp_pct 0 -weft_crimp_pct 0 -bending 0 -shear 0 -balance_tol 1e-7 -speed_tol 1e-7 -max_inner_steps 100000 ";
+  const char *strip = BASE "-yarns 10 -gauge_mm 20 -warp_crimp_pct 0 -weft_crimp_pct 0 -bending 0 -shear 0 "
+                           "-balance_tol 1e-7 -speed_tol 1e-7 -max_inner_steps 100000 ";
   Fabric      fab;
   char        opts[512];
 
@@ -527,27 +597,32 @@ static PetscErrorCode GripPath(void)
     for (PetscInt q = 0; q < 6; q++) {
       const CurveRow *r = &fab->stats.curve[q];
       char            what[96];
-      PetscCall(PetscSNPrintf(what, sizeof what, "out and back, step %d: elongation = path x / gauge", (int)q + 1));
+      PetscCall(PetscSNPrintf(what, sizeof what, "out and back, step %d: elongation = path x / gauge", (int) q + 1));
       CheckRel(what, r->elongation, 1e-3 * x_mm[q] / fab->s.spec.gauge, 1e-12);
-      PetscCall(PetscSNPrintf(what, sizeof what, "out and back, step %d: force = 10 EA strain (N' %d)", (int)q + 1, (int)r->inner_steps));
+      PetscCall(PetscSNPrintf(what, sizeof what, "out and back, step %d: force = 10 EA strain (N' %d)", (int) q + 1,
+                              (int) r->inner_steps));
       CheckRel(what, r->force, 10 * fab->s.yarns.warp.EA * r->elongation, 1e-6);
     }
   }
   PetscCall(FabricDestroy(&fab));
 
-  PetscCall(PetscSNPrintf(opts, sizeof opts, "%s -predict none -damping_ratio 0.05 -load_steps 4 -grip_path_mm 0,0,2,0.4,0,2", strip));
+  PetscCall(PetscSNPrintf(opts, sizeof opts,
+                          "%s -predict none -damping_ratio 0.05 -load_steps 4 -grip_path_mm 0,0,2,0.4,0,2", strip));
   PetscCall(NewFabric(opts, &fab));
   PetscCall(FabricRun(fab));
   for (PetscInt q = 0; q < 4; q++) {
     const PetscReal a = 2.4e-3 * (q + 1) / 4, dz = PetscMin(a, 2e-3), dx = a - dz, L = fab->s.spec.gauge;
     const PetscReal l = PetscSqrtReal(PetscSqr(L + dx) + dz * dz);
     char            what[96];
-    PetscCall(PetscSNPrintf(what, sizeof what, "up and along, step %d: force along the pull (N' %d)", (int)q + 1, (int)fab->stats.curve[q].inner_steps));
+    PetscCall(PetscSNPrintf(what, sizeof what, "up and along, step %d: force along the pull (N' %d)", (int) q + 1,
+                            (int) fab->stats.curve[q].inner_steps));
     CheckRel(what, fab->stats.curve[q].force, 10 * fab->s.yarns.warp.EA * (l / L - 1) * (L + dx) / l, 1e-6);
   }
   PetscCall(FabricDestroy(&fab));
 
-  PetscCall(PetscSNPrintf(opts, sizeof opts, "%s -predict linear -load_steps 2 -clamp none -grip_line_mm 10,0,90,0.01 -grip_path_mm 0,0.5,0", strip));
+  PetscCall(PetscSNPrintf(
+      opts, sizeof opts,
+      "%s -predict linear -load_steps 2 -clamp none -grip_line_mm 10,0,90,0.01 -grip_path_mm 0,0.5,0", strip));
   PetscCall(NewFabric(opts, &fab));
   PetscCall(FabricRun(fab));
   {
@@ -555,12 +630,16 @@ static PetscErrorCode GripPath(void)
     PetscReal          err = 0;
     PetscCall(VecGetArrayRead(fab->state.X, &x));
     PetscCall(VecGetArrayRead(fab->grid.X0, &x0));
-    for (PetscInt k = 0; k < fab->grid.nloc; k++) err = PetscMax(err, PetscAbsReal(x[3 * k] - x0[3 * k]) + PetscAbsReal(x[3 * k + 1] - x0[3 * k + 1] - 0.5e-3) + PetscAbsReal(x[3 * k + 2] - x0[3 * k + 2]));
+    for (PetscInt k = 0; k < fab->grid.nloc; k++)
+      err = PetscMax(err, PetscAbsReal(x[3 * k] - x0[3 * k]) + PetscAbsReal(x[3 * k + 1] - x0[3 * k + 1] - 0.5e-3) +
+                              PetscAbsReal(x[3 * k + 2] - x0[3 * k + 2]));
     PetscCall(VecRestoreArrayRead(fab->grid.X0, &x0));
     PetscCall(VecRestoreArrayRead(fab->state.X, &x));
     PetscCall(GlobalMax(PETSC_COMM_WORLD, &err, 1));
-    CheckTrue("rigid translation across the pull: every crossing moved by 0,0.5,0 mm (max error <= 1e-12 m)", err <= 1e-12, err);
-    CheckTrue("rigid translation: no reaction (|force| <= 1e-12 N)", PetscAbsReal(fab->stats.curve[1].force) <= 1e-12, fab->stats.curve[1].force);
+    CheckTrue("rigid translation across the pull: every crossing moved by 0,0.5,0 mm (max error <= 1e-12 m)",
+              err <= 1e-12, err);
+    CheckTrue("rigid translation: no reaction (|force| <= 1e-12 N)", PetscAbsReal(fab->stats.curve[1].force) <= 1e-12,
+              fab->stats.curve[1].force);
   }
   PetscCall(FabricDestroy(&fab));
   PetscFunctionReturn(0);
@@ -571,24 +650,28 @@ static PetscErrorCode GripPath(void)
    fixed N large enough to converge): max |dF| / peak <= balance_tol. */
 static PetscErrorCode SpeedupsCurve(void)
 {
-  Fabric    fab;
-  PetscReal ref[8], err = 0, peak = 0;
+  Fabric      fab;
+  PetscReal   ref[8], err = 0, peak = 0;
   const char *common = BASE "-yarns 4 -gauge_mm 20 -elongation_pct 12 -load_steps 8 -point_load_N 0,0,0.002 ";
 
   PetscFunctionBeginUser;
   {
     char opts[512];
-    PetscCall(PetscSNPrintf(opts, sizeof opts, "%s -predict none -early_exit 0 -front 0 -max_inner_steps 30000", common));
+    PetscCall(
+        PetscSNPrintf(opts, sizeof opts, "%s -predict none -early_exit 0 -front 0 -max_inner_steps 30000", common));
     PetscCall(NewFabric(opts, &fab));
     PetscCall(FabricRun(fab));
     for (int k = 0; k < 8; k++) ref[k] = fab->stats.curve[k].force, peak = PetscMax(peak, ref[k]);
-    PetscPrintf(PETSC_COMM_WORLD, "all off: %" PetscInt64_FMT " te steps, %" PetscInt64_FMT " point updates\n", fab->stats.te_steps, fab->stats.point_updates);
+    PetscPrintf(PETSC_COMM_WORLD, "all off: %" PetscInt64_FMT " te steps, %" PetscInt64_FMT " point updates\n",
+                fab->stats.te_steps, fab->stats.point_updates);
     PetscCall(FabricDestroy(&fab));
-    PetscCall(PetscSNPrintf(opts, sizeof opts, "%s -predict extrapolate -early_exit 1 -front 1 -sleep_tol 1e-4 -balance_tol 1e-3", common));
+    PetscCall(PetscSNPrintf(
+        opts, sizeof opts, "%s -predict extrapolate -early_exit 1 -front 1 -sleep_tol 1e-4 -balance_tol 1e-3", common));
     PetscCall(NewFabric(opts, &fab));
     PetscCall(FabricRun(fab));
     for (int k = 0; k < 8; k++) err = PetscMax(err, PetscAbsReal(fab->stats.curve[k].force - ref[k]));
-    PetscPrintf(PETSC_COMM_WORLD, "all on: %" PetscInt64_FMT " te steps, %" PetscInt64_FMT " point updates\n", fab->stats.te_steps, fab->stats.point_updates);
+    PetscPrintf(PETSC_COMM_WORLD, "all on: %" PetscInt64_FMT " te steps, %" PetscInt64_FMT " point updates\n",
+                fab->stats.te_steps, fab->stats.point_updates);
   }
   CheckTrue("every speed-up on: max |F - F_ref| / peak force <= balance_tol 1e-3", err / peak <= 1e-3, err / peak);
   PetscCall(FabricDestroy(&fab));
@@ -621,8 +704,10 @@ static PetscErrorCode SetShape(Fabric fab, PetscReal scale, PetscReal turn, Pets
     const PetscReal dx = x0[3 * k] - fab->grid.centre[0], dy = x0[3 * k + 1] - fab->grid.centre[1];
     PetscReal       f = scale;
     if (lobes) f *= 1.0 - 0.15 * (1.0 - PetscCosReal(lobes * atan2(dy, dx)));
-    x[3 * k]     = fab->grid.centre[0] + f * (c * dx - sn * dy) + jitter * PetscSinReal(12.9898 * x0[3 * k] * 1e3 + 78.233 * x0[3 * k + 1] * 1e3);
-    x[3 * k + 1] = fab->grid.centre[1] + f * (sn * dx + c * dy) + jitter * PetscCosReal(39.3468 * x0[3 * k] * 1e3 + 11.135 * x0[3 * k + 1] * 1e3);
+    x[3 * k] = fab->grid.centre[0] + f * (c * dx - sn * dy) +
+               jitter * PetscSinReal(12.9898 * x0[3 * k] * 1e3 + 78.233 * x0[3 * k + 1] * 1e3);
+    x[3 * k + 1] = fab->grid.centre[1] + f * (sn * dx + c * dy) +
+                   jitter * PetscCosReal(39.3468 * x0[3 * k] * 1e3 + 11.135 * x0[3 * k + 1] * 1e3);
     x[3 * k + 2] = x0[3 * k + 2];
   }
   PetscCall(VecRestoreArray(fab->state.X, &x));
@@ -638,28 +723,33 @@ static PetscErrorCode DrapeMeasure(void)
   PetscReal       a_disc, dc_s;
 
   PetscFunctionBeginUser;
-  PetscCall(NewFabric("-output_dir none -quiet -test drape -shape disc -disc_diameter_mm 300 -gauge_mm 300 -width_mm 300 -clamp ring -clamp_ring_mm 0,180 -ends_per_cm 2 -picks_per_cm 2 -pedestal_diameter_mm 180", &fab));
+  PetscCall(NewFabric("-output_dir none -quiet -test drape -shape disc -disc_diameter_mm 300 -gauge_mm 300 -width_mm "
+                      "300 -clamp ring -clamp_ring_mm 0,180 -ends_per_cm 2 -picks_per_cm 2 -pedestal_diameter_mm 180",
+                      &fab));
   a_disc = PETSC_PI * PetscSqr(fab->s.bodies.pedestal_radius);
   PetscCall(VecCopy(fab->grid.X0, fab->state.X));
   PetscCall(DrapeOutline(fab, &row));
   CheckTrue("flat specimen: DC = 100 % exactly", fab->meas.drape_pct == 100.0, fab->meas.drape_pct);
-  CheckTrue("flat specimen: no fold", fab->meas.folds == 0, (double)fab->meas.folds);
+  CheckTrue("flat specimen: no fold", fab->meas.folds == 0, (double) fab->meas.folds);
   PetscCall(SetShape(fab, s, 0, 0, 0));
   PetscCall(DrapeOutline(fab, &row));
   dc_s = fab->meas.drape_pct;
-  CheckRel("shrunk by 0.8: DC (%) = (s^2 A_flat - A_disc)/(A_flat - A_disc) x 100", dc_s, 100.0 * (s * s * fab->meas.drape_flat_area - a_disc) / (fab->meas.drape_flat_area - a_disc), 1e-12);
+  CheckRel("shrunk by 0.8: DC (%) = (s^2 A_flat - A_disc)/(A_flat - A_disc) x 100", dc_s,
+           100.0 * (s * s * fab->meas.drape_flat_area - a_disc) / (fab->meas.drape_flat_area - a_disc), 1e-12);
   PetscCall(SetShape(fab, 1, 10.1 * PETSC_PI / 180.0, 0, 0));
   PetscCall(DrapeOutline(fab, &row));
-  CheckTrue("turned by 10.1 degrees (not a whole number of rays): |DC - 100 %| <= 1e-2 %", PetscAbsReal(fab->meas.drape_pct - 100.0) <= 1e-2, fab->meas.drape_pct - 100.0);
+  CheckTrue("turned by 10.1 degrees (not a whole number of rays): |DC - 100 %| <= 1e-2 %",
+            PetscAbsReal(fab->meas.drape_pct - 100.0) <= 1e-2, fab->meas.drape_pct - 100.0);
   PetscCall(SetShape(fab, s, 0, 1e-7, 0));
   PetscCall(DrapeOutline(fab, &row));
-  CheckTrue("shrunk, every crossing moved by up to 1e-7 m: |change of DC| <= 1e-3 %", PetscAbsReal(fab->meas.drape_pct - dc_s) <= 1e-3, fab->meas.drape_pct - dc_s);
+  CheckTrue("shrunk, every crossing moved by up to 1e-7 m: |change of DC| <= 1e-3 %",
+            PetscAbsReal(fab->meas.drape_pct - dc_s) <= 1e-3, fab->meas.drape_pct - dc_s);
   for (PetscInt n = 6; n <= 7; n++) {
     char what[64];
     PetscCall(SetShape(fab, 1, 0, 0, n));
     PetscCall(DrapeOutline(fab, &row));
-    PetscCall(PetscSNPrintf(what, sizeof what, "waved into %d lobes: %d folds", (int)n, (int)n));
-    CheckTrue(what, fab->meas.folds == n, (double)fab->meas.folds);
+    PetscCall(PetscSNPrintf(what, sizeof what, "waved into %d lobes: %d folds", (int) n, (int) n));
+    CheckTrue(what, fab->meas.folds == n, (double) fab->meas.folds);
   }
   PetscCall(FabricDestroy(&fab));
   PetscFunctionReturn(0);
@@ -671,24 +761,42 @@ int main(int argc, char **argv)
 
   PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
   PetscCall(PetscOptionsGetString(NULL, NULL, "-case", name, sizeof name, NULL));
-  if (!strcmp(name, "linear_strip")) PetscCall(LinearStrip());
-  else if (!strcmp(name, "crimp_knee")) PetscCall(CrimpKnee());
-  else if (!strcmp(name, "wave_speed")) PetscCall(WaveSpeed());
-  else if (!strcmp(name, "transverse_load")) PetscCall(TransverseLoad());
-  else if (!strcmp(name, "stable_095")) PetscCall(Stable095());
-  else if (!strcmp(name, "unstable_110")) PetscCall(Unstable110());
-  else if (!strcmp(name, "paper_parasitic")) PetscCall(PaperParasitic());
-  else if (!strcmp(name, "linear_prediction")) PetscCall(LinearPrediction());
-  else if (!strcmp(name, "speedups_curve")) PetscCall(SpeedupsCurve());
-  else if (!strcmp(name, "square_net")) PetscCall(SquareNet());
-  else if (!strcmp(name, "bias_extension")) PetscCall(BiasExtension());
-  else if (!strcmp(name, "plane_rest")) PetscCall(RestOnSupport(PETSC_FALSE));
-  else if (!strcmp(name, "pedestal_rest")) PetscCall(RestOnSupport(PETSC_TRUE));
-  else if (!strcmp(name, "friction_incline")) PetscCall(FrictionIncline());
-  else if (!strcmp(name, "grip_lines")) PetscCall(GripLines());
-  else if (!strcmp(name, "grip_path")) PetscCall(GripPath());
-  else if (!strcmp(name, "drape_measure")) PetscCall(DrapeMeasure());
-  else SETERRQ(PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT, "unknown -case %s", name);
+  if (!strcmp(name, "linear_strip"))
+    PetscCall(LinearStrip());
+  else if (!strcmp(name, "crimp_knee"))
+    PetscCall(CrimpKnee());
+  else if (!strcmp(name, "wave_speed"))
+    PetscCall(WaveSpeed());
+  else if (!strcmp(name, "transverse_load"))
+    PetscCall(TransverseLoad());
+  else if (!strcmp(name, "stable_095"))
+    PetscCall(Stable095());
+  else if (!strcmp(name, "unstable_110"))
+    PetscCall(Unstable110());
+  else if (!strcmp(name, "paper_parasitic"))
+    PetscCall(PaperParasitic());
+  else if (!strcmp(name, "linear_prediction"))
+    PetscCall(LinearPrediction());
+  else if (!strcmp(name, "speedups_curve"))
+    PetscCall(SpeedupsCurve());
+  else if (!strcmp(name, "square_net"))
+    PetscCall(SquareNet());
+  else if (!strcmp(name, "bias_extension"))
+    PetscCall(BiasExtension());
+  else if (!strcmp(name, "plane_rest"))
+    PetscCall(RestOnSupport(PETSC_FALSE));
+  else if (!strcmp(name, "pedestal_rest"))
+    PetscCall(RestOnSupport(PETSC_TRUE));
+  else if (!strcmp(name, "friction_incline"))
+    PetscCall(FrictionIncline());
+  else if (!strcmp(name, "grip_lines"))
+    PetscCall(GripLines());
+  else if (!strcmp(name, "grip_path"))
+    PetscCall(GripPath());
+  else if (!strcmp(name, "drape_measure"))
+    PetscCall(DrapeMeasure());
+  else
+    SETERRQ(PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT, "unknown -case %s", name);
   PetscCall(PetscFinalize());
   return failures ? 1 : 0;
 }
