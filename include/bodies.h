@@ -7,6 +7,38 @@
 
 #include <petscsys.h>
 
+/* The rigid bodies of a scene, one interface for all (MODEL.md 5.5): where a body is, its
+   contact forces and friction on the crossings, its reaction (minus the sum of those forces),
+   its penalty energy and tangent (the quasi-static path) and its share of the stable-step
+   bound. Friction is path-dependent: it has no energy; its stick spring has the contact
+   stiffness, so the bound is the frictionless one. */
+typedef enum { BODY_SPHERE, BODY_PLANE, BODY_PEDESTAL, BODY_KINDS } BodyKind;
+
+typedef struct {
+  BodyKind  kind;
+  PetscReal ref[3]; /* m: the sphere's centre at the start, a point of the plane, the pedestal's top centre */
+  PetscReal dir[3]; /* unit: the sphere's path; the plane's normal */
+  PetscReal radius; /* m: sphere, pedestal */
+  PetscReal height; /* m: pedestal, below its top face */
+  PetscReal reach;  /* m: contact distance (half the fabric thickness, plus the sphere's radius) */
+  PetscReal k, mu;  /* penalty stiffness per crossing (N/m), Coulomb friction coefficient */
+} Body;
+
+extern const char *const BodyNames[BODY_KINDS];
+
+/* where the body is when the load program has moved it by travel (only the sphere moves) */
+void BodyPosition(const Body *b, PetscReal travel, PetscReal c[3]);
+/* contact (and friction, with anchors) of body b at position c on n consecutive points: adds to f and sum */
+void BodyContact(const Body *b, const PetscReal c[3], PetscInt n, const PetscReal *x, const PetscReal *inv_m,
+                 PetscReal *anchor, PetscReal *f, PetscReal sum[3]);
+/* penalty energy 0.5 k p^2 of one point at x (p: penetration), its gradient g and Hessian K (3 x 3, row-major) */
+PetscReal BodyEnergy(const Body *b, const PetscReal c[3], const PetscReal x[3], PetscReal g[3], PetscReal K[9]);
+/* the body's share of a point's Gershgorin row sum: its penalty spring, whether in contact or not */
+static inline PetscReal BodyBound(const Body *b)
+{
+  return b->k;
+}
+
 /* Penalty contact with rigid bodies (MODEL.md 5.5) on n consecutive owned points: a point
    closer than reach (h/2, plus R for a sphere) to the body is pushed out along the surface
    normal with fn = k (reach - distance). Only points with inv_m > 0 feel it. Adds to f, and the

@@ -12,6 +12,7 @@
 
 #include <petscdmda.h>
 
+#include "bodies.h"
 #include "kernels.h"
 #include "scene.h"
 
@@ -97,12 +98,17 @@ typedef struct { /* run statistics and the curve */
   FILE          *curve_fp; /* rank 0 */
 } RunStats;
 
-typedef struct { /* measurements of the last force evaluation and of the drape */
-  PetscReal sphere_sum[3], plane_sum[3], pedestal_sum[3]; /* this rank's sum of each body's contact forces */
-  PetscReal drape_pct;                                    /* drape coefficient (%), drape test */
-  PetscReal drape_flat_area; /* m^2: the flat specimen's shadow, measured once (0: not yet) */
-  PetscInt  folds;           /* folds of the draped outline, drape test */
+typedef struct {                     /* measurements of the last force evaluation and of the drape */
+  PetscReal body_sum[BODY_KINDS][3]; /* this rank's sum of each body's contact forces (by BodyKind) */
+  PetscReal drape_pct;               /* drape coefficient (%), drape test */
+  PetscReal drape_flat_area;         /* m^2: the flat specimen's shadow, measured once (0: not yet) */
+  PetscInt  folds;                   /* folds of the draped outline, drape test */
 } Measures;
+
+typedef struct { /* the scene's rigid bodies, in BodyKind order */
+  PetscInt n;
+  Body     body[BODY_KINDS];
+} RigidBodies;
 
 typedef struct _p_Fabric *Fabric;
 struct _p_FabricIO; /* io.h */
@@ -112,12 +118,13 @@ struct _p_Fabric {
   Scene               s;
   FabricGrid          grid;
   FabricState         state;
+  RigidBodies         bodies;
   LoadState           load;
   StepControl         step;
   FrontState          front;
   RunStats            stats;
   Measures            meas;
-  struct _p_FabricIO *io; /* frames of fabric.h5/.xmf, checkpoint and restart; NULL: none (io.h) */
+  struct _p_FabricIO *io; /* frames of fabric.h5/.xmf, checkpoint and restart; NULL: none (frames.h) */
 };
 
 PetscErrorCode FabricCreate(MPI_Comm comm, Fabric *fab);

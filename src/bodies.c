@@ -117,3 +117,62 @@ void DiscContact(PetscInt n, const PetscReal *x, const PetscReal *inv_m, const P
     NormalPush(q, x, top, nrm, dist < reach ? k * (reach - dist) : 0.0, k, mu, anchor, f, sum);
   }
 }
+
+const char *const BodyNames[BODY_KINDS] = {"sphere", "plane", "pedestal"};
+
+void BodyPosition(const Body *b, PetscReal travel, PetscReal c[3])
+{
+  for (int d = 0; d < 3; d++) c[d] = b->kind == BODY_SPHERE ? b->ref[d] + travel * b->dir[d] : b->ref[d];
+}
+
+void BodyContact(const Body *b, const PetscReal c[3], PetscInt n, const PetscReal *x, const PetscReal *inv_m,
+                 PetscReal *anchor, PetscReal *f, PetscReal sum[3])
+{
+  switch (b->kind) {
+  case BODY_SPHERE: SphereContact(n, x, inv_m, c, b->reach, b->k, b->mu, anchor, f, sum); break;
+  case BODY_PLANE: PlaneContact(n, x, inv_m, c, b->dir, b->reach, b->k, b->mu, anchor, f, sum); break;
+  default: DiscContact(n, x, inv_m, c, b->radius, b->height, b->reach, b->k, b->mu, anchor, f, sum);
+  }
+}
+
+/* K -= k p dn/dx: the Hessian part of a penalty whose normal n turns as the point moves, with
+   dn/dx = cm (I - n n^T - t t^T) + ct t t^T for a unit hoop direction t normal to n (t = NULL:
+   dn/dx = cm (I - n n^T), a sphere) */
+static void PenaltyCurvature(PetscReal K[9], PetscReal kp, const PetscReal n[3], const PetscReal *t, PetscReal cm,
+                             PetscReal ct)
+{
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++) {
+      const PetscReal tt = t ? t[i] * t[j] : 0.0;
+      K[3 * i + j] -= kp * (cm * ((i == j) - n[i] * n[j] - tt) + ct * tt);
+    }
+}
+
+/* The penalty energy E = 0.5 k p^2, p = reach - distance > 0. With n the outward unit normal,
+   dE/dx = -k p n; d2E/dx2 = k n n^T - k p dn/dx, where dn/dx = (I - n n^T)/r around a centre at
+   distance r (the sphere, the pedestal's rim edge) and 0 on a flat face (plane, top, rim). */
+PetscReal BodyEnergy(const Body *b, const PetscReal c[3], const PetscReal x[3], PetscReal g[3], PetscReal K[9])
+{
+  PetscReal f[3] = {0, 0, 0}, sum[3] = {0, 0, 0}, one = 1.0, nrm[3], p;
+  Body      unit = *b; /* the push with unit stiffness and no friction is p n */
+
+  unit.k = 1.0, unit.mu = 0.0;
+  for (int q = 0; q < 9; q++) K[q] = 0;
+  for (int d = 0; d < 3; d++) g[d] = 0;
+  BodyContact(&unit, c, 1, x, &one, NULL, f, sum);
+  p = PetscSqrtReal(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]); /* |f| = 1 * p with unit stiffness */
+  if (!(p > 0)) return 0.0;
+  for (int d = 0; d < 3; d++) nrm[d] = f[d] / p, g[d] = -b->k * p * nrm[d];
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++) K[3 * i + j] = b->k * nrm[i] * nrm[j];
+  if (b->kind == BODY_SPHERE) PenaltyCurvature(K, b->k * p, nrm, NULL, 1.0 / (b->reach - p), 0.0);
+  if (b->kind == BODY_PEDESTAL) { /* the rim turns with the hoop; the rounded edge also bends in its own plane */
+    const PetscReal dx = x[0] - c[0], dy = x[1] - c[1], rho = PetscSqrtReal(dx * dx + dy * dy);
+    const PetscReal t[3] = {rho > 0 ? -dy / rho : 0.0, rho > 0 ? dx / rho : 1.0, 0}, d = b->reach - p;
+    if (PetscAbsReal(nrm[2]) < 1e-12)
+      PenaltyCurvature(K, b->k * p, nrm, t, 0.0, 1.0 / rho);
+    else if (PetscAbsReal(nrm[2]) < 1.0 - 1e-12)
+      PenaltyCurvature(K, b->k * p, nrm, t, 1.0 / d, (1.0 - b->radius / rho) / d);
+  }
+  return 0.5 * b->k * p * p;
+}

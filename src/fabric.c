@@ -260,8 +260,9 @@ static PetscErrorCode SetUpPatch(Fabric fab, const DMDALocalInfo *info_)
     p->Ks        = s->terms.shear_G * p->ax * p->ay;
     p->Kj        = s->terms.jam_factor * p->Ks;
     p->s_lock    = PetscSinReal(s->terms.lock_deg * PETSC_PI / 180.0);
-    p->k_contact = ((s->bodies.sphere_radius > 0) + (s->bodies.plane ? 1 : 0) + (s->bodies.pedestal_radius > 0)) *
-                   s->bodies.contact_k; /* a crossing can touch every body at once */
+    p->k_contact = 0; /* a crossing can touch every body at once */
+    for (PetscInt q = 0; q < fab->bodies.n; q++)
+      p->k_contact += BodyBound(&fab->bodies.body[q]); /* a crossing can touch every body at once */
     PetscCall(PetscCalloc1((size_t) p->gxm * p->gym, &p->exists));
     PetscCall(PetscCalloc1((size_t) p->gxm * p->gym, &p->broken_x));
     PetscCall(PetscCalloc1((size_t) p->gxm * p->gym, &p->broken_y));
@@ -316,31 +317,49 @@ static PetscErrorCode SetUpMasses(Fabric fab, const DMDALocalInfo *info_)
   PetscFunctionReturn(0);
 }
 
-/* friction anchors: each crossing's rest position in the frame of each body present */
+/* the rigid bodies the scene has, at their places at rest (the grid centre is the origin of
+   their options) */
+static void SetUpBodies(Fabric fab)
+{
+  const Bodies   *sb         = &fab->s.bodies;
+  const PetscReal half_thick = 0.5 * sb->thickness;
+  RigidBodies    *rb         = &fab->bodies;
+
+  rb->n = 0;
+  if (sb->sphere_radius > 0) {
+    Body *b = &rb->body[rb->n++];
+    *b      = (Body){BODY_SPHERE,    {0}, {0}, sb->sphere_radius, 0, sb->sphere_radius + half_thick, sb->contact_k,
+                     sb->friction_mu};
+    for (int d = 0; d < 3; d++) b->ref[d] = fab->grid.centre[d] + sb->sphere_start[d], b->dir[d] = sb->sphere_dir[d];
+  }
+  if (sb->plane) {
+    Body *b = &rb->body[rb->n++];
+    *b      = (Body){BODY_PLANE, {0}, {0}, 0, 0, half_thick, sb->contact_k, sb->friction_mu};
+    for (int d = 0; d < 3; d++) b->ref[d] = fab->grid.centre[d] + sb->plane_point[d], b->dir[d] = sb->plane_normal[d];
+  }
+  if (sb->pedestal_radius > 0) {
+    Body *b = &rb->body[rb->n++];
+    *b      = (Body){BODY_PEDESTAL,       {0},        {0},           sb->pedestal_radius,
+                     sb->pedestal_height, half_thick, sb->contact_k, sb->friction_mu};
+    for (int d = 0; d < 3; d++) b->ref[d] = fab->grid.centre[d] + sb->pedestal_top[d];
+  }
+}
+
+/* friction anchors: each crossing's rest position in the frame of each body */
 static PetscErrorCode SetUpAnchors(Fabric fab)
 {
-  const Scene *s    = &fab->s;
-
   PetscFunctionBeginUser;
-  if (s->bodies.friction_mu > 0) {
-    const PetscBool present[3] = {s->bodies.sphere_radius > 0, s->bodies.plane, s->bodies.pedestal_radius > 0};
-    for (int b = 0; b < 3; b++) {
-      PetscReal c[3];
-      if (!present[b]) continue;
-      for (int d = 0; d < 3; d++)
-        c[d] = fab->grid.centre[d] + (b == 0   ? s->bodies.sphere_start[d]
-                                      : b == 1 ? s->bodies.plane_point[d]
-                                               : s->bodies.pedestal_top[d]);
-      PetscCall(VecDuplicate(fab->state.X, &fab->state.anchor[b]));
-      PetscCall(VecCopy(fab->grid.X0, fab->state.anchor[b]));
-      {
-        PetscScalar *a;
-        PetscCall(VecGetArray(fab->state.anchor[b], &a));
-        for (PetscInt k = 0; k < fab->grid.nloc; k++)
-          for (int d = 0; d < 3; d++) a[3 * k + d] -= c[d];
-        PetscCall(VecRestoreArray(fab->state.anchor[b], &a));
-      }
-    }
+  if (!(fab->s.bodies.friction_mu > 0)) PetscFunctionReturn(0);
+  for (PetscInt q = 0; q < fab->bodies.n; q++) {
+    const Body  *b = &fab->bodies.body[q];
+    Vec         *A = &fab->state.anchor[b->kind];
+    PetscScalar *a;
+    PetscCall(VecDuplicate(fab->state.X, A));
+    PetscCall(VecCopy(fab->grid.X0, *A));
+    PetscCall(VecGetArray(*A, &a));
+    for (PetscInt k = 0; k < fab->grid.nloc; k++)
+      for (int d = 0; d < 3; d++) a[3 * k + d] -= b->ref[d];
+    PetscCall(VecRestoreArray(*A, &a));
   }
   PetscFunctionReturn(0);
 }
@@ -363,6 +382,7 @@ PetscErrorCode FabricCreate(MPI_Comm comm, Fabric *out)
   PetscCall(DMDAGetLocalInfo(fab->grid.da, &info));
   fab->grid.nloc = (PetscInt) info.xm * info.ym;
   PetscCall(CreateState(fab, &info));
+  SetUpBodies(fab);
   PetscCall(SetUpPatch(fab, &info));
   PetscCall(CheckLines(fab, &info));
   PetscCall(SetUpMasses(fab, &info));

@@ -17,6 +17,39 @@
 
 #include <math.h>
 
+/* the rigid bodies' contact and friction on the owned points of box, row by row, each body
+   adding to its own reaction sum */
+static PetscErrorCode BodyForces(Fabric fab, const PetscInt box[4], PetscScalar *f)
+{
+  const Patch       *p = &fab->grid.patch;
+  const PetscScalar *x;
+  PetscScalar       *anchor[BODY_KINDS] = {NULL};
+  PetscReal          c[BODY_KINDS][3];
+
+  PetscFunctionBeginUser;
+  for (int b = 0; b < BODY_KINDS; b++)
+    for (int d = 0; d < 3; d++) fab->meas.body_sum[b][d] = 0;
+  if (!fab->bodies.n) PetscFunctionReturn(0);
+  for (PetscInt q = 0; q < fab->bodies.n; q++) BodyPosition(&fab->bodies.body[q], fab->load.travel_now, c[q]);
+  PetscCall(VecGetArrayRead(fab->state.X, &x));
+  for (PetscInt q = 0; q < fab->bodies.n; q++) {
+    const Vec a = fab->state.anchor[fab->bodies.body[q].kind];
+    if (a) PetscCall(VecGetArray(a, &anchor[q]));
+  }
+  for (PetscInt j = box[2]; j < box[3]; j++) {
+    const PetscInt k0 = (j - p->ys) * p->xm + (box[0] - p->xs), n = box[1] - box[0];
+    for (PetscInt q = 0; q < fab->bodies.n; q++) {
+      const Body *b = &fab->bodies.body[q];
+      BodyContact(b, c[q], n, x + 3 * k0, fab->grid.inv_m + k0, anchor[q] ? anchor[q] + 3 * k0 : NULL, f + 3 * k0,
+                  fab->meas.body_sum[b->kind]);
+    }
+  }
+  for (PetscInt q = 0; q < fab->bodies.n; q++)
+    if (anchor[q]) PetscCall(VecRestoreArray(fab->state.anchor[fab->bodies.body[q].kind], &anchor[q]));
+  PetscCall(VecRestoreArrayRead(fab->state.X, &x));
+  PetscFunctionReturn(0);
+}
+
 /* internal forces at the current positions on the owned points of box (NULL: all), plus
    the point load */
 PetscErrorCode ComputeForces(Fabric fab, const PetscInt box[4], PetscReal *tension_max)
@@ -38,41 +71,7 @@ PetscErrorCode ComputeForces(Fabric fab, const PetscInt box[4], PetscReal *tensi
     if (i >= box[0] && i < box[1] && j >= box[2] && j < box[3])
       for (int d = 0; d < 3; d++) f[3 * fab->grid.load_index + d] += fab->load.load_factor * fab->s.load.point_load[d];
   }
-  for (int d = 0; d < 3; d++) fab->meas.sphere_sum[d] = fab->meas.plane_sum[d] = fab->meas.pedestal_sum[d] = 0;
-  if (fab->s.bodies.sphere_radius > 0 || fab->s.bodies.plane ||
-      fab->s.bodies.pedestal_radius > 0) { /* the rigid bodies, each adding to its own reaction sum */
-    const Scene       *s = &fab->s;
-    const PetscScalar *x;
-    PetscScalar       *anchor[3] = {NULL, NULL, NULL};
-    PetscReal          c[3], p0[3], top[3];
-    for (int d = 0; d < 3; d++) {
-      c[d] = fab->grid.centre[d] + s->bodies.sphere_start[d] +
-             fab->load.travel_now * s->bodies.sphere_dir[d]; /* the punch, where the load program has moved it */
-      p0[d]  = fab->grid.centre[d] + s->bodies.plane_point[d];
-      top[d] = fab->grid.centre[d] + s->bodies.pedestal_top[d];
-    }
-    PetscCall(VecGetArrayRead(fab->state.X, &x));
-    for (int b = 0; b < 3; b++)
-      if (fab->state.anchor[b]) PetscCall(VecGetArray(fab->state.anchor[b], &anchor[b]));
-    for (PetscInt j = box[2]; j < box[3]; j++) {
-      const PetscInt k0 = (j - p->ys) * p->xm + (box[0] - p->xs), n = box[1] - box[0];
-      if (s->bodies.sphere_radius > 0)
-        SphereContact(n, x + 3 * k0, fab->grid.inv_m + k0, c, s->bodies.sphere_radius + 0.5 * s->bodies.thickness,
-                      s->bodies.contact_k, s->bodies.friction_mu, anchor[0] ? anchor[0] + 3 * k0 : NULL, f + 3 * k0,
-                      fab->meas.sphere_sum);
-      if (s->bodies.plane)
-        PlaneContact(n, x + 3 * k0, fab->grid.inv_m + k0, p0, s->bodies.plane_normal, 0.5 * s->bodies.thickness,
-                     s->bodies.contact_k, s->bodies.friction_mu, anchor[1] ? anchor[1] + 3 * k0 : NULL, f + 3 * k0,
-                     fab->meas.plane_sum);
-      if (s->bodies.pedestal_radius > 0)
-        DiscContact(n, x + 3 * k0, fab->grid.inv_m + k0, top, s->bodies.pedestal_radius, s->bodies.pedestal_height,
-                    0.5 * s->bodies.thickness, s->bodies.contact_k, s->bodies.friction_mu,
-                    anchor[2] ? anchor[2] + 3 * k0 : NULL, f + 3 * k0, fab->meas.pedestal_sum);
-    }
-    for (int b = 0; b < 3; b++)
-      if (fab->state.anchor[b]) PetscCall(VecRestoreArray(fab->state.anchor[b], &anchor[b]));
-    PetscCall(VecRestoreArrayRead(fab->state.X, &x));
-  }
+  PetscCall(BodyForces(fab, box, f));
   PetscCall(VecRestoreArray(fab->state.F, &f));
   PetscCall(VecRestoreArrayRead(fab->state.Xl, &xl));
   PetscCall(PetscLogEventEnd(EV_Force, 0, 0, 0, 0));

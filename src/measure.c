@@ -37,7 +37,7 @@ static PetscErrorCode SphereReaction(Fabric fab, CurveRow *row)
   PetscReal sum[3];
 
   PetscFunctionBeginUser; /* contact_sum: from GripReaction's ComputeForces at the balanced state */
-  for (int d = 0; d < 3; d++) sum[d] = fab->meas.sphere_sum[d];
+  for (int d = 0; d < 3; d++) sum[d] = fab->meas.body_sum[BODY_SPHERE][d];
   PetscCall(GlobalSum(fab->comm, sum, 3));
   row->force = sum[0] * fab->s.bodies.sphere_dir[0] + sum[1] * fab->s.bodies.sphere_dir[1] +
                sum[2] * fab->s.bodies.sphere_dir[2];
@@ -59,8 +59,8 @@ static PetscErrorCode SupportReactions(Fabric fab, CurveRow *row)
 
   PetscFunctionBeginUser;
   for (int d = 0; d < 3; d++) {
-    acc[d]     = -fab->meas.plane_sum[d];
-    acc[3 + d] = -fab->meas.pedestal_sum[d];
+    acc[d]     = -fab->meas.body_sum[BODY_PLANE][d];
+    acc[3 + d] = -fab->meas.body_sum[BODY_PEDESTAL][d];
     acc[6 + d] = acc[9 + d] = 0;
   }
   PetscCall(VecGetArrayRead(fab->state.F, &f));

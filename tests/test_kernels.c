@@ -19,6 +19,7 @@
  *  table:    the fast yarn table equals GSL's Steffen spline of the CSV, and extends linearly.
  *  tangent:  ChordTangentMax of the piecewise-linear law over strain windows.
  */
+#include "bodies.h"
 #include "kernels.h"
 
 #include <gsl/gsl_interp.h>
@@ -1103,6 +1104,59 @@ static void TestTangent(void)
   Check("chord tension in extension", fabs(ChordTension(&y, 0.1) - (2.6 * 0.08 + 52 * 0.02 / 1.08)), 1e-12);
 }
 
+static double Norm3(const PetscReal v[3])
+{
+  return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+}
+
+/* Rigid bodies (bodies.c): for a sphere, a plane and a pedestal (top face, rim, rounded edge),
+   at points in contact: BodyEnergy's gradient is minus BodyContact's force (to 1e-12 relative), the
+   energy's central differences give the gradient (1e-6 relative) and the gradient's give the
+   Hessian (1e-6 relative to its largest entry). */
+static void TestBodies(void)
+{
+  const Body bodies[3] = {
+      {BODY_SPHERE, {0, 0, -0.01}, {0, 0, 1}, 0.01, 0, 0.0102, 500.0, 0.0},
+      {BODY_PLANE, {0, 0, 0}, {0.6, 0, 0.8}, 0, 0, 2e-4, 500.0, 0.0},
+      {BODY_PEDESTAL, {0, 0, 0}, {0, 0, 0}, 0.01, 0.005, 2e-4, 500.0, 0.0},
+  };
+  const PetscReal pts[3][4][3] = {
+      {{0.001, 0.002, -0.0001}, {0.003, -0.001, -0.0005}, {0, 0, 0.0001}, {0.02, 0, 0}},   /* sphere */
+      {{0.0001, 0, 0.0001}, {0.001, 0.003, -0.001}, {0.0065, 0, -0.00995}, {0, 0, 0.001}}, /* plane */
+      {{0.001, 0.002, 0.0001},
+       {0.0101, 0.0001, 0.0001},
+       {0.0099, 0.0, -0.001},
+       {0.01015, 0.0005, -0.002}}, /* pedestal: top,
+                    edge, rim inside, rim outside */
+  };
+  double eg = 0, eK = 0, ef = 0;
+  int    contacts = 0;
+
+  for (int b = 0; b < 3; b++)
+    for (int q = 0; q < 4; q++) {
+      PetscReal       c[3], g[3], K[9], f[3] = {0, 0, 0}, sum[3] = {0, 0, 0}, one = 1.0, gp[3], gm[3], Kd[9];
+      const PetscReal h = 1e-8;
+      BodyPosition(&bodies[b], 0.0, c);
+      if (!(BodyEnergy(&bodies[b], c, pts[b][q], g, K) > 0)) continue;
+      contacts++;
+      BodyContact(&bodies[b], c, 1, pts[b][q], &one, NULL, f, sum);
+      for (int d = 0; d < 3; d++) ef = PetscMax(ef, fabs(g[d] + f[d]) / PetscMax(1e-30, fabs(f[d]) + 1e-3 * Norm3(f)));
+      for (int d = 0; d < 3; d++) {
+        PetscReal xp[3] = {pts[b][q][0], pts[b][q][1], pts[b][q][2]},
+                  xm[3] = {pts[b][q][0], pts[b][q][1], pts[b][q][2]};
+        xp[d] += h, xm[d] -= h;
+        const double Ep = BodyEnergy(&bodies[b], c, xp, gp, Kd), Em = BodyEnergy(&bodies[b], c, xm, gm, Kd);
+        eg = PetscMax(eg, fabs((Ep - Em) / (2 * h) - g[d]) / Norm3(g));
+        for (int e = 0; e < 3; e++) eK = PetscMax(eK, fabs((gp[e] - gm[e]) / (2 * h) - K[3 * e + d]) / MaxAbs(K, 9));
+      }
+    }
+  Check("bodies: points in contact (count - 10, 0 = as placed: 3 sphere, 3 plane, 4 pedestal faces)",
+        fabs(contacts - 10.0), 0.0);
+  Check("bodies: BodyEnergy gradient = -BodyContact force, max relative", ef, 1e-12);
+  Check("bodies: BodyEnergy gradient vs central differences of the energy, max relative", eg, 1e-6);
+  Check("bodies: BodyEnergy Hessian vs central differences of the gradient, max / max entry", eK, 1e-6);
+}
+
 int main(int argc, char **argv)
 {
   char csv[PETSC_MAX_PATH_LEN] = "";
@@ -1115,6 +1169,7 @@ int main(int argc, char **argv)
   PetscCall(TestIdentity(csv));
   if (csv[0]) PetscCall(TestTable(csv));
   TestTangent();
+  TestBodies();
   PetscCall(PetscFinalize());
   return failures ? 1 : 0;
 }
