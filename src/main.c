@@ -88,6 +88,7 @@ static PetscErrorCode Run(int argc, char **argv)
     const char *text;
     char       *specific = NULL;
     PetscErrorMessage(ierr, &text, &specific);
+    if (PetscTime(&fab->stats.wall) == 0) fab->stats.wall -= fab->stats.wall_start; /* the time it ran */
     if (fab->stats.curve_fp) OutputSummary(fab, specific && specific[0] ? specific : text);
     FabricDestroy(&fab);
     return ierr;

@@ -210,6 +210,9 @@ PetscErrorCode OutputSummary(Fabric fab, const char *error)
   if (s->test == TEST_DRAPE)
     fprintf(fp, "  \"drape_coefficient_pct\": %.6g,\n  \"folds\": %" PetscInt_FMT ",\n", (double) fab->meas.drape_pct,
             fab->meas.folds);
+  fprintf(fp, "  \"options\": {\n");
+  SceneOptionsJson(s, fp, "    ");
+  fprintf(fp, "  },\n");
   fprintf(fp, "  \"converged\": %s", (fab->stats.converged && !error && done == s->load.load_steps) ? "true" : "false");
   if (error) {
     fprintf(fp, ",\n  \"error\": ");

@@ -960,3 +960,47 @@ PetscErrorCode SceneDestroy(Scene *s)
   PetscCall(YarnLawDestroy(&s->yarns.weft));
   PetscFunctionReturn(0);
 }
+
+/* every option of the table as JSON members "name": value, one per line after indent (summary.json) */
+void SceneOptionsJson(const Scene *s, FILE *fp, const char *indent)
+{
+  int first = 1;
+  for (PetscInt e = 0; e < NOPTIONS; e++) {
+    const OptionDesc *o     = &Options[e];
+    const int         yarns = strncmp(o->name, "%s", 2) ? 1 : 2;
+    for (int y = 0; y < yarns; y++) {
+      const void *base = yarns == 2 ? (const void *) &s->in.yarn[y] : (const void *) &s->in;
+      const void *f    = (const char *) base + o->at;
+      char        name[64];
+      OptName(o, y, name);
+      fprintf(fp, "%s%s\"%s\": ", first ? "" : ",\n", indent, name);
+      first = 0;
+      switch (o->type) {
+      case OPT_REAL: fprintf(fp, "%.17g", (double) *(const PetscReal *) f); break;
+      case OPT_INT: fprintf(fp, "%" PetscInt_FMT, *(const PetscInt *) f); break;
+      case OPT_BOOL: fprintf(fp, "%s", *(const PetscBool *) f ? "true" : "false"); break;
+      case OPT_ENUM: fprintf(fp, "\"%s\"", o->choices[*(const PetscInt *) f]); break;
+      case OPT_STRING: {
+        fputc('"', fp);
+        for (const char *c = (const char *) f; *c; c++) {
+          if (*c == '"' || *c == '\\') fputc('\\', fp);
+          if ((unsigned char) *c >= 0x20) fputc(*c, fp);
+        }
+        fputc('"', fp);
+      } break;
+      default: {
+        const PetscInt n = *(const PetscInt *) ((const char *) base + o->at_n);
+        fputc('[', fp);
+        for (PetscInt c = 0; c < n; c++) {
+          if (o->type == OPT_REALS)
+            fprintf(fp, "%s%.17g", c ? ", " : "", (double) ((const PetscReal *) f)[c]);
+          else
+            fprintf(fp, "%s%" PetscInt_FMT, c ? ", " : "", ((const PetscInt *) f)[c]);
+        }
+        fputc(']', fp);
+      }
+      }
+    }
+  }
+  fprintf(fp, "\n");
+}
