@@ -219,6 +219,32 @@ static PetscErrorCode KineticDamping(Fabric fab)
   PetscFunctionReturn(0);
 }
 
+/* The velocities became NaN or Inf: name the first crossing (in the grid's natural order) where
+   they did, and stop. */
+static PetscErrorCode StopNonFinite(Fabric fab)
+{
+  const Patch       *p = &fab->grid.patch;
+  const PetscScalar *v;
+  PetscReal          first = -(PetscReal) PETSC_MAX_INT; /* minus the first global index: a max-reduction */
+
+  PetscFunctionBeginUser;
+  PetscCall(VecGetArrayRead(fab->state.V, &v));
+  for (PetscInt k = 0; k < fab->grid.nloc; k++)
+    if (!isfinite(v[3 * k]) || !isfinite(v[3 * k + 1]) || !isfinite(v[3 * k + 2])) {
+      const PetscInt i = p->xs + k % p->xm, j = p->ys + k / p->xm;
+      first = PetscMax(first, -(PetscReal) (j * p->nx + i));
+      break;
+    }
+  PetscCall(VecRestoreArrayRead(fab->state.V, &v));
+  PetscCall(GlobalMax(fab->comm, &first, 1));
+  SETERRQ(fab->comm, PETSC_ERR_FP,
+          "numerical instability at load step %" PetscInt_FMT ", te step %" PetscInt64_FMT
+          ": velocities became NaN or Inf, first at crossing (%" PetscInt_FMT ", %" PetscInt_FMT
+          ") (te = %g s, stable bound %g s)",
+          fab->load.load_step, fab->stats.te_steps, (PetscInt) (-first) % p->nx, (PetscInt) (-first) / p->nx,
+          (double) fab->step.te, (double) fab->step.te_bound);
+}
+
 /* One te step: halo exchange, forces and integration on the points the front and sleeping
    leave to compute, then the global balance test and the stability watch (one max-reduction,
    which also carries the awake box). Stops with an error on NaN, Inf or runaway motion. */
@@ -289,10 +315,7 @@ PetscErrorCode TimeStep(Fabric fab, StepStats *out)
     fab->front.awake_box[2] = (PetscInt) -red[6], fab->front.awake_box[3] = (PetscInt) red[7];
   }
   fab->stats.te_steps++;
-  PetscCheck(red[3] == 0.0, fab->comm, PETSC_ERR_FP,
-             "numerical instability at load step %" PetscInt_FMT ", te step %" PetscInt64_FMT
-             ": velocities became NaN or Inf (te = %g s, stable bound %g s)",
-             fab->load.load_step, fab->stats.te_steps, (double) fab->step.te, (double) fab->step.te_bound);
+  if (red[3] != 0.0) PetscCall(StopNonFinite(fab));
   out->speed       = PetscSqrtReal(red[1]);
   out->tension_max = red[2];
   out->residual    = PetscSqrtReal(red[0]) / PetscMax(red[2], fab->step.force_floor);

@@ -281,7 +281,7 @@ static void ComputeSegmentRow(const YarnLaw *law, PetscReal L0, PetscBool tracti
     const PetscReal L = PetscSqrtReal(dx * dx + dy * dy + dz * dz), e_raw = L * inv_L0 - 1.0;
     const PetscReal e     = PetscAbsReal(e_raw) < STRAIN_ROUNDOFF ? 0.0 : e_raw;
     const int       alive = ea[i] && eb[i] && !broken[i];
-    const PetscReal inv   = alive ? 1.0 / L : 0.0;
+    const PetscReal inv   = (alive && L > 0) ? 1.0 / L : 0.0; /* a zero-length chord has no direction: no force */
     const PetscReal T     = (alive && traction) ? ChordTension(law, e) : 0.0;
     s->ux[i]              = dx * inv;
     s->uy[i]              = dy * inv;
@@ -360,9 +360,10 @@ static void TractionBoundRow(const Patch *p, const PetscReal *x, PetscInt i, Pet
       const Chord    c = ChordAt(p, x, ia, ja, dir);
       if (!c.alive) continue;
       const PetscReal e = c.L / L0 - 1.0, T = ChordTension(law, e);
-      *rs += 2.0 * PetscMax(ChordTangentMax(law, e - window, e + window) / L0, PetscAbsReal(T) / c.L);
+      const PetscReal TL = c.L > 0 ? PetscAbsReal(T) / c.L : 0.0; /* a zero-length chord: no geometric stiffness */
+      *rs += 2.0 * PetscMax(ChordTangentMax(law, e - window, e + window) / L0, TL);
       if (dir == pull_dir) /* current stiffness, tension side */
-        *rp += 2.0 * PetscMax(ChordTangentMax(law, e, e + 0.005) / L0, PetscAbsReal(T) / c.L);
+        *rp += 2.0 * PetscMax(ChordTangentMax(law, e, e + 0.005) / L0, TL);
     }
   }
 }
@@ -527,6 +528,7 @@ static void BendingBoundRow(const Patch *p, const PetscReal *x, PetscInt i, Pets
       const Chord    c1 = ChordAt(p, x, ic - (dir == 0), jc - (dir == 1), dir), c2 = ChordAt(p, x, ic, jc, dir);
       if (!c1.alive || !c2.alive) continue;
       const PetscReal Lmin = PetscMin(PetscMin(c1.L, c2.L), Lc);
+      if (!(Lmin > 0)) continue; /* a zero-length chord has no direction: no bending force */
       *rs += kb * (k == 0 ? 24.0 : 12.0) / (Lmin * Lmin);
     }
   }
@@ -557,16 +559,18 @@ static void ComputeShearRow(const Patch *p, const PetscReal *x, PetscInt r, Pets
     const PetscReal  twx = xp[0] - xm[0], twy = xp[1] - xm[1], twz = xp[2] - xm[2];
     const PetscReal  tfx = yp[0] - ym[0], tfy = yp[1] - ym[1], tfz = yp[2] - ym[2];
     const int        active = self && (hl || hr) && (hd || hu);
-    const PetscReal  iw     = active ? 1.0 / PetscSqrtReal(twx * twx + twy * twy + twz * twz) : 0.0;
-    const PetscReal  jf     = active ? 1.0 / PetscSqrtReal(tfx * tfx + tfy * tfy + tfz * tfz) : 0.0;
-    const PetscReal  uwx = twx * iw, uwy = twy * iw, uwz = twz * iw, ufx = tfx * jf, ufy = tfy * jf, ufz = tfz * jf;
-    const PetscReal  s = uwx * ufx + uwy * ufy + uwz * ufz, as = PetscAbsReal(s);
-    const PetscReal  jam = as > sl ? (s > 0 ? as - sl : sl - as) : 0.0;
-    const PetscReal  Ep  = Ks * s + Kj * jam;
-    const PetscReal  cw = Ep * iw, cf = Ep * jf;
-    const PetscReal  hwx = cw * (ufx - s * uwx), hwy = cw * (ufy - s * uwy), hwz = cw * (ufz - s * uwz);
-    const PetscReal  hfx = cf * (uwx - s * ufx), hfy = cf * (uwy - s * ufy), hfz = cf * (uwz - s * ufz);
-    const PetscReal  aw = (PetscReal) (hr - hl), af = (PetscReal) (hu - hd);
+    const PetscReal  nw2 = twx * twx + twy * twy + twz * twz, nf2 = tfx * tfx + tfy * tfy + tfz * tfz;
+    /* a yarn folded back on itself (a tangent of zero length) has no shear angle: no shear force */
+    const PetscReal iw  = (active && nw2 > 0 && nf2 > 0) ? 1.0 / PetscSqrtReal(nw2) : 0.0;
+    const PetscReal jf  = (active && nw2 > 0 && nf2 > 0) ? 1.0 / PetscSqrtReal(nf2) : 0.0;
+    const PetscReal uwx = twx * iw, uwy = twy * iw, uwz = twz * iw, ufx = tfx * jf, ufy = tfy * jf, ufz = tfz * jf;
+    const PetscReal s = uwx * ufx + uwy * ufy + uwz * ufz, as = PetscAbsReal(s);
+    const PetscReal jam = as > sl ? (s > 0 ? as - sl : sl - as) : 0.0;
+    const PetscReal Ep  = Ks * s + Kj * jam;
+    const PetscReal cw = Ep * iw, cf = Ep * jf;
+    const PetscReal hwx = cw * (ufx - s * uwx), hwy = cw * (ufy - s * uwy), hwz = cw * (ufz - s * uwz);
+    const PetscReal hfx = cf * (uwx - s * ufx), hfy = cf * (uwy - s * ufy), hfz = cf * (uwz - s * ufz);
+    const PetscReal aw = (PetscReal) (hr - hl), af = (PetscReal) (hu - hd);
     sh->hwx[li] = hwx;
     sh->hwy[li] = hwy;
     sh->hwz[li] = hwz;

@@ -1104,6 +1104,36 @@ static void TestTangent(void)
   Check("chord tension in extension", fabs(ChordTension(&y, 0.1) - (2.6 * 0.08 + 52 * 0.02 / 1.08)), 1e-12);
 }
 
+/* Degenerate geometry (kernels.c): a crossing moved onto its neighbour (a zero-length chord) and a
+   yarn folded back on itself (the warp tangent x(i+1) - x(i-1) of zero length) give finite forces
+   and a finite stable-step bound: the degenerate chord and crossing carry no force. */
+static PetscErrorCode TestDegenerate(const char *csv)
+{
+  YarnLaw   warp = {0}, weft = {0};
+  Patch     p;
+  double    x[3 * NP], f[3 * NP], tmax, o2, o2p, inv_m[NP];
+  PetscInt  full[4] = {0, NX, 0, NY};
+  int       finite  = 1;
+  const int a = 3 * NX + 2, b = a + 1, c = 5 * NX + 5; /* chord a-b; crossing c: its warp neighbours meet */
+
+  PetscFunctionBeginUser;
+  PetscCall(LawsSetUp(&warp, &weft, csv));
+  PetscCall(RichPatch(&p, &warp, &weft, 0));
+  DistortedState(&p, x, 7);
+  for (int d = 0; d < 3; d++) x[3 * b + d] = x[3 * a + d], x[3 * (c + 1) + d] = x[3 * (c - 1) + d];
+  for (int k = 0; k < NP; k++) inv_m[k] = 1.0;
+  ComputeInternalForces(&p, x, full, f, &tmax);
+  for (int k = 0; k < 3 * NP; k++) finite = finite && isfinite(f[k]);
+  o2 = StableOmega2(&p, x, inv_m, 1.0, 0, &o2p);
+  Check("degenerate chord and folded yarn: every force finite (0 = yes)", finite ? 0.0 : 1.0, 0.0);
+  Check("degenerate chord and folded yarn: stable-step bound finite and positive (0 = yes)",
+        isfinite(o2) && o2 > 0 && isfinite(o2p) ? 0.0 : 1.0, 0.0);
+  PetscCall(PatchFree(&p));
+  PetscCall(YarnLawDestroy(&warp));
+  PetscCall(YarnLawDestroy(&weft));
+  PetscFunctionReturn(0);
+}
+
 static double Norm3(const PetscReal v[3])
 {
   return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
@@ -1170,6 +1200,7 @@ int main(int argc, char **argv)
   if (csv[0]) PetscCall(TestTable(csv));
   TestTangent();
   TestBodies();
+  PetscCall(TestDegenerate(csv));
   PetscCall(PetscFinalize());
   return failures ? 1 : 0;
 }
