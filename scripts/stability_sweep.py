@@ -152,7 +152,7 @@ def cases():
     add("kinetic damping te 0.7, no viscous damping", "L", "-kinetic_damping -damping_ratio 0 -te_safety 0.7 -max_inner_steps 50000")
     add("kinetic damping and damping 1", "L", "-kinetic_damping -max_inner_steps 50000")
     add("kinetic damping te 0.6 linear law 1 yarn", "L", "-yarns 1 -shear 0 -bending 0 -warp_compression_ratio 1 -kinetic_damping -damping_ratio 0 "
-        "-te_safety 0.6 -max_inner_steps 100000", note="tension linear through zero, no contact kink")
+        "-te_safety 0.6 -max_inner_steps 100000", note="tension linear through zero, no contact kink", fast=True)
     add("kinetic damping te 0.5 transverse", "T", "-bending 0 -kinetic_damping -damping_ratio 0 -te_safety 0.5 -max_inner_steps 20000")
 
     # --- yarn modulus: elastane-like 10, cotton 260 (the bases), glass 2600 cN/tex
