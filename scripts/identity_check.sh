@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Same results as a reference revision, bit for bit: scripts/identity_check.sh [REV] [-quick]
 #
-# Builds REV (default: HEAD, the last commit) into build-ref/ beside the working tree's build/,
+# Builds REV (default: HEAD, the last commit) into build-ref/REV/ beside the working tree's build/,
 # runs the shipped scenes (shortened where a full run takes minutes) with both binaries on 1, 2
 # and 3 ranks, and compares the final positions (cmp), curve.csv (cmp), summary.json (without
 # its wall-clock fields), fabric.h5 and checkpoint.h5 (h5diff, exact). A restructuring that
@@ -13,14 +13,19 @@ quick=0; [[ "${2:-}" == "-quick" || "${1:-}" == "-quick" ]] && quick=1
 [[ "$rev" == "-quick" ]] && rev=HEAD
 source "$ROOT/scripts/setup.sh"
 
-ref_src="$ROOT/build-ref/src"
-rm -rf "$ref_src"; mkdir -p "$ref_src"
-git -C "$ROOT" archive "$rev" | tar -x -C "$ref_src" || { echo "identity_check: cannot export revision $rev" >&2; exit 1; }
-cmake -S "$ref_src" -B "$ROOT/build-ref/build" -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build "$ROOT/build-ref/build" -j "$(nproc)" --target fabric >/dev/null || { echo "identity_check: $rev does not build" >&2; exit 1; }
+# one source and build folder per revision (git archive keeps the commit's file times, so a
+# folder shared between revisions would keep stale objects)
+hash="$(git -C "$ROOT" rev-parse --short "$rev")" || { echo "identity_check: no revision $rev" >&2; exit 1; }
+ref_src="$ROOT/build-ref/$hash/src" ref_build="$ROOT/build-ref/$hash/build"
+if [[ ! -x "$ref_build/fabric" ]]; then
+  rm -rf "$ROOT/build-ref/$hash"; mkdir -p "$ref_src"
+  git -C "$ROOT" archive "$rev" | tar -x -C "$ref_src" || { echo "identity_check: cannot export $rev" >&2; exit 1; }
+  cmake -S "$ref_src" -B "$ref_build" -DCMAKE_BUILD_TYPE=Release >/dev/null
+  cmake --build "$ref_build" -j "$(nproc)" --target fabric >/dev/null || { echo "identity_check: $rev does not build" >&2; exit 1; }
+fi
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
 # copies, so that a rebuild while the cases run does not mix binaries
-cp "$ROOT/build-ref/build/fabric" "$work/fabric.ref"; cp "$ROOT/build/fabric" "$work/fabric.new"
+cp "$ref_build/fabric" "$work/fabric.ref"; cp "$ROOT/build/fabric" "$work/fabric.new"
 ref="$work/fabric.ref"; new="$work/fabric.new"
 IN="$ROOT/inputs"
 

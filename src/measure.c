@@ -5,26 +5,20 @@
 #include "measure.h"
 #include "comm.h"
 #include "integrate.h"
-#include "measure.h"
 
 #include <math.h>
 
 /* Reaction on the moving jaw: minus the sum of the internal forces on the grip points,
    projected on the pull direction (positive in tension). */
-static PetscErrorCode GripReaction(Fabric fab, PetscReal *force)
+static PetscErrorCode GripReaction(MPI_Comm comm, const FabricGrid *g, const PetscScalar *f, PetscReal *force)
 {
-  const PetscScalar *f;
-  PetscReal          tension_max, sum = 0;
+  PetscReal sum = 0;
 
   PetscFunctionBeginUser;
-  PetscCall(ComputeForces(fab, NULL, &tension_max));
-  PetscCall(VecGetArrayRead(fab->state.F, &f));
-  for (PetscInt k = 0; k < fab->grid.nloc; k++)
-    if (fab->grid.kind[k] == POINT_GRIP)
-      sum -= f[3 * k] * fab->grid.pull_dir[0] + f[3 * k + 1] * fab->grid.pull_dir[1] +
-             f[3 * k + 2] * fab->grid.pull_dir[2];
-  PetscCall(VecRestoreArrayRead(fab->state.F, &f));
-  PetscCall(GlobalSum(fab->comm, &sum, 1));
+  for (PetscInt k = 0; k < g->nloc; k++)
+    if (g->kind[k] == POINT_GRIP)
+      sum -= f[3 * k] * g->pull_dir[0] + f[3 * k + 1] * g->pull_dir[1] + f[3 * k + 2] * g->pull_dir[2];
+  PetscCall(GlobalSum(comm, &sum, 1));
   *force = sum;
   PetscFunctionReturn(0);
 }
@@ -32,16 +26,16 @@ static PetscErrorCode GripReaction(Fabric fab, PetscReal *force)
 /* Pushing: the reaction on the sphere is minus the sum of the contact forces on the fabric;
    force_N is its component against the travel (positive while the fabric resists). A sum
    over points: the same to rounding on any number of ranks, never fed back into positions. */
-static PetscErrorCode SphereReaction(Fabric fab, CurveRow *row)
+static PetscErrorCode SphereReaction(MPI_Comm comm, const PetscReal contact_sum[3], const PetscReal dir[3],
+                                     PetscReal travel, CurveRow *row)
 {
   PetscReal sum[3];
 
-  PetscFunctionBeginUser; /* contact_sum: from GripReaction's ComputeForces at the balanced state */
-  for (int d = 0; d < 3; d++) sum[d] = fab->meas.body_sum[BODY_SPHERE][d];
-  PetscCall(GlobalSum(fab->comm, sum, 3));
-  row->force = sum[0] * fab->s.bodies.sphere_dir[0] + sum[1] * fab->s.bodies.sphere_dir[1] +
-               sum[2] * fab->s.bodies.sphere_dir[2];
-  row->travel = fab->load.travel;
+  PetscFunctionBeginUser;
+  for (int d = 0; d < 3; d++) sum[d] = contact_sum[d];
+  PetscCall(GlobalSum(comm, sum, 3));
+  row->force  = sum[0] * dir[0] + sum[1] * dir[1] + sum[2] * dir[2];
+  row->travel = travel;
   PetscFunctionReturn(0);
 }
 
@@ -51,31 +45,30 @@ static PetscErrorCode SphereReaction(Fabric fab, CurveRow *row)
    hold them too); and the specimen's weight. At rest the free crossings balance, and the
    internal forces sum to zero over the fabric, so plane + pedestal + clamp = weight, up to
    the residual forces of the balance test. Sums over points: reported, never fed back. */
-static PetscErrorCode SupportReactions(Fabric fab, CurveRow *row)
+static PetscErrorCode SupportReactions(MPI_Comm comm, const FabricGrid *g, const PetscScalar *f,
+                                       const PetscReal gravity[3], const PetscReal body_sum[BODY_KINDS][3],
+                                       CurveRow *row)
 {
-  const Patch       *p = &fab->grid.patch;
-  const PetscScalar *f;
-  PetscReal          acc[12];
+  const Patch *p = &g->patch;
+  PetscReal    acc[12];
 
   PetscFunctionBeginUser;
   for (int d = 0; d < 3; d++) {
-    acc[d]     = -fab->meas.body_sum[BODY_PLANE][d];
-    acc[3 + d] = -fab->meas.body_sum[BODY_PEDESTAL][d];
+    acc[d]     = -body_sum[BODY_PLANE][d];
+    acc[3 + d] = -body_sum[BODY_PEDESTAL][d];
     acc[6 + d] = acc[9 + d] = 0;
   }
-  PetscCall(VecGetArrayRead(fab->state.F, &f));
   for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
     for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
       const PetscInt k = (j - p->ys) * p->xm + (i - p->xs);
       if (!p->exists[(j - p->gys) * p->gxm + (i - p->gxs)]) continue;
       for (int d = 0; d < 3; d++) {
-        const PetscReal w = fab->grid.mass[k] * fab->load.gravity_now[d];
-        if (fab->grid.kind[k] == POINT_CLAMPED) acc[6 + d] += f[3 * k + d] + w;
+        const PetscReal w = g->mass[k] * gravity[d];
+        if (g->kind[k] == POINT_CLAMPED) acc[6 + d] += f[3 * k + d] + w;
         acc[9 + d] += w;
       }
     }
-  PetscCall(VecRestoreArrayRead(fab->state.F, &f));
-  PetscCall(GlobalSum(fab->comm, acc, 12));
+  PetscCall(GlobalSum(comm, acc, 12));
   for (int d = 0; d < 3; d++) {
     row->plane_force[d]    = acc[d];
     row->pedestal_force[d] = acc[3 + d];
@@ -92,17 +85,13 @@ static PetscErrorCode SupportReactions(Fabric fab, CurveRow *row)
    at a crossing is asin(cos(angle(tw, tf))) (CrossingShear), as the shear_angle_deg field of
    fabric.h5; the zone's crossings all have four neighbours.
    Xl: halo-exchanged by GripReaction. A sum over crossings: reported, never fed back. */
-static PetscErrorCode CenterShear(Fabric fab, CurveRow *row)
+static PetscErrorCode CenterShear(MPI_Comm comm, const Scene *s, const Patch *p, const PetscScalar *xl, CurveRow *row)
 {
-  const Patch       *p = &fab->grid.patch;
-  const Scene       *s = &fab->s;
-  const PetscScalar *xl;
-  const PetscReal    half = 0.25 * PetscMin(s->spec.width, s->spec.gauge - s->spec.width) +
+  const PetscReal half = 0.25 * PetscMin(s->spec.width, s->spec.gauge - s->spec.width) +
                          1e-9 * s->spec.gauge; /* crossings on its edge count */
   PetscReal acc[2] = {0, 0};
 
   PetscFunctionBeginUser;
-  PetscCall(VecGetArrayRead(fab->state.Xl, &xl));
   for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
     for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
       PetscReal along, across, c, tmin;
@@ -112,8 +101,7 @@ static PetscErrorCode CenterShear(Fabric fab, CurveRow *row)
       acc[0] += PetscAsinReal(c) * 180.0 / PETSC_PI;
       acc[1] += 1;
     }
-  PetscCall(VecRestoreArrayRead(fab->state.Xl, &xl));
-  PetscCall(GlobalSum(fab->comm, acc, 2));
+  PetscCall(GlobalSum(comm, acc, 2));
   row->center_shear = acc[1] > 0 ? acc[0] / acc[1] : 0.0;
   PetscFunctionReturn(0);
 }
@@ -158,35 +146,36 @@ static void ShadowSegment(const PetscReal a[2], const PetscReal b[2], PetscReal 
 
 /* the outline r(theta) of the positions X seen from above (DRAPE_RAYS rays), the area it
    encloses and the largest drop of a crossing */
-static PetscErrorCode Outline(Fabric fab, Vec X, PetscReal r[DRAPE_RAYS], PetscReal *area, PetscReal *drop)
+static PetscErrorCode Outline(MPI_Comm comm, const FabricGrid *g, Vec X, PetscReal r[DRAPE_RAYS], PetscReal *area,
+                              PetscReal *drop)
 {
-  const Patch       *p = &fab->grid.patch;
+  const Patch       *p = &g->patch;
   const PetscScalar *x;
   Vec                Xl;
 
   PetscFunctionBeginUser;
   *area = *drop = 0;
   for (int q = 0; q < DRAPE_RAYS; q++) r[q] = 0;
-  PetscCall(DMGetLocalVector(fab->grid.da, &Xl));
-  PetscCall(HaloExchange(fab->grid.da, X, Xl));
+  PetscCall(DMGetLocalVector(g->da, &Xl));
+  PetscCall(HaloExchange(g->da, X, Xl));
   PetscCall(VecGetArrayRead(Xl, &x));
   for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
     for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
       const PetscInt li = i - p->gxs, lj = j - p->gys, k = lj * p->gxm + li;
       if (!p->exists[k]) continue;
-      const PetscReal a[2] = {x[3 * k] - fab->grid.centre[0], x[3 * k + 1] - fab->grid.centre[1]};
+      const PetscReal a[2] = {x[3 * k] - g->centre[0], x[3 * k + 1] - g->centre[1]};
       *drop                = PetscMax(*drop, -x[3 * k + 2]);
       for (int dir = 0; dir < 2; dir++) { /* the segments to the +x and +y neighbours */
         const PetscInt n = dir == 0 ? k + 1 : k + p->gxm;
         if ((dir == 0 ? li + 1 >= p->gxm : lj + 1 >= p->gym) || !p->exists[n]) continue;
-        const PetscReal b[2] = {x[3 * n] - fab->grid.centre[0], x[3 * n + 1] - fab->grid.centre[1]};
+        const PetscReal b[2] = {x[3 * n] - g->centre[0], x[3 * n + 1] - g->centre[1]};
         ShadowSegment(a, b, r);
       }
     }
   PetscCall(VecRestoreArrayRead(Xl, &x));
-  PetscCall(DMRestoreLocalVector(fab->grid.da, &Xl));
-  PetscCall(GlobalMax(fab->comm, r, DRAPE_RAYS));
-  PetscCall(GlobalMax(fab->comm, drop, 1));
+  PetscCall(DMRestoreLocalVector(g->da, &Xl));
+  PetscCall(GlobalMax(comm, r, DRAPE_RAYS));
+  PetscCall(GlobalMax(comm, drop, 1));
   for (int q = 0; q < DRAPE_RAYS; q++) *area += 0.5 * r[q] * r[q] * 2 * PETSC_PI / DRAPE_RAYS;
   PetscFunctionReturn(0);
 }
@@ -201,8 +190,9 @@ PetscErrorCode DrapeOutline(Fabric fab, CurveRow *row)
   /* the specimen's own area measured the same way, once, on the flat specimen at rest: the
      outline of the grid's edge lies inside the nominal circle, so the flat specimen gives
      DC = 100 % */
-  if (fab->meas.drape_flat_area <= 0) PetscCall(Outline(fab, fab->grid.X0, r, &fab->meas.drape_flat_area, &drop));
-  PetscCall(Outline(fab, fab->state.X, r, &area, &drop));
+  if (fab->meas.drape_flat_area <= 0)
+    PetscCall(Outline(fab->comm, &fab->grid, fab->grid.X0, r, &fab->meas.drape_flat_area, &drop));
+  PetscCall(Outline(fab->comm, &fab->grid, fab->state.X, r, &area, &drop));
   a_disc = PETSC_PI * PetscSqr(s->bodies.pedestal_radius > 0 ? s->bodies.pedestal_radius : s->clamps.ring[1]);
   fab->meas.drape_pct =
       100.0 * ((area - a_disc) / (fab->meas.drape_flat_area - a_disc)); /* the flat specimen: 100 * 1 exactly */
@@ -235,24 +225,18 @@ PetscErrorCode DrapeOutline(Fabric fab, CurveRow *row)
 
 /* Square net: the applied point load and its crossing's displacement along it. One rank owns
    the crossing, the others add zeros: the sum is exact. */
-static PetscErrorCode LoadPointTravel(Fabric fab, CurveRow *row)
+static PetscErrorCode LoadPointTravel(MPI_Comm comm, const FabricGrid *g, const PetscScalar *x, const PetscScalar *x0,
+                                      const PetscReal P[3], PetscReal load_factor, CurveRow *row)
 {
-  const PetscReal *P = fab->s.load.point_load, Pn = PetscSqrtReal(P[0] * P[0] + P[1] * P[1] + P[2] * P[2]);
-  PetscReal        travel = 0;
+  const PetscReal Pn     = PetscSqrtReal(P[0] * P[0] + P[1] * P[1] + P[2] * P[2]);
+  PetscReal       travel = 0;
 
   PetscFunctionBeginUser;
-  if (fab->grid.load_index >= 0 && Pn > 0) {
-    const PetscScalar *x, *x0;
-    const PetscInt     k = fab->grid.load_index;
-    PetscCall(VecGetArrayRead(fab->state.X, &x));
-    PetscCall(VecGetArrayRead(fab->grid.X0, &x0));
-    for (int d = 0; d < 3; d++) travel += (x[3 * k + d] - x0[3 * k + d]) * P[d] / Pn;
-    PetscCall(VecRestoreArrayRead(fab->grid.X0, &x0));
-    PetscCall(VecRestoreArrayRead(fab->state.X, &x));
-  }
-  PetscCall(GlobalSum(fab->comm, &travel, 1));
+  if (g->load_index >= 0 && Pn > 0)
+    for (int d = 0; d < 3; d++) travel += (x[3 * g->load_index + d] - x0[3 * g->load_index + d]) * P[d] / Pn;
+  PetscCall(GlobalSum(comm, &travel, 1));
   row->travel = travel;
-  row->force  = fab->load.load_factor * Pn;
+  row->force  = load_factor * Pn;
   PetscFunctionReturn(0);
 }
 
@@ -261,15 +245,29 @@ static PetscErrorCode LoadPointTravel(Fabric fab, CurveRow *row)
    reports. */
 PetscErrorCode MeasureLoadStep(Fabric fab, CurveRow *row)
 {
-  const Scene *s = &fab->s;
+  const Scene       *s = &fab->s;
+  const PetscScalar *f, *x, *x0, *xl;
+  PetscReal          tension_max;
 
   PetscFunctionBeginUser;
-  PetscCall(GripReaction(fab, &row->force));
-  if (s->test == TEST_SQUARE) PetscCall(LoadPointTravel(fab, row));
-  if (s->test == TEST_PUSHING) PetscCall(SphereReaction(fab, row));
-  if (s->test == TEST_BIAS) PetscCall(CenterShear(fab, row));
+  PetscCall(ComputeForces(fab, NULL, &tension_max));
+  PetscCall(VecGetArrayRead(fab->state.F, &f));
+  PetscCall(VecGetArrayRead(fab->state.X, &x));
+  PetscCall(VecGetArrayRead(fab->grid.X0, &x0));
+  PetscCall(VecGetArrayRead(fab->state.Xl, &xl));
+  PetscCall(GripReaction(fab->comm, &fab->grid, f, &row->force));
+  if (s->test == TEST_SQUARE)
+    PetscCall(LoadPointTravel(fab->comm, &fab->grid, x, x0, s->load.point_load, fab->load.load_factor, row));
+  if (s->test == TEST_PUSHING)
+    PetscCall(SphereReaction(fab->comm, fab->meas.body_sum[BODY_SPHERE], s->bodies.sphere_dir, fab->load.travel, row));
+  if (s->test == TEST_BIAS) PetscCall(CenterShear(fab->comm, s, &fab->grid.patch, xl, row));
+  if (s->bodies.plane || s->bodies.pedestal_radius > 0)
+    PetscCall(SupportReactions(fab->comm, &fab->grid, f, fab->load.gravity_now, fab->meas.body_sum, row));
+  PetscCall(VecRestoreArrayRead(fab->state.Xl, &xl));
+  PetscCall(VecRestoreArrayRead(fab->grid.X0, &x0));
+  PetscCall(VecRestoreArrayRead(fab->state.X, &x));
+  PetscCall(VecRestoreArrayRead(fab->state.F, &f));
   if (s->test == TEST_DRAPE) PetscCall(DrapeOutline(fab, row));
-  if (s->bodies.plane || s->bodies.pedestal_radius > 0) PetscCall(SupportReactions(fab, row));
   PetscFunctionReturn(0);
 }
 
