@@ -5,7 +5,7 @@
 #include "fabric.h"
 
 #define DIST_INF 1e30
-/* graph distance of every owned point to the points of kind source ("clamped", "grip") */
+/* graph distance of every owned point to the points marked in source (one flag per owned point) */
 PetscErrorCode GraphDistance(Fabric fab, const char *source, PetscReal *dist);
 PetscErrorCode PredictSetUp(Fabric fab);
 PetscErrorCode PredictLoadStep(Fabric fab, PetscReal grip_step, const PetscReal grip_move[3]);

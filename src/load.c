@@ -2,7 +2,6 @@
  * step, along which path, at what test time; and putting the grips there.
  */
 #include "load.h"
-#include "load.h"
 
 /* The grip's displacement at length a along its path (-grip_path_mm): piecewise linear
    through the waypoints from 0,0,0, held at the last one beyond its end. */

@@ -836,8 +836,9 @@ static PetscErrorCode DeriveGrid(MPI_Comm comm, const SceneInput *in, Scene *s)
   const PetscReal ends_cm = in->ends_per_cm, picks_cm = in->picks_per_cm, gauge_mm = in->gauge_mm,
                   width_mm = in->width_mm;
   const PetscReal jaw_mm = in->jaw_depth_mm, disc_mm = in->disc_diameter_mm;
-  const PetscReal ring_mm[2] = {in->n_clamp_ring_mm || s->test == TEST_DRAPE ? in->clamp_ring_mm[0] : 0.0,
-                                in->n_clamp_ring_mm || s->test == TEST_DRAPE ? in->clamp_ring_mm[1] : 0.0};
+  const PetscBool ring_set   = in->n_clamp_ring_mm > 0 ? PETSC_TRUE : PETSC_FALSE;
+  const PetscReal ring_mm[2] = {ring_set ? in->clamp_ring_mm[0] : 0.0, /* drape: Cusick's 18 cm discs */
+                                ring_set ? in->clamp_ring_mm[1] : (s->test == TEST_DRAPE ? 180.0 : 0.0)};
 
   PetscFunctionBeginUser;
   s->spec.ends_per_m  = ends_cm * 100.0;

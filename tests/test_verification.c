@@ -761,42 +761,12 @@ int main(int argc, char **argv)
 
   PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
   PetscCall(PetscOptionsGetString(NULL, NULL, "-case", name, sizeof name, NULL));
-  if (!strcmp(name, "linear_strip"))
-    PetscCall(LinearStrip());
-  else if (!strcmp(name, "crimp_knee"))
-    PetscCall(CrimpKnee());
-  else if (!strcmp(name, "wave_speed"))
-    PetscCall(WaveSpeed());
-  else if (!strcmp(name, "transverse_load"))
-    PetscCall(TransverseLoad());
-  else if (!strcmp(name, "stable_095"))
-    PetscCall(Stable095());
-  else if (!strcmp(name, "unstable_110"))
-    PetscCall(Unstable110());
-  else if (!strcmp(name, "paper_parasitic"))
-    PetscCall(PaperParasitic());
-  else if (!strcmp(name, "linear_prediction"))
-    PetscCall(LinearPrediction());
-  else if (!strcmp(name, "speedups_curve"))
-    PetscCall(SpeedupsCurve());
-  else if (!strcmp(name, "square_net"))
-    PetscCall(SquareNet());
-  else if (!strcmp(name, "bias_extension"))
-    PetscCall(BiasExtension());
-  else if (!strcmp(name, "plane_rest"))
-    PetscCall(RestOnSupport(PETSC_FALSE));
-  else if (!strcmp(name, "pedestal_rest"))
-    PetscCall(RestOnSupport(PETSC_TRUE));
-  else if (!strcmp(name, "friction_incline"))
-    PetscCall(FrictionIncline());
-  else if (!strcmp(name, "grip_lines"))
-    PetscCall(GripLines());
-  else if (!strcmp(name, "grip_path"))
-    PetscCall(GripPath());
-  else if (!strcmp(name, "drape_measure"))
-    PetscCall(DrapeMeasure());
-  else
-    SETERRQ(PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT, "unknown -case %s", name);
+  if (0) {}
+#define CASE(case_name, call, labels, timeout) \
+  else if (!strcmp(name, #case_name)) PetscCall(call);
+#include "verification_cases.h"
+#undef CASE
+  else SETERRQ(PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT, "unknown -case %s (tests/verification_cases.h lists them)", name);
   PetscCall(PetscFinalize());
   return failures ? 1 : 0;
 }
