@@ -1,0 +1,821 @@
+/* test_units.c - unit tests of the small pieces the solver is built from, each against an answer
+ * worked out by hand, with the tolerance stated (exact equality where the answer is exact).
+ *
+ *   test_units -case graph_distance|front_box|load_path|curve_row|option_values|drape_defaults
+ *
+ * graph_distance and front_box check owned points only, on any number of ranks (CTest runs
+ * them on 1, 2 and 3): the hand values do not depend on the decomposition, so passing on every
+ * rank count means the same values on each.
+ */
+#include "front.h"
+#include "load.h"
+#include "measure.h"
+#include "predict.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int failures = 0; /* the same on every rank: every check is reduced over the ranks */
+
+/* a collective check: bad of total items failed on this rank; one line for all ranks */
+static PetscErrorCode Expect(const char *what, PetscInt bad, PetscInt total, const char *tolerance)
+{
+  PetscInt n[2] = {bad, total}, sum[2];
+
+  PetscFunctionBeginUser;
+  PetscCall(MPIU_Allreduce(n, sum, 2, MPIU_INT, MPI_SUM, PETSC_COMM_WORLD));
+  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%s %s: %" PetscInt_FMT " of %" PetscInt_FMT " wrong (%s)\n",
+                        sum[0] ? "FAIL" : "PASS", what, sum[0], sum[1], tolerance));
+  if (sum[0]) failures++;
+  PetscFunctionReturn(0);
+}
+
+/* a scalar check, the same on every rank: |value - expected| <= tol (0: exact equality) */
+static PetscErrorCode ExpectReal(const char *what, PetscReal value, PetscReal expected, PetscReal tol)
+{
+  const int ok = tol == 0 ? value == expected : PetscAbsReal(value - expected) <= tol;
+
+  PetscFunctionBeginUser;
+  if (tol == 0)
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%s %s: %.17g, expected %.17g (exact)\n", ok ? "PASS" : "FAIL", what,
+                          (double) value, (double) expected));
+  else
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%s %s: %.17g, expected %.17g (tolerance %.1e)\n", ok ? "PASS" : "FAIL",
+                          what, (double) value, (double) expected, (double) tol));
+  if (!ok) failures++;
+  PetscFunctionReturn(0);
+}
+
+/* where the first wrong item was, said by the rank that owns it */
+static void Report(PetscInt *bad, const char *fmt, ...)
+{
+  if (!(*bad)++) {
+    va_list ap;
+    va_start(ap, fmt);
+    vfprintf(stdout, fmt, ap);
+    va_end(ap);
+    fflush(stdout);
+  }
+}
+
+static PetscErrorCode NewFabric(const char *opts, Fabric *fab)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsClear(NULL));
+  PetscCall(PetscOptionsInsertString(NULL, opts));
+  PetscCall(FabricCreate(PETSC_COMM_WORLD, fab));
+  PetscFunctionReturn(0);
+}
+
+/* no gravity, no output */
+#define BASE "-gravity 0,0,0 -output_dir none -quiet "
+/* a strip 20 mm x 5 mm at 24 threads/cm: 49 crossings along the pull (i = 0 the clamped jaw,
+   i = 48 the moving jaw) by 12 yarns */
+#define STRIP BASE "-gauge_mm 20 -width_mm 5 "
+/* a 10 mm x 10 mm net at 24 threads/cm (25 x 25), cut to a disc of radius 12 spacings
+   about (12,12): the grid's corners are holes */
+#define DISC BASE "-test square -shape disc -gauge_mm 10 -width_mm 10 "
+
+/* ---------------- GraphDistance ---------------- */
+
+typedef enum { D_ALONG_I, D_ALONG_J, D_FROM_POINT, D_WALL_TO_GRIP, D_WALL_TO_CLAMP } DistCase;
+typedef struct {
+  DistCase c;
+  PetscInt i0, j0; /* D_ALONG_*: the source's index (i or j); D_FROM_POINT: the source point */
+  PetscInt wall;   /* D_WALL_*: the column of holes, open at the top row only */
+  PetscInt nx, ny;
+} DistHand;
+
+/* the hand-computed graph distance of (i,j) to the source (holes: DIST_INF) */
+static PetscReal HandDistance(const DistHand *h, PetscInt i, PetscInt j, int exists)
+{
+  const PetscInt top = h->ny - 1, w = h->wall;
+  if (!exists) return DIST_INF;
+  switch (h->c) {
+  case D_ALONG_I: return (PetscReal) PetscAbsInt(i - h->i0);
+  case D_ALONG_J: return (PetscReal) PetscAbsInt(j - h->j0);
+  case D_FROM_POINT: /* a digital disc holds a monotone path between any two of its points */
+    return (PetscReal) (PetscAbsInt(i - h->i0) + PetscAbsInt(j - h->j0));
+  case D_WALL_TO_GRIP: /* grips at i = nx-1: beyond the wall, round it through (w, top) */
+    return (PetscReal) (i > w ? h->nx - 1 - i : (h->nx - 1 - w) + (w - i) + (top - j));
+  case D_WALL_TO_CLAMP: /* clamps at i = 0 */ return (PetscReal) (i < w ? i : w + (i - w) + (top - j));
+  }
+  return -1;
+}
+
+/* GraphDistance from the owned points of kind `kind` (or the single point h->i0,h->j0 if kind < 0)
+   against the hand values at every owned point, exactly */
+static PetscErrorCode CheckDistance(Fabric fab, const char *what, int kind, const DistHand *h)
+{
+  const Patch *p = &fab->grid.patch;
+  PetscReal   *dist;
+  char        *src;
+  PetscInt     bad = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc2(fab->grid.nloc, &dist, fab->grid.nloc, &src));
+  for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
+    for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
+      const PetscInt k = (j - p->ys) * p->xm + (i - p->xs);
+      src[k]           = (char) (kind >= 0 ? fab->grid.kind[k] == kind : (i == h->i0 && j == h->j0));
+    }
+  PetscCall(GraphDistance(fab, src, dist));
+  for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
+    for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
+      const int       exists = p->exists[(j - p->gys) * p->gxm + (i - p->gxs)];
+      const PetscReal got = dist[(j - p->ys) * p->xm + (i - p->xs)], want = HandDistance(h, i, j, exists);
+      if (got != want)
+        Report(&bad, "  [rank %d] %s at (%d,%d): %g, expected %g\n", fab->rank, what, (int) i, (int) j, (double) got,
+               (double) want);
+    }
+  PetscCall(Expect(what, bad, fab->grid.nloc, "exact"));
+  PetscCall(PetscFree2(dist, src));
+  PetscFunctionReturn(0);
+}
+
+/* make the column i = w a wall of holes for j < ny-1 (on owned and ghost points), or undo it:
+   GraphDistance reads the ghosted mask patch.exists, as the kernels do */
+static void SetWall(Fabric fab, PetscInt w, unsigned char exists)
+{
+  const Patch *p = &fab->grid.patch;
+  for (PetscInt j = p->gys; j < p->gys + p->gym; j++)
+    for (PetscInt i = p->gxs; i < p->gxs + p->gxm; i++)
+      if (i == w && j >= 0 && j < p->ny - 1) p->exists[(j - p->gys) * p->gxm + (i - p->gxs)] = exists;
+}
+
+static PetscErrorCode TestGraphDistance(void)
+{
+  Fabric fab;
+
+  PetscFunctionBeginUser;
+  /* strip, pulled along the warp: to the clamped jaw i, to the grip 48 - i; prediction weight i/48 */
+  PetscCall(NewFabric(STRIP, &fab));
+  PetscCall(ExpectReal("strip grid nx (20 mm at 24/cm + 1)", fab->s.spec.nx, 49, 0));
+  PetscCall(ExpectReal("strip grid ny (5 mm at 24/cm)", fab->s.spec.ny, 12, 0));
+  { /* the decomposition, for the record: the detour round the wall below crosses rank boundaries */
+    const Patch *p = &fab->grid.patch;
+    PetscCall(PetscSynchronizedPrintf(PETSC_COMM_WORLD, "  rank %d owns i %d..%d, j %d..%d\n", fab->rank, (int) p->xs,
+                                      (int) (p->xs + p->xm - 1), (int) p->ys, (int) (p->ys + p->ym - 1)));
+    PetscCall(PetscSynchronizedFlush(PETSC_COMM_WORLD, PETSC_STDOUT));
+  }
+  {
+    DistHand h = {D_ALONG_I, 0, 0, 0, 49, 12};
+    PetscCall(CheckDistance(fab, "strip (warp): distance to the clamped jaw = i", POINT_CLAMPED, &h));
+    h.i0 = 48;
+    PetscCall(CheckDistance(fab, "strip (warp): distance to the grip = 48 - i", POINT_GRIP, &h));
+  }
+  {
+    const Patch *p   = &fab->grid.patch;
+    PetscInt     bad = 0;
+    for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
+      for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
+        const PetscReal w = fab->grid.predict_w[(j - p->ys) * p->xm + (i - p->xs)];
+        if (w != i / 48.0)
+          Report(&bad, "  predict_w at (%d,%d): %.17g, expected %d/48\n", (int) i, (int) j, w, (int) i);
+      }
+    PetscCall(Expect("strip: linear prediction weight d0/(d0+d1) = i/48", bad, fab->grid.nloc, "exact"));
+  }
+  /* a wall of holes across the strip at i = 24, open in the top row j = 11 only: the distance goes round it */
+  {
+    DistHand h = {D_WALL_TO_GRIP, 0, 0, 24, 49, 12};
+    SetWall(fab, 24, 0);
+    PetscCall(CheckDistance(fab, "strip with a wall at i = 24 open at j = 11: distance to the grip round the wall",
+                            POINT_GRIP, &h));
+    h.c = D_WALL_TO_CLAMP;
+    PetscCall(CheckDistance(fab, "strip with a wall at i = 24 open at j = 11: distance to the clamps round the wall",
+                            POINT_CLAMPED, &h));
+    SetWall(fab, 24, 1);
+  }
+  PetscCall(FabricDestroy(&fab));
+
+  /* strip pulled along the weft: the jaws are the rows j = 0 and j = 48 */
+  PetscCall(NewFabric(STRIP "-pull weft", &fab));
+  {
+    DistHand h = {D_ALONG_J, 0, 0, 0, 12, 49};
+    PetscCall(ExpectReal("weft strip grid ny", fab->s.spec.ny, 49, 0));
+    PetscCall(CheckDistance(fab, "strip (weft): distance to the clamped jaw = j", POINT_CLAMPED, &h));
+    h.j0 = 48;
+    PetscCall(CheckDistance(fab, "strip (weft): distance to the grip = 48 - j", POINT_GRIP, &h));
+  }
+  PetscCall(FabricDestroy(&fab));
+
+  /* disc: the holes are where (i-12)^2 + (j-12)^2 > 144 */
+  PetscCall(NewFabric(DISC, &fab));
+  {
+    const Patch *p     = &fab->grid.patch;
+    PetscInt     bad   = 0;
+    PetscInt     count = 0;
+    for (PetscInt j = 0; j < 25; j++)
+      for (PetscInt i = 0; i < 25; i++) count += (i - 12) * (i - 12) + (j - 12) * (j - 12) <= 144;
+    PetscCall(ExpectReal("disc: existing crossings = #{(i-12)^2 + (j-12)^2 <= 144}", fab->grid.points, count, 0));
+    for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
+      for (PetscInt i = p->xs; i < p->xs + p->xm; i++)
+        if (p->exists[(j - p->gys) * p->gxm + (i - p->gxs)] != ((i - 12) * (i - 12) + (j - 12) * (j - 12) <= 144))
+          Report(&bad, "  disc: existence of (%d,%d)\n", (int) i, (int) j);
+    PetscCall(Expect("disc: the holes are the points beyond radius 12", bad, fab->grid.nloc, "exact"));
+  }
+  {
+    DistHand h = {D_FROM_POINT, 0, 12, 0, 25, 25};
+    PetscCall(
+        CheckDistance(fab, "disc: distance to its leftmost point (0,12) = |i| + |j - 12|, holes at infinity", -1, &h));
+    h.i0 = 4, h.j0 = 4; /* (4,4) exists (64 + 64 <= 144), (3,3) and (4,3) are holes (162, 145 > 144) */
+    PetscCall(CheckDistance(fab, "disc: distance to (4,4) on the rim, next to holes = |i - 4| + |j - 4|", -1, &h));
+  }
+  PetscCall(FabricDestroy(&fab));
+  PetscFunctionReturn(0);
+}
+
+/* ---------------- FrontStepBox ---------------- */
+
+/* `steps` te steps after a load change: the box (global, half open) and the count against the
+   hand values; the owned box = the hand box ∩ the owned points; every owned point within reach
+   2k of the sources is in the box, and on a strip (whose box is exactly that set) no other */
+static PetscErrorCode CheckFrontSteps(Fabric fab, const char *what, PetscInt steps, PetscInt ci, PetscInt cj,
+                                      PetscBool strip, PetscBool disc)
+{
+  const Patch *p  = &fab->grid.patch;
+  PetscInt     nx = fab->s.spec.nx, ny = fab->s.spec.ny, bad = 0, checked = 0;
+
+  PetscFunctionBeginUser;
+  FrontLoadChange(fab);
+  for (PetscInt k = 1; k <= steps; k++) {
+    PetscInt         g[4], l[4], want[4], own[4], area = 0;
+    const PetscInt   R   = 2 * k; /* reach: 2 points per te step (the stencil) */
+    const PetscInt64 got = FrontStepBox(fab, g, l);
+    PetscInt64       count;
+    if (strip) { /* grips at i = nx-1: distance nx-1-i */
+      want[0] = R >= nx - 1 ? 0 : nx - 1 - R, want[1] = nx, want[2] = 0, want[3] = ny;
+    } else { /* the point load at (ci,cj): distance |i-ci| + |j-cj|, its bounding box the square of side 2R+1 */
+      const PetscInt dmax = PetscMax(ci, nx - 1 - ci) + PetscMax(cj, ny - 1 - cj);
+      want[0] = PetscMax(0, ci - R), want[1] = PetscMin(nx, ci + R + 1);
+      want[2] = PetscMax(0, cj - R), want[3] = PetscMin(ny, cj + R + 1);
+      if (R >= dmax) want[0] = 0, want[1] = nx, want[2] = 0, want[3] = ny;
+    }
+    count = (PetscInt64) (want[1] - want[0]) * (want[3] - want[2]);
+    if (disc && want[0] == 0 && want[1] == nx && want[2] == 0 && want[3] == ny) count = fab->grid.points;
+    checked++;
+    if (g[0] != want[0] || g[1] != want[1] || g[2] != want[2] || g[3] != want[3] || got != count)
+      Report(&bad, "  %s, te step %d: box [%d,%d) x [%d,%d) count %lld, expected [%d,%d) x [%d,%d) count %lld\n", what,
+             (int) k, (int) g[0], (int) g[1], (int) g[2], (int) g[3], (long long) got, (int) want[0], (int) want[1],
+             (int) want[2], (int) want[3], (long long) count);
+    own[0] = PetscMax(want[0], p->xs), own[1] = PetscMin(want[1], p->xs + p->xm);
+    own[2] = PetscMax(want[2], p->ys), own[3] = PetscMin(want[3], p->ys + p->ym);
+    if (own[1] <= own[0] || own[3] <= own[2]) own[0] = own[1] = own[2] = own[3] = 0;
+    if (l[0] != own[0] || l[1] != own[1] || l[2] != own[2] || l[3] != own[3])
+      Report(&bad, "  %s, te step %d, rank %d: owned box [%d,%d) x [%d,%d), expected [%d,%d) x [%d,%d)\n", what,
+             (int) k, fab->rank, (int) l[0], (int) l[1], (int) l[2], (int) l[3], (int) own[0], (int) own[1],
+             (int) own[2], (int) own[3]);
+    for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
+      for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
+        const PetscInt d   = strip ? nx - 1 - i : PetscAbsInt(i - ci) + PetscAbsInt(j - cj);
+        const int      in  = i >= l[0] && i < l[1] && j >= l[2] && j < l[3];
+        const int      hit = d <= R;
+        if ((hit && !in) || (strip && in && !hit))
+          Report(&bad, "  %s, te step %d: point (%d,%d) at distance %d is %s the box\n", what, (int) k, (int) i,
+                 (int) j, (int) d, in ? "in" : "not in");
+        area += in;
+      }
+    { /* the owned parts tile the box */
+      PetscInt sum;
+      PetscCall(MPIU_Allreduce(&area, &sum, 1, MPIU_INT, MPI_SUM, PETSC_COMM_WORLD));
+      if (sum != (want[1] - want[0]) * (want[3] - want[2]))
+        Report(&bad, "  %s, te step %d: owned boxes hold %d points, the box %d\n", what, (int) k, (int) sum,
+               (int) ((want[1] - want[0]) * (want[3] - want[2])));
+    }
+  }
+  PetscCall(Expect(what, bad, checked, "exact: box, owned box, count, every point within 2k inside"));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode TestFrontBox(void)
+{
+  Fabric     fab;
+  PetscInt   g[4], l[4];
+  PetscInt64 n;
+
+  PetscFunctionBeginUser;
+  /* strip: te step k computes i >= 48 - 2k, all 12 yarns, (2k+1) 12 points; covered at k = 24 */
+  PetscCall(NewFabric(STRIP "-front 1 -predict none -elongation_pct 1", &fab));
+  PetscCall(ExpectReal("strip: front_dmax = 48 (the clamped jaw from the grip)", fab->front.front_dmax, 48, 0));
+  PetscCall(CheckFrontSteps(fab, "strip: te step k computes exactly i >= 48 - 2k, (2k+1) x 12 points", 26, 0, 0,
+                            PETSC_TRUE, PETSC_FALSE));
+  PetscCall(ExpectReal("strip: covered after 24 te steps", fab->front.front_covered, 1, 0));
+  /* a second load change starts again from the grips */
+  PetscCall(
+      CheckFrontSteps(fab, "strip, next load change: starts again from the grips", 3, 0, 0, PETSC_TRUE, PETSC_FALSE));
+  PetscCall(FabricDestroy(&fab));
+
+  /* with prediction every point moves at once: the first te step computes the whole grid */
+  PetscCall(NewFabric(STRIP "-front 1 -predict linear -elongation_pct 1", &fab));
+  FrontLoadChange(fab);
+  n = FrontStepBox(fab, g, l);
+  PetscCall(ExpectReal("strip with prediction: first te step computes all 49 x 12 points", (PetscReal) n, 588, 0));
+  PetscCall(ExpectReal("strip with prediction: box [0,49) x [0,12)",
+                       (g[0] == 0 && g[1] == 49 && g[2] == 0 && g[3] == 12), 1, 0));
+  PetscCall(FabricDestroy(&fab));
+
+  /* square net, point load at the centre (12,12): the box of |i-12| + |j-12| <= 2k is [12-2k, 13+2k)^2 */
+  PetscCall(
+      NewFabric(BASE "-test square -gauge_mm 10 -width_mm 10 -point_load_N 0,0,-0.01 -front 1 -predict none", &fab));
+  PetscCall(ExpectReal("square: front_dmax = 24 (centre to corner)", fab->front.front_dmax, 24, 0));
+  PetscCall(CheckFrontSteps(fab, "square net, centre load: box [12-2k, 13+2k)^2, count its area", 13, 12, 12,
+                            PETSC_FALSE, PETSC_FALSE));
+  PetscCall(FabricDestroy(&fab));
+
+  /* disc: the same boxes; once a box is the whole grid, the count is the existing crossings */
+  PetscCall(NewFabric(DISC "-point_load_N 0,0,-0.01 -front 1 -predict none", &fab));
+  PetscCall(CheckFrontSteps(fab, "disc, centre load: box [12-2k, 13+2k)^2, its area; whole grid: existing points", 13,
+                            12, 12, PETSC_FALSE, PETSC_TRUE));
+  PetscCall(FabricDestroy(&fab));
+  PetscFunctionReturn(0);
+}
+
+/* ---------------- PathPoint, GripPathMove, GripElongation, LoadTravel, TestTime ---------------- */
+
+#define U (1.0 / 256) /* a binary unit: every value below is exact in floating point */
+
+static PetscErrorCode ExpectVec(const char *what, const PetscReal got[3], PetscReal x, PetscReal y, PetscReal z)
+{
+  char text[256];
+
+  PetscFunctionBeginUser;
+  for (int d = 0; d < 3; d++) {
+    const PetscReal want[3] = {x, y, z};
+    PetscCall(PetscSNPrintf(text, sizeof text, "%s [%c]", what, "xyz"[d]));
+    PetscCall(ExpectReal(text, got[d], want[d], 0));
+  }
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode TestLoadPath(void)
+{
+  Scene     s;
+  LoadState ls;
+  PetscReal u[3], m[3];
+  PetscReal pull[3] = {1, 0, 0};
+
+  PetscFunctionBeginUser;
+  /* a path of two waypoints, (3,4,0) U then (3,4,12) U: segment lengths 5 U and 12 U */
+  PetscCall(PetscMemzero(&s, sizeof s));
+  s.test                = TEST_STRIP;
+  s.spec.gauge          = 1.0 / 16;
+  s.load.speed          = 1.0 / 64;
+  s.load.waypoints      = 2;
+  s.load.waypoint[0][0] = 3 * U, s.load.waypoint[0][1] = 4 * U, s.load.waypoint[0][2] = 0;
+  s.load.waypoint[1][0] = 3 * U, s.load.waypoint[1][1] = 4 * U, s.load.waypoint[1][2] = 12 * U;
+  s.load.path_at[0] = 5 * U, s.load.path_at[1] = 17 * U;
+
+  PathPoint(&s.load, 0, u);
+  PetscCall(ExpectVec("PathPoint at 0", u, 0, 0, 0));
+  PathPoint(&s.load, -1 * U, u);
+  PetscCall(ExpectVec("PathPoint before the start (-1 U): held at 0", u, 0, 0, 0));
+  PathPoint(&s.load, 2.5 * U, u);
+  PetscCall(ExpectVec("PathPoint mid first segment (2.5 U)", u, 1.5 * U, 2 * U, 0));
+  PathPoint(&s.load, 5 * U, u);
+  PetscCall(ExpectVec("PathPoint at the first corner (5 U)", u, 3 * U, 4 * U, 0));
+  PathPoint(&s.load, 11 * U, u);
+  PetscCall(ExpectVec("PathPoint mid second segment (11 U)", u, 3 * U, 4 * U, 6 * U));
+  PathPoint(&s.load, 17 * U, u);
+  PetscCall(ExpectVec("PathPoint at the end (17 U)", u, 3 * U, 4 * U, 12 * U));
+  PathPoint(&s.load, 40 * U, u);
+  PetscCall(ExpectVec("PathPoint beyond the end (40 U): held", u, 3 * U, 4 * U, 12 * U));
+
+  GripPathMove(&s, pull, 2.5 * U, 11 * U, m);
+  PetscCall(ExpectVec("GripPathMove 2.5 U -> 11 U, across the corner", m, 1.5 * U, 2 * U, 6 * U));
+  GripPathMove(&s, pull, 11 * U, 2.5 * U, m);
+  PetscCall(ExpectVec("GripPathMove 11 U -> 2.5 U, back", m, -1.5 * U, -2 * U, -6 * U));
+  GripPathMove(&s, pull, 17 * U, 30 * U, m);
+  PetscCall(ExpectVec("GripPathMove beyond the end: no move", m, 0, 0, 0));
+
+  PetscCall(ExpectReal("GripElongation at 0", GripElongation(&s, pull, 0), 0, 0));
+  PetscCall(ExpectReal("GripElongation mid first segment: 1.5 U / gauge", GripElongation(&s, pull, 2.5 * U),
+                       1.5 * U * 16, 0));
+  PetscCall(ExpectReal("GripElongation at the corner: 3 U / gauge", GripElongation(&s, pull, 5 * U), 3 * U * 16, 0));
+  PetscCall(ExpectReal("GripElongation on the out-of-plane segment: 3 U / gauge", GripElongation(&s, pull, 11 * U),
+                       3 * U * 16, 0));
+  {
+    const PetscReal weft[3] = {0, 1, 0};
+    PetscCall(ExpectReal("GripElongation along y (weft pull) beyond the end: 4 U / gauge",
+                         GripElongation(&s, weft, 40 * U), 4 * U * 16, 0));
+  }
+  PetscCall(ExpectReal("LoadTravel with a path: its length 17 U", LoadTravel(&s), 17 * U, 0));
+  ls.load_step = 3, ls.travel = 11 * U;
+  PetscCall(ExpectReal("TestTime: travel / speed = 11 U * 64", TestTime(&s, &ls), 11 * U * 64, 0));
+
+  /* three waypoints, back along the pull: (4,0,0), (4,3,0), (0,3,0) U, lengths 4, 3, 4 */
+  s.load.waypoints      = 3;
+  s.load.waypoint[0][0] = 4 * U, s.load.waypoint[0][1] = 0, s.load.waypoint[0][2] = 0;
+  s.load.waypoint[1][0] = 4 * U, s.load.waypoint[1][1] = 3 * U, s.load.waypoint[1][2] = 0;
+  s.load.waypoint[2][0] = 0, s.load.waypoint[2][1] = 3 * U, s.load.waypoint[2][2] = 0;
+  s.load.path_at[0] = 4 * U, s.load.path_at[1] = 7 * U, s.load.path_at[2] = 11 * U;
+  PathPoint(&s.load, 4 * U, u);
+  PetscCall(ExpectVec("3 waypoints: PathPoint at corner 1 (4 U)", u, 4 * U, 0, 0));
+  PathPoint(&s.load, 5.5 * U, u);
+  PetscCall(ExpectVec("3 waypoints: PathPoint mid segment 2 (5.5 U)", u, 4 * U, 1.5 * U, 0));
+  PathPoint(&s.load, 7 * U, u);
+  PetscCall(ExpectVec("3 waypoints: PathPoint at corner 2 (7 U)", u, 4 * U, 3 * U, 0));
+  PathPoint(&s.load, 9 * U, u);
+  PetscCall(ExpectVec("3 waypoints: PathPoint mid segment 3 (9 U)", u, 2 * U, 3 * U, 0));
+  PathPoint(&s.load, 12 * U, u);
+  PetscCall(ExpectVec("3 waypoints: PathPoint beyond the end (12 U): held", u, 0, 3 * U, 0));
+  PetscCall(ExpectReal("3 waypoints: GripElongation mid segment 3 = 2 U / gauge", GripElongation(&s, pull, 9 * U),
+                       2 * U * 16, 0));
+  PetscCall(
+      ExpectReal("3 waypoints: GripElongation at the end = 0 (back at x = 0)", GripElongation(&s, pull, 11 * U), 0, 0));
+  PetscCall(ExpectReal("3 waypoints: LoadTravel = 11 U", LoadTravel(&s), 11 * U, 0));
+
+  /* no path: the straight pull */
+  s.load.waypoints  = 0;
+  s.load.elongation = 0.125;
+  GripPathMove(&s, pull, 1 * U, 3 * U, m);
+  PetscCall(ExpectVec("no path: GripPathMove 1 U -> 3 U = 2 U along the pull", m, 2 * U, 0, 0));
+  PetscCall(ExpectReal("no path: GripElongation = disp / gauge", GripElongation(&s, pull, 3 * U), 3 * U * 16, 0));
+  PetscCall(ExpectReal("no path: LoadTravel = elongation * gauge", LoadTravel(&s), 0.125 / 16, 0));
+  s.test                 = TEST_PUSHING;
+  s.bodies.sphere_travel = 20 * U;
+  PetscCall(ExpectReal("pushing: LoadTravel = the sphere's travel", LoadTravel(&s), 20 * U, 0));
+  s.test = TEST_SQUARE, s.load.elongation = 0;
+  PetscCall(ExpectReal("square (no travel): TestTime = the load step", TestTime(&s, &ls), 3, 0));
+
+  /* the path as the scene reads it: -grip_path_mm 3,4,0,3,4,12 gives corners at 5 mm and 17 mm */
+  {
+    Scene sc;
+    PetscCall(PetscOptionsClear(NULL));
+    PetscCall(PetscOptionsInsertString(NULL, STRIP "-grip_path_mm 3,4,0,3,4,12"));
+    PetscCall(SceneLoad(PETSC_COMM_WORLD, &sc));
+    PetscCall(ExpectReal("-grip_path_mm 3,4,0,3,4,12: waypoints", sc.load.waypoints, 2, 0));
+    PetscCall(ExpectReal("-grip_path_mm: length to corner 1 = 5 mm", sc.load.path_at[0], 5e-3, 1e-17));
+    PetscCall(ExpectReal("-grip_path_mm: LoadTravel = 17 mm", LoadTravel(&sc), 17e-3, 1e-17));
+    PetscCall(ExpectReal("-grip_path_mm: GripElongation at the end = 3 mm / 20 mm",
+                         GripElongation(&sc, pull, LoadTravel(&sc)), 3e-3 / 20e-3, 1e-15));
+    PetscCall(SceneDestroy(&sc));
+    PetscCall(PetscOptionsClear(NULL));
+    PetscCall(PetscOptionsInsertString(NULL, STRIP "-elongation_pct 10"));
+    PetscCall(SceneLoad(PETSC_COMM_WORLD, &sc));
+    PetscCall(ExpectReal("strip, -elongation_pct 10: LoadTravel = 0.1 * gauge (48 spacings of 1/2400 m)",
+                         LoadTravel(&sc), 0.1 * (48 / 2400.0), 1e-17));
+    PetscCall(SceneDestroy(&sc));
+  }
+  PetscFunctionReturn(0);
+}
+
+/* ---------------- CurveRowPack / CurveRowUnpack ---------------- */
+
+static PetscErrorCode TestCurveRow(void)
+{
+  CurveRow  r, back;
+  PetscReal a[CURVE_COLS], want[CURVE_COLS];
+  PetscInt  bad = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(&r, sizeof r));
+  r.load_step = 7, r.inner_steps = PETSC_MAX_INT; /* the largest count survives the trip through a double */
+  r.time = 1.25, r.elongation = 0.0625, r.force = -3.5e2, r.residual = 1.0 / 3, r.travel = 2e-3, r.center_shear = 33.3;
+  r.balanced = PETSC_TRUE;
+  for (int d = 0; d < 3; d++) {
+    r.plane_force[d]    = 10 + d + 0.1;
+    r.pedestal_force[d] = 20 + d + 0.2;
+    r.clamp_force[d]    = 30 + d + 0.3;
+    r.weight[d]         = -(40 + d + 0.4);
+  }
+  /* the checkpoint's order (/history/curve): the curve.csv columns load_step, time_s,
+     elongation, force_N, inner_steps, residual, then the balance flag, travel, center_shear, and
+     the plane, pedestal, clamp forces and the weight, x,y,z each */
+  {
+    const PetscReal order[CURVE_COLS] = {7,       1.25, 0.0625, -3.5e2, (PetscReal) PETSC_MAX_INT,
+                                         1.0 / 3, 1,    2e-3,   33.3,   10.1,
+                                         11.1,    12.1, 20.2,   21.2,   22.2,
+                                         30.3,    31.3, 32.3,   -40.4,  -41.4,
+                                         -42.4};
+    for (int c = 0; c < CURVE_COLS; c++) want[c] = order[c];
+  }
+  CurveRowPack(&r, a);
+  for (int c = 0; c < CURVE_COLS; c++)
+    if (a[c] != want[c]) Report(&bad, "  packed column %d: %.17g, expected %.17g\n", c, a[c], want[c]);
+  PetscCall(Expect("CurveRowPack: the 21 columns in the checkpoint's order", bad, CURVE_COLS, "exact"));
+  memset(&back, 0xA5, sizeof back); /* a field Unpack left alone would show */
+  CurveRowUnpack(a, &back);
+  bad = 0;
+  {
+    const int same = back.load_step == r.load_step && back.inner_steps == r.inner_steps && back.time == r.time &&
+                     back.elongation == r.elongation && back.force == r.force && back.residual == r.residual &&
+                     back.travel == r.travel && back.center_shear == r.center_shear && back.balanced == r.balanced;
+    if (!same) Report(&bad, "  round trip: a scalar field differs\n");
+    for (int d = 0; d < 3; d++)
+      if (back.plane_force[d] != r.plane_force[d] || back.pedestal_force[d] != r.pedestal_force[d] ||
+          back.clamp_force[d] != r.clamp_force[d] || back.weight[d] != r.weight[d])
+        Report(&bad, "  round trip: a force component %d differs\n", d);
+  }
+  PetscCall(Expect("CurveRowUnpack(CurveRowPack(row)) = row, every field", bad, 21, "exact"));
+  r.balanced = PETSC_FALSE, r.inner_steps = 0;
+  CurveRowPack(&r, a);
+  CurveRowUnpack(a, &back);
+  PetscCall(ExpectReal("round trip of balanced = false", back.balanced, PETSC_FALSE, 0));
+  PetscCall(ExpectReal("round trip of inner_steps = 0", back.inner_steps, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+/* ---------------- SceneOptionValues against -help ---------------- */
+
+static char  *help_text = NULL;
+static size_t help_len = 0, help_cap = 0;
+
+/* PetscPrintf into help_text (rank 0 prints, the only rank these cases run on) */
+static PetscErrorCode CaptureVFPrintf(FILE *fd, const char fmt[], va_list ap)
+{
+  va_list ap2;
+  int     n;
+
+  va_copy(ap2, ap);
+  n = vsnprintf(NULL, 0, fmt, ap2);
+  va_end(ap2);
+  if (n < 0) return PETSC_ERR_SYS;
+  if (help_len + n + 1 > help_cap) {
+    help_cap  = 2 * (help_len + n + 1);
+    help_text = (char *) realloc(help_text, help_cap);
+    if (!help_text) return PETSC_ERR_MEM;
+  }
+  vsnprintf(help_text + help_len, n + 1, fmt, ap);
+  help_len += n;
+  return 0;
+}
+
+/* the enum options' choices, to read -help's names as SceneOptionValues' numbers */
+static const char *const *Choices(const char *name)
+{
+  if (!strcmp(name, "test")) return TestNames;
+  if (!strcmp(name, "pull")) return PullAxisNames;
+  if (!strcmp(name, "shape")) return ShapeNames;
+  if (!strcmp(name, "clamp")) return ClampNames;
+  if (!strcmp(name, "integrator")) return IntegratorNames;
+  if (!strcmp(name, "predict")) return PredictNames;
+  return NULL;
+}
+
+/* does -help's default text say the values v[0..n)? Numbers as -help prints them (%g) */
+static int SameAsHelp(const char *name, const char *def, const PetscReal v[], PetscInt n)
+{
+  const char *const *choices    = Choices(name);
+  char               text[2048] = "";
+  if (!strcmp(def, "unset")) return n == 0;
+  if (n != 1 && (!strcmp(def, "true") || !strcmp(def, "false"))) return 0;
+  if (!strcmp(def, "true")) return v[0] == 1;
+  if (!strcmp(def, "false")) return v[0] == 0;
+  if (choices) {
+    for (int k = 0; choices[k + 2]; k++)
+      if (!strcmp(def, choices[k])) return n == 1 && v[0] == k;
+    return 0;
+  }
+  for (PetscInt c = 0; c < n; c++) {
+    const size_t at = strlen(text);
+    snprintf(text + at, sizeof text - at, "%s%g", c ? "," : "", (double) v[c]);
+  }
+  return !strcmp(text, def);
+}
+
+/* is -name among the options given (its value is then not the default -help prints)? */
+static int Given(const char *opts, const char *name)
+{
+  const size_t len = strlen(name);
+  for (const char *at = strstr(opts, name); at; at = strstr(at + 1, name))
+    if (at > opts && at[-1] == '-' && (at[len] == ' ' || !at[len])) return 1;
+  return 0;
+}
+
+#define MAX_OPTS 256
+typedef struct {
+  char name[64], def[256];
+} HelpOption;
+
+/* -help's options of the scene (lines "  -name <default>: help"), from the captured text */
+static PetscInt ParseHelp(const char *text, HelpOption *opt)
+{
+  PetscInt    n    = 0;
+  const char *line = text;
+  while (line && *line && n < MAX_OPTS) {
+    const char *end = strchr(line, '\n'), *lt, *gt;
+    if (!strncmp(line, "  -", 3) && (lt = strstr(line, " <")) && (!end || lt < end) && (gt = strstr(lt, ">: ")) &&
+        (!end || gt < end)) {
+      snprintf(opt[n].name, sizeof opt[n].name, "%.*s", (int) (lt - line - 3), line + 3);
+      snprintf(opt[n].def, sizeof opt[n].def, "%.*s", (int) (gt - lt - 2), lt + 2);
+      n++;
+    }
+    line = end ? end + 1 : NULL;
+  }
+  return n;
+}
+
+/* SceneLoad with opts and -help: every option -help lists with a non-empty default (the numeric
+   ones; the file and directory options default to empty) comes from SceneOptionValues once,
+   with the value -help prints; the names are unique; the only names -help does not list are
+   the -weft_... twins of its -warp_... options */
+static PetscErrorCode CheckOptionValues(const char *label, const char *opts)
+{
+  Scene       s;
+  HelpOption *help;
+  char(*names)[64];
+  PetscInt       nhelp, nvals = 0, bad = 0, numeric = 0;
+  PetscReal      v[96];
+  PetscErrorCode ierr;
+  char           what[256];
+  PetscErrorCode (*saved_vfprintf)(FILE *, const char[], va_list);
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc2(MAX_OPTS, &help, MAX_OPTS, &names));
+  PetscCall(PetscOptionsClear(NULL));
+  PetscCall(PetscOptionsInsertString(NULL, opts));
+  PetscCall(PetscOptionsInsertString(NULL, "-help"));
+  help_len       = 0;
+  saved_vfprintf = PetscVFPrintf;
+  PetscVFPrintf  = CaptureVFPrintf;
+  PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
+  ierr = SceneLoad(PETSC_COMM_SELF, &s);
+  PetscCall(PetscPopErrorHandler());
+  PetscVFPrintf = saved_vfprintf;
+  PetscCall(PetscSNPrintf(what, sizeof what, "%s: SceneLoad(%s) succeeds", label, opts));
+  PetscCall(ExpectReal(what, ierr == 0, 1, 0));
+  if (ierr) {
+    const char *text     = NULL;
+    char       *specific = NULL;
+    PetscCall(PetscErrorMessage(ierr, &text, &specific));
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "  SceneLoad(%s): %s\n", opts, specific && specific[0] ? specific : text));
+    PetscCall(SceneDestroy(&s));
+    PetscCall(PetscFree2(help, names));
+    PetscFunctionReturn(0);
+  }
+  nhelp = ParseHelp(help_text ? help_text : "", help);
+  for (PetscInt k = 0; k < MAX_OPTS; k++) {
+    PetscInt n = 0;
+    if (!SceneOptionValues(&s, k, names[nvals], v, &n)) break;
+    for (PetscInt q = 0; q < nvals; q++)
+      if (!strcmp(names[q], names[nvals])) Report(&bad, "  %s: -%s twice\n", label, names[q]);
+    {
+      PetscInt at = -1;
+      for (PetscInt h = 0; h < nhelp; h++)
+        if (!strcmp(help[h].name, names[nvals])) at = h;
+      if (at < 0 && strncmp(names[nvals], "weft_", 5))
+        Report(&bad, "  %s: SceneOptionValues gives -%s, which -help does not list\n", label, names[nvals]);
+      if (at >= 0 && !Given(opts, names[nvals]) && !SameAsHelp(help[at].name, help[at].def, v, n))
+        Report(&bad, "  %s: -%s is %g (%d values), -help says <%s>\n", label, names[nvals], n ? (double) v[0] : 0.0,
+               (int) n, help[at].def);
+      if (at < 0 && !strncmp(names[nvals], "weft_", 5)) { /* the twin: present in -help as warp_ */
+        char warp[64];
+        snprintf(warp, sizeof warp, "warp_%s", names[nvals] + 5);
+        for (PetscInt h = 0; h < nhelp; h++)
+          if (!strcmp(help[h].name, warp)) at = h;
+        if (at < 0) Report(&bad, "  %s: -%s has no -warp_ twin in -help\n", label, names[nvals]);
+      }
+    }
+    nvals++;
+  }
+  for (PetscInt h = 0; h < nhelp; h++) {
+    PetscInt found = 0;
+    for (PetscInt q = 0; q < nvals; q++) found += !strcmp(names[q], help[h].name);
+    if (help[h].def[0]) numeric++;
+    if (help[h].def[0] && found != 1)
+      Report(&bad, "  %s: -%s <%s> of -help comes %d times from SceneOptionValues\n", label, help[h].name, help[h].def,
+             (int) found);
+    if (!help[h].def[0] && found)
+      Report(&bad, "  %s: -%s (a file or directory, empty by default) comes from SceneOptionValues\n", label,
+             help[h].name);
+    if (!strncmp(help[h].name, "warp_", 5) && help[h].def[0]) {
+      char weft[64];
+      snprintf(weft, sizeof weft, "weft_%s", help[h].name + 5);
+      found = 0;
+      for (PetscInt q = 0; q < nvals; q++) found += !strcmp(names[q], weft);
+      if (found != 1) Report(&bad, "  %s: -%s (the twin of -%s) comes %d times\n", label, weft, help[h].name, found);
+    }
+  }
+  PetscCall(PetscSNPrintf(what, sizeof what,
+                          "%s: SceneOptionValues = the %d numeric options of -help (+ weft twins), once each, "
+                          "defaults as -help prints them",
+                          label, (int) numeric));
+  PetscCall(Expect(what, bad, nvals, "exact: names, counts, values printed with %g"));
+  PetscCall(PetscSNPrintf(what, sizeof what, "%s: -help lists options", label));
+  PetscCall(ExpectReal(what, nhelp > 60, 1, 0));
+  PetscCall(SceneDestroy(&s));
+  PetscCall(PetscFree2(help, names));
+  PetscFunctionReturn(0);
+}
+
+/* the value of one option in SceneOptionValues (n = -1: not there) */
+static void ValueOf(const Scene *s, const char *want, PetscReal v[96], PetscInt *n)
+{
+  char name[64];
+  *n = -1;
+  for (PetscInt k = 0; SceneOptionValues(s, k, name, v, n); k++)
+    if (!strcmp(name, want)) return;
+  *n = -1;
+}
+
+/* the test-dependent defaults, by hand (docs/options.md): test, option, value */
+static const struct {
+  const char *test, *name;
+  PetscReal   value;
+} ByTest[] = {
+    {"strip", "gauge_mm", 200},          {"strip", "elongation_pct", 13},         {"strip", "clamp", CLAMP_JAW},
+    {"strip", "shape", SHAPE_RECTANGLE}, {"strip", "sphere_diameter_mm", 0},      {"square", "clamp", CLAMP_EDGE},
+    {"square", "elongation_pct", 0},     {"pushing", "sphere_diameter_mm", 25.4}, {"pushing", "sphere_travel_mm", 20},
+    {"pushing", "clamp", CLAMP_EDGE},    {"pushing", "elongation_pct", 0},        {"bias", "shape", SHAPE_BIAS},
+    {"bias", "clamp", CLAMP_JAW},        {"bias", "elongation_pct", 13},          {"bias", "width_mm", 50},
+};
+
+static PetscErrorCode TestOptionValues(void)
+{
+  const char *tests[] = {"strip", "square", "pushing", "bias"};
+
+  PetscFunctionBeginUser;
+  for (int t = 0; t < 4; t++) {
+    char  opts[64];
+    Scene s;
+    PetscCall(PetscSNPrintf(opts, sizeof opts, "-test %s", tests[t]));
+    PetscCall(CheckOptionValues(tests[t], opts));
+    PetscCall(PetscOptionsClear(NULL));
+    PetscCall(PetscOptionsInsertString(NULL, opts));
+    PetscCall(SceneLoad(PETSC_COMM_SELF, &s));
+    for (size_t e = 0; e < sizeof ByTest / sizeof ByTest[0]; e++) {
+      PetscReal v[96];
+      PetscInt  n;
+      char      what[128];
+      if (strcmp(ByTest[e].test, tests[t])) continue;
+      ValueOf(&s, ByTest[e].name, v, &n);
+      PetscCall(PetscSNPrintf(what, sizeof what, "%s: default -%s (by hand)", tests[t], ByTest[e].name));
+      PetscCall(ExpectReal(what, n == 1 ? v[0] : -1, ByTest[e].value, 0));
+    }
+    PetscCall(SceneDestroy(&s));
+  }
+  /* a value given: SceneOptionValues gives it, not the default */
+  {
+    Scene     s;
+    char      name[64];
+    PetscReal v[96];
+    PetscInt  n, got = 0;
+    PetscCall(PetscOptionsClear(NULL));
+    PetscCall(PetscOptionsInsertString(NULL, "-gauge_mm 20 -weft_tex 33 -gravity 1,2,3"));
+    PetscCall(SceneLoad(PETSC_COMM_SELF, &s));
+    for (PetscInt k = 0; SceneOptionValues(&s, k, name, v, &n); k++) {
+      if (!strcmp(name, "gauge_mm")) got += n == 1 && v[0] == 20;
+      if (!strcmp(name, "weft_tex")) got += n == 1 && v[0] == 33;
+      if (!strcmp(name, "warp_tex")) got += n == 1 && v[0] == 20;
+      if (!strcmp(name, "gravity")) got += n == 3 && v[0] == 1 && v[1] == 2 && v[2] == 3;
+    }
+    PetscCall(ExpectReal("given values: -gauge_mm 20 -weft_tex 33 -gravity 1,2,3 (warp_tex 20) come back", got, 4, 0));
+    PetscCall(SceneDestroy(&s));
+  }
+  PetscFunctionReturn(0);
+}
+
+/* -test drape alone: its own defaults (a 300 mm disc held in the 0,180 mm ring on the 180 mm
+   pedestal) load, as -help and docs/options.md say */
+static PetscErrorCode TestDrapeDefaults(void)
+{
+  Scene          s;
+  PetscErrorCode ierr;
+
+  PetscFunctionBeginUser;
+  PetscCall(CheckOptionValues("drape", "-test drape"));
+  PetscCall(PetscOptionsClear(NULL));
+  PetscCall(PetscOptionsInsertString(NULL, "-test drape"));
+  PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
+  ierr = SceneLoad(PETSC_COMM_SELF, &s);
+  PetscCall(PetscPopErrorHandler());
+  if (!ierr) {
+    PetscCall(ExpectReal("drape: clamp ring inner radius (m)", s.clamps.ring[0], 0, 0));
+    PetscCall(ExpectReal("drape: clamp ring outer radius 90 mm (m)", s.clamps.ring[1], 0.09, 1e-17));
+    PetscCall(ExpectReal("drape: pedestal radius 90 mm (m)", s.bodies.pedestal_radius, 0.09, 1e-17));
+    PetscCall(ExpectReal("drape: disc radius 150 mm (m)", s.spec.disc_radius, 0.15, 1e-16));
+    PetscCall(SceneDestroy(&s));
+  }
+  PetscFunctionReturn(0);
+}
+
+int main(int argc, char **argv)
+{
+  char name[64] = "";
+
+  PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
+  PetscCall(PetscOptionsGetString(NULL, NULL, "-case", name, sizeof name, NULL));
+  if (!strcmp(name, "graph_distance"))
+    PetscCall(TestGraphDistance());
+  else if (!strcmp(name, "front_box"))
+    PetscCall(TestFrontBox());
+  else if (!strcmp(name, "load_path"))
+    PetscCall(TestLoadPath());
+  else if (!strcmp(name, "curve_row"))
+    PetscCall(TestCurveRow());
+  else if (!strcmp(name, "option_values"))
+    PetscCall(TestOptionValues());
+  else if (!strcmp(name, "drape_defaults"))
+    PetscCall(TestDrapeDefaults());
+  else {
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "unknown -case '%s'\n", name));
+    failures++;
+  }
+  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%s: %d failure(s)\n", name, failures));
+  free(help_text);
+  PetscCall(PetscOptionsClear(NULL)); /* the cases' options are not the command line's: nothing left over */
+  PetscCall(PetscFinalize());
+  return failures ? 1 : 0;
+}
