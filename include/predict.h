@@ -6,7 +6,7 @@
 
 #define DIST_INF 1e30
 /* graph distance of every owned point to the points marked in source (one flag per owned point) */
-PetscErrorCode GraphDistance(Fabric fab, const char *source, PetscReal *dist);
+PetscErrorCode GraphDistance(MPI_Comm comm, DM da, const Patch *p, const char *source, PetscReal *dist);
 PetscErrorCode PredictSetUp(Fabric fab);
 PetscErrorCode PredictLoadStep(Fabric fab, PetscReal grip_step, const PetscReal grip_move[3]);
 

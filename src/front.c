@@ -65,7 +65,7 @@ PetscErrorCode FrontSetUp(Fabric fab)
     for (PetscInt k = 0; k < fab->grid.nloc; k++)
       sources[k] = (char) ((pulled && fab->grid.kind[k] == POINT_GRIP) || (loaded && k == fab->grid.load_index));
   }
-  PetscCall(GraphDistance(fab, sources, dist));
+  PetscCall(GraphDistance(fab->comm, fab->grid.da, &fab->grid.patch, sources, dist));
   for (PetscInt k = 0; k < fab->grid.nloc; k++)
     if (dist[k] < DIST_INF) dmax = PetscMax(dmax, dist[k]);
   PetscCall(GlobalMax(fab->comm, &dmax, 1));

@@ -16,9 +16,8 @@
 
 /* Graph distance of every owned point to the nearest source point, through existing
    points (DIST_INF if none is reachable). Sweeps and halo exchanges until no rank changes. */
-PetscErrorCode GraphDistance(Fabric fab, const char *source, PetscReal *dist)
+PetscErrorCode GraphDistance(MPI_Comm comm, DM da, const Patch *p, const char *source, PetscReal *dist)
 {
-  const Patch  *p = &fab->grid.patch;
   DM            da1;
   Vec           D, Dl;
   PetscScalar **d;
@@ -26,7 +25,7 @@ PetscErrorCode GraphDistance(Fabric fab, const char *source, PetscReal *dist)
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(EV_Predict, 0, 0, 0, 0));
-  PetscCall(DMDACreateCompatibleDMDA(fab->grid.da, 1, &da1));
+  PetscCall(DMDACreateCompatibleDMDA(da, 1, &da1));
   PetscCall(DMCreateGlobalVector(da1, &D));
   PetscCall(DMCreateLocalVector(da1, &Dl));
   PetscCall(DMDAVecGetArray(da1, D, &d));
@@ -64,7 +63,7 @@ PetscErrorCode GraphDistance(Fabric fab, const char *source, PetscReal *dist)
     PetscCall(DMDAVecRestoreArray(da1, Dl, &d));
     PetscCall(DMLocalToGlobalBegin(da1, Dl, INSERT_VALUES, D));
     PetscCall(DMLocalToGlobalEnd(da1, Dl, INSERT_VALUES, D));
-    PetscCall(GlobalMax(fab->comm, &changed, 1));
+    PetscCall(GlobalMax(comm, &changed, 1));
   } while (changed > 0);
   PetscCall(DMDAVecGetArray(da1, D, &d));
   for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
@@ -86,8 +85,8 @@ static PetscErrorCode LinearWeights(Fabric fab, const char *moving)
   PetscFunctionBeginUser;
   PetscCall(PetscMalloc3(fab->grid.nloc, &d0, fab->grid.nloc, &d1, fab->grid.nloc, &src));
   for (PetscInt k = 0; k < fab->grid.nloc; k++) src[k] = (char) (fab->grid.kind[k] == POINT_CLAMPED);
-  PetscCall(GraphDistance(fab, src, d0));
-  PetscCall(GraphDistance(fab, moving, d1));
+  PetscCall(GraphDistance(fab->comm, fab->grid.da, &fab->grid.patch, src, d0));
+  PetscCall(GraphDistance(fab->comm, fab->grid.da, &fab->grid.patch, moving, d1));
   for (PetscInt k = 0; k < fab->grid.nloc; k++) {
     if (d1[k] >= DIST_INF)
       fab->grid.predict_w[k] = 0.0; /* nothing that moves reaches it */

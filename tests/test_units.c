@@ -121,7 +121,7 @@ static PetscErrorCode CheckDistance(Fabric fab, const char *what, int kind, cons
       const PetscInt k = (j - p->ys) * p->xm + (i - p->xs);
       src[k]           = (char) (kind >= 0 ? fab->grid.kind[k] == kind : (i == h->i0 && j == h->j0));
     }
-  PetscCall(GraphDistance(fab, src, dist));
+  PetscCall(GraphDistance(fab->comm, fab->grid.da, &fab->grid.patch, src, dist));
   for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
     for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
       const int       exists = p->exists[(j - p->gys) * p->gxm + (i - p->gxs)];
