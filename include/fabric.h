@@ -19,7 +19,8 @@
 typedef struct { /* one row of curve.csv */
   PetscInt  load_step, inner_steps;
   PetscReal time, elongation, force, residual;
-  PetscReal travel;       /* m: the load point's displacement along the load (square), the sphere's travel (pushing) */
+  PetscReal travel;       /* m: the load point's displacement along the load (square), the sphere's travel (pushing),
+                             the largest drop of a crossing (drape: curve.csv's drop_mm) */
   PetscReal center_shear; /* degrees: mean shear angle of the central zone (bias) */
   PetscReal plane_force[3], pedestal_force[3]; /* N: force of the fabric on each body (its reaction) */
   PetscReal clamp_force[3]; /* N: force on the clamps: the pull of the fabric plus the clamped crossings' weight */

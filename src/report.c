@@ -33,9 +33,11 @@ static int MakeDirs(const char *path)
 
 /* curve.csv columns per test: strip = jaw reaction vs elongation; bias = the same plus the jaw
    travel and the central zone's shear angle; square = point load vs
-   the displacement of its crossing (travel_mm) */
+   the displacement of its crossing (travel_mm); pushing = the ball's force vs its travel; drape =
+   the largest drop of a crossing (drop_mm) */
 static const char *CurveHeader(const Scene *s)
 {
+  if (s->test == TEST_DRAPE) return "load_step,time_s,drop_mm,force_N,inner_steps,residual";
   if (s->test == TEST_STRIP) return "load_step,time_s,elongation_pct,force_N,inner_steps,residual";
   if (s->test == TEST_BIAS)
     return "load_step,time_s,elongation_pct,force_N,inner_steps,residual,travel_mm,center_shear_deg";
