@@ -151,4 +151,7 @@ PetscReal ChordTensionSlope(const YarnLaw *y, PetscReal e);
    integral: the law's table from PatchSetUp (Patch.yarn_integral), or NULL (slower: sums the cells) */
 PetscReal ChordEnergy(const YarnLaw *y, const PetscReal *integral, PetscReal e);
 
+/* the point fields of a frame on the owned points: mean warp and weft segment tension (N), shear angle (degrees) */
+void PointFields(const Patch *p, const PetscReal *x, PetscReal *tw, PetscReal *tf, PetscReal *sh);
+
 #endif

@@ -63,16 +63,6 @@ static PetscBool FramesOn(Fabric fab)
                                                                                                : PETSC_FALSE;
 }
 
-/* ------------------------------------------------------------------ point fields */
-
-static inline PetscReal SegmentTension(const Patch *p, const PetscReal *x, PetscInt ka, PetscInt kb, const YarnLaw *law,
-                                       PetscReal L0)
-{
-  const PetscReal *a = x + 3 * ka, *b = x + 3 * kb;
-  const PetscReal  L = PetscSqrtReal(PetscSqr(b[0] - a[0]) + PetscSqr(b[1] - a[1]) + PetscSqr(b[2] - a[2]));
-  return p->traction ? ChordTension(law, L / L0 - 1.0) : 0.0;
-}
-
 PetscErrorCode ComputePointFields(Fabric fab, Vec warp_tension, Vec weft_tension, Vec shear_deg)
 {
   const Patch       *p = &fab->grid.patch;
@@ -85,30 +75,7 @@ PetscErrorCode ComputePointFields(Fabric fab, Vec warp_tension, Vec weft_tension
   PetscCall(VecGetArray(warp_tension, &tw));
   PetscCall(VecGetArray(weft_tension, &tf));
   PetscCall(VecGetArray(shear_deg, &sh));
-  for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
-    for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
-      const PetscInt q = (j - p->ys) * p->xm + (i - p->xs), k = (j - p->gys) * p->gxm + (i - p->gxs), w = p->gxm;
-      const int      self = p->exists[k];
-      const int      hl = self && i > 0 && p->exists[k - 1], hr = self && i < p->nx - 1 && p->exists[k + 1];
-      const int      hd = self && j > 0 && p->exists[k - w], hu = self && j < p->ny - 1 && p->exists[k + w];
-      PetscReal      sum = 0;
-      int            n   = 0;
-
-      /* warp: segments (i-1,j)-(i,j) and (i,j)-(i+1,j); weft: (i,j-1)-(i,j) and (i,j)-(i,j+1) */
-      if (hl && !p->broken_x[k - 1]) sum += SegmentTension(p, x, k - 1, k, p->warp, p->ax), n++;
-      if (hr && !p->broken_x[k]) sum += SegmentTension(p, x, k, k + 1, p->warp, p->ax), n++;
-      tw[q] = n ? sum / n : 0.0;
-      sum = 0, n = 0;
-      if (hd && !p->broken_y[k - w]) sum += SegmentTension(p, x, k - w, k, p->weft, p->ay), n++;
-      if (hu && !p->broken_y[k]) sum += SegmentTension(p, x, k, k + w, p->weft, p->ay), n++;
-      tf[q] = n ? sum / n : 0.0;
-
-      /* shear angle from the tangents of MODEL.md 5.3, one-sided at an edge */
-      {
-        PetscReal c, tmin;
-        sh[q] = CrossingShear(p, x, i, j, &c, &tmin) ? PetscAsinReal(c) * 180.0 / PETSC_PI : 0.0;
-      }
-    }
+  PointFields(p, x, tw, tf, sh);
   PetscCall(VecRestoreArray(shear_deg, &sh));
   PetscCall(VecRestoreArray(weft_tension, &tf));
   PetscCall(VecRestoreArray(warp_tension, &tw));
