@@ -1102,8 +1102,11 @@ static PetscErrorCode CheckOutputPlaces(MPI_Comm comm, const SceneOutput *o)
 {
   char        msg[2 * PETSC_MAX_PATH_LEN + 128] = "";
   PetscMPIInt rank;
+  PetscBool   help;
 
   PetscFunctionBeginUser;
+  PetscCall(PetscOptionsHasHelp(NULL, &help));
+  if (help) PetscFunctionReturn(0); /* -help writes nothing */
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   if (!rank && o->output_dir[0]) ProbeDirectory("output_dir", o->output_dir, msg, sizeof msg);
   if (!rank && !msg[0] && o->positions_out[0])
