@@ -41,7 +41,7 @@ log="$(timeout 120 mpiexec -n 2 "$fabric" "${small[@]}" -output_every 1 -checkpo
 rc=$?
 grep -v '^ ' <<<"$log" | head -3
 ((rc != 0 && rc != 124)) || { echo "FAIL: exit code $rc (0: the disk never filled; 124: it hung)"; fail=1; }
-expected="^fabric: error: -output_dir $disk/run: the disk is full: .* too little for the next (checkpoint.h5|frame of"
+expected="^fabric: error: -output_dir $disk/run: the disk is full: .* too little for the next .*(checkpoint|fabric)[.]h5"
 grep -Eq -- "$expected" <<<"$log" || { echo "FAIL: no message naming the file that does not fit"; fail=1; }
 steps=$(grep -c "^checkpoint at load step" <<<"$log")
 ((steps >= 1)) || { echo "FAIL: the disk filled before the first checkpoint: nothing to keep intact"; fail=1; }
