@@ -11,6 +11,7 @@
 #include "predict.h"
 #include "frames.h"
 
+#include <float.h>
 #include <math.h>
 
 /* Position of crossing (i,j) relative to the grid centre at rest, m. (i - (nx-1)/2) is exact,
@@ -275,6 +276,50 @@ static PetscErrorCode SetUpPatch(Fabric fab, const DMDALocalInfo *info_)
   PetscFunctionReturn(0);
 }
 
+/* The stiffnesses and masses the options give, before anything is integrated: each option is
+   within its physical range (scene.c), but their products can still leave the doubles (a tabulated
+   law's slope, a 1e-300 tex). A point whose mass is not a normal double has an infinite 1/m. */
+static PetscErrorCode CheckStiffnessAndMass(Fabric fab)
+{
+  const Scene    *s      = &fab->s;
+  const Patch    *p      = &fab->grid.patch;
+  const YarnLaw  *law[2] = {&s->yarns.warp, &s->yarns.weft};
+  const PetscReal L0[2] = {p->ax, p->ay}, density[2] = {s->in.picks_per_cm, s->in.ends_per_cm};
+  PetscReal       m[2] = {0, 0}; /* minus the lightest and the heaviest positive point mass */
+
+  PetscFunctionBeginUser;
+  for (int y = 0; y < 2; y++) { /* warp segments span the weft spacing, weft segments the warp spacing */
+    const PetscReal k = law[y]->EA / L0[y];
+    const char     *n = law[y]->name, *spacing = y ? "ends" : "picks";
+    PetscCheck(isnormal(k) || law[y]->csv[0], fab->comm, PETSC_ERR_USER_INPUT,
+               "the %s yarn segments' stiffness EA/L0 is %g N/m, not a normal positive number: -%s_tex %g x "
+               "-%s_modulus_cN_tex %g at %g %s/cm",
+               n, (double) k, n, (double) law[y]->tex, n, (double) s->in.yarn[y].modulus_cN_tex, (double) density[y],
+               spacing);
+    PetscCheck(isnormal(k), fab->comm, PETSC_ERR_USER_INPUT,
+               "the %s yarn segments' stiffness EA/L0 is %g N/m, not a normal positive number: -%s_law_csv %s at %g "
+               "%s/cm",
+               n, (double) k, n, law[y]->csv, (double) density[y], spacing);
+  }
+  PetscCheck(isfinite(p->kbx) && isfinite(p->kby) && isfinite(p->Ks) && isfinite(p->Kj) && isfinite(p->k_contact),
+             fab->comm, PETSC_ERR_USER_INPUT,
+             "a stiffness overflows: bending %g, %g N m, shear %g N m, jamming %g N m, contact %g N/m", (double) p->kbx,
+             (double) p->kby, (double) p->Ks, (double) p->Kj, (double) p->k_contact);
+  m[0] = -PETSC_MAX_REAL;
+  for (PetscInt k = 0; k < fab->grid.nloc; k++) {
+    const PetscReal mk = fab->grid.mass[k];
+    if (mk > 0) m[0] = PetscMax(m[0], -mk);
+    m[1] = PetscMax(m[1], mk);
+  }
+  PetscCall(GlobalMax(fab->comm, m, 2));
+  PetscCheck(m[1] > 0 && isfinite(m[1]) && -m[0] >= DBL_MIN && isfinite(-1.0 / m[0]), fab->comm, PETSC_ERR_USER_INPUT,
+             "-warp_tex %g and -weft_tex %g at %g x %g threads/cm give crossing masses from %g to %g kg: too light to "
+             "integrate (below 2.2e-308 kg, 1/m overflows)",
+             (double) s->in.yarn[0].tex, (double) s->in.yarn[1].tex, (double) s->in.ends_per_cm,
+             (double) s->in.picks_per_cm, (double) -m[0], (double) m[1]);
+  PetscFunctionReturn(0);
+}
+
 /* masses (MODEL.md 4): each existing segment gives half its yarn mass to each end; point kinds, the point load's
  * crossing and the balance test's force floor */
 static PetscErrorCode SetUpMasses(Fabric fab, const DMDALocalInfo *info_)
@@ -386,6 +431,7 @@ PetscErrorCode FabricCreate(MPI_Comm comm, Fabric *out)
   PetscCall(SetUpPatch(fab, &info));
   PetscCall(CheckLines(fab, &info));
   PetscCall(SetUpMasses(fab, &info));
+  PetscCall(CheckStiffnessAndMass(fab));
   fab->grid.pull_dir[0] = s->spec.pull == PULL_WARP ? 1.0 : 0.0;
   fab->grid.pull_dir[1] = s->spec.pull == PULL_WARP ? 0.0 : 1.0;
   fab->grid.pull_dir[2] = 0.0;

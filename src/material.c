@@ -15,64 +15,76 @@
 #include <stdio.h>
 #include <string.h>
 
+/* The header line p (trimmed) is "strain_pct,force_cN"; else msg says what was found. */
+static void CheckYarnHeader(const YarnLaw *y, PetscInt lineno, char *p, char *msg, size_t len)
+{
+  p[strcspn(p, "\r\n")] = 0;
+  if (strcmp(p, "strain_pct,force_cN"))
+    snprintf(msg, len, "-%s_law_csv %s line %d: expected the header 'strain_pct,force_cN', found '%.64s'", y->name,
+             y->csv, (int) lineno, p);
+}
+
+/* A data row p: two finite numbers s (strain, %) and f (force, cN) that continue a physical law
+   after count rows, the last of them prev_s, prev_f: the first row 0,0, then strictly increasing
+   strains and forces that never fall (a yarn does not soften: there is no softening model) nor
+   go negative. Otherwise msg says what is wrong, with the file, the line and the values. */
+static void CheckYarnRow(const YarnLaw *y, PetscInt lineno, char *p, PetscInt count, double prev_s, double prev_f,
+                         double *s, double *f, char *msg, size_t len)
+{
+  char  *end, *q, at[PETSC_MAX_PATH_LEN + 64];
+  size_t n;
+
+  snprintf(at, sizeof at, "-%s_law_csv %s line %d", y->name, y->csv, (int) lineno);
+  p[strcspn(p, "\r\n")] = 0;
+  *s                    = strtod(p, &end);
+  if (end == p || *end != ',') {
+    snprintf(msg, len, "%s: expected 'strain_pct,force_cN' numbers, found '%.64s'", at, p);
+    return;
+  }
+  q  = end + 1;
+  *f = strtod(q, &end);
+  n  = strspn(end, " \t");
+  if (end == q || end[n] || !isfinite(*s) || !isfinite(*f))
+    snprintf(msg, len, "%s: expected two finite numbers 'strain_pct,force_cN', found '%.64s'", at, p);
+  else if (count == 0 && (*s != 0.0 || *f != 0.0))
+    snprintf(msg, len, "%s: the first row must be 0,0 (no force at zero yarn strain), found %g,%g", at, *s, *f);
+  else if (*f < 0)
+    snprintf(msg, len, "%s: force %g cN is negative: the law is the tension of a stretched yarn (>= 0)", at, *f);
+  else if (count > 0 && *s == prev_s)
+    snprintf(msg, len, "%s: strain %g %% repeats the line before: two forces at one strain", at, *s);
+  else if (count > 0 && !(*s > prev_s))
+    snprintf(msg, len, "%s: strain %g %% does not increase (%g %% on the line before)", at, *s, prev_s);
+  else if (count > 0 && *f < prev_f)
+    snprintf(msg, len,
+             "%s: force %g cN falls below %g cN of the line before: a yarn law must not soften (no softening model)",
+             at, *f, prev_f);
+}
+
 /* Read the CSV into SI arrays: yarn strain (-) and force (N). */
 static PetscErrorCode ReadYarnCSV(MPI_Comm comm, const YarnLaw *y, PetscInt *n, double **strain, double **force)
 {
   FILE     *fp;
-  char      line[512];
+  char      line[512], msg[PETSC_MAX_PATH_LEN + 256] = "";
   PetscInt  cap = 64, count = 0, lineno = 0;
   PetscBool header = PETSC_FALSE;
+  double    prev_s = 0, prev_f = 0;
 
   PetscFunctionBeginUser;
   fp = fopen(y->csv, "r");
   PetscCheck(fp, comm, PETSC_ERR_FILE_OPEN, "-%s_law_csv %s: cannot open the yarn law file", y->name, y->csv);
   PetscCall(PetscMalloc2(cap, strain, cap, force));
-  while (fgets(line, sizeof line, fp)) {
-    char  *p = line, *end;
-    double s, f;
+  while (!msg[0] && fgets(line, sizeof line, fp)) {
+    char  *p = line + strspn(line, " \t");
+    double s = 0, f = 0;
     lineno++;
-    while (*p == ' ' || *p == '\t') p++;
     if (*p == '#' || *p == '\n' || *p == '\r' || *p == 0) continue;
     if (!header) {
-      char *q = p;
-      while (*q && *q != '\n' && *q != '\r') q++;
-      *q = 0;
-      if (strcmp(p, "strain_pct,force_cN")) {
-        fclose(fp);
-        SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED,
-                "-%s_law_csv %s line %" PetscInt_FMT ": expected the header 'strain_pct,force_cN', found '%s'", y->name,
-                y->csv, lineno, p);
-      }
+      CheckYarnHeader(y, lineno, p, msg, sizeof msg);
       header = PETSC_TRUE;
       continue;
     }
-    s = strtod(p, &end);
-    if (end == p || *end != ',') {
-      fclose(fp);
-      SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED,
-              "-%s_law_csv %s line %" PetscInt_FMT ": expected 'strain_pct,force_cN' numbers", y->name, y->csv, lineno);
-    }
-    p = end + 1;
-    f = strtod(p, &end);
-    while (*end == ' ' || *end == '\t' || *end == '\r' || *end == '\n') end++;
-    if (end == p || *end != 0 || !isfinite(s) || !isfinite(f)) {
-      fclose(fp);
-      SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED,
-              "-%s_law_csv %s line %" PetscInt_FMT ": expected two finite numbers 'strain_pct,force_cN'", y->name,
-              y->csv, lineno);
-    }
-    if (count == 0 && (s != 0.0 || f != 0.0)) {
-      fclose(fp);
-      SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED,
-              "-%s_law_csv %s line %" PetscInt_FMT
-              ": the first row must be 0,0 (no force at zero yarn strain), found %g,%g",
-              y->name, y->csv, lineno, s, f);
-    }
-    if (count > 0 && !(s > 100.0 * (*strain)[count - 1])) {
-      fclose(fp);
-      SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED, "-%s_law_csv %s line %" PetscInt_FMT ": strain %g %% does not increase",
-              y->name, y->csv, lineno, s);
-    }
+    CheckYarnRow(y, lineno, p, count, prev_s, prev_f, &s, &f, msg, sizeof msg);
+    if (msg[0]) break;
     if (count == cap) {
       double *s2, *f2;
       PetscCall(PetscMalloc2(2 * cap, &s2, 2 * cap, &f2));
@@ -85,13 +97,19 @@ static PetscErrorCode ReadYarnCSV(MPI_Comm comm, const YarnLaw *y, PetscInt *n, 
     }
     (*strain)[count] = s / 100.0;
     (*force)[count]  = f / 100.0;
+    prev_s           = s; /* as given: the next row is compared with it exactly */
+    prev_f           = f;
     count++;
   }
   fclose(fp);
+  if (msg[0] || !header || count < 3) PetscCall(PetscFree2(*strain, *force));
+  PetscCheck(!msg[0], comm, PETSC_ERR_FILE_UNEXPECTED, "%s", msg);
   PetscCheck(header, comm, PETSC_ERR_FILE_UNEXPECTED,
              "-%s_law_csv %s: empty file (expected the header 'strain_pct,force_cN' and rows)", y->name, y->csv);
   PetscCheck(count >= 3, comm, PETSC_ERR_FILE_UNEXPECTED,
-             "-%s_law_csv %s: %" PetscInt_FMT " rows, the spline needs at least 3", y->name, y->csv, count);
+             "-%s_law_csv %s: %" PetscInt_FMT
+             " data row%s, a yarn law needs at least 3 (0,0 and two more, for the spline)",
+             y->name, y->csv, count, count == 1 ? "" : "s");
   *n = count;
   PetscFunctionReturn(0);
 }
@@ -110,6 +128,7 @@ static PetscErrorCode BuildTable(MPI_Comm comm, YarnLaw *y)
   double           *es, *fs;
   gsl_interp       *interp;
   gsl_interp_accel *acc;
+  PetscBool         finite = PETSC_TRUE;
 
   PetscFunctionBeginUser;
   PetscCall(ReadYarnCSV(comm, y, &n, &es, &fs));
@@ -144,7 +163,14 @@ static PetscErrorCode BuildTable(MPI_Comm comm, YarnLaw *y)
     for (int q = 0; q <= 4; q++) m = PetscMax(m, PetscAbsReal(HermiteSlope(y, k, 0.25 * q)));
     y->tab_slope_max[0][k] = m;
     y->EA                  = PetscMax(y->EA, m);
+    finite                 = finite && isfinite(m) && isfinite(y->tab_T[k + 1]);
   }
+  PetscCheck(finite, comm, PETSC_ERR_FILE_UNEXPECTED,
+             "-%s_law_csv %s: the law's slope overflows (not a finite number of N per unit yarn strain): forces are "
+             "in cN, strains in %%",
+             y->name, y->csv);
+  PetscCheck(y->EA > 0, comm, PETSC_ERR_FILE_UNEXPECTED,
+             "-%s_law_csv %s: every force is 0: a yarn law needs a positive stiffness", y->name, y->csv);
   for (PetscInt l = 1; l < y->nlev; l++) {
     PetscInt w = 1 << l;
     PetscCall(PetscMalloc1(ncell - w + 1, &y->tab_slope_max[l]));

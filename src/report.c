@@ -12,19 +12,26 @@
 
 #include <errno.h>
 #include <string.h>
+#include <math.h>
 #include <sys/stat.h>
+#include <sys/statvfs.h>
+#include <unistd.h>
 
-/* mkdir -p */
-static int MakeDirs(const char *path)
+/* mkdir -p; on failure, the part of the path that could not be made in failed */
+static int MakeDirs(const char *path, char *failed, size_t len)
 {
   char   buf[PETSC_MAX_PATH_LEN];
   size_t n = strlen(path);
+  snprintf(failed, len, "%s", path);
   if (n == 0 || n >= sizeof buf) return -1;
   memcpy(buf, path, n + 1);
   for (char *p = buf + 1; *p; p++) {
     if (*p != '/') continue;
     *p = 0;
-    if (mkdir(buf, 0755) && errno != EEXIST) return -1;
+    if (mkdir(buf, 0755) && errno != EEXIST) {
+      snprintf(failed, len, "%s", buf);
+      return -1;
+    }
     *p = '/';
   }
   if (mkdir(buf, 0755) && errno != EEXIST) return -1;
@@ -87,44 +94,95 @@ static void WriteCurveRow(const Scene *s, FILE *fp, const CurveRow *r)
   fputc('\n', fp);
 }
 
+/* Room on the disk for what the next load step writes. Parallel HDF5 does not recover from a full
+   disk (a collective write that fails on one rank leaves the others waiting for ever), so a frame
+   or a checkpoint that would not fit is not started: the run stops naming the file, and the last
+   complete checkpoint.h5 stays intact (a new one is written aside, then renamed over it). The
+   sizes are estimates: the checkpoint written last (or ~200 bytes a crossing for the first), 1.5
+   average frames of fabric.h5, and 64 KiB for curve.csv, fabric.xmf and summary.json. */
+static PetscErrorCode CheckRoom(Fabric fab)
+{
+  const char *dir    = fab->s.out.output_dir;
+  FabricIO    io     = fab->io;
+  double      est[4] = {0, 0, 0, 0}; /* bytes: free, the next checkpoint.h5, the next frames; a checkpoint is there */
+
+  PetscFunctionBeginUser;
+  if (fab->rank == 0) {
+    struct statvfs fs;
+    struct stat    st;
+    char           file[PETSC_MAX_PATH_LEN];
+    est[0] = statvfs(dir, &fs) ? INFINITY : (double) fs.f_bavail * (double) fs.f_frsize;
+    if (io && io->checkpoint_every > 0) {
+      PetscCall(PetscSNPrintf(file, sizeof file, "%s/checkpoint.h5", dir));
+      est[3] = !stat(file, &st);
+      est[1] = est[3] ? 1.1 * (double) st.st_size + 16384 : 200.0 * (double) fab->grid.points + 32768;
+    }
+    if (io && (io->output_every > 0 || io->output_te_every > 0) && io->frames > 0) {
+      PetscCall(PetscSNPrintf(file, sizeof file, "%s/fabric.h5", dir));
+      if (!stat(file, &st)) est[2] = 1.5 * (double) st.st_size / (double) io->frames;
+    }
+  }
+  PetscCallMPI(MPI_Bcast(est, 4, MPI_DOUBLE, 0, fab->comm));
+  PetscCheck(est[0] >= est[1] + est[2] + 65536, fab->comm, PETSC_ERR_FILE_WRITE,
+             "-output_dir %s: the disk is full: %.0f kB free, too little for the next %s (about %.0f kB)%s", dir,
+             est[0] / 1024, est[1] > est[2] ? "checkpoint.h5" : "frame of fabric.h5", (est[1] + est[2] + 65536) / 1024,
+             est[3] ? "; the last checkpoint.h5 is intact" : "");
+  PetscFunctionReturn(0);
+}
+
 /* curve.csv: the header, and after a restart the rows before the checkpoint */
 PetscErrorCode OutputOpen(Fabric fab)
 {
-  const char *dir = fab->s.out.output_dir;
-  int         ok  = 1;
+  const char *dir                        = fab->s.out.output_dir;
+  char        failed[PETSC_MAX_PATH_LEN] = "";
+  int         status[2]                  = {0, 0}; /* 0 fine, 1 a directory, 2 curve.csv could not be written; errno */
 
   PetscFunctionBeginUser;
   if (!dir[0]) PetscFunctionReturn(0);
   if (fab->rank == 0) {
     char file[PETSC_MAX_PATH_LEN];
-    ok = MakeDirs(dir) == 0;
-    if (ok) {
+    if (MakeDirs(dir, failed, sizeof failed)) status[0] = 1, status[1] = errno;
+    if (!status[0]) {
       PetscCall(PetscSNPrintf(file, sizeof file, "%s/curve.csv", dir));
       fab->stats.curve_fp = fopen(file, "w");
-      ok                  = fab->stats.curve_fp != NULL;
-      if (ok) {
-        fprintf(fab->stats.curve_fp, "%s", CurveHeader(&fab->s));
-        WriteSupportsHeader(&fab->s, fab->stats.curve_fp);
-        fputc('\n', fab->stats.curve_fp);
-        for (PetscInt k = 0; k < fab->load.load_step; k++)
-          WriteCurveRow(&fab->s, fab->stats.curve_fp, &fab->stats.curve[k]);
-        fflush(fab->stats.curve_fp);
-      }
+      if (!fab->stats.curve_fp) status[0] = 2, status[1] = errno;
+    }
+    if (!status[0]) {
+      fprintf(fab->stats.curve_fp, "%s", CurveHeader(&fab->s));
+      WriteSupportsHeader(&fab->s, fab->stats.curve_fp);
+      fputc('\n', fab->stats.curve_fp);
+      for (PetscInt k = 0; k < fab->load.load_step; k++)
+        WriteCurveRow(&fab->s, fab->stats.curve_fp, &fab->stats.curve[k]);
+      if (fflush(fab->stats.curve_fp) || ferror(fab->stats.curve_fp)) status[0] = 2, status[1] = errno;
     }
   }
-  PetscCallMPI(MPI_Bcast(&ok, 1, MPI_INT, 0, fab->comm));
-  PetscCheck(ok, fab->comm, PETSC_ERR_FILE_OPEN, "-output_dir %s: cannot create the directory or write curve.csv in it",
-             dir);
+  PetscCallMPI(MPI_Bcast(status, 2, MPI_INT, 0, fab->comm));
+  PetscCallMPI(MPI_Bcast(failed, sizeof failed, MPI_CHAR, 0, fab->comm));
+  PetscCheck(status[0] != 1, fab->comm, PETSC_ERR_FILE_OPEN, "-output_dir %s: cannot create the directory %s (%s)", dir,
+             failed, strerror(status[1]));
+  PetscCheck(status[0] != 2, fab->comm, PETSC_ERR_FILE_WRITE, "-output_dir %s: cannot write %s/curve.csv (%s)", dir,
+             dir, strerror(status[1]));
+  PetscCall(CheckRoom(fab));
   PetscFunctionReturn(0);
 }
 
+/* the load step's row of curve.csv (rank 0), then room for the load step's frame and checkpoint */
 PetscErrorCode OutputCurveRow(Fabric fab, const CurveRow *r)
 {
+  const char *dir       = fab->s.out.output_dir;
+  int         status[2] = {0, 0}; /* 1: curve.csv could not be written; errno */
+
   PetscFunctionBeginUser;
-  if (!fab->stats.curve_fp) PetscFunctionReturn(0);
+  if (!dir[0]) PetscFunctionReturn(0);
   PetscCall(PetscLogEventBegin(EV_Output, 0, 0, 0, 0));
-  WriteCurveRow(&fab->s, fab->stats.curve_fp, r);
-  fflush(fab->stats.curve_fp);
+  if (fab->stats.curve_fp) {
+    WriteCurveRow(&fab->s, fab->stats.curve_fp, r);
+    if (fflush(fab->stats.curve_fp) || ferror(fab->stats.curve_fp)) status[0] = 1, status[1] = errno;
+  }
+  PetscCallMPI(MPI_Bcast(status, 2, MPI_INT, 0, fab->comm));
+  PetscCheck(!status[0], fab->comm, PETSC_ERR_FILE_WRITE, "-output_dir %s: cannot write %s/curve.csv (%s)", dir, dir,
+             strerror(status[1]));
+  PetscCall(CheckRoom(fab));
   PetscCall(PetscLogEventEnd(EV_Output, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
@@ -176,6 +234,7 @@ PetscErrorCode OutputSummary(Fabric fab, const char *error)
   FILE        *fp;
   PetscReal    peak = 0;
   PetscInt     done = 0;
+  int          write_error;
 
   PetscFunctionBeginUser;
   if (!s->out.output_dir[0] || fab->rank != 0) PetscFunctionReturn(0);
@@ -221,7 +280,13 @@ PetscErrorCode OutputSummary(Fabric fab, const char *error)
     JsonString(fp, error);
   }
   fprintf(fp, "\n}\n");
-  fclose(fp);
+  write_error = ferror(fp);
+  if (fclose(fp) || write_error) { /* a full disk: keep the summary.json there is, if any */
+    const int err = errno;
+    (void) unlink(tmp);
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "-output_dir %s: cannot write summary.json (%s)", s->out.output_dir,
+            strerror(err));
+  }
   PetscCheck(!rename(tmp, file), PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE,
              "-output_dir %s: cannot rename summary.json into place", s->out.output_dir);
   PetscFunctionReturn(0);

@@ -19,6 +19,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 const char *const PullAxisNames[]   = {"warp", "weft", "PullAxis", "PULL_", NULL};
 const char *const IntegratorNames[] = {"damped", "paper", "IntegratorType", "INTEGRATOR_", NULL};
@@ -330,7 +333,12 @@ static PetscErrorCode ParseReal(MPI_Comm comm, const char *name, const char *tex
   d     = strtod(text, &end);
   while (*end == ' ') end++;
   PetscCheck(end != text && !*end, comm, PETSC_ERR_USER_INPUT, "-%s %s: not a number", name, text);
-  PetscCheck(isfinite(d) && errno != ERANGE, comm, PETSC_ERR_USER_INPUT, "-%s %s: not a finite number", name, text);
+  PetscCheck(isfinite(d) && !(errno == ERANGE && fabs(d) > 1), comm, PETSC_ERR_USER_INPUT,
+             "-%s %s: not a finite number", name, text);
+  /* strtod flags a result below the smallest normal double (2.2e-308): a value that small makes
+     every product with it lose its digits, or vanish */
+  PetscCheck(errno != ERANGE, comm, PETSC_ERR_USER_INPUT,
+             "-%s %s: too small for a double (non-zero values must exceed 2.2e-308 in magnitude)", name, text);
   *v = (PetscReal) d;
   PetscFunctionReturn(0);
 }
@@ -409,6 +417,48 @@ static PetscErrorCode ParseArray(MPI_Comm comm, const OptionDesc *o, const char 
   PetscFunctionReturn(0);
 }
 
+/* The physical range of the options that set a stiffness, a mass or a size: far beyond any woven
+   fabric, yet low enough that no product of them can overflow (a yarn's EA/L0 stays below
+   1e9 N / 1e-5 m = 1e14 N/m; a grid of at least 3 crossings within 100 m keeps a point's mass
+   below 100 kg). A value above it is a typo or a unit slip, not a material. The lower ends are the table's own
+   (POSITIVE, NONNEG); products that underflow are refused where they are formed (fabric.c). docs/inputs.md lists them.
+ */
+typedef struct {
+  const char *name; /* as in Options[] */
+  PetscReal   hi;
+  const char *hi_text, *unit, *why;
+} PhysicalRange;
+
+#define SIZE_MAX_MM 1e5
+#define SIZE_WHY    "100 m, larger than any specimen or test rig"
+#define TEXT_(x)    #x
+#define TEXT(x)     TEXT_(x)
+#define PHYSICAL(name, hi, unit, why) \
+  {                                   \
+    name, hi, TEXT(hi), unit, why     \
+  }
+static const PhysicalRange Physical[] = {
+    PHYSICAL("ends_per_cm", 1000, "threads/cm", "the densest woven fabrics have a few hundred"),
+    PHYSICAL("picks_per_cm", 1000, "threads/cm", "the densest woven fabrics have a few hundred"),
+    PHYSICAL("%s_tex", 1e5, "tex", "the heaviest woven tows are about 1e4 tex"),
+    PHYSICAL("%s_modulus_cN_tex", 1e6, "cN/tex", "the stiffest fibres, high-modulus carbon, reach about 3e4 cN/tex"),
+    PHYSICAL("%s_decrimp_ratio", 1, "", "straightening the crimp is never stiffer than stretching the yarn"),
+    PHYSICAL("%s_compression_ratio", 1, "", "a yarn is never stiffer in compression than in tension"),
+    PHYSICAL("%s_bending_Nm2", 1, "N m^2", "a 3 mm steel wire has 0.8 N m^2, yarns 1e-9 to 1e-5 N m^2"),
+    PHYSICAL("shear_G_N_m", 1e6, "N/m", "woven fabrics have 0.1 to 100 N/m"),
+    PHYSICAL("jam_factor", 1e6, "", "jammed crossings stiffen 1e2 to 1e4 times"),
+    PHYSICAL("contact_stiffness_N_m", 1e12, "N/m", "a stiffer penalty only shrinks the time step"),
+    PHYSICAL("gauge_mm", SIZE_MAX_MM, "mm", SIZE_WHY),
+    PHYSICAL("width_mm", SIZE_MAX_MM, "mm", SIZE_WHY),
+    PHYSICAL("disc_diameter_mm", SIZE_MAX_MM, "mm", SIZE_WHY),
+    PHYSICAL("jaw_depth_mm", SIZE_MAX_MM, "mm", SIZE_WHY),
+    PHYSICAL("sphere_diameter_mm", SIZE_MAX_MM, "mm", SIZE_WHY),
+    PHYSICAL("thickness_mm", SIZE_MAX_MM, "mm", SIZE_WHY),
+    PHYSICAL("sphere_travel_mm", SIZE_MAX_MM, "mm", SIZE_WHY),
+    PHYSICAL("pedestal_diameter_mm", SIZE_MAX_MM, "mm", SIZE_WHY),
+    PHYSICAL("pedestal_height_mm", SIZE_MAX_MM, "mm", SIZE_WHY),
+};
+
 static PetscErrorCode CheckReal(MPI_Comm comm, const OptionDesc *o, const char *name, PetscReal v)
 {
   PetscBool ok = PETSC_TRUE;
@@ -419,6 +469,10 @@ static PetscErrorCode CheckReal(MPI_Comm comm, const OptionDesc *o, const char *
   if (o->check == RANGE)
     ok = ((o->lo_open ? v > o->lo : v >= o->lo) && (o->hi_open ? v < o->hi : v <= o->hi)) ? PETSC_TRUE : PETSC_FALSE;
   PetscCheck(ok, comm, PETSC_ERR_USER_INPUT, "-%s must be %s, got %g", name, o->must, (double) v);
+  for (size_t k = 0; k < sizeof Physical / sizeof Physical[0]; k++)
+    PetscCheck(strcmp(o->name, Physical[k].name) || v <= Physical[k].hi, comm, PETSC_ERR_USER_INPUT,
+               "-%s %g is beyond the physical range (at most %s%s%s: %s)", name, (double) v, Physical[k].hi_text,
+               Physical[k].unit[0] ? " " : "", Physical[k].unit, Physical[k].why);
   PetscFunctionReturn(0);
 }
 
@@ -556,6 +610,30 @@ static PetscErrorCode CheckSceneHasOptions(MPI_Comm comm, const char *file)
   PetscFunctionReturn(0);
 }
 
+/* The first line of a scene file that cannot be a YAML "key: value" line (no colon, or no space
+   after the first one), as a hint when the YAML parser refuses the file without saying where.
+   0 if none is found. */
+static int FindMalformedLine(const char *file, char *text, size_t len)
+{
+  char  line[1024];
+  int   lineno = 0, found = 0;
+  FILE *fp = fopen(file, "r");
+
+  if (!fp) return 0;
+  while (!found && fgets(line, sizeof line, fp)) {
+    char *c = line, *colon;
+    lineno++;
+    line[strcspn(line, "\r\n")] = 0;
+    while (*c == ' ' || *c == '\t') c++;
+    if (!*c || *c == '#' || *c == '-' || *c == '[' || *c == '{' || *c == '"' || *c == '\'') continue;
+    colon = strchr(c, ':');
+    found = !colon || (colon[1] && colon[1] != ' ' && colon[1] != '\t');
+    if (found) snprintf(text, len, "%.100s", c); /* enough to recognise the line */
+  }
+  fclose(fp);
+  return found ? lineno : 0;
+}
+
 /* -scene FILE: insert the YAML option file, then the command line again so that it wins */
 PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv)
 {
@@ -576,7 +654,13 @@ PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv)
   if (ierr) {
     const char *text;
     char       *specific = NULL;
+    char        bad[256];
+    int         lineno;
     PetscCall(PetscErrorMessage(ierr, &text, &specific));
+    lineno = FindMalformedLine(file, bad, sizeof bad);
+    PetscCheck(!lineno, comm, PETSC_ERR_FILE_UNEXPECTED,
+               "-scene %s: not a valid YAML option file: %s (line %d, '%s': expected 'key: value')", file,
+               specific && specific[0] ? specific : text, lineno, bad);
     SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED, "-scene %s: not a valid YAML option file: %s", file,
             specific && specific[0] ? specific : text);
   }
@@ -930,6 +1014,109 @@ static PetscErrorCode DeriveGrid(MPI_Comm comm, const SceneInput *in, Scene *s)
   PetscFunctionReturn(0);
 }
 
+/* ---------------- the output places ---------------- */
+
+/* Can the directory path be made and written into? What is missing is made (mkdir -p), a probe
+   file is written and removed, then what was made is removed again: nothing is left behind,
+   and a path under a file, on a read-only or a pseudo file system (/proc, where even root
+   cannot write) is refused before any computation. msg: "" or why not. */
+static void ProbeDirectory(const char *opt, const char *path, char *msg, size_t len)
+{
+  char        buf[PETSC_MAX_PATH_LEN], probe[PETSC_MAX_PATH_LEN + 32];
+  size_t      made[64], n = strlen(path);
+  int         nmade = 0, fd;
+  struct stat st;
+
+  msg[0] = 0;
+  if (n >= sizeof buf) {
+    snprintf(msg, len, "-%s %s: path too long", opt, path);
+    return;
+  }
+  memcpy(buf, path, n + 1);
+  for (size_t at = 1; at <= n && !msg[0]; at++) { /* each leading part of the path, then the whole */
+    if (at < n && buf[at] != '/') continue;
+    buf[at] = 0;
+    if (!stat(buf, &st)) {
+      if (!S_ISDIR(st.st_mode)) snprintf(msg, len, "-%s %s: %s is not a directory", opt, path, buf);
+    } else if (errno != ENOENT || mkdir(buf, 0755))
+      snprintf(msg, len, "-%s %s: cannot create the directory %s (%s)", opt, path, buf, strerror(errno));
+    else if (nmade < 64)
+      made[nmade++] = at;
+    buf[at] = at < n ? '/' : 0;
+  }
+  if (!msg[0]) {
+    snprintf(probe, sizeof probe, "%s/.fabric_probe_%d", path, (int) getpid());
+    fd = open(probe, O_WRONLY | O_CREAT | O_EXCL, 0644);
+    if (fd < 0 || write(fd, "\n", 1) != 1)
+      snprintf(msg, len, "-%s %s: cannot write in the directory (%s)", opt, path, strerror(errno));
+    if (fd >= 0) close(fd);
+    if (fd >= 0) unlink(probe);
+  }
+  for (int k = nmade - 1; k >= 0; k--) { /* the directories made, deepest first */
+    buf[made[k]] = 0;
+    (void) rmdir(buf);
+  }
+}
+
+/* Can the file be written? Its directory must exist (or be the output directory, made at the
+   start of the run); an existing file is opened without being truncated, a new one is made and
+   removed. msg: "" or why not. */
+static void ProbeFile(const char *opt, const char *path, const char *output_dir, char *msg, size_t len)
+{
+  char        dir[PETSC_MAX_PATH_LEN];
+  const char *slash = strrchr(path, '/');
+  struct stat st;
+  int         fd;
+
+  msg[0] = 0;
+  snprintf(dir, sizeof dir, "%.*s", slash ? (int) (slash == path ? 1 : slash - path) : 1, slash ? path : ".");
+  if (!stat(path, &st) && S_ISDIR(st.st_mode)) {
+    snprintf(msg, len, "-%s %s: is a directory, not a file", opt, path);
+    return;
+  }
+  if (stat(dir, &st)) {
+    const size_t n = strlen(dir);
+    if (!strncmp(dir, output_dir, n) && (!output_dir[n] || !strcmp(output_dir + n, "/")))
+      return; /* the output directory, made by the run: probed with -output_dir */
+    snprintf(msg, len, "-%s %s: cannot reach the directory %s (%s)", opt, path, dir, strerror(errno));
+    return;
+  }
+  if (!S_ISDIR(st.st_mode)) {
+    snprintf(msg, len, "-%s %s: %s is not a directory", opt, path, dir);
+    return;
+  }
+  fd = open(path, O_WRONLY | O_CREAT | O_EXCL, 0644);
+  if (fd >= 0) {
+    close(fd);
+    unlink(path);
+    return;
+  }
+  if (errno == EEXIST) fd = open(path, O_WRONLY); /* an older result: written over at the end */
+  if (fd >= 0)
+    close(fd);
+  else
+    snprintf(msg, len, "-%s %s: cannot write the file (%s)", opt, path, strerror(errno));
+}
+
+/* -output_dir and -positions_out can be written: rank 0 looks, every rank refuses alike */
+static PetscErrorCode CheckOutputPlaces(MPI_Comm comm, const SceneOutput *o)
+{
+  char        msg[2 * PETSC_MAX_PATH_LEN + 128] = "";
+  PetscMPIInt rank;
+  PetscBool   help;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsHasHelp(NULL, &help));
+  if (help) PetscFunctionReturn(0); /* -help writes nothing */
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (!rank && o->output_dir[0]) ProbeDirectory("output_dir", o->output_dir, msg, sizeof msg);
+  if (!rank && !msg[0] && o->positions_out[0])
+    ProbeFile("positions_out", o->positions_out, o->output_dir, msg, sizeof msg);
+  PetscCallMPI(MPI_Bcast(msg, sizeof msg, MPI_CHAR, 0, comm));
+  PetscCheck(!msg[0], comm, PETSC_ERR_FILE_OPEN, "%s", msg);
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s)
 {
   SceneInput *in = &s->in;
@@ -951,6 +1138,7 @@ PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s)
                         s->clamps.grip_line));
   PetscCall(DerivePath(comm, in, &s->load));
   PetscCall(CheckTestOptions(comm, in, s));
+  PetscCall(CheckOutputPlaces(comm, &s->out));
   PetscFunctionReturn(0);
 }
 

@@ -766,7 +766,7 @@ int main(int argc, char **argv)
   else if (!strcmp(name, #case_name)) PetscCall(call);
 #include "verification_cases.h"
 #undef CASE
-  else SETERRQ(PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT, "unknown -case %s (tests/verification_cases.h lists them)", name);
+  else SETERRQ(PETSC_COMM_WORLD, PETSC_ERR_USER_INPUT, "unknown -case %s (verification_cases.h lists them)", name);
   PetscCall(PetscFinalize());
   return failures ? 1 : 0;
 }
