@@ -36,6 +36,10 @@ refuse frames_missing "-restart .*checkpoint.h5: .*/elsewhere/fabric.h5, which h
 [[ -e "$work/elsewhere" ]] && { echo "FAIL frames_missing: $work/elsewhere was created"; fail=1; }
 # checkpoints need a directory to go to
 refuse no_output_dir "-checkpoint_every 2 needs an output directory: -output_dir is none" "${opts[@]}" -output_dir none -checkpoint_every 2
+refuse no_output_dir_te "-checkpoint_every_te 500 needs an output directory: -output_dir is none" "${opts[@]}" -output_dir none -checkpoint_every_te 500
+refuse no_output_dir_s "-checkpoint_every_s 60.? needs an output directory: -output_dir is none" "${opts[@]}" -output_dir none -checkpoint_every_s 60
+refuse negative_every_s "-checkpoint_every_s must be 0 .never. or a number of seconds, got -1" "${opts[@]}" -output_dir "$work/run" -checkpoint_every_s -1
+refuse negative_every_te "-checkpoint_every_te must be 0 .never. or a number of te steps, got -5" "${opts[@]}" -output_dir "$work/run" -checkpoint_every_te -5
 
 # A flipped byte in the data of any array is refused by its checksum, naming the array: a checkpoint
 # that holds every array (the paper integrator's history, the extrapolation's, the friction anchors
