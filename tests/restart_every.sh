@@ -7,6 +7,8 @@
 #   every_s   -checkpoint_every_s 0.25 on 1 rank: checkpoints within load steps while the run goes on,
 #             which then ends as the run without them; restarted on 2 ranks from its last one, it
 #             ends bit-identical too.
+#   killed while writing: -checkpoint_every_te 20 on 2 ranks, SIGKILL amid its writes: checkpoint.h5,
+#             written aside and renamed, is the last complete one and restarts bit-identically.
 # Compared: final positions, curve.csv, fabric.h5 (h5diff), fabric.xmf, summary.json's counters.
 set -u
 fabric="$1"; scene="$2"
@@ -69,4 +71,28 @@ mpiexec -n 2 "$fabric" "${opts[@]}" -quiet -output_dir "$b" -positions_out "$b/p
 rc=$?
 what="$(same "$a" "$b")"
 check '[[ $rc -eq 0 && -z "$what" ]]' "every_s: restarted on 2 ranks from its last checkpoint ($last) == uninterrupted, bit for bit${what:+; differ:$what}"
+
+# ---- killed while writing: a checkpoint every 20 te steps keeps the run writing most of the time; SIGKILL
+# then mostly finds .checkpoint.h5.tmp half written, and checkpoint.h5 is still the last complete one
+b="$work/s_write"
+mpiexec -n 2 "$fabric" "${opts[@]}" -quiet -checkpoint_every_te 20 -output_dir "$b" -positions_out "$b/positions.bin" >/dev/null 2>&1 &
+pid=$!
+for ((i = 0; i < 3000; i++)); do
+  [[ -e "$b/checkpoint.h5" ]] && break
+  kill -0 "$pid" 2>/dev/null || break
+  sleep 0.02
+done
+sleep 0.5
+ranks=$(ps -o pid= --ppid "$pid")
+kill -KILL $ranks "$pid" 2>/dev/null
+wait "$pid" 2>/dev/null
+for p in $ranks; do while kill -0 "$p" 2>/dev/null; do sleep 0.05; done; done
+tmp="no checkpoint was being written"; [[ -e "$b/.checkpoint.h5.tmp" ]] && tmp="killed while writing .checkpoint.h5.tmp ($(stat -c %s "$b/.checkpoint.h5.tmp") bytes)"
+ck="$b/checkpoint.h5"
+last="$(where "$ck")"
+mpiexec -n 2 "$fabric" "${opts[@]}" -quiet -output_dir "$b" -positions_out "$b/positions.bin" -restart "$ck" >"$work/write.log" 2>&1
+rc=$?
+what="$(same "$a" "$b")"
+check '[[ $rc -eq 0 && -z "$what" ]]' "killed with SIGKILL amid checkpoints every 20 te steps ($tmp): checkpoint.h5 ($last) restarts, == uninterrupted, bit for bit (exit $rc)${what:+; differ:$what}"
+[[ $rc -eq 0 ]] || head -3 "$work/write.log"
 exit $fail
