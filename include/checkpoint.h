@@ -4,9 +4,22 @@
 
 #include "frames.h"
 
-#define CHECKPOINT_VERSION 2 /* 2: body and clamp reactions in the curve rows, friction anchors, kinetic damping */
+/* 3: a checksum on every array; checkpoints within a load step (the relaxation's state) */
+#define CHECKPOINT_VERSION 3
+#define CHECKPOINT_STOPPED 3 /* exit status of a run stopped by SIGTERM or SIGUSR1 after its checkpoint */
+
+typedef struct {        /* where the relaxation of a load step is (RelaxLoadStep) */
+  PetscInt round;       /* re-relaxations after yarns broke, so far */
+  PetscInt te_step;     /* te steps done in this round */
+  PetscInt inner_steps; /* te steps of the rounds before */
+} RelaxPoint;
 
 PetscErrorCode CheckpointLoadStep(Fabric fab);
+PetscErrorCode CheckpointTeStep(Fabric fab, const RelaxPoint *at);
 PetscErrorCode RestartLoad(Fabric fab);
+PetscBool      CheckpointWithinLoadStep(Fabric fab, PetscInt k);
+void           CheckpointRelaxStart(RelaxPoint *at);
+PetscBool      CheckpointStopped(void);
+void           CheckpointSignal(int sig); /* the handler of SIGTERM and SIGUSR1: sets a flag, nothing else */
 
 #endif

@@ -69,7 +69,8 @@ typedef struct {
   PetscBool te_check, early_exit, front, kinetic_damping;
   char      output_dir[PETSC_MAX_PATH_LEN], positions_out[PETSC_MAX_PATH_LEN], restart[PETSC_MAX_PATH_LEN];
   PetscBool quiet;
-  PetscInt  output_every, output_te_every, checkpoint_every;
+  PetscInt  output_every, output_te_every, checkpoint_every, checkpoint_every_te;
+  PetscReal checkpoint_every_s;
 } SceneInput;
 
 typedef struct {                               /* what is written where */
@@ -81,6 +82,8 @@ typedef struct {                               /* what is written where */
   PetscInt  output_every;                      /* a frame every K load steps and at the last (0: none) */
   PetscInt  output_te_every;                   /* a frame every M te steps within a load step (0: none) */
   PetscInt  checkpoint_every;                  /* checkpoint.h5 every K load steps (0: never) */
+  PetscInt  checkpoint_every_te;               /* checkpoint.h5 within a load step every K te steps (0: never) */
+  PetscReal checkpoint_every_s;                /* checkpoint.h5 within a load step every S s of wall clock (0: never) */
   char      restart[PETSC_MAX_PATH_LEN];       /* -restart FILE, "" for a fresh run */
 } SceneOutput;
 

@@ -1,8 +1,14 @@
 /* checkpoint.c - checkpoint and restart: a run killed at a wall-time limit continues exactly.
  *
- * -checkpoint_every K writes DIR/checkpoint.h5 every K load steps, collectively through PETSc's
- * HDF5 viewer, aside (DIR/.checkpoint.h5.tmp) and then renamed into place, so checkpoint.h5 is
- * always a complete checkpoint. It holds everything the run depends on:
+ * DIR/checkpoint.h5 is written collectively through PETSc's HDF5 viewer, aside
+ * (DIR/.checkpoint.h5.tmp) and then renamed into place, so checkpoint.h5 is always a complete
+ * checkpoint: at the end of every -checkpoint_every K load steps; within a load step every
+ * -checkpoint_every_te K te steps and once -checkpoint_every_s S seconds of wall-clock time have
+ * passed since the last one; and on SIGTERM or SIGUSR1 (a batch system's wall-time limit), after
+ * which the run stops with exit status 3. Within a load step it is taken after a te step that the
+ * relaxation continues from. Signals and the clock are looked at every LOOK_EVERY te steps, with
+ * one small max-reduction (rank 0's clock decides), so all ranks take the same decision at the
+ * same te step. It holds everything the run depends on:
  *   /state    positions, velocities, the paper integrator's positions_old and velocities_old,
  *             the extrapolation history converged_positions(_prev) when allocated, and the
  *             broken segments (dof 2 on the grid: segment to i+1 and to j+1 of each point),
@@ -11,15 +17,21 @@
  *             frames (time, load step, te step of each frame of fabric.h5);
  *   /scene    what the run computes with (grid, yarns, load program, numerics): a restart
  *             with another scene or grid is refused;
- *   /         load step, grip travel and last grip step, te steps, point updates, the
+ *   /         load steps done, grip travel and last grip step, te steps, point updates, the
  *             converged and broken flags, frames, wall time, the kinetic damping's last kinetic
- *             energy and reset count, and the largest |value| of every
- *             state vector (checked after reading: a damaged file is refused).
+ *             energy and reset count, the sleeping state, and the relaxation's state within a
+ *             load step (RelaxState: where the break loop and its te steps are, the jaw's ramp,
+ *             the front, the step control, the te-frame counter).
+ * Every array carries a 64-bit checksum (attribute "checksum" of its dataset): the sum mod 2^64
+ * of a hash of (index in the dataset's natural order, the value's 8 bytes) over its entries.
+ * The hash is a bijection of the value for a given index, so a change of any one entry always
+ * changes the sum; the sum does not depend on the order of the terms, so each rank sums its own
+ * entries and one exact integer reduction gives the same checksum on any number of ranks.
  * -restart FILE reads it back: rank 0 checks the file alone first (so that a damaged or
  * foreign file gives one clear message on every rank, never a hang), then all ranks read the
- * vectors collectively. The ghosted broken flags are rebuilt from their owned part with one
- * global-to-local exchange. The state is restored bit for bit, so the run continues as if it
- * had never stopped.
+ * vectors collectively and check their checksums. The ghosted broken flags are rebuilt from
+ * their owned part with one global-to-local exchange. The state is restored bit for bit, so
+ * the run continues as if it had never stopped.
  */
 #include "checkpoint.h"
 #include "measure.h"
@@ -29,6 +41,8 @@
 
 #include <fcntl.h>
 #include <petscviewerhdf5.h>
+#include <signal.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <string.h>
 #include <unistd.h>
@@ -159,6 +173,100 @@ static PetscInt SceneKeys(Fabric fab, SceneKey *key)
   return n;
 }
 
+#define LOOK_EVERY 16 /* te steps between looks at the signals and the clock */
+
+/* the run's checkpointing (one fabric per process) */
+static struct {
+  PetscBool      resume;     /* restarted within a load step: RelaxLoadStep continues from `at` */
+  RelaxPoint     at;         /* where */
+  PetscInt64     last_te;    /* te steps at the last checkpoint or the start */
+  PetscInt64     last_look;  /* te steps at the last look at the signals and the clock */
+  PetscLogDouble last_wall;  /* rank 0: wall clock at the last checkpoint or the start */
+  int            stopped_by; /* the signal that stopped the run after its checkpoint, 0 = none */
+} ckpt;
+static volatile sig_atomic_t caught_signal; /* SIGTERM or SIGUSR1 came (CheckpointSignal) */
+
+void CheckpointSignal(int sig)
+{
+  caught_signal = sig;
+}
+
+PetscBool CheckpointStopped(void)
+{
+  return ckpt.stopped_by ? PETSC_TRUE : PETSC_FALSE;
+}
+
+/* ------------------------------------------------------------------ checksums */
+
+/* splitmix64's finaliser: a bijection of 64-bit words in which every input bit moves every output bit */
+static inline uint64_t Mix64(uint64_t z)
+{
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+
+/* one entry's term: for a given index, a bijection of the value's 8 bytes */
+static inline uint64_t EntryHash(uint64_t index, double value)
+{
+  uint64_t bits;
+  memcpy(&bits, &value, sizeof bits);
+  return Mix64(bits ^ Mix64(index + 0x9e3779b97f4a7c15ULL));
+}
+
+/* an array that one rank holds (curve rows, frame list): index = position */
+static uint64_t ArrayChecksum(const double *a, size_t n)
+{
+  uint64_t sum = 0;
+  for (size_t k = 0; k < n; k++) sum += EntryHash(k, a[k]);
+  return sum;
+}
+
+/* a vector of the grid (dof values per point) in the natural order of its dataset (ny, nx, dof):
+   each rank sums its owned entries; unsigned sums are exact mod 2^64 in any order */
+static PetscErrorCode GridChecksum(Fabric fab, Vec x, uint64_t *sum)
+{
+  const Patch       *p = &fab->grid.patch;
+  const PetscScalar *a;
+  PetscInt           n, dof;
+  uint64_t           local = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecGetLocalSize(x, &n));
+  dof = n / (p->xm * p->ym);
+  PetscCall(VecGetArrayRead(x, &a));
+  for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
+    for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
+      const PetscInt q = (j - p->ys) * p->xm + (i - p->xs);
+      const uint64_t e = ((uint64_t) j * (uint64_t) p->nx + (uint64_t) i) * (uint64_t) dof;
+      for (PetscInt d = 0; d < dof; d++) local += EntryHash(e + (uint64_t) d, a[q * dof + d]);
+    }
+  PetscCall(VecRestoreArrayRead(x, &a));
+  PetscCallMPI(MPI_Allreduce(&local, sum, 1, MPI_UINT64_T, MPI_SUM, fab->comm));
+  PetscFunctionReturn(0);
+}
+
+/* the attribute "checksum" (unsigned 64-bit) of the dataset at path; every rank, the same value */
+static PetscErrorCode WriteChecksum(PetscViewer v, const char *path, uint64_t sum)
+{
+  hid_t  file, d, sp, a = -1;
+  herr_t status = -1;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscViewerHDF5GetFileId(v, &file));
+  d  = H5Dopen2(file, path, H5P_DEFAULT);
+  sp = H5Screate(H5S_SCALAR);
+  if (d >= 0 && sp >= 0) a = H5Acreate2(d, "checksum", H5T_STD_U64LE, sp, H5P_DEFAULT, H5P_DEFAULT);
+  if (a >= 0) status = H5Awrite(a, H5T_NATIVE_UINT64, &sum);
+  if (a >= 0) H5Aclose(a);
+  if (sp >= 0) H5Sclose(sp);
+  if (d >= 0) H5Dclose(d);
+  PetscCheck(status >= 0, PETSC_COMM_SELF, PETSC_ERR_LIB, "checkpoint: cannot write the checksum of %s", path);
+  PetscFunctionReturn(0);
+}
+
+/* ------------------------------------------------------------------ what a checkpoint holds */
+
 /* the state vectors of a checkpoint, in /state */
 typedef struct {
   const char *name;
@@ -179,6 +287,94 @@ static PetscInt StateVecs(Fabric fab, StateVec *sv)
   sv[n++]    = (StateVec){"friction_anchors_plane", &fab->state.anchor[1], "has_friction_anchors_plane"};
   sv[n++]    = (StateVec){"friction_anchors_pedestal", &fab->state.anchor[2], "has_friction_anchors_pedestal"};
   return n;
+}
+
+/* The relaxation's state within a load step: what ApplyLoadStep set up and the te steps carried
+   on (RelaxLoadStep's break round and te step, the jaw's ramp, the front, the step control and
+   damping, the last te step's balance test, the gravity of the load step, the te-frame
+   counter). Attributes of /, written by every checkpoint and all restored, so that a restart
+   within a load step continues it exactly (one at its end: ApplyLoadStep sets most of it anew). */
+typedef struct {
+  long   within, round, te_step, inner_steps, ramp_steps, ramp_done, front_step, front_covered, bound_fresh;
+  long   last_balanced, te_frame_load_step, te_frame_base;
+  double travel_from, travel_now, te, te_bound, omega_max, damp_c, omega1, last_residual, last_speed, gravity[3];
+} RelaxState;
+
+typedef struct {
+  const char *name;
+  int         real; /* double, else long */
+  void       *value;
+} Attr;
+
+#define MAX_RELAX_ATTRS 32
+
+static int RelaxAttrs(RelaxState *r, Attr *a)
+{
+  int n = 0;
+#define ATTR_L(nm, f) (a[n++] = (Attr){nm, 0, &r->f})
+#define ATTR_D(nm, f) (a[n++] = (Attr){nm, 1, &r->f})
+  ATTR_L("within_load_step", within), ATTR_L("relax_round", round), ATTR_L("relax_te_step", te_step);
+  ATTR_L("relax_inner_steps", inner_steps), ATTR_L("ramp_steps", ramp_steps), ATTR_L("ramp_done", ramp_done);
+  ATTR_L("front_step", front_step), ATTR_L("front_covered", front_covered), ATTR_L("bound_fresh", bound_fresh);
+  ATTR_L("last_balanced", last_balanced), ATTR_L("te_frame_load_step", te_frame_load_step);
+  ATTR_L("te_frame_base", te_frame_base);
+  ATTR_D("travel_from_m", travel_from), ATTR_D("travel_now_m", travel_now), ATTR_D("te_now_s", te);
+  ATTR_D("te_bound_s", te_bound), ATTR_D("omega_max_rad_s", omega_max), ATTR_D("damping_c_1_s", damp_c);
+  ATTR_D("omega1_rad_s", omega1), ATTR_D("last_residual", last_residual), ATTR_D("last_speed_m_s", last_speed);
+  ATTR_D("gravity_now_x_m_s2", gravity[0]), ATTR_D("gravity_now_y_m_s2", gravity[1]);
+  ATTR_D("gravity_now_z_m_s2", gravity[2]);
+#undef ATTR_L
+#undef ATTR_D
+  return n;
+}
+
+/* at: where RelaxLoadStep is within the load step, NULL at its end */
+static void RelaxStatePack(Fabric fab, const RelaxPoint *at, RelaxState *r)
+{
+  r->within        = at != NULL;
+  r->round         = at ? (long) at->round : 0;
+  r->te_step       = at ? (long) at->te_step : 0;
+  r->inner_steps   = at ? (long) at->inner_steps : 0;
+  r->ramp_steps    = (long) fab->load.ramp_steps;
+  r->ramp_done     = (long) fab->load.ramp_done;
+  r->front_step    = (long) fab->front.front_step;
+  r->front_covered = (long) fab->front.front_covered;
+  r->bound_fresh   = (long) fab->step.bound_fresh;
+  r->last_balanced = (long) fab->step.last.balanced;
+  r->travel_from   = fab->load.travel_from;
+  r->travel_now    = fab->load.travel_now;
+  r->te            = fab->step.te;
+  r->te_bound      = fab->step.te_bound;
+  r->omega_max     = fab->step.omega_max;
+  r->damp_c        = fab->step.damp_c;
+  r->omega1        = fab->step.omega1;
+  r->last_residual = fab->step.last.residual;
+  r->last_speed    = fab->step.last.speed;
+  for (int d = 0; d < 3; d++) r->gravity[d] = fab->load.gravity_now[d];
+  r->te_frame_load_step = (long) fab->io->te_load_step;
+  r->te_frame_base      = (long) fab->io->te_base;
+}
+
+static void RelaxStateUnpack(const RelaxState *r, Fabric fab)
+{
+  fab->load.ramp_steps     = (PetscInt) r->ramp_steps;
+  fab->load.ramp_done      = (PetscInt) r->ramp_done;
+  fab->front.front_step    = (PetscInt) r->front_step;
+  fab->front.front_covered = r->front_covered ? PETSC_TRUE : PETSC_FALSE;
+  fab->step.bound_fresh    = r->bound_fresh ? PETSC_TRUE : PETSC_FALSE;
+  fab->step.last.balanced  = r->last_balanced ? PETSC_TRUE : PETSC_FALSE;
+  fab->load.travel_from    = r->travel_from;
+  fab->load.travel_now     = r->travel_now;
+  fab->step.te             = r->te;
+  fab->step.te_bound       = r->te_bound;
+  fab->step.omega_max      = r->omega_max;
+  fab->step.damp_c         = r->damp_c;
+  fab->step.omega1         = r->omega1;
+  fab->step.last.residual  = r->last_residual;
+  fab->step.last.speed     = r->last_speed;
+  for (int d = 0; d < 3; d++) fab->load.gravity_now[d] = r->gravity[d];
+  fab->io->te_load_step = (PetscInt) r->te_frame_load_step;
+  fab->io->te_base      = (PetscInt64) r->te_frame_base;
 }
 
 /* broken segments of the owned points as a dof-2 vector: [to i+1, to j+1] */
@@ -220,11 +416,50 @@ static PetscErrorCode BrokenFromVec(Fabric fab, Vec B)
   PetscFunctionReturn(0);
 }
 
-/* a vector held by rank 0 alone (the curve rows, the frame list): one 1-D dataset */
+/* ------------------------------------------------------------------ writing */
+
+/* /state: the state vectors and the broken segments, each with its checksum */
+static PetscErrorCode WriteState(Fabric fab, PetscViewer v)
+{
+  StateVec sv[MAX_STATE];
+  PetscInt nsv = StateVecs(fab, sv);
+  char     path[128];
+  uint64_t sum;
+  Vec      B;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscViewerHDF5PushGroup(v, "/state"));
+  for (PetscInt k = 0; k < nsv; k++) {
+    Vec x   = *sv[k].vec;
+    int has = x != NULL;
+    if (sv[k].root_flag[0]) PetscCall(PetscViewerHDF5WriteAttribute(v, "/", sv[k].root_flag, PETSC_INT, &has));
+    if (!x) continue;
+    PetscCall(PetscObjectSetName((PetscObject) x, sv[k].name));
+    PetscCall(VecView(x, v));
+    PetscCall(GridChecksum(fab, x, &sum));
+    PetscCall(PetscSNPrintf(path, sizeof path, "/state/%s", sv[k].name));
+    PetscCall(WriteChecksum(v, path, sum));
+  }
+  PetscCall(DMGetGlobalVector(fab->grid.da_seg, &B));
+  PetscCall(BrokenToVec(fab, B));
+  PetscCall(PetscObjectSetName((PetscObject) B, "broken_segments"));
+  PetscCall(VecView(B, v));
+  PetscCall(GridChecksum(fab, B, &sum));
+  PetscCall(WriteChecksum(v, "/state/broken_segments", sum));
+  PetscCall(DMRestoreGlobalVector(fab->grid.da_seg, &B));
+  PetscCall(PetscViewerHDF5PopGroup(v));
+  PetscCall(PetscObjectSetName((PetscObject) fab->state.X, "positions"));
+  PetscCall(PetscObjectSetName((PetscObject) fab->state.V, NULL));
+  PetscFunctionReturn(0);
+}
+
+/* an array held by rank 0 alone (the curve rows, the frame list): one 1-D dataset in /history, with its checksum */
 static PetscErrorCode ViewRankZero(Fabric fab, PetscViewer v, const char *name, const PetscReal *a, PetscInt n)
 {
   Vec          w;
   PetscScalar *x;
+  uint64_t     sum = fab->rank == 0 ? ArrayChecksum(a, (size_t) n) : 0;
+  char         path[128];
 
   PetscFunctionBeginUser;
   PetscCall(VecCreateMPI(fab->comm, fab->rank == 0 ? n : 0, n, &w));
@@ -234,104 +469,27 @@ static PetscErrorCode ViewRankZero(Fabric fab, PetscViewer v, const char *name, 
   PetscCall(PetscObjectSetName((PetscObject) w, name));
   PetscCall(VecView(w, v));
   PetscCall(VecDestroy(&w));
+  PetscCallMPI(MPI_Bcast(&sum, 1, MPI_UINT64_T, 0, fab->comm));
+  PetscCall(PetscSNPrintf(path, sizeof path, "/history/%s", name));
+  PetscCall(WriteChecksum(v, path, sum));
   PetscFunctionReturn(0);
 }
 
-/* the counters of the run, as attributes of / */
-static PetscErrorCode WriteCounters(Fabric fab, PetscViewer v)
+/* /history: the rows of the load steps done (none before the first is done) and the frame list */
+static PetscErrorCode WriteHistory(Fabric fab, PetscViewer v, PetscInt done)
 {
-  FabricIO io = fab->io;
+  FabricIO   io = fab->io;
+  PetscReal *rows, *fr;
 
   PetscFunctionBeginUser;
-  {
-    int version = CHECKPOINT_VERSION, load_step = (int) fab->load.load_step, frames = (int) io->frames,
-        converged = fab->stats.converged, broken = fab->stats.broken_any, ranks = fab->size;
-    long      te_steps = (long) fab->stats.te_steps, updates = (long) fab->stats.point_updates;
-    PetscReal time = TestTime(&fab->s, &fab->load), wall = fab->stats.wall;
-    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "fabric_checkpoint", PETSC_INT, &version));
-    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "load_step", PETSC_INT, &load_step));
-    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "time_s", PETSC_REAL, &time));
-    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "grip_disp_m", PETSC_REAL, &fab->load.travel));
-    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "grip_step_prev_m", PETSC_REAL, &fab->load.travel_step_prev));
-    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "te_steps", PETSC_LONG, &te_steps));
-    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "point_updates", PETSC_LONG, &updates));
-    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "converged", PETSC_INT, &converged));
-    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "broken_any", PETSC_INT, &broken));
-    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "frames", PETSC_INT, &frames));
-    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "wall_s", PETSC_REAL, &wall));
-    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "ranks", PETSC_INT, &ranks));
-    /* sleeping: the awake box and the force scale of the last te step */
-    for (int c = 0; c < 4; c++) {
-      char nm[32];
-      int  b = (int) fab->front.awake_box[c];
-      PetscCall(PetscSNPrintf(nm, sizeof nm, "awake_box_%d", c));
-      PetscCall(PetscViewerHDF5WriteAttribute(v, "/", nm, PETSC_INT, &b));
-    }
-    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "last_tension_max_N", PETSC_REAL, &fab->step.last.tension_max));
-    { /* kinetic damping: the kinetic energy after the last te step (a reset is decided on it) */
-      long resets = (long) fab->step.ke_resets;
-      PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "kinetic_energy_J", PETSC_REAL, &fab->step.ke_prev));
-      PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "kinetic_resets", PETSC_LONG, &resets));
-    }
-  }
-  PetscFunctionReturn(0);
-}
-
-static PetscErrorCode CheckpointWrite(Fabric fab)
-{
-  FabricIO    io  = fab->io;
-  const char *dir = fab->s.out.output_dir;
-  char        file[PETSC_MAX_PATH_LEN], tmp[PETSC_MAX_PATH_LEN];
-  PetscViewer v;
-  StateVec    sv[MAX_STATE];
-  SceneKey    key[MAX_KEYS];
-  PetscInt    nsv = StateVecs(fab, sv), nkey = SceneKeys(fab, key);
-  int         ok = 1;
-
-  PetscFunctionBeginUser;
-  PetscCall(PetscLogEventBegin(EV_Output, 0, 0, 0, 0));
-  PetscCall(PetscSNPrintf(file, sizeof file, "%s/checkpoint.h5", dir));
-  PetscCall(PetscSNPrintf(tmp, sizeof tmp, "%s/.checkpoint.h5.tmp", dir));
-  PetscCall(PetscViewerHDF5Open(fab->comm, tmp, FILE_MODE_WRITE, &v));
-
-  /* the state vectors, and the largest |value| of each (read back and compared on restart) */
-  PetscCall(PetscViewerHDF5PushGroup(v, "/state"));
-  for (PetscInt k = 0; k < nsv; k++) {
-    Vec       x = *sv[k].vec;
-    char      nm[64];
-    PetscReal norm;
-    int       has = x != NULL;
-    if (sv[k].root_flag[0]) PetscCall(PetscViewerHDF5WriteAttribute(v, "/", sv[k].root_flag, PETSC_INT, &has));
-    if (!x) continue;
-    PetscCall(PetscObjectSetName((PetscObject) x, sv[k].name));
-    PetscCall(VecView(x, v));
-    PetscCall(VecNorm(x, NORM_INFINITY, &norm));
-    PetscCall(PetscSNPrintf(nm, sizeof nm, "max_abs_%s", sv[k].name));
-    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", nm, PETSC_REAL, &norm));
-  }
-  {
-    Vec B;
-    PetscCall(DMGetGlobalVector(fab->grid.da_seg, &B));
-    PetscCall(BrokenToVec(fab, B));
-    PetscCall(PetscObjectSetName((PetscObject) B, "broken_segments"));
-    PetscCall(VecView(B, v));
-    PetscCall(DMRestoreGlobalVector(fab->grid.da_seg, &B));
-  }
-  PetscCall(PetscViewerHDF5PopGroup(v));
-  PetscCall(PetscObjectSetName((PetscObject) fab->state.X, "positions"));
-  PetscCall(PetscObjectSetName((PetscObject) fab->state.V, NULL));
-
-  /* the curve rows and the frame list, held by rank 0 */
   PetscCall(PetscViewerHDF5PushGroup(v, "/history"));
-  {
-    PetscReal *rows;
-    PetscCall(PetscMalloc1(CURVE_COLS * fab->load.load_step, &rows));
-    for (PetscInt k = 0; k < fab->load.load_step; k++) CurveRowPack(&fab->stats.curve[k], rows + CURVE_COLS * k);
-    PetscCall(ViewRankZero(fab, v, "curve", rows, CURVE_COLS * fab->load.load_step));
+  if (done) {
+    PetscCall(PetscMalloc1(CURVE_COLS * done, &rows));
+    for (PetscInt k = 0; k < done; k++) CurveRowPack(&fab->stats.curve[k], rows + CURVE_COLS * k);
+    PetscCall(ViewRankZero(fab, v, "curve", rows, CURVE_COLS * done));
     PetscCall(PetscFree(rows));
   }
   if (io->frames) {
-    PetscReal *fr;
     PetscCall(PetscMalloc1(3 * io->frames, &fr));
     for (PetscInt k = 0; k < io->frames; k++) {
       fr[3 * k]     = io->frame[k].time;
@@ -342,19 +500,85 @@ static PetscErrorCode CheckpointWrite(Fabric fab)
     PetscCall(PetscFree(fr));
   }
   PetscCall(PetscViewerHDF5PopGroup(v));
+  PetscFunctionReturn(0);
+}
 
-  /* the scene it belongs to */
+/* /scene: what the run computes with */
+static PetscErrorCode WriteScene(Fabric fab, PetscViewer v)
+{
+  SceneKey key[MAX_KEYS];
+  PetscInt nkey = SceneKeys(fab, key);
+
+  PetscFunctionBeginUser;
   PetscCall(PetscViewerHDF5PushGroup(v, "/scene"));
   PetscCall(PetscViewerHDF5WriteGroup(v, NULL));
   for (PetscInt k = 0; k < nkey; k++)
     PetscCall(PetscViewerHDF5WriteAttribute(v, NULL, key[k].name, PETSC_REAL, &key[k].value));
   PetscCall(PetscViewerHDF5WriteAttribute(v, NULL, "scene", PETSC_STRING, fab->s.out.name));
   PetscCall(PetscViewerHDF5PopGroup(v));
+  PetscFunctionReturn(0);
+}
 
-  PetscCall(WriteCounters(fab, v));
-  PetscCall(PetscViewerDestroy(&v));
+/* the counters of the run, as attributes of /; done: the load steps done */
+static PetscErrorCode WriteCounters(Fabric fab, PetscViewer v, PetscInt done)
+{
+  FabricIO io = fab->io;
+  int version = CHECKPOINT_VERSION, load_step = (int) done, frames = (int) io->frames, converged = fab->stats.converged,
+      broken = fab->stats.broken_any, ranks = fab->size;
+  long      te_steps = (long) fab->stats.te_steps, updates = (long) fab->stats.point_updates;
+  long      resets = (long) fab->step.ke_resets;
+  PetscReal time = TestTime(&fab->s, &fab->load), wall = fab->stats.wall;
 
-  /* every rank has closed the file: rank 0 syncs it to disk and renames it into place */
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Bcast(&wall, 1, MPIU_REAL, 0, fab->comm)); /* an attribute has one value on all ranks */
+  PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "fabric_checkpoint", PETSC_INT, &version));
+  PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "load_step", PETSC_INT, &load_step));
+  PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "time_s", PETSC_REAL, &time));
+  PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "grip_disp_m", PETSC_REAL, &fab->load.travel));
+  PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "grip_step_prev_m", PETSC_REAL, &fab->load.travel_step_prev));
+  PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "te_steps", PETSC_LONG, &te_steps));
+  PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "point_updates", PETSC_LONG, &updates));
+  PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "converged", PETSC_INT, &converged));
+  PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "broken_any", PETSC_INT, &broken));
+  PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "frames", PETSC_INT, &frames));
+  PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "wall_s", PETSC_REAL, &wall));
+  PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "ranks", PETSC_INT, &ranks));
+  /* sleeping: the awake box and the force scale of the last te step */
+  for (int c = 0; c < 4; c++) {
+    char nm[32];
+    int  b = (int) fab->front.awake_box[c];
+    PetscCall(PetscSNPrintf(nm, sizeof nm, "awake_box_%d", c));
+    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", nm, PETSC_INT, &b));
+  }
+  PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "last_tension_max_N", PETSC_REAL, &fab->step.last.tension_max));
+  /* kinetic damping: the kinetic energy after the last te step (a reset is decided on it) */
+  PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "kinetic_energy_J", PETSC_REAL, &fab->step.ke_prev));
+  PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "kinetic_resets", PETSC_LONG, &resets));
+  PetscFunctionReturn(0);
+}
+
+/* the relaxation's state (RelaxState), as attributes of / */
+static PetscErrorCode WriteRelaxState(Fabric fab, PetscViewer v, const RelaxPoint *at)
+{
+  RelaxState r;
+  Attr       a[MAX_RELAX_ATTRS];
+  int        n = RelaxAttrs(&r, a);
+
+  PetscFunctionBeginUser;
+  RelaxStatePack(fab, at, &r);
+  for (int k = 0; k < n; k++)
+    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", a[k].name, a[k].real ? PETSC_REAL : PETSC_LONG, a[k].value));
+  PetscFunctionReturn(0);
+}
+
+/* every rank has closed tmp: rank 0 syncs it to disk and renames it into place (a kill before leaves the last
+   checkpoint as it was) */
+static PetscErrorCode CommitFile(Fabric fab, const char *tmp, const char *file)
+{
+  const char *dir = fab->s.out.output_dir;
+  int         ok  = 1;
+
+  PetscFunctionBeginUser;
   PetscCallMPI(MPI_Barrier(fab->comm));
   if (fab->rank == 0) {
     int fd = open(tmp, O_RDONLY);
@@ -369,8 +593,41 @@ static PetscErrorCode CheckpointWrite(Fabric fab)
   }
   PetscCallMPI(MPI_Bcast(&ok, 1, MPI_INT, 0, fab->comm));
   PetscCheck(ok, fab->comm, PETSC_ERR_FILE_WRITE, "-output_dir %s: cannot write checkpoint.h5", dir);
+  PetscFunctionReturn(0);
+}
+
+/* DIR/checkpoint.h5 at the end of a load step (at = NULL) or within it, after te step at */
+static PetscErrorCode CheckpointWrite(Fabric fab, const RelaxPoint *at)
+{
+  const char    *dir  = fab->s.out.output_dir;
+  const PetscInt done = fab->load.load_step - (at ? 1 : 0);
+  char           file[PETSC_MAX_PATH_LEN], tmp[PETSC_MAX_PATH_LEN];
+  PetscViewer    v;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(EV_Output, 0, 0, 0, 0));
+  if (at) { /* the wall time so far (the end of a load step has just taken it) */
+    PetscCall(PetscTime(&fab->stats.wall));
+    fab->stats.wall -= fab->stats.wall_start;
+  }
+  PetscCall(PetscSNPrintf(file, sizeof file, "%s/checkpoint.h5", dir));
+  PetscCall(PetscSNPrintf(tmp, sizeof tmp, "%s/.checkpoint.h5.tmp", dir));
+  PetscCall(PetscViewerHDF5Open(fab->comm, tmp, FILE_MODE_WRITE, &v));
+  PetscCall(WriteState(fab, v));
+  PetscCall(WriteHistory(fab, v, done));
+  PetscCall(WriteScene(fab, v));
+  PetscCall(WriteCounters(fab, v, done));
+  PetscCall(WriteRelaxState(fab, v, at));
+  PetscCall(PetscViewerDestroy(&v));
+  PetscCall(CommitFile(fab, tmp, file));
+  ckpt.last_te = fab->stats.te_steps;
+  if (fab->rank == 0) PetscCall(PetscTime(&ckpt.last_wall));
   PetscCall(PetscLogEventEnd(EV_Output, 0, 0, 0, 0));
-  if (!fab->s.out.quiet)
+  if (fab->s.out.quiet) PetscFunctionReturn(0);
+  if (at)
+    PetscCall(PetscPrintf(fab->comm, "checkpoint at load step %" PetscInt_FMT ", te step %" PetscInt_FMT ": %s\n",
+                          fab->load.load_step, at->inner_steps + at->te_step, file));
+  else
     PetscCall(PetscPrintf(fab->comm, "checkpoint at load step %" PetscInt_FMT ": %s\n", fab->load.load_step, file));
   PetscFunctionReturn(0);
 }
@@ -383,23 +640,67 @@ PetscErrorCode CheckpointLoadStep(Fabric fab)
   PetscFunctionBeginUser;
   if (!io || !io->checkpoint_every || !fab->s.out.output_dir[0] || fab->load.load_step % io->checkpoint_every)
     PetscFunctionReturn(0);
-  PetscCall(CheckpointWrite(fab));
+  PetscCall(CheckpointWrite(fab, NULL));
+  PetscFunctionReturn(0);
+}
+
+static const char *SignalName(int sig)
+{
+  return sig == SIGTERM ? "SIGTERM" : sig == SIGUSR1 ? "SIGUSR1" : "signal";
+}
+
+/* After te step `at` of a load step that continues: a checkpoint every -checkpoint_every_te te steps, once
+   -checkpoint_every_s seconds have passed, or on SIGTERM or SIGUSR1, after which the run stops
+   (CheckpointStopped). Signals and rank 0's clock are looked at every LOOK_EVERY te steps, in one
+   max-reduction: every rank takes the same decision at the same te step. */
+PetscErrorCode CheckpointTeStep(Fabric fab, const RelaxPoint *at)
+{
+  const SceneOutput *o       = &fab->s.out;
+  PetscReal          look[2] = {0, 0}; /* the signal caught, rank 0's clock says a checkpoint is due */
+  PetscBool          due;
+
+  PetscFunctionBeginUser;
+  if (!o->output_dir[0]) PetscFunctionReturn(0);
+  due = o->checkpoint_every_te > 0 && fab->stats.te_steps - ckpt.last_te >= o->checkpoint_every_te;
+  if (fab->stats.te_steps - ckpt.last_look >= LOOK_EVERY) {
+    ckpt.last_look = fab->stats.te_steps;
+    look[0]        = (PetscReal) caught_signal;
+    if (fab->rank == 0 && o->checkpoint_every_s > 0) {
+      PetscLogDouble now;
+      PetscCall(PetscTime(&now));
+      look[1] = now - ckpt.last_wall >= o->checkpoint_every_s ? 1.0 : 0.0;
+    }
+    PetscCall(GlobalMax(fab->comm, look, 2));
+    due = due || look[0] > 0 || look[1] > 0;
+  }
+  if (!due) PetscFunctionReturn(0);
+  PetscCall(CheckpointWrite(fab, at));
+  if (look[0] > 0) {
+    ckpt.stopped_by = (int) look[0];
+    PetscCall(PetscPrintf(fab->comm,
+                          "fabric: %s: checkpoint written at load step %" PetscInt_FMT ", te step %" PetscInt_FMT
+                          ": restart with -restart %s/checkpoint.h5\n",
+                          SignalName(ckpt.stopped_by), fab->load.load_step, at->inner_steps + at->te_step,
+                          o->output_dir));
+  }
   PetscFunctionReturn(0);
 }
 
 /* ------------------------------------------------------------------ restart */
 
-typedef struct {    /* what rank 0 reads alone, then broadcasts */
-  int       status; /* 0: fine; otherwise msg says what is wrong */
-  char      msg[5 * PETSC_MAX_PATH_LEN];
-  int       load_step, frames, converged, broken_any;
-  int       has[MAX_STATE];
-  long long te_steps, point_updates;
-  double    grip_disp, grip_step_prev, wall, max_abs[MAX_STATE];
-  int       awake_box[4];
-  double    last_tension_max;
-  double    ke_prev;
-  long long ke_resets;
+typedef struct {     /* what rank 0 reads alone, then broadcasts */
+  int        status; /* 0: fine; otherwise msg says what is wrong */
+  char       msg[5 * PETSC_MAX_PATH_LEN];
+  int        load_step, frames, converged, broken_any; /* load_step: the load steps done */
+  int        has[MAX_STATE];
+  long long  te_steps, point_updates;
+  double     grip_disp, grip_step_prev, wall;
+  uint64_t   sum[MAX_STATE + 1]; /* checksums of the state vectors, then of the broken segments */
+  int        awake_box[4];
+  double     last_tension_max;
+  double     ke_prev;
+  long long  ke_resets;
+  RelaxState relax;
 } Header;
 
 static int ReadAttr(hid_t obj, const char *name, hid_t type, void *value)
@@ -458,12 +759,19 @@ static void KeyValue(const char *name, double v, char *buf, size_t len, double o
   snprintf(buf, len, strcmp(a, b) ? "%.10g" : "%.17g", v);
 }
 
-#define FAIL(...)                                 \
-  do {                                            \
-    h->status = 1;                                \
-    snprintf(h->msg, sizeof h->msg, __VA_ARGS__); \
-    goto done;                                    \
-  } while (0)
+/* the attribute "checksum" of the dataset at path */
+static int ReadChecksum(hid_t fid, const char *path, uint64_t *sum)
+{
+  hid_t d = H5Dopen2(fid, path, H5P_DEFAULT);
+  int   ok;
+  if (d < 0) return 0;
+  ok = ReadAttr(d, "checksum", H5T_NATIVE_UINT64, sum);
+  H5Dclose(d);
+  return ok;
+}
+
+/* what is wrong with the checkpoint, in h->msg; the checks below return 0 then */
+#define REFUSE(...) (h->status = 1, snprintf(h->msg, sizeof h->msg, __VA_ARGS__), 0)
 
 /* the checkpoint's /scene group g against this run's scene and grid; 0 (and h->msg) if they differ */
 static int SameScene(Fabric fab, hid_t g, const char *file, Header *h)
@@ -471,82 +779,89 @@ static int SameScene(Fabric fab, hid_t g, const char *file, Header *h)
   const Scene *s = &fab->s;
   SceneKey     key[MAX_KEYS];
   PetscInt     nkey = SceneKeys(fab, key);
+  double       there[MAX_KEYS];
+  char         name[PETSC_MAX_PATH_LEN] = "?";
+  hid_t        a;
 
-  {
-    double there[MAX_KEYS];
-    char   name[PETSC_MAX_PATH_LEN] = "?";
-    for (PetscInt k = 0; k < nkey; k++)
-      if (!ReadAttr(g, key[k].name, H5T_NATIVE_DOUBLE, &there[k]))
-        FAIL("-restart %s: damaged checkpoint: /scene has no %s", file, key[k].name);
-    {
-      hid_t a = H5Aexists(g, "scene") > 0 ? H5Aopen(g, "scene", H5P_DEFAULT) : -1;
-      if (a >= 0) {
-        hid_t t = H5Aget_type(a);
-        if (H5Tget_size(t) < sizeof name) H5Aread(a, t, name);
-        H5Tclose(t);
-        H5Aclose(a);
-      }
-    }
-    if (there[0] != (double) s->spec.nx || there[1] != (double) s->spec.ny)
-      FAIL("-restart %s: the checkpoint is of another grid: %g x %g crossings there (scene %s), %" PetscInt_FMT
-           " x %" PetscInt_FMT " here (scene %s): restart with the scene and options of the checkpointed run",
-           file, there[0], there[1], name, s->spec.nx, s->spec.ny, s->out.name);
-    for (PetscInt k = 2; k < nkey; k++)
-      if (there[k] != (double) key[k].value) {
-        char a[64], b[64];
-        KeyValue(key[k].name, there[k], a, sizeof a, (double) key[k].value);
-        KeyValue(key[k].name, (double) key[k].value, b, sizeof b, there[k]);
-        FAIL("-restart %s: the checkpoint is of another scene: %s = %s there (scene %s), %s here (scene %s): restart "
-             "with the scene and options of the checkpointed run",
-             file, key[k].name, a, name, b, s->out.name);
-      }
+  for (PetscInt k = 0; k < nkey; k++)
+    if (!ReadAttr(g, key[k].name, H5T_NATIVE_DOUBLE, &there[k]))
+      return REFUSE("-restart %s: damaged checkpoint: /scene has no %s", file, key[k].name);
+  a = H5Aexists(g, "scene") > 0 ? H5Aopen(g, "scene", H5P_DEFAULT) : -1;
+  if (a >= 0) {
+    hid_t t = H5Aget_type(a);
+    if (H5Tget_size(t) < sizeof name) H5Aread(a, t, name);
+    H5Tclose(t);
+    H5Aclose(a);
   }
+  if (there[0] != (double) s->spec.nx || there[1] != (double) s->spec.ny)
+    return REFUSE("-restart %s: the checkpoint is of another grid: %g x %g crossings there (scene %s), %" PetscInt_FMT
+                  " x %" PetscInt_FMT " here (scene %s): restart with the scene and options of the checkpointed run",
+                  file, there[0], there[1], name, s->spec.nx, s->spec.ny, s->out.name);
+  for (PetscInt k = 2; k < nkey; k++)
+    if (there[k] != (double) key[k].value) {
+      char va[64], vb[64];
+      KeyValue(key[k].name, there[k], va, sizeof va, (double) key[k].value);
+      KeyValue(key[k].name, (double) key[k].value, vb, sizeof vb, there[k]);
+      return REFUSE("-restart %s: the checkpoint is of another scene: %s = %s there (scene %s), %s here (scene %s): "
+                    "restart with the scene and options of the checkpointed run",
+                    file, key[k].name, va, name, vb, s->out.name);
+    }
   return 1;
-done:
-  return 0;
 }
 
-/* Rank 0, alone (serial HDF5): is FILE a complete checkpoint of this scene? Fills h and, on
-   success, the curve rows (*rows, CURVE_COLS per load step) and the frame list (*frames). */
-static PetscErrorCode ReadHeader(Fabric fab, const char *file, Header *h, double **rows, double **frames)
+/* FILE is HDF5, a fabric checkpoint of this format, of this scene and grid; *fid: the open file */
+static int OpenCheckpoint(Fabric fab, const char *file, Header *h, hid_t *fid)
 {
-  const Scene  *s = &fab->s;
-  H5E_auto2_t   efunc;
-  void         *edata;
-  hid_t         fid = -1, g = -1;
-  StateVec      sv[MAX_STATE];
-  PetscInt      nsv      = StateVecs(fab, sv);
-  const hsize_t dims3[3] = {(hsize_t) s->spec.ny, (hsize_t) s->spec.nx, 3},
-                dims2[3] = {(hsize_t) s->spec.ny, (hsize_t) s->spec.nx, 2};
-  int version            = 0;
+  int   version = 0, ok;
+  hid_t g;
 
-  PetscFunctionBeginUser;
-  *rows = *frames = NULL;
-  H5Eget_auto2(H5E_DEFAULT, &efunc, &edata);
-  H5Eset_auto2(H5E_DEFAULT, NULL, NULL); /* failures become one message, not an HDF5 error stack */
   if (H5Fis_hdf5(file) <= 0)
-    FAIL("-restart %s: not an HDF5 file, so not a checkpoint (give the checkpoint.h5 that -checkpoint_every wrote)",
-         file);
-  fid = H5Fopen(file, H5F_ACC_RDONLY, H5P_DEFAULT);
-  if (fid < 0) FAIL("-restart %s: the HDF5 file cannot be opened: it is damaged or truncated", file);
-  g = H5Gopen2(fid, "/", H5P_DEFAULT);
-  if (!ReadAttr(g, "fabric_checkpoint", H5T_NATIVE_INT, &version))
-    FAIL("-restart %s: not a fabric checkpoint (no fabric_checkpoint attribute): give the checkpoint.h5 that "
-         "-checkpoint_every wrote",
-         file);
+    return REFUSE("-restart %s: not an HDF5 file, so not a checkpoint (give the checkpoint.h5 that -checkpoint_every "
+                  "wrote)",
+                  file);
+  *fid = H5Fopen(file, H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (*fid < 0) return REFUSE("-restart %s: the HDF5 file cannot be opened: it is damaged or truncated", file);
+  g  = H5Gopen2(*fid, "/", H5P_DEFAULT);
+  ok = ReadAttr(g, "fabric_checkpoint", H5T_NATIVE_INT, &version);
+  H5Gclose(g);
+  if (!ok)
+    return REFUSE("-restart %s: not a fabric checkpoint (no fabric_checkpoint attribute): give the checkpoint.h5 that "
+                  "-checkpoint_every wrote",
+                  file);
   if (version != CHECKPOINT_VERSION)
-    FAIL("-restart %s: checkpoint format %d, this fabric reads format %d", file, version, CHECKPOINT_VERSION);
+    return REFUSE("-restart %s: checkpoint format %d, this fabric reads format %d", file, version, CHECKPOINT_VERSION);
+  if (H5Lexists(*fid, "/scene", H5P_DEFAULT) <= 0 || (g = H5Gopen2(*fid, "/scene", H5P_DEFAULT)) < 0)
+    return REFUSE("-restart %s: damaged checkpoint: no /scene group", file);
+  ok = SameScene(fab, g, file, h);
   H5Gclose(g);
-  g = -1;
+  return ok;
+}
 
-  /* the same scene and grid */
-  if (H5Lexists(fid, "/scene", H5P_DEFAULT) <= 0 || (g = H5Gopen2(fid, "/scene", H5P_DEFAULT)) < 0)
-    FAIL("-restart %s: damaged checkpoint: no /scene group", file);
-  if (!SameScene(fab, g, file, h)) goto done;
-  H5Gclose(g);
-  g = H5Gopen2(fid, "/", H5P_DEFAULT);
+/* the relaxation's state; within a load step, where it is must be a te step it continues from */
+static int ReadRelaxState(Fabric fab, hid_t g, const char *file, Header *h)
+{
+  RelaxState *r = &h->relax;
+  Attr        a[MAX_RELAX_ATTRS];
+  int         n = RelaxAttrs(r, a);
 
-  /* the counters */
+  for (int k = 0; k < n; k++)
+    if (!ReadAttr(g, a[k].name, a[k].real ? H5T_NATIVE_DOUBLE : H5T_NATIVE_LONG, a[k].value))
+      return REFUSE("-restart %s: damaged checkpoint: the relaxation's state (%s) is missing", file, a[k].name);
+  if (r->within != 0 && r->within != 1)
+    return REFUSE("-restart %s: damaged checkpoint: within_load_step = %ld", file, r->within);
+  if (r->within && (r->te_step < 1 || r->te_step >= fab->s.load.max_inner_steps || r->round < 0 || r->inner_steps < 0))
+    return REFUSE(
+        "-restart %s: damaged checkpoint: te step %ld of round %ld within a load step of at most %" PetscInt_FMT
+        " te steps",
+        file, r->te_step, r->round, fab->s.load.max_inner_steps);
+  return 1;
+}
+
+/* the counters of the run: attributes of the root group g */
+static int ReadCounters(Fabric fab, hid_t g, const char *file, Header *h)
+{
+  const PetscInt K = fab->s.load.load_steps;
+
   if (!ReadAttr(g, "load_step", H5T_NATIVE_INT, &h->load_step) || !ReadAttr(g, "frames", H5T_NATIVE_INT, &h->frames) ||
       !ReadAttr(g, "converged", H5T_NATIVE_INT, &h->converged) ||
       !ReadAttr(g, "broken_any", H5T_NATIVE_INT, &h->broken_any) ||
@@ -555,50 +870,94 @@ static PetscErrorCode ReadHeader(Fabric fab, const char *file, Header *h, double
       !ReadAttr(g, "grip_disp_m", H5T_NATIVE_DOUBLE, &h->grip_disp) ||
       !ReadAttr(g, "grip_step_prev_m", H5T_NATIVE_DOUBLE, &h->grip_step_prev) ||
       !ReadAttr(g, "wall_s", H5T_NATIVE_DOUBLE, &h->wall))
-    FAIL("-restart %s: damaged checkpoint: a counter of the run is missing", file);
+    return REFUSE("-restart %s: damaged checkpoint: a counter of the run is missing", file);
   if (!ReadAttr(g, "awake_box_0", H5T_NATIVE_INT, &h->awake_box[0]) ||
       !ReadAttr(g, "awake_box_1", H5T_NATIVE_INT, &h->awake_box[1]) ||
       !ReadAttr(g, "awake_box_2", H5T_NATIVE_INT, &h->awake_box[2]) ||
       !ReadAttr(g, "awake_box_3", H5T_NATIVE_INT, &h->awake_box[3]) ||
       !ReadAttr(g, "last_tension_max_N", H5T_NATIVE_DOUBLE, &h->last_tension_max))
-    FAIL("-restart %s: damaged checkpoint: the sleeping state is missing", file);
+    return REFUSE("-restart %s: damaged checkpoint: the sleeping state is missing", file);
   if (!ReadAttr(g, "kinetic_energy_J", H5T_NATIVE_DOUBLE, &h->ke_prev) ||
       !ReadAttr(g, "kinetic_resets", H5T_NATIVE_LLONG, &h->ke_resets))
-    FAIL("-restart %s: damaged checkpoint: the kinetic damping state is missing", file);
-  if (h->load_step < 1 || h->load_step > s->load.load_steps || h->frames < 0 || h->te_steps < 0)
-    FAIL("-restart %s: damaged checkpoint: load step %d of %" PetscInt_FMT, file, h->load_step, s->load.load_steps);
+    return REFUSE("-restart %s: damaged checkpoint: the kinetic damping state is missing", file);
+  if (!ReadRelaxState(fab, g, file, h)) return 0;
+  /* at the end of load step 1..K, or within load step 1..K (load steps done: 0..K-1) */
+  if (h->load_step < 1 - h->relax.within || h->load_step > K - h->relax.within || h->frames < 0 || h->te_steps < 0)
+    return REFUSE("-restart %s: damaged checkpoint: load step %ld of %" PetscInt_FMT, file,
+                  (long) h->load_step + h->relax.within, K);
+  return 1;
+}
 
-  /* the state vectors: there, of this grid */
-  for (PetscInt k = 0; k < nsv; k++) {
-    char path[128], nm[64];
-    h->has[k] = 1;
-    if (sv[k].root_flag[0] && !ReadAttr(g, sv[k].root_flag, H5T_NATIVE_INT, &h->has[k]))
-      FAIL("-restart %s: damaged checkpoint: no %s attribute", file, sv[k].root_flag);
-    if (!h->has[k]) continue;
-    snprintf(path, sizeof path, "/state/%s", sv[k].name);
-    snprintf(nm, sizeof nm, "max_abs_%s", sv[k].name);
-    if (!CheckDataset(fid, path, 3, dims3, NULL) || !ReadAttr(g, nm, H5T_NATIVE_DOUBLE, &h->max_abs[k]))
-      FAIL("-restart %s: damaged checkpoint: %s is missing or not of the %" PetscInt_FMT " x %" PetscInt_FMT " grid",
-           file, path, s->spec.nx, s->spec.ny);
+/* the state vectors and the broken segments: there, of this grid, with their checksums (g: the root group) */
+static int CheckStateDatasets(Fabric fab, hid_t fid, hid_t g, const char *file, Header *h)
+{
+  const Scene  *s = &fab->s;
+  StateVec      sv[MAX_STATE];
+  PetscInt      nsv      = StateVecs(fab, sv);
+  const hsize_t dims3[3] = {(hsize_t) s->spec.ny, (hsize_t) s->spec.nx, 3},
+                dims2[3] = {(hsize_t) s->spec.ny, (hsize_t) s->spec.nx, 2};
+  char path[128];
+
+  for (PetscInt k = 0; k <= nsv; k++) {
+    const int broken = k == nsv;
+    snprintf(path, sizeof path, "/state/%s", broken ? "broken_segments" : sv[k].name);
+    if (!broken) {
+      h->has[k] = 1;
+      if (sv[k].root_flag[0] && !ReadAttr(g, sv[k].root_flag, H5T_NATIVE_INT, &h->has[k]))
+        return REFUSE("-restart %s: damaged checkpoint: no %s attribute", file, sv[k].root_flag);
+      if (!h->has[k]) continue;
+    }
+    if (!CheckDataset(fid, path, 3, broken ? dims2 : dims3, NULL))
+      return REFUSE("-restart %s: damaged checkpoint: %s is missing or not of the %" PetscInt_FMT " x %" PetscInt_FMT
+                    " grid",
+                    file, path, s->spec.nx, s->spec.ny);
+    if (!ReadChecksum(fid, path, &h->sum[k]))
+      return REFUSE("-restart %s: damaged checkpoint: %s has no checksum", file, path);
   }
-  if (!CheckDataset(fid, "/state/broken_segments", 3, dims2, NULL))
-    FAIL("-restart %s: damaged checkpoint: /state/broken_segments is missing or not of this grid", file);
   if (s->num.integrator == INTEGRATOR_PAPER && !h->has[2])
-    FAIL("-restart %s: damaged checkpoint: the paper integrator needs positions_old", file);
+    return REFUSE("-restart %s: damaged checkpoint: the paper integrator needs positions_old", file);
+  return 1;
+}
 
-  /* the history */
-  {
-    const hsize_t nrows = (hsize_t) CURVE_COLS * h->load_step, nfr = (hsize_t) 3 * h->frames;
-    PetscCall(PetscMalloc1(nrows, rows));
-    if (!CheckDataset(fid, "/history/curve", 1, &nrows, *rows))
-      FAIL("-restart %s: damaged checkpoint: /history/curve does not hold %d load steps", file, h->load_step);
-    if (h->frames) {
-      PetscCall(PetscMalloc1(nfr, frames));
-      if (!CheckDataset(fid, "/history/frames", 1, &nfr, *frames))
-        FAIL("-restart %s: damaged checkpoint: /history/frames does not hold %d frames", file, h->frames);
+/* a 1-D array of /history into buf (n doubles), checked against its checksum */
+static int ReadHistoryArray(hid_t fid, const char *file, const char *path, const char *what, hsize_t n, double *buf,
+                            Header *h)
+{
+  uint64_t sum;
+  if (!CheckDataset(fid, path, 1, &n, buf))
+    return REFUSE("-restart %s: damaged checkpoint: %s does not hold %s", file, path, what);
+  if (!ReadChecksum(fid, path, &sum)) return REFUSE("-restart %s: damaged checkpoint: %s has no checksum", file, path);
+  if (ArrayChecksum(buf, (size_t) n) != sum)
+    return REFUSE("-restart %s: damaged checkpoint: the checksum of %s does not match", file, path);
+  return 1;
+}
+
+/* Rank 0, alone (serial HDF5): is FILE a complete, undamaged checkpoint of this scene? Fills h and, on
+   success, the curve rows (*rows, CURVE_COLS per load step done) and the frame list (*frames). */
+static PetscErrorCode ReadHeader(Fabric fab, const char *file, Header *h, double **rows, double **frames)
+{
+  H5E_auto2_t efunc;
+  void       *edata;
+  hid_t       fid = -1, g = -1;
+  char        what[64];
+
+  PetscFunctionBeginUser;
+  *rows = *frames = NULL;
+  H5Eget_auto2(H5E_DEFAULT, &efunc, &edata);
+  H5Eset_auto2(H5E_DEFAULT, NULL, NULL); /* failures become one message, not an HDF5 error stack */
+  if (OpenCheckpoint(fab, file, h, &fid)) {
+    g = H5Gopen2(fid, "/", H5P_DEFAULT);
+    if (ReadCounters(fab, g, file, h) && CheckStateDatasets(fab, fid, g, file, h)) {
+      PetscCall(PetscMalloc1(CURVE_COLS * h->load_step, rows));
+      PetscCall(PetscMalloc1(3 * h->frames, frames));
+      snprintf(what, sizeof what, "%d load steps", h->load_step);
+      if (h->load_step == 0 ||
+          ReadHistoryArray(fid, file, "/history/curve", what, CURVE_COLS * h->load_step, *rows, h)) {
+        snprintf(what, sizeof what, "%d frames", h->frames);
+        if (h->frames) ReadHistoryArray(fid, file, "/history/frames", what, 3 * h->frames, *frames, h);
+      }
     }
   }
-done:
   if (g >= 0) H5Gclose(g);
   if (fid >= 0) H5Fclose(fid);
   H5Eset_auto2(H5E_DEFAULT, efunc, edata);
@@ -651,15 +1010,14 @@ static void CheckFramesFile(Fabric fab, Header *h)
   H5Eset_auto2(H5E_DEFAULT, efunc, edata);
 }
 
-/* the run's counters from a checkpoint's header */
+/* the run's counters and the relaxation's state from a checkpoint's header */
 static void RestoreCounters(Fabric fab, const Header *hp)
 {
   const Header h = *hp;
 
-  fab->load.load_step        = h.load_step;
+  fab->load.load_step        = h.load_step; /* the load steps done: curve.csv gets their rows */
   fab->load.load_factor      = (PetscReal) h.load_step / (PetscReal) fab->s.load.load_steps;
   fab->load.travel           = h.grip_disp;
-  fab->load.travel_now       = h.grip_disp; /* a load step ends with its ramp done */
   fab->load.travel_step_prev = h.grip_step_prev;
   for (int c = 0; c < 4; c++) fab->front.awake_box[c] = h.awake_box[c];
   fab->step.last.tension_max = h.last_tension_max;
@@ -669,67 +1027,94 @@ static void RestoreCounters(Fabric fab, const Header *hp)
   fab->stats.point_updates   = (PetscInt64) h.point_updates;
   fab->stats.converged       = h.converged ? PETSC_TRUE : PETSC_FALSE;
   fab->stats.broken_any      = h.broken_any ? PETSC_TRUE : PETSC_FALSE;
+  RelaxStateUnpack(&h.relax, fab);
+  ckpt.resume         = h.relax.within ? PETSC_TRUE : PETSC_FALSE; /* FabricRun continues load step load_step + 1 */
+  ckpt.at.round       = (PetscInt) h.relax.round;
+  ckpt.at.te_step     = (PetscInt) h.relax.te_step;
+  ckpt.at.inner_steps = (PetscInt) h.relax.inner_steps;
 }
 
-PetscErrorCode RestartLoad(Fabric fab)
+/* the state vectors and the broken segments, read collectively, each checked against its checksum */
+static PetscErrorCode LoadStateVectors(Fabric fab, const Header *h)
 {
-  FabricIO    io = fab->io;
-  Header      h;
-  double     *rows = NULL, *frames = NULL;
+  const char *file = fab->io->restart;
   StateVec    sv[MAX_STATE];
   PetscInt    nsv = StateVecs(fab, sv);
   PetscViewer v;
+  uint64_t    sum;
+  Vec         B;
 
   PetscFunctionBeginUser;
-  if (!io || !io->restart[0]) PetscFunctionReturn(0);
-  PetscCall(PetscLogEventBegin(EV_Output, 0, 0, 0, 0));
-  PetscCall(PetscMemzero(&h, sizeof h));
-  if (fab->rank == 0) {
-    PetscCall(ReadHeader(fab, io->restart, &h, &rows, &frames));
-    if (!h.status && h.frames > 0 && fab->s.out.output_dir[0] && (io->output_every > 0 || io->output_te_every > 0))
-      CheckFramesFile(fab, &h);
-  }
-  PetscCallMPI(MPI_Bcast(&h, sizeof h, MPI_BYTE, 0, fab->comm));
-  if (h.status) {
-    PetscCall(PetscFree(rows));
-    PetscCall(PetscFree(frames));
-  }
-  PetscCheck(!h.status, fab->comm, PETSC_ERR_USER_INPUT, "%s", h.msg);
-  if (fab->rank) {
-    PetscCall(PetscMalloc1(CURVE_COLS * h.load_step, &rows));
-    if (h.frames) PetscCall(PetscMalloc1(3 * h.frames, &frames));
-  }
-  PetscCallMPI(MPI_Bcast(rows, CURVE_COLS * h.load_step, MPI_DOUBLE, 0, fab->comm));
-  if (h.frames) PetscCallMPI(MPI_Bcast(frames, 3 * h.frames, MPI_DOUBLE, 0, fab->comm));
-
-  /* the state vectors, read collectively; each must match the largest |value| it was saved with */
-  PetscCall(PetscViewerHDF5Open(fab->comm, io->restart, FILE_MODE_READ, &v));
+  PetscCall(PetscViewerHDF5Open(fab->comm, file, FILE_MODE_READ, &v));
   PetscCall(PetscViewerHDF5PushGroup(v, "/state"));
   for (PetscInt k = 0; k < nsv; k++) {
-    PetscReal norm;
-    if (!h.has[k]) continue;
+    if (!h->has[k]) continue;
     if (!*sv[k].vec) PetscCall(VecDuplicate(fab->state.X, sv[k].vec));
     PetscCall(PetscObjectSetName((PetscObject) *sv[k].vec, sv[k].name));
     PetscCall(VecLoad(*sv[k].vec, v));
-    PetscCall(VecNorm(*sv[k].vec, NORM_INFINITY, &norm));
-    PetscCheck(norm == (PetscReal) h.max_abs[k], fab->comm, PETSC_ERR_FILE_UNEXPECTED,
-               "-restart %s: damaged checkpoint: %s read back with largest |value| %.17g, saved with %.17g",
-               io->restart, sv[k].name, (double) norm, h.max_abs[k]);
+    PetscCall(GridChecksum(fab, *sv[k].vec, &sum));
+    PetscCheck(sum == h->sum[k], fab->comm, PETSC_ERR_FILE_UNEXPECTED,
+               "-restart %s: damaged checkpoint: the checksum of /state/%s does not match", file, sv[k].name);
   }
-  {
-    Vec B;
-    PetscCall(DMGetGlobalVector(fab->grid.da_seg, &B));
-    PetscCall(PetscObjectSetName((PetscObject) B, "broken_segments"));
-    PetscCall(VecLoad(B, v));
-    PetscCall(BrokenFromVec(fab, B));
-    PetscCall(DMRestoreGlobalVector(fab->grid.da_seg, &B));
-  }
+  PetscCall(DMGetGlobalVector(fab->grid.da_seg, &B));
+  PetscCall(PetscObjectSetName((PetscObject) B, "broken_segments"));
+  PetscCall(VecLoad(B, v));
+  PetscCall(GridChecksum(fab, B, &sum));
+  PetscCheck(sum == h->sum[nsv], fab->comm, PETSC_ERR_FILE_UNEXPECTED,
+             "-restart %s: damaged checkpoint: the checksum of /state/broken_segments does not match", file);
+  PetscCall(BrokenFromVec(fab, B));
+  PetscCall(DMRestoreGlobalVector(fab->grid.da_seg, &B));
   PetscCall(PetscViewerHDF5PopGroup(v));
   PetscCall(PetscViewerDestroy(&v));
   PetscCall(PetscObjectSetName((PetscObject) fab->state.X, "positions"));
   PetscCall(PetscObjectSetName((PetscObject) fab->state.V, NULL));
+  PetscFunctionReturn(0);
+}
 
+/* Rank 0 checks the checkpoint alone and tells every rank; then they share its curve rows and frame list */
+static PetscErrorCode ReadHistory(Fabric fab, Header *h, double **rows, double **frames)
+{
+  FabricIO io = fab->io;
+
+  PetscFunctionBeginUser;
+  if (fab->rank == 0) {
+    PetscCall(ReadHeader(fab, io->restart, h, rows, frames));
+    if (!h->status && h->frames > 0 && fab->s.out.output_dir[0] && (io->output_every > 0 || io->output_te_every > 0))
+      CheckFramesFile(fab, h);
+  }
+  PetscCallMPI(MPI_Bcast(h, sizeof *h, MPI_BYTE, 0, fab->comm));
+  if (h->status) {
+    PetscCall(PetscFree(*rows));
+    PetscCall(PetscFree(*frames));
+  }
+  PetscCheck(!h->status, fab->comm, PETSC_ERR_USER_INPUT, "%s", h->msg);
+  if (fab->rank) {
+    PetscCall(PetscMalloc1(CURVE_COLS * h->load_step, rows));
+    PetscCall(PetscMalloc1(3 * h->frames, frames));
+  }
+  PetscCallMPI(MPI_Bcast(*rows, CURVE_COLS * h->load_step, MPI_DOUBLE, 0, fab->comm));
+  PetscCallMPI(MPI_Bcast(*frames, 3 * h->frames, MPI_DOUBLE, 0, fab->comm));
+  PetscFunctionReturn(0);
+}
+
+/* The start of the run: the clock of -checkpoint_every_s starts; with -restart, the state, counters,
+   curve rows and frame list of the checkpoint. */
+PetscErrorCode RestartLoad(Fabric fab)
+{
+  FabricIO io = fab->io;
+  Header   h;
+  double  *rows = NULL, *frames = NULL;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(&ckpt, sizeof ckpt));
+  PetscCall(PetscTime(&ckpt.last_wall));
+  if (!io || !io->restart[0]) PetscFunctionReturn(0);
+  PetscCall(PetscLogEventBegin(EV_Output, 0, 0, 0, 0));
+  PetscCall(PetscMemzero(&h, sizeof h));
+  PetscCall(ReadHistory(fab, &h, &rows, &frames));
+  PetscCall(LoadStateVectors(fab, &h));
   RestoreCounters(fab, &h);
+  ckpt.last_te = ckpt.last_look = fab->stats.te_steps;
   for (PetscInt k = 0; k < h.load_step; k++) CurveRowUnpack(rows + CURVE_COLS * k, &fab->stats.curve[k]);
   io->frames = 0;
   for (PetscInt k = 0; k < h.frames; k++) {
@@ -741,10 +1126,36 @@ PetscErrorCode RestartLoad(Fabric fab)
   PetscCall(PetscFree(rows));
   PetscCall(PetscFree(frames));
   PetscCall(PetscLogEventEnd(EV_Output, 0, 0, 0, 0));
-  if (!fab->s.out.quiet)
+  if (fab->s.out.quiet) PetscFunctionReturn(0);
+  if (ckpt.resume)
+    PetscCall(PetscPrintf(fab->comm,
+                          "fabric: restart from %s within load step %" PetscInt_FMT "/%" PetscInt_FMT
+                          ", after its te step %" PetscInt_FMT " (%" PetscInt64_FMT " te steps, %" PetscInt_FMT
+                          " frames so far)\n",
+                          io->restart, fab->load.load_step + 1, fab->s.load.load_steps,
+                          ckpt.at.inner_steps + ckpt.at.te_step, fab->stats.te_steps, io->frames));
+  else
     PetscCall(PetscPrintf(fab->comm,
                           "fabric: restart from %s at load step %" PetscInt_FMT "/%" PetscInt_FMT " (%" PetscInt64_FMT
                           " te steps, %" PetscInt_FMT " frames so far)\n",
                           io->restart, fab->load.load_step, fab->s.load.load_steps, fab->stats.te_steps, io->frames));
   PetscFunctionReturn(0);
+}
+
+/* FabricRun, before load step k: restarted within it? Then it is not applied again (its grips, prediction
+   and stable step are in the checkpoint): it becomes the current load step. */
+PetscBool CheckpointWithinLoadStep(Fabric fab, PetscInt k)
+{
+  if (!ckpt.resume) return PETSC_FALSE;
+  fab->load.load_step   = k;
+  fab->load.load_factor = (PetscReal) k / (PetscReal) fab->s.load.load_steps; /* as ApplyLoadStep */
+  return PETSC_TRUE;
+}
+
+/* RelaxLoadStep, at its start: where it continues from (restarted within the load step), else its start */
+void CheckpointRelaxStart(RelaxPoint *at)
+{
+  const RelaxPoint start = {0, 0, 0};
+  *at                    = ckpt.resume ? ckpt.at : start;
+  ckpt.resume            = PETSC_FALSE;
 }

@@ -5,10 +5,12 @@
  * Phases: options and scene -> build the fabric -> run the load program -> report.
  */
 #include "relax.h"
+#include "checkpoint.h"
 #include "frames.h"
 #include "load.h"
 #include "report.h"
 
+#include <signal.h>
 #include <string.h>
 
 static const char help[] = "fabric: woven-fabric mechanics at the yarn-crossing scale (explicit, MPI-parallel).\n"
@@ -60,6 +62,24 @@ static PetscErrorCode OneLineErrorHandler(MPI_Comm comm, int line, const char *f
   return n;
 }
 
+/* SIGTERM (a batch system's wall-time limit) or SIGUSR1 (forwarded to the ranks by mpiexec): the run writes
+   a checkpoint at its next te step and stops with exit status 3 (checkpoint.c). Only with an output
+   directory to write it to; the handler only sets a flag. */
+static PetscErrorCode CatchStopSignals(Fabric fab)
+{
+  struct sigaction sa;
+
+  PetscFunctionBeginUser;
+  if (!fab->s.out.output_dir[0]) PetscFunctionReturn(0);
+  memset(&sa, 0, sizeof sa);
+  sa.sa_handler = CheckpointSignal;
+  sa.sa_flags   = SA_RESTART;
+  sigemptyset(&sa.sa_mask);
+  PetscCheck(!sigaction(SIGTERM, &sa, NULL) && !sigaction(SIGUSR1, &sa, NULL), PETSC_COMM_SELF, PETSC_ERR_SYS,
+             "cannot catch SIGTERM and SIGUSR1");
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode Run(int argc, char **argv)
 {
   Fabric         fab  = NULL;
@@ -83,6 +103,7 @@ static PetscErrorCode Run(int argc, char **argv)
                           fab->s.out.name, fab->s.spec.nx, fab->s.spec.ny, fab->grid.points, fab->size,
                           IntegratorNames[fab->s.num.integrator], PredictNames[fab->s.num.predict],
                           fab->s.load.load_steps, TestNames[fab->s.test], (double) (1e3 * LoadTravel(&fab->s))));
+  PetscCall(CatchStopSignals(fab));
   ierr = FabricRun(fab);
   if (ierr) { /* a run that stops on an error still says so in summary.json */
     const char *text;
@@ -92,6 +113,10 @@ static PetscErrorCode Run(int argc, char **argv)
     if (fab->stats.curve_fp) OutputSummary(fab, specific && specific[0] ? specific : text);
     FabricDestroy(&fab);
     return ierr;
+  }
+  if (CheckpointStopped()) { /* stopped by a signal after its checkpoint: no results yet */
+    PetscCall(FabricDestroy(&fab));
+    PetscFunctionReturn(0);
   }
   if (fab->s.out.output_dir[0]) {
     PetscReal       peak = 0;
@@ -128,5 +153,5 @@ int main(int argc, char **argv)
   ierr = Run(argc, argv);
   PetscCall(PetscPopErrorHandler());
   PetscCall(PetscFinalize());
-  return ierr ? 1 : 0;
+  return ierr ? 1 : CheckpointStopped() ? CHECKPOINT_STOPPED : 0;
 }

@@ -89,17 +89,25 @@ PetscErrorCode RelaxLoadStep(Fabric fab, CurveRow *row)
   const Scene *s  = &fab->s;
   StepStats    st = {0};
   PetscInt     n;
+  RelaxPoint   at;
 
   PetscFunctionBeginUser;
-  row->inner_steps = 0;
-  for (PetscInt round = 0;; round++) {
+  CheckpointRelaxStart(&at); /* restarted within this load step: where its checkpoint was taken */
+  row->inner_steps = at.inner_steps;
+  for (PetscInt round = at.round;; round++) {
     PetscReal broke;
-    for (n = 1; n <= s->load.max_inner_steps; n++) {
+    for (n = at.te_step + 1; n <= s->load.max_inner_steps; n++) {
       PetscCall(RampGrips(fab));
       PetscCall(TimeStep(fab, &st));
       if (fab->io) PetscCall(FramesTeStep(fab)); /* -output_te_every */
       if (s->num.early_exit && st.balanced) break;
+      if (n < s->load.max_inner_steps) { /* the load step goes on: a checkpoint within it, if due or signalled */
+        const RelaxPoint here = {round, n, row->inner_steps};
+        PetscCall(CheckpointTeStep(fab, &here));
+        if (CheckpointStopped()) PetscFunctionReturn(0);
+      }
     }
+    at.te_step = 0;
     row->inner_steps += PetscMin(n, s->load.max_inner_steps);
     /* yarns break on the balanced (quasi-static) state only: the strains of the relaxation
        transient are artefacts of the load stepping. If one broke, relax this step again,
@@ -146,15 +154,16 @@ PetscErrorCode FabricRun(Fabric fab)
 
   PetscFunctionBeginUser;
   PetscCall(PetscTime(&fab->stats.wall_start));
-  PetscCall(StableStep(fab));  /* refuses a -te above the bound before any output exists */
-  PetscCall(RestartLoad(fab)); /* -restart: state, counters and curve rows of the checkpoint */
-  fab->step.bound_fresh = fab->load.load_step == 0 ? PETSC_TRUE : PETSC_FALSE; /* still the state it was taken at */
+  PetscCall(StableStep(fab));         /* refuses a -te above the bound before any output exists */
+  fab->step.bound_fresh = PETSC_TRUE; /* taken at the state the run starts from */
+  PetscCall(RestartLoad(fab));        /* -restart: state, counters and curve rows of the checkpoint */
   PetscCall(OutputOpen(fab));
   PetscCall(FramesOpen(fab)); /* fabric.h5 and fabric.xmf */
   for (PetscInt k = fab->load.load_step + 1; k <= s->load.load_steps; k++) {
     CurveRow *row = &fab->stats.curve[k - 1];
-    PetscCall(ApplyLoadStep(fab, k));
+    if (!CheckpointWithinLoadStep(fab, k)) PetscCall(ApplyLoadStep(fab, k)); /* else restarted within it */
     PetscCall(RelaxLoadStep(fab, row));
+    if (CheckpointStopped()) PetscFunctionReturn(0); /* SIGTERM or SIGUSR1: its checkpoint is written */
     if (!row->balanced) fab->stats.converged = PETSC_FALSE;
     PetscCall(KeepConverged(fab));
     PetscCall(PetscTime(&fab->stats.wall));

@@ -288,8 +288,14 @@ static const OptionDesc Options[] = {
         "also write a frame every M te steps within each load step, for dynamic scenes (0 = off)"),
     INT("", "checkpoint_every", checkpoint_every, DEF(0), 0, "0 (never) or a number of load steps",
         "write DIR/checkpoint.h5 every K load steps (0 = never)"),
+    INT("", "checkpoint_every_te", checkpoint_every_te, DEF(0), 0, "0 (never) or a number of te steps",
+        "also write DIR/checkpoint.h5 within a load step every K te steps (0 = never)"),
+    REAL("", "checkpoint_every_s", checkpoint_every_s, DEF(0), NONNEG, "0 (never) or a number of seconds",
+         "also write DIR/checkpoint.h5 within a load step once S seconds of wall-clock time have passed since the last "
+         "one (0 = never); SIGTERM or SIGUSR1 write one and stop the run (exit status 3)"),
     STRING("", "restart", restart,
-           "continue the run saved in this checkpoint file (written by -checkpoint_every), appending to -output_dir"),
+           "continue the run saved in this checkpoint file (written by -checkpoint_every, -checkpoint_every_te, "
+           "-checkpoint_every_s or a signal), appending to -output_dir"),
 };
 #define NOPTIONS ((PetscInt) (sizeof Options / sizeof Options[0]))
 
@@ -899,12 +905,19 @@ static PetscErrorCode DeriveOutput(MPI_Comm comm, const SceneInput *in, Scene *s
   if (!strcmp(o->output_dir, "none")) o->output_dir[0] = 0;
   PetscCall(PetscStrncpy(o->positions_out, in->positions_out, sizeof o->positions_out));
   PetscCall(PetscStrncpy(o->restart, in->restart, sizeof o->restart));
-  o->quiet            = in->quiet;
-  o->output_every     = in->output_every;
-  o->output_te_every  = in->output_te_every;
-  o->checkpoint_every = in->checkpoint_every;
+  o->quiet               = in->quiet;
+  o->output_every        = in->output_every;
+  o->output_te_every     = in->output_te_every;
+  o->checkpoint_every    = in->checkpoint_every;
+  o->checkpoint_every_te = in->checkpoint_every_te;
+  o->checkpoint_every_s  = in->checkpoint_every_s;
   PetscCheck(!o->checkpoint_every || o->output_dir[0], comm, PETSC_ERR_USER_INPUT,
              "-checkpoint_every %" PetscInt_FMT " needs an output directory: -output_dir is none", o->checkpoint_every);
+  PetscCheck(!o->checkpoint_every_te || o->output_dir[0], comm, PETSC_ERR_USER_INPUT,
+             "-checkpoint_every_te %" PetscInt_FMT " needs an output directory: -output_dir is none",
+             o->checkpoint_every_te);
+  PetscCheck(o->checkpoint_every_s == 0 || o->output_dir[0], comm, PETSC_ERR_USER_INPUT,
+             "-checkpoint_every_s %g needs an output directory: -output_dir is none", (double) o->checkpoint_every_s);
   if (o->restart[0]) {
     PetscBool exists;
     PetscCall(PetscTestFile(o->restart, 'r', &exists));

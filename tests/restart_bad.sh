@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # restart_bad.sh FABRIC SCENE: a checkpoint that is damaged, foreign or of another scene is
 # refused on 2 ranks with one clear message naming -restart and the file, a non-zero exit, within
-# seconds (no hang), and the output directory it would append to is left as it was.
+# seconds (no hang), and the output directory it would append to is left as it was. A byte flipped
+# in the data of any array is refused by the array's checksum, naming it.
 set -u
 fabric="$1"; scene="$2"
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -35,6 +36,73 @@ refuse frames_missing "-restart .*checkpoint.h5: .*/elsewhere/fabric.h5, which h
 [[ -e "$work/elsewhere" ]] && { echo "FAIL frames_missing: $work/elsewhere was created"; fail=1; }
 # checkpoints need a directory to go to
 refuse no_output_dir "-checkpoint_every 2 needs an output directory: -output_dir is none" "${opts[@]}" -output_dir none -checkpoint_every 2
+refuse no_output_dir_te "-checkpoint_every_te 500 needs an output directory: -output_dir is none" "${opts[@]}" -output_dir none -checkpoint_every_te 500
+refuse no_output_dir_s "-checkpoint_every_s 60.? needs an output directory: -output_dir is none" "${opts[@]}" -output_dir none -checkpoint_every_s 60
+refuse negative_every_s "-checkpoint_every_s must be 0 .never. or a number of seconds, got -1" "${opts[@]}" -output_dir "$work/run" -checkpoint_every_s -1
+refuse negative_every_te "-checkpoint_every_te must be 0 .never. or a number of te steps, got -5" "${opts[@]}" -output_dir "$work/run" -checkpoint_every_te -5
+
+# A flipped byte in the data of any array is refused by its checksum, naming the array: a checkpoint
+# that holds every array (the paper integrator's history, the extrapolation's, the friction anchors
+# of a plane and a pedestal), each flipped at its first, a middle and its last value, in the low
+# mantissa (one bit: a change of 1 ulp), the middle and the sign and exponent byte.
+rich=(-scene "$scene" -quiet -gauge_mm 20 -width_mm 5 -load_steps 3 -elongation_pct 1 -integrator paper -damping_ratio 0
+      -predict extrapolate -max_inner_steps 200 -early_exit 0 -gravity 2,0,-9.81 -plane -plane_point_mm 0,0,-0.15
+      -pedestal_diameter_mm 4 -friction_mu 0.3)
+mpiexec -n 2 "$fabric" "${rich[@]}" -output_dir "$work/rich" -checkpoint_every 2 >/dev/null || { echo "FAIL the run that makes the full checkpoint failed"; exit 1; }
+rich_snapshot() { (cd "$work/rich" && find . -type f -exec md5sum {} + | sort); }
+rich_before="$(rich_snapshot)"
+# flip FILE DATASET WHICH BYTE MASK: XOR byte BYTE of value WHICH (first, middle, last) of the dataset's
+# data with MASK where it lies in the file (contiguous or chunked, unfiltered); prints offset and values
+flip() {
+  /usr/bin/python3 - "$@" <<'PY'
+import sys, h5py, numpy as np
+file, path, which, byte, mask = sys.argv[1], sys.argv[2], sys.argv[3], int(sys.argv[4]), int(sys.argv[5], 0)
+with h5py.File(file, "r") as f:
+    d = f[path]
+    n = d.size
+    e = {"first": 0, "middle": n // 2 + 1, "last": n - 1}[which]
+    idx = np.unravel_index(e, d.shape)
+    before = d[idx]
+    if d.chunks is None:
+        off = d.id.get_offset() + e * d.dtype.itemsize
+    else:
+        corner = tuple((i // c) * c for i, c in zip(idx, d.chunks))
+        info = d.id.get_chunk_info_by_coord(corner)
+        assert info.filter_mask == 0 and not d.compression
+        within = np.ravel_multi_index(tuple(i - c for i, c in zip(idx, corner)), d.chunks)
+        off = info.byte_offset + within * d.dtype.itemsize
+with open(file, "r+b") as fp:
+    fp.seek(off + byte)
+    b = fp.read(1)[0]
+    fp.seek(off + byte)
+    fp.write(bytes([b ^ mask]))
+with h5py.File(file, "r") as f:
+    after = f[path][idx]
+assert (before.tobytes() != after.tobytes()), "the flip missed the data"
+print(f"value {e} of {n}, file byte {off + byte}: {before!r} -> {after!r}")
+PY
+}
+arrays=(/state/positions /state/velocities /state/positions_old /state/velocities_old /state/converged_positions
+        /state/converged_positions_prev /state/friction_anchors_plane /state/friction_anchors_pedestal
+        /state/broken_segments /history/curve /history/frames)
+nflip=0
+for a in "${arrays[@]}"; do
+  ok=0 flips=""
+  for spot in "first 0 0x01" "middle 3 0x5a" "last 7 0x80"; do
+    read -r which byte mask <<<"$spot"
+    cp "$work/rich/checkpoint.h5" "$work/flipped.h5"
+    where="$(flip "$work/flipped.h5" "$a" "$which" "$byte" "$mask" 2>&1)" || { echo "FAIL flip $a $which: $where"; fail=1; continue; }
+    log="$(timeout 30 mpiexec -n 2 "$fabric" "${rich[@]}" -output_dir "$work/rich" -restart "$work/flipped.h5" 2>&1)"; rc=$?
+    regex="-restart .*flipped.h5: damaged checkpoint: the checksum of $a does not match"
+    if [[ $rc -ne 0 && $rc -ne 124 ]] && grep -Eq -- "$regex" <<<"$log" && [[ "$(rich_snapshot)" == "$rich_before" ]]; then
+      nflip=$((nflip + 1)) ok=$((ok + 1)) flips+="${flips:+; }$where"
+    else echo "FAIL flipped $a ($where): exit $rc (124 = hung), expected a message matching: $regex"; echo "$log" | head -3; fail=1; fi
+  done
+  [[ $ok -eq 3 ]] && echo "PASS $a: refused with each byte flipped ($flips): $(grep -m1 "fabric: error" <<<"$log")"
+done
+if mpiexec -n 2 "$fabric" "${rich[@]}" -output_dir "$work/rich" -restart "$work/rich/checkpoint.h5" >/dev/null 2>&1; then echo "PASS $nflip flips of ${#arrays[@]} arrays refused; the unflipped checkpoint restarts its run"
+else echo "FAIL the unflipped full checkpoint does not restart its run"; fail=1; fi
+
 # the checkpoint itself still restarts (so the refusals above were about what they say)
 if mpiexec -n 2 "$fabric" "${opts[@]}" -output_dir "$work/run" -restart "$ck" >/dev/null 2>&1 && [[ $(wc -l <"$work/run/curve.csv") -eq 7 ]]; then echo "PASS the same checkpoint restarts the run it belongs to"
 else echo "FAIL the checkpoint does not restart its own run"; fail=1; fi

@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # restart_variants.sh FABRIC SCENE: restarting from a checkpoint continues exactly whatever the
-# run keeps between load steps. For each variant, a run whose last checkpoint is at load step 4
-# of 6 is restarted from it into its own output directory (the frames it wrote after the
-# checkpoint are dropped and written again) and must end bit-identical to an uninterrupted run:
+# run keeps between load steps and within one. For each variant, a run whose last checkpoint is at
+# load step 4 of 6 is restarted from it into its own output directory (the frames it wrote after
+# the checkpoint are dropped and written again) and must end bit-identical to an uninterrupted run;
+# so must a run whose only checkpoint is within a load step (-checkpoint_every_te at 3/5 of the
+# run's te steps), restarted from it (but for breaking: restart_every.sh):
 #   paper      the paper's integrator (positions_old, velocities_old) with extrapolating
 #              prediction (converged_positions, _prev), restarted on 1 rank from 2
 #   breaking   yarns that break at load step 4 (broken segments, rebuilt on every rank's
@@ -33,6 +35,24 @@ variant() {
   cmp -s "$a/fabric.xmf" "$b/fabric.xmf" || what+=" fabric.xmf"
   if [[ -z $what ]]; then echo "PASS $name: restart at load step 4 on $np_restart rank(s) == uninterrupted run on $np ($(h5ls "$a/fabric.h5/frames" | wc -l) frames; $(grep -o '"te_steps": [0-9]*' "$a/summary.json"))"
   else echo "FAIL $name: differs from the uninterrupted run in:$what"; fail=1; fi
+  [[ $name == breaking ]] || within "$@" # within the break loop's second round: restart_every.sh
+}
+# within: the same variant with one checkpoint within a load step, at 3/5 of its te steps
+within() {
+  local te c="$work/$name/within"
+  te=$(sed -n 's/.*"te_steps": \([0-9]*\).*/\1/p' "$a/summary.json"); te=$((te * 3 / 5))
+  mpiexec -n "$np" "$fabric" "${base[@]}" "$@" -output_dir "$c" -checkpoint_every_te "$te" >/dev/null 2>&1 || { echo "FAIL $name within: the checkpointed run failed"; fail=1; return; }
+  local at; at="$(h5dump -a /load_step -a /within_load_step -a /relax_round -a /relax_te_step "$c/checkpoint.h5" 2>/dev/null | sed -n 's/ *(0): //p' | tr '\n' ' ')"
+  read -r done in round step <<<"$at"
+  mpiexec -n "$np_restart" "$fabric" "${base[@]}" "$@" -output_dir "$c" -positions_out "$c/positions.bin" -restart "$c/checkpoint.h5" >/dev/null 2>&1 || { echo "FAIL $name within: the restart failed"; fail=1; return; }
+  local what=""
+  [[ "$in" == 1 ]] || what+=" (the checkpoint is not within a load step: $at)"
+  cmp -s "$a/positions.bin" "$c/positions.bin" || what+=" positions"
+  cmp -s "$a/curve.csv" "$c/curve.csv" || what+=" curve.csv"
+  h5diff -r "$a/fabric.h5" "$c/fabric.h5" >/dev/null 2>&1 || what+=" fabric.h5"
+  cmp -s "$a/fabric.xmf" "$c/fabric.xmf" || what+=" fabric.xmf"
+  if [[ -z $what ]]; then echo "PASS $name within: restart within load step $((done + 1)) (round $round, after its te step $step; -checkpoint_every_te $te) on $np_restart rank(s) == uninterrupted run on $np"
+  else echo "FAIL $name within: differs from the uninterrupted run in:$what"; fail=1; fi
 }
 variant paper 2 1 -integrator paper -damping_ratio 0 -predict extrapolate -elongation_pct 3 -max_inner_steps 200 -early_exit 0
 variant breaking 2 2 -predict extrapolate -point_load_N 0,0,0.001 -warp_break_pct 0.5
