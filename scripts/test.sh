@@ -13,10 +13,13 @@ jobs=2
 
 status=0
 echo "== Release suite (build/)"
+start=$SECONDS
 (cd "$ROOT/build" && ctest -j "$jobs" --output-on-failure "$@") || status=1
+echo "== Release suite: $((SECONDS - start)) s"
 
 if [[ "${FABRIC_SANITIZE:-1}" != 0 ]]; then
   echo "== sanitizer stage (build-asan/: AddressSanitizer + UndefinedBehaviorSanitizer)"
+  start=$SECONDS
   cmake -S "$ROOT" -B "$ROOT/build-asan" -DCMAKE_BUILD_TYPE=Release -DFABRIC_SANITIZE=ON >/dev/null
   cmake --build "$ROOT/build-asan" -j "$(nproc)" >/dev/null
   # Left out, for time only (3 to 7 times slower here, they would take over 8 minutes on
@@ -25,5 +28,6 @@ if [[ "${FABRIC_SANITIZE:-1}" != 0 ]]; then
   # jamming) are still exercised by the shorter verify_* scene tests and the restart tests.
   (cd "$ROOT/build-asan" && ctest -j "$jobs" --output-on-failure -L 'unit|verification|input|restart|mpi' \
     -E '^(scene_drape|scene_pushing|verify_square_net|verify_bias_extension)$' "$@") || status=1
+  echo "== sanitizer stage: $((SECONDS - start)) s (build included)"
 fi
 exit $status
