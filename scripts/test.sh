@@ -22,12 +22,10 @@ if [[ "${FABRIC_SANITIZE:-1}" != 0 ]]; then
   start=$SECONDS
   cmake -S "$ROOT" -B "$ROOT/build-asan" -DCMAKE_BUILD_TYPE=Release -DFABRIC_SANITIZE=ON >/dev/null
   cmake --build "$ROOT/build-asan" -j "$(nproc)" >/dev/null
-  # Left out, for time only (3 to 7 times slower here, they would take over 8 minutes on
-  # 2 cores): the long scene runs scene_drape, scene_pushing, verify_square_net and
-  # verify_bias_extension. Their code paths (pedestal, sphere, ring clamp, bias outline,
-  # jamming) are still exercised by the shorter verify_* scene tests and the restart tests.
+  # Left out, for time only: the two long scene runs scene_pushing and scene_drape (about 4 and
+  # 6 minutes here when instrumented, clean when run by hand: docs/reliability.md)
   (cd "$ROOT/build-asan" && ctest -j "$jobs" --output-on-failure -L 'unit|verification|input|restart|mpi' \
-    -E '^(scene_drape|scene_pushing|verify_square_net|verify_bias_extension)$' "$@") || status=1
+    -E '^(scene_pushing|scene_drape)$' "$@") || status=1
   echo "== sanitizer stage: $((SECONDS - start)) s (build included)"
 fi
 exit $status
