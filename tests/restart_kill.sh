@@ -22,7 +22,9 @@ mpiexec -n 2 "$fabric" "${opts[@]}" -output_dir "$work/whole" -positions_out "$w
 # system does (the ranks are mpiexec's children, in process groups of their own)
 mpiexec -n 2 "$fabric" "${opts[@]}" -output_dir "$work/killed" -positions_out "$work/killed/positions.bin" &
 pid=$!
-for ((i = 0; i < 1200; i++)); do
+# (wait up to 2 minutes: under load, or in the sanitizer build, about 4 times slower, the first
+# checkpoint can take longer than 20 s; the loop ends as soon as it is there)
+for ((i = 0; i < 6000; i++)); do
   [[ -e "$work/killed/checkpoint.h5" && $(wc -l <"$work/killed/curve.csv") -ge 4 ]] && break
   sleep 0.02
 done
