@@ -1,8 +1,7 @@
 #!/usr/bin/env bash
 # valgrind.sh VALGRIND FABRIC SCENE SUPPRESSIONS: memcheck on a short strip run (20 mm x 5 mm,
 # 2 load steps, frames written), on 1 rank and on 2 ranks under mpiexec: no invalid read or
-# write, no use of uninitialised memory (also in what MPI sends), no memory definitely or
-# possibly lost at exit. SUPPRESSIONS names only Open MPI, PMIx and hwloc libraries
+# write, no use of uninitialised memory, no memory definitely or possibly lost at exit. SUPPRESSIONS names only Open MPI, PMIx and hwloc libraries
 # (docs/reliability.md). --keep-debuginfo: Open MPI unloads its components at MPI_Finalize,
 # and the leak report at exit must still know which library a frame was in.
 set -u
