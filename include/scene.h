@@ -193,6 +193,8 @@ PetscErrorCode SceneDestroy(Scene *s);
 /* The numeric options of the option table as (name, values): the checkpoint's scene keys and
    summary.json's options. k = 0, 1, ... until it returns 0; n values into v (at most 96). */
 int SceneOptionValues(const Scene *s, PetscInt k, char name[64], PetscReal v[], PetscInt *n);
+/* the most values option k of SceneOptionValues takes: 0 for a single value (-1: no option k) */
+PetscInt SceneOptionCapacity(PetscInt k);
 /* every option as JSON members "name": value, one a line after indent (summary.json's "options") */
 void SceneOptionsJson(const Scene *s, FILE *fp, const char *indent);
 

@@ -56,119 +56,50 @@ typedef struct {
 } SceneKey;
 
 #define KEY(nm, v) (PetscStrncpy(key[n].name, nm, sizeof key[n].name), key[n].value = (PetscReal) (v), n++)
-/* a 3-vector as PREFIX_x UNIT, PREFIX_y UNIT, PREFIX_z UNIT */
-#define KEY3(prefix, unit, v)                                             \
-  for (int d_ = 0; d_ < 3; d_++) {                                        \
-    char nm3_[40];                                                        \
-    PetscSNPrintf(nm3_, sizeof nm3_, "%s_%c%s", prefix, "xyz"[d_], unit); \
-    KEY(nm3_, (v)[d_]);                                                   \
-  }
 
-/* the keys of the clamp and grip lines and of the grip's path, after the n keys before them */
-static PetscInt LineAndPathKeys(const Scene *s, SceneKey *key, PetscInt n)
+/* what the run computes with: the grid, what a yarn table file holds, and every numeric option
+   of the option table (scene.h SceneOptionValues) apart from those that only say what is written
+   and when; an array as its count and every slot (unused ones 0), so that the keys are the same
+   set for any options */
+static PetscBool OutputOnlyOption(const char *name)
 {
-  /* every slot (unused ones are 0) */
-  KEY("clamp_lines", s->clamps.clamp_lines);
-  KEY("grip_lines", s->clamps.grip_lines);
-  KEY("grip_path_waypoints", s->load.waypoints);
-  for (int l = 0; l < 2 * MAX_LINES; l++) {
-    const PetscReal *line    = l < MAX_LINES ? s->clamps.clamp_line[l] : s->clamps.grip_line[l - MAX_LINES];
-    const char      *what[4] = {"x_m", "y_m", "angle_rad", "half_width_m"};
-    for (int c = 0; c < 4; c++) {
-      char nm[40];
-      PetscSNPrintf(nm, sizeof nm, "%s_line_%d_%s", l < MAX_LINES ? "clamp" : "grip", l % MAX_LINES + 1, what[c]);
-      KEY(nm, line[c]);
-    }
-  }
-  for (int w = 0; w < MAX_WAYPOINTS; w++) {
-    char nm[40];
-    PetscSNPrintf(nm, sizeof nm, "grip_path_%d", w + 1);
-    KEY3(nm, "_m", s->load.waypoint[w]);
-  }
-  return n;
+  const char *out[] = {
+      "quiet", "output_every", "output_te_every", "checkpoint_every", "checkpoint_every_te", "checkpoint_every_s"};
+  for (size_t q = 0; q < sizeof out / sizeof out[0]; q++)
+    if (!strcmp(name, out[q])) return PETSC_TRUE;
+  return PETSC_FALSE;
 }
 
-/* what the run computes with, in SI (names say the unit) */
 static PetscInt SceneKeys(Fabric fab, SceneKey *key)
 {
   const Scene *s = &fab->s;
-  PetscInt     n = 0;
+  PetscInt     n = 0, nv, cap;
+  char         name[64], nm[80];
+  PetscReal    v[4 * MAX_WAYPOINTS];
+
   KEY("grid_nx", s->spec.nx);
   KEY("grid_ny", s->spec.ny);
-  KEY("pull", s->spec.pull);
-  KEY("ends_per_m", s->spec.ends_per_m);
-  KEY("picks_per_m", s->spec.picks_per_m);
-  KEY("gauge_m", s->spec.gauge);
-  KEY("width_m", s->spec.width);
   for (int y = 0; y < 2; y++) {
     const YarnLaw *l = y ? &s->yarns.weft : &s->yarns.warp;
-    char           nm[40];
-#define YKEY(suffix, v) (PetscSNPrintf(nm, sizeof nm, "%s_" suffix, y ? "weft" : "warp"), KEY(nm, v))
-    YKEY("mu_kg_m", l->mu);
-    YKEY("crimp", l->crimp);
-    YKEY("EA_N", l->EA);
-    YKEY("Ec_N", l->Ec);
-    YKEY("compression_ratio", l->k_comp);
-    YKEY("bending_Nm2", l->bending);
-    YKEY("break_strain", l->break_ey);
-    YKEY("table_nodes", l->ntab);
-    YKEY("table_end_N", l->ntab ? l->tab_T[l->ntab - 1] : 0.0);
-    YKEY("contact_strain", l->e_contact);
-    YKEY("law_smoothing", l->smoothing);
-#undef YKEY
+    PetscSNPrintf(nm, sizeof nm, "%s_table_nodes", l->name);
+    KEY(nm, l->ntab);
+    PetscSNPrintf(nm, sizeof nm, "%s_table_end_N", l->name);
+    KEY(nm, l->ntab ? l->tab_T[l->ntab - 1] : 0.0);
   }
-  KEY("shear_G_N_m", s->terms.shear_G);
-  KEY("shear_lock_deg", s->terms.lock_deg);
-  KEY("jam_factor", s->terms.jam_factor);
-  KEY("traction", s->terms.traction);
-  KEY("bending", s->terms.bending);
-  KEY("shear", s->terms.shear);
-  KEY3("gravity", "", s->terms.gravity);
-  KEY("nu", s->num.nu);
-  KEY("damping_ratio", s->num.damping_ratio);
-  KEY("elongation", s->load.elongation);
-  KEY("speed_m_s", s->load.speed);
-  KEY3("point_load", "_N", s->load.point_load);
-  KEY("point_load_i", s->load.load_at[0]);
-  KEY("point_load_j", s->load.load_at[1]);
-  KEY("load_steps", s->load.load_steps);
-  KEY("max_inner_steps", s->load.max_inner_steps);
-  KEY("integrator", s->num.integrator);
-  KEY("te_s", s->num.te_user);
-  KEY("te_safety", s->num.te_safety);
-  KEY("te_strain_window", s->num.te_window);
-  KEY("te_check", s->num.te_check);
-  KEY("early_exit", s->num.early_exit);
-  KEY("balance_tol", s->num.balance_tol);
-  KEY("speed_tol_m_s", s->num.speed_tol);
-  KEY("predict", s->num.predict);
-  KEY("front", s->num.front);
-  KEY("sleep_tol", s->num.sleep_tol);
-  KEY("kinetic_damping", s->num.kinetic_damping);
-  KEY("grip_ramp_steps", s->num.grip_ramp);
-  KEY("test", s->test);
-  KEY("shape", s->spec.shape);
-  KEY("disc_radius_m", s->spec.disc_radius);
-  KEY("clamp", s->clamps.clamp);
-  KEY("clamp_ring_inner_m", s->clamps.ring[0]);
-  KEY("clamp_ring_outer_m", s->clamps.ring[1]);
-  KEY("jaw_depth_m", s->spec.jaw_depth);
-  KEY("sphere_radius_m", s->bodies.sphere_radius);
-  KEY3("sphere_start", "_m", s->bodies.sphere_start);
-  KEY3("sphere_dir", "", s->bodies.sphere_dir);
-  KEY("sphere_travel_m", s->bodies.sphere_travel);
-  KEY("thickness_m", s->bodies.thickness);
-  KEY("plane", s->bodies.plane);
-  KEY3("plane_point", "_m", s->bodies.plane_point);
-  KEY3("plane_normal", "", s->bodies.plane_normal);
-  KEY("contact_stiffness_N_m", s->bodies.contact_k);
-  KEY("pedestal_radius_m", s->bodies.pedestal_radius);
-  KEY3("pedestal_top", "_m", s->bodies.pedestal_top);
-  KEY("pedestal_height_m", s->bodies.pedestal_height);
-  KEY("friction_mu", s->bodies.friction_mu);
-  n = LineAndPathKeys(s, key, n);
-#undef KEY3
-#undef KEY
+  for (PetscInt k = 0; SceneOptionValues(s, k, name, v, &nv); k++) {
+    if (OutputOnlyOption(name)) continue;
+    cap = SceneOptionCapacity(k);
+    if (!cap) {
+      KEY(name, v[0]);
+      continue;
+    }
+    PetscSNPrintf(nm, sizeof nm, "%s_count", name);
+    KEY(nm, nv);
+    for (PetscInt c = 0; c < cap; c++) {
+      PetscSNPrintf(nm, sizeof nm, "%s_%d", name, (int) c + 1);
+      KEY(nm, c < nv ? v[c] : 0.0);
+    }
+  }
   PetscCheckAbort(n <= MAX_KEYS, PETSC_COMM_SELF, PETSC_ERR_PLIB, "SceneKeys: %d keys, raise MAX_KEYS", (int) n);
   return n;
 }

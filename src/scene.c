@@ -1206,3 +1206,16 @@ void SceneOptionsJson(const Scene *s, FILE *fp, const char *indent)
   }
   fprintf(fp, "\n");
 }
+
+PetscInt SceneOptionCapacity(PetscInt k)
+{
+  PetscInt q = 0;
+  for (PetscInt e = 0; e < NOPTIONS; e++) {
+    const OptionDesc *o     = &Options[e];
+    const int         yarns = strncmp(o->name, "%s", 2) ? 1 : 2;
+    if (o->type == OPT_STRING) continue;
+    if (k < q + yarns) return (o->type == OPT_REALS || o->type == OPT_INTS) ? o->nmax : 0;
+    q += yarns;
+  }
+  return -1;
+}

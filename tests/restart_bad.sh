@@ -28,7 +28,7 @@ refuse not_hdf5 "-restart .*text.h5: not an HDF5 file" "${opts[@]}" -output_dir 
 refuse truncated "-restart .*truncated.h5: the HDF5 file cannot be opened: it is damaged or truncated" "${opts[@]}" -output_dir "$work/run" -restart "$work/truncated.h5"
 refuse not_a_checkpoint "-restart .*results.h5: not a fabric checkpoint" "${opts[@]}" -output_dir "$work/run" -restart "$work/results.h5"
 refuse other_grid "-restart .*checkpoint.h5: the checkpoint is of another grid: 49 x 12 crossings there .*, 49 x 14 here" "${opts[@]}" -width_mm 6 -output_dir "$work/run" -restart "$ck"
-refuse other_scene "-restart .*checkpoint.h5: the checkpoint is of another scene: warp_crimp = 0.08 there .*, 0.07 here" "${opts[@]}" -warp_crimp_pct 7 -output_dir "$work/run" -restart "$ck"
+refuse other_scene "-restart .*checkpoint.h5: the checkpoint is of another scene: warp_crimp_pct = 8 there .*, 7 here" "${opts[@]}" -warp_crimp_pct 7 -output_dir "$work/run" -restart "$ck"
 refuse other_program "-restart .*checkpoint.h5: the checkpoint is of another scene: load_steps = 6 there .*, 8 here" "${opts[@]}" -load_steps 8 -output_dir "$work/run" -restart "$ck"
 refuse other_integrator "-restart .*checkpoint.h5: the checkpoint is of another scene: integrator = damped there .*, paper here" "${opts[@]}" -integrator paper -output_dir "$work/run" -restart "$ck"
 # frames were written before the checkpoint: restarting into a directory without them is refused
