@@ -112,7 +112,7 @@ typedef struct { /* the scene's rigid bodies, in BodyKind order */
 } RigidBodies;
 
 typedef struct _p_Fabric *Fabric;
-struct _p_FabricIO; /* io.h */
+struct _p_FabricIO; /* frames.h */
 struct _p_Fabric {
   MPI_Comm            comm;
   PetscMPIInt         rank, size;

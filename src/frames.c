@@ -1,4 +1,4 @@
-/* io.c - the results a user opens in ParaView: DIR/fabric.h5 and DIR/fabric.xmf (layout in io.h).
+/* frames.c - the results a user opens in ParaView: DIR/fabric.h5 and DIR/fabric.xmf (layout in frames.h).
  *
  * Frames are written collectively through PETSc's HDF5 viewer: each rank writes its own patch
  * of the DMDA vectors in the natural (ny, nx, dof) layout, nothing is gathered on one rank, so

@@ -1,4 +1,4 @@
-/* output.c - everything the run writes: curve.csv, summary.json, progress, positions.
+/* report.c - everything the run writes: curve.csv, summary.json, progress, positions.
  *
  * Rank 0 writes the small text files; curve.csv gets one row per load step as the run
  * goes (flushed, so a long run can be watched). Nothing is created before the scene

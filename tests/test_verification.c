@@ -402,7 +402,7 @@ static PetscErrorCode BiasExtension(void)
    crossing's weight is carried: z = -m g / k_c, exact for every crossing (m: its mass), to
    1e-6 of the largest sink, and the last load step balances (MODEL.md 5.5).
    - plane_rest: a rigid plane (table);
-   - pedestal_rest: the top face of a 40 mm pedestal (kernels.h DiscContact).
+   - pedestal_rest: the top face of a 40 mm pedestal (bodies.h DiscContact).
    The support's reaction in curve.csv equals the net's weight (to 1e-6: no clamp; they differ
    by the sum of the residual forces, at most points x 1e-8 x the force scale). */
 static PetscErrorCode RestOnSupport(PetscBool pedestal)
