@@ -1,8 +1,9 @@
-/* comm.h - halo exchange and reductions: the only place that communicates (comm.c). */
+/* comm.h - halo exchange, reductions and broadcasts: the only place that communicates (comm.c). */
 #ifndef FABRIC_COMM_H
 #define FABRIC_COMM_H
 
 #include <petscdm.h>
+#include <stdint.h>
 
 /* refresh the ghost crossing points of Xl from X (a vector of the DMDA da) */
 PetscErrorCode HaloExchange(DM da, Vec X, Vec Xl);
@@ -10,5 +11,17 @@ PetscErrorCode GlobalMax(MPI_Comm comm, PetscReal *v, PetscInt n);
 PetscErrorCode GlobalSum(MPI_Comm comm, PetscReal *v, PetscInt n);
 /* exact, rank-independent sum of n local terms over all ranks (fixed point) */
 PetscErrorCode GlobalSumExact(MPI_Comm comm, const PetscReal *terms, PetscInt n, PetscReal *sum);
+/* integer sums over all ranks, in place: exact; the uint64 one mod 2^64 (checkpoint checksums) */
+PetscErrorCode GlobalSumInt(MPI_Comm comm, PetscInt *v, PetscInt n);
+PetscErrorCode GlobalSumUInt64(MPI_Comm comm, uint64_t *v, PetscInt n);
+
+/* this process's rank in comm and the number of ranks */
+PetscErrorCode CommRank(MPI_Comm comm, PetscMPIInt *rank);
+PetscErrorCode CommSize(MPI_Comm comm, PetscMPIInt *size);
+/* the rank-0-then-broadcast pattern: rank 0 has looked at something alone (a file, a directory,
+   the clock), every rank gets what it found, so that all ranks take the same decision */
+PetscErrorCode BroadcastFromRoot(MPI_Comm comm, void *buf, PetscInt count, MPI_Datatype type);
+/* every rank has got here (a file every rank has closed may be touched by rank 0) */
+PetscErrorCode Barrier(MPI_Comm comm);
 
 #endif

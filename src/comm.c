@@ -1,6 +1,7 @@
-/* comm.c - all communication: the halo exchange of ghost crossing points and the
- * reductions (balance test, stable step, front). Max-reductions are exact, so
- * decisions taken on them are the same on any number of ranks (MODEL.md 13).
+/* comm.c - all communication: the halo exchange of ghost crossing points, the reductions
+ * (balance test, stable step, front, counts, checkpoint checksums) and the broadcasts of what
+ * rank 0 found alone (files, directories, the clock). Max-reductions and integer sums are
+ * exact, so decisions taken on them are the same on any number of ranks (MODEL.md 13).
  */
 #include "comm.h"
 #include "events.h"
@@ -64,5 +65,56 @@ PetscErrorCode GlobalSumExact(MPI_Comm comm, const PetscReal *terms, PetscInt n,
   PetscCallMPI(MPI_Allreduce(&isum, &total, 1, MPI_LONG_LONG, MPI_SUM, comm));
   PetscCall(PetscLogEventEnd(EV_Reduce, 0, 0, 0, 0));
   *sum = (PetscReal) total * (scale / ldexp(1.0, EXACT_SUM_BITS));
+  PetscFunctionReturn(0);
+}
+
+/* Integer sums and the broadcasts below belong to set-up and output (counts, checksums, a status
+   rank 0 found): not timed as FabricReduce, which is the te steps' communication. */
+PetscErrorCode GlobalSumInt(MPI_Comm comm, PetscInt *v, PetscInt n)
+{
+  PetscFunctionBeginUser;
+  PetscCall(MPIU_Allreduce(MPI_IN_PLACE, v, (PetscMPIInt) n, MPIU_INT, MPI_SUM, comm));
+  PetscFunctionReturn(0);
+}
+
+/* unsigned sums wrap mod 2^64: exact in any order, so the same on any number of ranks */
+PetscErrorCode GlobalSumUInt64(MPI_Comm comm, uint64_t *v, PetscInt n)
+{
+  PetscMPIInt count;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMPIIntCast(n, &count));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, v, count, MPI_UINT64_T, MPI_SUM, comm));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CommRank(MPI_Comm comm, PetscMPIInt *rank)
+{
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, rank));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CommSize(MPI_Comm comm, PetscMPIInt *size)
+{
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(comm, size));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode BroadcastFromRoot(MPI_Comm comm, void *buf, PetscInt count, MPI_Datatype type)
+{
+  PetscMPIInt n;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMPIIntCast(count, &n));
+  PetscCallMPI(MPI_Bcast(buf, n, type, 0, comm));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode Barrier(MPI_Comm comm)
+{
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Barrier(comm));
   PetscFunctionReturn(0);
 }

@@ -129,7 +129,7 @@ static PetscErrorCode CheckLines(Fabric fab, const DMDALocalInfo *info)
           both[g * MAX_LINES + c] += on && OnLine(s, s->clamps.clamp_line[c], i, j);
       }
     }
-  PetscCall(MPIU_Allreduce(MPI_IN_PLACE, count, 2 * MAX_LINES + MAX_LINES * MAX_LINES, MPIU_INT, MPI_SUM, fab->comm));
+  PetscCall(GlobalSumInt(fab->comm, count, 2 * MAX_LINES + MAX_LINES * MAX_LINES));
   for (PetscInt c = 0; c < s->clamps.clamp_lines; c++)
     PetscCheck(count[c] > 0, fab->comm, PETSC_ERR_USER_INPUT,
                "-clamp_line_mm line %" PetscInt_FMT
@@ -354,7 +354,8 @@ static PetscErrorCode SetUpMasses(Fabric fab, const DMDALocalInfo *info_)
         wmax               = PetscMax(wmax, m * gmag);
         if (i == s->load.load_at[0] && j == s->load.load_at[1]) fab->grid.load_index = k;
       }
-    PetscCall(MPIU_Allreduce(&count, &fab->grid.points, 1, MPIU_INT, MPI_SUM, comm));
+    fab->grid.points = count;
+    PetscCall(GlobalSumInt(comm, &fab->grid.points, 1));
     PetscCall(GlobalMax(comm, &wmax, 1));
     /* the balance test's force scale never drops below a point's weight (or 1 uN) */
     fab->step.force_floor = PetscMax(wmax, 1e-6);
@@ -419,8 +420,8 @@ PetscErrorCode FabricCreate(MPI_Comm comm, Fabric *out)
   PetscCall(EventsRegister());
   PetscCall(PetscNew(&fab));
   fab->comm = comm;
-  PetscCallMPI(MPI_Comm_rank(comm, &fab->rank));
-  PetscCallMPI(MPI_Comm_size(comm, &fab->size));
+  PetscCall(CommRank(comm, &fab->rank));
+  PetscCall(CommSize(comm, &fab->size));
   s = &fab->s;
   PetscCall(SceneLoad(comm, s));
   PetscCall(CreateGrid(fab));

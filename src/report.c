@@ -122,7 +122,7 @@ static PetscErrorCode CheckRoom(Fabric fab)
       if (!stat(file, &st)) est[2] = 1.5 * (double) st.st_size / (double) io->frames;
     }
   }
-  PetscCallMPI(MPI_Bcast(est, 4, MPI_DOUBLE, 0, fab->comm));
+  PetscCall(BroadcastFromRoot(fab->comm, est, 4, MPI_DOUBLE));
   PetscCheck(est[0] >= est[1] + est[2] + 65536, fab->comm, PETSC_ERR_FILE_WRITE,
              "-output_dir %s: the disk is full: %.0f kB free, too little for the next %s (about %.0f kB)%s", dir,
              est[0] / 1024, est[1] > est[2] ? "checkpoint.h5" : "frame of fabric.h5", (est[1] + est[2] + 65536) / 1024,
@@ -156,8 +156,8 @@ PetscErrorCode OutputOpen(Fabric fab)
       if (fflush(fab->stats.curve_fp) || ferror(fab->stats.curve_fp)) status[0] = 2, status[1] = errno;
     }
   }
-  PetscCallMPI(MPI_Bcast(status, 2, MPI_INT, 0, fab->comm));
-  PetscCallMPI(MPI_Bcast(failed, sizeof failed, MPI_CHAR, 0, fab->comm));
+  PetscCall(BroadcastFromRoot(fab->comm, status, 2, MPI_INT));
+  PetscCall(BroadcastFromRoot(fab->comm, failed, (PetscInt) sizeof failed, MPI_CHAR));
   PetscCheck(status[0] != 1, fab->comm, PETSC_ERR_FILE_OPEN, "-output_dir %s: cannot create the directory %s (%s)", dir,
              failed, strerror(status[1]));
   PetscCheck(status[0] != 2, fab->comm, PETSC_ERR_FILE_WRITE, "-output_dir %s: cannot write %s/curve.csv (%s)", dir,
@@ -179,7 +179,7 @@ PetscErrorCode OutputCurveRow(Fabric fab, const CurveRow *r)
     WriteCurveRow(&fab->s, fab->stats.curve_fp, r);
     if (fflush(fab->stats.curve_fp) || ferror(fab->stats.curve_fp)) status[0] = 1, status[1] = errno;
   }
-  PetscCallMPI(MPI_Bcast(status, 2, MPI_INT, 0, fab->comm));
+  PetscCall(BroadcastFromRoot(fab->comm, status, 2, MPI_INT));
   PetscCheck(!status[0], fab->comm, PETSC_ERR_FILE_WRITE, "-output_dir %s: cannot write %s/curve.csv (%s)", dir, dir,
              strerror(status[1]));
   PetscCall(CheckRoom(fab));

@@ -11,6 +11,7 @@
  * %, cN/tex, mm) are converted here, once, to SI (SceneDerive).
  */
 #include "scene.h"
+#include "comm.h"
 
 #include <errno.h>
 #include <limits.h>
@@ -1121,11 +1122,11 @@ static PetscErrorCode CheckOutputPlaces(MPI_Comm comm, const SceneOutput *o)
   PetscFunctionBeginUser;
   PetscCall(PetscOptionsHasHelp(NULL, &help));
   if (help) PetscFunctionReturn(0); /* -help writes nothing */
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCall(CommRank(comm, &rank));
   if (!rank && o->output_dir[0]) ProbeDirectory("output_dir", o->output_dir, msg, sizeof msg);
   if (!rank && !msg[0] && o->positions_out[0])
     ProbeFile("positions_out", o->positions_out, o->output_dir, msg, sizeof msg);
-  PetscCallMPI(MPI_Bcast(msg, sizeof msg, MPI_CHAR, 0, comm));
+  PetscCall(BroadcastFromRoot(comm, msg, (PetscInt) sizeof msg, MPI_CHAR));
   PetscCheck(!msg[0], comm, PETSC_ERR_FILE_OPEN, "%s", msg);
   PetscFunctionReturn(0);
 }
