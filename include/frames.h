@@ -31,7 +31,7 @@ struct _p_FabricIO {
   PetscInt checkpoint_every;            /* DIR/checkpoint.h5 every K load steps (0: never) */
   char     restart[PETSC_MAX_PATH_LEN]; /* -restart FILE, "" for a fresh run */
   /* frames */
-  DM         da1; /* dof 1, the layout of fab->grid.da: scalar point fields */
+  DM         da1; /* dof 1, the layout of the grid's da: scalar point fields */
   PetscInt   frames, frames_cap;
   FrameInfo *frame;        /* every frame written so far (the same on all ranks) */
   PetscInt   te_load_step; /* load step of the te-frame counter */
@@ -41,15 +41,37 @@ struct _p_FabricIO {
 };
 typedef struct _p_FabricIO *FabricIO;
 
+/* what frames are taken of: parts of the fabric, lent by the driver (relax.c) */
+typedef struct {
+  MPI_Comm           comm;
+  const FabricGrid  *grid; /* layout (da), size (patch.nx, ny), rest positions X0, point kinds, patch */
+  Vec                X, V; /* positions, velocities */
+  Vec                Xl;   /* ghosted positions: work space of the point fields */
+  const SceneOutput *out;  /* output_dir, the scene's name */
+} FrameSource;
+
 /* frames.c */
-PetscErrorCode IOSetUp(Fabric fab);
-PetscErrorCode IODestroy(Fabric fab);
-PetscErrorCode FramesOpen(Fabric fab);
-PetscErrorCode FramesLoadStep(Fabric fab, const CurveRow *row);
-PetscErrorCode FramesTeStep(Fabric fab);
-PetscErrorCode IODescribe(Fabric fab, char *buf, size_t len);
-PetscErrorCode ComputePointFields(Fabric fab, Vec warp_tension, Vec weft_tension, Vec shear_deg);
-PetscErrorCode FramesWriteXdmf(Fabric fab);
-PetscErrorCode FramesAppend(Fabric fab, const FrameInfo *f);
+/* the output state of frames and checkpoints, from the scene's output options */
+PetscErrorCode IOSetUp(const SceneOutput *out, FabricIO *io);
+PetscErrorCode IODestroy(FabricIO *io);
+/* start of the run: a new fabric.h5 with frame `start` (the state the run starts from, te step 0),
+   or after a restart the frames written before the checkpoint */
+PetscErrorCode FramesOpen(FabricIO io, const FrameSource *src, const FrameInfo *start);
+/* end of a load step: a frame every -output_every load steps and at the last one. f: the load step as
+   curve.csv has it (test time, number, its te steps N'); with -output_te_every at time + N' te */
+PetscErrorCode FramesLoadStep(FabricIO io, const FrameSource *src, const FrameInfo *f, PetscReal te, PetscBool last);
+/* after a te step: a frame every -output_te_every te steps. load: the load step (test time, number,
+   te step 0); te_steps: the run's te steps so far */
+PetscErrorCode FramesTeStep(FabricIO io, const FrameSource *src, const FrameInfo *load, PetscInt64 te_steps,
+                            PetscReal te);
+/* the files of the run, for the closing message */
+PetscErrorCode IODescribe(FabricIO io, const char *output_dir, char *buf, size_t len);
+/* warp and weft tension and shear angle of each owned point (Xl: ghosted work vector of X) */
+PetscErrorCode ComputePointFields(const FabricGrid *g, Vec X, Vec Xl, Vec warp_tension, Vec weft_tension,
+                                  Vec shear_deg);
+/* rank 0 writes DIR/fabric.xmf, the index of io's frames of an nx x ny grid */
+PetscErrorCode FramesWriteXdmf(FabricIO io, MPI_Comm comm, const char *output_dir, PetscInt nx, PetscInt ny);
+/* one more frame in io's list (a restart's frames) */
+PetscErrorCode FramesAppend(FabricIO io, const FrameInfo *f);
 
 #endif

@@ -70,12 +70,11 @@ static PetscBool OutputOnlyOption(const char *name)
   return PETSC_FALSE;
 }
 
-static PetscInt SceneKeys(Fabric fab, SceneKey *key)
+static PetscInt SceneKeys(const Scene *s, SceneKey *key)
 {
-  const Scene *s = &fab->s;
-  PetscInt     n = 0, nv, cap;
-  char         name[64], nm[80];
-  PetscReal    v[4 * MAX_WAYPOINTS];
+  PetscInt  n = 0, nv, cap;
+  char      name[64], nm[80];
+  PetscReal v[4 * MAX_WAYPOINTS];
 
   KEY("grid_nx", s->spec.nx);
   KEY("grid_ny", s->spec.ny);
@@ -155,9 +154,8 @@ static uint64_t ArrayChecksum(const double *a, size_t n)
 
 /* a vector of the grid (dof values per point) in the natural order of its dataset (ny, nx, dof):
    each rank sums its owned entries; unsigned sums are exact mod 2^64 in any order */
-static PetscErrorCode GridChecksum(Fabric fab, Vec x, uint64_t *sum)
+static PetscErrorCode GridChecksum(MPI_Comm comm, const Patch *p, Vec x, uint64_t *sum)
 {
-  const Patch       *p = &fab->grid.patch;
   const PetscScalar *a;
   PetscInt           n, dof;
   uint64_t           local = 0;
@@ -173,7 +171,8 @@ static PetscErrorCode GridChecksum(Fabric fab, Vec x, uint64_t *sum)
       for (PetscInt d = 0; d < dof; d++) local += EntryHash(e + (uint64_t) d, a[q * dof + d]);
     }
   PetscCall(VecRestoreArrayRead(x, &a));
-  PetscCallMPI(MPI_Allreduce(&local, sum, 1, MPI_UINT64_T, MPI_SUM, fab->comm));
+  *sum = local;
+  PetscCall(GlobalSumUInt64(comm, sum, 1));
   PetscFunctionReturn(0);
 }
 
@@ -205,18 +204,18 @@ typedef struct {
   const char *root_flag; /* attribute that says it is there ("" = always) */
 } StateVec;
 
-static PetscInt StateVecs(Fabric fab, StateVec *sv)
+static PetscInt StateVecs(FabricState *st, StateVec *sv)
 {
   PetscInt n = 0;
-  sv[n++]    = (StateVec){"positions", &fab->state.X, ""};
-  sv[n++]    = (StateVec){"velocities", &fab->state.V, ""};
-  sv[n++]    = (StateVec){"positions_old", &fab->state.Xold, "has_positions_old"};
-  sv[n++]    = (StateVec){"velocities_old", &fab->state.Vold, "has_velocities_old"};
-  sv[n++]    = (StateVec){"converged_positions", &fab->state.Xconv, "has_converged_positions"};
-  sv[n++]    = (StateVec){"converged_positions_prev", &fab->state.Xconv_prev, "has_converged_positions_prev"};
-  sv[n++]    = (StateVec){"friction_anchors_sphere", &fab->state.anchor[0], "has_friction_anchors_sphere"};
-  sv[n++]    = (StateVec){"friction_anchors_plane", &fab->state.anchor[1], "has_friction_anchors_plane"};
-  sv[n++]    = (StateVec){"friction_anchors_pedestal", &fab->state.anchor[2], "has_friction_anchors_pedestal"};
+  sv[n++]    = (StateVec){"positions", &st->X, ""};
+  sv[n++]    = (StateVec){"velocities", &st->V, ""};
+  sv[n++]    = (StateVec){"positions_old", &st->Xold, "has_positions_old"};
+  sv[n++]    = (StateVec){"velocities_old", &st->Vold, "has_velocities_old"};
+  sv[n++]    = (StateVec){"converged_positions", &st->Xconv, "has_converged_positions"};
+  sv[n++]    = (StateVec){"converged_positions_prev", &st->Xconv_prev, "has_converged_positions_prev"};
+  sv[n++]    = (StateVec){"friction_anchors_sphere", &st->anchor[0], "has_friction_anchors_sphere"};
+  sv[n++]    = (StateVec){"friction_anchors_plane", &st->anchor[1], "has_friction_anchors_plane"};
+  sv[n++]    = (StateVec){"friction_anchors_pedestal", &st->anchor[2], "has_friction_anchors_pedestal"};
   return n;
 }
 
@@ -309,9 +308,8 @@ static void RelaxStateUnpack(const RelaxState *r, Fabric fab)
 }
 
 /* broken segments of the owned points as a dof-2 vector: [to i+1, to j+1] */
-static PetscErrorCode BrokenToVec(Fabric fab, Vec B)
+static PetscErrorCode BrokenToVec(const Patch *p, Vec B)
 {
-  const Patch *p = &fab->grid.patch;
   PetscScalar *b;
 
   PetscFunctionBeginUser;
@@ -326,34 +324,32 @@ static PetscErrorCode BrokenToVec(Fabric fab, Vec B)
   PetscFunctionReturn(0);
 }
 
-/* the ghosted broken flags from the owned ones: one global-to-local exchange */
-static PetscErrorCode BrokenFromVec(Fabric fab, Vec B)
+/* the ghosted broken flags from the owned ones (B, a vector of da_seg): one halo exchange */
+static PetscErrorCode BrokenFromVec(DM da_seg, Patch *p, Vec B)
 {
-  Patch             *p = &fab->grid.patch;
   Vec                Bl;
   const PetscScalar *b;
 
   PetscFunctionBeginUser;
-  PetscCall(DMGetLocalVector(fab->grid.da_seg, &Bl));
-  PetscCall(DMGlobalToLocalBegin(fab->grid.da_seg, B, INSERT_VALUES, Bl));
-  PetscCall(DMGlobalToLocalEnd(fab->grid.da_seg, B, INSERT_VALUES, Bl));
+  PetscCall(DMGetLocalVector(da_seg, &Bl));
+  PetscCall(HaloExchange(da_seg, B, Bl));
   PetscCall(VecGetArrayRead(Bl, &b));
   for (PetscInt k = 0; k < p->gxm * p->gym; k++) {
     p->broken_x[k] = b[2 * k] != 0;
     p->broken_y[k] = b[2 * k + 1] != 0;
   }
   PetscCall(VecRestoreArrayRead(Bl, &b));
-  PetscCall(DMRestoreLocalVector(fab->grid.da_seg, &Bl));
+  PetscCall(DMRestoreLocalVector(da_seg, &Bl));
   PetscFunctionReturn(0);
 }
 
 /* ------------------------------------------------------------------ writing */
 
 /* /state: the state vectors and the broken segments, each with its checksum */
-static PetscErrorCode WriteState(Fabric fab, PetscViewer v)
+static PetscErrorCode WriteState(MPI_Comm comm, const FabricGrid *g, FabricState *st, PetscViewer v)
 {
   StateVec sv[MAX_STATE];
-  PetscInt nsv = StateVecs(fab, sv);
+  PetscInt nsv = StateVecs(st, sv);
   char     path[128];
   uint64_t sum;
   Vec      B;
@@ -367,40 +363,41 @@ static PetscErrorCode WriteState(Fabric fab, PetscViewer v)
     if (!x) continue;
     PetscCall(PetscObjectSetName((PetscObject) x, sv[k].name));
     PetscCall(VecView(x, v));
-    PetscCall(GridChecksum(fab, x, &sum));
+    PetscCall(GridChecksum(comm, &g->patch, x, &sum));
     PetscCall(PetscSNPrintf(path, sizeof path, "/state/%s", sv[k].name));
     PetscCall(WriteChecksum(v, path, sum));
   }
-  PetscCall(DMGetGlobalVector(fab->grid.da_seg, &B));
-  PetscCall(BrokenToVec(fab, B));
+  PetscCall(DMGetGlobalVector(g->da_seg, &B));
+  PetscCall(BrokenToVec(&g->patch, B));
   PetscCall(PetscObjectSetName((PetscObject) B, "broken_segments"));
   PetscCall(VecView(B, v));
-  PetscCall(GridChecksum(fab, B, &sum));
+  PetscCall(GridChecksum(comm, &g->patch, B, &sum));
   PetscCall(WriteChecksum(v, "/state/broken_segments", sum));
-  PetscCall(DMRestoreGlobalVector(fab->grid.da_seg, &B));
+  PetscCall(DMRestoreGlobalVector(g->da_seg, &B));
   PetscCall(PetscViewerHDF5PopGroup(v));
-  PetscCall(PetscObjectSetName((PetscObject) fab->state.X, "positions"));
-  PetscCall(PetscObjectSetName((PetscObject) fab->state.V, NULL));
+  PetscCall(PetscObjectSetName((PetscObject) st->X, "positions"));
+  PetscCall(PetscObjectSetName((PetscObject) st->V, NULL));
   PetscFunctionReturn(0);
 }
 
 /* an array held by rank 0 alone (the curve rows, the frame list): one 1-D dataset in /history, with its checksum */
-static PetscErrorCode ViewRankZero(Fabric fab, PetscViewer v, const char *name, const PetscReal *a, PetscInt n)
+static PetscErrorCode ViewRankZero(MPI_Comm comm, PetscMPIInt rank, PetscViewer v, const char *name, const PetscReal *a,
+                                   PetscInt n)
 {
   Vec          w;
   PetscScalar *x;
-  uint64_t     sum = fab->rank == 0 ? ArrayChecksum(a, (size_t) n) : 0;
+  uint64_t     sum = rank == 0 ? ArrayChecksum(a, (size_t) n) : 0;
   char         path[128];
 
   PetscFunctionBeginUser;
-  PetscCall(VecCreateMPI(fab->comm, fab->rank == 0 ? n : 0, n, &w));
+  PetscCall(VecCreateMPI(comm, rank == 0 ? n : 0, n, &w));
   PetscCall(VecGetArray(w, &x));
-  if (fab->rank == 0) PetscCall(PetscArraycpy(x, a, n));
+  if (rank == 0) PetscCall(PetscArraycpy(x, a, n));
   PetscCall(VecRestoreArray(w, &x));
   PetscCall(PetscObjectSetName((PetscObject) w, name));
   PetscCall(VecView(w, v));
   PetscCall(VecDestroy(&w));
-  PetscCallMPI(MPI_Bcast(&sum, 1, MPI_UINT64_T, 0, fab->comm));
+  PetscCall(BroadcastFromRoot(comm, &sum, 1, MPI_UINT64_T));
   PetscCall(PetscSNPrintf(path, sizeof path, "/history/%s", name));
   PetscCall(WriteChecksum(v, path, sum));
   PetscFunctionReturn(0);
@@ -417,7 +414,7 @@ static PetscErrorCode WriteHistory(Fabric fab, PetscViewer v, PetscInt done)
   if (done) {
     PetscCall(PetscMalloc1(CURVE_COLS * done, &rows));
     for (PetscInt k = 0; k < done; k++) CurveRowPack(&fab->stats.curve[k], rows + CURVE_COLS * k);
-    PetscCall(ViewRankZero(fab, v, "curve", rows, CURVE_COLS * done));
+    PetscCall(ViewRankZero(fab->comm, fab->rank, v, "curve", rows, CURVE_COLS * done));
     PetscCall(PetscFree(rows));
   }
   if (io->frames) {
@@ -427,7 +424,7 @@ static PetscErrorCode WriteHistory(Fabric fab, PetscViewer v, PetscInt done)
       fr[3 * k + 1] = (PetscReal) io->frame[k].load_step;
       fr[3 * k + 2] = (PetscReal) io->frame[k].te_step;
     }
-    PetscCall(ViewRankZero(fab, v, "frames", fr, 3 * io->frames));
+    PetscCall(ViewRankZero(fab->comm, fab->rank, v, "frames", fr, 3 * io->frames));
     PetscCall(PetscFree(fr));
   }
   PetscCall(PetscViewerHDF5PopGroup(v));
@@ -435,17 +432,17 @@ static PetscErrorCode WriteHistory(Fabric fab, PetscViewer v, PetscInt done)
 }
 
 /* /scene: what the run computes with */
-static PetscErrorCode WriteScene(Fabric fab, PetscViewer v)
+static PetscErrorCode WriteScene(const Scene *s, PetscViewer v)
 {
   SceneKey key[MAX_KEYS];
-  PetscInt nkey = SceneKeys(fab, key);
+  PetscInt nkey = SceneKeys(s, key);
 
   PetscFunctionBeginUser;
   PetscCall(PetscViewerHDF5PushGroup(v, "/scene"));
   PetscCall(PetscViewerHDF5WriteGroup(v, NULL));
   for (PetscInt k = 0; k < nkey; k++)
     PetscCall(PetscViewerHDF5WriteAttribute(v, NULL, key[k].name, PETSC_REAL, &key[k].value));
-  PetscCall(PetscViewerHDF5WriteAttribute(v, NULL, "scene", PETSC_STRING, fab->s.out.name));
+  PetscCall(PetscViewerHDF5WriteAttribute(v, NULL, "scene", PETSC_STRING, s->out.name));
   PetscCall(PetscViewerHDF5PopGroup(v));
   PetscFunctionReturn(0);
 }
@@ -461,7 +458,7 @@ static PetscErrorCode WriteCounters(Fabric fab, PetscViewer v, PetscInt done)
   PetscReal time = TestTime(&fab->s, &fab->load), wall = fab->stats.wall;
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Bcast(&wall, 1, MPIU_REAL, 0, fab->comm)); /* an attribute has one value on all ranks */
+  PetscCall(BroadcastFromRoot(fab->comm, &wall, 1, MPIU_REAL)); /* an attribute has one value on all ranks */
   PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "fabric_checkpoint", PETSC_INT, &version));
   PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "load_step", PETSC_INT, &load_step));
   PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "time_s", PETSC_REAL, &time));
@@ -504,14 +501,13 @@ static PetscErrorCode WriteRelaxState(Fabric fab, PetscViewer v, const RelaxPoin
 
 /* every rank has closed tmp: rank 0 syncs it to disk and renames it into place (a kill before leaves the last
    checkpoint as it was) */
-static PetscErrorCode CommitFile(Fabric fab, const char *tmp, const char *file)
+static PetscErrorCode CommitFile(MPI_Comm comm, PetscMPIInt rank, const char *dir, const char *tmp, const char *file)
 {
-  const char *dir = fab->s.out.output_dir;
-  int         ok  = 1;
+  int ok = 1;
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Barrier(fab->comm));
-  if (fab->rank == 0) {
+  PetscCall(Barrier(comm));
+  if (rank == 0) {
     int fd = open(tmp, O_RDONLY);
     ok     = fd >= 0 && !fsync(fd);
     if (fd >= 0) close(fd);
@@ -522,8 +518,8 @@ static PetscErrorCode CommitFile(Fabric fab, const char *tmp, const char *file)
       close(fd);
     }
   }
-  PetscCallMPI(MPI_Bcast(&ok, 1, MPI_INT, 0, fab->comm));
-  PetscCheck(ok, fab->comm, PETSC_ERR_FILE_WRITE, "-output_dir %s: cannot write checkpoint.h5", dir);
+  PetscCall(BroadcastFromRoot(comm, &ok, 1, MPI_INT));
+  PetscCheck(ok, comm, PETSC_ERR_FILE_WRITE, "-output_dir %s: cannot write checkpoint.h5", dir);
   PetscFunctionReturn(0);
 }
 
@@ -544,13 +540,13 @@ static PetscErrorCode CheckpointWrite(Fabric fab, const RelaxPoint *at)
   PetscCall(PetscSNPrintf(file, sizeof file, "%s/checkpoint.h5", dir));
   PetscCall(PetscSNPrintf(tmp, sizeof tmp, "%s/.checkpoint.h5.tmp", dir));
   PetscCall(PetscViewerHDF5Open(fab->comm, tmp, FILE_MODE_WRITE, &v));
-  PetscCall(WriteState(fab, v));
+  PetscCall(WriteState(fab->comm, &fab->grid, &fab->state, v));
   PetscCall(WriteHistory(fab, v, done));
-  PetscCall(WriteScene(fab, v));
+  PetscCall(WriteScene(&fab->s, v));
   PetscCall(WriteCounters(fab, v, done));
   PetscCall(WriteRelaxState(fab, v, at));
   PetscCall(PetscViewerDestroy(&v));
-  PetscCall(CommitFile(fab, tmp, file));
+  PetscCall(CommitFile(fab->comm, fab->rank, dir, tmp, file));
   ckpt.last_te = fab->stats.te_steps;
   if (fab->rank == 0) PetscCall(PetscTime(&ckpt.last_wall));
   PetscCall(PetscLogEventEnd(EV_Output, 0, 0, 0, 0));
@@ -705,14 +701,13 @@ static int ReadChecksum(hid_t fid, const char *path, uint64_t *sum)
 #define REFUSE(...) (h->status = 1, snprintf(h->msg, sizeof h->msg, __VA_ARGS__), 0)
 
 /* the checkpoint's /scene group g against this run's scene and grid; 0 (and h->msg) if they differ */
-static int SameScene(Fabric fab, hid_t g, const char *file, Header *h)
+static int SameScene(const Scene *s, hid_t g, const char *file, Header *h)
 {
-  const Scene *s = &fab->s;
-  SceneKey     key[MAX_KEYS];
-  PetscInt     nkey = SceneKeys(fab, key);
-  double       there[MAX_KEYS];
-  char         name[PETSC_MAX_PATH_LEN] = "?";
-  hid_t        a;
+  SceneKey key[MAX_KEYS];
+  PetscInt nkey = SceneKeys(s, key);
+  double   there[MAX_KEYS];
+  char     name[PETSC_MAX_PATH_LEN] = "?";
+  hid_t    a;
 
   for (PetscInt k = 0; k < nkey; k++)
     if (!ReadAttr(g, key[k].name, H5T_NATIVE_DOUBLE, &there[k]))
@@ -741,7 +736,7 @@ static int SameScene(Fabric fab, hid_t g, const char *file, Header *h)
 }
 
 /* FILE is HDF5, a fabric checkpoint of this format, of this scene and grid; *fid: the open file */
-static int OpenCheckpoint(Fabric fab, const char *file, Header *h, hid_t *fid)
+static int OpenCheckpoint(const Scene *s, const char *file, Header *h, hid_t *fid)
 {
   int   version = 0, ok;
   hid_t g;
@@ -763,13 +758,13 @@ static int OpenCheckpoint(Fabric fab, const char *file, Header *h, hid_t *fid)
     return REFUSE("-restart %s: checkpoint format %d, this fabric reads format %d", file, version, CHECKPOINT_VERSION);
   if (H5Lexists(*fid, "/scene", H5P_DEFAULT) <= 0 || (g = H5Gopen2(*fid, "/scene", H5P_DEFAULT)) < 0)
     return REFUSE("-restart %s: damaged checkpoint: no /scene group", file);
-  ok = SameScene(fab, g, file, h);
+  ok = SameScene(s, g, file, h);
   H5Gclose(g);
   return ok;
 }
 
 /* the relaxation's state; within a load step, where it is must be a te step it continues from */
-static int ReadRelaxState(Fabric fab, hid_t g, const char *file, Header *h)
+static int ReadRelaxState(const Scene *s, hid_t g, const char *file, Header *h)
 {
   RelaxState *r = &h->relax;
   Attr        a[MAX_RELAX_ATTRS];
@@ -780,18 +775,18 @@ static int ReadRelaxState(Fabric fab, hid_t g, const char *file, Header *h)
       return REFUSE("-restart %s: damaged checkpoint: the relaxation's state (%s) is missing", file, a[k].name);
   if (r->within != 0 && r->within != 1)
     return REFUSE("-restart %s: damaged checkpoint: within_load_step = %ld", file, r->within);
-  if (r->within && (r->te_step < 1 || r->te_step >= fab->s.load.max_inner_steps || r->round < 0 || r->inner_steps < 0))
+  if (r->within && (r->te_step < 1 || r->te_step >= s->load.max_inner_steps || r->round < 0 || r->inner_steps < 0))
     return REFUSE(
         "-restart %s: damaged checkpoint: te step %ld of round %ld within a load step of at most %" PetscInt_FMT
         " te steps",
-        file, r->te_step, r->round, fab->s.load.max_inner_steps);
+        file, r->te_step, r->round, s->load.max_inner_steps);
   return 1;
 }
 
 /* the counters of the run: attributes of the root group g */
-static int ReadCounters(Fabric fab, hid_t g, const char *file, Header *h)
+static int ReadCounters(const Scene *s, hid_t g, const char *file, Header *h)
 {
-  const PetscInt K = fab->s.load.load_steps;
+  const PetscInt K = s->load.load_steps;
 
   if (!ReadAttr(g, "load_step", H5T_NATIVE_INT, &h->load_step) || !ReadAttr(g, "frames", H5T_NATIVE_INT, &h->frames) ||
       !ReadAttr(g, "converged", H5T_NATIVE_INT, &h->converged) ||
@@ -811,7 +806,7 @@ static int ReadCounters(Fabric fab, hid_t g, const char *file, Header *h)
   if (!ReadAttr(g, "kinetic_energy_J", H5T_NATIVE_DOUBLE, &h->ke_prev) ||
       !ReadAttr(g, "kinetic_resets", H5T_NATIVE_LLONG, &h->ke_resets))
     return REFUSE("-restart %s: damaged checkpoint: the kinetic damping state is missing", file);
-  if (!ReadRelaxState(fab, g, file, h)) return 0;
+  if (!ReadRelaxState(s, g, file, h)) return 0;
   /* at the end of load step 1..K, or within load step 1..K (load steps done: 0..K-1) */
   if (h->load_step < 1 - h->relax.within || h->load_step > K - h->relax.within || h->frames < 0 || h->te_steps < 0)
     return REFUSE("-restart %s: damaged checkpoint: load step %ld of %" PetscInt_FMT, file,
@@ -820,11 +815,10 @@ static int ReadCounters(Fabric fab, hid_t g, const char *file, Header *h)
 }
 
 /* the state vectors and the broken segments: there, of this grid, with their checksums (g: the root group) */
-static int CheckStateDatasets(Fabric fab, hid_t fid, hid_t g, const char *file, Header *h)
+static int CheckStateDatasets(const Scene *s, FabricState *st, hid_t fid, hid_t g, const char *file, Header *h)
 {
-  const Scene  *s = &fab->s;
   StateVec      sv[MAX_STATE];
-  PetscInt      nsv      = StateVecs(fab, sv);
+  PetscInt      nsv      = StateVecs(st, sv);
   const hsize_t dims3[3] = {(hsize_t) s->spec.ny, (hsize_t) s->spec.nx, 3},
                 dims2[3] = {(hsize_t) s->spec.ny, (hsize_t) s->spec.nx, 2};
   char path[128];
@@ -876,9 +870,9 @@ static PetscErrorCode ReadHeader(Fabric fab, const char *file, Header *h, double
   *rows = *frames = NULL;
   H5Eget_auto2(H5E_DEFAULT, &efunc, &edata);
   H5Eset_auto2(H5E_DEFAULT, NULL, NULL); /* failures become one message, not an HDF5 error stack */
-  if (OpenCheckpoint(fab, file, h, &fid)) {
+  if (OpenCheckpoint(&fab->s, file, h, &fid)) {
     g = H5Gopen2(fid, "/", H5P_DEFAULT);
-    if (ReadCounters(fab, g, file, h) && CheckStateDatasets(fab, fid, g, file, h)) {
+    if (ReadCounters(&fab->s, g, file, h) && CheckStateDatasets(&fab->s, &fab->state, fid, g, file, h)) {
       PetscCall(PetscMalloc1(CURVE_COLS * h->load_step, rows));
       PetscCall(PetscMalloc1(3 * h->frames, frames));
       snprintf(what, sizeof what, "%d load steps", h->load_step);
@@ -896,7 +890,7 @@ static PetscErrorCode ReadHeader(Fabric fab, const char *file, Header *h, double
 }
 
 /* Rank 0: does DIR/fabric.h5 hold the frames written before the checkpoint? */
-static void CheckFramesFile(Fabric fab, Header *h)
+static void CheckFramesFile(const Scene *s, const char *restart, Header *h)
 {
   char        file[PETSC_MAX_PATH_LEN], path[64];
   H5E_auto2_t efunc;
@@ -904,7 +898,7 @@ static void CheckFramesFile(Fabric fab, Header *h)
   hid_t       fid;
   int         nx = 0, ny = 0;
 
-  if (snprintf(file, sizeof file, "%s/fabric.h5", fab->s.out.output_dir) >= (int) sizeof file) file[0] = 0;
+  if (snprintf(file, sizeof file, "%s/fabric.h5", s->out.output_dir) >= (int) sizeof file) file[0] = 0;
   H5Eget_auto2(H5E_DEFAULT, &efunc, &edata);
   H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
   fid = H5Fis_hdf5(file) > 0 ? H5Fopen(file, H5F_ACC_RDONLY, H5P_DEFAULT) : -1;
@@ -914,16 +908,16 @@ static void CheckFramesFile(Fabric fab, Header *h)
         h->msg, sizeof h->msg,
         "-restart %s: %s, which holds the %d frames written before the checkpoint, is missing or cannot be opened "
         "(damaged); restart into the -output_dir of the checkpointed run, or with -output_every 0 -output_te_every 0",
-        fab->io->restart, file, h->frames);
+        restart, file, h->frames);
   } else {
     hid_t g = H5Gopen2(fid, "/", H5P_DEFAULT);
-    if (!ReadAttr(g, "nx", H5T_NATIVE_INT, &nx) || !ReadAttr(g, "ny", H5T_NATIVE_INT, &ny) || nx != fab->s.spec.nx ||
-        ny != fab->s.spec.ny) {
+    if (!ReadAttr(g, "nx", H5T_NATIVE_INT, &nx) || !ReadAttr(g, "ny", H5T_NATIVE_INT, &ny) || nx != s->spec.nx ||
+        ny != s->spec.ny) {
       h->status = 1;
       snprintf(h->msg, sizeof h->msg,
                "-restart %s: %s is not of this grid (%d x %d crossings, this run has %" PetscInt_FMT " x %" PetscInt_FMT
                ")",
-               fab->io->restart, file, nx, ny, fab->s.spec.nx, fab->s.spec.ny);
+               restart, file, nx, ny, s->spec.nx, s->spec.ny);
     }
     for (int k = 0; k < h->frames && !h->status; k++) {
       snprintf(path, sizeof path, "/frames/%06d", k);
@@ -932,7 +926,7 @@ static void CheckFramesFile(Fabric fab, Header *h)
         snprintf(
             h->msg, sizeof h->msg,
             "-restart %s: %s lacks frame %d of the %d written before the checkpoint: it is not the file of this run",
-            fab->io->restart, file, k, h->frames);
+            restart, file, k, h->frames);
       }
     }
     H5Gclose(g);
@@ -970,7 +964,7 @@ static PetscErrorCode LoadStateVectors(Fabric fab, const Header *h)
 {
   const char *file = fab->io->restart;
   StateVec    sv[MAX_STATE];
-  PetscInt    nsv = StateVecs(fab, sv);
+  PetscInt    nsv = StateVecs(&fab->state, sv);
   PetscViewer v;
   uint64_t    sum;
   Vec         B;
@@ -983,17 +977,17 @@ static PetscErrorCode LoadStateVectors(Fabric fab, const Header *h)
     if (!*sv[k].vec) PetscCall(VecDuplicate(fab->state.X, sv[k].vec));
     PetscCall(PetscObjectSetName((PetscObject) *sv[k].vec, sv[k].name));
     PetscCall(VecLoad(*sv[k].vec, v));
-    PetscCall(GridChecksum(fab, *sv[k].vec, &sum));
+    PetscCall(GridChecksum(fab->comm, &fab->grid.patch, *sv[k].vec, &sum));
     PetscCheck(sum == h->sum[k], fab->comm, PETSC_ERR_FILE_UNEXPECTED,
                "-restart %s: damaged checkpoint: the checksum of /state/%s does not match", file, sv[k].name);
   }
   PetscCall(DMGetGlobalVector(fab->grid.da_seg, &B));
   PetscCall(PetscObjectSetName((PetscObject) B, "broken_segments"));
   PetscCall(VecLoad(B, v));
-  PetscCall(GridChecksum(fab, B, &sum));
+  PetscCall(GridChecksum(fab->comm, &fab->grid.patch, B, &sum));
   PetscCheck(sum == h->sum[nsv], fab->comm, PETSC_ERR_FILE_UNEXPECTED,
              "-restart %s: damaged checkpoint: the checksum of /state/broken_segments does not match", file);
-  PetscCall(BrokenFromVec(fab, B));
+  PetscCall(BrokenFromVec(fab->grid.da_seg, &fab->grid.patch, B));
   PetscCall(DMRestoreGlobalVector(fab->grid.da_seg, &B));
   PetscCall(PetscViewerHDF5PopGroup(v));
   PetscCall(PetscViewerDestroy(&v));
@@ -1011,9 +1005,9 @@ static PetscErrorCode ReadHistory(Fabric fab, Header *h, double **rows, double *
   if (fab->rank == 0) {
     PetscCall(ReadHeader(fab, io->restart, h, rows, frames));
     if (!h->status && h->frames > 0 && fab->s.out.output_dir[0] && (io->output_every > 0 || io->output_te_every > 0))
-      CheckFramesFile(fab, h);
+      CheckFramesFile(&fab->s, io->restart, h);
   }
-  PetscCallMPI(MPI_Bcast(h, sizeof *h, MPI_BYTE, 0, fab->comm));
+  PetscCall(BroadcastFromRoot(fab->comm, h, (PetscInt) sizeof *h, MPI_BYTE));
   if (h->status) {
     PetscCall(PetscFree(*rows));
     PetscCall(PetscFree(*frames));
@@ -1023,8 +1017,8 @@ static PetscErrorCode ReadHistory(Fabric fab, Header *h, double **rows, double *
     PetscCall(PetscMalloc1(CURVE_COLS * h->load_step, rows));
     PetscCall(PetscMalloc1(3 * h->frames, frames));
   }
-  PetscCallMPI(MPI_Bcast(*rows, CURVE_COLS * h->load_step, MPI_DOUBLE, 0, fab->comm));
-  PetscCallMPI(MPI_Bcast(*frames, 3 * h->frames, MPI_DOUBLE, 0, fab->comm));
+  PetscCall(BroadcastFromRoot(fab->comm, *rows, CURVE_COLS * h->load_step, MPI_DOUBLE));
+  PetscCall(BroadcastFromRoot(fab->comm, *frames, 3 * h->frames, MPI_DOUBLE));
   PetscFunctionReturn(0);
 }
 
@@ -1050,7 +1044,7 @@ PetscErrorCode RestartLoad(Fabric fab)
   io->frames = 0;
   for (PetscInt k = 0; k < h.frames; k++) {
     FrameInfo f = {frames[3 * k], (PetscInt) frames[3 * k + 1], (PetscInt) frames[3 * k + 2]};
-    PetscCall(FramesAppend(fab, &f));
+    PetscCall(FramesAppend(io, &f));
   }
   io->restarted = PETSC_TRUE;
   fab->stats.wall_start -= h.wall; /* elapsed time and ETA count the run before the restart */

@@ -450,7 +450,7 @@ PetscErrorCode FabricCreate(MPI_Comm comm, Fabric *out)
   PetscCall(FrontSetUp(fab));
   fab->stats.converged = PETSC_TRUE;
   PetscCall(PetscCalloc1(s->load.load_steps, &fab->stats.curve));
-  PetscCall(IOSetUp(fab)); /* the output state of frames and checkpoints */
+  PetscCall(IOSetUp(&s->out, &fab->io)); /* the output state of frames and checkpoints */
   *out = fab;
   PetscFunctionReturn(0);
 }
@@ -462,7 +462,7 @@ PetscErrorCode FabricDestroy(Fabric *pfab)
   PetscFunctionBeginUser;
   if (!fab) PetscFunctionReturn(0);
   if (fab->stats.curve_fp) fclose(fab->stats.curve_fp);
-  PetscCall(IODestroy(fab));
+  PetscCall(IODestroy(&fab->io));
   PetscCall(PetscFree(fab->stats.curve));
   PetscCall(PetscFree(fab->step.ke_terms));
   PetscCall(PetscFree(fab->front.front_box));

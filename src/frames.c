@@ -12,6 +12,10 @@
  * step, at time_s + n te for the n-th te step of the load step; a load step's own frame is then
  * the one at its last te step, time_s + N' te, so that the times of the series increase.
  *
+ * The module never sees the Fabric: the driver lends what frames are taken of (FrameSource: the
+ * communicator, the grid, the state vectors, the output options) and says where the run is
+ * (FrameInfo: test time, load step, te step); FabricIO keeps the frame list and te-frame counter.
+ *
  * Point fields (not on the hot path: computed here, per frame, from the ghosted positions):
  *   warp tension at a point: the mean chord tension T(e) (MODEL.md 5.1) of its intact warp
  *   (x) segments, 0 if it has none; weft tension likewise with the y segments;
@@ -22,56 +26,53 @@
 #include "frames.h"
 #include "comm.h"
 #include "events.h"
-#include "load.h"
 
 #include <math.h>
 #include <petscviewerhdf5.h>
 #include <stdio.h>
 
-PetscErrorCode IOSetUp(Fabric fab)
+/* the output state of frames and checkpoints, from the scene's output options */
+PetscErrorCode IOSetUp(const SceneOutput *out, FabricIO *pio)
 {
-  const Scene *s = &fab->s;
-  FabricIO     io;
+  FabricIO io;
 
   PetscFunctionBeginUser;
   PetscCall(PetscNew(&io));
-  fab->io              = io;
-  io->output_every     = s->out.output_every;
-  io->output_te_every  = s->out.output_te_every;
-  io->checkpoint_every = s->out.checkpoint_every;
-  PetscCall(PetscStrncpy(io->restart, s->out.restart, sizeof io->restart));
+  io->output_every     = out->output_every;
+  io->output_te_every  = out->output_te_every;
+  io->checkpoint_every = out->checkpoint_every;
+  PetscCall(PetscStrncpy(io->restart, out->restart, sizeof io->restart));
   io->te_load_step = -1;
+  *pio             = io;
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode IODestroy(Fabric fab)
+PetscErrorCode IODestroy(FabricIO *pio)
 {
-  FabricIO io = fab->io;
+  FabricIO io = *pio;
 
   PetscFunctionBeginUser;
   if (!io) PetscFunctionReturn(0);
   PetscCall(DMDestroy(&io->da1));
   PetscCall(PetscFree(io->frame));
-  PetscCall(PetscFree(fab->io));
+  PetscCall(PetscFree(*pio));
   PetscFunctionReturn(0);
 }
 
-static PetscBool FramesOn(Fabric fab)
+static PetscBool FramesOn(FabricIO io, const char *output_dir)
 {
-  const FabricIO io = fab->io;
-  return (io && fab->s.out.output_dir[0] && (io->output_every > 0 || io->output_te_every > 0)) ? PETSC_TRUE
-                                                                                               : PETSC_FALSE;
+  return (io && output_dir[0] && (io->output_every > 0 || io->output_te_every > 0)) ? PETSC_TRUE : PETSC_FALSE;
 }
 
-PetscErrorCode ComputePointFields(Fabric fab, Vec warp_tension, Vec weft_tension, Vec shear_deg)
+PetscErrorCode ComputePointFields(const FabricGrid *g, Vec X, Vec Xl, Vec warp_tension, Vec weft_tension, Vec shear_deg)
 {
-  const Patch       *p = &fab->grid.patch;
+  const Patch       *p = &g->patch;
   const PetscScalar *x;
   PetscScalar       *tw, *tf, *sh;
 
   PetscFunctionBeginUser;
-  PetscCall(HaloExchange(fab->grid.da, fab->state.X, fab->state.Xl));
-  PetscCall(VecGetArrayRead(fab->state.Xl, &x));
+  PetscCall(HaloExchange(g->da, X, Xl));
+  PetscCall(VecGetArrayRead(Xl, &x));
   PetscCall(VecGetArray(warp_tension, &tw));
   PetscCall(VecGetArray(weft_tension, &tf));
   PetscCall(VecGetArray(shear_deg, &sh));
@@ -79,7 +80,7 @@ PetscErrorCode ComputePointFields(Fabric fab, Vec warp_tension, Vec weft_tension
   PetscCall(VecRestoreArray(shear_deg, &sh));
   PetscCall(VecRestoreArray(weft_tension, &tf));
   PetscCall(VecRestoreArray(warp_tension, &tw));
-  PetscCall(VecRestoreArrayRead(fab->state.Xl, &x));
+  PetscCall(VecRestoreArrayRead(Xl, &x));
   PetscFunctionReturn(0);
 }
 
@@ -94,44 +95,42 @@ static PetscErrorCode ViewAs(Vec v, const char *name, PetscViewer viewer)
 }
 
 /* a new fabric.h5: the grid (rest positions, point kinds) and what the file is */
-static PetscErrorCode CreateFile(Fabric fab, const char *file)
+static PetscErrorCode CreateFile(FabricIO io, const FrameSource *src, const char *file)
 {
-  FabricIO     io = fab->io;
-  const Patch *p  = &fab->grid.patch;
-  PetscViewer  v;
-  Vec          kind;
-  PetscScalar *a;
-  int          nx = (int) fab->s.spec.nx, ny = (int) fab->s.spec.ny, zero = 0;
+  const FabricGrid *g = src->grid;
+  const Patch      *p = &g->patch;
+  PetscViewer       v;
+  Vec               kind;
+  PetscScalar      *a;
+  int               nx = (int) p->nx, ny = (int) p->ny, zero = 0;
 
   PetscFunctionBeginUser;
-  if (!io->da1) PetscCall(DMDACreateCompatibleDMDA(fab->grid.da, 1, &io->da1));
+  if (!io->da1) PetscCall(DMDACreateCompatibleDMDA(g->da, 1, &io->da1));
   PetscCall(DMGetGlobalVector(io->da1, &kind));
   PetscCall(VecGetArray(kind, &a));
   for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
     for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
       const PetscInt q = (j - p->ys) * p->xm + (i - p->xs);
-      a[q]             = p->exists[(j - p->gys) * p->gxm + (i - p->gxs)] ? (PetscReal) fab->grid.kind[q] : -1.0;
+      a[q]             = p->exists[(j - p->gys) * p->gxm + (i - p->gxs)] ? (PetscReal) g->kind[q] : -1.0;
     }
   PetscCall(VecRestoreArray(kind, &a));
-  PetscCall(PetscViewerHDF5Open(fab->comm, file, FILE_MODE_WRITE, &v));
+  PetscCall(PetscViewerHDF5Open(src->comm, file, FILE_MODE_WRITE, &v));
   PetscCall(PetscViewerHDF5PushGroup(v, "/grid"));
-  PetscCall(ViewAs(fab->grid.X0, "rest_positions", v));
+  PetscCall(ViewAs(g->X0, "rest_positions", v));
   PetscCall(ViewAs(kind, "point_kind", v));
   PetscCall(PetscViewerHDF5PopGroup(v));
   PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "nx", PETSC_INT, &nx));
   PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "ny", PETSC_INT, &ny));
-  PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "scene", PETSC_STRING, fab->s.out.name));
+  PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "scene", PETSC_STRING, src->out->name));
   PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "frames", PETSC_INT, &zero));
   PetscCall(PetscViewerDestroy(&v));
   PetscCall(DMRestoreGlobalVector(io->da1, &kind));
-  PetscCall(PetscObjectSetName((PetscObject) fab->grid.X0, NULL));
+  PetscCall(PetscObjectSetName((PetscObject) g->X0, NULL));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FramesAppend(Fabric fab, const FrameInfo *f)
+PetscErrorCode FramesAppend(FabricIO io, const FrameInfo *f)
 {
-  FabricIO io = fab->io;
-
   PetscFunctionBeginUser;
   if (io->frames == io->frames_cap) {
     FrameInfo *grown;
@@ -147,33 +146,34 @@ PetscErrorCode FramesAppend(Fabric fab, const FrameInfo *f)
 
 /* write the current state as frame f; a frame of the same load step and te step as the last
    one replaces it (the te frame at a load step's last te step is also the load step's frame) */
-static PetscErrorCode WriteFrame(Fabric fab, const FrameInfo *f)
+static PetscErrorCode WriteFrame(FabricIO io, const FrameSource *src, const FrameInfo *f)
 {
-  FabricIO    io = fab->io;
-  PetscViewer v;
-  Vec         disp, tw, tf, sh;
-  char        file[PETSC_MAX_PATH_LEN], group[64];
-  PetscInt    index = io->frames;
-  int         count, load_step = (int) f->load_step, te_step = (int) f->te_step;
+  const FabricGrid *g   = src->grid;
+  const char       *dir = src->out->output_dir;
+  PetscViewer       v;
+  Vec               disp, tw, tf, sh;
+  char              file[PETSC_MAX_PATH_LEN], group[64];
+  PetscInt          index = io->frames;
+  int               count, load_step = (int) f->load_step, te_step = (int) f->te_step;
 
   PetscFunctionBeginUser;
   if (io->frames && io->frame[io->frames - 1].load_step == f->load_step &&
       io->frame[io->frames - 1].te_step == f->te_step)
     index = io->frames - 1;
   PetscCall(PetscLogEventBegin(EV_Output, 0, 0, 0, 0));
-  PetscCall(DMGetGlobalVector(fab->grid.da, &disp));
+  PetscCall(DMGetGlobalVector(g->da, &disp));
   PetscCall(DMGetGlobalVector(io->da1, &tw));
   PetscCall(DMGetGlobalVector(io->da1, &tf));
   PetscCall(DMGetGlobalVector(io->da1, &sh));
-  PetscCall(VecWAXPY(disp, -1.0, fab->grid.X0, fab->state.X));
-  PetscCall(ComputePointFields(fab, tw, tf, sh));
+  PetscCall(VecWAXPY(disp, -1.0, g->X0, src->X));
+  PetscCall(ComputePointFields(g, src->X, src->Xl, tw, tf, sh));
 
-  PetscCall(PetscSNPrintf(file, sizeof file, "%s/fabric.h5", fab->s.out.output_dir));
+  PetscCall(PetscSNPrintf(file, sizeof file, "%s/fabric.h5", dir));
   PetscCall(PetscSNPrintf(group, sizeof group, "/frames/%06" PetscInt_FMT, index));
-  PetscCall(PetscViewerHDF5Open(fab->comm, file, FILE_MODE_APPEND, &v));
+  PetscCall(PetscViewerHDF5Open(src->comm, file, FILE_MODE_APPEND, &v));
   PetscCall(PetscViewerHDF5PushGroup(v, group));
-  PetscCall(ViewAs(fab->state.X, "positions", v));
-  PetscCall(ViewAs(fab->state.V, "velocities", v));
+  PetscCall(ViewAs(src->X, "positions", v));
+  PetscCall(ViewAs(src->V, "velocities", v));
   PetscCall(ViewAs(disp, "displacement", v));
   PetscCall(ViewAs(tw, "warp_tension", v));
   PetscCall(ViewAs(tf, "weft_tension", v));
@@ -189,12 +189,12 @@ static PetscErrorCode WriteFrame(Fabric fab, const FrameInfo *f)
   PetscCall(DMRestoreGlobalVector(io->da1, &sh));
   PetscCall(DMRestoreGlobalVector(io->da1, &tf));
   PetscCall(DMRestoreGlobalVector(io->da1, &tw));
-  PetscCall(DMRestoreGlobalVector(fab->grid.da, &disp));
-  PetscCall(PetscObjectSetName((PetscObject) fab->state.V, NULL));
-  PetscCall(PetscObjectSetName((PetscObject) fab->state.X, "positions"));
+  PetscCall(DMRestoreGlobalVector(g->da, &disp));
+  PetscCall(PetscObjectSetName((PetscObject) src->V, NULL));
+  PetscCall(PetscObjectSetName((PetscObject) src->X, "positions"));
   io->frames = index;
-  PetscCall(FramesAppend(fab, f));
-  PetscCall(FramesWriteXdmf(fab));
+  PetscCall(FramesAppend(io, f));
+  PetscCall(FramesWriteXdmf(io, src->comm, dir, g->patch.nx, g->patch.ny));
   PetscCall(PetscLogEventEnd(EV_Output, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
@@ -202,12 +202,15 @@ static PetscErrorCode WriteFrame(Fabric fab, const FrameInfo *f)
 /* After a restart: drop the frames the interrupted run wrote after its checkpoint (they are
    written again) and count the frames before it that the file holds. Rank 0 does it alone,
    through serial HDF5 (metadata only), before the ranks open the file together again. */
-static PetscErrorCode DropFramesFrom(Fabric fab, const char *file, PetscInt first, PetscInt *kept)
+static PetscErrorCode DropFramesFrom(MPI_Comm comm, const char *restart, const char *file, PetscInt first,
+                                     PetscInt *kept)
 {
-  int status[2] = {0, 0}; /* frames kept, failed */
+  int         status[2] = {0, 0}; /* frames kept, failed */
+  PetscMPIInt rank;
 
   PetscFunctionBeginUser;
-  if (fab->rank == 0) {
+  PetscCall(CommRank(comm, &rank));
+  if (rank == 0) {
     H5E_auto2_t efunc;
     void       *edata;
     hid_t       fid, g;
@@ -250,81 +253,76 @@ static PetscErrorCode DropFramesFrom(Fabric fab, const char *file, PetscInt firs
     }
     H5Eset_auto2(H5E_DEFAULT, efunc, edata);
   }
-  PetscCallMPI(MPI_Bcast(status, 2, MPI_INT, 0, fab->comm));
-  PetscCheck(!status[1], fab->comm, PETSC_ERR_FILE_WRITE,
-             "-restart %s: cannot remove the frames written after the checkpoint from %s", fab->io->restart, file);
+  PetscCall(BroadcastFromRoot(comm, status, 2, MPI_INT));
+  PetscCheck(!status[1], comm, PETSC_ERR_FILE_WRITE,
+             "-restart %s: cannot remove the frames written after the checkpoint from %s", restart, file);
   *kept = status[0];
   PetscFunctionReturn(0);
 }
 
 /* Start of the run: a new fabric.h5 with the state at the start as frame 0, or, after a
    restart, the frames written before the checkpoint. */
-PetscErrorCode FramesOpen(Fabric fab)
+PetscErrorCode FramesOpen(FabricIO io, const FrameSource *src, const FrameInfo *start)
 {
-  FabricIO io = fab->io;
-  char     file[PETSC_MAX_PATH_LEN];
+  const char *dir = src->out->output_dir;
+  char        file[PETSC_MAX_PATH_LEN];
 
   PetscFunctionBeginUser;
-  if (!FramesOn(fab)) PetscFunctionReturn(0);
+  if (!FramesOn(io, dir)) PetscFunctionReturn(0);
   PetscCall(PetscLogEventBegin(EV_Output, 0, 0, 0, 0));
-  PetscCall(PetscSNPrintf(file, sizeof file, "%s/fabric.h5", fab->s.out.output_dir));
-  if (!io->da1) PetscCall(DMDACreateCompatibleDMDA(fab->grid.da, 1, &io->da1));
+  PetscCall(PetscSNPrintf(file, sizeof file, "%s/fabric.h5", dir));
+  if (!io->da1) PetscCall(DMDACreateCompatibleDMDA(src->grid->da, 1, &io->da1));
   if (io->restarted && io->frames > 0) {
     PetscInt kept;
-    PetscCall(DropFramesFrom(fab, file, io->frames, &kept));
-    PetscCheck(kept == io->frames, fab->comm, PETSC_ERR_FILE_UNEXPECTED,
+    PetscCall(DropFramesFrom(src->comm, io->restart, file, io->frames, &kept));
+    PetscCheck(kept == io->frames, src->comm, PETSC_ERR_FILE_UNEXPECTED,
                "-restart %s: %s holds %" PetscInt_FMT " of the %" PetscInt_FMT
                " frames written before the checkpoint: it is not the file of this run",
                io->restart, file, kept, io->frames);
-    PetscCall(FramesWriteXdmf(fab));
+    PetscCall(FramesWriteXdmf(io, src->comm, dir, src->grid->patch.nx, src->grid->patch.ny));
   } else {
-    FrameInfo f;
-    f.time      = TestTime(&fab->s, &fab->load);
-    f.load_step = fab->load.load_step;
-    f.te_step   = 0;
-    io->frames  = 0;
-    PetscCall(CreateFile(fab, file));
-    PetscCall(WriteFrame(fab, &f));
+    io->frames = 0;
+    PetscCall(CreateFile(io, src, file));
+    PetscCall(WriteFrame(io, src, start));
   }
   PetscCall(PetscLogEventEnd(EV_Output, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
 
-/* End of a load step: a frame every -output_every load steps and at the last one */
-PetscErrorCode FramesLoadStep(Fabric fab, const CurveRow *row)
+/* End of a load step (f: as curve.csv has it): a frame every -output_every load steps and at the last one; with
+   te frames, the one of its last te step */
+PetscErrorCode FramesLoadStep(FabricIO io, const FrameSource *src, const FrameInfo *f, PetscReal te, PetscBool last)
 {
-  FabricIO  io = fab->io;
-  FrameInfo f;
+  FrameInfo at = *f;
 
   PetscFunctionBeginUser;
-  if (!FramesOn(fab) || !io->output_every) PetscFunctionReturn(0);
-  if (row->load_step % io->output_every && row->load_step != fab->s.load.load_steps) PetscFunctionReturn(0);
-  f.load_step = row->load_step;
-  f.te_step   = row->inner_steps;
-  f.time      = row->time + (io->output_te_every ? row->inner_steps * fab->step.te : 0.0);
-  PetscCall(WriteFrame(fab, &f));
+  if (!FramesOn(io, src->out->output_dir) || !io->output_every) PetscFunctionReturn(0);
+  if (f->load_step % io->output_every && !last) PetscFunctionReturn(0);
+  at.time = f->time + (io->output_te_every ? f->te_step * te : 0.0);
+  PetscCall(WriteFrame(io, src, &at));
   PetscFunctionReturn(0);
 }
 
-/* After each te step (called by TimeStep): a frame every -output_te_every te steps */
-PetscErrorCode FramesTeStep(Fabric fab)
+/* After each te step (RelaxLoadStep; load: the load step, te_steps: the run's te steps so far): a frame every
+   -output_te_every te steps of the load step */
+PetscErrorCode FramesTeStep(FabricIO io, const FrameSource *src, const FrameInfo *load, PetscInt64 te_steps,
+                            PetscReal te)
 {
-  FabricIO  io = fab->io;
   FrameInfo f;
   PetscInt  n;
 
   PetscFunctionBeginUser;
-  if (!io || !io->output_te_every || !FramesOn(fab)) PetscFunctionReturn(0);
-  if (fab->load.load_step != io->te_load_step) { /* the first te step of a load step */
-    io->te_load_step = fab->load.load_step;
-    io->te_base      = fab->stats.te_steps - 1;
+  if (!io || !io->output_te_every || !FramesOn(io, src->out->output_dir)) PetscFunctionReturn(0);
+  if (load->load_step != io->te_load_step) { /* the first te step of a load step */
+    io->te_load_step = load->load_step;
+    io->te_base      = te_steps - 1;
   }
-  n = (PetscInt) (fab->stats.te_steps - io->te_base);
+  n = (PetscInt) (te_steps - io->te_base);
   if (n % io->output_te_every) PetscFunctionReturn(0);
-  f.load_step = fab->load.load_step;
+  f.load_step = load->load_step;
   f.te_step   = n;
-  f.time      = TestTime(&fab->s, &fab->load) + n * fab->step.te;
-  PetscCall(WriteFrame(fab, &f));
+  f.time      = load->time + n * te;
+  PetscCall(WriteFrame(io, src, &f));
   PetscFunctionReturn(0);
 }
 
@@ -347,7 +345,7 @@ static void XdmfItem(FILE *fp, const char *indent, PetscInt nx, PetscInt ny, int
 }
 
 /* Rank 0 writes the XDMF index of the frames aside, then renames it into place. */
-PetscErrorCode FramesWriteXdmf(Fabric fab)
+PetscErrorCode FramesWriteXdmf(FabricIO io, MPI_Comm comm, const char *dir, PetscInt nx, PetscInt ny)
 {
   static const struct {
     const char *name, *type;
@@ -356,16 +354,16 @@ PetscErrorCode FramesWriteXdmf(Fabric fab)
       {"velocities", "Vector", 3},   {"displacement", "Vector", 3},    {"warp_tension", "Scalar", 1},
       {"weft_tension", "Scalar", 1}, {"shear_angle_deg", "Scalar", 1},
   };
-  FabricIO       io = fab->io;
-  const PetscInt nx = fab->s.spec.nx, ny = fab->s.spec.ny;
-  int            ok = 1;
+  int         ok = 1;
+  PetscMPIInt rank;
 
   PetscFunctionBeginUser;
-  if (fab->rank == 0) {
+  PetscCall(CommRank(comm, &rank));
+  if (rank == 0) {
     char  file[PETSC_MAX_PATH_LEN], tmp[PETSC_MAX_PATH_LEN], path[128];
     FILE *fp;
-    PetscCall(PetscSNPrintf(file, sizeof file, "%s/fabric.xmf", fab->s.out.output_dir));
-    PetscCall(PetscSNPrintf(tmp, sizeof tmp, "%s/.fabric.xmf.tmp", fab->s.out.output_dir));
+    PetscCall(PetscSNPrintf(file, sizeof file, "%s/fabric.xmf", dir));
+    PetscCall(PetscSNPrintf(tmp, sizeof tmp, "%s/.fabric.xmf.tmp", dir));
     fp = fopen(tmp, "w");
     if (fp) {
       fprintf(fp,
@@ -404,20 +402,19 @@ PetscErrorCode FramesWriteXdmf(Fabric fab)
     } else
       ok = 0;
   }
-  PetscCallMPI(MPI_Bcast(&ok, 1, MPI_INT, 0, fab->comm));
-  PetscCheck(ok, fab->comm, PETSC_ERR_FILE_WRITE, "-output_dir %s: cannot write fabric.xmf", fab->s.out.output_dir);
+  PetscCall(BroadcastFromRoot(comm, &ok, 1, MPI_INT));
+  PetscCheck(ok, comm, PETSC_ERR_FILE_WRITE, "-output_dir %s: cannot write fabric.xmf", dir);
   PetscFunctionReturn(0);
 }
 
 /* the files of the run, for the closing message */
-PetscErrorCode IODescribe(Fabric fab, char *buf, size_t len)
+PetscErrorCode IODescribe(FabricIO io, const char *output_dir, char *buf, size_t len)
 {
-  FabricIO io = fab->io;
-  size_t   n;
+  size_t n;
 
   PetscFunctionBeginUser;
   PetscCall(PetscSNPrintf(buf, len, "curve.csv, summary.json"));
-  if (FramesOn(fab)) {
+  if (FramesOn(io, output_dir)) {
     PetscCall(PetscStrlen(buf, &n));
     PetscCall(PetscSNPrintf(buf + n, len - n, ", fabric.h5 and fabric.xmf (%" PetscInt_FMT " frames)", io->frames));
   }

@@ -137,7 +137,7 @@ static PetscErrorCode Run(int argc, char **argv)
                           fab->stats.converged ? "every load step balanced"
                                                : "some load steps did NOT balance (see curve.csv residual)"));
     char files[256];
-    PetscCall(IODescribe(fab, files, sizeof files));
+    PetscCall(IODescribe(fab->io, fab->s.out.output_dir, files, sizeof files));
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fabric: results in %s/ (%s)\n", fab->s.out.output_dir, files));
   }
   PetscCall(FabricDestroy(&fab));

@@ -37,6 +37,31 @@ static PetscErrorCode CheckBreaks(Fabric fab, PetscReal *broke)
   PetscFunctionReturn(0);
 }
 
+/* what frames are taken of (frames.h): the grid, the state, where the files go */
+static FrameSource FramesOf(Fabric fab)
+{
+  const FrameSource src = {fab->comm, &fab->grid, fab->state.X, fab->state.V, fab->state.Xl, &fab->s.out};
+  return src;
+}
+
+/* the current load step for its frames: its test time and number, at te step 0 */
+static FrameInfo LoadStepFrame(Fabric fab)
+{
+  const FrameInfo f = {TestTime(&fab->s, &fab->load), fab->load.load_step, 0};
+  return f;
+}
+
+/* -output_te_every: a frame after this te step, if due */
+static PetscErrorCode TeStepFrame(Fabric fab)
+{
+  const FrameSource src  = FramesOf(fab);
+  const FrameInfo   load = LoadStepFrame(fab);
+
+  PetscFunctionBeginUser;
+  PetscCall(FramesTeStep(fab->io, &src, &load, fab->stats.te_steps, fab->step.te));
+  PetscFunctionReturn(0);
+}
+
 /* Load step k of K: move the grips (at once, or start their ramp), predict, take the stable step. */
 PetscErrorCode ApplyLoadStep(Fabric fab, PetscInt k)
 {
@@ -99,7 +124,7 @@ PetscErrorCode RelaxLoadStep(Fabric fab, CurveRow *row)
     for (n = at.te_step + 1; n <= s->load.max_inner_steps; n++) {
       PetscCall(RampGrips(fab));
       PetscCall(TimeStep(fab, &st));
-      if (fab->io) PetscCall(FramesTeStep(fab)); /* -output_te_every */
+      if (fab->io) PetscCall(TeStepFrame(fab)); /* -output_te_every */
       if (s->num.early_exit && st.balanced) break;
       if (n < s->load.max_inner_steps) { /* the load step goes on: a checkpoint within it, if due or signalled */
         const RelaxPoint here = {round, n, row->inner_steps};
@@ -150,7 +175,9 @@ static PetscErrorCode KeepConverged(Fabric fab)
 
 PetscErrorCode FabricRun(Fabric fab)
 {
-  const Scene *s = &fab->s;
+  const Scene      *s   = &fab->s;
+  const FrameSource src = FramesOf(fab); /* the state vectors are the fabric's for the whole run */
+  FrameInfo         f;
 
   PetscFunctionBeginUser;
   PetscCall(PetscTime(&fab->stats.wall_start));
@@ -158,7 +185,8 @@ PetscErrorCode FabricRun(Fabric fab)
   fab->step.bound_fresh = PETSC_TRUE; /* taken at the state the run starts from */
   PetscCall(RestartLoad(fab));        /* -restart: state, counters and curve rows of the checkpoint */
   PetscCall(OutputOpen(fab));
-  PetscCall(FramesOpen(fab)); /* fabric.h5 and fabric.xmf */
+  f = LoadStepFrame(fab);                   /* the state the run starts from */
+  PetscCall(FramesOpen(fab->io, &src, &f)); /* fabric.h5 and fabric.xmf */
   for (PetscInt k = fab->load.load_step + 1; k <= s->load.load_steps; k++) {
     CurveRow *row = &fab->stats.curve[k - 1];
     if (!CheckpointWithinLoadStep(fab, k)) PetscCall(ApplyLoadStep(fab, k)); /* else restarted within it */
@@ -169,7 +197,8 @@ PetscErrorCode FabricRun(Fabric fab)
     PetscCall(PetscTime(&fab->stats.wall));
     fab->stats.wall -= fab->stats.wall_start;
     PetscCall(OutputCurveRow(fab, row));
-    PetscCall(FramesLoadStep(fab, row));
+    f = (FrameInfo){row->time, row->load_step, row->inner_steps};
+    PetscCall(FramesLoadStep(fab->io, &src, &f, fab->step.te, row->load_step == s->load.load_steps));
     PetscCall(OutputProgress(fab, row));
     PetscCall(CheckpointLoadStep(fab));
   }
