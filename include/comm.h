@@ -7,6 +7,10 @@
 
 /* refresh the ghost crossing points of Xl from X (a vector of the DMDA da) */
 PetscErrorCode HaloExchange(DM da, Vec X, Vec Xl);
+/* the owned points of the ghosted Xl back into X (the reverse of HaloExchange, ghosts dropped) */
+PetscErrorCode OwnedFromLocal(DM da, Vec Xl, Vec X);
+/* X (a vector of the DMDA da) in the natural order of the grid, i fastest, into N (DMDACreateNaturalVector) */
+PetscErrorCode NaturalOrder(DM da, Vec X, Vec N);
 PetscErrorCode GlobalMax(MPI_Comm comm, PetscReal *v, PetscInt n);
 PetscErrorCode GlobalSum(MPI_Comm comm, PetscReal *v, PetscInt n);
 /* exact, rank-independent sum of n local terms over all ranks (fixed point) */

@@ -1,4 +1,5 @@
-/* comm.c - all communication: the halo exchange of ghost crossing points, the reductions
+/* comm.c - all communication: the halo exchange of ghost crossing points (and its reverse, and
+ * the scatter of a grid vector into natural order), the reductions
  * (balance test, stable step, front, counts, checkpoint checksums) and the broadcasts of what
  * rank 0 found alone (files, directories, the clock). Max-reductions and integer sums are
  * exact, so decisions taken on them are the same on any number of ranks (MODEL.md 13).
@@ -7,8 +8,9 @@
 #include "events.h"
 
 #include <math.h>
+#include <petscdmda.h>
 
-/* one halo exchange per te step: refresh the ghost crossing points of Xl from X */
+/* refresh the ghost crossing points of Xl from X (one per te step on the hot path) */
 PetscErrorCode HaloExchange(DM da, Vec X, Vec Xl)
 {
   PetscFunctionBeginUser;
@@ -16,6 +18,22 @@ PetscErrorCode HaloExchange(DM da, Vec X, Vec Xl)
   PetscCall(DMGlobalToLocalBegin(da, X, INSERT_VALUES, Xl));
   PetscCall(DMGlobalToLocalEnd(da, X, INSERT_VALUES, Xl));
   PetscCall(PetscLogEventEnd(EV_Halo, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode OwnedFromLocal(DM da, Vec Xl, Vec X)
+{
+  PetscFunctionBeginUser;
+  PetscCall(DMLocalToGlobalBegin(da, Xl, INSERT_VALUES, X));
+  PetscCall(DMLocalToGlobalEnd(da, Xl, INSERT_VALUES, X));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode NaturalOrder(DM da, Vec X, Vec N)
+{
+  PetscFunctionBeginUser;
+  PetscCall(DMDAGlobalToNaturalBegin(da, X, INSERT_VALUES, N));
+  PetscCall(DMDAGlobalToNaturalEnd(da, X, INSERT_VALUES, N));
   PetscFunctionReturn(0);
 }
 

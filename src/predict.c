@@ -37,8 +37,7 @@ PetscErrorCode GraphDistance(MPI_Comm comm, DM da, const Patch *p, const char *s
   PetscCall(DMDAVecRestoreArray(da1, D, &d));
   do {
     changed = 0;
-    PetscCall(DMGlobalToLocalBegin(da1, D, INSERT_VALUES, Dl));
-    PetscCall(DMGlobalToLocalEnd(da1, D, INSERT_VALUES, Dl));
+    PetscCall(HaloExchange(da1, D, Dl));
     PetscCall(DMDAVecGetArray(da1, Dl, &d));
     for (int pass = 0; pass < 2; pass++) {
       const int step = pass == 0 ? 1 : -1; /* forward sweep looks left/down, backward right/up */
@@ -61,8 +60,7 @@ PetscErrorCode GraphDistance(MPI_Comm comm, DM da, const Patch *p, const char *s
       }
     }
     PetscCall(DMDAVecRestoreArray(da1, Dl, &d));
-    PetscCall(DMLocalToGlobalBegin(da1, Dl, INSERT_VALUES, D));
-    PetscCall(DMLocalToGlobalEnd(da1, Dl, INSERT_VALUES, D));
+    PetscCall(OwnedFromLocal(da1, Dl, D));
     PetscCall(GlobalMax(comm, &changed, 1));
   } while (changed > 0);
   PetscCall(DMDAVecGetArray(da1, D, &d));

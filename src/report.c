@@ -301,8 +301,7 @@ PetscErrorCode OutputPositions(Fabric fab, const char *file)
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(EV_Output, 0, 0, 0, 0));
   PetscCall(DMDACreateNaturalVector(fab->grid.da, &N));
-  PetscCall(DMDAGlobalToNaturalBegin(fab->grid.da, fab->state.X, INSERT_VALUES, N));
-  PetscCall(DMDAGlobalToNaturalEnd(fab->grid.da, fab->state.X, INSERT_VALUES, N));
+  PetscCall(NaturalOrder(fab->grid.da, fab->state.X, N));
   PetscCall(PetscViewerCreate(fab->comm, &v));
   PetscCall(PetscViewerSetType(v, PETSCVIEWERBINARY));
   PetscCall(PetscViewerBinarySetSkipInfo(v, PETSC_TRUE));
