@@ -92,6 +92,7 @@ typedef struct {           /* rank propagation and sleeping (front.c) */
 
 typedef struct { /* run statistics and the curve */
   PetscInt64     te_steps, point_updates;
+  PetscInt64     nonlinear_iterations, linear_iterations; /* the quasi-static solver's Newton and Krylov steps */
   PetscBool      converged;
   PetscBool      broken_any; /* a yarn segment broke */
   PetscLogDouble wall_start, wall;

@@ -7,6 +7,8 @@
 /* internal forces at the current positions on the owned points of box (NULL: all), the point
    load and the rigid bodies' contact */
 PetscErrorCode ComputeForces(Fabric fab, const PetscInt box[4], PetscReal *tension_max);
+/* the same at positions X into F (vectors of the grid's DMDA): the quasi-static path's trial states */
+PetscErrorCode ComputeForcesAt(Fabric fab, Vec X, Vec F, const PetscInt box[4], PetscReal *tension_max);
 /* te from the Gershgorin bound of the tangent stiffness; the damping of the slowest mode */
 PetscErrorCode StableStep(Fabric fab);
 /* one te step: forces, integration, the balance test and the stability watch */

@@ -46,6 +46,8 @@ typedef struct {
   PetscReal kbx, kby;       /* B / L0 along x and y, N m */
   PetscReal Ks, Kj, s_lock; /* shear stiffness per crossing, jamming stiffness (N m), sin(gamma_lock) */
   PetscReal k_contact;      /* penalty stiffness of rigid-body contact (N/m), 0 = no body */
+  PetscBool tension_field;  /* the traction tangent drops a compressed segment's geometric part, max(T,0)/L:
+                               a positive semi-definite Newton matrix (the quasi-static path); else exact */
   /* ghosted per-point and per-segment state */
   unsigned char *exists;              /* point exists (inside the shape), ghosted */
   unsigned char *broken_x, *broken_y; /* segment (i,j)-(i+1,j) / (i,j)-(i,j+1) broke */

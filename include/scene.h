@@ -14,6 +14,7 @@
 #define MAX_WAYPOINTS 32 /* -grip_path_mm */
 
 typedef enum { PULL_WARP, PULL_WEFT } PullAxis;
+typedef enum { SOLVER_EXPLICIT, SOLVER_STATIC } SolverType;
 typedef enum { INTEGRATOR_DAMPED, INTEGRATOR_PAPER } IntegratorType;
 typedef enum { PREDICT_NONE, PREDICT_LINEAR, PREDICT_EXTRAPOLATE } PredictType;
 typedef enum { POINT_FREE = 0, POINT_CLAMPED = 1, POINT_GRIP = 2 } PointKind;
@@ -29,6 +30,7 @@ typedef enum { SHAPE_RECTANGLE, SHAPE_DISC, SHAPE_BIAS } ShapeType; /* which cro
 typedef enum { CLAMP_JAW, CLAMP_EDGE, CLAMP_RING, CLAMP_NONE } ClampType; /* which existing crossings never move */
 
 extern const char *const PullAxisNames[];
+extern const char *const SolverNames[];
 extern const char *const IntegratorNames[];
 extern const char *const PredictNames[];
 extern const char *const TestNames[];
@@ -64,7 +66,7 @@ typedef struct {
   PetscInt  n_gravity;
   PetscReal elongation_pct, speed_mm_min, point_load_N[3], grip_path_mm[3 * MAX_WAYPOINTS];
   PetscInt  n_point_load_N, point_load_at[2], n_point_load_at, n_grip_path_mm, load_steps, max_inner_steps;
-  PetscInt  integrator, predict, grip_ramp_steps;
+  PetscInt  solver, integrator, predict, grip_ramp_steps;
   PetscReal te, te_safety, te_strain_window, balance_tol, speed_tol, sleep_tol;
   PetscBool te_check, early_exit, front, kinetic_damping;
   char      output_dir[PETSC_MAX_PATH_LEN], positions_out[PETSC_MAX_PATH_LEN], restart[PETSC_MAX_PATH_LEN];
@@ -152,7 +154,8 @@ typedef struct { /* rigid bodies with penalty contact (MODEL.md 5.5) */
   PetscReal friction_mu;     /* Coulomb friction of every body, 0 = frictionless */
 } Bodies;
 
-typedef struct { /* integration, balance test and speed-ups */
+typedef struct {         /* integration, balance test and speed-ups */
+  SolverType     solver; /* explicit relaxation or the quasi-static Newton-Krylov solve (static.h) */
   IntegratorType integrator;
   PetscReal      te_user, te_safety, te_window;
   PetscBool      te_check;
@@ -186,7 +189,10 @@ static inline PetscBool JawTest(const Scene *s)
 }
 
 PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv);
-PetscErrorCode SceneCheckUnused(MPI_Comm comm);
+/* an unknown option is an error; with solver_options_later, PETSc's solver options (-snes_*, -ksp_*,
+   -pc_*, -mg_*, -mat_*) are left to the quasi-static solver, and SceneWarnUnused names those it never read */
+PetscErrorCode SceneCheckUnused(MPI_Comm comm, PetscBool solver_options_later);
+PetscErrorCode SceneWarnUnused(MPI_Comm comm);
 PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s);
 PetscErrorCode SceneDestroy(Scene *s);
 

@@ -19,7 +19,7 @@
 
 /* the rigid bodies' contact and friction on the owned points of box, row by row, each body
    adding to its own reaction sum */
-static PetscErrorCode BodyForces(Fabric fab, const PetscInt box[4], PetscScalar *f)
+static PetscErrorCode BodyForces(Fabric fab, Vec X, const PetscInt box[4], PetscScalar *f)
 {
   const Patch       *p = &fab->grid.patch;
   const PetscScalar *x;
@@ -31,7 +31,7 @@ static PetscErrorCode BodyForces(Fabric fab, const PetscInt box[4], PetscScalar 
     for (int d = 0; d < 3; d++) fab->meas.body_sum[b][d] = 0;
   if (!fab->bodies.n) PetscFunctionReturn(0);
   for (PetscInt q = 0; q < fab->bodies.n; q++) BodyPosition(&fab->bodies.body[q], fab->load.travel_now, c[q]);
-  PetscCall(VecGetArrayRead(fab->state.X, &x));
+  PetscCall(VecGetArrayRead(X, &x));
   for (PetscInt q = 0; q < fab->bodies.n; q++) {
     const Vec a = fab->state.anchor[fab->bodies.body[q].kind];
     if (a) PetscCall(VecGetArray(a, &anchor[q]));
@@ -46,13 +46,13 @@ static PetscErrorCode BodyForces(Fabric fab, const PetscInt box[4], PetscScalar 
   }
   for (PetscInt q = 0; q < fab->bodies.n; q++)
     if (anchor[q]) PetscCall(VecRestoreArray(fab->state.anchor[fab->bodies.body[q].kind], &anchor[q]));
-  PetscCall(VecRestoreArrayRead(fab->state.X, &x));
+  PetscCall(VecRestoreArrayRead(X, &x));
   PetscFunctionReturn(0);
 }
 
-/* internal forces at the current positions on the owned points of box (NULL: all), plus
-   the point load */
-PetscErrorCode ComputeForces(Fabric fab, const PetscInt box[4], PetscReal *tension_max)
+/* internal forces at positions X on the owned points of box (NULL: all), plus the point load
+   and the rigid bodies' contact, into F */
+PetscErrorCode ComputeForcesAt(Fabric fab, Vec X, Vec F, const PetscInt box[4], PetscReal *tension_max)
 {
   const Patch       *p      = &fab->grid.patch;
   const PetscInt     all[4] = {p->xs, p->xs + p->xm, p->ys, p->ys + p->ym};
@@ -61,20 +61,28 @@ PetscErrorCode ComputeForces(Fabric fab, const PetscInt box[4], PetscReal *tensi
 
   PetscFunctionBeginUser;
   if (!box) box = all;
-  PetscCall(HaloExchange(fab->grid.da, fab->state.X, fab->state.Xl));
+  PetscCall(HaloExchange(fab->grid.da, X, fab->state.Xl));
   PetscCall(PetscLogEventBegin(EV_Force, 0, 0, 0, 0));
   PetscCall(VecGetArrayRead(fab->state.Xl, &xl));
-  PetscCall(VecGetArray(fab->state.F, &f));
+  PetscCall(VecGetArray(F, &f));
   ComputeInternalForces(&fab->grid.patch, xl, box, f, tension_max);
   if (fab->grid.load_index >= 0) {
     const PetscInt i = p->xs + fab->grid.load_index % p->xm, j = p->ys + fab->grid.load_index / p->xm;
     if (i >= box[0] && i < box[1] && j >= box[2] && j < box[3])
       for (int d = 0; d < 3; d++) f[3 * fab->grid.load_index + d] += fab->load.load_factor * fab->s.load.point_load[d];
   }
-  PetscCall(BodyForces(fab, box, f));
-  PetscCall(VecRestoreArray(fab->state.F, &f));
+  PetscCall(BodyForces(fab, X, box, f));
+  PetscCall(VecRestoreArray(F, &f));
   PetscCall(VecRestoreArrayRead(fab->state.Xl, &xl));
   PetscCall(PetscLogEventEnd(EV_Force, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+/* the same at the current positions, into the state's forces */
+PetscErrorCode ComputeForces(Fabric fab, const PetscInt box[4], PetscReal *tension_max)
+{
+  PetscFunctionBeginUser;
+  PetscCall(ComputeForcesAt(fab, fab->state.X, fab->state.F, box, tension_max));
   PetscFunctionReturn(0);
 }
 

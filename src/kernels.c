@@ -343,7 +343,8 @@ static int TractionInstance(const Patch *p, const PetscReal *x, PetscInt i, Pets
   if (want & TERM_ENERGY) t->E = L0 * ChordEnergy(law, p->yarn_integral[dir], e);
   if (want & TERM_GRADIENT)
     for (int q = 0; q < 3; q++) t->g[q] = -T * n[q], t->g[3 + q] = T * n[q];
-  if (want & TERM_HESSIAN) SegmentHessian(ChordTensionSlope(law, e) / L0, T / L, n, t->K);
+  if (want & TERM_HESSIAN)
+    SegmentHessian(ChordTensionSlope(law, e) / L0, (p->tension_field ? PetscMax(T, 0) : T) / L, n, t->K);
   return 1;
 }
 

@@ -94,15 +94,16 @@ static PetscErrorCode Run(int argc, char **argv)
     PetscCall(FabricDestroy(&fab));
     PetscFunctionReturn(0);
   }
-  PetscCall(SceneCheckUnused(PETSC_COMM_WORLD));
+  PetscCall(SceneCheckUnused(PETSC_COMM_WORLD, fab->s.num.solver == SOLVER_STATIC));
   if (!fab->s.out.quiet)
-    PetscCall(PetscPrintf(PETSC_COMM_WORLD,
-                          "fabric: scene %s, %" PetscInt_FMT " x %" PetscInt_FMT " crossings (%" PetscInt_FMT
-                          " points) on %d ranks, %s integrator, prediction %s, %" PetscInt_FMT
-                          " load steps, test %s, %.3g mm of travel\n",
-                          fab->s.out.name, fab->s.spec.nx, fab->s.spec.ny, fab->grid.points, fab->size,
-                          IntegratorNames[fab->s.num.integrator], PredictNames[fab->s.num.predict],
-                          fab->s.load.load_steps, TestNames[fab->s.test], (double) (1e3 * LoadTravel(&fab->s))));
+    PetscCall(PetscPrintf(
+        PETSC_COMM_WORLD,
+        "fabric: scene %s, %" PetscInt_FMT " x %" PetscInt_FMT " crossings (%" PetscInt_FMT
+        " points) on %d ranks, %s %s, prediction %s, %" PetscInt_FMT " load steps, test %s, %.3g mm of travel\n",
+        fab->s.out.name, fab->s.spec.nx, fab->s.spec.ny, fab->grid.points, fab->size,
+        fab->s.num.solver == SOLVER_STATIC ? "static" : IntegratorNames[fab->s.num.integrator],
+        fab->s.num.solver == SOLVER_STATIC ? "solver" : "integrator", PredictNames[fab->s.num.predict],
+        fab->s.load.load_steps, TestNames[fab->s.test], (double) (1e3 * LoadTravel(&fab->s))));
   PetscCall(CatchStopSignals(fab));
   ierr = FabricRun(fab);
   if (ierr) { /* a run that stops on an error still says so in summary.json */
@@ -114,13 +115,14 @@ static PetscErrorCode Run(int argc, char **argv)
     FabricDestroy(&fab);
     return ierr;
   }
+  if (fab->s.num.solver == SOLVER_STATIC) PetscCall(SceneWarnUnused(PETSC_COMM_WORLD)); /* misspelt -snes_* */
   if (CheckpointStopped()) { /* stopped by a signal after its checkpoint: no results yet */
     PetscCall(FabricDestroy(&fab));
     PetscFunctionReturn(0);
   }
   if (fab->s.out.output_dir[0]) {
     PetscReal       peak = 0;
-    char            where[64];
+    char            where[64], work[128];
     const CurveRow *last = &fab->stats.curve[fab->s.load.load_steps - 1];
     for (PetscInt k = 0; k < fab->s.load.load_steps; k++) peak = PetscMax(peak, fab->stats.curve[k].force);
     /* the jaw tests end at an elongation, the others at a travel (sphere, load point, drop) */
@@ -128,12 +130,16 @@ static PetscErrorCode Run(int argc, char **argv)
       PetscCall(PetscSNPrintf(where, sizeof where, "%.3g %% elongation", (double) (100 * last->elongation)));
     else
       PetscCall(PetscSNPrintf(where, sizeof where, "%.4g mm travel", (double) (1e3 * last->travel)));
-    PetscCall(PetscPrintf(PETSC_COMM_WORLD,
-                          "fabric: done in %.2f s: %" PetscInt64_FMT
-                          " te steps, %.3e point updates/s; peak force %.4g N, last load step at %s; %s\n",
-                          (double) fab->stats.wall, fab->stats.te_steps,
-                          fab->stats.wall > 0 ? (double) fab->stats.point_updates / fab->stats.wall : 0.0,
-                          (double) peak, where,
+    if (fab->s.num.solver == SOLVER_STATIC)
+      PetscCall(PetscSNPrintf(work, sizeof work,
+                              "%" PetscInt64_FMT " Newton steps, %" PetscInt64_FMT " Krylov iterations",
+                              fab->stats.nonlinear_iterations, fab->stats.linear_iterations));
+    else
+      PetscCall(PetscSNPrintf(work, sizeof work, "%" PetscInt64_FMT " te steps, %.3e point updates/s",
+                              fab->stats.te_steps,
+                              fab->stats.wall > 0 ? (double) fab->stats.point_updates / fab->stats.wall : 0.0));
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fabric: done in %.2f s: %s; peak force %.4g N, last load step at %s; %s\n",
+                          (double) fab->stats.wall, work, (double) peak, where,
                           fab->stats.converged ? "every load step balanced"
                                                : "some load steps did NOT balance (see curve.csv residual)"));
     char files[256];

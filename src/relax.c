@@ -15,6 +15,7 @@
 #include "measure.h"
 #include "predict.h"
 #include "report.h"
+#include "static.h"
 
 #include <math.h>
 
@@ -154,6 +155,40 @@ PetscErrorCode RelaxLoadStep(Fabric fab, CurveRow *row)
   PetscFunctionReturn(0);
 }
 
+/* Solve the current load step (-solver static): the grips go straight to this load step's
+   position, the prediction is Newton's first guess; re-solved while yarns break. */
+static PetscErrorCode SolveLoadStep(Fabric fab, StaticSolver ss, CurveRow *row)
+{
+  const Scene *s = &fab->s;
+  StaticResult r = {0};
+
+  PetscFunctionBeginUser;
+  if (fab->load.travel_now != fab->load.travel) PetscCall(PlaceGrips(fab, fab->load.travel, PETSC_TRUE));
+  fab->load.ramp_done = fab->load.ramp_steps;
+  row->inner_steps    = 0;
+  for (PetscInt round = 0;; round++) {
+    PetscReal broke;
+    PetscCall(StaticSolve(ss, &r));
+    row->inner_steps += r.nonlinear_iterations;
+    fab->stats.nonlinear_iterations += r.nonlinear_iterations;
+    fab->stats.linear_iterations += r.linear_iterations;
+    if (!r.balanced) {
+      PetscCall(PetscInfo(NULL, "load step %" PetscInt_FMT ": not balanced (%s), residual %g\n", fab->load.load_step,
+                          r.reason, (double) r.residual));
+      break;
+    }
+    PetscCall(CheckBreaks(fab, &broke));
+    if (!broke || round >= MAX_BREAK_ROUNDS) break;
+  }
+  row->load_step  = fab->load.load_step;
+  row->residual   = r.residual;
+  row->balanced   = r.balanced;
+  row->elongation = JawTest(s) ? GripElongation(s, fab->grid.pull_dir, fab->load.travel) : 0.0;
+  row->time       = TestTime(s, &fab->load);
+  PetscCall(MeasureLoadStep(fab, row));
+  PetscFunctionReturn(0);
+}
+
 /* remember the converged state of the last two load steps (extrapolating prediction) */
 static PetscErrorCode KeepConverged(Fabric fab)
 {
@@ -178,6 +213,7 @@ PetscErrorCode FabricRun(Fabric fab)
   const Scene      *s   = &fab->s;
   const FrameSource src = FramesOf(fab); /* the state vectors are the fabric's for the whole run */
   FrameInfo         f;
+  StaticSolver      ss = NULL;
 
   PetscFunctionBeginUser;
   PetscCall(PetscTime(&fab->stats.wall_start));
@@ -187,11 +223,15 @@ PetscErrorCode FabricRun(Fabric fab)
   PetscCall(OutputOpen(fab));
   f = LoadStepFrame(fab);                   /* the state the run starts from */
   PetscCall(FramesOpen(fab->io, &src, &f)); /* fabric.h5 and fabric.xmf */
+  if (s->num.solver == SOLVER_STATIC) PetscCall(StaticCreate(fab, &ss));
   for (PetscInt k = fab->load.load_step + 1; k <= s->load.load_steps; k++) {
     CurveRow *row = &fab->stats.curve[k - 1];
     if (!CheckpointWithinLoadStep(fab, k)) PetscCall(ApplyLoadStep(fab, k)); /* else restarted within it */
-    PetscCall(RelaxLoadStep(fab, row));
-    if (CheckpointStopped()) PetscFunctionReturn(0); /* SIGTERM or SIGUSR1: its checkpoint is written */
+    if (ss)
+      PetscCall(SolveLoadStep(fab, ss, row));
+    else
+      PetscCall(RelaxLoadStep(fab, row));
+    if (CheckpointStopped()) break; /* SIGTERM or SIGUSR1: its checkpoint is written */
     if (!row->balanced) fab->stats.converged = PETSC_FALSE;
     PetscCall(KeepConverged(fab));
     PetscCall(PetscTime(&fab->stats.wall));
@@ -202,6 +242,8 @@ PetscErrorCode FabricRun(Fabric fab)
     PetscCall(OutputProgress(fab, row));
     PetscCall(CheckpointLoadStep(fab));
   }
+  PetscCall(StaticDestroy(&ss));
+  if (CheckpointStopped()) PetscFunctionReturn(0);
   PetscCall(OutputSummary(fab, NULL));
   if (s->out.positions_out[0]) PetscCall(OutputPositions(fab, s->out.positions_out));
   PetscFunctionReturn(0);

@@ -25,6 +25,7 @@
 #include <unistd.h>
 
 const char *const PullAxisNames[]   = {"warp", "weft", "PullAxis", "PULL_", NULL};
+const char *const SolverNames[]     = {"explicit", "static", "SolverType", "SOLVER_", NULL};
 const char *const IntegratorNames[] = {"damped", "paper", "IntegratorType", "INTEGRATOR_", NULL};
 const char *const PredictNames[]    = {"none", "linear", "extrapolate", "PredictType", "PREDICT_", NULL};
 const char *const TestNames[]       = {"strip", "square", "pushing", "bias", "drape", "TestType", "TEST_", NULL};
@@ -256,7 +257,11 @@ static const OptionDesc Options[] = {
     INT("", "load_steps", load_steps, DEF(50), 1, "at least 1", "number of load steps K"),
     INT("", "max_inner_steps", max_inner_steps, DEF(20000), 1, "at least 1",
         "te steps per load step N (the most if it balances earlier)"),
-    ENUM("Numerics", "integrator", integrator, DEF(INTEGRATOR_DAMPED), IntegratorNames,
+    ENUM("Numerics", "solver", solver, DEF(SOLVER_EXPLICIT), SolverNames,
+         "explicit: te steps relaxed to balance (the paper's scheme and its speed-ups); static: each load step's "
+         "balance as a minimum of the potential energy, by Newton-Krylov with multigrid (PETSc's -snes_*, -ksp_*, "
+         "-pc_* options apply)"),
+    ENUM("", "integrator", integrator, DEF(INTEGRATOR_DAMPED), IntegratorNames,
          "damped: damped central differences; paper: the paper's eq. (10)"),
     REAL("", "te", te, DEF(0), NONNEG, NONNEG_MUST, "time step te (s); 0 = from the stable bound"),
     RANGED("", "te_safety", te_safety, DEF(0.9), 0, 1, 1, 0, "in (0,1]", "te = safety * stable bound (Gershgorin)"),
@@ -676,19 +681,43 @@ PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv)
 }
 
 /* A misspelt option would otherwise be ignored silently: refuse it. */
-PetscErrorCode SceneCheckUnused(MPI_Comm comm)
+/* the options of PETSc's solvers, read when the quasi-static solver sets itself up and solves */
+static PetscBool SolverOption(const char *name)
+{
+  static const char *const prefix[] = {"snes_", "ksp_", "pc_", "mg_", "mat_"};
+  for (size_t q = 0; q < sizeof prefix / sizeof prefix[0]; q++)
+    if (!strncmp(name, prefix[q], strlen(prefix[q]))) return PETSC_TRUE;
+  return PETSC_FALSE;
+}
+
+PetscErrorCode SceneCheckUnused(MPI_Comm comm, PetscBool solver_options_later)
 {
   PetscInt n;
   char   **names, **values;
 
   PetscFunctionBeginUser;
   PetscCall(PetscOptionsLeftGet(NULL, &n, &names, &values));
-  if (n > 0) {
+  for (PetscInt q = 0; q < n; q++) {
     char name[256];
-    PetscCall(PetscStrncpy(name, names[0], sizeof name));
+    if (solver_options_later && SolverOption(names[q])) continue;
+    PetscCall(PetscStrncpy(name, names[q], sizeof name));
     PetscCall(PetscOptionsLeftRestore(NULL, &n, &names, &values));
     SETERRQ(comm, PETSC_ERR_USER_INPUT, "unknown option -%s (run with -help for the list)", name);
   }
+  PetscCall(PetscOptionsLeftRestore(NULL, &n, &names, &values));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SceneWarnUnused(MPI_Comm comm)
+{
+  PetscInt n;
+  char   **names, **values;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsLeftGet(NULL, &n, &names, &values));
+  for (PetscInt q = 0; q < n; q++)
+    PetscCall(PetscPrintf(comm, "fabric: warning: option -%s was not used (check its spelling: -help lists them)\n",
+                          names[q]));
   PetscCall(PetscOptionsLeftRestore(NULL, &n, &names, &values));
   PetscFunctionReturn(0);
 }
@@ -845,10 +874,30 @@ static PetscErrorCode CheckTestOptions(MPI_Comm comm, const SceneInput *in, cons
   PetscFunctionReturn(0);
 }
 
+/* what the quasi-static solver cannot do is refused, naming the option */
+static PetscErrorCode CheckSolverOptions(MPI_Comm comm, const SceneInput *in)
+{
+  PetscFunctionBeginUser;
+  if (in->solver != SOLVER_STATIC) PetscFunctionReturn(0);
+  PetscCheck(in->friction_mu == 0, comm, PETSC_ERR_USER_INPUT,
+             "-friction_mu %g with -solver static: friction depends on the path, the quasi-static solver has none; use "
+             "-solver explicit or -friction_mu 0",
+             (double) in->friction_mu);
+  PetscCheck(in->output_te_every == 0, comm, PETSC_ERR_USER_INPUT,
+             "-output_te_every %" PetscInt_FMT " with -solver static: it takes no te steps; use -output_every",
+             in->output_te_every);
+  PetscCheck(in->checkpoint_every_te == 0 && in->checkpoint_every_s == 0, comm, PETSC_ERR_USER_INPUT,
+             "-checkpoint_every_te %" PetscInt_FMT " / -checkpoint_every_s %g with -solver static: it checkpoints "
+             "between load steps only; use -checkpoint_every",
+             in->checkpoint_every_te, (double) in->checkpoint_every_s);
+  PetscFunctionReturn(0);
+}
+
 static void DeriveNumerics(const SceneInput *in, Scene *s)
 {
   Numerics *n = &s->num;
 
+  n->solver          = (SolverType) in->solver;
   n->integrator      = (IntegratorType) in->integrator;
   n->te_user         = in->te;
   n->te_safety       = in->te_safety;
@@ -1152,6 +1201,7 @@ PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s)
                         s->clamps.grip_line));
   PetscCall(DerivePath(comm, in, &s->load));
   PetscCall(CheckTestOptions(comm, in, s));
+  PetscCall(CheckSolverOptions(comm, in));
   PetscCall(CheckOutputPlaces(comm, &s->out));
   PetscFunctionReturn(0);
 }

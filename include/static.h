@@ -1,0 +1,27 @@
+/* static.h - the quasi-static path (MODEL.md 14): each load step's balance as a minimum of the
+ * total potential energy, by Newton-Krylov with multigrid (PETSc SNES) (static.c). */
+#ifndef FABRIC_STATIC_H
+#define FABRIC_STATIC_H
+
+#include "fabric.h"
+
+typedef struct _p_StaticSolver *StaticSolver;
+
+typedef struct {                  /* one load step's solve */
+  PetscInt  nonlinear_iterations; /* Newton steps */
+  PetscInt  linear_iterations;    /* Krylov iterations over those steps */
+  PetscInt  attempts;             /* SNES solves (a failed one is retried with a stiffer shift) */
+  PetscReal residual;             /* the balance test's residual at the end (as the explicit path's) */
+  PetscBool balanced;
+  char      reason[64]; /* SNES's converged reason of the last attempt */
+} StaticResult;
+
+/* the SNES, its matrix (DMCreateMatrix of the grid's DMDA) and the preconditioner's defaults;
+   PETSc's options (-snes_*, -ksp_*, -pc_*) override them */
+PetscErrorCode StaticCreate(Fabric fab, StaticSolver *ss);
+PetscErrorCode StaticDestroy(StaticSolver *ss);
+/* balance the current load step from the current positions (the prediction is the first guess),
+   with the crossings of inv_m = 0 held where they are */
+PetscErrorCode StaticSolve(StaticSolver ss, StaticResult *r);
+
+#endif

@@ -1,0 +1,502 @@
+/* static.c - the quasi-static path (MODEL.md 14): each load step's balanced state as a minimum
+ * of the total potential energy Pi, by Newton-Krylov (PETSc SNES) on the grid's DMDA.
+ *
+ * Unknowns: every crossing's position (a vector of the DMDA, dof 3). A free crossing
+ * (inv_m > 0) has the residual R = -F, F = -grad Pi: internal forces, the point load, the
+ * bodies' penalty contact and gravity. A clamped, grip or absent crossing has R = k_bc (x - x_bc)
+ * and an identity row scaled by k_bc, its couplings left out of the free rows: the tangent
+ * stays symmetric, and Newton never moves it.
+ * Objective: Pi (SNESSetObjective). The backtracking line search then decreases the energy,
+ * which stays convex across the yarn law's kinks, where |F| need not decrease.
+ * Tangent: the force terms' blocks (TermTangent), the bodies' penalty Hessians, plus a
+ * pretension shift: every existing segment carries an extra geometric stiffness k_s I (a graph
+ * Laplacian of the yarns). A flat net without tension has a singular tangent (no out-of-plane
+ * stiffness) and compressed yarns an indefinite one; the shift makes both solvable and spreads a
+ * load over the whole net in one linear solve. k_s adapts like a Levenberg-Marquardt parameter:
+ * divided by 10 after a full Newton step, multiplied by 4 after a step the line search cut below
+ * 1/4, by 100 after a failed solve (which is retried from where it stopped), and 0 once below
+ * 1e-12 of the yarns' stiffness, so the last steps are plain Newton steps and converge fast.
+ * Linear solves: CG preconditioned by geometric multigrid on the DMDA hierarchy (Galerkin coarse
+ * operators) where the grid halves at least once, GAMG with the rigid-body modes otherwise. All
+ * are PETSc's own choices, overridden by -snes_*, -ksp_*, -pc_* (the options prefix is none).
+ * Convergence: the explicit path's balance test (the largest free force over the larger of the
+ * largest yarn tension and the force floor) at -balance_tol.
+ */
+#include "static.h"
+#include "bodies.h"
+#include "comm.h"
+#include "integrate.h"
+
+#include <petscsnes.h>
+
+#define SHIFT_START  1e-2  /* k_s / k_ref at the first Newton step of a load step */
+#define SHIFT_FLOOR  1e-12 /* below this k_s / k_ref the shift is dropped */
+#define MAX_ATTEMPTS 8     /* SNES solves per load step, each after a failed one */
+#define ENERGY_NOISE 1e-10 /* a predicted change of Pi below this fraction of |Pi| is rounding noise */
+
+struct _p_StaticSolver {
+  Fabric         fab;
+  SNES           snes;
+  DM             dm; /* the grid's layout with the tangent's stencil (the SNES's and multigrid's DM) */
+  Mat            J;
+  Vec            Xbc;        /* positions of the held crossings this load step */
+  unsigned char *free_g;     /* ghosted: the crossing is free (inv_m > 0) */
+  PetscReal      k_ref;      /* N/m: stiffness scale (a yarn segment's), for k_bc and the shift */
+  PetscReal      shift;      /* k_s / k_ref */
+  PetscReal      fmax, tmax; /* largest free force and largest yarn tension of the last evaluation */
+  PetscInt       lits;       /* Krylov iterations of the current load step */
+};
+
+/* gravity on the free owned points and the residual rows of the held ones */
+static PetscErrorCode FormFunction(SNES snes, Vec U, Vec R, void *ctx)
+{
+  StaticSolver       ss  = (StaticSolver) ctx;
+  Fabric             fab = ss->fab;
+  const PetscReal   *g   = fab->load.gravity_now;
+  const PetscScalar *u, *xb;
+  PetscScalar       *r;
+  PetscReal          red[2] = {0, 0};
+
+  PetscFunctionBeginUser;
+  (void) snes;
+  PetscCall(ComputeForcesAt(fab, U, R, NULL, &red[1]));
+  PetscCall(VecGetArrayRead(U, &u));
+  PetscCall(VecGetArrayRead(ss->Xbc, &xb));
+  PetscCall(VecGetArray(R, &r));
+  for (PetscInt k = 0; k < fab->grid.nloc; k++) {
+    if (fab->grid.inv_m[k] > 0) {
+      PetscReal f2 = 0;
+      for (int d = 0; d < 3; d++) {
+        const PetscReal f = r[3 * k + d] + fab->grid.mass[k] * g[d];
+        r[3 * k + d]      = -f;
+        f2 += f * f;
+      }
+      red[0] = PetscMax(red[0], f2);
+    } else
+      for (int d = 0; d < 3; d++) r[3 * k + d] = ss->k_ref * (u[3 * k + d] - xb[3 * k + d]);
+  }
+  PetscCall(VecRestoreArray(R, &r));
+  PetscCall(VecRestoreArrayRead(ss->Xbc, &xb));
+  PetscCall(VecRestoreArrayRead(U, &u));
+  PetscCall(GlobalMax(fab->comm, red, 2));
+  ss->fmax = PetscSqrtReal(red[0]);
+  ss->tmax = red[1];
+  PetscFunctionReturn(0);
+}
+
+/* Pi at U (up to a constant: the held crossings do not move) */
+static PetscErrorCode FormObjective(SNES snes, Vec U, PetscReal *pi, void *ctx)
+{
+  StaticSolver       ss     = (StaticSolver) ctx;
+  Fabric             fab    = ss->fab;
+  const Patch       *p      = &fab->grid.patch;
+  const PetscInt     all[4] = {p->xs, p->xs + p->xm, p->ys, p->ys + p->ym};
+  const PetscReal   *g      = fab->load.gravity_now;
+  const PetscScalar *xl, *u;
+  PetscReal          E, c[BODY_KINDS][3];
+
+  PetscFunctionBeginUser;
+  (void) snes;
+  PetscCall(HaloExchange(fab->grid.da, U, fab->state.Xl));
+  PetscCall(VecGetArrayRead(fab->state.Xl, &xl));
+  E = InternalEnergy(p, xl, all);
+  PetscCall(VecRestoreArrayRead(fab->state.Xl, &xl));
+  for (PetscInt q = 0; q < fab->bodies.n; q++) BodyPosition(&fab->bodies.body[q], fab->load.travel_now, c[q]);
+  PetscCall(VecGetArrayRead(U, &u));
+  for (PetscInt k = 0; k < fab->grid.nloc; k++) {
+    if (!(fab->grid.inv_m[k] > 0)) continue;
+    for (int d = 0; d < 3; d++) E -= fab->grid.mass[k] * g[d] * u[3 * k + d];
+    for (PetscInt q = 0; q < fab->bodies.n; q++) {
+      PetscReal gb[3], Kb[9];
+      E += BodyEnergy(&fab->bodies.body[q], c[q], u + 3 * k, gb, Kb);
+    }
+  }
+  if (fab->grid.load_index >= 0)
+    for (int d = 0; d < 3; d++)
+      E -= fab->load.load_factor * fab->s.load.point_load[d] * u[3 * fab->grid.load_index + d];
+  PetscCall(VecRestoreArrayRead(U, &u));
+  PetscCall(GlobalSum(fab->comm, &E, 1));
+  *pi = E;
+  PetscFunctionReturn(0);
+}
+
+/* a TermBlocksFn: the blocks between free crossings only (rows and columns of held ones zeroed) */
+static PetscErrorCode AddFreeBlocks(void *ctx, PetscInt n, const PetscInt i[], const PetscInt j[], const PetscReal K[])
+{
+  StaticSolver ss = (StaticSolver) ctx;
+  const Patch *p  = &ss->fab->grid.patch;
+  PetscReal    Kf[9 * TERM_MAX_POINTS * TERM_MAX_POINTS];
+  MatStencil   st[TERM_MAX_POINTS];
+  int          held[TERM_MAX_POINTS];
+
+  PetscFunctionBeginUser;
+  for (PetscInt q = 0; q < n; q++) {
+    held[q] = !ss->free_g[(j[q] - p->gys) * p->gxm + (i[q] - p->gxs)];
+    st[q]   = (MatStencil){.k = 0, .j = j[q], .i = i[q], .c = 0};
+  }
+  for (PetscInt a = 0; a < 3 * n; a++)
+    for (PetscInt b = 0; b < 3 * n; b++) Kf[a * 3 * n + b] = (held[a / 3] || held[b / 3]) ? 0.0 : K[a * 3 * n + b];
+  PetscCall(MatSetValuesBlockedStencil(ss->J, n, st, n, st, Kf, ADD_VALUES));
+  PetscFunctionReturn(0);
+}
+
+/* the pretension shift k_s I on the segments of the owned points (each owns its +x and +y segment) */
+static PetscErrorCode AddShift(StaticSolver ss)
+{
+  const Patch    *p  = &ss->fab->grid.patch;
+  const PetscReal ks = ss->shift * ss->k_ref;
+  PetscReal       K[36];
+
+  PetscFunctionBeginUser;
+  if (!(ks > 0)) PetscFunctionReturn(0);
+  for (int a = 0; a < 6; a++)
+    for (int b = 0; b < 6; b++) K[6 * a + b] = (a % 3 == b % 3) ? (a / 3 == b / 3 ? ks : -ks) : 0.0;
+  for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
+    for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
+      const PetscInt g = (j - p->gys) * p->gxm + (i - p->gxs);
+      if (!p->exists[g]) continue;
+      if (i + 1 < p->nx && p->exists[g + 1] && !p->broken_x[g]) {
+        const PetscInt ii[2] = {i, i + 1}, jj[2] = {j, j};
+        PetscCall(AddFreeBlocks(ss, 2, ii, jj, K));
+      }
+      if (j + 1 < p->ny && p->exists[g + p->gxm] && !p->broken_y[g]) {
+        const PetscInt ii[2] = {i, i}, jj[2] = {j, j + 1};
+        PetscCall(AddFreeBlocks(ss, 2, ii, jj, K));
+      }
+    }
+  PetscFunctionReturn(0);
+}
+
+/* the bodies' penalty Hessians on the free owned points and the held points' scaled identity rows */
+static PetscErrorCode AddPointBlocks(StaticSolver ss, const PetscScalar *u)
+{
+  Fabric       fab = ss->fab;
+  const Patch *p   = &fab->grid.patch;
+  PetscReal    c[BODY_KINDS][3];
+
+  PetscFunctionBeginUser;
+  for (PetscInt q = 0; q < fab->bodies.n; q++) BodyPosition(&fab->bodies.body[q], fab->load.travel_now, c[q]);
+  for (PetscInt k = 0; k < fab->grid.nloc; k++) {
+    const MatStencil st   = {.k = 0, .j = p->ys + k / p->xm, .i = p->xs + k % p->xm, .c = 0};
+    PetscReal        K[9] = {0};
+    if (fab->grid.inv_m[k] > 0) {
+      PetscBool touch = PETSC_FALSE;
+      for (PetscInt q = 0; q < fab->bodies.n; q++) {
+        PetscReal gb[3], Kb[9];
+        if (BodyEnergy(&fab->bodies.body[q], c[q], u + 3 * k, gb, Kb) > 0) {
+          for (int e = 0; e < 9; e++) K[e] += Kb[e];
+          touch = PETSC_TRUE;
+        }
+      }
+      if (!touch) continue;
+    } else
+      K[0] = K[4] = K[8] = ss->k_ref;
+    PetscCall(MatSetValuesBlockedStencil(ss->J, 1, &st, 1, &st, K, ADD_VALUES));
+  }
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode FormJacobian(SNES snes, Vec U, Mat A, Mat P, void *ctx)
+{
+  StaticSolver       ss     = (StaticSolver) ctx;
+  Fabric             fab    = ss->fab;
+  const Patch       *p      = &fab->grid.patch;
+  const PetscInt     all[4] = {p->xs, p->xs + p->xm, p->ys, p->ys + p->ym};
+  const PetscScalar *xl, *u;
+
+  PetscFunctionBeginUser;
+  (void) snes;
+  (void) A;
+  PetscCheck(P == ss->J, fab->comm, PETSC_ERR_SUP, "the quasi-static solver assembles its own matrix");
+  PetscCall(MatZeroEntries(P));
+  PetscCall(HaloExchange(fab->grid.da, U, fab->state.Xl));
+  PetscCall(VecGetArrayRead(fab->state.Xl, &xl));
+  PetscCall(InternalTangent(p, xl, all, AddFreeBlocks, ss));
+  PetscCall(VecRestoreArrayRead(fab->state.Xl, &xl));
+  PetscCall(AddShift(ss));
+  PetscCall(VecGetArrayRead(U, &u));
+  PetscCall(AddPointBlocks(ss, u));
+  PetscCall(VecRestoreArrayRead(U, &u));
+  PetscCall(MatAssemblyBegin(P, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyEnd(P, MAT_FINAL_ASSEMBLY));
+  PetscFunctionReturn(0);
+}
+
+/* The line search along the Newton step Y (X - lambda Y). Far from balance it searches on Pi:
+   a full step if it decreases Pi enough (Armijo), else backtracking with a safeguarded
+   quadratic fit. Near balance the decrease Newton predicts falls below the rounding noise of
+   Pi (each segment's energy comes from a strain L/L0 - 1 with a relative error of about
+   1e-16/strain, and Pi sums them over every crossing): there the step is judged by |F| instead
+   (the forces are exact to far smaller errors), a full step first, halved until |F| decreases. */
+static PetscErrorCode EnergyLineSearch(SNESLineSearch ls, void *ctx)
+{
+  StaticSolver ss = (StaticSolver) ctx;
+  SNES         snes;
+  Vec          X, F, Y, W, G;
+  PetscReal    xnorm, fnorm, ynorm, gnorm = 0, pi0, pi1, slope, lambda = 1.0;
+  PetscBool    ok = PETSC_FALSE, noise;
+
+  PetscFunctionBeginUser;
+  PetscCall(SNESLineSearchGetSNES(ls, &snes));
+  PetscCall(SNESLineSearchGetVecs(ls, &X, &F, &Y, &W, &G));
+  PetscCall(SNESLineSearchGetNorms(ls, &xnorm, &fnorm, &ynorm));
+  PetscCall(FormObjective(snes, X, &pi0, ss));
+  PetscCall(VecDot(F, Y, &slope));
+  slope = -slope; /* d Pi(X - lambda Y)/d lambda at 0 = -grad Pi . Y */
+  noise = !(slope < 0) || -slope < ENERGY_NOISE * PetscAbsReal(pi0);
+  for (int k = 0; k < 40 && !ok; k++) {
+    PetscCall(VecWAXPY(W, -lambda, Y, X));
+    if (noise) {
+      PetscCall(SNESComputeFunction(snes, W, G));
+      PetscCall(VecNorm(G, NORM_2, &gnorm));
+      ok = gnorm < fnorm ? PETSC_TRUE : PETSC_FALSE;
+      if (!ok) lambda *= 0.5;
+      continue;
+    }
+    PetscCall(FormObjective(snes, W, &pi1, ss));
+    if (pi1 <= pi0 + 1e-4 * lambda * slope)
+      ok = PETSC_TRUE;
+    else {
+      const PetscReal fit = -slope * lambda * lambda / (2.0 * (pi1 - pi0 - slope * lambda));
+      lambda              = (isfinite(fit) && fit > 0.1 * lambda && fit < 0.5 * lambda) ? fit : 0.5 * lambda;
+    }
+  }
+  if (!ok) {
+    PetscCall(SNESLineSearchSetReason(ls, SNES_LINESEARCH_FAILED_REDUCT));
+    PetscFunctionReturn(0);
+  }
+  if (!noise) PetscCall(SNESComputeFunction(snes, W, G));
+  PetscCall(VecCopy(W, X));
+  PetscCall(VecCopy(G, F));
+  PetscCall(SNESLineSearchSetLambda(ls, lambda));
+  PetscCall(SNESLineSearchComputeNorms(ls));
+  PetscFunctionReturn(0);
+}
+
+/* before each Newton step: adapt the shift to how the last step went */
+static PetscErrorCode AdaptShift(SNES snes, PetscInt step)
+{
+  StaticSolver   ss;
+  SNESLineSearch ls;
+  PetscReal      lambda;
+
+  PetscFunctionBeginUser;
+  PetscCall(SNESGetApplicationContext(snes, &ss));
+  if (step == 0) PetscFunctionReturn(0);
+  PetscCall(SNESGetLineSearch(snes, &ls));
+  PetscCall(SNESLineSearchGetLambda(ls, &lambda));
+  if (lambda >= 1.0)
+    ss->shift = ss->shift / 10.0 < SHIFT_FLOOR ? 0.0 : ss->shift / 10.0;
+  else if (lambda < 0.25)
+    ss->shift = PetscMax(4.0 * ss->shift, SHIFT_FLOOR);
+  PetscFunctionReturn(0);
+}
+
+/* the largest force on a free crossing, from the residual R at the current iterate */
+static PetscErrorCode FreeForceMax(StaticSolver ss, Vec R, PetscReal *fmax)
+{
+  Fabric             fab = ss->fab;
+  const PetscScalar *r;
+  PetscReal          f2 = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecGetArrayRead(R, &r));
+  for (PetscInt k = 0; k < fab->grid.nloc; k++)
+    if (fab->grid.inv_m[k] > 0)
+      f2 = PetscMax(f2, r[3 * k] * r[3 * k] + r[3 * k + 1] * r[3 * k + 1] + r[3 * k + 2] * r[3 * k + 2]);
+  PetscCall(VecRestoreArrayRead(R, &r));
+  PetscCall(GlobalMax(fab->comm, &f2, 1));
+  *fmax = PetscSqrtReal(f2);
+  PetscFunctionReturn(0);
+}
+
+/* the balance test of the explicit path at the current iterate; SNES's own tests for divergence */
+static PetscErrorCode Converged(SNES snes, PetscInt it, PetscReal xnorm, PetscReal snorm, PetscReal fnorm,
+                                SNESConvergedReason *reason, void *ctx)
+{
+  StaticSolver ss  = (StaticSolver) ctx;
+  Fabric       fab = ss->fab;
+  Vec          R;
+  PetscReal    fmax = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(SNESConvergedDefault(snes, it, xnorm, snorm, fnorm, reason, NULL));
+  if (*reason < 0) PetscFunctionReturn(0); /* diverged: NaN, too many evaluations or iterations */
+  PetscCall(SNESGetFunction(snes, &R, NULL, NULL));
+  PetscCall(FreeForceMax(ss, R, &fmax));
+  *reason = fmax <= fab->s.num.balance_tol * PetscMax(ss->tmax, fab->step.force_floor) ? SNES_CONVERGED_FNORM_ABS
+                                                                                       : SNES_CONVERGED_ITERATING;
+  PetscFunctionReturn(0);
+}
+
+/* geometric multigrid levels: how often both grid sides halve with at least 4 points a rank */
+static PetscErrorCode MultigridLevels(DM da, PetscInt *levels)
+{
+  PetscInt nx, ny, m, n;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMDAGetInfo(da, NULL, &nx, &ny, NULL, &m, &n, NULL, NULL, NULL, NULL, NULL, NULL, NULL));
+  *levels = 1;
+  while ((nx - 1) % 2 == 0 && (ny - 1) % 2 == 0 && (nx - 1) / 2 + 1 >= 4 * m && (ny - 1) / 2 + 1 >= 4 * n &&
+         *levels < 12) {
+    nx = (nx - 1) / 2 + 1, ny = (ny - 1) / 2 + 1;
+    (*levels)++;
+  }
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode SetDefaults(StaticSolver ss)
+{
+  Fabric         fab = ss->fab;
+  KSP            ksp;
+  PC             pc;
+  PetscInt       levels = 1;
+  MatNullSpace   rigid;
+  SNESLineSearch ls;
+
+  PetscFunctionBeginUser;
+  PetscCall(SNESSetType(ss->snes, SNESNEWTONLS));
+  PetscCall(SNESGetLineSearch(ss->snes, &ls));
+  PetscCall(SNESLineSearchSetType(ls, SNESLINESEARCHSHELL));
+  PetscCall(SNESLineSearchShellSetUserFunc(ls, EnergyLineSearch, ss));
+  PetscCall(SNESSetTolerances(ss->snes, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, 200, 100000));
+  PetscCall(SNESGetKSP(ss->snes, &ksp));
+  PetscCall(KSPSetType(ksp, KSPCG));
+  PetscCall(KSPSetTolerances(ksp, 1e-2, PETSC_DEFAULT, PETSC_DEFAULT, 1000));
+  PetscCall(KSPGetPC(ksp, &pc));
+  PetscCall(MultigridLevels(ss->dm, &levels));
+  if (levels > 1) {
+    PetscCall(PCSetType(pc, PCMG));
+    PetscCall(PCMGSetLevels(pc, levels, NULL));
+    PetscCall(PCMGSetGalerkin(pc, PC_MG_GALERKIN_BOTH));
+  } else
+    PetscCall(PCSetType(pc, PCGAMG));
+  PetscCall(MatNullSpaceCreateRigidBody(fab->grid.X0, &rigid)); /* GAMG's near-null space */
+  PetscCall(MatSetNearNullSpace(ss->J, rigid));
+  PetscCall(MatNullSpaceDestroy(&rigid));
+  PetscFunctionReturn(0);
+}
+
+/* The grid's layout (same sizes and ownership, so the same global vectors) with the stencil
+   the tangent needs: a segment couples neighbours along a yarn (star, width 1), a shear crossing
+   its diagonal neighbours too (box, width 1), a bending centre the points two apart (star,
+   width 2), both the box of width 2. A smaller stencil stores fewer zeros: a tangent of
+   traction alone has 15 nonzeros a row instead of 75. */
+static PetscErrorCode CreateMatrixDM(Fabric fab, DM *dm)
+{
+  const Patch    *p = &fab->grid.patch;
+  const PetscInt *lx, *ly;
+  PetscInt        m, n;
+  DMDAStencilType type  = p->shear ? DMDA_STENCIL_BOX : DMDA_STENCIL_STAR;
+  PetscInt        width = p->bending ? 2 : 1;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMDAGetInfo(fab->grid.da, NULL, NULL, NULL, NULL, &m, &n, NULL, NULL, NULL, NULL, NULL, NULL, NULL));
+  PetscCall(DMDAGetOwnershipRanges(fab->grid.da, &lx, &ly, NULL));
+  PetscCall(
+      DMDACreate2d(fab->comm, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, type, p->nx, p->ny, m, n, 3, width, lx, ly, dm));
+  PetscCall(DMSetUp(*dm));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode StaticCreate(Fabric fab, StaticSolver *out)
+{
+  StaticSolver ss;
+  const Patch *p = &fab->grid.patch;
+  Vec          flag, flagl;
+  PetscScalar *a;
+  PetscReal    mmax = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscNew(&ss));
+  ss->fab = fab;
+  PetscCall(CreateMatrixDM(fab, &ss->dm));
+  PetscCall(DMCreateMatrix(ss->dm, &ss->J));
+  PetscCall(MatSetOption(ss->J, MAT_SYMMETRIC, PETSC_TRUE));
+  PetscCall(VecDuplicate(fab->state.X, &ss->Xbc));
+  /* the free flags, ghosted */
+  PetscCall(DMGetGlobalVector(fab->grid.da, &flag));
+  PetscCall(DMGetLocalVector(fab->grid.da, &flagl));
+  PetscCall(VecGetArray(flag, &a));
+  for (PetscInt k = 0; k < fab->grid.nloc; k++) {
+    a[3 * k] = a[3 * k + 1] = a[3 * k + 2] = fab->grid.inv_m[k] > 0 ? 1.0 : 0.0;
+    if (fab->grid.inv_m[k] > 0) mmax = PetscMax(mmax, fab->grid.mass[k]);
+  }
+  PetscCall(VecRestoreArray(flag, &a));
+  PetscCall(HaloExchange(fab->grid.da, flag, flagl));
+  PetscCall(PetscMalloc1(p->gxm * p->gym, &ss->free_g));
+  PetscCall(VecGetArray(flagl, &a));
+  for (PetscInt g = 0; g < p->gxm * p->gym; g++) ss->free_g[g] = a[3 * g] > 0.5 ? 1 : 0;
+  PetscCall(VecRestoreArray(flagl, &a));
+  PetscCall(DMRestoreLocalVector(fab->grid.da, &flagl));
+  PetscCall(DMRestoreGlobalVector(fab->grid.da, &flag));
+  /* a segment's stiffness, from the stable step's bound: omega_max^2 m ~ 8 k for four springs */
+  PetscCall(GlobalMax(fab->comm, &mmax, 1));
+  ss->k_ref                     = PetscMax(fab->step.omega_max * fab->step.omega_max * mmax / 8.0, PETSC_SMALL);
+  fab->grid.patch.tension_field = PETSC_TRUE;
+  PetscCall(SNESCreate(fab->comm, &ss->snes));
+  PetscCall(SNESSetDM(ss->snes, ss->dm));
+  PetscCall(SNESSetApplicationContext(ss->snes, ss));
+  PetscCall(SNESSetFunction(ss->snes, NULL, FormFunction, ss));
+  PetscCall(SNESSetObjective(ss->snes, FormObjective, ss));
+  PetscCall(SNESSetJacobian(ss->snes, ss->J, ss->J, FormJacobian, ss));
+  PetscCall(SNESSetUpdate(ss->snes, AdaptShift));
+  PetscCall(SNESSetConvergenceTest(ss->snes, Converged, ss, NULL));
+  PetscCall(SetDefaults(ss));
+  PetscCall(SNESSetFromOptions(ss->snes));
+  *out = ss;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode StaticDestroy(StaticSolver *pss)
+{
+  StaticSolver ss = *pss;
+
+  PetscFunctionBeginUser;
+  if (!ss) PetscFunctionReturn(0);
+  PetscCall(SNESDestroy(&ss->snes));
+  PetscCall(MatDestroy(&ss->J));
+  PetscCall(DMDestroy(&ss->dm));
+  PetscCall(VecDestroy(&ss->Xbc));
+  PetscCall(PetscFree(ss->free_g));
+  ss->fab->grid.patch.tension_field = PETSC_FALSE;
+  PetscCall(PetscFree(ss));
+  *pss = NULL;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode StaticSolve(StaticSolver ss, StaticResult *r)
+{
+  Fabric              fab    = ss->fab;
+  SNESConvergedReason reason = SNES_CONVERGED_ITERATING;
+  PetscInt            its;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(r, sizeof *r));
+  PetscCall(VecCopy(fab->state.X, ss->Xbc));
+  ss->shift = SHIFT_START;
+  ss->lits  = 0;
+  for (r->attempts = 1; r->attempts <= MAX_ATTEMPTS; r->attempts++) {
+    PetscInt lits;
+    PetscCall(SNESSolve(ss->snes, NULL, fab->state.X));
+    PetscCall(SNESGetConvergedReason(ss->snes, &reason));
+    PetscCall(SNESGetIterationNumber(ss->snes, &its));
+    PetscCall(SNESGetLinearSolveIterations(ss->snes, &lits));
+    r->nonlinear_iterations += its;
+    ss->lits += lits;
+    if (reason != SNES_DIVERGED_LINE_SEARCH && reason != SNES_DIVERGED_LINEAR_SOLVE) break;
+    ss->shift = PetscMax(100.0 * ss->shift, 1e-6); /* start again from where it stopped, stiffer */
+  }
+  r->linear_iterations = ss->lits;
+  PetscCall(PetscStrncpy(r->reason, SNESConvergedReasons[reason], sizeof r->reason));
+  /* the state's forces at the solution: the measurements read them */
+  PetscCall(ComputeForces(fab, NULL, &fab->step.last.tension_max));
+  {
+    Vec R;
+    PetscCall(SNESGetFunction(ss->snes, &R, NULL, NULL));
+    PetscCall(FormFunction(ss->snes, fab->state.X, R, ss));
+  }
+  r->residual = ss->fmax / PetscMax(ss->tmax, fab->step.force_floor);
+  r->balanced = r->residual <= fab->s.num.balance_tol ? PETSC_TRUE : PETSC_FALSE;
+  PetscFunctionReturn(0);
+}
