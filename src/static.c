@@ -276,16 +276,22 @@ static PetscErrorCode EnergyLineSearch(SNESLineSearch ls, void *ctx)
 /* before each Newton step: adapt the shift to how the last step went */
 static PetscErrorCode AdaptShift(SNES snes, PetscInt step)
 {
-  StaticSolver   ss;
-  SNESLineSearch ls;
-  PetscReal      lambda;
+  StaticSolver       ss;
+  SNESLineSearch     ls;
+  PetscReal          lambda;
+  KSP                ksp;
+  KSPConvergedReason kreason;
 
   PetscFunctionBeginUser;
   PetscCall(SNESGetApplicationContext(snes, &ss));
   if (step == 0) PetscFunctionReturn(0);
   PetscCall(SNESGetLineSearch(snes, &ls));
   PetscCall(SNESLineSearchGetLambda(ls, &lambda));
-  if (lambda >= 1.0)
+  PetscCall(SNESGetKSP(snes, &ksp));
+  PetscCall(KSPGetConvergedReason(ksp, &kreason));
+  if (kreason < 0) /* an indefinite tangent (CG met negative curvature): stiffen the shift */
+    ss->shift = PetscMax(10.0 * ss->shift, 1e-6);
+  else if (lambda >= 1.0)
     ss->shift = ss->shift / 10.0 < SHIFT_FLOOR ? 0.0 : ss->shift / 10.0;
   else if (lambda < 0.25)
     ss->shift = PetscMax(4.0 * ss->shift, SHIFT_FLOOR);
@@ -360,9 +366,12 @@ static PetscErrorCode SetDefaults(StaticSolver ss)
   PetscCall(SNESLineSearchSetType(ls, SNESLINESEARCHSHELL));
   PetscCall(SNESLineSearchShellSetUserFunc(ls, EnergyLineSearch, ss));
   PetscCall(SNESSetTolerances(ss->snes, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, 200, 100000));
+  /* CG stops at negative curvature with a descent direction (its iterate so far): the line
+     search takes it, and AdaptShift stiffens the next tangent */
+  PetscCall(SNESSetMaxLinearSolveFailures(ss->snes, PETSC_MAX_INT));
   PetscCall(SNESGetKSP(ss->snes, &ksp));
   PetscCall(KSPSetType(ksp, KSPCG));
-  PetscCall(KSPSetTolerances(ksp, 1e-2, PETSC_DEFAULT, PETSC_DEFAULT, 1000));
+  PetscCall(KSPSetTolerances(ksp, 1e-3, PETSC_DEFAULT, PETSC_DEFAULT, 1000));
   PetscCall(KSPGetPC(ksp, &pc));
   PetscCall(MultigridLevels(ss->dm, &levels));
   if (levels > 1) {
