@@ -549,6 +549,7 @@ static const char *const *Choices(const char *name)
   if (!strcmp(name, "pull")) return PullAxisNames;
   if (!strcmp(name, "shape")) return ShapeNames;
   if (!strcmp(name, "clamp")) return ClampNames;
+  if (!strcmp(name, "solver")) return SolverNames;
   if (!strcmp(name, "integrator")) return IntegratorNames;
   if (!strcmp(name, "predict")) return PredictNames;
   return NULL;
