@@ -10,7 +10,6 @@ typedef struct _p_StaticSolver *StaticSolver;
 typedef struct {                  /* one load step's solve */
   PetscInt  nonlinear_iterations; /* Newton steps */
   PetscInt  linear_iterations;    /* Krylov iterations over those steps */
-  PetscInt  attempts;             /* SNES solves (a failed one is retried with a stiffer shift) */
   PetscReal residual;             /* the balance test's residual at the end (as the explicit path's) */
   PetscBool balanced;
   char      reason[64]; /* SNES's converged reason of the last attempt */

@@ -109,6 +109,21 @@ PetscErrorCode ApplyLoadStep(Fabric fab, PetscInt k)
   PetscFunctionReturn(0);
 }
 
+/* the curve row of a load step that has ended: its balance, where the load program is, the measurements */
+static PetscErrorCode FinishRow(Fabric fab, PetscReal residual, PetscBool balanced, CurveRow *row)
+{
+  const Scene *s = &fab->s;
+
+  PetscFunctionBeginUser;
+  row->load_step  = fab->load.load_step;
+  row->residual   = residual;
+  row->balanced   = balanced;
+  row->elongation = JawTest(s) ? GripElongation(s, fab->grid.pull_dir, fab->load.travel) : 0.0;
+  row->time       = TestTime(s, &fab->load);
+  PetscCall(MeasureLoadStep(fab, row));
+  PetscFunctionReturn(0);
+}
+
 /* Relax the current load step: te steps until balance (early exit) or max_inner_steps. */
 PetscErrorCode RelaxLoadStep(Fabric fab, CurveRow *row)
 {
@@ -146,12 +161,7 @@ PetscErrorCode RelaxLoadStep(Fabric fab, CurveRow *row)
     }
     if (!broke || round >= MAX_BREAK_ROUNDS) break;
   }
-  row->load_step  = fab->load.load_step;
-  row->residual   = st.residual;
-  row->balanced   = st.balanced;
-  row->elongation = JawTest(s) ? GripElongation(s, fab->grid.pull_dir, fab->load.travel) : 0.0;
-  row->time       = TestTime(s, &fab->load);
-  PetscCall(MeasureLoadStep(fab, row));
+  PetscCall(FinishRow(fab, st.residual, st.balanced, row));
   PetscFunctionReturn(0);
 }
 
@@ -159,7 +169,6 @@ PetscErrorCode RelaxLoadStep(Fabric fab, CurveRow *row)
    position, the prediction is Newton's first guess; re-solved while yarns break. */
 static PetscErrorCode SolveLoadStep(Fabric fab, StaticSolver ss, CurveRow *row)
 {
-  const Scene *s = &fab->s;
   StaticResult r = {0};
 
   PetscFunctionBeginUser;
@@ -180,12 +189,7 @@ static PetscErrorCode SolveLoadStep(Fabric fab, StaticSolver ss, CurveRow *row)
     PetscCall(CheckBreaks(fab, &broke));
     if (!broke || round >= MAX_BREAK_ROUNDS) break;
   }
-  row->load_step  = fab->load.load_step;
-  row->residual   = r.residual;
-  row->balanced   = r.balanced;
-  row->elongation = JawTest(s) ? GripElongation(s, fab->grid.pull_dir, fab->load.travel) : 0.0;
-  row->time       = TestTime(s, &fab->load);
-  PetscCall(MeasureLoadStep(fab, row));
+  PetscCall(FinishRow(fab, r.residual, r.balanced, row));
   PetscFunctionReturn(0);
 }
 

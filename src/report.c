@@ -191,24 +191,20 @@ PetscErrorCode OutputProgress(Fabric fab, const CurveRow *r)
 {
   const PetscInt  K   = fab->s.load.load_steps;
   const PetscReal eta = fab->stats.wall / r->load_step * (K - r->load_step);
+  char            where[48], te[32] = ""; /* the static path takes no te steps */
 
   PetscFunctionBeginUser;
   if (fab->s.out.quiet) PetscFunctionReturn(0);
-  if (!JawTest(&fab->s)) { /* no jaws: the load point's or the ball's travel, the drape's drop */
-    PetscCall(PetscPrintf(
-        fab->comm,
-        "load step %4" PetscInt_FMT "/%" PetscInt_FMT "  travel %8.3f mm  force %10.4f N  N' %6" PetscInt_FMT
-        "%s  residual %.2e  te %.3g s  elapsed %.1f s  ETA %.1f s\n",
-        r->load_step, K, (double) (1e3 * r->travel), (double) r->force, r->inner_steps, r->balanced ? " " : "*",
-        (double) r->residual, (double) fab->step.te, (double) fab->stats.wall, (double) eta));
-    PetscFunctionReturn(0);
-  }
-  PetscCall(PetscPrintf(
-      fab->comm,
-      "load step %4" PetscInt_FMT "/%" PetscInt_FMT "  elongation %7.3f %%  force %10.4f N  N' %6" PetscInt_FMT
-      "%s  residual %.2e  te %.3g s  elapsed %.1f s  ETA %.1f s\n",
-      r->load_step, K, (double) (100.0 * r->elongation), (double) r->force, r->inner_steps, r->balanced ? " " : "*",
-      (double) r->residual, (double) fab->step.te, (double) fab->stats.wall, (double) eta));
+  if (JawTest(&fab->s))
+    PetscCall(PetscSNPrintf(where, sizeof where, "elongation %7.3f %%", (double) (100.0 * r->elongation)));
+  else /* no jaws: the load point's or the ball's travel, the drape's drop */
+    PetscCall(PetscSNPrintf(where, sizeof where, "travel %8.3f mm", (double) (1e3 * r->travel)));
+  if (fab->s.num.solver != SOLVER_STATIC) PetscCall(PetscSNPrintf(te, sizeof te, "  te %.3g s", (double) fab->step.te));
+  PetscCall(PetscPrintf(fab->comm,
+                        "load step %4" PetscInt_FMT "/%" PetscInt_FMT "  %s  force %10.4f N  N' %6" PetscInt_FMT
+                        "%s  residual %.2e%s  elapsed %.1f s  ETA %.1f s\n",
+                        r->load_step, K, where, (double) r->force, r->inner_steps, r->balanced ? " " : "*",
+                        (double) r->residual, te, (double) fab->stats.wall, (double) eta));
   PetscFunctionReturn(0);
 }
 

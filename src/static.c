@@ -39,12 +39,11 @@ struct _p_StaticSolver {
   SNES           snes;
   DM             dm; /* the grid's layout with the tangent's stencil (the SNES's and multigrid's DM) */
   Mat            J;
-  Vec            Xbc;        /* positions of the held crossings this load step */
-  unsigned char *free_g;     /* ghosted: the crossing is free (inv_m > 0) */
-  PetscReal      k_ref;      /* N/m: stiffness scale (a yarn segment's), for k_bc and the shift */
-  PetscReal      shift;      /* k_s / k_ref */
-  PetscReal      fmax, tmax; /* largest free force and largest yarn tension of the last evaluation */
-  PetscInt       lits;       /* Krylov iterations of the current load step */
+  Vec            Xbc;    /* positions of the held crossings this load step */
+  unsigned char *free_g; /* ghosted: the crossing is free (inv_m > 0) */
+  PetscReal      k_ref;  /* N/m: stiffness scale (a yarn segment's), for k_bc and the shift */
+  PetscReal      shift;  /* k_s / k_ref */
+  PetscReal      tmax;   /* largest yarn tension of the last evaluation (the balance test's scale) */
 };
 
 /* gravity on the free owned points and the residual rows of the held ones */
@@ -55,32 +54,23 @@ static PetscErrorCode FormFunction(SNES snes, Vec U, Vec R, void *ctx)
   const PetscReal   *g   = fab->load.gravity_now;
   const PetscScalar *u, *xb;
   PetscScalar       *r;
-  PetscReal          red[2] = {0, 0};
 
   PetscFunctionBeginUser;
   (void) snes;
-  PetscCall(ComputeForcesAt(fab, U, R, NULL, &red[1]));
+  PetscCall(ComputeForcesAt(fab, U, R, NULL, &ss->tmax));
   PetscCall(VecGetArrayRead(U, &u));
   PetscCall(VecGetArrayRead(ss->Xbc, &xb));
   PetscCall(VecGetArray(R, &r));
   for (PetscInt k = 0; k < fab->grid.nloc; k++) {
-    if (fab->grid.inv_m[k] > 0) {
-      PetscReal f2 = 0;
-      for (int d = 0; d < 3; d++) {
-        const PetscReal f = r[3 * k + d] + fab->grid.mass[k] * g[d];
-        r[3 * k + d]      = -f;
-        f2 += f * f;
-      }
-      red[0] = PetscMax(red[0], f2);
-    } else
+    if (fab->grid.inv_m[k] > 0)
+      for (int d = 0; d < 3; d++) r[3 * k + d] = -(r[3 * k + d] + fab->grid.mass[k] * g[d]);
+    else
       for (int d = 0; d < 3; d++) r[3 * k + d] = ss->k_ref * (u[3 * k + d] - xb[3 * k + d]);
   }
   PetscCall(VecRestoreArray(R, &r));
   PetscCall(VecRestoreArrayRead(ss->Xbc, &xb));
   PetscCall(VecRestoreArrayRead(U, &u));
-  PetscCall(GlobalMax(fab->comm, red, 2));
-  ss->fmax = PetscSqrtReal(red[0]);
-  ss->tmax = red[1];
+  PetscCall(GlobalMax(fab->comm, &ss->tmax, 1));
   PetscFunctionReturn(0);
 }
 
@@ -484,28 +474,35 @@ PetscErrorCode StaticSolve(StaticSolver ss, StaticResult *r)
   PetscCall(PetscMemzero(r, sizeof *r));
   PetscCall(VecCopy(fab->state.X, ss->Xbc));
   ss->shift = SHIFT_START;
-  ss->lits  = 0;
-  for (r->attempts = 1; r->attempts <= MAX_ATTEMPTS; r->attempts++) {
+  for (int attempt = 0; attempt < MAX_ATTEMPTS; attempt++) { /* a failed solve is retried, stiffer */
     PetscInt lits;
     PetscCall(SNESSolve(ss->snes, NULL, fab->state.X));
     PetscCall(SNESGetConvergedReason(ss->snes, &reason));
     PetscCall(SNESGetIterationNumber(ss->snes, &its));
     PetscCall(SNESGetLinearSolveIterations(ss->snes, &lits));
     r->nonlinear_iterations += its;
-    ss->lits += lits;
+    r->linear_iterations += lits;
     if (reason != SNES_DIVERGED_LINE_SEARCH && reason != SNES_DIVERGED_LINEAR_SOLVE) break;
     ss->shift = PetscMax(100.0 * ss->shift, 1e-6); /* start again from where it stopped, stiffer */
   }
-  r->linear_iterations = ss->lits;
   PetscCall(PetscStrncpy(r->reason, SNESConvergedReasons[reason], sizeof r->reason));
-  /* the state's forces at the solution: the measurements read them */
-  PetscCall(ComputeForces(fab, NULL, &fab->step.last.tension_max));
+  /* the state's forces at the solution (the measurements read them) give the balance test */
   {
-    Vec R;
-    PetscCall(SNESGetFunction(ss->snes, &R, NULL, NULL));
-    PetscCall(FormFunction(ss->snes, fab->state.X, R, ss));
+    const PetscScalar *f;
+    const PetscReal   *g      = fab->load.gravity_now;
+    PetscReal          red[2] = {0, 0}; /* largest free |F|^2, largest yarn tension */
+    PetscCall(ComputeForces(fab, NULL, &red[1]));
+    PetscCall(VecGetArrayRead(fab->state.F, &f));
+    for (PetscInt k = 0; k < fab->grid.nloc; k++) {
+      PetscReal f2 = 0;
+      if (!(fab->grid.inv_m[k] > 0)) continue;
+      for (int d = 0; d < 3; d++) f2 += PetscSqr(f[3 * k + d] + fab->grid.mass[k] * g[d]);
+      red[0] = PetscMax(red[0], f2);
+    }
+    PetscCall(VecRestoreArrayRead(fab->state.F, &f));
+    PetscCall(GlobalMax(fab->comm, red, 2));
+    r->residual = PetscSqrtReal(red[0]) / PetscMax(red[1], fab->step.force_floor);
   }
-  r->residual = ss->fmax / PetscMax(ss->tmax, fab->step.force_floor);
   r->balanced = r->residual <= fab->s.num.balance_tol ? PETSC_TRUE : PETSC_FALSE;
   PetscFunctionReturn(0);
 }
