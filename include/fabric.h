@@ -74,6 +74,7 @@ typedef struct { /* the time step, damping and the balance test's scales */
   PetscReal  te, te_bound, omega_max, damp_c;
   PetscReal  omega1;      /* slowest mode along the pull (estimate), rad/s */
   PetscBool  bound_fresh; /* the stable step was just taken at the current state */
+  PetscBool  tear;        /* a tear is followed: true masses and the scene's damping, no kinetic damping */
   StepStats  last;
   PetscReal  force_floor; /* smallest force scale of the balance test, N */
   PetscReal  ke_prev;     /* kinetic damping: total kinetic energy after the last te step, J */
@@ -90,11 +91,24 @@ typedef struct {           /* rank propagation and sleeping (front.c) */
   PetscInt  grip_box[4];   /* global bounding box of the grip points */
 } FrontState;
 
+typedef struct {               /* yarn breaking and rupture (relax.c) */
+  PetscInt64 segments;         /* yarn segments broken so far */
+  BreakSite  first;            /* where the first segment broke (kernels.h); first.ratio 0: none yet */
+  PetscInt   first_step;       /* its load step */
+  PetscReal  first_time;       /* s: its test time */
+  PetscReal  peak_force;       /* N: the largest force measured so far */
+  PetscReal  at_peak;          /* its elongation (jaw tests) or travel (m) */
+  PetscInt   rupture_step;     /* the load step in which the specimen ruptured (0: it has not) */
+  PetscReal  rupture_time;     /* s: test time at the end of that load step's tear */
+  PetscInt64 tear_te_steps;    /* te steps of tears so far */
+} RuptureState;
+
 typedef struct { /* run statistics and the curve */
   PetscInt64     te_steps, point_updates;
   PetscInt64     nonlinear_iterations, linear_iterations; /* the quasi-static solver's Newton and Krylov steps */
   PetscBool      converged;
   PetscBool      broken_any; /* a yarn segment broke */
+  RuptureState   rupture;
   PetscLogDouble wall_start, wall;
   CurveRow      *curve;
   FILE          *curve_fp; /* rank 0 */

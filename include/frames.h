@@ -28,6 +28,7 @@ struct _p_FabricIO {
   /* options */
   PetscInt output_every;                /* a frame every K load steps and at the last (0: none) */
   PetscInt output_te_every;             /* a frame every M te steps within a load step (0: none) */
+  PetscInt output_tear_every;           /* a frame every M te steps of a tear (0: none) */
   PetscInt checkpoint_every;            /* DIR/checkpoint.h5 every K load steps (0: never) */
   char     restart[PETSC_MAX_PATH_LEN]; /* -restart FILE, "" for a fresh run */
   /* frames */
@@ -64,6 +65,15 @@ PetscErrorCode FramesLoadStep(FabricIO io, const FrameSource *src, const FrameIn
    te step 0); te_steps: the run's te steps so far */
 PetscErrorCode FramesTeStep(FabricIO io, const FrameSource *src, const FrameInfo *load, PetscInt64 te_steps,
                             PetscReal te);
+/* within a tear (relax.c): a frame every -output_tear_every te steps. load: the load step (test time,
+   number); n: te steps into the load step */
+PetscErrorCode FramesTearStep(FabricIO io, const FrameSource *src, const FrameInfo *load, PetscInt n, PetscReal te);
+/* frames are asked for: at load steps, te steps or in tears */
+static inline PetscBool IOWritesFrames(FabricIO io)
+{
+  return (io && (io->output_every > 0 || io->output_te_every > 0 || io->output_tear_every > 0)) ? PETSC_TRUE
+                                                                                                : PETSC_FALSE;
+}
 /* the files of the run, for the closing message */
 PetscErrorCode IODescribe(FabricIO io, const char *output_dir, char *buf, size_t len);
 /* warp and weft tension and shear angle of each owned point (Xl: ghosted work vector of X) */

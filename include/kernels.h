@@ -51,6 +51,7 @@ typedef struct {
   /* ghosted per-point and per-segment state */
   unsigned char *exists;              /* point exists (inside the shape), ghosted */
   unsigned char *broken_x, *broken_y; /* segment (i,j)-(i+1,j) / (i,j)-(i,j+1) broke */
+  PetscReal     *break_x, *break_y;   /* their breaking chord strains (NULL: the laws' break_e) */
   /* work space of the row pipeline */
   SegmentRow     xs_row, ys_ring[KERNEL_RING];
   BendRow        by_ring[KERNEL_RING], bx_row;
@@ -77,8 +78,15 @@ void ComputeInternalForces(Patch *p, const PetscReal *x, const PetscInt box[4], 
    patch) and the shorter tangent's length; 0 if the crossing has no shear */
 int CrossingShear(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j, PetscReal *s, PetscReal *tmin);
 
-/* Break the segments strained past the breaking strain; 1 if one at an owned point broke. */
-int BreakSegments(Patch *p, const PetscReal *x);
+typedef struct {  /* the segment a break check found the most strained past its breaking strain */
+  PetscReal ratio; /* its chord strain over its breaking strain (0: none broke) */
+  PetscInt  dir, i, j; /* family (0 warp: to (i+1,j), 1 weft: to (i,j+1)) and global first crossing */
+} BreakSite;
+
+/* Break the segments strained past their breaking strain (break_x/_y, else the law's): every
+   segment of the ghosted patch, so that neighbouring ranks agree without messages. Returns the
+   segments broken whose first crossing is owned; *site: the most overstrained of those. */
+PetscInt BreakSegments(Patch *p, const PetscReal *x, BreakSite *site);
 
 /* Largest Gershgorin row sum of the tangent stiffness over the point mass, over owned
    points with inv_m > 0 (omega_max^2 bound, MODEL.md 7.3): the sum of the terms' bound_row

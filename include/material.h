@@ -36,8 +36,14 @@ typedef struct {
     PetscReal lo, hi, c0, c1, c2, c3, slope_max;
   } blend[3];
   PetscReal bending;  /* bending rigidity B, N m^2 */
-  PetscReal break_ey; /* yarn strain at break; <= 0: never breaks */
+  PetscReal break_ey; /* mean yarn strain at break (at the yarn test's gauge); <= 0: never breaks */
   PetscReal break_e;  /* the same as chord strain (INFINITY if none) */
+  /* scatter of the breaking strain (YarnBreakSetUp): each segment's yarn breaking strain is drawn
+     from a Weibull distribution of shape break_k and scale break_scale; cv 0: every segment breaks
+     at break_ey */
+  PetscReal break_cv;    /* coefficient of variation at the yarn test's gauge, fraction */
+  PetscReal break_gauge; /* the yarn test's gauge length that break_ey and break_cv hold for, m */
+  PetscReal break_k, break_scale;
   /* fast form of a tabulated law (ntab == 0: linear law) */
   PetscInt    ntab;
   PetscReal   tab_h, tab_inv_h, tab_end; /* node spacing and last node, in yarn strain */
@@ -82,6 +88,13 @@ static inline PetscReal ChordTension(const YarnLaw *y, PetscReal e)
 }
 
 PetscErrorCode YarnLawSetUp(YarnLaw *y, MPI_Comm comm);
+/* the Weibull scatter of the breaking strain for segments of rest chord L0 (after YarnLawSetUp) */
+PetscErrorCode YarnBreakSetUp(YarnLaw *y, PetscReal L0, MPI_Comm comm);
+/* breaking chord strain of the segment of family dir (0 warp, 1 weft) starting at global crossing
+   (i,j), drawn from its seed and global index alone: the same on any number of ranks */
+PetscReal SegmentBreakStrain(const YarnLaw *y, PetscInt64 seed, int dir, PetscInt i, PetscInt j);
+/* Weibull shape whose coefficient of variation is cv (0 < cv < 1) */
+PetscReal WeibullShape(PetscReal cv);
 PetscErrorCode YarnLawDestroy(YarnLaw *y);
 /* largest dT/de over chord strains [a,b]: the tangent used by the stable-step bound */
 PetscReal ChordTangentMax(const YarnLaw *y, PetscReal a, PetscReal b);

@@ -42,7 +42,7 @@ extern const char *const ClampNames[];
    table of scene.c reads, and what checkpoints and summary.json record. */
 typedef struct {
   PetscReal tex, crimp_pct, modulus_cN_tex, decrimp_ratio, compression_ratio, contact_pct, law_smoothing_pct;
-  PetscReal bending_Nm2, break_pct;
+  PetscReal bending_Nm2, break_pct, break_cv_pct;
   char      law_csv[PETSC_MAX_PATH_LEN];
 } YarnInput;
 
@@ -66,6 +66,8 @@ typedef struct {
   PetscInt  n_gravity;
   PetscReal elongation_pct, speed_mm_min, point_load_N[3], grip_path_mm[3 * MAX_WAYPOINTS];
   PetscInt  n_point_load_N, point_load_at[2], n_point_load_at, n_grip_path_mm, load_steps, max_inner_steps;
+  PetscReal break_gauge_mm, rupture_drop_pct, tear_wave_crossings, tear_max_ms;
+  PetscInt  break_seed, output_tear_every;
   PetscInt  solver, integrator, predict, grip_ramp_steps;
   PetscReal te, te_safety, te_strain_window, balance_tol, speed_tol, sleep_tol;
   PetscBool te_check, early_exit, front, kinetic_damping;
@@ -83,6 +85,7 @@ typedef struct {                               /* what is written where */
   PetscBool quiet;                             /* no progress line per load step */
   PetscInt  output_every;                      /* a frame every K load steps and at the last (0: none) */
   PetscInt  output_te_every;                   /* a frame every M te steps within a load step (0: none) */
+  PetscInt  output_tear_every;                 /* a frame every M te steps of a tear (0: none) */
   PetscInt  checkpoint_every;                  /* checkpoint.h5 every K load steps (0: never) */
   PetscInt  checkpoint_every_te;               /* checkpoint.h5 within a load step every K te steps (0: never) */
   PetscReal checkpoint_every_s;                /* checkpoint.h5 within a load step every S s of wall clock (0: never) */
@@ -169,6 +172,13 @@ typedef struct {         /* integration, balance test and speed-ups */
   PetscReal      nu, damping_ratio;
 } Numerics;
 
+typedef struct {      /* rupture (relax.c): how a tear is followed and when the specimen has broken */
+  PetscInt64 seed;     /* of the segments' breaking strains (material.h SegmentBreakStrain) */
+  PetscReal  drop;     /* broken: after a yarn broke, the force fell below (1 - drop) of its maximum */
+  PetscReal  crossings; /* a tear ends when no segment broke while a yarn wave crossed the specimen this often */
+  PetscReal  max_time; /* s of test time: the longest tear */
+} Rupture;
+
 typedef struct {
   SceneInput  in;   /* the options as given */
   TestType    test; /* the scene's test: its load program and curve */
@@ -180,6 +190,7 @@ typedef struct {
   LoadProgram load;
   Bodies      bodies;
   Numerics    num;
+  Rupture     rupture;
 } Scene;
 
 /* the strip and bias tests pull jaws (their curve is force vs elongation); the others have none */

@@ -64,7 +64,7 @@ typedef struct {
 static PetscBool OutputOnlyOption(const char *name)
 {
   const char *out[] = {
-      "quiet", "output_every", "output_te_every", "checkpoint_every", "checkpoint_every_te", "checkpoint_every_s"};
+      "quiet", "output_every", "output_te_every", "output_tear_every", "checkpoint_every", "checkpoint_every_te", "checkpoint_every_s"};
   for (size_t q = 0; q < sizeof out / sizeof out[0]; q++)
     if (!strcmp(name, out[q])) return PETSC_TRUE;
   return PETSC_FALSE;
@@ -447,6 +447,28 @@ static PetscErrorCode WriteScene(const Scene *s, PetscViewer v)
   PetscFunctionReturn(0);
 }
 
+/* the rupture state (fabric.h RuptureState) as attributes of / */
+#define RUPTURE_ATTRS 12
+static const char *const RuptureAttr[RUPTURE_ATTRS] = {
+    "segments_broken", "first_break_ratio", "first_break_dir", "first_break_i", "first_break_j", "first_break_step",
+    "first_break_time_s", "peak_force_N", "at_peak_force", "rupture_step", "rupture_time_s", "tear_te_steps"};
+
+static void RupturePack(const RuptureState *r, PetscReal a[RUPTURE_ATTRS])
+{
+  a[0] = (PetscReal) r->segments, a[1] = r->first.ratio, a[2] = (PetscReal) r->first.dir;
+  a[3] = (PetscReal) r->first.i, a[4] = (PetscReal) r->first.j, a[5] = (PetscReal) r->first_step;
+  a[6] = r->first_time, a[7] = r->peak_force, a[8] = r->at_peak, a[9] = (PetscReal) r->rupture_step;
+  a[10] = r->rupture_time, a[11] = (PetscReal) r->tear_te_steps;
+}
+
+static void RuptureUnpack(const double a[RUPTURE_ATTRS], RuptureState *r)
+{
+  r->segments = (PetscInt64) a[0], r->first.ratio = a[1], r->first.dir = (PetscInt) a[2];
+  r->first.i = (PetscInt) a[3], r->first.j = (PetscInt) a[4], r->first_step = (PetscInt) a[5];
+  r->first_time = a[6], r->peak_force = a[7], r->at_peak = a[8], r->rupture_step = (PetscInt) a[9];
+  r->rupture_time = a[10], r->tear_te_steps = (PetscInt64) a[11];
+}
+
 /* the counters of the run, as attributes of /; done: the load steps done */
 static PetscErrorCode WriteCounters(Fabric fab, PetscViewer v, PetscInt done)
 {
@@ -482,6 +504,11 @@ static PetscErrorCode WriteCounters(Fabric fab, PetscViewer v, PetscInt done)
   /* kinetic damping: the kinetic energy after the last te step (a reset is decided on it) */
   PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "kinetic_energy_J", PETSC_REAL, &fab->step.ke_prev));
   PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "kinetic_resets", PETSC_LONG, &resets));
+  {
+    PetscReal r[RUPTURE_ATTRS];
+    RupturePack(&fab->stats.rupture, r);
+    for (int k = 0; k < RUPTURE_ATTRS; k++) PetscCall(PetscViewerHDF5WriteAttribute(v, "/", RuptureAttr[k], PETSC_REAL, &r[k]));
+  }
   PetscFunctionReturn(0);
 }
 
@@ -627,6 +654,7 @@ typedef struct {     /* what rank 0 reads alone, then broadcasts */
   double     last_tension_max;
   double     ke_prev;
   long long  ke_resets;
+  double     rupture[RUPTURE_ATTRS];
   RelaxState relax;
 } Header;
 
@@ -806,6 +834,9 @@ static int ReadCounters(const Scene *s, hid_t g, const char *file, Header *h)
   if (!ReadAttr(g, "kinetic_energy_J", H5T_NATIVE_DOUBLE, &h->ke_prev) ||
       !ReadAttr(g, "kinetic_resets", H5T_NATIVE_LLONG, &h->ke_resets))
     return REFUSE("-restart %s: damaged checkpoint: the kinetic damping state is missing", file);
+  for (int k = 0; k < RUPTURE_ATTRS; k++)
+    if (!ReadAttr(g, RuptureAttr[k], H5T_NATIVE_DOUBLE, &h->rupture[k]))
+      return REFUSE("-restart %s: damaged checkpoint: the rupture state (%s) is missing", file, RuptureAttr[k]);
   if (!ReadRelaxState(s, g, file, h)) return 0;
   /* at the end of load step 1..K, or within load step 1..K (load steps done: 0..K-1) */
   if (h->load_step < 1 - h->relax.within || h->load_step > K - h->relax.within || h->frames < 0 || h->te_steps < 0)
@@ -952,6 +983,7 @@ static void RestoreCounters(Fabric fab, const Header *hp)
   fab->stats.point_updates   = (PetscInt64) h.point_updates;
   fab->stats.converged       = h.converged ? PETSC_TRUE : PETSC_FALSE;
   fab->stats.broken_any      = h.broken_any ? PETSC_TRUE : PETSC_FALSE;
+  RuptureUnpack(h.rupture, &fab->stats.rupture);
   RelaxStateUnpack(&h.relax, fab);
   ckpt.resume         = h.relax.within ? PETSC_TRUE : PETSC_FALSE; /* FabricRun continues load step load_step + 1 */
   ckpt.at.round       = (PetscInt) h.relax.round;
@@ -1004,7 +1036,7 @@ static PetscErrorCode ReadHistory(Fabric fab, Header *h, double **rows, double *
   PetscFunctionBeginUser;
   if (fab->rank == 0) {
     PetscCall(ReadHeader(fab, io->restart, h, rows, frames));
-    if (!h->status && h->frames > 0 && fab->s.out.output_dir[0] && (io->output_every > 0 || io->output_te_every > 0))
+    if (!h->status && h->frames > 0 && fab->s.out.output_dir[0] && IOWritesFrames(io))
       CheckFramesFile(&fab->s, io->restart, h);
   }
   PetscCall(BroadcastFromRoot(fab->comm, h, (PetscInt) sizeof *h, MPI_BYTE));

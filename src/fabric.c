@@ -270,6 +270,14 @@ static PetscErrorCode SetUpPatch(Fabric fab, const DMDALocalInfo *info_)
     for (PetscInt j = 0; j < p->gym; j++)
       for (PetscInt i = 0; i < p->gxm; i++)
         p->exists[j * p->gxm + i] = (unsigned char) PointExists(s, p->gxs + i, p->gys + j);
+    if (s->yarns.warp.break_k > 0 || s->yarns.weft.break_k > 0) { /* scattered breaking strains */
+      PetscCall(PetscMalloc2((size_t) p->gxm * p->gym, &p->break_x, (size_t) p->gxm * p->gym, &p->break_y));
+      for (PetscInt j = 0; j < p->gym; j++)
+        for (PetscInt i = 0; i < p->gxm; i++) {
+          p->break_x[j * p->gxm + i] = SegmentBreakStrain(p->warp, s->rupture.seed, 0, p->gxs + i, p->gys + j);
+          p->break_y[j * p->gxm + i] = SegmentBreakStrain(p->weft, s->rupture.seed, 1, p->gxs + i, p->gys + j);
+        }
+    }
     PetscCall(PatchSetUp(p));
   }
 
@@ -470,6 +478,7 @@ PetscErrorCode FabricDestroy(Fabric *pfab)
   PetscCall(PetscFree(fab->grid.patch.exists));
   PetscCall(PetscFree(fab->grid.patch.broken_x));
   PetscCall(PetscFree(fab->grid.patch.broken_y));
+  PetscCall(PetscFree2(fab->grid.patch.break_x, fab->grid.patch.break_y));
   PetscCall(PatchDestroy(&fab->grid.patch));
   PetscCall(VecDestroy(&fab->state.X));
   PetscCall(VecDestroy(&fab->state.V));

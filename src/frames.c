@@ -40,6 +40,7 @@ PetscErrorCode IOSetUp(const SceneOutput *out, FabricIO *pio)
   PetscCall(PetscNew(&io));
   io->output_every     = out->output_every;
   io->output_te_every  = out->output_te_every;
+  io->output_tear_every = out->output_tear_every;
   io->checkpoint_every = out->checkpoint_every;
   PetscCall(PetscStrncpy(io->restart, out->restart, sizeof io->restart));
   io->te_load_step = -1;
@@ -61,7 +62,7 @@ PetscErrorCode IODestroy(FabricIO *pio)
 
 static PetscBool FramesOn(FabricIO io, const char *output_dir)
 {
-  return (io && output_dir[0] && (io->output_every > 0 || io->output_te_every > 0)) ? PETSC_TRUE : PETSC_FALSE;
+  return (output_dir[0] && IOWritesFrames(io)) ? PETSC_TRUE : PETSC_FALSE;
 }
 
 PetscErrorCode ComputePointFields(const FabricGrid *g, Vec X, Vec Xl, Vec warp_tension, Vec weft_tension, Vec shear_deg)
@@ -298,7 +299,7 @@ PetscErrorCode FramesLoadStep(FabricIO io, const FrameSource *src, const FrameIn
   PetscFunctionBeginUser;
   if (!FramesOn(io, src->out->output_dir) || !io->output_every) PetscFunctionReturn(0);
   if (f->load_step % io->output_every && !last) PetscFunctionReturn(0);
-  at.time = f->time + (io->output_te_every ? f->te_step * te : 0.0);
+  at.time = f->time + (io->output_te_every || io->output_tear_every ? f->te_step * te : 0.0);
   PetscCall(WriteFrame(io, src, &at));
   PetscFunctionReturn(0);
 }
@@ -322,6 +323,16 @@ PetscErrorCode FramesTeStep(FabricIO io, const FrameSource *src, const FrameInfo
   f.load_step = load->load_step;
   f.te_step   = n;
   f.time      = load->time + n * te;
+  PetscCall(WriteFrame(io, src, &f));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FramesTearStep(FabricIO io, const FrameSource *src, const FrameInfo *load, PetscInt n, PetscReal te)
+{
+  const FrameInfo f = {load->time + n * te, load->load_step, n};
+
+  PetscFunctionBeginUser;
+  if (!FramesOn(io, src->out->output_dir)) PetscFunctionReturn(0);
   PetscCall(WriteFrame(io, src, &f));
   PetscFunctionReturn(0);
 }

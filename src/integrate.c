@@ -358,7 +358,7 @@ PetscErrorCode TimeStep(Fabric fab, StepStats *out)
              "bound %g s)",
              fab->load.load_step, fab->stats.te_steps, (double) (out->speed * fab->step.te), (double) fab->grid.extent,
              (double) fab->step.te, (double) fab->step.te_bound);
-  if (s->num.kinetic_damping) PetscCall(KineticDamping(fab));
+  if (s->num.kinetic_damping && !fab->step.tear) PetscCall(KineticDamping(fab));
   out->balanced  = (out->residual <= s->num.balance_tol && out->speed <= s->num.speed_tol &&
                    fab->load.ramp_done >= fab->load.ramp_steps)
                        ? PETSC_TRUE

@@ -369,34 +369,37 @@ static void TractionBoundRow(const Patch *p, const PetscReal *x, PetscInt i, Pet
   }
 }
 
-/* Break every segment of the patch whose yarn strain exceeds the breaking strain
-   (MODEL.md 5.1). Called on a balanced state: strains of the relaxation transient are
-   artefacts of the load stepping. Returns 1 if a segment at an owned point broke. */
-int BreakSegments(Patch *p, const PetscReal *x)
+/* Break every segment of the patch whose yarn strain exceeds its breaking strain
+   (MODEL.md 5.1). Called on a balanced state, or within a tear after every te step. */
+PetscInt BreakSegments(Patch *p, const PetscReal *x, BreakSite *site)
 {
-  int broke = 0;
+  PetscInt n = 0;
+
+  site->ratio = 0;
   for (int dir = 0; dir < 2; dir++) {
-    const YarnLaw  *law    = dir == 0 ? p->warp : p->weft;
-    const PetscReal L0     = dir == 0 ? p->ax : p->ay;
-    unsigned char  *broken = dir == 0 ? p->broken_x : p->broken_y;
+    const YarnLaw   *law    = dir == 0 ? p->warp : p->weft;
+    const PetscReal  L0     = dir == 0 ? p->ax : p->ay;
+    unsigned char   *broken = dir == 0 ? p->broken_x : p->broken_y;
+    const PetscReal *eb     = dir == 0 ? p->break_x : p->break_y;
     if (!isfinite(law->break_e)) continue;
     for (PetscInt lj = 0; lj + (dir == 1) < p->gym; lj++)
       for (PetscInt li = 0; li + (dir == 0) < p->gxm; li++) {
         const PetscInt k = lj * p->gxm + li, k2 = k + (dir == 0 ? 1 : p->gxm);
         if (broken[k] || !p->exists[k] || !p->exists[k2]) continue;
         const PetscReal *a = x + 3 * k, *b = x + 3 * k2;
-        const PetscReal  L = PetscSqrtReal(PetscSqr(b[0] - a[0]) + PetscSqr(b[1] - a[1]) + PetscSqr(b[2] - a[2]));
-        if (L / L0 - 1.0 <= law->break_e) continue;
+        const PetscReal  e_break = eb ? eb[k] : law->break_e;
+        const PetscReal  e = PetscSqrtReal(PetscSqr(b[0] - a[0]) + PetscSqr(b[1] - a[1]) + PetscSqr(b[2] - a[2])) / L0 - 1.0;
+        if (e <= e_break) continue;
         broken[k] = 1;
         {
-          const PetscInt i = p->gxs + li, j = p->gys + lj, i2 = i + (dir == 0), j2 = j + (dir == 1);
-          const int      own_a = i >= p->xs && i < p->xs + p->xm && j >= p->ys && j < p->ys + p->ym;
-          const int      own_b = i2 >= p->xs && i2 < p->xs + p->xm && j2 >= p->ys && j2 < p->ys + p->ym;
-          if (own_a || own_b) broke = 1;
+          const PetscInt i = p->gxs + li, j = p->gys + lj;
+          if (i < p->xs || i >= p->xs + p->xm || j < p->ys || j >= p->ys + p->ym) continue; /* not owned */
+          n++;
+          if (e / e_break > site->ratio) site->ratio = e / e_break, site->dir = dir, site->i = i, site->j = j;
         }
       }
   }
-  return broke;
+  return n;
 }
 
 /* ============ the angle between two tangents: bending and shear (MODEL.md 5, 14) ============ */

@@ -121,15 +121,19 @@ static PetscErrorCode Run(int argc, char **argv)
     PetscFunctionReturn(0);
   }
   if (fab->s.out.output_dir[0]) {
-    PetscReal       peak = 0;
-    char            where[64], work[128];
-    const CurveRow *last = &fab->stats.curve[fab->s.load.load_steps - 1];
-    for (PetscInt k = 0; k < fab->s.load.load_steps; k++) peak = PetscMax(peak, fab->stats.curve[k].force);
+    const RuptureState *r    = &fab->stats.rupture;
+    const PetscReal     peak = r->peak_force;
+    const PetscInt      K    = r->rupture_step ? r->rupture_step : fab->s.load.load_steps;
+    char                where[160], work[128];
+    const CurveRow     *last = &fab->stats.curve[K - 1];
     /* the jaw tests end at an elongation, the others at a travel (sphere, load point, drop) */
     if (JawTest(&fab->s))
-      PetscCall(PetscSNPrintf(where, sizeof where, "%.3g %% elongation", (double) (100 * last->elongation)));
+      PetscCall(PetscSNPrintf(where, sizeof where, "%s at %.4g %% elongation (maximum force at %.4g %%)",
+                              r->rupture_step ? "ruptured" : "last load step", (double) (100 * last->elongation),
+                              (double) (100 * r->at_peak)));
     else
-      PetscCall(PetscSNPrintf(where, sizeof where, "%.4g mm travel", (double) (1e3 * last->travel)));
+      PetscCall(PetscSNPrintf(where, sizeof where, "%s at %.4g mm travel", r->rupture_step ? "burst" : "last load step",
+                              (double) (1e3 * last->travel)));
     if (fab->s.num.solver == SOLVER_STATIC)
       PetscCall(PetscSNPrintf(work, sizeof work,
                               "%" PetscInt64_FMT " Newton steps, %" PetscInt64_FMT " Krylov iterations",
@@ -138,7 +142,7 @@ static PetscErrorCode Run(int argc, char **argv)
       PetscCall(PetscSNPrintf(work, sizeof work, "%" PetscInt64_FMT " te steps, %.3e point updates/s",
                               fab->stats.te_steps,
                               fab->stats.wall > 0 ? (double) fab->stats.point_updates / fab->stats.wall : 0.0));
-    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fabric: done in %.2f s: %s; peak force %.4g N, last load step at %s; %s\n",
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fabric: done in %.2f s: %s; peak force %.4g N, %s; %s\n",
                           (double) fab->stats.wall, work, (double) peak, where,
                           fab->stats.converged ? "every load step balanced"
                                                : "some load steps did NOT balance (see curve.csv residual)"));

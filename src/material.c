@@ -11,7 +11,9 @@
 
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_interp.h>
+#include <gsl/gsl_sf_gamma.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -281,4 +283,66 @@ PetscReal ChordTangentMax(const YarnLaw *y, PetscReal a, PetscReal b)
   for (PetscInt k = 0; k < y->nblend; k++)
     if (a <= y->blend[k].hi && b >= y->blend[k].lo) m = PetscMax(m, y->blend[k].slope_max);
   return m;
+}
+
+/* ---------------- the scatter of the breaking strain ---------------- */
+
+/* the coefficient of variation of a Weibull distribution of shape k:
+   CV^2 = Gamma(1 + 2/k) / Gamma(1 + 1/k)^2 - 1, which falls as k grows */
+static PetscReal WeibullCV(PetscReal k)
+{
+  return PetscSqrtReal(PetscExpReal(gsl_sf_lngamma(1.0 + 2.0 / k) - 2.0 * gsl_sf_lngamma(1.0 + 1.0 / k)) - 1.0);
+}
+
+PetscReal WeibullShape(PetscReal cv)
+{
+  PetscReal lo = 0.0, hi = 20.0; /* log k: k from 1 (CV 1) to 4.9e8 (CV 2.6e-9) */
+  for (int it = 0; it < 200 && hi - lo > 1e-15 * hi; it++) {
+    const PetscReal mid = 0.5 * (lo + hi);
+    if (WeibullCV(PetscExpReal(mid)) > cv) lo = mid;
+    else hi = mid;
+  }
+  return PetscExpReal(0.5 * (lo + hi));
+}
+
+/* Weakest link: a yarn of n segments breaks where its weakest segment does, and the smallest of n
+   draws of Weibull(k, scale) is Weibull(k, scale n^(-1/k)). A yarn test at gauge G (ISO 2062:
+   500 mm) spans n = G / ((1 + c) L0) segments, so segments of scale lambda_g n^(1/k) give yarns of
+   that gauge the measured mean break_ey = lambda_g Gamma(1 + 1/k) and the measured CV. */
+PetscErrorCode YarnBreakSetUp(YarnLaw *y, PetscReal L0, MPI_Comm comm)
+{
+  PetscReal n;
+
+  PetscFunctionBeginUser;
+  y->break_k = y->break_scale = 0;
+  if (!(y->break_ey > 0) || !(y->break_cv > 0)) PetscFunctionReturn(0);
+  n = y->break_gauge / ((1.0 + y->crimp) * L0);
+  PetscCheck(n >= 1.0, comm, PETSC_ERR_USER_INPUT,
+             "-break_gauge_mm %g: shorter than one %s segment of yarn (%g mm): the yarn test's gauge must span segments",
+             (double) (1e3 * y->break_gauge), y->name, (double) (1e3 * (1.0 + y->crimp) * L0));
+  y->break_k     = WeibullShape(y->break_cv);
+  y->break_scale = y->break_ey / PetscExpReal(gsl_sf_lngamma(1.0 + 1.0 / y->break_k)) *
+                   PetscPowReal(n, 1.0 / y->break_k);
+  PetscFunctionReturn(0);
+}
+
+/* splitmix64's finaliser: a bijection of 64-bit words whose outputs pass BigCrush */
+static uint64_t Mix64(uint64_t z)
+{
+  z += 0x9e3779b97f4a7c15ULL;
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+
+PetscReal SegmentBreakStrain(const YarnLaw *y, PetscInt64 seed, int dir, PetscInt i, PetscInt j)
+{
+  uint64_t  h;
+  PetscReal u, ey;
+
+  if (!(y->break_k > 0)) return y->break_e;
+  h  = Mix64(Mix64(Mix64(Mix64((uint64_t) seed) ^ (uint64_t) dir) ^ (uint64_t) j) ^ (uint64_t) i);
+  u  = ((PetscReal) (h >> 11) + 0.5) * 0x1.0p-53; /* uniform in (0, 1) */
+  ey = y->break_scale * PetscPowReal(-PetscLogReal(u), 1.0 / y->break_k);
+  return y->crimp + ey * (1.0 + y->crimp);
 }

@@ -21,20 +21,40 @@
 
 #define MAX_BREAK_ROUNDS 1000 /* re-relaxations of one load step after yarns broke */
 
-/* Break the yarn segments strained past their breaking strain (all ranks agree). */
-static PetscErrorCode CheckBreaks(Fabric fab, PetscReal *broke)
+/* Break the yarn segments strained past their breaking strain (all ranks agree); *broke: how many
+   broke. The first break's place is kept: the most overstrained segment, the lowest index on a tie. */
+static PetscErrorCode CheckBreaks(Fabric fab, PetscInt *broke)
 {
+  RuptureState      *r = &fab->stats.rupture;
   const PetscScalar *xl;
+  BreakSite          site;
+  PetscInt           n;
 
   PetscFunctionBeginUser;
   *broke = 0;
   if (!isfinite(fab->s.yarns.warp.break_e) && !isfinite(fab->s.yarns.weft.break_e)) PetscFunctionReturn(0);
   PetscCall(HaloExchange(fab->grid.da, fab->state.X, fab->state.Xl));
   PetscCall(VecGetArrayRead(fab->state.Xl, &xl));
-  *broke = (PetscReal) BreakSegments(&fab->grid.patch, xl);
+  n = BreakSegments(&fab->grid.patch, xl, &site);
   PetscCall(VecRestoreArrayRead(fab->state.Xl, &xl));
-  PetscCall(GlobalMax(fab->comm, broke, 1));
-  fab->stats.broken_any = fab->stats.broken_any || *broke > 0;
+  PetscCall(GlobalSumInt(fab->comm, &n, 1));
+  *broke = n;
+  if (!n) PetscFunctionReturn(0);
+  fab->stats.broken_any = PETSC_TRUE;
+  r->segments += n;
+  if (r->first.ratio == 0) { /* the first break: the most overstrained segment */
+    const PetscInt nx = fab->s.spec.nx, ny = fab->s.spec.ny;
+    PetscReal      best = site.ratio, code;
+    PetscCall(GlobalMax(fab->comm, &best, 1));
+    code = site.ratio == best ? -(PetscReal) (site.dir * nx * ny + site.j * nx + site.i) : -PETSC_MAX_REAL;
+    PetscCall(GlobalMax(fab->comm, &code, 1));
+    r->first.ratio = best;
+    r->first.dir   = (PetscInt) (-code) / (nx * ny);
+    r->first.j     = ((PetscInt) (-code) % (nx * ny)) / nx;
+    r->first.i     = (PetscInt) (-code) % nx;
+    r->first_step  = fab->load.load_step;
+    r->first_time  = TestTime(&fab->s, &fab->load);
+  }
   PetscFunctionReturn(0);
 }
 
@@ -109,10 +129,12 @@ PetscErrorCode ApplyLoadStep(Fabric fab, PetscInt k)
   PetscFunctionReturn(0);
 }
 
-/* the curve row of a load step that has ended: its balance, where the load program is, the measurements */
+/* the curve row of a load step that has ended: its balance, where the load program is, the
+   measurements; the largest force so far */
 static PetscErrorCode FinishRow(Fabric fab, PetscReal residual, PetscBool balanced, CurveRow *row)
 {
-  const Scene *s = &fab->s;
+  const Scene  *s = &fab->s;
+  RuptureState *r = &fab->stats.rupture;
 
   PetscFunctionBeginUser;
   row->load_step  = fab->load.load_step;
@@ -121,6 +143,94 @@ static PetscErrorCode FinishRow(Fabric fab, PetscReal residual, PetscBool balanc
   row->elongation = JawTest(s) ? GripElongation(s, fab->grid.pull_dir, fab->load.travel) : 0.0;
   row->time       = TestTime(s, &fab->load);
   PetscCall(MeasureLoadStep(fab, row));
+  if (row->force > r->peak_force) r->peak_force = row->force, r->at_peak = JawTest(s) ? row->elongation : row->travel;
+  PetscFunctionReturn(0);
+}
+
+/* the tests whose force is a reaction to an imposed travel: their specimen can be seen to break */
+static PetscBool CanRupture(const Scene *s)
+{
+  return (JawTest(s) || s->test == TEST_PUSHING) && s->rupture.drop > 0 ? PETSC_TRUE : PETSC_FALSE;
+}
+
+/* te steps in which a yarn's stress wave crosses the specimen -tear_wave_crossings times: a chain in
+   yarn extension carries it at c = sqrt(T' / (mu (1 + crimp))), T' = EA / (1 + crimp) */
+static PetscInt TearQuietSteps(Fabric fab)
+{
+  const Scene    *s    = &fab->s;
+  const Patch    *p    = &fab->grid.patch;
+  const PetscReal span = PetscMax((s->spec.nx - 1) * p->ax, (s->spec.ny - 1) * p->ay);
+  PetscReal       c    = 0;
+  for (int f = 0; f < 2; f++) {
+    const YarnLaw *y = f == 0 ? p->warp : p->weft;
+    c                = PetscMax(c, PetscSqrtReal(y->EA / (y->mu * PetscSqr(1.0 + y->crimp))));
+  }
+  return (PetscInt) PetscCeilReal(s->rupture.crossings * span / (c * fab->step.te));
+}
+
+/* A tear: yarns broke on the balanced state of this load step. Follow the unloading with the
+   true masses and the scene's damping (no balance test, no kinetic damping), breaking segments
+   after every te step, until none has broken while a stress wave crossed the specimen
+   -tear_wave_crossings times, or -tear_max_ms of test time. before: te steps of the load step before
+   the tear (the frames' time); *steps: the te steps taken. */
+static PetscErrorCode FollowTear(Fabric fab, PetscInt before, StepStats *st, PetscInt *steps)
+{
+  const Scene    *s     = &fab->s;
+  const PetscInt  quiet = TearQuietSteps(fab);
+  const PetscInt  most  = PetscMax(1, (PetscInt) PetscFloorReal(s->rupture.max_time / fab->step.te));
+  const FrameInfo load  = LoadStepFrame(fab);
+  const PetscInt  every = s->out.output_tear_every;
+  PetscInt        last  = 0, n;
+
+  PetscFunctionBeginUser;
+  FrontWakeAll(fab);
+  fab->front.front_covered = PETSC_TRUE;
+  fab->step.tear           = PETSC_TRUE;
+  for (n = 1; n <= most && n - last <= quiet; n++) {
+    PetscInt broke;
+    PetscCall(TimeStep(fab, st));
+    PetscCall(CheckBreaks(fab, &broke));
+    if (broke) last = n;
+    if (fab->io && every && n % every == 0) {
+      const FrameSource src = FramesOf(fab);
+      PetscCall(FramesTearStep(fab->io, &src, &load, before + n, fab->step.te));
+    }
+  }
+  fab->step.tear = PETSC_FALSE;
+  *steps         = n - 1;
+  fab->stats.rupture.tear_te_steps += n - 1;
+  PetscCall(PetscInfo(NULL, "load step %" PetscInt_FMT ": a tear of %" PetscInt_FMT " te steps, the last break at %" PetscInt_FMT "\n",
+                      fab->load.load_step, n - 1, last));
+  PetscFunctionReturn(0);
+}
+
+/* after a tear: the specimen has ruptured if the force fell below (1 - drop) of its maximum */
+static PetscErrorCode TearEnds(Fabric fab, const StepStats *st, CurveRow *row, PetscBool *ruptured)
+{
+  RuptureState *r = &fab->stats.rupture;
+
+  PetscFunctionBeginUser;
+  PetscCall(FinishRow(fab, st->residual, PETSC_FALSE, row));
+  *ruptured = row->force < (1.0 - fab->s.rupture.drop) * r->peak_force ? PETSC_TRUE : PETSC_FALSE;
+  if (*ruptured) {
+    r->rupture_step = fab->load.load_step;
+    r->rupture_time = row->time + row->inner_steps * fab->step.te;
+  }
+  PetscFunctionReturn(0);
+}
+
+/* Yarns broke on the balanced state of this load step: its force before the tear counts for the
+   maximum, then the tear is followed; the row is the state after it if the specimen ruptured. */
+static PetscErrorCode FollowBreak(Fabric fab, StepStats *st, CurveRow *row, PetscBool *ruptured)
+{
+  PetscInt steps = 0;
+
+  PetscFunctionBeginUser;
+  *ruptured = PETSC_FALSE;
+  if (CanRupture(&fab->s)) PetscCall(FinishRow(fab, st->residual, st->balanced, row));
+  PetscCall(FollowTear(fab, row->inner_steps, st, &steps));
+  row->inner_steps += steps;
+  if (CanRupture(&fab->s)) PetscCall(TearEnds(fab, st, row, ruptured));
   PetscFunctionReturn(0);
 }
 
@@ -136,7 +246,8 @@ PetscErrorCode RelaxLoadStep(Fabric fab, CurveRow *row)
   CheckpointRelaxStart(&at); /* restarted within this load step: where its checkpoint was taken */
   row->inner_steps = at.inner_steps;
   for (PetscInt round = at.round;; round++) {
-    PetscReal broke;
+    PetscInt  broke;
+    PetscBool ruptured;
     for (n = at.te_step + 1; n <= s->load.max_inner_steps; n++) {
       PetscCall(RampGrips(fab));
       PetscCall(TimeStep(fab, &st));
@@ -150,16 +261,15 @@ PetscErrorCode RelaxLoadStep(Fabric fab, CurveRow *row)
     }
     at.te_step = 0;
     row->inner_steps += PetscMin(n, s->load.max_inner_steps);
-    /* yarns break on the balanced (quasi-static) state only: the strains of the relaxation
-       transient are artefacts of the load stepping. If one broke, relax this step again,
-       with every point awake. */
+    /* yarns start to break on a balanced (quasi-static) state only: the strains of the relaxation
+       transient are artefacts of the load stepping. If one broke, the tear that follows is
+       dynamics; then the specimen has ruptured, or this step relaxes again. */
     if (!st.balanced) break;
     PetscCall(CheckBreaks(fab, &broke));
-    if (broke) {
-      fab->front.front_covered = PETSC_TRUE;
-      FrontWakeAll(fab);
-    }
-    if (!broke || round >= MAX_BREAK_ROUNDS) break;
+    if (!broke) break;
+    PetscCall(FollowBreak(fab, &st, row, &ruptured));
+    if (ruptured) PetscFunctionReturn(0);
+    if (round >= MAX_BREAK_ROUNDS) break;
   }
   PetscCall(FinishRow(fab, st.residual, st.balanced, row));
   PetscFunctionReturn(0);
@@ -176,7 +286,8 @@ static PetscErrorCode SolveLoadStep(Fabric fab, StaticSolver ss, CurveRow *row)
   fab->load.ramp_done = fab->load.ramp_steps;
   row->inner_steps    = 0;
   for (PetscInt round = 0;; round++) {
-    PetscReal broke;
+    PetscInt  broke;
+    PetscBool ruptured;
     PetscCall(StaticSolve(ss, &r));
     row->inner_steps += r.nonlinear_iterations;
     fab->stats.nonlinear_iterations += r.nonlinear_iterations;
@@ -187,7 +298,13 @@ static PetscErrorCode SolveLoadStep(Fabric fab, StaticSolver ss, CurveRow *row)
       break;
     }
     PetscCall(CheckBreaks(fab, &broke));
-    if (!broke || round >= MAX_BREAK_ROUNDS) break;
+    if (!broke) break;
+    {
+      StepStats st = {r.residual, 0, 0, r.balanced};
+      PetscCall(FollowBreak(fab, &st, row, &ruptured)); /* the tear is dynamics, on the explicit path */
+    }
+    if (ruptured) PetscFunctionReturn(0);
+    if (round >= MAX_BREAK_ROUNDS) break;
   }
   PetscCall(FinishRow(fab, r.residual, r.balanced, row));
   PetscFunctionReturn(0);
@@ -217,7 +334,8 @@ PetscErrorCode FabricRun(Fabric fab)
   const Scene      *s   = &fab->s;
   const FrameSource src = FramesOf(fab); /* the state vectors are the fabric's for the whole run */
   FrameInfo         f;
-  StaticSolver      ss = NULL;
+  StaticSolver      ss       = NULL;
+  PetscBool         ruptured = PETSC_FALSE;
 
   PetscFunctionBeginUser;
   PetscCall(PetscTime(&fab->stats.wall_start));
@@ -228,7 +346,7 @@ PetscErrorCode FabricRun(Fabric fab)
   f = LoadStepFrame(fab);                   /* the state the run starts from */
   PetscCall(FramesOpen(fab->io, &src, &f)); /* fabric.h5 and fabric.xmf */
   if (s->num.solver == SOLVER_STATIC) PetscCall(StaticCreate(fab, &ss));
-  for (PetscInt k = fab->load.load_step + 1; k <= s->load.load_steps; k++) {
+  for (PetscInt k = fab->load.load_step + 1; k <= s->load.load_steps && !fab->stats.rupture.rupture_step; k++) {
     CurveRow *row = &fab->stats.curve[k - 1];
     if (!CheckpointWithinLoadStep(fab, k)) PetscCall(ApplyLoadStep(fab, k)); /* else restarted within it */
     if (ss)
@@ -236,15 +354,17 @@ PetscErrorCode FabricRun(Fabric fab)
     else
       PetscCall(RelaxLoadStep(fab, row));
     if (CheckpointStopped()) break; /* SIGTERM or SIGUSR1: its checkpoint is written */
-    if (!row->balanced) fab->stats.converged = PETSC_FALSE;
+    ruptured = fab->stats.rupture.rupture_step == k;
+    if (!row->balanced && !ruptured) fab->stats.converged = PETSC_FALSE; /* a tear is not meant to balance */
     PetscCall(KeepConverged(fab));
     PetscCall(PetscTime(&fab->stats.wall));
     fab->stats.wall -= fab->stats.wall_start;
     PetscCall(OutputCurveRow(fab, row));
     f = (FrameInfo){row->time, row->load_step, row->inner_steps};
-    PetscCall(FramesLoadStep(fab->io, &src, &f, fab->step.te, row->load_step == s->load.load_steps));
+    PetscCall(FramesLoadStep(fab->io, &src, &f, fab->step.te, row->load_step == s->load.load_steps || ruptured));
     PetscCall(OutputProgress(fab, row));
     PetscCall(CheckpointLoadStep(fab));
+    if (ruptured) break; /* the test ends: the specimen has broken */
   }
   PetscCall(StaticDestroy(&ss));
   if (CheckpointStopped()) PetscFunctionReturn(0);

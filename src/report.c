@@ -117,7 +117,7 @@ static PetscErrorCode CheckRoom(Fabric fab)
       est[3] = !stat(file, &st);
       est[1] = est[3] ? 1.1 * (double) st.st_size + 16384 : 200.0 * (double) fab->grid.points + 32768;
     }
-    if (io && (io->output_every > 0 || io->output_te_every > 0) && io->frames > 0) {
+    if (IOWritesFrames(io) && io->frames > 0) {
       PetscCall(PetscSNPrintf(file, sizeof file, "%s/fabric.h5", dir));
       if (!stat(file, &st)) est[2] = 1.5 * (double) st.st_size / (double) io->frames;
     }
@@ -187,6 +187,43 @@ PetscErrorCode OutputCurveRow(Fabric fab, const CurveRow *r)
   PetscFunctionReturn(0);
 }
 
+/* where a segment is: the middle of its rest chord from the grid centre, mm */
+static void SegmentPlace(const Fabric fab, const BreakSite *b, PetscReal mm[2])
+{
+  const Patch *p = &fab->grid.patch;
+  mm[0]          = 1e3 * ((b->i + 0.5 * (b->dir == 0)) * p->ax - fab->grid.centre[0]);
+  mm[1]          = 1e3 * ((b->j + 0.5 * (b->dir == 1)) * p->ay - fab->grid.centre[1]);
+}
+
+/* the rupture's value of the load program: elongation (%) for the jaw tests, else travel (mm) */
+static PetscReal LoadValue(const Scene *s, PetscReal at)
+{
+  return JawTest(s) ? 100.0 * at : 1e3 * at;
+}
+
+/* the progress lines of a load step in which the first yarn broke, or the specimen ruptured */
+static PetscErrorCode ProgressRupture(Fabric fab, const CurveRow *row)
+{
+  const RuptureState *r = &fab->stats.rupture;
+  const char         *unit = JawTest(&fab->s) ? "% elongation" : "mm travel";
+  PetscReal           mm[2];
+
+  PetscFunctionBeginUser;
+  if (r->first.ratio > 0 && r->first_step == row->load_step) {
+    SegmentPlace(fab, &r->first, mm);
+    PetscCall(PetscPrintf(fab->comm, "  first yarn break: %s segment at crossing %" PetscInt_FMT ",%" PetscInt_FMT
+                          " (%.2f, %.2f mm from the centre)\n",
+                          r->first.dir == 0 ? "warp" : "weft", r->first.i, r->first.j, (double) mm[0], (double) mm[1]));
+  }
+  if (r->rupture_step == row->load_step)
+    PetscCall(PetscPrintf(fab->comm,
+                          "  ruptured: the force fell to %.4g N, below %.4g %% of its maximum %.4g N at %.4g %s; "
+                          "%" PetscInt64_FMT " segments broken; the test ends\n",
+                          (double) row->force, (double) (100.0 * (1.0 - fab->s.rupture.drop)), (double) r->peak_force,
+                          (double) LoadValue(&fab->s, r->at_peak), unit, r->segments));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode OutputProgress(Fabric fab, const CurveRow *r)
 {
   const PetscInt  K   = fab->s.load.load_steps;
@@ -205,6 +242,7 @@ PetscErrorCode OutputProgress(Fabric fab, const CurveRow *r)
                         "%s  residual %.2e%s  elapsed %.1f s  ETA %.1f s\n",
                         r->load_step, K, where, (double) r->force, r->inner_steps, r->balanced ? " " : "*",
                         (double) r->residual, te, (double) fab->stats.wall, (double) eta));
+  PetscCall(ProgressRupture(fab, r));
   PetscFunctionReturn(0);
 }
 
@@ -222,23 +260,52 @@ static void JsonString(FILE *fp, const char *s)
   fputc('"', fp);
 }
 
+/* summary.json's rupture members (ISO 13934-1, ASTM D3787): the maximum force and where it was,
+   the bursting force of a ball burst, the segments broken and the rupture (null: none) */
+static void SummaryRupture(Fabric fab, FILE *fp)
+{
+  const Scene        *s = &fab->s;
+  const RuptureState *r = &fab->stats.rupture;
+  PetscReal           mm[2];
+
+  if (JawTest(s) || s->test == TEST_PUSHING) {
+    fprintf(fp, "  \"max_force_N\": %.9g,\n", (double) r->peak_force);
+    if (JawTest(s)) fprintf(fp, "  \"elongation_at_max_force_pct\": %.9g,\n", (double) (100.0 * r->at_peak));
+    else fprintf(fp, "  \"travel_at_max_force_mm\": %.9g,\n", (double) (1e3 * r->at_peak));
+    if (s->test == TEST_PUSHING && r->rupture_step) fprintf(fp, "  \"bursting_force_N\": %.9g,\n", (double) r->peak_force);
+  }
+  if (!isfinite(s->yarns.warp.break_e) && !isfinite(s->yarns.weft.break_e)) return;
+  fprintf(fp, "  \"segments_broken\": %" PetscInt64_FMT ",\n  \"tear_te_steps\": %" PetscInt64_FMT ",\n", r->segments,
+          r->tear_te_steps);
+  if (r->first.ratio > 0) {
+    SegmentPlace(fab, &r->first, mm);
+    fprintf(fp,
+            "  \"first_break\": {\"yarn\": \"%s\", \"i\": %" PetscInt_FMT ", \"j\": %" PetscInt_FMT
+            ", \"x_mm\": %.6g, \"y_mm\": %.6g, \"load_step\": %" PetscInt_FMT ", \"time_s\": %.9g},\n",
+            r->first.dir == 0 ? "warp" : "weft", r->first.i, r->first.j, (double) mm[0], (double) mm[1], r->first_step,
+            (double) r->first_time);
+  }
+  if (r->rupture_step) {
+    const CurveRow *row = &fab->stats.curve[r->rupture_step - 1];
+    fprintf(fp, "  \"rupture\": {\"load_step\": %" PetscInt_FMT ", \"time_s\": %.9g, \"%s\": %.9g, \"force_N\": %.9g},\n",
+            r->rupture_step, (double) r->rupture_time, JawTest(s) ? "elongation_pct" : "travel_mm",
+            (double) LoadValue(s, JawTest(s) ? row->elongation : row->travel), (double) row->force);
+  } else fprintf(fp, "  \"rupture\": null,\n");
+}
+
 /* summary.json: written at the end of a run, or with "error" when a run stops on an error */
 PetscErrorCode OutputSummary(Fabric fab, const char *error)
 {
   const Scene *s = &fab->s;
   char         file[PETSC_MAX_PATH_LEN], tmp[PETSC_MAX_PATH_LEN];
   FILE        *fp;
-  PetscReal    peak = 0;
   PetscInt     done = 0;
   int          write_error;
 
   PetscFunctionBeginUser;
   if (!s->out.output_dir[0] || fab->rank != 0) PetscFunctionReturn(0);
   for (PetscInt k = 0; k < s->load.load_steps; k++)
-    if (fab->stats.curve[k].load_step) {
-      peak = PetscMax(peak, fab->stats.curve[k].force);
-      done++;
-    }
+    if (fab->stats.curve[k].load_step) done++;
   PetscCall(PetscSNPrintf(file, sizeof file, "%s/summary.json", s->out.output_dir));
   PetscCall(PetscSNPrintf(tmp, sizeof tmp, "%s/.summary.json.tmp", s->out.output_dir));
   fp = fopen(tmp, "w");
@@ -265,7 +332,8 @@ PetscErrorCode OutputSummary(Fabric fab, const char *error)
           fab->stats.te_steps, fab->stats.point_updates, (double) fab->stats.wall,
           fab->stats.wall > 0 ? (double) fab->stats.point_updates / fab->stats.wall : 0.0);
   fprintf(fp, "  \"gauge_mm\": %.6g,\n  \"width_mm\": %.6g,\n  \"peak_force_N\": %.9g,\n",
-          (double) (s->spec.gauge * 1e3), (double) (s->spec.width * 1e3), (double) peak);
+          (double) (s->spec.gauge * 1e3), (double) (s->spec.width * 1e3), (double) fab->stats.rupture.peak_force);
+  SummaryRupture(fab, fp);
   if (s->num.kinetic_damping)
     fprintf(fp, "  \"kinetic_damping_resets\": %" PetscInt64_FMT ",\n", (PetscInt64) fab->step.ke_resets);
   if (s->test == TEST_DRAPE)
@@ -274,7 +342,9 @@ PetscErrorCode OutputSummary(Fabric fab, const char *error)
   fprintf(fp, "  \"options\": {\n");
   SceneOptionsJson(s, fp, "    ");
   fprintf(fp, "  },\n");
-  fprintf(fp, "  \"converged\": %s", (fab->stats.converged && !error && done == s->load.load_steps) ? "true" : "false");
+  fprintf(fp, "  \"converged\": %s", (fab->stats.converged && !error && (done == s->load.load_steps || fab->stats.rupture.rupture_step))
+                                        ? "true"
+                                        : "false");
   if (error) {
     fprintf(fp, ",\n  \"error\": ");
     JsonString(fp, error);

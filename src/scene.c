@@ -207,7 +207,10 @@ static const OptionDesc Options[] = {
     YREAL("%s_bending_Nm2", bending_Nm2, DEF(2e-9), NONNEG, 0, 0, 0, 0, NONNEG_MUST,
           "bending rigidity B per yarn (N m^2)"),
     YREAL("%s_break_pct", break_pct, DEF(0), NONNEG, 0, 0, 0, 0, NONNEG_MUST,
-          "yarn breaking strain (%), 0 = never breaks"),
+          "yarn breaking strain (%): the mean at the yarn test's gauge (-break_gauge_mm); 0 = never breaks"),
+    YREAL("%s_break_cv_pct", break_cv_pct, DEF(0), RANGE, 0, 100, 0, 1, "in [0,100)",
+          "coefficient of variation of the yarn breaking strain (%) at -break_gauge_mm: each segment's breaking strain "
+          "is drawn from a Weibull distribution (weakest link); 0 = every segment breaks at the mean"),
     {"", "%s_law_csv", OPT_STRING, YIN(law_csv), NONE, ANY, 0, 0, 0, 0, NULL, NULL, 0, 0, NULL,
      "tabulated yarn law, CSV 'strain_pct,force_cN' (empty = linear EA)"},
     BOOL("Fabric terms (each can be switched off)", "traction", traction, DEF(1), "yarn traction (MODEL.md 5.1)"),
@@ -284,6 +287,17 @@ static const OptionDesc Options[] = {
          "sleeping: skip points whose residual (relative, like -balance_tol) and speed stay below this; 0 = off"),
     BOOL("", "kinetic_damping", kinetic_damping, DEF(0),
          "kinetic damping: all velocities are set to zero whenever the total kinetic energy has passed a peak"),
+    REAL("Rupture", "break_gauge_mm", break_gauge_mm, DEF(500), POSITIVE, POS_MUST,
+         "gauge length of the yarn test the breaking strain's mean and CV come from (mm; ISO 2062: 500)"),
+    INT("", "break_seed", break_seed, DEF(1), 0, "zero or positive",
+        "seed of the segments' breaking strains: each is drawn from the seed and the segment's global index"),
+    RANGED("", "rupture_drop_pct", rupture_drop_pct, DEF(50), 0, 100, 0, 0, "in [0,100]",
+           "break detection: once a yarn has broken, the specimen has ruptured and the test ends when the force has "
+           "fallen by this % of its maximum (0 = never ends early)"),
+    REAL("", "tear_wave_crossings", tear_wave_crossings, DEF(2), POSITIVE, POS_MUST,
+         "a tear (the dynamics after a yarn broke) ends when no segment broke while a yarn's stress wave crossed the "
+         "specimen this many times"),
+    REAL("", "tear_max_ms", tear_max_ms, DEF(20), POSITIVE, POS_MUST, "the longest tear, ms of test time"),
     STRING("Output", "output_dir", output_dir,
            "directory for the results (\"none\": write nothing); default results/SCENE"),
     STRING("", "positions_out", positions_out, "write the final positions (natural order, PETSc binary) to this file"),
@@ -292,6 +306,8 @@ static const OptionDesc Options[] = {
         "write a frame to fabric.h5 every K load steps and at the last one (0 = no frames; default: about 10 frames)"),
     INT("", "output_te_every", output_te_every, DEF(0), 0, "0 (off) or a number of te steps",
         "also write a frame every M te steps within each load step, for dynamic scenes (0 = off)"),
+    INT("", "output_tear_every", output_tear_every, DEF(0), 0, "0 (off) or a number of te steps",
+        "write a frame every M te steps of a tear, the dynamics after a yarn broke (0 = off)"),
     INT("", "checkpoint_every", checkpoint_every, DEF(0), 0, "0 (never) or a number of load steps",
         "write DIR/checkpoint.h5 every K load steps (0 = never)"),
     INT("", "checkpoint_every_te", checkpoint_every_te, DEF(0), 0, "0 (never) or a number of te steps",
@@ -736,6 +752,7 @@ static PetscErrorCode DeriveYarn(MPI_Comm comm, const YarnInput *in, const char 
   y->smoothing     = in->law_smoothing_pct / 100.0;
   y->bending       = in->bending_Nm2;
   y->break_ey      = in->break_pct / 100.0;
+  y->break_cv      = in->break_cv_pct / 100.0;
   y->decrimp_ratio = in->decrimp_ratio;
   PetscCall(PetscStrncpy(y->csv, in->law_csv, sizeof y->csv));
   PetscCall(YarnLawSetUp(y, comm));
@@ -915,6 +932,14 @@ static void DeriveNumerics(const SceneInput *in, Scene *s)
   n->damping_ratio   = in->damping_ratio;
 }
 
+static void DeriveRupture(const SceneInput *in, Scene *s)
+{
+  s->rupture.seed      = in->break_seed;
+  s->rupture.drop      = in->rupture_drop_pct / 100.0;
+  s->rupture.crossings = in->tear_wave_crossings;
+  s->rupture.max_time  = in->tear_max_ms * 1e-3;
+}
+
 static void DeriveTermsAndLoad(const SceneInput *in, Scene *s)
 {
   s->terms.traction   = in->traction;
@@ -958,6 +983,7 @@ static PetscErrorCode DeriveOutput(MPI_Comm comm, const SceneInput *in, Scene *s
   o->quiet               = in->quiet;
   o->output_every        = in->output_every;
   o->output_te_every     = in->output_te_every;
+  o->output_tear_every   = in->output_tear_every;
   o->checkpoint_every    = in->checkpoint_every;
   o->checkpoint_every_te = in->checkpoint_every_te;
   o->checkpoint_every_s  = in->checkpoint_every_s;
@@ -1180,6 +1206,21 @@ static PetscErrorCode CheckOutputPlaces(MPI_Comm comm, const SceneOutput *o)
   PetscFunctionReturn(0);
 }
 
+/* the scatter of each family's breaking strain, for its segments' rest chord */
+static PetscErrorCode DeriveBreaks(MPI_Comm comm, const SceneInput *in, Scene *s)
+{
+  PetscFunctionBeginUser;
+  for (int f = 0; f < 2; f++) {
+    YarnLaw *y = f == 0 ? &s->yarns.warp : &s->yarns.weft;
+    PetscCheck(in->yarn[f].break_cv_pct == 0 || in->yarn[f].break_pct > 0, comm, PETSC_ERR_USER_INPUT,
+               "-%s_break_cv_pct %g needs a breaking strain: -%s_break_pct is 0 (never breaks)", y->name,
+               (double) in->yarn[f].break_cv_pct, y->name);
+    y->break_gauge = in->break_gauge_mm * 1e-3;
+    PetscCall(YarnBreakSetUp(y, f == 0 ? 1.0 / s->spec.picks_per_m : 1.0 / s->spec.ends_per_m, comm));
+  }
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s)
 {
   SceneInput *in = &s->in;
@@ -1194,6 +1235,8 @@ PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s)
   DeriveNumerics(in, s);
   DeriveTermsAndLoad(in, s);
   PetscCall(DeriveGrid(comm, in, s));
+  DeriveRupture(in, s);
+  PetscCall(DeriveBreaks(comm, in, s));
   PetscCall(DeriveBodies(comm, in, s));
   PetscCall(DeriveLines(comm, "clamp_line_mm", in->clamp_line_mm, in->n_clamp_line_mm, &s->clamps.clamp_lines,
                         s->clamps.clamp_line));
