@@ -96,8 +96,11 @@ typedef struct {               /* yarn breaking and rupture (relax.c) */
   BreakSite  first;            /* where the first segment broke (kernels.h); first.ratio 0: none yet */
   PetscInt   first_step;       /* its load step */
   PetscReal  first_time;       /* s: its test time */
-  PetscReal  peak_force;       /* N: the largest force measured so far */
+  PetscReal  peak_force;       /* N: the largest force so far (a row's, or interpolated at a first break) */
   PetscReal  at_peak;          /* its elongation (jaw tests) or travel (m) */
+  PetscReal  load_now;         /* the last break check's largest strain / breaking strain of a segment */
+  PetscReal  last_load, last_force, last_at; /* the same, the force and where, of the last balanced state
+                                                  with no segment past its breaking strain */
   PetscInt   rupture_step;     /* the load step in which the specimen ruptured (0: it has not) */
   PetscReal  rupture_time;     /* s: test time at the end of that load step's tear */
   PetscInt64 tear_te_steps;    /* te steps of tears so far */

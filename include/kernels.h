@@ -78,9 +78,10 @@ void ComputeInternalForces(Patch *p, const PetscReal *x, const PetscInt box[4], 
    patch) and the shorter tangent's length; 0 if the crossing has no shear */
 int CrossingShear(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j, PetscReal *s, PetscReal *tmin);
 
-typedef struct {  /* the segment a break check found the most strained past its breaking strain */
-  PetscReal ratio; /* its chord strain over its breaking strain (0: none broke) */
+typedef struct {      /* the segment a break check found the most strained past its breaking strain */
+  PetscReal ratio;     /* its chord strain over its breaking strain (0: none broke) */
   PetscInt  dir, i, j; /* family (0 warp: to (i+1,j), 1 weft: to (i,j+1)) and global first crossing */
+  PetscReal load;      /* the largest chord strain over breaking strain of any segment checked, broken or not */
 } BreakSite;
 
 /* Break the segments strained past their breaking strain (break_x/_y, else the law's): every

@@ -448,10 +448,11 @@ static PetscErrorCode WriteScene(const Scene *s, PetscViewer v)
 }
 
 /* the rupture state (fabric.h RuptureState) as attributes of / */
-#define RUPTURE_ATTRS 12
+#define RUPTURE_ATTRS 16
 static const char *const RuptureAttr[RUPTURE_ATTRS] = {
     "segments_broken", "first_break_ratio", "first_break_dir", "first_break_i", "first_break_j", "first_break_step",
-    "first_break_time_s", "peak_force_N", "at_peak_force", "rupture_step", "rupture_time_s", "tear_te_steps"};
+    "first_break_time_s", "peak_force_N", "at_peak_force", "rupture_step", "rupture_time_s", "tear_te_steps",
+    "break_load", "last_break_load", "last_force_N", "last_at"};
 
 static void RupturePack(const RuptureState *r, PetscReal a[RUPTURE_ATTRS])
 {
@@ -459,6 +460,7 @@ static void RupturePack(const RuptureState *r, PetscReal a[RUPTURE_ATTRS])
   a[3] = (PetscReal) r->first.i, a[4] = (PetscReal) r->first.j, a[5] = (PetscReal) r->first_step;
   a[6] = r->first_time, a[7] = r->peak_force, a[8] = r->at_peak, a[9] = (PetscReal) r->rupture_step;
   a[10] = r->rupture_time, a[11] = (PetscReal) r->tear_te_steps;
+  a[12] = r->load_now, a[13] = r->last_load, a[14] = r->last_force, a[15] = r->last_at;
 }
 
 static void RuptureUnpack(const double a[RUPTURE_ATTRS], RuptureState *r)
@@ -467,6 +469,7 @@ static void RuptureUnpack(const double a[RUPTURE_ATTRS], RuptureState *r)
   r->first.i = (PetscInt) a[3], r->first.j = (PetscInt) a[4], r->first_step = (PetscInt) a[5];
   r->first_time = a[6], r->peak_force = a[7], r->at_peak = a[8], r->rupture_step = (PetscInt) a[9];
   r->rupture_time = a[10], r->tear_te_steps = (PetscInt64) a[11];
+  r->load_now = a[12], r->last_load = a[13], r->last_force = a[14], r->last_at = a[15];
 }
 
 /* the counters of the run, as attributes of /; done: the load steps done */

@@ -375,7 +375,7 @@ PetscInt BreakSegments(Patch *p, const PetscReal *x, BreakSite *site)
 {
   PetscInt n = 0;
 
-  site->ratio = 0;
+  site->ratio = site->load = 0;
   for (int dir = 0; dir < 2; dir++) {
     const YarnLaw   *law    = dir == 0 ? p->warp : p->weft;
     const PetscReal  L0     = dir == 0 ? p->ax : p->ay;
@@ -389,6 +389,7 @@ PetscInt BreakSegments(Patch *p, const PetscReal *x, BreakSite *site)
         const PetscReal *a = x + 3 * k, *b = x + 3 * k2;
         const PetscReal  e_break = eb ? eb[k] : law->break_e;
         const PetscReal  e = PetscSqrtReal(PetscSqr(b[0] - a[0]) + PetscSqr(b[1] - a[1]) + PetscSqr(b[2] - a[2])) / L0 - 1.0;
+        site->load = PetscMax(site->load, e / e_break);
         if (e <= e_break) continue;
         broken[k] = 1;
         {

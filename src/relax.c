@@ -38,6 +38,8 @@ static PetscErrorCode CheckBreaks(Fabric fab, PetscInt *broke)
   n = BreakSegments(&fab->grid.patch, xl, &site);
   PetscCall(VecRestoreArrayRead(fab->state.Xl, &xl));
   PetscCall(GlobalSumInt(fab->comm, &n, 1));
+  r->load_now = site.load;
+  PetscCall(GlobalMax(fab->comm, &r->load_now, 1));
   *broke = n;
   if (!n) PetscFunctionReturn(0);
   fab->stats.broken_any = PETSC_TRUE;
@@ -129,12 +131,10 @@ PetscErrorCode ApplyLoadStep(Fabric fab, PetscInt k)
   PetscFunctionReturn(0);
 }
 
-/* the curve row of a load step that has ended: its balance, where the load program is, the
-   measurements; the largest force so far */
-static PetscErrorCode FinishRow(Fabric fab, PetscReal residual, PetscBool balanced, CurveRow *row)
+/* the curve row of the current state: its balance, where the load program is, the measurements */
+static PetscErrorCode MeasureRow(Fabric fab, PetscReal residual, PetscBool balanced, CurveRow *row)
 {
-  const Scene  *s = &fab->s;
-  RuptureState *r = &fab->stats.rupture;
+  const Scene *s = &fab->s;
 
   PetscFunctionBeginUser;
   row->load_step  = fab->load.load_step;
@@ -143,8 +143,45 @@ static PetscErrorCode FinishRow(Fabric fab, PetscReal residual, PetscBool balanc
   row->elongation = JawTest(s) ? GripElongation(s, fab->grid.pull_dir, fab->load.travel) : 0.0;
   row->time       = TestTime(s, &fab->load);
   PetscCall(MeasureLoadStep(fab, row));
-  if (row->force > r->peak_force) r->peak_force = row->force, r->at_peak = JawTest(s) ? row->elongation : row->travel;
   PetscFunctionReturn(0);
+}
+
+/* a force and where it was (elongation or travel) as a candidate for the maximum force */
+static void KeepPeak(RuptureState *r, PetscReal force, PetscReal at)
+{
+  if (force > r->peak_force) r->peak_force = force, r->at_peak = at;
+}
+
+/* the curve row of a load step that has ended (measured: row already holds this state), and the
+   largest force so far. A balanced state with every segment below its breaking strain is the
+   reference of the next first break's force. */
+static PetscErrorCode FinishRow(Fabric fab, PetscReal residual, PetscBool balanced, PetscBool measured, CurveRow *row)
+{
+  RuptureState *r = &fab->stats.rupture;
+
+  PetscFunctionBeginUser;
+  if (!measured) PetscCall(MeasureRow(fab, residual, balanced, row)); /* else: this state, measured before CheckBreaks */
+  KeepPeak(r, row->force, JawTest(&fab->s) ? row->elongation : row->travel);
+  if (balanced && r->load_now <= 1.0) {
+    r->last_load  = r->load_now;
+    r->last_force = row->force;
+    r->last_at    = JawTest(&fab->s) ? row->elongation : row->travel;
+  }
+  PetscFunctionReturn(0);
+}
+
+/* Yarns broke on this balanced state (row: measured before they broke): the load step overshot the
+   first break. The force at the break, interpolated between the last balanced state below every
+   breaking strain (largest strain ratio r0) and this one (r1 > 1) at the fraction
+   (1 - r0)/(r1 - r0), is a candidate for the maximum. */
+static void PeakAtBreak(Fabric fab, const CurveRow *row)
+{
+  RuptureState   *r  = &fab->stats.rupture;
+  const PetscReal r0 = r->last_load, r1 = r->load_now;
+  const PetscReal w  = r1 > r0 ? PetscMin(1.0, PetscMax(0.0, (1.0 - r0) / (r1 - r0))) : 1.0;
+
+  KeepPeak(r, r->last_force + w * (row->force - r->last_force),
+           r->last_at + w * ((JawTest(&fab->s) ? row->elongation : row->travel) - r->last_at));
 }
 
 /* the tests whose force is a reaction to an imposed travel: their specimen can be seen to break */
@@ -168,69 +205,63 @@ static PetscInt TearQuietSteps(Fabric fab)
   return (PetscInt) PetscCeilReal(s->rupture.crossings * span / (c * fab->step.te));
 }
 
-/* A tear: yarns broke on the balanced state of this load step. Follow the unloading with the
-   true masses and the scene's damping (no balance test, no kinetic damping), breaking segments
-   after every te step, until none has broken while a stress wave crossed the specimen
-   -tear_wave_crossings times, or -tear_max_ms of test time. before: te steps of the load step before
-   the tear (the frames' time); *steps: the te steps taken. */
-static PetscErrorCode FollowTear(Fabric fab, PetscInt before, StepStats *st, PetscInt *steps)
+/* the specimen has ruptured: after a yarn broke, the force fell below (1 - drop) of its maximum.
+   n: te steps into the load step (the rupture's time) */
+static PetscErrorCode CheckRupture(Fabric fab, const StepStats *st, PetscInt n, CurveRow *row, PetscBool *ruptured)
 {
-  const Scene    *s     = &fab->s;
-  const PetscInt  quiet = TearQuietSteps(fab);
-  const PetscInt  most  = PetscMax(1, (PetscInt) PetscFloorReal(s->rupture.max_time / fab->step.te));
-  const FrameInfo load  = LoadStepFrame(fab);
-  const PetscInt  every = s->out.output_tear_every;
-  PetscInt        last  = 0, n;
+  RuptureState *r = &fab->stats.rupture;
 
   PetscFunctionBeginUser;
+  PetscCall(MeasureRow(fab, st->residual, PETSC_FALSE, row));
+  *ruptured = row->force < (1.0 - fab->s.rupture.drop) * r->peak_force ? PETSC_TRUE : PETSC_FALSE;
+  if (*ruptured) {
+    r->rupture_step = fab->load.load_step;
+    r->rupture_time = row->time + n * fab->step.te;
+  }
+  PetscFunctionReturn(0);
+}
+
+/* A tear: yarns broke on the balanced state of this load step. Follow the unloading with the true
+   masses and the yarns' own damping, -tear_damping_ratio (no balance test, no kinetic damping),
+   breaking segments after every te step, until none has broken while a stress wave crossed the
+   specimen -tear_wave_crossings times, or -tear_max_ms of test time, or the force has fallen below
+   the break detection's threshold (checked 8 times a quiet window: then the specimen has ruptured). */
+static PetscErrorCode FollowTear(Fabric fab, StepStats *st, CurveRow *row, PetscBool *ruptured)
+{
+  const Scene    *s      = &fab->s;
+  const PetscInt  quiet  = TearQuietSteps(fab);
+  const PetscInt  most   = PetscMax(1, (PetscInt) PetscFloorReal(s->rupture.max_time / fab->step.te));
+  const PetscInt  check  = CanRupture(s) ? PetscMax(1, quiet / 8) : 0;
+  const PetscInt  before = row->inner_steps, every = s->out.output_tear_every;
+  const FrameInfo load   = LoadStepFrame(fab);
+  const PetscReal damp_c = fab->step.damp_c; /* the relaxation's */
+  PetscInt        last = 0, n = 0;
+
+  PetscFunctionBeginUser;
+  *ruptured = PETSC_FALSE;
   FrontWakeAll(fab);
   fab->front.front_covered = PETSC_TRUE;
   fab->step.tear           = PETSC_TRUE;
-  for (n = 1; n <= most && n - last <= quiet; n++) {
+  fab->step.damp_c         = 2.0 * s->rupture.damping * fab->step.omega1;
+  while (n < most && n - last < quiet && !*ruptured) {
     PetscInt broke;
     PetscCall(TimeStep(fab, st));
+    n++;
     PetscCall(CheckBreaks(fab, &broke));
     if (broke) last = n;
     if (fab->io && every && n % every == 0) {
       const FrameSource src = FramesOf(fab);
       PetscCall(FramesTearStep(fab->io, &src, &load, before + n, fab->step.te));
     }
+    if (check && n % check == 0) PetscCall(CheckRupture(fab, st, before + n, row, ruptured));
   }
-  fab->step.tear = PETSC_FALSE;
-  *steps         = n - 1;
-  fab->stats.rupture.tear_te_steps += n - 1;
-  PetscCall(PetscInfo(NULL, "load step %" PetscInt_FMT ": a tear of %" PetscInt_FMT " te steps, the last break at %" PetscInt_FMT "\n",
-                      fab->load.load_step, n - 1, last));
-  PetscFunctionReturn(0);
-}
-
-/* after a tear: the specimen has ruptured if the force fell below (1 - drop) of its maximum */
-static PetscErrorCode TearEnds(Fabric fab, const StepStats *st, CurveRow *row, PetscBool *ruptured)
-{
-  RuptureState *r = &fab->stats.rupture;
-
-  PetscFunctionBeginUser;
-  PetscCall(FinishRow(fab, st->residual, PETSC_FALSE, row));
-  *ruptured = row->force < (1.0 - fab->s.rupture.drop) * r->peak_force ? PETSC_TRUE : PETSC_FALSE;
-  if (*ruptured) {
-    r->rupture_step = fab->load.load_step;
-    r->rupture_time = row->time + row->inner_steps * fab->step.te;
-  }
-  PetscFunctionReturn(0);
-}
-
-/* Yarns broke on the balanced state of this load step: its force before the tear counts for the
-   maximum, then the tear is followed; the row is the state after it if the specimen ruptured. */
-static PetscErrorCode FollowBreak(Fabric fab, StepStats *st, CurveRow *row, PetscBool *ruptured)
-{
-  PetscInt steps = 0;
-
-  PetscFunctionBeginUser;
-  *ruptured = PETSC_FALSE;
-  if (CanRupture(&fab->s)) PetscCall(FinishRow(fab, st->residual, st->balanced, row));
-  PetscCall(FollowTear(fab, row->inner_steps, st, &steps));
-  row->inner_steps += steps;
-  if (CanRupture(&fab->s)) PetscCall(TearEnds(fab, st, row, ruptured));
+  if (check && n % check) PetscCall(CheckRupture(fab, st, before + n, row, ruptured));
+  fab->step.tear   = PETSC_FALSE;
+  fab->step.damp_c = damp_c;
+  row->inner_steps += n;
+  fab->stats.rupture.tear_te_steps += n;
+  PetscCall(PetscInfo(NULL, "load step %" PetscInt_FMT ": a tear of %" PetscInt_FMT " te steps, the last break at %" PetscInt_FMT "%s\n",
+                      fab->load.load_step, n, last, *ruptured ? ": ruptured" : ""));
   PetscFunctionReturn(0);
 }
 
@@ -238,7 +269,8 @@ static PetscErrorCode FollowBreak(Fabric fab, StepStats *st, CurveRow *row, Pets
 PetscErrorCode RelaxLoadStep(Fabric fab, CurveRow *row)
 {
   const Scene *s  = &fab->s;
-  StepStats    st = {0};
+  StepStats    st       = {0};
+  PetscBool    measured = PETSC_FALSE;
   PetscInt     n;
   RelaxPoint   at;
 
@@ -265,13 +297,17 @@ PetscErrorCode RelaxLoadStep(Fabric fab, CurveRow *row)
        transient are artefacts of the load stepping. If one broke, the tear that follows is
        dynamics; then the specimen has ruptured, or this step relaxes again. */
     if (!st.balanced) break;
+    measured = CanRupture(s); /* the state before anything breaks: the row, or the force at a first break */
+    if (measured) PetscCall(MeasureRow(fab, st.residual, st.balanced, row));
     PetscCall(CheckBreaks(fab, &broke));
     if (!broke) break;
-    PetscCall(FollowBreak(fab, &st, row, &ruptured));
+    if (measured) PeakAtBreak(fab, row);
+    measured = PETSC_FALSE;
+    PetscCall(FollowTear(fab, &st, row, &ruptured));
     if (ruptured) PetscFunctionReturn(0);
     if (round >= MAX_BREAK_ROUNDS) break;
   }
-  PetscCall(FinishRow(fab, st.residual, st.balanced, row));
+  PetscCall(FinishRow(fab, st.residual, st.balanced, measured, row));
   PetscFunctionReturn(0);
 }
 
@@ -279,7 +315,8 @@ PetscErrorCode RelaxLoadStep(Fabric fab, CurveRow *row)
    position, the prediction is Newton's first guess; re-solved while yarns break. */
 static PetscErrorCode SolveLoadStep(Fabric fab, StaticSolver ss, CurveRow *row)
 {
-  StaticResult r = {0};
+  StaticResult r        = {0};
+  PetscBool    measured = PETSC_FALSE;
 
   PetscFunctionBeginUser;
   if (fab->load.travel_now != fab->load.travel) PetscCall(PlaceGrips(fab, fab->load.travel, PETSC_TRUE));
@@ -297,16 +334,20 @@ static PetscErrorCode SolveLoadStep(Fabric fab, StaticSolver ss, CurveRow *row)
                           r.reason, (double) r.residual));
       break;
     }
+    measured = CanRupture(&fab->s); /* the state before anything breaks */
+    if (measured) PetscCall(MeasureRow(fab, r.residual, r.balanced, row));
     PetscCall(CheckBreaks(fab, &broke));
     if (!broke) break;
+    if (measured) PeakAtBreak(fab, row);
+    measured = PETSC_FALSE;
     {
       StepStats st = {r.residual, 0, 0, r.balanced};
-      PetscCall(FollowBreak(fab, &st, row, &ruptured)); /* the tear is dynamics, on the explicit path */
+      PetscCall(FollowTear(fab, &st, row, &ruptured)); /* the tear is dynamics, on the explicit path */
     }
     if (ruptured) PetscFunctionReturn(0);
     if (round >= MAX_BREAK_ROUNDS) break;
   }
-  PetscCall(FinishRow(fab, r.residual, r.balanced, row));
+  PetscCall(FinishRow(fab, r.residual, r.balanced, measured, row));
   PetscFunctionReturn(0);
 }
 

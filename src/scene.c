@@ -291,13 +291,16 @@ static const OptionDesc Options[] = {
          "gauge length of the yarn test the breaking strain's mean and CV come from (mm; ISO 2062: 500)"),
     INT("", "break_seed", break_seed, DEF(1), 0, "zero or positive",
         "seed of the segments' breaking strains: each is drawn from the seed and the segment's global index"),
-    RANGED("", "rupture_drop_pct", rupture_drop_pct, DEF(50), 0, 100, 0, 0, "in [0,100]",
+    RANGED("", "rupture_drop_pct", rupture_drop_pct, DEF(90), 0, 100, 0, 0, "in [0,100]",
            "break detection: once a yarn has broken, the specimen has ruptured and the test ends when the force has "
            "fallen by this % of its maximum (0 = never ends early)"),
     REAL("", "tear_wave_crossings", tear_wave_crossings, DEF(2), POSITIVE, POS_MUST,
          "a tear (the dynamics after a yarn broke) ends when no segment broke while a yarn's stress wave crossed the "
          "specimen this many times"),
     REAL("", "tear_max_ms", tear_max_ms, DEF(20), POSITIVE, POS_MUST, "the longest tear, ms of test time"),
+    REAL("", "tear_damping_ratio", tear_damping_ratio, DEF(0.05), NONNEG, NONNEG_MUST,
+         "damping of a tear as a fraction of critical at the slowest mode (the yarns' own loss, not -damping_ratio's "
+         "numerical damping)"),
     STRING("Output", "output_dir", output_dir,
            "directory for the results (\"none\": write nothing); default results/SCENE"),
     STRING("", "positions_out", positions_out, "write the final positions (natural order, PETSc binary) to this file"),
@@ -938,6 +941,7 @@ static void DeriveRupture(const SceneInput *in, Scene *s)
   s->rupture.drop      = in->rupture_drop_pct / 100.0;
   s->rupture.crossings = in->tear_wave_crossings;
   s->rupture.max_time  = in->tear_max_ms * 1e-3;
+  s->rupture.damping   = in->tear_damping_ratio;
 }
 
 static void DeriveTermsAndLoad(const SceneInput *in, Scene *s)

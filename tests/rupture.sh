@@ -1,0 +1,72 @@
+#!/usr/bin/env bash
+# Tests to rupture (inputs/strip_warp_rupture.yaml, docs/rupture.md):
+#  1. identical yarns (-warp_break_cv_pct 0): a 5 mm strip of 12 warp yarns, pulled in 0.25 % load
+#     steps, breaks at the yarns' breaking strain eb = 6.5 %, a chord strain c + eb (1 + c) = 15.02 %,
+#     where each yarn carries Ec c + EA eb: the maximum force, interpolated at the first break
+#     between the load steps at 15 % and 15.25 %, is 12 x 3.588 = 43.056 N at 15.02 % (both within
+#     1e-5); every segment breaks at once, the force falls below a tenth of the maximum and the test
+#     ends at 15.25 %;
+#  2. a checkpoint of that last load step restarts into a run that does nothing more and
+#     reports the same rupture;
+#  3. scattered strengths (CV 10 %): a 50 x 20 mm strip ruptures from its weakest segment, the tear
+#     breaks at least one segment of each of its 48 warp yarns, and positions, the first break and
+#     the rupture are bit-identical on 1, 2 and 3 ranks.
+set -u
+fabric="$1"; inputs="$2"
+py=/usr/bin/python3
+work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
+fail=0
+run() { local np="$1"; shift; mpiexec -n "$np" "$fabric" -quiet "$@" >"$work/log" 2>&1 || { cat "$work/log"; echo "FAIL: run on $np ranks failed: $*"; fail=1; }; }
+scene="$inputs/strip_warp_rupture.yaml"
+
+run 1 -scene "$scene" -gauge_mm 20 -width_mm 5 -warp_break_cv_pct 0 -weft_break_cv_pct 0 -output_dir "$work/cv0" \
+  -output_every 0 -checkpoint_every 1
+"$py" - "$work/cv0/summary.json" <<'PY' || fail=1
+import json, sys
+s = json.load(open(sys.argv[1]))
+Ec, c, EA, eb = 0.05 * 52, 0.08, 52.0, 0.065
+exact, at = 12 * (Ec * c + EA * eb), 100 * (c + eb * (1 + c))
+r, bad = s["rupture"], 0
+def check(ok, what):
+    global bad
+    print(("PASS " if ok else "FAIL ") + what); bad |= not ok
+check(abs(s["max_force_N"] / exact - 1) <= 1e-5, f"maximum force {s['max_force_N']:.7f} N vs 12 yarns at their breaking strain: {exact:.7f} N (tol 1e-5 relative)")
+check(abs(s["elongation_at_max_force_pct"] / at - 1) <= 1e-5, f"elongation at maximum force {s['elongation_at_max_force_pct']:.7f} % vs {at:.4f} % (tol 1e-5 relative)")
+check(r is not None and r["load_step"] == 61 and r["elongation_pct"] == 15.25, f"rupture at load step 61, 15.25 %: {r}")
+check(r is not None and r["force_N"] < 0.1 * s["max_force_N"], "the force after the tear is below a tenth of the maximum")
+check(s["load_steps_done"] == 61 and s["converged"], f"the test ends at the rupture: {s['load_steps_done']} load steps, converged {s['converged']}")
+check(s["segments_broken"] == 12 * 48, f"every warp segment broke: {s['segments_broken']} of 576")
+sys.exit(bad)
+PY
+cp "$work/cv0/summary.json" "$work/cv0.json"
+run 2 -scene "$scene" -gauge_mm 20 -width_mm 5 -warp_break_cv_pct 0 -weft_break_cv_pct 0 -output_dir "$work/cv0r" \
+  -output_every 0 -restart "$work/cv0/checkpoint.h5"
+"$py" - "$work/cv0.json" "$work/cv0r/summary.json" <<'PY' || fail=1
+import json, sys
+a, b = (json.load(open(f)) for f in sys.argv[1:3])
+keys = ("max_force_N", "elongation_at_max_force_pct", "rupture", "first_break", "segments_broken", "load_steps_done", "te_steps")
+ok = all(a[k] == b[k] for k in keys)
+print(("PASS" if ok else "FAIL") + " a restart from the rupture's checkpoint reports the same rupture and runs nothing more: "
+      + ", ".join(f"{k} {b[k]}" for k in keys if a[k] != b[k]))
+sys.exit(0 if ok else 1)
+PY
+
+for np in 1 2 3; do
+  run "$np" -scene "$scene" -gauge_mm 50 -width_mm 20 -output_dir "$work/w$np" -output_every 0 -positions_out "$work/pos$np.bin"
+done
+cmp -s "$work/pos1.bin" "$work/pos2.bin" && cmp -s "$work/pos1.bin" "$work/pos3.bin" \
+  && echo "PASS rupture positions bit-identical on 1, 2 and 3 ranks" || { echo "FAIL rupture positions differ between ranks"; fail=1; }
+"$py" - "$work"/w1/summary.json "$work"/w2/summary.json "$work"/w3/summary.json <<'PY' || fail=1
+import json, sys
+s = [json.load(open(f)) for f in sys.argv[1:4]]
+keys = ("max_force_N", "elongation_at_max_force_pct", "rupture", "first_break", "segments_broken", "te_steps")
+same = all(t[k] == s[0][k] for t in s[1:] for k in keys)
+r = s[0]["rupture"]
+print(("PASS" if same else "FAIL") + f" maximum force, first break and rupture the same on 1, 2, 3 ranks: {s[0]['max_force_N']} N at "
+      f"{s[0]['elongation_at_max_force_pct']} %, first break {s[0]['first_break']}, rupture {r}")
+ok = r is not None and s[0]["segments_broken"] >= 48 and r["force_N"] < 0.1 * s[0]["max_force_N"]
+print(("PASS" if ok else "FAIL") + f" the tear crossed the strip: {s[0]['segments_broken']} segments broken (48 warp yarns), "
+      "force below a tenth of the maximum")
+sys.exit(0 if same and ok else 1)
+PY
+exit $fail
