@@ -318,7 +318,7 @@ PetscErrorCode YarnBreakSetUp(YarnLaw *y, PetscReal L0, MPI_Comm comm)
   if (!(y->break_ey > 0) || !(y->break_cv > 0)) PetscFunctionReturn(0);
   n = y->break_gauge / ((1.0 + y->crimp) * L0);
   PetscCheck(n >= 1.0, comm, PETSC_ERR_USER_INPUT,
-             "-break_gauge_mm %g: shorter than one %s segment of yarn (%g mm): the yarn test's gauge must span segments",
+             "-break_gauge_mm %.6g: shorter than one %s segment of yarn (%.6g mm): the yarn test's gauge must span segments",
              (double) (1e3 * y->break_gauge), y->name, (double) (1e3 * (1.0 + y->crimp) * L0));
   y->break_k     = WeibullShape(y->break_cv);
   y->break_scale = y->break_ey / PetscExpReal(gsl_sf_lngamma(1.0 + 1.0 / y->break_k)) *

@@ -1217,7 +1217,7 @@ static PetscErrorCode DeriveBreaks(MPI_Comm comm, const SceneInput *in, Scene *s
   for (int f = 0; f < 2; f++) {
     YarnLaw *y = f == 0 ? &s->yarns.warp : &s->yarns.weft;
     PetscCheck(in->yarn[f].break_cv_pct == 0 || in->yarn[f].break_pct > 0, comm, PETSC_ERR_USER_INPUT,
-               "-%s_break_cv_pct %g needs a breaking strain: -%s_break_pct is 0 (never breaks)", y->name,
+               "-%s_break_cv_pct %.6g needs a breaking strain: -%s_break_pct is 0 (never breaks)", y->name,
                (double) in->yarn[f].break_cv_pct, y->name);
     y->break_gauge = in->break_gauge_mm * 1e-3;
     PetscCall(YarnBreakSetUp(y, f == 0 ? 1.0 / s->spec.picks_per_m : 1.0 / s->spec.ends_per_m, comm));
