@@ -6,6 +6,7 @@
 #     between the load steps at 15 % and 15.25 %, is 12 x 3.588 = 43.056 N at 15.02 % (both within
 #     1e-5); every segment breaks at once, the force falls below a tenth of the maximum and the test
 #     ends at 15.25 %;
+#     the same with -solver static (balanced states by Newton, the tear by te steps);
 #  2. a checkpoint of that last load step restarts into a run that does nothing more and
 #     reports the same rupture;
 #  3. scattered strengths (CV 10 %): a 50 x 20 mm strip ruptures from its weakest segment, the tear
@@ -37,6 +38,16 @@ check(r is not None and r["force_N"] < 0.1 * s["max_force_N"], "the force after 
 check(s["load_steps_done"] == 61 and s["converged"], f"the test ends at the rupture: {s['load_steps_done']} load steps, converged {s['converged']}")
 check(s["segments_broken"] == 12 * 48, f"every warp segment broke: {s['segments_broken']} of 576")
 sys.exit(bad)
+PY
+run 1 -scene "$scene" -gauge_mm 20 -width_mm 5 -warp_break_cv_pct 0 -weft_break_cv_pct 0 -output_dir "$work/cv0s" \
+  -output_every 0 -solver static
+"$py" - "$work/cv0s/summary.json" <<'PY' || fail=1
+import json, sys
+s = json.load(open(sys.argv[1]))
+exact = 12 * (0.05 * 52 * 0.08 + 52.0 * 0.065)
+ok = abs(s["max_force_N"] / exact - 1) <= 1e-5 and s["rupture"] is not None and s["rupture"]["load_step"] == 61
+print(("PASS" if ok else "FAIL") + f" -solver static up to the break, then the tear: maximum force {s['max_force_N']:.7f} N vs {exact:.7f} N (tol 1e-5), rupture {s['rupture']}")
+sys.exit(0 if ok else 1)
 PY
 cp "$work/cv0/summary.json" "$work/cv0.json"
 run 2 -scene "$scene" -gauge_mm 20 -width_mm 5 -warp_break_cv_pct 0 -weft_break_cv_pct 0 -output_dir "$work/cv0r" \
