@@ -16,9 +16,14 @@
  * divided by 10 after a full Newton step, multiplied by 4 after a step the line search cut below
  * 1/4, by 100 after a failed solve (which is retried from where it stopped), and 0 once below
  * 1e-12 of the yarns' stiffness, so the last steps are plain Newton steps and converge fast.
- * Linear solves: CG preconditioned by geometric multigrid on the DMDA hierarchy (Galerkin coarse
- * operators) where the grid halves at least once, GAMG with the rigid-body modes otherwise. All
- * are PETSc's own choices, overridden by -snes_*, -ksp_*, -pc_* (the options prefix is none).
+ * The first load step starts at -snes_shift_start, a later one from 10x where the last ended.
+ * First guess: the free crossings extrapolated in the load factor through the last three balanced
+ * states (-snes_extrapolate), unless the driver's prediction moved them.
+ * Linear solves: CG (on the true residual) preconditioned by geometric multigrid on the DMDA
+ * hierarchy (Galerkin coarse operators) where the grid halves at least once, smoothed by
+ * alternating block-line relaxation (LineSmoother: a yarn is 1/strain times stiffer along itself
+ * than across, which point smoothers cannot smooth); GAMG with the rigid-body modes otherwise.
+ * All are overridden by -snes_*, -ksp_*, -pc_*, -mg_* (the options prefix is none).
  * Convergence: the explicit path's balance test (the largest free force over the larger of the
  * largest yarn tension and the force floor) at -balance_tol.
  */
