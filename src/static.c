@@ -16,9 +16,14 @@
  * divided by 10 after a full Newton step, multiplied by 4 after a step the line search cut below
  * 1/4, by 100 after a failed solve (which is retried from where it stopped), and 0 once below
  * 1e-12 of the yarns' stiffness, so the last steps are plain Newton steps and converge fast.
- * Linear solves: CG preconditioned by geometric multigrid on the DMDA hierarchy (Galerkin coarse
- * operators) where the grid halves at least once, GAMG with the rigid-body modes otherwise. All
- * are PETSc's own choices, overridden by -snes_*, -ksp_*, -pc_* (the options prefix is none).
+ * The first load step starts at -snes_shift_start, a later one from 10x where the last ended.
+ * First guess: the free crossings extrapolated in the load factor through the last three balanced
+ * states (-snes_extrapolate), unless the driver's prediction moved them.
+ * Linear solves: CG (on the true residual) preconditioned by geometric multigrid on the DMDA
+ * hierarchy (Galerkin coarse operators) where the grid halves at least once, smoothed by
+ * alternating block-line relaxation (LineSmoother: a yarn is 1/strain times stiffer along itself
+ * than across, which point smoothers cannot smooth); GAMG with the rigid-body modes otherwise.
+ * All are overridden by -snes_*, -ksp_*, -pc_*, -mg_* (the options prefix is none).
  * Convergence: the explicit path's balance test (the largest free force over the larger of the
  * largest yarn tension and the force floor) at -balance_tol.
  */
@@ -29,7 +34,8 @@
 
 #include <petscsnes.h>
 
-#define SHIFT_START  1e-2  /* k_s / k_ref at the first Newton step of a load step */
+#define SHIFT_START  1e-2  /* k_s / k_ref at the first Newton step of the run (-snes_shift_start) */
+#define SHIFT_CARRY  10.0  /* a later load step starts from this times the last one's final shift (-snes_shift_carry) */
 #define SHIFT_FLOOR  1e-12 /* below this k_s / k_ref the shift is dropped */
 #define MAX_ATTEMPTS 8     /* SNES solves per load step, each after a failed one */
 #define ENERGY_NOISE 1e-10 /* a predicted change of Pi below this fraction of |Pi| is rounding noise */
@@ -44,6 +50,11 @@ struct _p_StaticSolver {
   PetscReal      k_ref;  /* N/m: stiffness scale (a yarn segment's), for k_bc and the shift */
   PetscReal      shift;  /* k_s / k_ref */
   PetscReal      tmax;   /* largest yarn tension of the last evaluation (the balance test's scale) */
+  Vec            Xh[3];    /* the last balanced states, the latest first */
+  PetscReal      lh[3];    /* their load factors */
+  PetscInt       nhist, order;
+  PetscReal      shift_start, shift_carry; /* the shift of a load step's first Newton step: see StaticSolve */
+  PetscBool      line_smoother;            /* multigrid levels smoothed by block lines (LineSmoother) */
 };
 
 /* gravity on the free owned points and the residual rows of the held ones */
@@ -325,6 +336,245 @@ static PetscErrorCode Converged(SNES snes, PetscInt it, PetscReal xnorm, PetscRe
   PetscFunctionReturn(0);
 }
 
+/* The multigrid smoother: alternating block-line relaxation. A yarn is stiff along itself (EA/L)
+   and soft across (its tension T/L, about the strain times EA/L): the in-plane displacement along
+   x is strongly coupled along the warp yarns (x-lines) only, the one along y along the weft
+   yarns (y-lines) only, an anisotropy of 1/strain that point smoothers (SOR, Jacobi) cannot
+   smooth, so that multigrid slows as the net grows and its strain falls. Each application
+   solves exactly along every x-line, then every y-line, then every x-line again, each on the
+   residual left by the one before (a symmetric smoother for CG): one block-tridiagonal solve
+   (3x3 blocks: a crossing's coupling to its neighbours along the line) per line of the rank's
+   patch; the couplings across lines and ranks stay in the residual. */
+static PetscLogEvent EV_LineSetUp, EV_LineSolve;
+
+typedef struct {
+  PetscInt   xs, ys, xm, ym; /* the level's owned patch */
+  PetscReal *fac[2];         /* per owned point and line direction: S^-1, S^-1 U, L (3x3 each) */
+  Vec        t, s;           /* work: residual, one line sweep's correction */
+  PetscBool  pivot_fixed;    /* a non-positive 3x3 pivot was replaced by its diagonal (indefinite level) */
+  int        order[3];       /* the line directions of one application, -1 ends */
+} LineSmoother;
+
+/* inverse of a 3x3 block; a pivot that is not positive definite enough is replaced by the absolute
+   values of its diagonal (an indefinite tangent: the smoother stays a symmetric positive one) */
+static PetscBool Invert3(const PetscReal a[9], PetscReal inv[9])
+{
+  const PetscReal c0 = a[4] * a[8] - a[5] * a[7], c1 = a[5] * a[6] - a[3] * a[8], c2 = a[3] * a[7] - a[4] * a[6];
+  const PetscReal det = a[0] * c0 + a[1] * c1 + a[2] * c2, scale = PetscAbsReal(a[0]) + PetscAbsReal(a[4]) + PetscAbsReal(a[8]);
+
+  if (!(det > 1e-12 * scale * scale * scale) || !(a[0] > 0 && a[4] > 0 && a[8] > 0)) {
+    for (int e = 0; e < 9; e++) inv[e] = 0;
+    for (int d = 0; d < 3; d++) inv[4 * d] = PetscAbsReal(a[4 * d]) > 0 ? 1.0 / PetscAbsReal(a[4 * d]) : 0.0;
+    return PETSC_TRUE;
+  }
+  inv[0] = c0 / det, inv[3] = c1 / det, inv[6] = c2 / det;
+  inv[1] = (a[2] * a[7] - a[1] * a[8]) / det, inv[4] = (a[0] * a[8] - a[2] * a[6]) / det, inv[7] = (a[1] * a[6] - a[0] * a[7]) / det;
+  inv[2] = (a[1] * a[5] - a[2] * a[4]) / det, inv[5] = (a[2] * a[3] - a[0] * a[5]) / det, inv[8] = (a[0] * a[4] - a[1] * a[3]) / det;
+  return PETSC_FALSE;
+}
+
+static inline void Mul3(const PetscReal a[9], const PetscReal b[9], PetscReal c[9])
+{
+  for (int r = 0; r < 3; r++)
+    for (int q = 0; q < 3; q++) c[3 * r + q] = a[3 * r] * b[q] + a[3 * r + 1] * b[3 + q] + a[3 * r + 2] * b[6 + q];
+}
+
+/* the blocks of the level operator along the lines, factored: for the points k0, k1 ... of a line,
+   S_0 = D_0, S_i = D_i - L_i S_{i-1}^-1 U_{i-1}; kept: S_i^-1, S_i^-1 U_i, L_i */
+static PetscErrorCode LineSmootherSetUp(PC pc)
+{
+  LineSmoother *ls;
+  DM            dm;
+  Mat           A;
+  PetscInt      rstart, rend, npts, zs, zm;
+  PetscReal    *blk; /* per owned point: D, L_x, U_x, L_y, U_y (3x3 each) */
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(EV_LineSetUp, pc, 0, 0, 0));
+  PetscCall(PCShellGetContext(pc, &ls));
+  PetscCall(PCGetDM(pc, &dm));
+  PetscCheck(dm, PetscObjectComm((PetscObject) pc), PETSC_ERR_SUP, "the line smoother needs the level's DMDA");
+  PetscCall(DMDAGetCorners(dm, &ls->xs, &ls->ys, &zs, &ls->xm, &ls->ym, &zm));
+  PetscCall(PCGetOperators(pc, NULL, &A));
+  PetscCall(MatGetOwnershipRange(A, &rstart, &rend));
+  npts = ls->xm * ls->ym;
+  PetscCheck(rend - rstart == 3 * npts, PETSC_COMM_SELF, PETSC_ERR_SUP, "the line smoother needs 3 unknowns a point");
+  if (!ls->t) {
+    PetscCall(MatCreateVecs(A, &ls->t, &ls->s));
+    PetscCall(PetscMalloc2(27 * npts, &ls->fac[0], 27 * npts, &ls->fac[1]));
+  }
+  PetscCall(PetscCalloc1(45 * npts, &blk));
+  for (PetscInt k = 0; k < npts; k++) {
+    const PetscInt i = k % ls->xm;
+    for (int c = 0; c < 3; c++) {
+      PetscInt           ncols;
+      const PetscInt    *cols;
+      const PetscScalar *vals;
+      PetscCall(MatGetRow(A, rstart + 3 * k + c, &ncols, &cols, &vals));
+      for (PetscInt q = 0; q < ncols; q++) {
+        const PetscInt col = cols[q] - rstart, kk = col / 3, cc = col % 3;
+        int            which;
+        if (cols[q] < rstart || cols[q] >= rend) continue; /* another rank's: left in the residual */
+        if (kk == k) which = 0;
+        else if (kk == k - 1 && i > 0) which = 1;
+        else if (kk == k + 1 && i + 1 < ls->xm) which = 2;
+        else if (kk == k - ls->xm) which = 3;
+        else if (kk == k + ls->xm) which = 4;
+        else continue;
+        blk[45 * k + 9 * which + 3 * c + cc] = vals[q];
+      }
+      PetscCall(MatRestoreRow(A, rstart + 3 * k + c, &ncols, &cols, &vals));
+    }
+  }
+  ls->pivot_fixed = PETSC_FALSE;
+  for (int dir = 0; dir < 2; dir++) {
+    const PetscInt nlines = dir ? ls->xm : ls->ym, len = dir ? ls->ym : ls->xm, stride = dir ? ls->xm : 1;
+    for (PetscInt line = 0; line < nlines; line++)
+      for (PetscInt q = 0; q < len; q++) {
+        const PetscInt   k = dir ? line + q * ls->xm : line * ls->xm + q;
+        const PetscReal *D = blk + 45 * k, *L = D + 9 * (1 + 2 * dir), *U = D + 9 * (2 + 2 * dir);
+        PetscReal       *f = ls->fac[dir] + 27 * k, S[9];
+        for (int e = 0; e < 9; e++) S[e] = D[e];
+        if (q > 0) { /* S -= L_i W_{i-1} */
+          PetscReal LW[9];
+          Mul3(L, ls->fac[dir] + 27 * (k - stride) + 9, LW);
+          for (int e = 0; e < 9; e++) S[e] -= LW[e];
+        }
+        if (Invert3(S, f)) ls->pivot_fixed = PETSC_TRUE;
+        Mul3(f, U, f + 9);
+        for (int e = 0; e < 9; e++) f[18 + e] = L[e];
+      }
+  }
+  PetscCall(PetscFree(blk));
+  PetscCall(PetscLogEventEnd(EV_LineSetUp, pc, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+/* x = T^-1 r for the block-tridiagonal T of every line of direction dir (0: x-lines, 1: y-lines) */
+static void LineSolve(const LineSmoother *ls, int dir, const PetscScalar *r, PetscScalar *x)
+{
+  const PetscInt nlines = dir ? ls->xm : ls->ym, len = dir ? ls->ym : ls->xm, stride = dir ? ls->xm : 1;
+
+  for (PetscInt line = 0; line < nlines; line++) {
+    const PetscInt k0 = dir ? line : line * ls->xm;
+    for (PetscInt q = 0; q < len; q++) { /* forward: g_i = S_i^-1 (r_i - L_i g_{i-1}) */
+      const PetscInt   k = k0 + q * stride;
+      const PetscReal *f = ls->fac[dir] + 27 * k, *L = f + 18;
+      PetscReal        b[3] = {r[3 * k], r[3 * k + 1], r[3 * k + 2]};
+      if (q > 0) {
+        const PetscScalar *g = x + 3 * (k - stride);
+        for (int c = 0; c < 3; c++) b[c] -= L[3 * c] * g[0] + L[3 * c + 1] * g[1] + L[3 * c + 2] * g[2];
+      }
+      for (int c = 0; c < 3; c++) x[3 * k + c] = f[3 * c] * b[0] + f[3 * c + 1] * b[1] + f[3 * c + 2] * b[2];
+    }
+    for (PetscInt q = len - 2; q >= 0; q--) { /* backward: x_i = g_i - S_i^-1 U_i x_{i+1} */
+      const PetscInt     k = k0 + q * stride;
+      const PetscReal   *W = ls->fac[dir] + 27 * k + 9;
+      const PetscScalar *y = x + 3 * (k + stride);
+      for (int c = 0; c < 3; c++) x[3 * k + c] -= W[3 * c] * y[0] + W[3 * c + 1] * y[1] + W[3 * c + 2] * y[2];
+    }
+  }
+}
+
+/* One sweep over the lines of direction dir: x += T^-1 (b - A x), or x = T^-1 b from x = 0. */
+static PetscErrorCode LineSweep(LineSmoother *ls, Mat A, int dir, Vec b, Vec x, PetscBool zero)
+{
+  const PetscScalar *rr;
+  PetscScalar       *zz;
+
+  PetscFunctionBeginUser;
+  if (zero) {
+    PetscCall(PetscLogEventBegin(EV_LineSolve, 0, 0, 0, 0));
+    PetscCall(VecGetArrayRead(b, &rr));
+    PetscCall(VecGetArrayWrite(x, &zz));
+    LineSolve(ls, dir, rr, zz);
+    PetscCall(PetscLogEventEnd(EV_LineSolve, 0, 0, 0, 0));
+    PetscCall(VecRestoreArrayWrite(x, &zz));
+    PetscCall(VecRestoreArrayRead(b, &rr));
+    PetscFunctionReturn(0);
+  }
+  PetscCall(MatMult(A, x, ls->t));
+  PetscCall(VecAYPX(ls->t, -1.0, b));
+  PetscCall(VecGetArrayRead(ls->t, &rr));
+  PetscCall(VecGetArrayWrite(ls->s, &zz));
+  PetscCall(PetscLogEventBegin(EV_LineSolve, 0, 0, 0, 0));
+  LineSolve(ls, dir, rr, zz);
+  PetscCall(PetscLogEventEnd(EV_LineSolve, 0, 0, 0, 0));
+  PetscCall(VecRestoreArrayWrite(ls->s, &zz));
+  PetscCall(VecRestoreArrayRead(ls->t, &rr));
+  PetscCall(VecAXPY(x, 1.0, ls->s));
+  PetscFunctionReturn(0);
+}
+
+/* z = M^-1 r: one application (the sweeps of ls->order, each on the residual the last left) */
+static PetscErrorCode LineSmootherApply(PC pc, Vec r, Vec z)
+{
+  LineSmoother *ls;
+  Mat           A;
+
+  PetscFunctionBeginUser;
+  PetscCall(PCShellGetContext(pc, &ls));
+  PetscCall(PCGetOperators(pc, &A, NULL));
+  for (int q = 0; q < 3 && ls->order[q] >= 0; q++) PetscCall(LineSweep(ls, A, ls->order[q], r, z, q == 0));
+  PetscFunctionReturn(0);
+}
+
+/* the smoother's Richardson iterations without a separate residual: maxits applications to
+   A x = b, the first from x = 0 if guesszero (no product with A) */
+static PetscErrorCode LineSmootherRichardson(PC pc, Vec b, Vec x, Vec r, PetscReal rtol, PetscReal abstol,
+                                             PetscReal dtol, PetscInt maxits, PetscBool guesszero, PetscInt *its,
+                                             PCRichardsonConvergedReason *reason)
+{
+  LineSmoother *ls;
+  Mat           A;
+
+  PetscFunctionBeginUser;
+  (void) r, (void) rtol, (void) abstol, (void) dtol;
+  PetscCall(PCShellGetContext(pc, &ls));
+  PetscCall(PCGetOperators(pc, &A, NULL));
+  for (PetscInt it = 0; it < maxits; it++)
+    for (int q = 0; q < 3 && ls->order[q] >= 0; q++)
+      PetscCall(LineSweep(ls, A, ls->order[q], b, x, guesszero && it == 0 && q == 0 ? PETSC_TRUE : PETSC_FALSE));
+  *its    = maxits;
+  *reason = PCRICHARDSON_CONVERGED_ITS;
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode LineSmootherDestroy(PC pc)
+{
+  LineSmoother *ls;
+
+  PetscFunctionBeginUser;
+  PetscCall(PCShellGetContext(pc, &ls));
+  PetscCall(VecDestroy(&ls->t));
+  PetscCall(VecDestroy(&ls->s));
+  PetscCall(PetscFree2(ls->fac[0], ls->fac[1]));
+  PetscCall(PetscFree(ls));
+  PetscFunctionReturn(0);
+}
+
+/* level l's smoother: one application of the line smoother (Richardson, one iteration) */
+static PetscErrorCode SetLineSmoother(KSP ksp, const int order[3])
+{
+  PC            pc;
+  LineSmoother *ls;
+
+  PetscFunctionBeginUser;
+  PetscCall(KSPSetType(ksp, KSPRICHARDSON));
+  PetscCall(KSPSetTolerances(ksp, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, 1));
+  PetscCall(KSPGetPC(ksp, &pc));
+  PetscCall(PCSetType(pc, PCSHELL));
+  PetscCall(PetscNew(&ls));
+  for (int q = 0; q < 3; q++) ls->order[q] = order[q];
+  PetscCall(PCShellSetContext(pc, ls));
+  PetscCall(PCShellSetName(pc, "alternating block-line relaxation"));
+  PetscCall(PCShellSetSetUp(pc, LineSmootherSetUp));
+  PetscCall(PCShellSetApply(pc, LineSmootherApply));
+  PetscCall(PCShellSetApplyRichardson(pc, LineSmootherRichardson));
+  PetscCall(PCShellSetDestroy(pc, LineSmootherDestroy));
+  PetscFunctionReturn(0);
+}
+
 /* geometric multigrid levels: how often both grid sides halve with at least 4 points a rank */
 static PetscErrorCode MultigridLevels(DM da, PetscInt *levels)
 {
@@ -361,6 +611,9 @@ static PetscErrorCode SetDefaults(StaticSolver ss)
   PetscCall(SNESSetMaxLinearSolveFailures(ss->snes, PETSC_MAX_INT));
   PetscCall(SNESGetKSP(ss->snes, &ksp));
   PetscCall(KSPSetType(ksp, KSPCG));
+  /* the true residual's reduction: the preconditioned norm of a multigrid on this anisotropic
+     tangent overstates it, and Newton then takes an extra step per load step */
+  PetscCall(KSPSetNormType(ksp, KSP_NORM_UNPRECONDITIONED));
   PetscCall(KSPSetTolerances(ksp, 1e-3, PETSC_DEFAULT, PETSC_DEFAULT, 1000));
   PetscCall(KSPGetPC(ksp, &pc));
   PetscCall(MultigridLevels(ss->dm, &levels));
@@ -368,6 +621,15 @@ static PetscErrorCode SetDefaults(StaticSolver ss)
     PetscCall(PCSetType(pc, PCMG));
     PetscCall(PCMGSetLevels(pc, levels, NULL));
     PetscCall(PCMGSetGalerkin(pc, PC_MG_GALERKIN_BOTH));
+    for (PetscInt l = 1; l < levels && ss->line_smoother; l++) { /* down x then y lines, up y then x */
+      const int down[3] = {0, 1, -1}, up[3] = {1, 0, -1};
+      KSP       smoother;
+      PetscCall(PCMGGetSmootherDown(pc, l, &smoother));
+      PetscCall(SetLineSmoother(smoother, down));
+      PetscCall(KSPSetInitialGuessNonzero(smoother, PETSC_FALSE));
+      PetscCall(PCMGGetSmootherUp(pc, l, &smoother));
+      PetscCall(SetLineSmoother(smoother, up));
+    }
   } else
     PetscCall(PCSetType(pc, PCGAMG));
   PetscCall(MatNullSpaceCreateRigidBody(fab->grid.X0, &rigid)); /* GAMG's near-null space */
@@ -407,12 +669,40 @@ PetscErrorCode StaticCreate(Fabric fab, StaticSolver *out)
   PetscReal    mmax = 0;
 
   PetscFunctionBeginUser;
+  if (!EV_LineSolve) {
+    PetscClassId id;
+    PetscCall(PetscClassIdRegister("Static", &id));
+    PetscCall(PetscLogEventRegister("StaticLineSetUp", id, &EV_LineSetUp));
+    PetscCall(PetscLogEventRegister("StaticLineSolve", id, &EV_LineSolve));
+  }
   PetscCall(PetscNew(&ss));
   ss->fab = fab;
   PetscCall(CreateMatrixDM(fab, &ss->dm));
   PetscCall(DMCreateMatrix(ss->dm, &ss->J));
   PetscCall(MatSetOption(ss->J, MAT_SYMMETRIC, PETSC_TRUE));
   PetscCall(VecDuplicate(fab->state.X, &ss->Xbc));
+  for (int q = 0; q < 3; q++) PetscCall(VecDuplicate(fab->state.X, &ss->Xh[q]));
+  ss->shift_start   = SHIFT_START;
+  ss->shift_carry   = SHIFT_CARRY;
+  ss->order         = 2;
+  ss->line_smoother = PETSC_TRUE;
+  PetscOptionsBegin(fab->comm, NULL, "Quasi-static solver (-solver static, docs/static.md)", NULL);
+  PetscCall(PetscOptionsReal("-snes_shift_start", "pretension shift k_s / k_ref at the run's first Newton step", NULL,
+                             ss->shift_start, &ss->shift_start, NULL));
+  PetscCall(PetscOptionsReal("-snes_shift_carry",
+                             "a load step's first shift: this times the last load step's final one (at most -snes_shift_start)",
+                             NULL, ss->shift_carry, &ss->shift_carry, NULL));
+  PetscCall(PetscOptionsInt("-snes_extrapolate",
+                            "first guess: polynomial of this order through the last balanced states (0: the last one)", NULL,
+                            ss->order, &ss->order, NULL));
+  PetscCall(PetscOptionsBool("-mg_line_smoother", "geometric multigrid smoothed by alternating block lines (else PETSc's)",
+                             NULL, ss->line_smoother, &ss->line_smoother, NULL));
+  PetscOptionsEnd();
+  PetscCheck(ss->order >= 0 && ss->order <= 2, fab->comm, PETSC_ERR_USER_INPUT,
+             "-snes_extrapolate %" PetscInt_FMT ": 0, 1 or 2", ss->order);
+  PetscCheck(ss->shift_start >= 0 && ss->shift_carry >= 0, fab->comm, PETSC_ERR_USER_INPUT,
+             "-snes_shift_start %g, -snes_shift_carry %g: must not be negative", (double) ss->shift_start,
+             (double) ss->shift_carry);
   /* the free flags, ghosted */
   PetscCall(DMGetGlobalVector(fab->grid.da, &flag));
   PetscCall(DMGetLocalVector(fab->grid.da, &flagl));
@@ -457,10 +747,65 @@ PetscErrorCode StaticDestroy(StaticSolver *pss)
   PetscCall(MatDestroy(&ss->J));
   PetscCall(DMDestroy(&ss->dm));
   PetscCall(VecDestroy(&ss->Xbc));
+  for (int q = 0; q < 3; q++) PetscCall(VecDestroy(&ss->Xh[q]));
   PetscCall(PetscFree(ss->free_g));
   ss->fab->grid.patch.tension_field = PETSC_FALSE;
   PetscCall(PetscFree(ss));
   *pss = NULL;
+  PetscFunctionReturn(0);
+}
+
+/* Newton's first guess from the balanced states of the last load steps: the free crossings'
+   positions extrapolated in the load factor by the polynomial through the last order + 1 of them
+   (order 1: the secant; 2: a parabola), where nothing else moved them since the last (a
+   prediction of the driver is kept). The held crossings stay where the load step put them. */
+static PetscErrorCode Extrapolate(StaticSolver ss)
+{
+  Fabric             fab = ss->fab;
+  const PetscInt     np  = PetscMin(ss->nhist, ss->order + 1);
+  const PetscReal    l   = fab->load.load_factor;
+  PetscReal          w[3], moved = 0;
+  PetscScalar       *x;
+  const PetscScalar *h[3];
+
+  PetscFunctionBeginUser;
+  if (np < 2 || !(l > ss->lh[0])) PetscFunctionReturn(0);
+  for (PetscInt a = 0; a < np; a++) { /* Lagrange weights at l */
+    w[a] = 1;
+    for (PetscInt b = 0; b < np; b++)
+      if (b != a) w[a] *= (l - ss->lh[b]) / (ss->lh[a] - ss->lh[b]);
+  }
+  PetscCall(VecGetArray(fab->state.X, &x));
+  for (PetscInt a = 0; a < np; a++) PetscCall(VecGetArrayRead(ss->Xh[a], &h[a]));
+  for (PetscInt k = 0; k < 3 * fab->grid.nloc; k++)
+    if (fab->grid.inv_m[k / 3] > 0) moved = PetscMax(moved, PetscAbsReal(x[k] - h[0][k]));
+  PetscCall(GlobalMax(fab->comm, &moved, 1));
+  if (moved == 0)
+    for (PetscInt k = 0; k < 3 * fab->grid.nloc; k++) {
+      if (!(fab->grid.inv_m[k / 3] > 0)) continue;
+      x[k] = 0;
+      for (PetscInt a = 0; a < np; a++) x[k] += w[a] * h[a][k];
+    }
+  for (PetscInt a = 0; a < np; a++) PetscCall(VecRestoreArrayRead(ss->Xh[a], &h[a]));
+  PetscCall(VecRestoreArray(fab->state.X, &x));
+  PetscFunctionReturn(0);
+}
+
+/* remember a balanced state (a re-solve at the same load factor, after yarns broke, replaces it) */
+static PetscErrorCode KeepBalanced(StaticSolver ss)
+{
+  Fabric fab = ss->fab;
+
+  PetscFunctionBeginUser;
+  if (!(ss->nhist > 0 && fab->load.load_factor == ss->lh[0])) {
+    Vec t = ss->Xh[2];
+    ss->Xh[2] = ss->Xh[1], ss->lh[2] = ss->lh[1];
+    ss->Xh[1] = ss->Xh[0], ss->lh[1] = ss->lh[0];
+    ss->Xh[0] = t;
+    ss->nhist = PetscMin(ss->nhist + 1, 3);
+  }
+  ss->lh[0] = fab->load.load_factor;
+  PetscCall(VecCopy(fab->state.X, ss->Xh[0]));
   PetscFunctionReturn(0);
 }
 
@@ -473,7 +818,10 @@ PetscErrorCode StaticSolve(StaticSolver ss, StaticResult *r)
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(r, sizeof *r));
   PetscCall(VecCopy(fab->state.X, ss->Xbc));
-  ss->shift = SHIFT_START;
+  PetscCall(Extrapolate(ss));
+  /* the first load step from -snes_shift_start; a later one from where the last ended (a taut
+     fabric: nearly plain Newton), raised by AdaptShift if that fails */
+  ss->shift = ss->nhist ? PetscMin(ss->shift_start, ss->shift_carry * ss->shift) : ss->shift_start;
   for (int attempt = 0; attempt < MAX_ATTEMPTS; attempt++) { /* a failed solve is retried, stiffer */
     PetscInt lits;
     PetscCall(SNESSolve(ss->snes, NULL, fab->state.X));
@@ -504,5 +852,6 @@ PetscErrorCode StaticSolve(StaticSolver ss, StaticResult *r)
     r->residual = PetscSqrtReal(red[0]) / PetscMax(red[1], fab->step.force_floor);
   }
   r->balanced = r->residual <= fab->s.num.balance_tol ? PETSC_TRUE : PETSC_FALSE;
+  if (r->balanced) PetscCall(KeepBalanced(ss));
   PetscFunctionReturn(0);
 }
