@@ -1,16 +1,18 @@
-"""plot_curve.py - force vs elongation of one or more runs, as a PNG.
+"""plot_curve.py - force vs elongation (or travel) of one or more runs, as a PNG.
 
     /usr/bin/python3 scripts/plot_curve.py RUN/curve.csv [RUN2/curve.csv ...] [-o curve.png]
                      [--labels A,B] [--measured measured.csv] [--title TEXT]
 
-Each curve.csv is one line (elongation_pct, force_N), labelled with its run directory's name
-(or --labels). --measured overlays a measured curve: a CSV whose first two columns are
+Each curve.csv is one line (elongation_pct, force_N; a pushing run's travel_mm, force_N),
+labelled with its run directory's name (or --labels). Where the run's summary.json (next to its
+curve.csv) reports a maximum force and a rupture, the maximum is marked and the legend says it. --measured overlays a measured curve: a CSV whose first two columns are
 elongation (%) and force (N), with or without a header line; it is drawn as points. Load steps
 that did not balance (curve.csv residual above -balance_tol) are not marked: check the residual
 column. Default output: curve.png next to the first curve.csv. Prints the file it wrote.
 """
 import argparse
 import csv
+import json
 import os
 import sys
 
@@ -21,12 +23,30 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 
 def read_run(path):
+    """x values, forces and the x column's name: elongation_pct (jaw tests) or travel_mm"""
     with open(path, newline="") as f:
         rows = list(csv.DictReader(f))
-    if not rows or "elongation_pct" not in rows[0] or "force_N" not in rows[0]:
-        sys.exit(f"plot_curve.py: {path}: not a fabric curve.csv (expected the columns elongation_pct and force_N)")
-    # the curve starts at rest: 0 % elongation, 0 N
-    return [0.0] + [float(r["elongation_pct"]) for r in rows], [0.0] + [float(r["force_N"]) for r in rows]
+    col = "elongation_pct" if rows and "elongation_pct" in rows[0] else "travel_mm"
+    if not rows or col not in rows[0] or "force_N" not in rows[0]:
+        sys.exit(f"plot_curve.py: {path}: not a fabric curve.csv (expected the columns elongation_pct or travel_mm, and force_N)")
+    # the curve starts at rest: 0, 0 N
+    return [0.0] + [float(r[col]) for r in rows], [0.0] + [float(r["force_N"]) for r in rows], col
+
+
+def read_maximum(path):
+    """(x, force, text) of the run's maximum force from summary.json next to curve.csv, or None"""
+    summary = os.path.join(os.path.dirname(os.path.abspath(path)), "summary.json")
+    try:
+        s = json.load(open(summary))
+    except (OSError, ValueError):
+        return None
+    if "max_force_N" not in s or not s.get("rupture"):
+        return None
+    if "elongation_at_max_force_pct" in s:
+        x, unit = s["elongation_at_max_force_pct"], "%"
+    else:
+        x, unit = s["travel_at_max_force_mm"], "mm"
+    return x, s["max_force_N"], f"maximum {s['max_force_N']:.4g} N at {x:.4g} {unit}"
 
 
 def read_measured(path):
@@ -60,13 +80,17 @@ def main():
     if len(labels) != len(a.curves):
         sys.exit(f"plot_curve.py: --labels gives {len(labels)} labels for {len(a.curves)} curves")
     fig, ax = plt.subplots(figsize=(8, 5.5), dpi=120)
+    col = "elongation_pct"
     for path, label in zip(a.curves, labels):
-        x, y = read_run(path)
-        ax.plot(x, y, "-", marker=".", label=label)
+        x, y, col = read_run(path)
+        line = ax.plot(x, y, "-", marker=".", label=label)[0]
+        peak = read_maximum(path)
+        if peak:
+            ax.plot([peak[0]], [peak[1]], "*", ms=12, color=line.get_color(), label=f"{label}: {peak[2]}")
     if a.measured:
         x, y = read_measured(a.measured)
         ax.plot(x, y, "o", mfc="none", color="k", label=a.measured_label)
-    ax.set_xlabel("elongation (%)")
+    ax.set_xlabel("elongation (%)" if col == "elongation_pct" else "travel (mm)")
     ax.set_ylabel("force (N)")
     ax.set_title(a.title)
     ax.grid(True, alpha=0.3)
