@@ -184,10 +184,16 @@ static void PeakAtBreak(Fabric fab, const CurveRow *row)
            r->last_at + w * ((JawTest(&fab->s) ? row->elongation : row->travel) - r->last_at));
 }
 
-/* the tests whose force is a reaction to an imposed travel: their specimen can be seen to break */
+/* the tests whose force is a reaction to an imposed travel: their maximum force is reported */
+static PetscBool HasReaction(const Scene *s)
+{
+  return (JawTest(s) || s->test == TEST_PUSHING) ? PETSC_TRUE : PETSC_FALSE;
+}
+
+/* ... and their specimen can be seen to break (-rupture_drop_pct 0: never) */
 static PetscBool CanRupture(const Scene *s)
 {
-  return (JawTest(s) || s->test == TEST_PUSHING) && s->rupture.drop > 0 ? PETSC_TRUE : PETSC_FALSE;
+  return HasReaction(s) && s->rupture.drop > 0 ? PETSC_TRUE : PETSC_FALSE;
 }
 
 /* te steps in which a yarn's stress wave crosses the specimen -tear_wave_crossings times: a chain in
@@ -202,7 +208,7 @@ static PetscInt TearQuietSteps(Fabric fab)
     const YarnLaw *y = f == 0 ? p->warp : p->weft;
     c                = PetscMax(c, PetscSqrtReal(y->EA / (y->mu * PetscSqr(1.0 + y->crimp))));
   }
-  return (PetscInt) PetscCeilReal(s->rupture.crossings * span / (c * fab->step.te));
+  return (PetscInt) PetscMin(PetscCeilReal(s->rupture.crossings * span / (c * fab->step.te)), (PetscReal) PETSC_MAX_INT);
 }
 
 /* the specimen has ruptured: after a yarn broke, the force fell below (1 - drop) of its maximum.
@@ -230,7 +236,7 @@ static PetscErrorCode FollowTear(Fabric fab, StepStats *st, CurveRow *row, Petsc
 {
   const Scene    *s      = &fab->s;
   const PetscInt  quiet  = TearQuietSteps(fab);
-  const PetscInt  most   = PetscMax(1, (PetscInt) PetscFloorReal(s->rupture.max_time / fab->step.te));
+  const PetscInt  most   = (PetscInt) PetscMax(1.0, PetscMin(PetscFloorReal(s->rupture.max_time / fab->step.te), (PetscReal) PETSC_MAX_INT));
   const PetscInt  check  = CanRupture(s) ? PetscMax(1, quiet / 8) : 0;
   const PetscInt  before = row->inner_steps, every = s->out.output_tear_every;
   const FrameInfo load   = LoadStepFrame(fab);
@@ -297,7 +303,7 @@ PetscErrorCode RelaxLoadStep(Fabric fab, CurveRow *row)
        transient are artefacts of the load stepping. If one broke, the tear that follows is
        dynamics; then the specimen has ruptured, or this step relaxes again. */
     if (!st.balanced) break;
-    measured = CanRupture(s); /* the state before anything breaks: the row, or the force at a first break */
+    measured = HasReaction(s); /* the state before anything breaks: the row, or the force at a first break */
     if (measured) PetscCall(MeasureRow(fab, st.residual, st.balanced, row));
     PetscCall(CheckBreaks(fab, &broke));
     if (!broke) break;
@@ -334,7 +340,7 @@ static PetscErrorCode SolveLoadStep(Fabric fab, StaticSolver ss, CurveRow *row)
                           r.reason, (double) r.residual));
       break;
     }
-    measured = CanRupture(&fab->s); /* the state before anything breaks */
+    measured = HasReaction(&fab->s); /* the state before anything breaks */
     if (measured) PetscCall(MeasureRow(fab, r.residual, r.balanced, row));
     PetscCall(CheckBreaks(fab, &broke));
     if (!broke) break;
@@ -342,6 +348,7 @@ static PetscErrorCode SolveLoadStep(Fabric fab, StaticSolver ss, CurveRow *row)
     measured = PETSC_FALSE;
     {
       StepStats st = {r.residual, 0, 0, r.balanced};
+      PetscCall(VecZeroEntries(fab->state.V)); /* the balanced state is at rest: no velocity of an earlier tear */
       PetscCall(FollowTear(fab, &st, row, &ruptured)); /* the tear is dynamics, on the explicit path */
     }
     if (ruptured) PetscFunctionReturn(0);
