@@ -50,11 +50,12 @@ BASE_L = ("-gravity 0,0,0 -warp_break_pct 0 -weft_break_pct 0 -yarns 10 -gauge_m
 # C: the crimped cotton strip of inputs/strip_warp.yaml (8 % crimp, Ec = 0.05 EA, breaking at
 # 6.5 % yarn strain), 12 yarns (5 mm), 20 mm gauge, gravity off, to 20 % in 20 load steps.
 # Exact: force = n_yarns * T(e), T of MODEL.md 5.1 (de-crimping to 8 %, then yarn extension),
-# 0 once the yarns broke (yarn strain 6.5 % = chord strain 15.02 %). The yarn values the
+# 0 once the yarns broke (yarn strain 6.5 % = chord strain 15.02 %; -rupture_drop_pct 0: the run goes on
+# past the rupture, to check that force). The yarn values the
 # answer uses are repeated on the command line so that the check does not read the YAML.
 BASE_C = ("-scene inputs/strip_warp.yaml -gravity 0,0,0 -gauge_mm 20 -width_mm 5 -elongation_pct 20 -load_steps 20 "
           "-warp_tex 20 -warp_crimp_pct 8 -warp_modulus_cN_tex 260 -warp_decrimp_ratio 0.05 -warp_break_pct 6.5 "
-          "-balance_tol 1e-6 -speed_tol 1e-6")
+          "-balance_tol 1e-6 -speed_tol 1e-6 -rupture_drop_pct 0")
 
 # T: one yarn of 48 segments (20 mm), ends fixed, transverse point load 0.05 N at its middle,
 # ramped over 10 load steps, damping 0.05 (the slow mode is transverse). Exact (no bending):
@@ -193,14 +194,14 @@ def cases():
 
     # --- loads up to breaking
     add("load 0", "L", "-elongation_pct 0 -load_steps 2", note="exact force 0")
-    add("load to 10 %, break 6.5 %", "L", "-warp_break_pct 6.5 -elongation_pct 10 -load_steps 10", fast=True)
+    add("load to 10 %, break 6.5 %", "L", "-warp_break_pct 6.5 -elongation_pct 10 -load_steps 10 -rupture_drop_pct 0", fast=True)
     add("load 20 % in one jump", "L", "-elongation_pct 20 -load_steps 1 -grip_ramp_steps 0")
     add("load 100 % no breaking", "L", "-elongation_pct 100")
     add("crimped to 20 % past breaking, prediction", "C", "-predict linear", fast=True)
     add("crimped to 20 % past breaking, no prediction", "C", "-predict none")
     add("crimped 20 % in one jump, breaking", "C", "-predict none -load_steps 1 -grip_ramp_steps 0 -max_inner_steps 50000")
     add("crimped to 20 % paper, prediction", "C", "-predict linear -integrator paper")
-    add("transverse load past breaking", "T", "-bending 0 -point_load_N 0,0,5 -warp_break_pct 6.5 -max_inner_steps 20000", fast=True,
+    add("transverse load past breaking", "T", "-bending 0 -point_load_N 0,0,5 -warp_break_pct 6.5 -max_inner_steps 20000 -rupture_drop_pct 0", fast=True,
         note="the yarn breaks at the 5th load step")
     add("transverse 1 N", "T", "-bending 0 -point_load_N 0,0,1")
     add("net 3x3 past breaking", "Q", "-point_load_N 0,0,20 -warp_break_pct 6.5 -weft_break_pct 6.5", note="the yarns break at the 2nd load step")
