@@ -19,6 +19,8 @@ typedef struct {                  /* one load step's solve */
    PETSc's options (-snes_*, -ksp_*, -pc_*) override them */
 PetscErrorCode StaticCreate(Fabric fab, StaticSolver *ss);
 PetscErrorCode StaticDestroy(StaticSolver *ss);
+/* -help: the solver's own options (-snes_shift_start, -snes_shift_carry, -snes_extrapolate, -mg_line_smoother) */
+PetscErrorCode StaticHelp(MPI_Comm comm);
 /* balance the current load step from the current positions (the prediction is the first guess),
    with the crossings of inv_m = 0 held where they are */
 PetscErrorCode StaticSolve(StaticSolver ss, StaticResult *r);

@@ -5,6 +5,7 @@
  * Phases: options and scene -> build the fabric -> run the load program -> report.
  */
 #include "relax.h"
+#include "static.h"
 #include "checkpoint.h"
 #include "frames.h"
 #include "load.h"
@@ -91,6 +92,7 @@ static PetscErrorCode Run(int argc, char **argv)
   PetscCall(FabricCreate(PETSC_COMM_WORLD, &fab));
   PetscCall(PetscOptionsHasHelp(NULL, &help));
   if (help) {
+    PetscCall(StaticHelp(PETSC_COMM_WORLD)); /* the quasi-static solver's own options */
     PetscCall(FabricDestroy(&fab));
     PetscFunctionReturn(0);
   }

@@ -660,6 +660,42 @@ static PetscErrorCode CreateMatrixDM(Fabric fab, DM *dm)
   PetscFunctionReturn(0);
 }
 
+/* the solver's own options (its defaults in, the options database's values out) */
+static PetscErrorCode ReadOptions(MPI_Comm comm, PetscReal *shift_start, PetscReal *shift_carry, PetscInt *order,
+                                  PetscBool *line_smoother)
+{
+  PetscFunctionBeginUser;
+  PetscOptionsBegin(comm, NULL, "Quasi-static solver (-solver static, docs/static.md)", NULL);
+  PetscCall(PetscOptionsReal("-snes_shift_start", "pretension shift k_s / k_ref at the run's first Newton step", NULL,
+                             *shift_start, shift_start, NULL));
+  PetscCall(PetscOptionsReal("-snes_shift_carry",
+                             "a load step's first shift: this times the last load step's final one (at most -snes_shift_start)",
+                             NULL, *shift_carry, shift_carry, NULL));
+  PetscCall(PetscOptionsInt("-snes_extrapolate",
+                            "first guess: polynomial of this order through the last balanced states (0: the last one)", NULL,
+                            *order, order, NULL));
+  PetscCall(PetscOptionsBool("-mg_line_smoother", "geometric multigrid smoothed by alternating block lines (else PETSc's)",
+                             NULL, *line_smoother, line_smoother, NULL));
+  PetscOptionsEnd();
+  PetscCheck(*order >= 0 && *order <= 2, comm, PETSC_ERR_USER_INPUT, "-snes_extrapolate %" PetscInt_FMT ": 0, 1 or 2",
+             *order);
+  PetscCheck(*shift_start >= 0 && *shift_carry >= 0, comm, PETSC_ERR_USER_INPUT,
+             "-snes_shift_start %g, -snes_shift_carry %g: must not be negative", (double) *shift_start,
+             (double) *shift_carry);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode StaticHelp(MPI_Comm comm)
+{
+  PetscReal start = SHIFT_START, carry = SHIFT_CARRY;
+  PetscInt  order = 2;
+  PetscBool line  = PETSC_TRUE;
+
+  PetscFunctionBeginUser;
+  PetscCall(ReadOptions(comm, &start, &carry, &order, &line));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode StaticCreate(Fabric fab, StaticSolver *out)
 {
   StaticSolver ss;
@@ -686,23 +722,7 @@ PetscErrorCode StaticCreate(Fabric fab, StaticSolver *out)
   ss->shift_carry   = SHIFT_CARRY;
   ss->order         = 2;
   ss->line_smoother = PETSC_TRUE;
-  PetscOptionsBegin(fab->comm, NULL, "Quasi-static solver (-solver static, docs/static.md)", NULL);
-  PetscCall(PetscOptionsReal("-snes_shift_start", "pretension shift k_s / k_ref at the run's first Newton step", NULL,
-                             ss->shift_start, &ss->shift_start, NULL));
-  PetscCall(PetscOptionsReal("-snes_shift_carry",
-                             "a load step's first shift: this times the last load step's final one (at most -snes_shift_start)",
-                             NULL, ss->shift_carry, &ss->shift_carry, NULL));
-  PetscCall(PetscOptionsInt("-snes_extrapolate",
-                            "first guess: polynomial of this order through the last balanced states (0: the last one)", NULL,
-                            ss->order, &ss->order, NULL));
-  PetscCall(PetscOptionsBool("-mg_line_smoother", "geometric multigrid smoothed by alternating block lines (else PETSc's)",
-                             NULL, ss->line_smoother, &ss->line_smoother, NULL));
-  PetscOptionsEnd();
-  PetscCheck(ss->order >= 0 && ss->order <= 2, fab->comm, PETSC_ERR_USER_INPUT,
-             "-snes_extrapolate %" PetscInt_FMT ": 0, 1 or 2", ss->order);
-  PetscCheck(ss->shift_start >= 0 && ss->shift_carry >= 0, fab->comm, PETSC_ERR_USER_INPUT,
-             "-snes_shift_start %g, -snes_shift_carry %g: must not be negative", (double) ss->shift_start,
-             (double) ss->shift_carry);
+  PetscCall(ReadOptions(fab->comm, &ss->shift_start, &ss->shift_carry, &ss->order, &ss->line_smoother));
   /* the free flags, ghosted */
   PetscCall(DMGetGlobalVector(fab->grid.da, &flag));
   PetscCall(DMGetLocalVector(fab->grid.da, &flagl));
