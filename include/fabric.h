@@ -28,6 +28,12 @@ typedef struct { /* one row of curve.csv */
   PetscBool balanced;
 } CurveRow;
 
+/* where a row is on the load program: its elongation (jaw tests) or its travel (m) */
+static inline PetscReal RowAt(const Scene *s, const CurveRow *r)
+{
+  return JawTest(s) ? r->elongation : r->travel;
+}
+
 typedef struct {      /* what the balance test and the stability watch see after a te step */
   PetscReal residual; /* max |F| on a free point / force scale */
   PetscReal speed;    /* max |v| on a free point, m/s */
@@ -74,7 +80,7 @@ typedef struct { /* the time step, damping and the balance test's scales */
   PetscReal  te, te_bound, omega_max, damp_c;
   PetscReal  omega1;      /* slowest mode along the pull (estimate), rad/s */
   PetscBool  bound_fresh; /* the stable step was just taken at the current state */
-  PetscBool  tear;        /* a tear is followed: true masses and the scene's damping, no kinetic damping */
+  PetscBool  tear;        /* a tear is followed (relax.c FollowTear): no kinetic damping */
   StepStats  last;
   PetscReal  force_floor; /* smallest force scale of the balance test, N */
   PetscReal  ke_prev;     /* kinetic damping: total kinetic energy after the last te step, J */

@@ -200,6 +200,13 @@ static inline PetscBool JawTest(const Scene *s)
   return (s->test == TEST_STRIP || s->test == TEST_BIAS) ? PETSC_TRUE : PETSC_FALSE;
 }
 
+/* the tests whose force is a reaction to an imposed travel (jaws or the ball): their maximum force is
+   reported, and their specimen can be seen to rupture */
+static inline PetscBool ReactionTest(const Scene *s)
+{
+  return (JawTest(s) || s->test == TEST_PUSHING) ? PETSC_TRUE : PETSC_FALSE;
+}
+
 PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv);
 /* an unknown option is an error; with solver_options_later, PETSc's solver options (-snes_*, -ksp_*,
    -pc_*, -mg_*, -mat_*) are left to the quasi-static solver, and SceneWarnUnused names those it never read */

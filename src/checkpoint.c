@@ -37,6 +37,7 @@
 #include "measure.h"
 #include "comm.h"
 #include "events.h"
+#include "hash.h"
 #include "load.h"
 
 #include <fcntl.h>
@@ -128,20 +129,12 @@ PetscBool CheckpointStopped(void)
 
 /* ------------------------------------------------------------------ checksums */
 
-/* splitmix64's finaliser: a bijection of 64-bit words in which every input bit moves every output bit */
-static inline uint64_t Mix64(uint64_t z)
-{
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return z ^ (z >> 31);
-}
-
 /* one entry's term: for a given index, a bijection of the value's 8 bytes */
 static inline uint64_t EntryHash(uint64_t index, double value)
 {
   uint64_t bits;
   memcpy(&bits, &value, sizeof bits);
-  return Mix64(bits ^ Mix64(index + 0x9e3779b97f4a7c15ULL));
+  return Mix64(bits ^ Mix64(index + HASH_GOLDEN));
 }
 
 /* an array that one rank holds (curve rows, frame list): index = position */

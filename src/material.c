@@ -8,12 +8,12 @@
  * evaluation in the force kernel (see material.h).
  */
 #include "material.h"
+#include "hash.h"
 
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_interp.h>
 #include <gsl/gsl_sf_gamma.h>
 #include <math.h>
-#include <stdint.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -326,13 +326,10 @@ PetscErrorCode YarnBreakSetUp(YarnLaw *y, PetscReal L0, MPI_Comm comm)
   PetscFunctionReturn(0);
 }
 
-/* splitmix64's finaliser: a bijection of 64-bit words whose outputs pass BigCrush */
-static uint64_t Mix64(uint64_t z)
+/* one step of splitmix64: the state advanced by the increment, then mixed */
+static uint64_t Step64(uint64_t z)
 {
-  z += 0x9e3779b97f4a7c15ULL;
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return z ^ (z >> 31);
+  return Mix64(z + HASH_GOLDEN);
 }
 
 PetscReal SegmentBreakStrain(const YarnLaw *y, PetscInt64 seed, int dir, PetscInt i, PetscInt j)
@@ -341,7 +338,7 @@ PetscReal SegmentBreakStrain(const YarnLaw *y, PetscInt64 seed, int dir, PetscIn
   PetscReal u, ey;
 
   if (!(y->break_k > 0)) return y->break_e;
-  h  = Mix64(Mix64(Mix64(Mix64((uint64_t) seed) ^ (uint64_t) dir) ^ (uint64_t) j) ^ (uint64_t) i);
+  h  = Step64(Step64(Step64(Step64((uint64_t) seed) ^ (uint64_t) dir) ^ (uint64_t) j) ^ (uint64_t) i);
   u  = ((PetscReal) (h >> 11) + 0.5) * 0x1.0p-53; /* uniform in (0, 1) */
   ey = y->break_scale * PetscPowReal(-PetscLogReal(u), 1.0 / y->break_k);
   return y->crimp + ey * (1.0 + y->crimp);

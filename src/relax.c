@@ -37,11 +37,14 @@ static PetscErrorCode CheckBreaks(Fabric fab, PetscInt *broke)
   PetscCall(VecGetArrayRead(fab->state.Xl, &xl));
   n = BreakSegments(&fab->grid.patch, xl, &site);
   PetscCall(VecRestoreArrayRead(fab->state.Xl, &xl));
+  { /* one reduction when nothing broke (a tear's every te step): the largest load and whether any broke */
+    PetscReal red[2] = {site.load, (PetscReal) n};
+    PetscCall(GlobalMax(fab->comm, red, 2));
+    r->load_now = red[0];
+    if (red[1] == 0) PetscFunctionReturn(0);
+  }
   PetscCall(GlobalSumInt(fab->comm, &n, 1));
-  r->load_now = site.load;
-  PetscCall(GlobalMax(fab->comm, &r->load_now, 1));
   *broke = n;
-  if (!n) PetscFunctionReturn(0);
   fab->stats.broken_any = PETSC_TRUE;
   r->segments += n;
   if (r->first.ratio == 0) { /* the first break: the most overstrained segment */
@@ -161,11 +164,11 @@ static PetscErrorCode FinishRow(Fabric fab, PetscReal residual, PetscBool balanc
 
   PetscFunctionBeginUser;
   if (!measured) PetscCall(MeasureRow(fab, residual, balanced, row)); /* else: this state, measured before CheckBreaks */
-  KeepPeak(r, row->force, JawTest(&fab->s) ? row->elongation : row->travel);
+  KeepPeak(r, row->force, RowAt(&fab->s, row));
   if (balanced && r->load_now <= 1.0) {
     r->last_load  = r->load_now;
     r->last_force = row->force;
-    r->last_at    = JawTest(&fab->s) ? row->elongation : row->travel;
+    r->last_at    = RowAt(&fab->s, row);
   }
   PetscFunctionReturn(0);
 }
@@ -181,19 +184,13 @@ static void PeakAtBreak(Fabric fab, const CurveRow *row)
   const PetscReal w  = r1 > r0 ? PetscMin(1.0, PetscMax(0.0, (1.0 - r0) / (r1 - r0))) : 1.0;
 
   KeepPeak(r, r->last_force + w * (row->force - r->last_force),
-           r->last_at + w * ((JawTest(&fab->s) ? row->elongation : row->travel) - r->last_at));
+           r->last_at + w * (RowAt(&fab->s, row) - r->last_at));
 }
 
-/* the tests whose force is a reaction to an imposed travel: their maximum force is reported */
-static PetscBool HasReaction(const Scene *s)
-{
-  return (JawTest(s) || s->test == TEST_PUSHING) ? PETSC_TRUE : PETSC_FALSE;
-}
-
-/* ... and their specimen can be seen to break (-rupture_drop_pct 0: never) */
+/* break detection is on for the tests with a reaction (-rupture_drop_pct 0: never) */
 static PetscBool CanRupture(const Scene *s)
 {
-  return HasReaction(s) && s->rupture.drop > 0 ? PETSC_TRUE : PETSC_FALSE;
+  return ReactionTest(s) && s->rupture.drop > 0 ? PETSC_TRUE : PETSC_FALSE;
 }
 
 /* te steps in which a yarn's stress wave crosses the specimen -tear_wave_crossings times: a chain in
@@ -271,6 +268,26 @@ static PetscErrorCode FollowTear(Fabric fab, StepStats *st, CurveRow *row, Petsc
   PetscFunctionReturn(0);
 }
 
+/* A balanced state of the current load step (either path): measured before anything breaks (the
+   row, or the force at a first break: *measured), then the segments past their breaking strain
+   break (*broke) and the tear is followed; *ruptured: the test ends. at_rest: the balanced state
+   came from Newton, the velocities of an earlier tear are not its own. */
+static PetscErrorCode BreakAndTear(Fabric fab, StepStats *st, PetscBool at_rest, CurveRow *row, PetscBool *measured,
+                                   PetscInt *broke, PetscBool *ruptured)
+{
+  PetscFunctionBeginUser;
+  *ruptured = PETSC_FALSE;
+  *measured = ReactionTest(&fab->s);
+  if (*measured) PetscCall(MeasureRow(fab, st->residual, st->balanced, row));
+  PetscCall(CheckBreaks(fab, broke));
+  if (!*broke) PetscFunctionReturn(0);
+  if (*measured) PeakAtBreak(fab, row);
+  *measured = PETSC_FALSE; /* the row is no longer this state */
+  if (at_rest) PetscCall(VecZeroEntries(fab->state.V));
+  PetscCall(FollowTear(fab, st, row, ruptured));
+  PetscFunctionReturn(0);
+}
+
 /* Relax the current load step: te steps until balance (early exit) or max_inner_steps. */
 PetscErrorCode RelaxLoadStep(Fabric fab, CurveRow *row)
 {
@@ -303,15 +320,9 @@ PetscErrorCode RelaxLoadStep(Fabric fab, CurveRow *row)
        transient are artefacts of the load stepping. If one broke, the tear that follows is
        dynamics; then the specimen has ruptured, or this step relaxes again. */
     if (!st.balanced) break;
-    measured = HasReaction(s); /* the state before anything breaks: the row, or the force at a first break */
-    if (measured) PetscCall(MeasureRow(fab, st.residual, st.balanced, row));
-    PetscCall(CheckBreaks(fab, &broke));
-    if (!broke) break;
-    if (measured) PeakAtBreak(fab, row);
-    measured = PETSC_FALSE;
-    PetscCall(FollowTear(fab, &st, row, &ruptured));
+    PetscCall(BreakAndTear(fab, &st, PETSC_FALSE, row, &measured, &broke, &ruptured));
     if (ruptured) PetscFunctionReturn(0);
-    if (round >= MAX_BREAK_ROUNDS) break;
+    if (!broke || round >= MAX_BREAK_ROUNDS) break;
   }
   PetscCall(FinishRow(fab, st.residual, st.balanced, measured, row));
   PetscFunctionReturn(0);
@@ -340,19 +351,12 @@ static PetscErrorCode SolveLoadStep(Fabric fab, StaticSolver ss, CurveRow *row)
                           r.reason, (double) r.residual));
       break;
     }
-    measured = HasReaction(&fab->s); /* the state before anything breaks */
-    if (measured) PetscCall(MeasureRow(fab, r.residual, r.balanced, row));
-    PetscCall(CheckBreaks(fab, &broke));
-    if (!broke) break;
-    if (measured) PeakAtBreak(fab, row);
-    measured = PETSC_FALSE;
     {
       StepStats st = {r.residual, 0, 0, r.balanced};
-      PetscCall(VecZeroEntries(fab->state.V)); /* the balanced state is at rest: no velocity of an earlier tear */
-      PetscCall(FollowTear(fab, &st, row, &ruptured)); /* the tear is dynamics, on the explicit path */
+      PetscCall(BreakAndTear(fab, &st, PETSC_TRUE, row, &measured, &broke, &ruptured)); /* the tear: te steps */
     }
     if (ruptured) PetscFunctionReturn(0);
-    if (round >= MAX_BREAK_ROUNDS) break;
+    if (!broke || round >= MAX_BREAK_ROUNDS) break;
   }
   PetscCall(FinishRow(fab, r.residual, r.balanced, measured, row));
   PetscFunctionReturn(0);

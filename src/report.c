@@ -268,7 +268,7 @@ static void SummaryRupture(Fabric fab, FILE *fp)
   const RuptureState *r = &fab->stats.rupture;
   PetscReal           mm[2];
 
-  if (JawTest(s) || s->test == TEST_PUSHING) {
+  if (ReactionTest(s)) {
     fprintf(fp, "  \"max_force_N\": %.9g,\n", (double) r->peak_force);
     if (JawTest(s)) fprintf(fp, "  \"elongation_at_max_force_pct\": %.9g,\n", (double) (100.0 * r->at_peak));
     else fprintf(fp, "  \"travel_at_max_force_mm\": %.9g,\n", (double) (1e3 * r->at_peak));
@@ -289,7 +289,7 @@ static void SummaryRupture(Fabric fab, FILE *fp)
     const CurveRow *row = &fab->stats.curve[r->rupture_step - 1];
     fprintf(fp, "  \"rupture\": {\"load_step\": %" PetscInt_FMT ", \"time_s\": %.9g, \"%s\": %.9g, \"force_N\": %.9g},\n",
             r->rupture_step, (double) r->rupture_time, JawTest(s) ? "elongation_pct" : "travel_mm",
-            (double) LoadValue(s, JawTest(s) ? row->elongation : row->travel), (double) row->force);
+            (double) LoadValue(s, RowAt(s, row)), (double) row->force);
   } else fprintf(fp, "  \"rupture\": null,\n");
 }
 

@@ -755,7 +755,6 @@ static PetscErrorCode DeriveYarn(MPI_Comm comm, const YarnInput *in, const char 
   y->smoothing     = in->law_smoothing_pct / 100.0;
   y->bending       = in->bending_Nm2;
   y->break_ey      = in->break_pct / 100.0;
-  y->break_cv      = in->break_cv_pct / 100.0;
   y->decrimp_ratio = in->decrimp_ratio;
   PetscCall(PetscStrncpy(y->csv, in->law_csv, sizeof y->csv));
   PetscCall(YarnLawSetUp(y, comm));
@@ -1219,6 +1218,7 @@ static PetscErrorCode DeriveBreaks(MPI_Comm comm, const SceneInput *in, Scene *s
     PetscCheck(in->yarn[f].break_cv_pct == 0 || in->yarn[f].break_pct > 0, comm, PETSC_ERR_USER_INPUT,
                "-%s_break_cv_pct %.6g needs a breaking strain: -%s_break_pct is 0 (never breaks)", y->name,
                (double) in->yarn[f].break_cv_pct, y->name);
+    y->break_cv    = in->yarn[f].break_cv_pct / 100.0;
     y->break_gauge = in->break_gauge_mm * 1e-3;
     PetscCall(YarnBreakSetUp(y, f == 0 ? 1.0 / s->spec.picks_per_m : 1.0 / s->spec.ends_per_m, comm));
   }

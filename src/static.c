@@ -40,6 +40,12 @@
 #define MAX_ATTEMPTS 8     /* SNES solves per load step, each after a failed one */
 #define ENERGY_NOISE 1e-10 /* a predicted change of Pi below this fraction of |Pi| is rounding noise */
 
+typedef struct {                          /* the solver's own options (ReadOptions) */
+  PetscReal shift_start, shift_carry; /* the shift of a load step's first Newton step: see StaticSolve */
+  PetscInt  order;                    /* of the first guess's extrapolation */
+  PetscBool line_smoother;            /* multigrid levels smoothed by block lines (LineSmoother) */
+} StaticOptions;
+
 struct _p_StaticSolver {
   Fabric         fab;
   SNES           snes;
@@ -52,9 +58,8 @@ struct _p_StaticSolver {
   PetscReal      tmax;   /* largest yarn tension of the last evaluation (the balance test's scale) */
   Vec            Xh[3];    /* the last balanced states, the latest first */
   PetscReal      lh[3];    /* their load factors */
-  PetscInt       nhist, order;
-  PetscReal      shift_start, shift_carry; /* the shift of a load step's first Newton step: see StaticSolve */
-  PetscBool      line_smoother;            /* multigrid levels smoothed by block lines (LineSmoother) */
+  PetscInt       nhist;
+  StaticOptions  opt;
 };
 
 /* gravity on the free owned points and the residual rows of the held ones */
@@ -621,7 +626,7 @@ static PetscErrorCode SetDefaults(StaticSolver ss)
     PetscCall(PCSetType(pc, PCMG));
     PetscCall(PCMGSetLevels(pc, levels, NULL));
     PetscCall(PCMGSetGalerkin(pc, PC_MG_GALERKIN_BOTH));
-    for (PetscInt l = 1; l < levels && ss->line_smoother; l++) { /* down x then y lines, up y then x */
+    for (PetscInt l = 1; l < levels && ss->opt.line_smoother; l++) { /* down x then y lines, up y then x */
       const int down[3] = {0, 1, -1}, up[3] = {1, 0, -1};
       KSP       smoother;
       PetscCall(PCMGGetSmootherDown(pc, l, &smoother));
@@ -660,39 +665,40 @@ static PetscErrorCode CreateMatrixDM(Fabric fab, DM *dm)
   PetscFunctionReturn(0);
 }
 
-/* the solver's own options (its defaults in, the options database's values out) */
-static PetscErrorCode ReadOptions(MPI_Comm comm, PetscReal *shift_start, PetscReal *shift_carry, PetscInt *order,
-                                  PetscBool *line_smoother)
+/* the solver's own options: their defaults, then the options database's values */
+static PetscErrorCode ReadOptions(MPI_Comm comm, StaticOptions *o)
 {
   PetscFunctionBeginUser;
+  o->shift_start   = SHIFT_START;
+  o->shift_carry   = SHIFT_CARRY;
+  o->order         = 2;
+  o->line_smoother = PETSC_TRUE;
   PetscOptionsBegin(comm, NULL, "Quasi-static solver (-solver static, docs/static.md)", NULL);
   PetscCall(PetscOptionsReal("-snes_shift_start", "pretension shift k_s / k_ref at the run's first Newton step", NULL,
-                             *shift_start, shift_start, NULL));
+                             o->shift_start, &o->shift_start, NULL));
   PetscCall(PetscOptionsReal("-snes_shift_carry",
                              "a load step's first shift: this times the last load step's final one (at most -snes_shift_start)",
-                             NULL, *shift_carry, shift_carry, NULL));
+                             NULL, o->shift_carry, &o->shift_carry, NULL));
   PetscCall(PetscOptionsInt("-snes_extrapolate",
                             "first guess: polynomial of this order through the last balanced states (0: the last one)", NULL,
-                            *order, order, NULL));
+                            o->order, &o->order, NULL));
   PetscCall(PetscOptionsBool("-mg_line_smoother", "geometric multigrid smoothed by alternating block lines (else PETSc's)",
-                             NULL, *line_smoother, line_smoother, NULL));
+                             NULL, o->line_smoother, &o->line_smoother, NULL));
   PetscOptionsEnd();
-  PetscCheck(*order >= 0 && *order <= 2, comm, PETSC_ERR_USER_INPUT, "-snes_extrapolate %" PetscInt_FMT ": 0, 1 or 2",
-             *order);
-  PetscCheck(*shift_start >= 0 && *shift_carry >= 0, comm, PETSC_ERR_USER_INPUT,
-             "-snes_shift_start %g, -snes_shift_carry %g: must not be negative", (double) *shift_start,
-             (double) *shift_carry);
+  PetscCheck(o->order >= 0 && o->order <= 2, comm, PETSC_ERR_USER_INPUT, "-snes_extrapolate %" PetscInt_FMT ": 0, 1 or 2",
+             o->order);
+  PetscCheck(o->shift_start >= 0 && o->shift_carry >= 0, comm, PETSC_ERR_USER_INPUT,
+             "-snes_shift_start %g, -snes_shift_carry %g: must not be negative", (double) o->shift_start,
+             (double) o->shift_carry);
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode StaticHelp(MPI_Comm comm)
 {
-  PetscReal start = SHIFT_START, carry = SHIFT_CARRY;
-  PetscInt  order = 2;
-  PetscBool line  = PETSC_TRUE;
+  StaticOptions o;
 
   PetscFunctionBeginUser;
-  PetscCall(ReadOptions(comm, &start, &carry, &order, &line));
+  PetscCall(ReadOptions(comm, &o));
   PetscFunctionReturn(0);
 }
 
@@ -718,11 +724,7 @@ PetscErrorCode StaticCreate(Fabric fab, StaticSolver *out)
   PetscCall(MatSetOption(ss->J, MAT_SYMMETRIC, PETSC_TRUE));
   PetscCall(VecDuplicate(fab->state.X, &ss->Xbc));
   for (int q = 0; q < 3; q++) PetscCall(VecDuplicate(fab->state.X, &ss->Xh[q]));
-  ss->shift_start   = SHIFT_START;
-  ss->shift_carry   = SHIFT_CARRY;
-  ss->order         = 2;
-  ss->line_smoother = PETSC_TRUE;
-  PetscCall(ReadOptions(fab->comm, &ss->shift_start, &ss->shift_carry, &ss->order, &ss->line_smoother));
+  PetscCall(ReadOptions(fab->comm, &ss->opt));
   /* the free flags, ghosted */
   PetscCall(DMGetGlobalVector(fab->grid.da, &flag));
   PetscCall(DMGetLocalVector(fab->grid.da, &flagl));
@@ -782,7 +784,7 @@ PetscErrorCode StaticDestroy(StaticSolver *pss)
 static PetscErrorCode Extrapolate(StaticSolver ss)
 {
   Fabric             fab = ss->fab;
-  const PetscInt     np  = PetscMin(ss->nhist, ss->order + 1);
+  const PetscInt     np  = PetscMin(ss->nhist, ss->opt.order + 1);
   const PetscReal    l   = fab->load.load_factor;
   PetscReal          w[3], moved = 0;
   PetscScalar       *x;
@@ -841,7 +843,7 @@ PetscErrorCode StaticSolve(StaticSolver ss, StaticResult *r)
   PetscCall(Extrapolate(ss));
   /* the first load step from -snes_shift_start; a later one from where the last ended (a taut
      fabric: nearly plain Newton), raised by AdaptShift if that fails */
-  ss->shift = ss->nhist ? PetscMin(ss->shift_start, ss->shift_carry * ss->shift) : ss->shift_start;
+  ss->shift = ss->nhist ? PetscMin(ss->opt.shift_start, ss->opt.shift_carry * ss->shift) : ss->opt.shift_start;
   for (int attempt = 0; attempt < MAX_ATTEMPTS; attempt++) { /* a failed solve is retried, stiffer */
     PetscInt lits;
     PetscCall(SNESSolve(ss->snes, NULL, fab->state.X));

@@ -14,10 +14,7 @@
 #     the rupture are bit-identical on 1, 2 and 3 ranks.
 set -u
 fabric="$1"; inputs="$2"
-py=/usr/bin/python3
-work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
-fail=0
-run() { local np="$1"; shift; mpiexec -n "$np" "$fabric" -quiet "$@" >"$work/log" 2>&1 || { cat "$work/log"; echo "FAIL: run on $np ranks failed: $*"; fail=1; }; }
+. "$(dirname "$0")/runs.sh" # $py, $work, $fail, run NP ARGS...
 scene="$inputs/strip_warp_rupture.yaml"
 
 run 1 -scene "$scene" -gauge_mm 20 -width_mm 5 -warp_break_cv_pct 0 -weft_break_cv_pct 0 -output_dir "$work/cv0" \

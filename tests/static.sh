@@ -7,10 +7,7 @@
 #     (Krylov sums round differently on different splits: bitwise identity is not claimed).
 set -u
 fabric="$1"; inputs="$2"
-py=/usr/bin/python3
-work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
-fail=0
-run() { local np="$1"; shift; mpiexec -n "$np" "$fabric" -quiet "$@" >"$work/log" 2>&1 || { cat "$work/log"; echo "FAIL: run on $np ranks failed: $*"; fail=1; }; }
+. "$(dirname "$0")/runs.sh" # $py, $work, $fail, run NP ARGS...
 
 run 2 -scene "$inputs/square_net.yaml" -solver static -output_dir "$work/sq"
 "$py" - "$work/sq/curve.csv" <<'PY' || fail=1

@@ -814,8 +814,9 @@ static PetscErrorCode TestBreakStrain(void)
   {
     const YarnLaw *y = &fab->s.yarns.warp;
     k                = y->break_k;
-    PetscCall(ExpectReal("Weibull shape for CV 10 %: its CV", PetscSqrtReal(tgamma(1 + 2 / k) / PetscSqr(tgamma(1 + 1 / k)) - 1),
-                         cv, 1e-12));
+    char what[80];
+    PetscCall(PetscSNPrintf(what, sizeof what, "Weibull shape for CV 10 %%, k = %.4f: its CV", (double) k));
+    PetscCall(ExpectReal(what, PetscSqrtReal(tgamma(1 + 2 / k) / PetscSqr(tgamma(1 + 1 / k)) - 1), cv, 1e-12));
     seg_mean = y->break_scale * tgamma(1 + 1 / k);
     for (PetscInt n = 0; n < N; n++) {
       const PetscReal ey = (SegmentBreakStrain(y, 7, 0, n % 1000, n / 1000) - y->crimp) / (1 + y->crimp);
