@@ -13,8 +13,9 @@ PetscErrorCode OwnedFromLocal(DM da, Vec Xl, Vec X);
 PetscErrorCode NaturalOrder(DM da, Vec X, Vec N);
 PetscErrorCode GlobalMax(MPI_Comm comm, PetscReal *v, PetscInt n);
 PetscErrorCode GlobalSum(MPI_Comm comm, PetscReal *v, PetscInt n);
-/* exact, rank-independent sum of n local terms over all ranks (fixed point) */
-PetscErrorCode GlobalSumExact(MPI_Comm comm, const PetscReal *terms, PetscInt n, PetscReal *sum);
+/* exact, rank-independent sums of m <= 4 quantities over all ranks (fixed point): quantity c's n local
+   terms at terms[c n ...], its sum into sums[c] */
+PetscErrorCode GlobalSumsExact(MPI_Comm comm, PetscInt m, const PetscReal *terms, PetscInt n, PetscReal *sums);
 /* integer sums over all ranks, in place: exact; the uint64 one mod 2^64 (checkpoint checksums) */
 PetscErrorCode GlobalSumInt(MPI_Comm comm, PetscInt *v, PetscInt n);
 PetscErrorCode GlobalSumUInt64(MPI_Comm comm, uint64_t *v, PetscInt n);

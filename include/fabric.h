@@ -86,6 +86,11 @@ typedef struct { /* the time step, damping and the balance test's scales */
   PetscReal  ke_prev;     /* kinetic damping: total kinetic energy after the last te step, J */
   PetscReal *ke_terms;    /* kinetic damping: owned points' kinetic energies (work) */
   PetscInt64 ke_resets;   /* kinetic damping: velocity resets so far */
+  PetscReal  fire_dt;     /* FIRE: the current step, s (<= te) */
+  PetscReal  fire_alpha;  /* FIRE: the velocity mixing */
+  PetscInt   fire_npos;   /* FIRE: te steps since the power F.v was last <= 0 */
+  PetscInt64 fire_stops;  /* FIRE: velocity resets (power F.v <= 0) so far */
+  PetscReal *fire_terms;  /* FIRE: owned points' F.v, |F|^2, |v|^2 (work, 3 nloc) */
 } StepControl;
 
 typedef struct {           /* rank propagation and sleeping (front.c) */

@@ -15,7 +15,7 @@
 
 typedef enum { PULL_WARP, PULL_WEFT } PullAxis;
 typedef enum { SOLVER_EXPLICIT, SOLVER_STATIC } SolverType;
-typedef enum { INTEGRATOR_DAMPED, INTEGRATOR_PAPER } IntegratorType;
+typedef enum { INTEGRATOR_DAMPED, INTEGRATOR_PAPER, INTEGRATOR_FIRE } IntegratorType;
 typedef enum { PREDICT_NONE, PREDICT_LINEAR, PREDICT_EXTRAPOLATE } PredictType;
 typedef enum { POINT_FREE = 0, POINT_CLAMPED = 1, POINT_GRIP = 2 } PointKind;
 typedef enum {

@@ -106,11 +106,18 @@ def cases():
     c = []
 
     def add(name, base, extra, np_=1, fast=False, limit=120, note=""):
+        # the damping cases are about the damped scheme (FIRE, the default, has no damping to set)
+        if "-integrator" not in extra and (name.endswith(" damped") or any(o in extra for o in ("-damping_ratio", "-nu ", "-kinetic_damping"))):
+            extra = "-integrator damped " + extra
         c.append(dict(name=name, base=base, extra=extra, np=np_, fast=fast, limit=limit, note=note))
 
     # --- te safety, both integrators (the paper's bound is 1/omega_max, the damped one 2/omega_max)
     for s in ("0.5", "0.9", "0.99", "1.0"):
         add("te_safety %s damped" % s, "L", "-te_safety %s" % s, fast=s in ("0.5", "1.0"))
+    for s in ("0.9", "1.0"):
+        add("te_safety %s fire" % s, "L", "-integrator fire -te_safety %s" % s, fast=s == "1.0")
+        add("te_safety %s fire transverse" % s, "T", "-integrator fire -bending 0 -te_safety %s" % s)
+        add("te_safety %s fire crimped" % s, "C", "-integrator fire -predict none -te_safety %s -elongation_pct 14 -load_steps 14 -max_inner_steps 50000" % s)
     for s in ("0.5", "0.9", "0.99", "1.0"):
         add("te_safety %s paper" % s, "L", "-integrator paper -te_safety %s" % s, fast=s == "1.0",
             note="default damping ratio 1: the paper's parasitic mode")

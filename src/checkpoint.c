@@ -214,13 +214,14 @@ static PetscInt StateVecs(FabricState *st, StateVec *sv)
 
 /* The relaxation's state within a load step: what ApplyLoadStep set up and the te steps carried
    on (RelaxLoadStep's break round and te step, the jaw's ramp, the front, the step control and
-   damping, the last te step's balance test, the gravity of the load step, the te-frame
+   damping (FIRE's step and mixing), the last te step's balance test, the gravity of the load step, the te-frame
    counter). Attributes of /, written by every checkpoint and all restored, so that a restart
    within a load step continues it exactly (one at its end: ApplyLoadStep sets most of it anew). */
 typedef struct {
   long   within, round, te_step, inner_steps, ramp_steps, ramp_done, front_step, front_covered, bound_fresh;
-  long   last_balanced, te_frame_load_step, te_frame_base;
+  long   last_balanced, te_frame_load_step, te_frame_base, fire_npos, fire_stops;
   double travel_from, travel_now, te, te_bound, omega_max, damp_c, omega1, last_residual, last_speed, gravity[3];
+  double fire_dt, fire_alpha;
 } RelaxState;
 
 typedef struct {
@@ -246,6 +247,8 @@ static int RelaxAttrs(RelaxState *r, Attr *a)
   ATTR_D("omega1_rad_s", omega1), ATTR_D("last_residual", last_residual), ATTR_D("last_speed_m_s", last_speed);
   ATTR_D("gravity_now_x_m_s2", gravity[0]), ATTR_D("gravity_now_y_m_s2", gravity[1]);
   ATTR_D("gravity_now_z_m_s2", gravity[2]);
+  ATTR_D("fire_dt_s", fire_dt), ATTR_D("fire_alpha", fire_alpha), ATTR_L("fire_positive_steps", fire_npos);
+  ATTR_L("fire_stops", fire_stops);
 #undef ATTR_L
 #undef ATTR_D
   return n;
@@ -276,6 +279,10 @@ static void RelaxStatePack(Fabric fab, const RelaxPoint *at, RelaxState *r)
   for (int d = 0; d < 3; d++) r->gravity[d] = fab->load.gravity_now[d];
   r->te_frame_load_step = (long) fab->io->te_load_step;
   r->te_frame_base      = (long) fab->io->te_base;
+  r->fire_dt            = fab->step.fire_dt;
+  r->fire_alpha         = fab->step.fire_alpha;
+  r->fire_npos          = (long) fab->step.fire_npos;
+  r->fire_stops         = (long) fab->step.fire_stops;
 }
 
 static void RelaxStateUnpack(const RelaxState *r, Fabric fab)
@@ -298,6 +305,10 @@ static void RelaxStateUnpack(const RelaxState *r, Fabric fab)
   for (int d = 0; d < 3; d++) fab->load.gravity_now[d] = r->gravity[d];
   fab->io->te_load_step = (PetscInt) r->te_frame_load_step;
   fab->io->te_base      = (PetscInt64) r->te_frame_base;
+  fab->step.fire_dt     = r->fire_dt;
+  fab->step.fire_alpha  = r->fire_alpha;
+  fab->step.fire_npos   = (PetscInt) r->fire_npos;
+  fab->step.fire_stops  = (PetscInt64) r->fire_stops;
 }
 
 /* broken segments of the owned points as a dof-2 vector: [to i+1, to j+1] */
@@ -696,7 +707,7 @@ static void KeyValue(const char *name, double v, char *buf, size_t len, double o
     const char *const *names;
     int                count;
   } enums[] = {
-      {"pull", PullAxisNames, 2}, {"integrator", IntegratorNames, 2}, {"predict", PredictNames, 3},
+      {"pull", PullAxisNames, 2}, {"integrator", IntegratorNames, 3}, {"predict", PredictNames, 3},
       {"test", TestNames, 5},     {"shape", ShapeNames, 3},           {"clamp", ClampNames, 4},
   };
   char a[64], b[64];

@@ -55,34 +55,40 @@ PetscErrorCode GlobalSum(MPI_Comm comm, PetscReal *v, PetscInt n)
   PetscFunctionReturn(0);
 }
 
-/* Exact, rank-independent sum of n local terms (any sign) over all ranks: each term is
-   quantised on a fixed-point grid q = max |term| / 2^40 (global max: exact), the integers
-   are summed in int64 (exact and associative: the same on any number of ranks and any
-   split), and the result is sum * q. A sum that feeds back into the dynamics (kinetic
-   damping) must be taken this way: a floating-point sum depends on the order of the terms.
-   The quantisation error is at most n q / 2 = n max|term| 2^-41; the integer sum cannot
-   overflow below 2^22 terms per unit of max |term| (8 M points at the max each). */
+/* Exact, rank-independent sums of m quantities, each of n local terms (any sign) over all ranks:
+   quantity c's terms terms[c*n .. c*n+n) are quantised on a fixed-point grid q = max |term| / 2^40
+   (global max: exact), the integers are summed in int64 (exact and associative: the same on any
+   number of ranks and any split), and the result is sum * q. A sum that feeds back into the
+   dynamics (kinetic damping, FIRE) must be taken this way: a floating-point sum depends on the
+   order of the terms. The quantisation error is at most n q / 2 = n max|term| 2^-41; the integer
+   sum cannot overflow below 2^22 terms per unit of max |term| (8 M points at the max each). Two
+   reductions for all m quantities. */
 #define EXACT_SUM_BITS 40
-PetscErrorCode GlobalSumExact(MPI_Comm comm, const PetscReal *terms, PetscInt n, PetscReal *sum)
+#define EXACT_SUMS_MAX 4
+PetscErrorCode GlobalSumsExact(MPI_Comm comm, PetscInt m, const PetscReal *terms, PetscInt n, PetscReal *sums)
 {
-  PetscReal scale = 0;
-  long long isum = 0, total = 0;
+  PetscReal scale[EXACT_SUMS_MAX] = {0};
+  long long isum[EXACT_SUMS_MAX] = {0}, total[EXACT_SUMS_MAX];
+  PetscMPIInt count;
 
   PetscFunctionBeginUser;
-  for (PetscInt k = 0; k < n; k++) scale = PetscMax(scale, PetscAbsReal(terms[k]));
-  PetscCall(GlobalMax(comm, &scale, 1));
-  if (!(scale > 0) || !isfinite(scale)) { /* all zero (or a NaN the caller's watch reports) */
-    *sum = scale > 0 ? scale : 0.0;
-    PetscFunctionReturn(0);
-  }
-  {
-    const PetscReal inv_q = ldexp(1.0, EXACT_SUM_BITS) / scale;
-    for (PetscInt k = 0; k < n; k++) isum += llround(terms[k] * inv_q);
+  PetscCheck(m >= 1 && m <= EXACT_SUMS_MAX, comm, PETSC_ERR_ARG_OUTOFRANGE, "%" PetscInt_FMT " exact sums at once, at most %d",
+             m, EXACT_SUMS_MAX);
+  PetscCall(PetscMPIIntCast(m, &count));
+  for (PetscInt c = 0; c < m; c++)
+    for (PetscInt k = 0; k < n; k++) scale[c] = PetscMax(scale[c], PetscAbsReal(terms[c * n + k]));
+  PetscCall(GlobalMax(comm, scale, m));
+  for (PetscInt c = 0; c < m; c++) {
+    if (!(scale[c] > 0) || !isfinite(scale[c])) continue; /* all zero (or a NaN the caller's watch reports) */
+    const PetscReal inv_q = ldexp(1.0, EXACT_SUM_BITS) / scale[c];
+    for (PetscInt k = 0; k < n; k++) isum[c] += llround(terms[c * n + k] * inv_q);
   }
   PetscCall(PetscLogEventBegin(EV_Reduce, 0, 0, 0, 0));
-  PetscCallMPI(MPI_Allreduce(&isum, &total, 1, MPI_LONG_LONG, MPI_SUM, comm));
+  PetscCallMPI(MPI_Allreduce(isum, total, count, MPI_LONG_LONG, MPI_SUM, comm));
   PetscCall(PetscLogEventEnd(EV_Reduce, 0, 0, 0, 0));
-  *sum = (PetscReal) total * (scale / ldexp(1.0, EXACT_SUM_BITS));
+  for (PetscInt c = 0; c < m; c++)
+    sums[c] = (scale[c] > 0 && isfinite(scale[c])) ? (PetscReal) total[c] * (scale[c] / ldexp(1.0, EXACT_SUM_BITS))
+                                                   : (scale[c] > 0 ? scale[c] : 0.0);
   PetscFunctionReturn(0);
 }
 

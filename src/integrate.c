@@ -17,6 +17,17 @@
 
 #include <math.h>
 
+/* FIRE's constants (Bitzek et al. 2006; Guenole et al. 2020): after more than FIRE_NMIN te steps
+   with power P = F.v > 0 the step grows by FIRE_FINC up to te and alpha shrinks by FIRE_FALPHA; at
+   P <= 0 the points step back half a step, stop, the step shrinks by FIRE_FDEC (not below
+   FIRE_DTMIN te) and alpha restarts at FIRE_ALPHA0. */
+#define FIRE_NMIN   5
+#define FIRE_FINC   1.1
+#define FIRE_FDEC   0.5
+#define FIRE_ALPHA0 0.1
+#define FIRE_FALPHA 0.99
+#define FIRE_DTMIN  0.02
+
 /* the rigid bodies' contact and friction on the owned points of box, row by row, each body
    adding to its own reaction sum */
 static PetscErrorCode BodyForces(Fabric fab, Vec X, const PetscInt box[4], PetscScalar *f)
@@ -115,6 +126,9 @@ PetscErrorCode StableStep(Fabric fab)
     fab->step.te = s->num.te_user;
   } else
     fab->step.te = s->num.te_safety * fab->step.te_bound;
+  fab->step.fire_dt    = fab->step.te; /* FIRE starts again at each stable step (each load step) */
+  fab->step.fire_alpha = FIRE_ALPHA0;
+  fab->step.fire_npos  = 0;
   /* damping: the paper's nu per point, plus a mass-proportional part c = 2 zeta omega_1 with
      omega_1 ~ pi omega_pull / (2 n) the slowest mode of the chain of n segments along the
      pull, omega_pull = 2 sqrt(k/m) its highest (from the pull-direction springs alone) */
@@ -198,6 +212,93 @@ static void IntegratePaper(PetscInt n, PetscReal te, PetscReal c0, PetscReal nu,
   st->v2sum = v2sum;
 }
 
+/* FIRE (Bitzek et al. 2006) with semi-implicit Euler, as FIRE 2.0 (Guenole et al. 2020): the
+   velocities are first mixed towards the force, v <- cv v + cf F (cv = 1 - alpha,
+   cf = alpha |v|/|F|, global norms), then v <- v + dt F/m, x <- x + dt v. */
+static void IntegrateFire(PetscInt n, PetscReal dt, PetscReal cv, PetscReal cf, const PetscReal g[3],
+                          const PetscReal *mass, const PetscReal *inv_m, const PetscReal *f, PetscReal f2,
+                          PetscReal v2max, PetscReal *restrict x, PetscReal *restrict v, SweepStats *st)
+{
+  PetscReal res2 = 0, v2 = 0, v2sum = 0;
+  st->awake_lo = n, st->awake_hi = 0;
+  for (PetscInt k = 0; k < n; k++) {
+    const PetscReal im = inv_m[k], m = mass[k], b = dt * im;
+    const PetscReal Fx = f[3 * k] + m * g[0], Fy = f[3 * k + 1] + m * g[1], Fz = f[3 * k + 2] + m * g[2];
+    const PetscReal ex = im > 0 ? cf : 0.0; /* a fixed point keeps v = 0 */
+    const PetscReal vx = cv * v[3 * k] + ex * Fx + b * Fx, vy = cv * v[3 * k + 1] + ex * Fy + b * Fy,
+                    vz = cv * v[3 * k + 2] + ex * Fz + b * Fz;
+    v[3 * k]     = vx;
+    v[3 * k + 1] = vy;
+    v[3 * k + 2] = vz;
+    x[3 * k] += dt * vx;
+    x[3 * k + 1] += dt * vy;
+    x[3 * k + 2] += dt * vz;
+    const PetscReal w2 = vx * vx + vy * vy + vz * vz, r2 = im > 0 ? Fx * Fx + Fy * Fy + Fz * Fz : 0.0;
+    res2 = PetscMax(res2, r2);
+    v2   = PetscMax(v2, w2);
+    v2sum += w2;
+    if (im > 0 && (r2 > f2 || w2 > v2max)) {
+      st->awake_lo = PetscMin(st->awake_lo, k);
+      st->awake_hi = k + 1;
+    }
+  }
+  st->res2  = res2;
+  st->v2    = v2;
+  st->v2sum = v2sum;
+}
+
+
+/* FIRE's decision for this te step, from the forces just computed on box (F) and the velocities:
+   the global power P = sum F.v and the norms |F|, |v| over free points, exact sums (the same on
+   any number of ranks). Sets the step and the mixing (cv, cf) the sweep applies. */
+static PetscErrorCode FirePower(Fabric fab, const PetscInt box[4], PetscScalar *x, PetscScalar *v, const PetscScalar *f,
+                                PetscReal *cv, PetscReal *cf)
+{
+  const Patch     *p = &fab->grid.patch;
+  const PetscReal *g = fab->load.gravity_now;
+  StepControl     *c = &fab->step;
+  PetscReal        sum[3];
+  PetscInt         cnt = 0, n;
+
+  PetscFunctionBeginUser;
+  n = (box[1] - box[0]) * (box[3] - box[2]);
+  for (PetscInt j = box[2]; j < box[3]; j++)
+    for (PetscInt i = box[0]; i < box[1]; i++, cnt++) {
+      const PetscInt  k  = (j - p->ys) * p->xm + (i - p->xs);
+      const PetscReal im = fab->grid.inv_m[k], m = fab->grid.mass[k];
+      PetscReal       P = 0, F2 = 0, V2 = 0;
+      if (im > 0)
+        for (int d = 0; d < 3; d++) {
+          const PetscReal F = f[3 * k + d] + m * g[d];
+          P += F * v[3 * k + d], F2 += F * F, V2 += v[3 * k + d] * v[3 * k + d];
+        }
+      c->fire_terms[cnt] = P, c->fire_terms[n + cnt] = F2, c->fire_terms[2 * n + cnt] = V2;
+    }
+  PetscCall(GlobalSumsExact(fab->comm, 3, c->fire_terms, n, sum));
+  if (!(sum[2] > 0)) /* at rest: nothing to mix, nothing to judge */
+    *cv = 1.0, *cf = 0.0;
+  else if (sum[0] > 0) {
+    if (++c->fire_npos > FIRE_NMIN) {
+      c->fire_dt = PetscMin(FIRE_FINC * c->fire_dt, c->te);
+      c->fire_alpha *= FIRE_FALPHA;
+    }
+    *cv = 1.0 - c->fire_alpha;
+    *cf = sum[1] > 0 ? c->fire_alpha * PetscSqrtReal(sum[2] / sum[1]) : 0.0;
+  } else { /* uphill: half a step back, stop, a smaller step */
+    for (PetscInt j = box[2]; j < box[3]; j++)
+        for (PetscInt i = box[0]; i < box[1]; i++) {
+          const PetscInt k = (j - p->ys) * p->xm + (i - p->xs);
+          for (int d = 0; d < 3; d++) x[3 * k + d] -= 0.5 * c->fire_dt * v[3 * k + d], v[3 * k + d] = 0;
+        }
+    c->fire_npos  = 0;
+    c->fire_dt    = PetscMax(FIRE_FDEC * c->fire_dt, FIRE_DTMIN * c->te);
+    c->fire_alpha = FIRE_ALPHA0;
+    c->fire_stops++;
+    *cv = 1.0, *cf = 0.0;
+  }
+  PetscFunctionReturn(0);
+}
+
 /* The kinetic energy peaked between the last two te steps: the quadratic fit through the last
    three states puts the peak at x - 1.5 te v + 0.5 te^2 F/m (Barnes). Resetting the velocities
    where the points are instead, half a step past the peak, feeds the chain energy at every reset;
@@ -227,7 +328,7 @@ static PetscErrorCode StepBackToPeak(Fabric fab, const PetscScalar *v)
    has passed it; at that peak all velocities are set to zero, and the motion starts again
    from there, nearer to rest. It needs no tuning to the spectrum (viscous damping that is
    critical for the fastest of the slow modes overdamps the slowest ones). K feeds back into
-   the positions, so it is an exact sum (GlobalSumExact): the same on any number of ranks. */
+   the positions, so it is an exact sum (GlobalSumsExact): the same on any number of ranks. */
 static PetscErrorCode KineticDamping(Fabric fab)
 {
   PetscScalar *v;
@@ -240,7 +341,7 @@ static PetscErrorCode KineticDamping(Fabric fab)
                                 ? 0.5 * fab->grid.mass[k] *
                                       (v[3 * k] * v[3 * k] + v[3 * k + 1] * v[3 * k + 1] + v[3 * k + 2] * v[3 * k + 2])
                                 : 0.0;
-  PetscCall(GlobalSumExact(fab->comm, fab->step.ke_terms, fab->grid.nloc, &ke));
+  PetscCall(GlobalSumsExact(fab->comm, 1, fab->step.ke_terms, fab->grid.nloc, &ke));
   if (ke < fab->step.ke_prev) { /* past the peak: back to it (MODEL.md 15), and start again from rest there */
     PetscCall(StepBackToPeak(fab, v));
     for (PetscInt k = 0; k < 3 * fab->grid.nloc; k++) v[k] = 0;
@@ -295,6 +396,8 @@ PetscErrorCode TimeStep(Fabric fab, StepStats *out)
                   sleep_v2 =
                       sleep ? PetscSqr(s->num.speed_tol * s->num.sleep_tol / s->num.balance_tol) : PETSC_MAX_REAL;
   PetscInt alo = PETSC_MAX_INT, ahi = -1, ajlo = PETSC_MAX_INT, ajhi = -1;
+  const PetscBool fire = s->num.integrator == INTEGRATOR_FIRE && !fab->step.tear; /* a tear is dynamics: damped */
+  PetscReal       cv = 1, cf = 0;
 
   PetscFunctionBeginUser;
   fab->stats.point_updates += FrontStepBox(fab, gbox, box);
@@ -307,10 +410,14 @@ PetscErrorCode TimeStep(Fabric fab, StepStats *out)
     PetscCall(VecGetArray(fab->state.Xold, &xold));
     PetscCall(VecGetArray(fab->state.Vold, &vold));
   }
+  if (fire) PetscCall(FirePower(fab, box, x, v, f, &cv, &cf));
   for (PetscInt j = box[2]; j < box[3]; j++) {
     const PetscInt k0 = (j - p->ys) * p->xm + (box[0] - p->xs), n = box[1] - box[0];
     SweepStats     st;
-    if (s->num.integrator == INTEGRATOR_PAPER)
+    if (fire)
+      IntegrateFire(n, fab->step.fire_dt, cv, cf, fab->load.gravity_now, fab->grid.mass + k0, fab->grid.inv_m + k0,
+                    f + 3 * k0, sleep_f2, sleep_v2, x + 3 * k0, v + 3 * k0, &st);
+    else if (s->num.integrator == INTEGRATOR_PAPER)
       IntegratePaper(n, fab->step.te, fab->step.damp_c, s->num.nu, fab->load.gravity_now, fab->grid.mass + k0,
                      fab->grid.inv_m + k0, f + 3 * k0, sleep_f2, sleep_v2, x + 3 * k0, v + 3 * k0, xold + 3 * k0,
                      vold + 3 * k0, &st);

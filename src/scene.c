@@ -26,7 +26,7 @@
 
 const char *const PullAxisNames[]   = {"warp", "weft", "PullAxis", "PULL_", NULL};
 const char *const SolverNames[]     = {"explicit", "static", "SolverType", "SOLVER_", NULL};
-const char *const IntegratorNames[] = {"damped", "paper", "IntegratorType", "INTEGRATOR_", NULL};
+const char *const IntegratorNames[] = {"damped", "paper", "fire", "IntegratorType", "INTEGRATOR_", NULL};
 const char *const PredictNames[]    = {"none", "linear", "extrapolate", "PredictType", "PREDICT_", NULL};
 const char *const TestNames[]       = {"strip", "square", "pushing", "bias", "drape", "TestType", "TEST_", NULL};
 const char *const ShapeNames[]      = {"rectangle", "disc", "bias", "ShapeType", "SHAPE_", NULL};
@@ -264,8 +264,10 @@ static const OptionDesc Options[] = {
          "explicit: te steps relaxed to balance (the paper's scheme and its speed-ups); static: each load step's "
          "balance as a minimum of the potential energy, by Newton-Krylov with multigrid (PETSc's -snes_*, -ksp_*, "
          "-pc_* options apply)"),
-    ENUM("", "integrator", integrator, DEF(INTEGRATOR_DAMPED), IntegratorNames,
-         "damped: damped central differences; paper: the paper's eq. (10)"),
+    ENUM("", "integrator", integrator, DEF(INTEGRATOR_FIRE), IntegratorNames,
+         "fire: FIRE, the relaxation that needs no damping to be set (velocities steered along the force, stopped "
+         "when the power F.v turns negative; MODEL.md 15); damped: damped central differences with -damping_ratio; "
+         "paper: the paper's eq. (10)"),
     REAL("", "te", te, DEF(0), NONNEG, NONNEG_MUST, "time step te (s); 0 = from the stable bound"),
     RANGED("", "te_safety", te_safety, DEF(0.9), 0, 1, 1, 0, "in (0,1]", "te = safety * stable bound (Gershgorin)"),
     BOOL("", "te_check", te_check, DEF(1), "refuse a -te above the stable bound (0: experts and stability tests only)"),

@@ -3,7 +3,8 @@
 #  1. positions after a fixed number of te steps (every force term on, out-of-plane load)
 #     are bit-identical on 1, 2 and 3 ranks (and on a 2 x 2 split of 4 ranks);
 #  2. with early exit, the inner step count N' of every load step is the same;
-#  3. with kinetic damping (velocity resets decided on a global sum of kinetic energies, taken
+#  1-2 run the default FIRE relaxation (its power F.v and norms are exact sums);
+#  3. with kinetic damping (-integrator damped; velocity resets decided on a global sum of kinetic energies, taken
 #     exactly in fixed point) positions after a fixed number of te steps are bit-identical.
 set -u
 fabric="$1"; scene="$2"
@@ -16,7 +17,7 @@ for np in 1 2 3; do
   run "$np" "${fixed[@]}" -output_dir "$work/f$np" -positions_out "$work/pos$np.bin"
   run "$np" "${early[@]}" -output_dir "$work/e$np"
 done
-for np in 1 2 3; do run "$np" "${early[@]}" -kinetic_damping -early_exit 0 -max_inner_steps 500 -output_dir "$work/k$np" -positions_out "$work/kd$np.bin"; done
+for np in 1 2 3; do run "$np" "${early[@]}" -integrator damped -kinetic_damping -early_exit 0 -max_inner_steps 500 -output_dir "$work/k$np" -positions_out "$work/kd$np.bin"; done
 run 4 "${fixed[@]}" -da_processors_x 2 -da_processors_y 2 -output_dir "$work/f4" -positions_out "$work/pos4.bin"
 for np in 2 3 4; do
   if cmp -s "$work/pos1.bin" "$work/pos$np.bin"; then echo "PASS positions after 600 te steps: $np ranks == 1 rank (bit-identical)"

@@ -30,7 +30,7 @@ refuse not_a_checkpoint "-restart .*results.h5: not a fabric checkpoint" "${opts
 refuse other_grid "-restart .*checkpoint.h5: the checkpoint is of another grid: 49 x 12 crossings there .*, 49 x 14 here" "${opts[@]}" -width_mm 6 -output_dir "$work/run" -restart "$ck"
 refuse other_scene "-restart .*checkpoint.h5: the checkpoint is of another scene: warp_crimp_pct = 8 there .*, 7 here" "${opts[@]}" -warp_crimp_pct 7 -output_dir "$work/run" -restart "$ck"
 refuse other_program "-restart .*checkpoint.h5: the checkpoint is of another scene: load_steps = 6 there .*, 8 here" "${opts[@]}" -load_steps 8 -output_dir "$work/run" -restart "$ck"
-refuse other_integrator "-restart .*checkpoint.h5: the checkpoint is of another scene: integrator = damped there .*, paper here" "${opts[@]}" -integrator paper -output_dir "$work/run" -restart "$ck"
+refuse other_integrator "-restart .*checkpoint.h5: the checkpoint is of another scene: integrator = fire there .*, paper here" "${opts[@]}" -integrator paper -output_dir "$work/run" -restart "$ck"
 # frames were written before the checkpoint: restarting into a directory without them is refused
 refuse frames_missing "-restart .*checkpoint.h5: .*/elsewhere/fabric.h5, which holds the [0-9]+ frames written before the checkpoint, is missing" "${opts[@]}" -output_dir "$work/elsewhere" -restart "$ck"
 [[ -e "$work/elsewhere" ]] && { echo "FAIL frames_missing: $work/elsewhere was created"; fail=1; }

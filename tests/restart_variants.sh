@@ -57,7 +57,7 @@ within() {
 variant paper 2 1 -integrator paper -damping_ratio 0 -predict extrapolate -elongation_pct 3 -max_inner_steps 200 -early_exit 0
 variant breaking 2 2 -predict extrapolate -point_load_N 0,0,0.001 -warp_break_pct 0.5
 variant te_frames 3 3 -predict extrapolate -elongation_pct 3 -point_load_N 0,0,0.001 -output_te_every 50
-variant bodies 2 2 -predict none -elongation_pct 1 -gravity 2,0,-9.81 -plane -plane_point_mm 0,0,-0.15 -pedestal_diameter_mm 4 -friction_mu 0.3 -kinetic_damping -max_inner_steps 400 -early_exit 0
+variant bodies 2 2 -predict none -elongation_pct 1 -gravity 2,0,-9.81 -plane -plane_point_mm 0,0,-0.15 -pedestal_diameter_mm 4 -friction_mu 0.3 -integrator damped -kinetic_damping -max_inner_steps 400 -early_exit 0
 variant sleeping 2 2 -predict none -front 1 -sleep_tol 1e-4 -elongation_pct 1 -point_load_N 0,0,0.001 -max_inner_steps 3000
 # the breaking variant must break yarns at load step 4, before the checkpoint: the restarted run
 # only carries nothing after it if it got the broken segments back
