@@ -268,30 +268,60 @@ static void ZeroSegmentRow(SegmentRow *s, PetscInt c0, PetscInt c1)
   for (int k = 0; k < 8; k++) memset(a[k] + c0, 0, sizeof(PetscReal) * (size_t) (c1 - c0));
 }
 
-/* Segments a[i] -> b[i], c0 <= i < c1: chord and tension (MODEL.md 5.1). The chords are
-   computed even with traction off: bending needs them. */
-static void ComputeSegmentRow(const YarnLaw *law, PetscReal L0, PetscBool traction, PetscInt c0, PetscInt c1,
-                              const PetscReal *restrict xa, const PetscReal *restrict xb, const unsigned char *ea,
-                              const unsigned char *eb, const unsigned char *broken, SegmentRow *s)
+/* Chords a[i] -> b[i], c0 <= i < c1: unit chord and 1/L (0 for an absent, broken or zero-length
+   segment: a zero-length chord has no direction, no force), the strain parked in e and the chord
+   in d (every array a parameter of its own, restrict: the loop vectorises) */
+static void ChordRowKernel(PetscReal inv_L0, PetscInt c0, PetscInt c1, const PetscReal *restrict xa,
+                           const PetscReal *restrict xb, const unsigned char *restrict ea,
+                           const unsigned char *restrict eb, const unsigned char *restrict broken,
+                           PetscReal *restrict ux, PetscReal *restrict uy, PetscReal *restrict uz,
+                           PetscReal *restrict inv_len, PetscReal *restrict e, PetscReal *restrict dxr,
+                           PetscReal *restrict dyr, PetscReal *restrict dzr)
 {
-  const PetscReal inv_L0 = 1.0 / L0;
-
   for (PetscInt i = c0; i < c1; i++) {
     const PetscReal dx = xb[3 * i] - xa[3 * i], dy = xb[3 * i + 1] - xa[3 * i + 1], dz = xb[3 * i + 2] - xa[3 * i + 2];
     const PetscReal L = PetscSqrtReal(dx * dx + dy * dy + dz * dz), e_raw = L * inv_L0 - 1.0;
-    const PetscReal e     = PetscAbsReal(e_raw) < STRAIN_ROUNDOFF ? 0.0 : e_raw;
-    const int       alive = ea[i] && eb[i] && !broken[i];
-    const PetscReal inv   = (alive && L > 0) ? 1.0 / L : 0.0; /* a zero-length chord has no direction: no force */
-    const PetscReal T     = (alive && traction) ? ChordTension(law, e) : 0.0;
-    s->ux[i]              = dx * inv;
-    s->uy[i]              = dy * inv;
-    s->uz[i]              = dz * inv;
-    s->inv_len[i]         = inv;
-    s->T[i]               = T;
-    s->fx[i]              = T * dx * inv;
-    s->fy[i]              = T * dy * inv;
-    s->fz[i]              = T * dz * inv;
+    const int       alive = (ea[i] != 0) & (eb[i] != 0) & (broken[i] == 0) & (L > 0);
+    const PetscReal q = 1.0 / (L > 0 ? L : 1.0), inv = alive ? q : 0.0; /* 1/L of a safe divisor, dropped if dead */
+    ux[i]                 = dx * inv;
+    uy[i]                 = dy * inv;
+    uz[i]                 = dz * inv;
+    inv_len[i]            = inv;
+    e[i]                  = PetscAbsReal(e_raw) < STRAIN_ROUNDOFF ? 0.0 : e_raw;
+    dxr[i]                = dx;
+    dyr[i]                = dy;
+    dzr[i]                = dz;
   }
+}
+
+/* f = T d / L, in place over d */
+static void SegmentForceKernel(PetscInt c0, PetscInt c1, const PetscReal *restrict T, const PetscReal *restrict inv_len,
+                               PetscReal *restrict fx, PetscReal *restrict fy, PetscReal *restrict fz)
+{
+  for (PetscInt i = c0; i < c1; i++) {
+    fx[i] = T[i] * fx[i] * inv_len[i];
+    fy[i] = T[i] * fy[i] * inv_len[i];
+    fz[i] = T[i] * fz[i] * inv_len[i];
+  }
+}
+
+/* Segments a[i] -> b[i], c0 <= i < c1: chord and tension (MODEL.md 5.1). The chords are
+   computed even with traction off: bending needs them. Three passes, so that the geometry and
+   the forces vectorise: chords and strains (the strain parked in T, the chord in f), the yarn
+   law (branches and a table lookup per segment: scalar), then f = T d / L. Each value is the
+   same expression as in one pass, so the results do not depend on the split. */
+static void ComputeSegmentRow(const YarnLaw *law, PetscReal L0, PetscBool traction, PetscInt c0, PetscInt c1,
+                              const PetscReal *xa, const PetscReal *xb, const unsigned char *ea,
+                              const unsigned char *eb, const unsigned char *broken, SegmentRow *s)
+{
+  PetscReal *restrict T = s->T;
+
+  ChordRowKernel(1.0 / L0, c0, c1, xa, xb, ea, eb, broken, s->ux, s->uy, s->uz, s->inv_len, T, s->fx, s->fy, s->fz);
+  if (traction)
+    for (PetscInt i = c0; i < c1; i++) T[i] = (ea[i] && eb[i] && !broken[i]) ? ChordTension(law, T[i]) : 0.0;
+  else
+    for (PetscInt i = c0; i < c1; i++) T[i] = 0.0;
+  SegmentForceKernel(c0, c1, T, s->inv_len, s->fx, s->fy, s->fz);
 }
 
 /* traction on the points i0 <= i < i1 of row j (written: the first term of the sum), from the
@@ -459,10 +489,14 @@ static void CosineTermDerivatives(const Cosine *c, PetscReal dphi, PetscReal d2p
 
 /* ======================= bending (MODEL.md 5.2, 7.3, 14) ======================= */
 
-/* Bending centres c0 <= i < c1 with incoming chord s1[i] and outgoing chord s2[i] (MODEL.md 5.2). */
-static void ComputeBendRow(PetscReal kb, PetscInt c0, PetscInt c1, const PetscReal *u1x, const PetscReal *u1y,
-                           const PetscReal *u1z, const PetscReal *i1, const PetscReal *u2x, const PetscReal *u2y,
-                           const PetscReal *u2z, const PetscReal *i2, BendRow *b, PetscInt off)
+/* Bending centres c0 <= i < c1 with incoming chord s1[i] and outgoing chord s2[i] (MODEL.md 5.2),
+   into g1 and g2 (every array a parameter of its own, restrict: the loop vectorises). */
+static void BendRowKernel(PetscReal kb, PetscInt c0, PetscInt c1, const PetscReal *restrict u1x,
+                          const PetscReal *restrict u1y, const PetscReal *restrict u1z, const PetscReal *restrict i1,
+                          const PetscReal *restrict u2x, const PetscReal *restrict u2y, const PetscReal *restrict u2z,
+                          const PetscReal *restrict i2, PetscReal *restrict g1x, PetscReal *restrict g1y,
+                          PetscReal *restrict g1z, PetscReal *restrict g2x, PetscReal *restrict g2y,
+                          PetscReal *restrict g2z)
 {
   /* u2 - s u1 = (u1 x u2) x u1 and u1 - s u2 = u2 x (u1 x u2): the cross-product form has no
      cancellation for nearly straight yarns and is exactly zero for parallel chords */
@@ -470,13 +504,22 @@ static void ComputeBendRow(PetscReal kb, PetscInt c0, PetscInt c1, const PetscRe
     const PetscReal cx = u1y[i] * u2z[i] - u1z[i] * u2y[i], cy = u1z[i] * u2x[i] - u1x[i] * u2z[i];
     const PetscReal cz = u1x[i] * u2y[i] - u1y[i] * u2x[i];
     const PetscReal c1 = kb * i1[i], c2 = kb * i2[i];
-    b->g1x[i + off] = c1 * (cy * u1z[i] - cz * u1y[i]);
-    b->g1y[i + off] = c1 * (cz * u1x[i] - cx * u1z[i]);
-    b->g1z[i + off] = c1 * (cx * u1y[i] - cy * u1x[i]);
-    b->g2x[i + off] = c2 * (u2y[i] * cz - u2z[i] * cy);
-    b->g2y[i + off] = c2 * (u2z[i] * cx - u2x[i] * cz);
-    b->g2z[i + off] = c2 * (u2x[i] * cy - u2y[i] * cx);
+    g1x[i]             = c1 * (cy * u1z[i] - cz * u1y[i]);
+    g1y[i]             = c1 * (cz * u1x[i] - cx * u1z[i]);
+    g1z[i]             = c1 * (cx * u1y[i] - cy * u1x[i]);
+    g2x[i]             = c2 * (u2y[i] * cz - u2z[i] * cy);
+    g2y[i]             = c2 * (u2z[i] * cx - u2x[i] * cz);
+    g2z[i]             = c2 * (u2x[i] * cy - u2y[i] * cx);
   }
+}
+
+/* the same into row b, centre i stored at i + off */
+static void ComputeBendRow(PetscReal kb, PetscInt c0, PetscInt c1, const PetscReal *u1x, const PetscReal *u1y,
+                           const PetscReal *u1z, const PetscReal *i1, const PetscReal *u2x, const PetscReal *u2y,
+                           const PetscReal *u2z, const PetscReal *i2, BendRow *b, PetscInt off)
+{
+  BendRowKernel(kb, c0, c1, u1x, u1y, u1z, i1, u2x, u2y, u2z, i2, b->g1x + off, b->g1y + off, b->g1z + off,
+                b->g2x + off, b->g2y + off, b->g2z + off);
 }
 
 /* bending on the points i0 <= i < i1 of row j, added: x-centres i-1, i, i+1 of the row (bx)
@@ -541,20 +584,14 @@ static void BendingBoundRow(const Patch *p, const PetscReal *x, PetscInt i, Pets
 
 /* ===================== shear and jamming (MODEL.md 5.3, 7.3, 14) ===================== */
 
-/* Shear crossings of row r (global), local columns [c0, c1) (MODEL.md 5.3). */
-static void ComputeShearRow(const Patch *p, const PetscReal *x, PetscInt r, PetscInt c0, PetscInt c1, ShearRow *sh)
+/* Shear crossings li in [c0, c1) of local row lr (inside the patch), point by point: the
+   columns at the patch's edges, where a neighbour's position may lie outside the row
+   (MODEL.md 5.3). xr, xd, xu: the row and the rows below and above (zero rows outside). */
+static void ShearRowEdge(const Patch *p, PetscInt lr, PetscInt c0, PetscInt c1, const PetscReal *xr,
+                         const PetscReal *xd, const PetscReal *xu, ShearRow *sh)
 {
-  const PetscInt   n = p->gxm, lr = r - p->gys;
-  const PetscReal *xr = (lr >= 0 && lr < p->gym) ? x + 3 * lr * n : p->zero_row;
-  const PetscReal *xd = (lr - 1 >= 0 && lr - 1 < p->gym) ? x + 3 * (lr - 1) * n : p->zero_row;
-  const PetscReal *xu = (lr + 1 >= 0 && lr + 1 < p->gym) ? x + 3 * (lr + 1) * n : p->zero_row;
-  const PetscReal  Ks = p->Ks, Kj = p->Kj, sl = p->s_lock;
+  const PetscReal Ks = p->Ks, Kj = p->Kj, sl = p->s_lock;
 
-  if (lr < 0 || lr >= p->gym) { /* no crossing outside the patch */
-    PetscReal *a[] = {sh->hwx, sh->hwy, sh->hwz, sh->hfx, sh->hfy, sh->hfz, sh->sx, sh->sy, sh->sz};
-    for (int k = 0; k < 9; k++) memset(a[k] + c0, 0, sizeof(PetscReal) * (size_t) (c1 - c0));
-    return;
-  }
   for (PetscInt li = c0; li < c1; li++) {
     const int        self = Exists(p, li, lr), hl = Exists(p, li - 1, lr), hr = Exists(p, li + 1, lr);
     const int        hd = Exists(p, li, lr - 1), hu = Exists(p, li, lr + 1);
@@ -586,6 +623,126 @@ static void ComputeShearRow(const Patch *p, const PetscReal *x, PetscInt r, Pets
     sh->sy[li]  = aw * hwy + af * hfy;
     sh->sz[li]  = aw * hwz + af * hfz;
   }
+}
+
+/* The same on interior columns (1 <= c0, c1 <= gxm - 1: both neighbours' positions lie in the
+   row), in a form that vectorises: every position is loaded, and an absent neighbour's is
+   replaced by the crossing's own by a select, as ShearRowEdge points at it; each value is the
+   expression ShearRowEdge computes. er, ed, eu: existence of the row and of the rows below and
+   above, padded (er[-1] and er[gxm] exist as array elements). */
+static void ShearRowKernel(PetscReal Ks, PetscReal Kj, PetscReal sl, PetscInt c0, PetscInt c1,
+                           const PetscReal *restrict xr, const PetscReal *restrict xd, const PetscReal *restrict xu,
+                           const unsigned char *restrict er, const unsigned char *restrict ed,
+                           const unsigned char *restrict eu, PetscReal *restrict hwx_, PetscReal *restrict hwy_,
+                           PetscReal *restrict hwz_, PetscReal *restrict hfx_, PetscReal *restrict hfy_,
+                           PetscReal *restrict hfz_, PetscReal *restrict sx_, PetscReal *restrict sy_,
+                           PetscReal *restrict sz_)
+{
+  for (PetscInt li = c0; li < c1; li++) {
+    const int       self = er[li] != 0, hl = er[li - 1] != 0, hr = er[li + 1] != 0, hd = ed[li] != 0, hu = eu[li] != 0;
+    const PetscReal cx = xr[3 * li], cy = xr[3 * li + 1], cz = xr[3 * li + 2];
+    const PetscReal lx = xr[3 * li - 3], ly = xr[3 * li - 2], lz = xr[3 * li - 1];
+    const PetscReal rx = xr[3 * li + 3], ry = xr[3 * li + 4], rz = xr[3 * li + 5];
+    const PetscReal dx = xd[3 * li], dy = xd[3 * li + 1], dz = xd[3 * li + 2];
+    const PetscReal ux = xu[3 * li], uy = xu[3 * li + 1], uz = xu[3 * li + 2];
+    const PetscReal twx = (hr ? rx : cx) - (hl ? lx : cx), twy = (hr ? ry : cy) - (hl ? ly : cy);
+    const PetscReal twz = (hr ? rz : cz) - (hl ? lz : cz);
+    const PetscReal tfx = (hu ? ux : cx) - (hd ? dx : cx), tfy = (hu ? uy : cy) - (hd ? dy : cy);
+    const PetscReal tfz = (hu ? uz : cz) - (hd ? dz : cz);
+    const PetscReal nw2 = twx * twx + twy * twy + twz * twz, nf2 = tfx * tfx + tfy * tfy + tfz * tfz;
+    /* a yarn folded back on itself (a tangent of zero length) has no shear angle: no shear force */
+    const int       ok  = self & (hl | hr) & (hd | hu) & (nw2 > 0) & (nf2 > 0);
+    const PetscReal qw = 1.0 / PetscSqrtReal(nw2 > 0 ? nw2 : 1.0), qf = 1.0 / PetscSqrtReal(nf2 > 0 ? nf2 : 1.0);
+    const PetscReal iw = ok ? qw : 0.0, jf = ok ? qf : 0.0;
+    const PetscReal uwx = twx * iw, uwy = twy * iw, uwz = twz * iw, ufx = tfx * jf, ufy = tfy * jf, ufz = tfz * jf;
+    const PetscReal s = uwx * ufx + uwy * ufy + uwz * ufz, as = PetscAbsReal(s);
+    const PetscReal jam = as > sl ? (s > 0 ? as - sl : sl - as) : 0.0;
+    const PetscReal Ep  = Ks * s + Kj * jam;
+    const PetscReal cw = Ep * iw, cf = Ep * jf;
+    const PetscReal hwx = cw * (ufx - s * uwx), hwy = cw * (ufy - s * uwy), hwz = cw * (ufz - s * uwz);
+    const PetscReal hfx = cf * (uwx - s * ufx), hfy = cf * (uwy - s * ufy), hfz = cf * (uwz - s * ufz);
+    const PetscReal aw = (PetscReal) (hr - hl), af = (PetscReal) (hu - hd);
+    hwx_[li] = hwx;
+    hwy_[li] = hwy;
+    hwz_[li] = hwz;
+    hfx_[li] = hfx;
+    hfy_[li] = hfy;
+    hfz_[li] = hfz;
+    sx_[li]  = aw * hwx + af * hfx;
+    sy_[li]  = aw * hwy + af * hfy;
+    sz_[li]  = aw * hwz + af * hfz;
+  }
+}
+
+/* ShearRowKernel where the crossings and all four neighbours exist (the inside of a rectangle):
+   every select takes the neighbour, the one-sided weights hr - hl and hu - hd are 0 */
+static void ShearRowFull(PetscReal Ks, PetscReal Kj, PetscReal sl, PetscInt c0, PetscInt c1,
+                         const PetscReal *restrict xr, const PetscReal *restrict xd, const PetscReal *restrict xu,
+                         PetscReal *restrict hwx_, PetscReal *restrict hwy_, PetscReal *restrict hwz_,
+                         PetscReal *restrict hfx_, PetscReal *restrict hfy_, PetscReal *restrict hfz_,
+                         PetscReal *restrict sx_, PetscReal *restrict sy_, PetscReal *restrict sz_)
+{
+  for (PetscInt li = c0; li < c1; li++) {
+    const PetscReal twx = xr[3 * li + 3] - xr[3 * li - 3], twy = xr[3 * li + 4] - xr[3 * li - 2];
+    const PetscReal twz = xr[3 * li + 5] - xr[3 * li - 1];
+    const PetscReal tfx = xu[3 * li] - xd[3 * li], tfy = xu[3 * li + 1] - xd[3 * li + 1];
+    const PetscReal tfz = xu[3 * li + 2] - xd[3 * li + 2];
+    const PetscReal nw2 = twx * twx + twy * twy + twz * twz, nf2 = tfx * tfx + tfy * tfy + tfz * tfz;
+    const int       ok  = (nw2 > 0) & (nf2 > 0);
+    const PetscReal qw = 1.0 / PetscSqrtReal(nw2 > 0 ? nw2 : 1.0), qf = 1.0 / PetscSqrtReal(nf2 > 0 ? nf2 : 1.0);
+    const PetscReal iw = ok ? qw : 0.0, jf = ok ? qf : 0.0;
+    const PetscReal uwx = twx * iw, uwy = twy * iw, uwz = twz * iw, ufx = tfx * jf, ufy = tfy * jf, ufz = tfz * jf;
+    const PetscReal s = uwx * ufx + uwy * ufy + uwz * ufz, as = PetscAbsReal(s);
+    const PetscReal jam = as > sl ? (s > 0 ? as - sl : sl - as) : 0.0;
+    const PetscReal Ep  = Ks * s + Kj * jam;
+    const PetscReal cw = Ep * iw, cf = Ep * jf;
+    const PetscReal hwx = cw * (ufx - s * uwx), hwy = cw * (ufy - s * uwy), hwz = cw * (ufz - s * uwz);
+    const PetscReal hfx = cf * (uwx - s * ufx), hfy = cf * (uwy - s * ufy), hfz = cf * (uwz - s * ufz);
+    hwx_[li] = hwx;
+    hwy_[li] = hwy;
+    hwz_[li] = hwz;
+    hfx_[li] = hfx;
+    hfy_[li] = hfy;
+    hfz_[li] = hfz;
+    sx_[li]  = 0.0 * hwx + 0.0 * hfx; /* aw hw + af hf with aw = af = 0, signed zeros included */
+    sy_[li]  = 0.0 * hwy + 0.0 * hfy;
+    sz_[li]  = 0.0 * hwz + 0.0 * hfz;
+  }
+}
+
+/* the n bytes from e on are all non-zero */
+static inline int AllExist(const unsigned char *e, PetscInt n)
+{
+  return n <= 0 || !memchr(e, 0, (size_t) n);
+}
+
+/* Shear crossings of row r (global), local columns [c0, c1) (MODEL.md 5.3): the edge columns
+   point by point, the others by the vector kernel. */
+static void ComputeShearRow(const Patch *p, const PetscReal *x, PetscInt r, PetscInt c0, PetscInt c1, ShearRow *sh)
+{
+  const PetscInt   n = p->gxm, lr = r - p->gys, a = PetscMax(c0, 1), b = PetscMin(c1, n - 1);
+  const PetscReal *xr = (lr >= 0 && lr < p->gym) ? x + 3 * lr * n : p->zero_row;
+  const PetscReal *xd = (lr - 1 >= 0 && lr - 1 < p->gym) ? x + 3 * (lr - 1) * n : p->zero_row;
+  const PetscReal *xu = (lr + 1 >= 0 && lr + 1 < p->gym) ? x + 3 * (lr + 1) * n : p->zero_row;
+  const unsigned char *er = p->epad + (lr + 1) * (n + 2) + 1;
+
+  if (lr < 0 || lr >= p->gym) { /* no crossing outside the patch */
+    PetscReal *z[] = {sh->hwx, sh->hwy, sh->hwz, sh->hfx, sh->hfy, sh->hfz, sh->sx, sh->sy, sh->sz};
+    for (int k = 0; k < 9; k++) memset(z[k] + c0, 0, sizeof(PetscReal) * (size_t) (c1 - c0));
+    return;
+  }
+  if (a >= b) {
+    ShearRowEdge(p, lr, c0, c1, xr, xd, xu, sh);
+    return;
+  }
+  ShearRowEdge(p, lr, c0, a, xr, xd, xu, sh);
+  if (AllExist(er + a - 1, b - a + 2) && AllExist(er - (n + 2) + a, b - a) && AllExist(er + (n + 2) + a, b - a))
+    ShearRowFull(p->Ks, p->Kj, p->s_lock, a, b, xr, xd, xu, sh->hwx, sh->hwy, sh->hwz, sh->hfx, sh->hfy, sh->hfz, sh->sx,
+                 sh->sy, sh->sz);
+  else
+    ShearRowKernel(p->Ks, p->Kj, p->s_lock, a, b, xr, xd, xu, er, er - (n + 2), er + (n + 2), sh->hwx, sh->hwy,
+                   sh->hwz, sh->hfx, sh->hfy, sh->hfz, sh->sx, sh->sy, sh->sz);
+  ShearRowEdge(p, lr, b, c1, xr, xd, xu, sh);
 }
 
 /* shear on the points i0 <= i < i1 of row j, added: crossings i-1, i+1 of the row (sc), below
