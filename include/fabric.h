@@ -76,6 +76,14 @@ typedef struct { /* where the load program is */
   PetscReal gravity_now[3];        /* m/s^2: gravity of the current load step */
 } LoadState;
 
+typedef struct {     /* te against the measured stable limit at one state (-te_measure, spectrum.c) */
+  PetscInt  load_step; /* the load step the state belongs to */
+  PetscBool end;       /* its balanced end (else its start, after the grips moved and the prediction) */
+  PetscReal te;        /* s: the te in use from (start) or up to (end) that state */
+  PetscReal te_bound;  /* s: the Gershgorin bound at that state */
+  PetscReal limit;     /* s: 2/omega_max (damped) or 1/omega_max (paper), omega_max^2 measured */
+} TeMeasure;
+
 typedef struct { /* the time step, damping and the balance test's scales */
   PetscReal  te, te_bound, omega_max, damp_c;
   PetscReal  omega1;      /* slowest mode along the pull (estimate), rad/s */
@@ -86,6 +94,10 @@ typedef struct { /* the time step, damping and the balance test's scales */
   PetscReal  ke_prev;     /* kinetic damping: total kinetic energy after the last te step, J */
   PetscReal *ke_terms;    /* kinetic damping: owned points' kinetic energies (work) */
   PetscInt64 ke_resets;   /* kinetic damping: velocity resets so far */
+  /* -te_measure: the first and last states measured, the one with the smallest limit, the one with
+     the largest te / limit, how many were measured, and the load step of the last stable step taken */
+  TeMeasure te_first, te_last, te_tightest, te_worst;
+  PetscInt  te_measured, te_prev_step;
 } StepControl;
 
 typedef struct {           /* rank propagation and sleeping (front.c) */
