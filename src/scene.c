@@ -270,8 +270,8 @@ static const OptionDesc Options[] = {
     RANGED("", "te_safety", te_safety, DEF(0.9), 0, 1, 1, 0, "in (0,1]", "te = safety * stable bound (Gershgorin)"),
     BOOL("", "te_check", te_check, DEF(1), "refuse a -te above the stable bound (0: experts and stability tests only)"),
     INT("", "te_measure", te_measure, DEF(0), 0, "0 (never) or a number of load steps",
-        "measure the true largest eigenvalue of M^-1 K (Lanczos on the tangent stiffness) at the start, and at the "
-        "start and end of every this many load steps and of the last: te against 2/omega_max in summary.json"),
+        "measure the true largest eigenvalue of M^-1 K (Lanczos on the tangent stiffness) at the start and end of "
+        "load step 1, of every this many load steps and of the last: te against 2/omega_max in summary.json"),
     REAL("", "te_strain_window", te_strain_window, DEF(1), NONNEG, NONNEG_MUST,
          "chord-strain margin around each segment's strain over which the yarn tangent is maximised for the bound, and "
          "margin in sin(shear angle) below the locking angle from which the jamming stiffness counts"),
