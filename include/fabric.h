@@ -76,7 +76,7 @@ typedef struct { /* where the load program is */
   PetscReal gravity_now[3];        /* m/s^2: gravity of the current load step */
 } LoadState;
 
-typedef struct {     /* te against the measured stable limit at one state (-te_measure, spectrum.c) */
+typedef struct {       /* te against the measured stable limit at one state (-te_measure, spectrum.c) */
   PetscInt  load_step; /* the load step the state belongs to */
   PetscBool end;       /* its balanced end (else its start, after the grips moved and the prediction) */
   PetscReal te;        /* s: the te in use from (start) or up to (end) that state */

@@ -25,8 +25,8 @@
 
 #include <math.h>
 
-#define REACH      13   /* crossings within grid distance 2: the coupling of a block row */
-#define LANCZOS_MAX 500 /* Lanczos steps at most */
+#define REACH       13   /* crossings within grid distance 2: the coupling of a block row */
+#define LANCZOS_MAX 500  /* Lanczos steps at most */
 #define LANCZOS_TOL 1e-6 /* converged: theta changed by less than this (relative) over 10 steps */
 
 /* the index in a block row of the crossing (di, dj) from its owner, |di| + |dj| <= 2; -1 beyond */
@@ -144,16 +144,17 @@ static PetscErrorCode Apply(Tangent *t, Vec v, Vec y)
   PetscCall(VecGetArray(y, &ya));
   for (PetscInt k = 0; k < fab->grid.nloc; k++) {
     const PetscInt   i = p->xs + k % p->xm, j = p->ys + k / p->xm;
-    const PetscReal *row = t->rows + (size_t) k * REACH * 9;
+    const PetscReal *row  = t->rows + (size_t) k * REACH * 9;
     PetscReal        s[3] = {0, 0, 0};
     if (t->sinv[k] > 0)
       for (PetscInt dj = -2; dj <= 2; dj++)
         for (PetscInt di = -2; di <= 2; di++) {
-          const int      r = ReachIndex(di, dj);
+          const int      r  = ReachIndex(di, dj);
           const PetscInt li = i + di - p->gxs, lj = j + dj - p->gys;
           if (r < 0 || li < 0 || li >= p->gxm || lj < 0 || lj >= p->gym) continue;
           const PetscScalar *zb = zl + 3 * (lj * p->gxm + li);
-          for (int d = 0; d < 3; d++) s[d] += row[9 * r + 3 * d] * zb[0] + row[9 * r + 3 * d + 1] * zb[1] + row[9 * r + 3 * d + 2] * zb[2];
+          for (int d = 0; d < 3; d++)
+            s[d] += row[9 * r + 3 * d] * zb[0] + row[9 * r + 3 * d + 1] * zb[1] + row[9 * r + 3 * d + 2] * zb[2];
         }
     for (int d = 0; d < 3; d++) ya[3 * k + d] = t->sinv[k] * s[d];
   }
@@ -199,10 +200,13 @@ static PetscReal TridiagonalMax(const PetscReal *a, const PetscReal *b, PetscInt
     const PetscReal r = (k > 0 ? PetscAbsReal(b[k - 1]) : 0.0) + (k + 1 < n ? PetscAbsReal(b[k]) : 0.0);
     lo = PetscMin(lo, a[k] - r), hi = PetscMax(hi, a[k] + r);
   }
-  for (int it = 0; it < 200 && hi - lo > 4 * PETSC_MACHINE_EPSILON * PetscMax(PetscAbsReal(lo), PetscAbsReal(hi)); it++) {
+  for (int it = 0; it < 200 && hi - lo > 4 * PETSC_MACHINE_EPSILON * PetscMax(PetscAbsReal(lo), PetscAbsReal(hi));
+       it++) {
     const PetscReal mid = 0.5 * (lo + hi);
-    if (SturmCount(a, b, n, mid) == n) hi = mid; /* every eigenvalue is below mid */
-    else lo = mid;
+    if (SturmCount(a, b, n, mid) == n)
+      hi = mid; /* every eigenvalue is below mid */
+    else
+      lo = mid;
   }
   return hi;
 }
@@ -217,11 +221,12 @@ PetscErrorCode TangentOmega2Max(Fabric fab, PetscReal *omega2, PetscInt *iterati
   PetscScalar *a;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscMalloc4((size_t) fab->grid.nloc * REACH * 9, &t.rows, fab->grid.nloc, &t.sinv, (size_t) p->gxm * p->gym,
-                         &t.free_g, fab->grid.nloc, &t.terms));
+  PetscCall(PetscMalloc4((size_t) fab->grid.nloc * REACH * 9, &t.rows, fab->grid.nloc, &t.sinv,
+                         (size_t) p->gxm * p->gym, &t.free_g, fab->grid.nloc, &t.terms));
   PetscCall(PetscMalloc2(LANCZOS_MAX, &alpha, LANCZOS_MAX, &beta));
   PetscCall(FreeGhosted(fab, t.free_g));
-  for (PetscInt k = 0; k < fab->grid.nloc; k++) t.sinv[k] = fab->grid.inv_m[k] > 0 ? PetscSqrtReal(fab->grid.inv_m[k]) : 0;
+  for (PetscInt k = 0; k < fab->grid.nloc; k++)
+    t.sinv[k] = fab->grid.inv_m[k] > 0 ? PetscSqrtReal(fab->grid.inv_m[k]) : 0;
   PetscCall(AssembleRows(&t));
   PetscCall(DMGetGlobalVector(fab->grid.da, &t.z));
   PetscCall(DMGetLocalVector(fab->grid.da, &t.zl));
@@ -233,7 +238,8 @@ PetscErrorCode TangentOmega2Max(Fabric fab, PetscReal *omega2, PetscInt *iterati
   for (PetscInt k = 0; k < fab->grid.nloc; k++) {
     const uint64_t g = (uint64_t) ((p->ys + k / p->xm) * p->nx + p->xs + k % p->xm);
     for (int d = 0; d < 3; d++)
-      a[3 * k + d] = t.sinv[k] > 0 ? 2.0 * ldexp((double) (Mix64(HASH_GOLDEN * (3 * g + d + 1)) >> 11), -53) - 1.0 : 0.0;
+      a[3 * k + d] =
+          t.sinv[k] > 0 ? 2.0 * ldexp((double) (Mix64(HASH_GOLDEN * (3 * g + d + 1)) >> 11), -53) - 1.0 : 0.0;
   }
   PetscCall(VecRestoreArray(q, &a));
   PetscCall(VecZeroEntries(q_prev));
@@ -304,10 +310,10 @@ PetscErrorCode StableStepMeasure(Fabric fab, PetscReal te_prev)
   m.te_bound  = fab->step.te_bound;
   m.limit     = (fab->s.num.integrator == INTEGRATOR_PAPER ? 1.0 : 2.0) / PetscSqrtReal(omega2);
   KeepRecord(&fab->step, &m);
-  PetscCall(PetscInfo(NULL,
-                      "load step %" PetscInt_FMT " %s: te %g s, Gershgorin bound %g s, measured limit %g s (%" PetscInt_FMT
-                      " Lanczos steps): te / limit %.4f\n",
-                      of, end ? "end" : "start", (double) m.te, (double) m.te_bound, (double) m.limit, its,
-                      (double) (m.te / m.limit)));
+  PetscCall(PetscInfo(
+      NULL,
+      "load step %" PetscInt_FMT " %s: te %g s, Gershgorin bound %g s, measured limit %g s (%" PetscInt_FMT
+      " Lanczos steps): te / limit %.4f\n",
+      of, end ? "end" : "start", (double) m.te, (double) m.te_bound, (double) m.limit, its, (double) (m.te / m.limit)));
   PetscFunctionReturn(0);
 }

@@ -200,7 +200,8 @@ static PetscErrorCode SpectrumChain(void)
               (int) its, (double) omega2);
   CheckRel("measured omega_max^2 of a taut fixed-fixed chain (rad^2/s^2)", omega2, exact, 1e-8);
   CheckTrue("the Gershgorin bound 2/omega_bound is not above the measured limit 2/omega_max (te_bound / limit)",
-            fab->step.te_bound <= 2.0 / PetscSqrtReal(omega2), (double) (fab->step.te_bound * PetscSqrtReal(omega2) / 2));
+            fab->step.te_bound <= 2.0 / PetscSqrtReal(omega2),
+            (double) (fab->step.te_bound * PetscSqrtReal(omega2) / 2));
   PetscCall(FabricDestroy(&fab));
   PetscFunctionReturn(0);
 }
