@@ -76,6 +76,14 @@ typedef struct { /* where the load program is */
   PetscReal gravity_now[3];        /* m/s^2: gravity of the current load step */
 } LoadState;
 
+typedef struct {       /* te against the measured stable limit at one state (-te_measure, spectrum.c) */
+  PetscInt  load_step; /* the load step the state belongs to */
+  PetscBool end;       /* its balanced end (else its start, after the grips moved and the prediction) */
+  PetscReal te;        /* s: the te in use from (start) or up to (end) that state */
+  PetscReal te_bound;  /* s: the Gershgorin bound at that state */
+  PetscReal limit;     /* s: 2/omega_max (damped) or 1/omega_max (paper), omega_max^2 measured */
+} TeMeasure;
+
 typedef struct { /* the time step, damping and the balance test's scales */
   PetscReal  te, te_bound, omega_max, damp_c;
   PetscReal  omega1;      /* slowest mode along the pull (estimate), rad/s */
@@ -91,6 +99,10 @@ typedef struct { /* the time step, damping and the balance test's scales */
   PetscInt   fire_npos;   /* FIRE: te steps since the power F.v was last <= 0 */
   PetscInt64 fire_stops;  /* FIRE: velocity resets (power F.v <= 0) so far */
   PetscReal *fire_terms;  /* FIRE: owned points' F.v, |F|^2, |v|^2 (work, 3 nloc) */
+  /* -te_measure: the first and last states measured, the one with the smallest limit, the one with
+     the largest te / limit, how many were measured, and the load step of the last stable step taken */
+  TeMeasure te_first, te_last, te_tightest, te_worst;
+  PetscInt  te_measured, te_prev_step;
 } StepControl;
 
 typedef struct {           /* rank propagation and sleeping (front.c) */

@@ -68,7 +68,7 @@ typedef struct {
   PetscInt  n_point_load_N, point_load_at[2], n_point_load_at, n_grip_path_mm, load_steps, max_inner_steps;
   PetscReal break_gauge_mm, rupture_drop_pct, tear_wave_crossings, tear_max_ms, tear_damping_ratio;
   PetscInt  break_seed, output_tear_every;
-  PetscInt  solver, integrator, predict, grip_ramp_steps;
+  PetscInt  solver, integrator, predict, grip_ramp_steps, te_measure;
   PetscReal te, te_safety, te_strain_window, balance_tol, speed_tol, sleep_tol;
   PetscBool te_check, early_exit, front, kinetic_damping;
   char      output_dir[PETSC_MAX_PATH_LEN], positions_out[PETSC_MAX_PATH_LEN], restart[PETSC_MAX_PATH_LEN];
@@ -162,6 +162,7 @@ typedef struct {         /* integration, balance test and speed-ups */
   IntegratorType integrator;
   PetscReal      te_user, te_safety, te_window;
   PetscBool      te_check;
+  PetscInt       te_measure; /* measure omega_max^2 of the tangent every this many load steps (0: never) */
   PetscBool      early_exit;
   PetscReal      balance_tol, speed_tol;
   PredictType    predict;

@@ -14,6 +14,7 @@
 #include "comm.h"
 #include "events.h"
 #include "front.h"
+#include "spectrum.h"
 
 #include <math.h>
 
@@ -99,7 +100,8 @@ PetscErrorCode ComputeForces(Fabric fab, const PetscInt box[4], PetscReal *tensi
 
 PetscErrorCode StableStep(Fabric fab)
 {
-  const Scene       *s = &fab->s;
+  const Scene       *s       = &fab->s;
+  const PetscReal    te_prev = fab->step.te; /* in use up to this state */
   const PetscScalar *xl;
   PetscReal          omega2[2];
 
@@ -137,6 +139,7 @@ PetscErrorCode StableStep(Fabric fab)
     fab->step.omega1 = PETSC_PI * PetscSqrtReal(omega2[1]) / (2.0 * n);
     fab->step.damp_c = 2.0 * s->num.damping_ratio * fab->step.omega1;
   }
+  if (s->num.te_measure) PetscCall(StableStepMeasure(fab, te_prev)); /* the true limit here (spectrum.c) */
   PetscFunctionReturn(0);
 }
 

@@ -293,6 +293,30 @@ static void SummaryRupture(Fabric fab, FILE *fp)
   } else fprintf(fp, "  \"rupture\": null,\n");
 }
 
+/* one state measured by -te_measure: te, the Gershgorin bound and the measured limit 2/omega_max */
+static void JsonTeMeasure(FILE *fp, const char *name, const TeMeasure *m, const char *sep)
+{
+  fprintf(fp,
+          "    \"%s\": {\"load_step\": %" PetscInt_FMT ", \"at\": \"%s\", \"te_s\": %.6e, \"te_bound_s\": %.6e, "
+          "\"limit_s\": %.6e, \"te_over_limit\": %.6f, \"bound_over_limit\": %.6f}%s\n",
+          name, m->load_step, m->end ? "end" : "start", (double) m->te, (double) m->te_bound, (double) m->limit,
+          (double) (m->te / m->limit), (double) (m->te_bound / m->limit), sep);
+}
+
+/* -te_measure: te against the measured stable limit (spectrum.c) at the first and last states
+   measured, the tightest (smallest limit) and the worst (largest te / limit) */
+static void SummaryTeMeasure(Fabric fab, FILE *fp)
+{
+  const StepControl *st = &fab->step;
+  if (!fab->s.num.te_measure || !st->te_measured) return;
+  fprintf(fp, "  \"te_measure\": {\n    \"states\": %" PetscInt_FMT ",\n", st->te_measured);
+  JsonTeMeasure(fp, "first", &st->te_first, ",");
+  JsonTeMeasure(fp, "last", &st->te_last, ",");
+  JsonTeMeasure(fp, "tightest", &st->te_tightest, ",");
+  JsonTeMeasure(fp, "worst", &st->te_worst, "");
+  fprintf(fp, "  },\n");
+}
+
 /* summary.json: written at the end of a run, or with "error" when a run stops on an error */
 PetscErrorCode OutputSummary(Fabric fab, const char *error)
 {
@@ -334,6 +358,7 @@ PetscErrorCode OutputSummary(Fabric fab, const char *error)
   fprintf(fp, "  \"gauge_mm\": %.6g,\n  \"width_mm\": %.6g,\n  \"peak_force_N\": %.9g,\n",
           (double) (s->spec.gauge * 1e3), (double) (s->spec.width * 1e3), (double) fab->stats.rupture.peak_force);
   SummaryRupture(fab, fp);
+  SummaryTeMeasure(fab, fp);
   if (s->num.kinetic_damping)
     fprintf(fp, "  \"kinetic_damping_resets\": %" PetscInt64_FMT ",\n", (PetscInt64) fab->step.ke_resets);
   if (s->test == TEST_DRAPE)

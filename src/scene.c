@@ -271,6 +271,9 @@ static const OptionDesc Options[] = {
     REAL("", "te", te, DEF(0), NONNEG, NONNEG_MUST, "time step te (s); 0 = from the stable bound"),
     RANGED("", "te_safety", te_safety, DEF(0.9), 0, 1, 1, 0, "in (0,1]", "te = safety * stable bound (Gershgorin)"),
     BOOL("", "te_check", te_check, DEF(1), "refuse a -te above the stable bound (0: experts and stability tests only)"),
+    INT("", "te_measure", te_measure, DEF(0), 0, "0 (never) or a number of load steps",
+        "measure the true largest eigenvalue of M^-1 K (Lanczos on the tangent stiffness) at the start and end of "
+        "load step 1, of every this many load steps and of the last: te against 2/omega_max in summary.json"),
     REAL("", "te_strain_window", te_strain_window, DEF(1), NONNEG, NONNEG_MUST,
          "chord-strain margin around each segment's strain over which the yarn tangent is maximised for the bound, and "
          "margin in sin(shear angle) below the locking angle from which the jamming stiffness counts"),
@@ -924,6 +927,7 @@ static void DeriveNumerics(const SceneInput *in, Scene *s)
   n->te_safety       = in->te_safety;
   n->te_window       = in->te_strain_window;
   n->te_check        = in->te_check;
+  n->te_measure      = in->te_measure;
   n->early_exit      = in->early_exit;
   n->balance_tol     = in->balance_tol;
   n->speed_tol       = in->speed_tol;

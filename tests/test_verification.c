@@ -3,12 +3,13 @@
  *   test_verification -case linear_strip|crimp_knee|wave_speed|transverse_load|
  *                           stable_095|unstable_110|paper_parasitic|square_net|bias_extension|plane_rest|
  *                           pedestal_rest|friction_incline|
- *                           grip_lines|grip_path|drape_measure
+ *                           grip_lines|grip_path|drape_measure|spectrum_chain|spectrum_scenes
  */
 #include "comm.h"
 #include "integrate.h"
 #include "measure.h"
 #include "relax.h"
+#include "spectrum.h"
 
 #include <math.h>
 
@@ -178,6 +179,67 @@ static PetscReal ChainOmegaMax(Fabric fab)
   const PetscInt  n = fab->s.spec.nx - 1;
   const PetscReal k = fab->s.yarns.warp.EA / fab->grid.patch.ax, m = fab->s.yarns.warp.mu * fab->grid.patch.ax;
   return 2 * PetscSqrtReal(k / m) * PetscSinReal((n - 1) * PETSC_PI / (2.0 * n));
+}
+
+/* The measured omega_max^2 (Lanczos on the tangent, spectrum.c) of one taut yarn, ends fixed:
+   the fixed-fixed chain's 4 k/m sin^2((n-1) pi/(2n)) (n segments, n-1 free points), within
+   1e-8 (the Krylov space fills, so Lanczos ends exact); the transverse modes (T/L) are far below.
+   On 1, 2 or 3 ranks the same bits. And the Gershgorin bound is not below it. */
+static PetscErrorCode SpectrumChain(void)
+{
+  Fabric    fab;
+  PetscReal omega2, exact;
+  PetscInt  its;
+
+  PetscFunctionBeginUser;
+  PetscCall(NewFabric(ONE_YARN "-gauge_mm 20 -elongation_pct 0.01 -load_steps 1 -predict linear", &fab));
+  PetscCall(ApplyLoadStep(fab, 1));
+  PetscCall(TangentOmega2Max(fab, &omega2, &its));
+  exact = PetscSqr(ChainOmegaMax(fab));
+  PetscPrintf(PETSC_COMM_WORLD, "%d free points, %d Lanczos steps, omega_max^2 = %.17g\n", (int) (fab->s.spec.nx - 2),
+              (int) its, (double) omega2);
+  CheckRel("measured omega_max^2 of a taut fixed-fixed chain (rad^2/s^2)", omega2, exact, 1e-8);
+  CheckTrue("the Gershgorin bound 2/omega_bound is not above the measured limit 2/omega_max (te_bound / limit)",
+            fab->step.te_bound <= 2.0 / PetscSqrtReal(omega2),
+            (double) (fab->step.te_bound * PetscSqrtReal(omega2) / 2));
+  PetscCall(FabricDestroy(&fab));
+  PetscFunctionReturn(0);
+}
+
+/* Small versions of the shipped scenes' kinds, measured at every load step's start and end
+   (-te_measure 1): te below the measured limit 2/omega_max at every state, and the Gershgorin
+   bound not above it at the tightest one. */
+static PetscErrorCode SpectrumScenes(void)
+{
+  const char *scenes[][2] = {
+      {"crimped cotton strip to 12 %", BASE "-yarns 4 -gauge_mm 10 -elongation_pct 12 -load_steps 12"},
+      {"square net under a point load",
+       BASE "-test square -gauge_mm 4 -width_mm 4 -point_load_N 0,0,0.05 -load_steps 4 -damping_ratio 0.05 "
+            "-max_inner_steps 3000"},
+      {"bias specimen of glass-like yarns",
+       BASE "-test bias -ends_per_cm 4 -picks_per_cm 4 -gauge_mm 60 -width_mm 30 -warp_crimp_pct 0 -weft_crimp_pct 0 "
+            "-warp_modulus_cN_tex 2600 -weft_modulus_cN_tex 2600 -elongation_pct 20 -load_steps 4 -damping_ratio 0.05 "
+            "-max_inner_steps 3000"}};
+
+  PetscFunctionBeginUser;
+  for (size_t c = 0; c < sizeof scenes / sizeof scenes[0]; c++) {
+    Fabric fab;
+    char   what[512];
+    PetscCall(PetscSNPrintf(what, sizeof what, "%s -te_measure 1", scenes[c][1]));
+    PetscCall(NewFabric(what, &fab));
+    PetscCall(FabricRun(fab));
+    {
+      const TeMeasure *w = &fab->step.te_worst, *t = &fab->step.te_tightest;
+      PetscCall(PetscSNPrintf(what, sizeof what, "%s: te / limit at the worst of %d states (load step %d %s)",
+                              scenes[c][0], (int) fab->step.te_measured, (int) w->load_step, w->end ? "end" : "start"));
+      CheckTrue(what, fab->step.te_measured > 2 && w->te < w->limit, (double) (w->te / w->limit));
+      PetscCall(PetscSNPrintf(what, sizeof what, "%s: Gershgorin bound / limit at the tightest state (load step %d)",
+                              scenes[c][0], (int) t->load_step));
+      CheckTrue(what, t->te_bound <= t->limit, (double) (t->te_bound / t->limit));
+    }
+    PetscCall(FabricDestroy(&fab));
+  }
+  PetscFunctionReturn(0);
 }
 
 /* No damping at 0.95x the stable bound: bounded for 10^4 steps (|u| <= 3 D for a grip step D). */

@@ -10,6 +10,9 @@ CASE(transverse_load, TransverseLoad(), "verification", 300)
 CASE(stable_095, Stable095(), "verification", 300)
 CASE(unstable_110, Unstable110(), "verification", 300)
 CASE(paper_parasitic, PaperParasitic(), "verification", 300)
+/* the measured stable limit (spectrum.c) against an exact spectrum, and the bound against it */
+CASE(spectrum_chain, SpectrumChain(), "verification", 120)
+CASE(spectrum_scenes, SpectrumScenes(), "verification", 300)
 /* scenes with shapes, clamp regions, rigid bodies, clamp and grip lines and the grip's path */
 CASE(square_net, SquareNet(), "verification;scenes", 120)
 CASE(bias_extension, BiasExtension(), "verification;scenes", 120)

@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# te_table.sh - te against the measured stable limit on shipped scenes (docs/stability.md).
+#
+#   scripts/te_table.sh [SCENE ...] [-- extra fabric options]
+#
+# Runs each scene (default: strip_warp strip_weft square_net bias drape) on NP ranks (2) with
+# -te_measure set to its number of load steps (load step 1's start and end and the last load step's
+# start are measured), then prints a markdown table from summary.json: the
+# te used, the Gershgorin bound, the measured limit 2/omega_max and te / limit at the first
+# state (load step 1 after its grips moved), the last, the tightest (smallest limit) and the worst
+# (largest te / limit), each once.
+set -euo pipefail
+here=$(cd "$(dirname "$0")/.." && pwd)
+fabric=${FABRIC:-$here/build/fabric}
+np=${NP:-2}
+scenes=()
+while [[ $# -gt 0 && $1 != -- ]]; do scenes+=("$1"); shift; done
+[[ ${1:-} == -- ]] && shift
+extra=("$@")
+[[ ${#scenes[@]} -gt 0 ]] || scenes=(strip_warp strip_weft square_net bias drape)
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+echo "| scene | state | te s | Gershgorin bound s | measured limit s | te / limit | bound / limit |"
+echo "|---|---|---:|---:|---:|---:|---:|"
+for sc in "${scenes[@]}"; do
+  yaml=$here/inputs/${sc%.yaml}.yaml
+  steps=$(sed -n 's/^load_steps: *\([0-9]*\).*/\1/p' "$yaml")
+  steps=${steps:-50}
+  echo "te_table.sh: $sc ($steps load steps, $np ranks)" >&2
+  mpiexec -n "$np" "$fabric" -scene "$yaml" -te_measure "$steps" -output_dir "$tmp/$sc" -output_every 0 -quiet \
+    "${extra[@]}" > "$tmp/$sc.log" 2>&1 || echo "te_table.sh: $sc stopped: $(grep -m1 'error' "$tmp/$sc.log" || true)" >&2
+  /usr/bin/python3 - "$tmp/$sc/summary.json" "$sc" <<'EOF'
+import json, sys
+s = json.load(open(sys.argv[1])).get("te_measure")
+if not s:
+    print(f"| {sys.argv[2]} | (not measured) | | | | | |"); sys.exit()
+rows = []
+for name in ("first", "last", "tightest", "worst"):
+    r = s[name]
+    if r not in [x for _, x in rows]: rows.append((name, r))
+for name, r in rows:
+    print(f"| {sys.argv[2]} | {name}: load step {r['load_step']} {r['at']} | {r['te_s']:.3e} | {r['te_bound_s']:.3e} "
+          f"| {r['limit_s']:.3e} | {r['te_over_limit']:.3f} | {r['bound_over_limit']:.3f} |")
+EOF
+done
