@@ -10,7 +10,7 @@
  * does not move: its rows and columns are left out). Each owned free crossing keeps its block row,
  * the 3x3 blocks to the 13 crossings within grid distance 2 (the reach of a shear crossing), summed
  * over the instances that contain it in a fixed order; so K v and every step below give the same
- * bits on any number of ranks, with the dot products as exact sums (GlobalSumExact).
+ * bits on any number of ranks, with the dot products as exact sums (GlobalSumsExact).
  *
  * Lanczos on the symmetric A = M^-1/2 K M^-1/2 (same eigenvalues as M^-1 K), from a start vector
  * hashed from the global indices, without reorthogonalisation (the largest Ritz value converges
@@ -175,7 +175,7 @@ static PetscErrorCode Dot(Tangent *t, Vec a, Vec b, PetscReal *dot)
     t->terms[k] = x[3 * k] * y[3 * k] + x[3 * k + 1] * y[3 * k + 1] + x[3 * k + 2] * y[3 * k + 2];
   PetscCall(VecRestoreArrayRead(b, &y));
   PetscCall(VecRestoreArrayRead(a, &x));
-  PetscCall(GlobalSumExact(t->fab->comm, t->terms, t->fab->grid.nloc, dot));
+  PetscCall(GlobalSumsExact(t->fab->comm, 1, t->terms, t->fab->grid.nloc, dot));
   PetscFunctionReturn(0);
 }
 
