@@ -21,7 +21,7 @@ for n in "${densities[@]}"; do
     mpiexec -n "${NP:-1}" "$ROOT/build/fabric" -test bias -gauge_mm 60 -width_mm 30 -ends_per_cm "$n" -picks_per_cm "$n" \
       -warp_crimp_pct 0 -weft_crimp_pct 0 -warp_modulus_cN_tex $modulus -weft_modulus_cN_tex $modulus -gravity 0,0,0 \
       -warp_break_pct 0 -weft_break_pct 0 -shear_lock_deg 35 -elongation_pct 10 -load_steps 4 -predict extrapolate \
-      -damping_ratio 0.05 -max_inner_steps 200000 -output_dir "$out" -output_every 0 -quiet >/dev/null
+      -integrator damped -damping_ratio 0.05 -max_inner_steps 200000 -output_dir "$out" -output_every 0 -quiet >/dev/null
     row+=("$(/usr/bin/python3 - "$out" "$n" <<'PY'
 import csv, json, math, sys
 out, n = sys.argv[1], float(sys.argv[2])

@@ -214,11 +214,11 @@ static PetscErrorCode SpectrumScenes(void)
   const char *scenes[][2] = {
       {"crimped cotton strip to 12 %", BASE "-yarns 4 -gauge_mm 10 -elongation_pct 12 -load_steps 12"},
       {"square net under a point load",
-       BASE "-test square -gauge_mm 4 -width_mm 4 -point_load_N 0,0,0.05 -load_steps 4 -damping_ratio 0.05 "
+       BASE "-test square -gauge_mm 4 -width_mm 4 -point_load_N 0,0,0.05 -load_steps 4 "
             "-max_inner_steps 3000"},
       {"bias specimen of glass-like yarns",
        BASE "-test bias -ends_per_cm 4 -picks_per_cm 4 -gauge_mm 60 -width_mm 30 -warp_crimp_pct 0 -weft_crimp_pct 0 "
-            "-warp_modulus_cN_tex 2600 -weft_modulus_cN_tex 2600 -elongation_pct 20 -load_steps 4 -damping_ratio 0.05 "
+            "-warp_modulus_cN_tex 2600 -weft_modulus_cN_tex 2600 -elongation_pct 20 -load_steps 4 "
             "-max_inner_steps 3000"}};
 
   PetscFunctionBeginUser;
@@ -419,7 +419,7 @@ static PetscErrorCode BiasExtension(void)
   PetscCall(NewFabric(
       BASE "-test bias -gauge_mm 60 -width_mm 30 -ends_per_cm 8 -picks_per_cm 8 -warp_crimp_pct 0 -weft_crimp_pct 0 "
            "-warp_modulus_cN_tex 2600 -weft_modulus_cN_tex 2600 -elongation_pct 20 -load_steps 8 -predict extrapolate "
-           "-shear_lock_deg 35 -damping_ratio 0.05 -max_inner_steps 100000",
+           "-shear_lock_deg 35 -max_inner_steps 100000",
       &fab));
   D = 1e3 * (fab->s.spec.gauge - fab->s.spec.width);
   CheckRel("bias specimen on the grid diagonals: D = gauge - width (mm)", D, 17 * PetscSqrtReal(2.0) * 1.25, 1e-12);
