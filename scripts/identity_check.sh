@@ -34,7 +34,7 @@ cases=(
   "strip_warp|1 2 3|-scene $IN/strip_warp.yaml -checkpoint_every 10"
   "strip_weft|1|-scene $IN/strip_weft.yaml"
   "strip_paper|1 2|-scene $IN/strip_warp.yaml -integrator paper -load_steps 3 -max_inner_steps 400"
-  "strip_kinetic|1 3|-scene $IN/strip_warp.yaml -gauge_mm 20 -width_mm 5 -kinetic_damping -load_steps 3 -early_exit 0 -max_inner_steps 500"
+  "strip_kinetic|1 3|-scene $IN/strip_warp.yaml -gauge_mm 20 -width_mm 5 -integrator damped -kinetic_damping -load_steps 3 -early_exit 0 -max_inner_steps 500"
   "strip_fixed|1 2 3|-scene $IN/strip_warp.yaml -predict none -load_steps 2 -early_exit 0 -max_inner_steps 300 -point_load_N 0,0,0.02"
   "strip_path|1 2|-scene $IN/strip_warp.yaml -gauge_mm 40 -width_mm 10 -grip_path_mm 2,0,0,2,1,0.5 -load_steps 4"
   "strip_break|1 2|-scene $IN/strip_warp.yaml -gauge_mm 20 -width_mm 5 -elongation_pct 20 -load_steps 20 -max_inner_steps 2000"

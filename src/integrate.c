@@ -151,12 +151,25 @@ typedef struct {
   PetscInt  awake_lo, awake_hi; /* first and one past the last awake index, or lo >= hi */
 } SweepStats;
 
+/* point k of a sweep into its statistics: r2 its residual |F|^2 (0 for a fixed point), w2 its new
+   |v|^2; an awake free point (over f2 or v2max) widens the awake range */
+static inline void Tally(SweepStats *st, PetscInt k, PetscReal im, PetscReal r2, PetscReal w2, PetscReal f2,
+                         PetscReal v2max)
+{
+  st->res2 = PetscMax(st->res2, r2);
+  st->v2   = PetscMax(st->v2, w2);
+  st->v2sum += w2;
+  if (im > 0 && (r2 > f2 || w2 > v2max)) {
+    st->awake_lo = PetscMin(st->awake_lo, k);
+    st->awake_hi = k + 1;
+  }
+}
+
 static void IntegrateDamped(PetscInt n, PetscReal te, PetscReal c0, PetscReal nu, const PetscReal g[3],
                             const PetscReal *mass, const PetscReal *inv_m, const PetscReal *f, PetscReal f2,
                             PetscReal v2max, PetscReal *restrict x, PetscReal *restrict v, SweepStats *st)
 {
-  PetscReal res2 = 0, v2 = 0, v2sum = 0;
-  st->awake_lo = n, st->awake_hi = 0;
+  *st = (SweepStats){0, 0, 0, n, 0};
   for (PetscInt k = 0; k < n; k++) {
     const PetscReal im = inv_m[k], m = mass[k], c = c0 + nu * im;
     const PetscReal den = 1.0 / (2.0 + c * te), a = (2.0 - c * te) * den, b = 2.0 * te * im * den;
@@ -169,17 +182,8 @@ static void IntegrateDamped(PetscInt n, PetscReal te, PetscReal c0, PetscReal nu
     x[3 * k + 1] += te * vy;
     x[3 * k + 2] += te * vz;
     const PetscReal w2 = vx * vx + vy * vy + vz * vz, r2 = im > 0 ? Fx * Fx + Fy * Fy + Fz * Fz : 0.0;
-    res2 = PetscMax(res2, r2);
-    v2   = PetscMax(v2, w2);
-    v2sum += w2;
-    if (im > 0 && (r2 > f2 || w2 > v2max)) {
-      st->awake_lo = PetscMin(st->awake_lo, k);
-      st->awake_hi = k + 1;
-    }
+    Tally(st, k, im, r2, w2, f2, v2max);
   }
-  st->res2  = res2;
-  st->v2    = v2;
-  st->v2sum = v2sum;
 }
 
 static void IntegratePaper(PetscInt n, PetscReal te, PetscReal c0, PetscReal nu, const PetscReal g[3],
@@ -187,8 +191,7 @@ static void IntegratePaper(PetscInt n, PetscReal te, PetscReal c0, PetscReal nu,
                            PetscReal v2max, PetscReal *restrict x, PetscReal *restrict v, PetscReal *restrict xold,
                            PetscReal *restrict vold, SweepStats *st)
 {
-  PetscReal res2 = 0, v2 = 0, v2sum = 0;
-  st->awake_lo = n, st->awake_hi = 0;
+  *st = (SweepStats){0, 0, 0, n, 0};
   for (PetscInt k = 0; k < n; k++) {
     const PetscReal im = inv_m[k], m = mass[k], c = c0 + nu * im;
     PetscReal       r2 = 0, w2 = 0;
@@ -202,17 +205,8 @@ static void IntegratePaper(PetscInt n, PetscReal te, PetscReal c0, PetscReal nu,
       r2 += F * F;
       w2 += Vnew * Vnew;
     }
-    res2 = PetscMax(res2, im > 0 ? r2 : 0.0);
-    v2   = PetscMax(v2, w2);
-    v2sum += w2;
-    if (im > 0 && (r2 > f2 || w2 > v2max)) {
-      st->awake_lo = PetscMin(st->awake_lo, k);
-      st->awake_hi = k + 1;
-    }
+    Tally(st, k, im, im > 0 ? r2 : 0.0, w2, f2, v2max);
   }
-  st->res2  = res2;
-  st->v2    = v2;
-  st->v2sum = v2sum;
 }
 
 /* FIRE (Bitzek et al. 2006) with semi-implicit Euler, as FIRE 2.0 (Guenole et al. 2020): the
@@ -222,8 +216,7 @@ static void IntegrateFire(PetscInt n, PetscReal dt, PetscReal cv, PetscReal cf, 
                           const PetscReal *mass, const PetscReal *inv_m, const PetscReal *f, PetscReal f2,
                           PetscReal v2max, PetscReal *restrict x, PetscReal *restrict v, SweepStats *st)
 {
-  PetscReal res2 = 0, v2 = 0, v2sum = 0;
-  st->awake_lo = n, st->awake_hi = 0;
+  *st = (SweepStats){0, 0, 0, n, 0};
   for (PetscInt k = 0; k < n; k++) {
     const PetscReal im = inv_m[k], m = mass[k], b = dt * im;
     const PetscReal Fx = f[3 * k] + m * g[0], Fy = f[3 * k + 1] + m * g[1], Fz = f[3 * k + 2] + m * g[2];
@@ -237,17 +230,8 @@ static void IntegrateFire(PetscInt n, PetscReal dt, PetscReal cv, PetscReal cf, 
     x[3 * k + 1] += dt * vy;
     x[3 * k + 2] += dt * vz;
     const PetscReal w2 = vx * vx + vy * vy + vz * vz, r2 = im > 0 ? Fx * Fx + Fy * Fy + Fz * Fz : 0.0;
-    res2 = PetscMax(res2, r2);
-    v2   = PetscMax(v2, w2);
-    v2sum += w2;
-    if (im > 0 && (r2 > f2 || w2 > v2max)) {
-      st->awake_lo = PetscMin(st->awake_lo, k);
-      st->awake_hi = k + 1;
-    }
+    Tally(st, k, im, r2, w2, f2, v2max);
   }
-  st->res2  = res2;
-  st->v2    = v2;
-  st->v2sum = v2sum;
 }
 
 
