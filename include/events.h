@@ -4,7 +4,7 @@
 
 #include <petscsys.h>
 
-extern PetscLogEvent EV_Force, EV_Integrate, EV_Halo, EV_Reduce, EV_Output, EV_Bound, EV_Predict;
+extern PetscLogEvent EV_Force, EV_Integrate, EV_Halo, EV_Reduce, EV_Output, EV_Bound, EV_Predict, EV_Check;
 
 PetscErrorCode EventsRegister(void);
 

@@ -63,6 +63,7 @@ typedef struct {         /* the dynamic state */
   Vec Xold, Vold;        /* paper scheme: x(n-1), V(n-1) */
   Vec Xconv, Xconv_prev; /* converged positions of the last two load steps (extrapolation) */
   Vec anchor[3];         /* friction anchors of the sphere, plane, pedestal (bodies.h), NULL = none */
+  Vec watch_x, watch_v;  /* energy watch: x and v before a watched te step (balance.c), NULL until one */
 } FabricState;
 
 typedef struct { /* where the load program is */
@@ -99,6 +100,11 @@ typedef struct { /* the time step, damping and the balance test's scales */
   PetscInt   fire_npos;   /* FIRE: te steps since the power F.v was last <= 0 */
   PetscInt64 fire_stops;  /* FIRE: velocity resets (power F.v <= 0) so far */
   PetscReal *fire_terms;  /* FIRE: owned points' F.v, |F|^2, |v|^2 (work, 3 nloc) */
+  PetscInt   balance_held; /* te steps in a row the balance test has passed */
+  PetscInt   balance_need; /* te steps in a row it must pass before the test per crossing (relax.c) */
+  PetscInt   watch_checks; /* energy watch: watched te steps of this relaxation round */
+  PetscReal  watch_h0, watch_hmin, watch_kmax; /* energy watch: the round's first and lowest mechanical energy
+                                                 and its largest kinetic energy, J */
   /* -te_measure: the first and last states measured, the one with the smallest limit, the one with
      the largest te / limit, how many were measured, and the load step of the last stable step taken */
   TeMeasure te_first, te_last, te_tightest, te_worst;

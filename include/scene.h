@@ -68,8 +68,8 @@ typedef struct {
   PetscInt  n_point_load_N, point_load_at[2], n_point_load_at, n_grip_path_mm, load_steps, max_inner_steps;
   PetscReal break_gauge_mm, rupture_drop_pct, tear_wave_crossings, tear_max_ms, tear_damping_ratio;
   PetscInt  break_seed, output_tear_every;
-  PetscInt  solver, integrator, predict, grip_ramp_steps, te_measure;
-  PetscReal te, te_safety, te_strain_window, balance_tol, speed_tol, sleep_tol;
+  PetscInt  solver, integrator, predict, grip_ramp_steps, te_measure, balance_hold;
+  PetscReal te, te_safety, te_strain_window, balance_tol, speed_tol, sleep_tol, balance_floor, energy_watch;
   PetscBool te_check, early_exit, front, kinetic_damping;
   char      output_dir[PETSC_MAX_PATH_LEN], positions_out[PETSC_MAX_PATH_LEN], restart[PETSC_MAX_PATH_LEN];
   PetscBool quiet;
@@ -165,6 +165,9 @@ typedef struct {         /* integration, balance test and speed-ups */
   PetscInt       te_measure; /* measure omega_max^2 of the tangent every this many load steps (0: never) */
   PetscBool      early_exit;
   PetscReal      balance_tol, speed_tol;
+  PetscInt       balance_hold;  /* te steps in a row the balance test must pass */
+  PetscReal      balance_floor; /* per crossing: the force scale's floor, a fraction of the largest tension */
+  PetscReal      energy_watch;  /* stop at energy growth above this fraction of the energy released (0: off) */
   PredictType    predict;
   PetscBool      front;           /* rank propagation */
   PetscInt       grip_ramp;       /* te steps over which the grips move to a load step's position (-1 auto) */

@@ -39,6 +39,9 @@ try:
     rows = list(csv.DictReader(open(d + "/curve.csv")))
 except Exception:
     print("- %.1f failed -" % (t1 - t0)); sys.exit()
+if not rows:  # stopped before its first load step ended: the error's first words
+    err = next((l for l in open(d + ".log") if "fabric: error:" in l), "fabric: error: -").split("error:")[1]
+    print("%d %.1f STOPPED %s" % (s["te_steps"], t1 - t0, err.split(":")[0].strip())); sys.exit()
 last = rows[-1]
 res = ("drape %.2f %%" % s["drape_coefficient_pct"] if "drape_coefficient_pct" in s
        else "travel %s mm, force %s N" % (last.get("travel_mm", "-"), last["force_N"]) if "travel_mm" in last

@@ -214,14 +214,15 @@ static PetscInt StateVecs(FabricState *st, StateVec *sv)
 
 /* The relaxation's state within a load step: what ApplyLoadStep set up and the te steps carried
    on (RelaxLoadStep's break round and te step, the jaw's ramp, the front, the step control and
-   damping (FIRE's step and mixing), the last te step's balance test, the gravity of the load step, the te-frame
+   damping (FIRE's step and mixing), the last te step's balance test and its hold, the energy watch, the gravity of the load step, the te-frame
    counter). Attributes of /, written by every checkpoint and all restored, so that a restart
    within a load step continues it exactly (one at its end: ApplyLoadStep sets most of it anew). */
 typedef struct {
   long   within, round, te_step, inner_steps, ramp_steps, ramp_done, front_step, front_covered, bound_fresh;
   long   last_balanced, te_frame_load_step, te_frame_base, fire_npos, fire_stops;
+  long   balance_held, balance_need, watch_checks;
   double travel_from, travel_now, te, te_bound, omega_max, damp_c, omega1, last_residual, last_speed, gravity[3];
-  double fire_dt, fire_alpha;
+  double fire_dt, fire_alpha, watch_h0, watch_hmin, watch_kmax;
 } RelaxState;
 
 typedef struct {
@@ -230,7 +231,7 @@ typedef struct {
   void       *value;
 } Attr;
 
-#define MAX_RELAX_ATTRS 32
+#define MAX_RELAX_ATTRS 40
 
 static int RelaxAttrs(RelaxState *r, Attr *a)
 {
@@ -249,6 +250,9 @@ static int RelaxAttrs(RelaxState *r, Attr *a)
   ATTR_D("gravity_now_z_m_s2", gravity[2]);
   ATTR_D("fire_dt_s", fire_dt), ATTR_D("fire_alpha", fire_alpha), ATTR_L("fire_positive_steps", fire_npos);
   ATTR_L("fire_stops", fire_stops);
+  ATTR_L("balance_held", balance_held), ATTR_L("balance_need", balance_need);
+  ATTR_L("energy_watch_checks", watch_checks), ATTR_D("energy_watch_first_J", watch_h0);
+  ATTR_D("energy_watch_lowest_J", watch_hmin), ATTR_D("energy_watch_kinetic_J", watch_kmax);
 #undef ATTR_L
 #undef ATTR_D
   return n;
@@ -283,6 +287,12 @@ static void RelaxStatePack(Fabric fab, const RelaxPoint *at, RelaxState *r)
   r->fire_alpha         = fab->step.fire_alpha;
   r->fire_npos          = (long) fab->step.fire_npos;
   r->fire_stops         = (long) fab->step.fire_stops;
+  r->balance_held       = (long) fab->step.balance_held;
+  r->balance_need       = (long) fab->step.balance_need;
+  r->watch_checks       = (long) fab->step.watch_checks;
+  r->watch_h0           = fab->step.watch_h0;
+  r->watch_hmin         = fab->step.watch_hmin;
+  r->watch_kmax         = fab->step.watch_kmax;
 }
 
 static void RelaxStateUnpack(const RelaxState *r, Fabric fab)
@@ -309,6 +319,12 @@ static void RelaxStateUnpack(const RelaxState *r, Fabric fab)
   fab->step.fire_alpha  = r->fire_alpha;
   fab->step.fire_npos   = (PetscInt) r->fire_npos;
   fab->step.fire_stops  = (PetscInt64) r->fire_stops;
+  fab->step.balance_held = (PetscInt) r->balance_held;
+  fab->step.balance_need = (PetscInt) r->balance_need;
+  fab->step.watch_checks = (PetscInt) r->watch_checks;
+  fab->step.watch_h0     = r->watch_h0;
+  fab->step.watch_hmin   = r->watch_hmin;
+  fab->step.watch_kmax   = r->watch_kmax;
 }
 
 /* broken segments of the owned points as a dof-2 vector: [to i+1, to j+1] */

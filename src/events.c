@@ -1,7 +1,7 @@
 /* events.c - the PetscLogEvents of a run (-log_view shows where the time goes). */
 #include "events.h"
 
-PetscLogEvent EV_Force, EV_Integrate, EV_Halo, EV_Reduce, EV_Output, EV_Bound, EV_Predict;
+PetscLogEvent EV_Force, EV_Integrate, EV_Halo, EV_Reduce, EV_Output, EV_Bound, EV_Predict, EV_Check;
 
 PetscErrorCode EventsRegister(void)
 {
@@ -18,6 +18,7 @@ PetscErrorCode EventsRegister(void)
   PetscCall(PetscLogEventRegister("FabricOutput", id, &EV_Output));
   PetscCall(PetscLogEventRegister("FabricStableStep", id, &EV_Bound));
   PetscCall(PetscLogEventRegister("FabricPredict", id, &EV_Predict));
+  PetscCall(PetscLogEventRegister("FabricBalanceCheck", id, &EV_Check));
   done = PETSC_TRUE;
   PetscFunctionReturn(0);
 }

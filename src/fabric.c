@@ -492,6 +492,8 @@ PetscErrorCode FabricDestroy(Fabric *pfab)
   PetscCall(VecDestroy(&fab->state.Vold));
   PetscCall(VecDestroy(&fab->state.Xconv));
   PetscCall(VecDestroy(&fab->state.Xconv_prev));
+  PetscCall(VecDestroy(&fab->state.watch_x));
+  PetscCall(VecDestroy(&fab->state.watch_v));
   for (int b = 0; b < 3; b++) PetscCall(VecDestroy(&fab->state.anchor[b]));
   PetscCall(DMDestroy(&fab->grid.da_seg));
   PetscCall(DMDestroy(&fab->grid.da));

@@ -6,6 +6,7 @@
  * have run. The measured response is the reaction on the grips.
  */
 #include "relax.h"
+#include "balance.h"
 #include "checkpoint.h"
 #include "comm.h"
 #include "frames.h"
@@ -20,6 +21,7 @@
 #include <math.h>
 
 #define MAX_BREAK_ROUNDS 1000 /* re-relaxations of one load step after yarns broke */
+#define BALANCE_NEED_MAX 512  /* te steps in a row, at most, between two checks per crossing */
 
 /* Break the yarn segments strained past their breaking strain (all ranks agree); *broke: how many
    broke. The first break's place is kept: the most overstrained segment, the lowest index on a tie. */
@@ -288,6 +290,46 @@ static PetscErrorCode BreakAndTear(Fabric fab, StepStats *st, PetscBool at_rest,
   PetscFunctionReturn(0);
 }
 
+/* Has the load step balanced? The test of every te step (st) has passed the te steps in a row the
+   step control asks for (-balance_hold, doubled after each failed check, so that a test per crossing
+   that keeps failing costs little), then the test per crossing on every crossing (balance.c); a
+   failure wakes every sleeping crossing and the te steps go on. final: the load step ends here
+   whatever the count (the test per crossing still decides whether it balanced). */
+static PetscErrorCode Balanced(Fabric fab, StepStats *st, PetscBool final, PetscBool *done)
+{
+  StepControl *c = &fab->step;
+  PetscReal    worst;
+  PetscInt     i, j;
+
+  PetscFunctionBeginUser;
+  *done = PETSC_FALSE;
+  if (!st->balanced) {
+    c->balance_held = 0;
+    PetscFunctionReturn(0);
+  }
+  if (++c->balance_held < c->balance_need && !final) PetscFunctionReturn(0);
+  PetscCall(BalanceCrossings(fab, &worst, &i, &j));
+  c->balance_held = 0;
+  if (worst <= fab->s.num.balance_tol) {
+    *done = PETSC_TRUE;
+    PetscFunctionReturn(0);
+  }
+  PetscCall(PetscInfo(NULL, "load step %" PetscInt_FMT ": balanced by the largest force, not at crossing (%" PetscInt_FMT ", %" PetscInt_FMT "): residual %g of its own forces\n",
+                      fab->load.load_step, i, j, (double) worst));
+  st->balanced    = PETSC_FALSE;
+  c->balance_need = PetscMin(2 * c->balance_need, BALANCE_NEED_MAX);
+  FrontWakeAll(fab);
+  PetscFunctionReturn(0);
+}
+
+/* a new relaxation round (a load step, or the relaxation after a tear) */
+static void RoundStart(Fabric fab)
+{
+  fab->step.balance_held = 0;
+  fab->step.balance_need = fab->s.num.balance_hold;
+  EnergyWatchReset(fab);
+}
+
 /* Relax the current load step: te steps until balance (early exit) or max_inner_steps. */
 PetscErrorCode RelaxLoadStep(Fabric fab, CurveRow *row)
 {
@@ -303,11 +345,19 @@ PetscErrorCode RelaxLoadStep(Fabric fab, CurveRow *row)
   for (PetscInt round = at.round;; round++) {
     PetscInt  broke;
     PetscBool ruptured;
+    PetscBool done = PETSC_FALSE;
+    if (!at.te_step) RoundStart(fab); /* else restarted within the round: its state is the checkpoint's */
     for (n = at.te_step + 1; n <= s->load.max_inner_steps; n++) {
+      PetscBool watched;
       PetscCall(RampGrips(fab));
+      PetscCall(EnergyWatchBefore(fab, n, &watched));
       PetscCall(TimeStep(fab, &st));
+      if (watched) PetscCall(EnergyWatchAfter(fab, n));
       if (fab->io) PetscCall(TeStepFrame(fab)); /* -output_te_every */
-      if (s->num.early_exit && st.balanced) break;
+      if (s->num.early_exit) {
+        PetscCall(Balanced(fab, &st, PETSC_FALSE, &done));
+        if (done) break;
+      }
       if (n < s->load.max_inner_steps) { /* the load step goes on: a checkpoint within it, if due or signalled */
         const RelaxPoint here = {round, n, row->inner_steps};
         PetscCall(CheckpointTeStep(fab, &here));
@@ -316,6 +366,7 @@ PetscErrorCode RelaxLoadStep(Fabric fab, CurveRow *row)
     }
     at.te_step = 0;
     row->inner_steps += PetscMin(n, s->load.max_inner_steps);
+    if (!done) PetscCall(Balanced(fab, &st, PETSC_TRUE, &done)); /* the last te step: checked per crossing too */
     /* yarns start to break on a balanced (quasi-static) state only: the strains of the relaxation
        transient are artefacts of the load stepping. If one broke, the tear that follows is
        dynamics; then the specimen has ruptured, or this step relaxes again. */

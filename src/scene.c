@@ -283,6 +283,15 @@ static const OptionDesc Options[] = {
          "balance: max residual force on a free point / largest yarn tension"),
     REAL("", "speed_tol", speed_tol, DEF(0), NONNEG, NONNEG_MUST,
          "balance: max speed of a free point (m/s); 0 = the test speed"),
+    INT("", "balance_hold", balance_hold, DEF(3), 1, "at least 1",
+        "balance: te steps in a row the balance test must pass before the test per crossing ends the load step"),
+    REAL("", "balance_floor", balance_floor, DEF(1e-3), NONNEG, NONNEG_MUST,
+         "balance per crossing: a crossing's residual over the sum of the magnitudes of its own forces must be below "
+         "-balance_tol, that sum never taken below this fraction of the largest yarn tension (0: the force floor "
+         "only)"),
+    REAL("", "energy_watch", energy_watch, DEF(0.5), NONNEG, NONNEG_MUST,
+         "damped and paper integrators: stop a relaxation whose mechanical energy grows, with nothing doing work on "
+         "the fabric, by more than this fraction of the energy it has released (0 = no watch)"),
     ENUM("", "predict", predict, DEF(PREDICT_LINEAR), PredictNames, "displacement prediction at each load step"),
     INT("", "grip_ramp_steps", grip_ramp_steps, DEF(-1), -1, "-1 (auto) or >= 0",
         "te steps over which the jaw (or the sphere) moves to each load step's position (cosine ramp); -1 = half a "
@@ -931,6 +940,9 @@ static void DeriveNumerics(const SceneInput *in, Scene *s)
   n->early_exit      = in->early_exit;
   n->balance_tol     = in->balance_tol;
   n->speed_tol       = in->speed_tol;
+  n->balance_hold    = in->balance_hold;
+  n->balance_floor   = in->balance_floor;
+  n->energy_watch    = in->energy_watch;
   n->predict         = (PredictType) in->predict;
   n->front           = in->front;
   n->grip_ramp       = in->grip_ramp_steps;

@@ -1,0 +1,27 @@
+/* balance.h - the checks that end or stop the relaxation of a load step (MODEL.md 8, 15): the
+ * balance test per crossing and the energy watch (balance.c). */
+#ifndef FABRIC_BALANCE_H
+#define FABRIC_BALANCE_H
+
+#include "fabric.h"
+
+/* The balance test per crossing, on every crossing (sleeping ones and those the front has not
+   reached included), at the current positions: each free crossing's residual force against the sum
+   of the magnitudes of its own force terms (every yarn segment, bending centre and shear crossing
+   acting on it, its weight, the point load, the bodies' contact), never below -balance_floor of the
+   largest yarn tension nor below the force floor. *worst: the largest ratio; (i, j): where (the
+   lowest global index on a tie). The same on any number of ranks (max-reductions). */
+PetscErrorCode BalanceCrossings(Fabric fab, PetscReal *worst, PetscInt *i, PetscInt *j);
+
+/* The energy watch (damped and paper integrators): every ENERGY_WATCH_EVERY te steps of a
+   relaxation with nothing doing work on the fabric, the mechanical energy H (below) is taken
+   across one te step. EnergyWatchBefore, before te step n of the relaxation round, says whether
+   this one is watched and keeps what H needs; EnergyWatchAfter, after it, stops the run with an
+   error naming the crossing that moves most if H has grown above its lowest by more than
+   -energy_watch times the energy the round released plus its largest kinetic energy. */
+PetscErrorCode EnergyWatchBefore(Fabric fab, PetscInt n, PetscBool *due);
+PetscErrorCode EnergyWatchAfter(Fabric fab, PetscInt n);
+/* a new relaxation round (a load step, or the relaxation after a tear): the watch starts again */
+void EnergyWatchReset(Fabric fab);
+
+#endif

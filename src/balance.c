@@ -1,0 +1,277 @@
+/* balance.c - the checks that end or stop the relaxation of a load step (MODEL.md 8, 15).
+ *
+ * The balance test per crossing. The test of every te step (integrate.c) compares the largest
+ * free force with the largest yarn tension: it cannot see an imbalance where the forces are small,
+ * a crossing governed by shear or bending (0.01 N) beside yarns at 1 N. Before a load step ends,
+ * each free crossing's residual is compared with the sum of the magnitudes of its own force terms,
+ * on every crossing (sleeping ones and those the front has not reached included).
+ *
+ * The energy watch. With nothing doing work on the fabric (the jaws and the sphere at rest, dead
+ * loads, no friction), the damped schemes can only lose mechanical energy. Central differences
+ * conserve H_n = Pi(x_n) + 1/2 sum m v(n-1/2).v(n+1/2) exactly on a linear system and let it fall
+ * with damping; the paper's two leapfrog chains conserve Pi(u_n) + 1/2 sum m V(n-1).V(n+1). A
+ * yarn law whose stiffness jumps breaks that conservation: a segment that crosses a kink within
+ * a te step gains or loses energy, and at a low damping a ring can gain it step after step
+ * (docs/stability.md). The watch measures H across one te step every ENERGY_WATCH_EVERY te steps
+ * and stops the run when H has grown above its lowest by more than -energy_watch times the energy
+ * the round released (its first H less its lowest) plus the largest kinetic energy seen: an
+ * undamped run releases nothing, and H's kinetic part swings on a nonlinear chain.
+ * FIRE needs no watch: it stops all motion at the first te step whose power F.v is negative.
+ */
+#include "balance.h"
+#include "comm.h"
+#include "events.h"
+#include "integrate.h"
+
+#include <math.h>
+#include <string.h>
+
+#define ENERGY_WATCH_EVERY 256 /* te steps between two watched te steps */
+
+/* the global index of owned point k (k = (j - ys) xm + (i - xs)) as a max-reducible key: minus it */
+static PetscReal KeyOf(const Patch *p, PetscInt k)
+{
+  const PetscInt i = p->xs + k % p->xm, j = p->ys + k / p->xm;
+  return -(PetscReal) (j * p->nx + i);
+}
+
+/* adds |g| of every instance point that is owned to scale and -g to fint (the force): the
+   instances owned by the owned points and by their ghosts within 1 reach every owned point */
+static void TermMagnitudes(const ForceTerm *t, const Patch *p, const PetscReal *xl, PetscReal *scale, PetscReal *fint)
+{
+  TermInstance inst;
+
+  if (!t->enabled(p)) return;
+  for (PetscInt j = PetscMax(p->ys - 1, 0); j < PetscMin(p->ys + p->ym + 1, p->ny); j++)
+    for (PetscInt i = PetscMax(p->xs - 1, 0); i < PetscMin(p->xs + p->xm + 1, p->nx); i++)
+      for (int k = 0; k < t->per_point; k++) {
+        if (!t->instance(p, xl, i, j, k, TERM_GRADIENT, &inst)) continue;
+        for (PetscInt q = 0; q < inst.n; q++) {
+          const PetscInt  iq = inst.i[q], jq = inst.j[q];
+          const PetscReal *g = inst.g + 3 * q;
+          if (iq < p->xs || iq >= p->xs + p->xm || jq < p->ys || jq >= p->ys + p->ym) continue;
+          const PetscInt kq = (jq - p->ys) * p->xm + (iq - p->xs);
+          scale[kq] += PetscSqrtReal(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+          for (int d = 0; d < 3; d++) fint[3 * kq + d] -= g[d];
+        }
+      }
+}
+
+PetscErrorCode BalanceCrossings(Fabric fab, PetscReal *worst, PetscInt *wi, PetscInt *wj)
+{
+  const Patch       *p = &fab->grid.patch;
+  const PetscReal   *g = fab->load.gravity_now;
+  const PetscScalar *f, *xl;
+  PetscReal         *scale, *fint, tmax, red[2];
+
+  PetscFunctionBeginUser;
+  PetscCall(ComputeForces(fab, NULL, &tmax)); /* every crossing, at these positions; halo into Xl */
+  PetscCall(PetscLogEventBegin(EV_Check, 0, 0, 0, 0));
+  PetscCall(PetscCalloc2(fab->grid.nloc, &scale, 3 * fab->grid.nloc, &fint));
+  PetscCall(VecGetArrayRead(fab->state.Xl, &xl));
+  for (int t = 0; t < INTERNAL_TERMS; t++) TermMagnitudes(InternalTerms[t], p, xl, scale, fint);
+  PetscCall(VecRestoreArrayRead(fab->state.Xl, &xl));
+  red[0] = tmax;
+  PetscCall(GlobalMax(fab->comm, red, 1));
+  {
+    const PetscReal floor = PetscMax(fab->step.force_floor, fab->s.num.balance_floor * red[0]);
+    red[0] = 0, red[1] = -PETSC_MAX_REAL;
+    PetscCall(VecGetArrayRead(fab->state.F, &f));
+    for (PetscInt k = 0; k < fab->grid.nloc; k++) {
+      const PetscReal m = fab->grid.mass[k];
+      PetscReal       load[3] = {0, 0, 0}, R2 = 0, C2 = 0, L2 = 0, W2 = 0, ratio;
+      if (!(fab->grid.inv_m[k] > 0)) continue;
+      if (k == fab->grid.load_index)
+        for (int d = 0; d < 3; d++) load[d] = fab->load.load_factor * fab->s.load.point_load[d];
+      for (int d = 0; d < 3; d++) {
+        const PetscReal R = f[3 * k + d] + m * g[d], contact = f[3 * k + d] - fint[3 * k + d] - load[d];
+        R2 += R * R, C2 += contact * contact, L2 += load[d] * load[d], W2 += m * g[d] * m * g[d];
+      }
+      ratio = PetscSqrtReal(R2) /
+              PetscMax(scale[k] + PetscSqrtReal(C2) + PetscSqrtReal(L2) + PetscSqrtReal(W2), floor);
+      if (ratio > red[0]) red[0] = ratio, red[1] = KeyOf(p, k); /* the first in the patch's order on a tie */
+    }
+    PetscCall(VecRestoreArrayRead(fab->state.F, &f));
+  }
+  PetscCall(PetscFree2(scale, fint));
+  {
+    PetscReal best = red[0];
+    PetscCall(GlobalMax(fab->comm, &best, 1));
+    red[1] = red[0] == best ? red[1] : -PETSC_MAX_REAL; /* the lowest global index among the worst */
+    PetscCall(GlobalMax(fab->comm, &red[1], 1));
+    *worst = best;
+    *wi    = red[1] > -PETSC_MAX_REAL ? (PetscInt) (-red[1]) % p->nx : -1;
+    *wj    = red[1] > -PETSC_MAX_REAL ? (PetscInt) (-red[1]) / p->nx : -1;
+  }
+  PetscCall(PetscLogEventEnd(EV_Check, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+/* ------------------------------------------------------------------ the energy watch */
+
+/* the watch applies: a damped scheme, not a tear, nothing doing work on the fabric */
+static PetscBool WatchApplies(const Fabric fab)
+{
+  const Scene *s = &fab->s;
+  return s->num.energy_watch > 0 && s->num.integrator != INTEGRATOR_FIRE && !fab->step.tear &&
+                 fab->load.ramp_done >= fab->load.ramp_steps && !(s->bodies.friction_mu > 0)
+             ? PETSC_TRUE
+             : PETSC_FALSE;
+}
+
+void EnergyWatchReset(Fabric fab)
+{
+  fab->step.watch_checks = 0;
+}
+
+PetscErrorCode EnergyWatchBefore(Fabric fab, PetscInt n, PetscBool *due)
+{
+  PetscFunctionBeginUser;
+  *due = WatchApplies(fab) && (n - 1) % ENERGY_WATCH_EVERY == 0 ? PETSC_TRUE : PETSC_FALSE;
+  if (!*due) PetscFunctionReturn(0);
+  if (!fab->state.watch_x) {
+    PetscCall(VecDuplicate(fab->state.X, &fab->state.watch_x));
+    PetscCall(VecDuplicate(fab->state.X, &fab->state.watch_v));
+  }
+  PetscCall(VecCopy(fab->state.X, fab->state.watch_x)); /* x_n (paper: u_n) */
+  PetscCall(VecCopy(fab->s.num.integrator == INTEGRATOR_PAPER ? fab->state.Vold : fab->state.V,
+                    fab->state.watch_v)); /* v(n-1/2) (paper: V(n-1)) */
+  PetscFunctionReturn(0);
+}
+
+/* this rank's part of Pi at positions X (up to a constant): the internal terms, the bodies'
+   penalty, minus the work of gravity and of the point load */
+static PetscErrorCode PotentialEnergy(Fabric fab, Vec X, PetscReal *E)
+{
+  const Patch       *p      = &fab->grid.patch;
+  const PetscInt     all[4] = {p->xs, p->xs + p->xm, p->ys, p->ys + p->ym};
+  const PetscReal   *g      = fab->load.gravity_now;
+  const PetscScalar *xl, *x;
+  PetscReal          c[BODY_KINDS][3];
+
+  PetscFunctionBeginUser;
+  PetscCall(HaloExchange(fab->grid.da, X, fab->state.Xl));
+  PetscCall(VecGetArrayRead(fab->state.Xl, &xl));
+  *E = InternalEnergy(p, xl, all);
+  PetscCall(VecRestoreArrayRead(fab->state.Xl, &xl));
+  for (PetscInt q = 0; q < fab->bodies.n; q++) BodyPosition(&fab->bodies.body[q], fab->load.travel_now, c[q]);
+  PetscCall(VecGetArrayRead(X, &x));
+  for (PetscInt k = 0; k < fab->grid.nloc; k++) {
+    if (!(fab->grid.inv_m[k] > 0)) continue;
+    for (int d = 0; d < 3; d++) *E -= fab->grid.mass[k] * g[d] * x[3 * k + d];
+    for (PetscInt q = 0; q < fab->bodies.n; q++) {
+      PetscReal gb[3], Kb[9];
+      *E += BodyEnergy(&fab->bodies.body[q], c[q], x + 3 * k, gb, Kb);
+    }
+  }
+  if (fab->grid.load_index >= 0)
+    for (int d = 0; d < 3; d++)
+      *E -= fab->load.load_factor * fab->s.load.point_load[d] * x[3 * fab->grid.load_index + d];
+  PetscCall(VecRestoreArrayRead(X, &x));
+  PetscFunctionReturn(0);
+}
+
+/* The watch found the energy growing: name the crossing with the largest kinetic energy, its
+   yarn segments' chord strains and the nearest kink of their yarn law, and stop. */
+static PetscErrorCode StopPumping(Fabric fab, PetscInt n, PetscReal h0, PetscReal hmin, PetscReal h)
+{
+  const Patch       *p = &fab->grid.patch;
+  const PetscScalar *v, *xl;
+  PetscReal          best[2] = {-1, -PETSC_MAX_REAL}, info[4] = {-PETSC_MAX_REAL, -PETSC_MAX_REAL, -PETSC_MAX_REAL, -PETSC_MAX_REAL};
+  PetscInt           kb = -1;
+  const char        *seg[4] = {"warp to (i-1,j)", "warp to (i+1,j)", "weft to (i,j-1)", "weft to (i,j+1)"};
+  char               strains[256] = "", kink[128] = "";
+
+  PetscFunctionBeginUser;
+  PetscCall(VecGetArrayRead(fab->state.V, &v));
+  for (PetscInt k = 0; k < fab->grid.nloc; k++) {
+    const PetscReal ke = fab->grid.inv_m[k] > 0 ? fab->grid.mass[k] * (v[3 * k] * v[3 * k] + v[3 * k + 1] * v[3 * k + 1] + v[3 * k + 2] * v[3 * k + 2]) : -1;
+    if (ke > best[0]) best[0] = ke, kb = k;
+  }
+  PetscCall(VecRestoreArrayRead(fab->state.V, &v));
+  {
+    PetscReal top = best[0];
+    PetscCall(GlobalMax(fab->comm, &top, 1));
+    best[1] = kb >= 0 && best[0] == top ? KeyOf(p, kb) : -PETSC_MAX_REAL;
+    PetscCall(GlobalMax(fab->comm, &best[1], 1));
+  }
+  {
+    const PetscInt gi = (PetscInt) (-best[1]) % p->nx, gj = (PetscInt) (-best[1]) / p->nx;
+    PetscCall(HaloExchange(fab->grid.da, fab->state.X, fab->state.Xl)); /* collective */
+    if (gi >= p->xs && gi < p->xs + p->xm && gj >= p->ys && gj < p->ys + p->ym) { /* its owner: the strains */
+      PetscCall(VecGetArrayRead(fab->state.Xl, &xl));
+      for (int q = 0; q < 4; q++) {
+        const PetscInt ni = gi + (q == 0 ? -1 : q == 1 ? 1 : 0), nj = gj + (q == 2 ? -1 : q == 3 ? 1 : 0);
+        const PetscInt a = (gj - p->gys) * p->gxm + (gi - p->gxs), b = (nj - p->gys) * p->gxm + (ni - p->gxs);
+        if (ni < 0 || ni >= p->nx || nj < 0 || nj >= p->ny || !p->exists[a] || !p->exists[b]) continue;
+        const PetscReal L0 = q < 2 ? p->ax : p->ay;
+        info[q] = PetscSqrtReal(PetscSqr(xl[3 * b] - xl[3 * a]) + PetscSqr(xl[3 * b + 1] - xl[3 * a + 1]) +
+                                PetscSqr(xl[3 * b + 2] - xl[3 * a + 2])) / L0 - 1.0;
+      }
+      PetscCall(VecRestoreArrayRead(fab->state.Xl, &xl));
+    }
+    PetscCall(GlobalMax(fab->comm, info, 4));
+    { /* the kink of the yarn law nearest to one of its segments' strains */
+      PetscReal dist = PETSC_MAX_REAL;
+      for (int q = 0; q < 4; q++) {
+        const YarnLaw  *y = q < 2 ? p->warp : p->weft;
+        const PetscReal at[3] = {y->e_contact, 0.0, y->crimp};
+        const char     *nm[3] = {"yarn contact", "buckling", "the crimp knee"};
+        if (info[q] == -PETSC_MAX_REAL) continue;
+        PetscCall(PetscSNPrintf(strains + strlen(strains), sizeof(strains) - strlen(strains), "%s%s %.4g %%",
+                                strains[0] ? ", " : "", seg[q], (double) (100 * info[q])));
+        for (int c = 0; c < 3; c++)
+          if (PetscAbsReal(info[q] - at[c]) < dist) {
+            dist = PetscAbsReal(info[q] - at[c]);
+            PetscCall(PetscSNPrintf(kink, sizeof(kink), "the %s yarn law's kink at %.4g %% (%s)", y->name,
+                                    (double) (100 * at[c]), nm[c]));
+          }
+      }
+    }
+    SETERRQ(fab->comm, PETSC_ERR_NOT_CONVERGED,
+            "energy watch: at load step %" PetscInt_FMT ", te step %" PetscInt_FMT
+            " of its relaxation, the mechanical energy has grown by %g J since its lowest %g J (the relaxation had "
+            "released %g J) while nothing did work on the fabric: the %s integrator pumps energy. It moves most at "
+            "crossing (%" PetscInt_FMT ", %" PetscInt_FMT "), chord strains %s, nearest to %s: a segment crossing a kink "
+            "of the yarn law within a te step gains energy that a low damping does not take out. Use -integrator "
+            "fire, a larger -damping_ratio (now %g) or a smaller -te_safety (now %g); -energy_watch 0 switches the "
+            "watch off",
+            fab->load.load_step, n, (double) (h - hmin), (double) hmin, (double) (h0 - hmin),
+            IntegratorNames[fab->s.num.integrator], gi, gj, strains[0] ? strains : "(none)",
+            kink[0] ? kink : "(no segment)", (double) fab->s.num.damping_ratio, (double) fab->s.num.te_safety);
+  }
+}
+
+PetscErrorCode EnergyWatchAfter(Fabric fab, PetscInt n)
+{
+  const PetscScalar *v0, *v1;
+  PetscReal          e[2]; /* H, and the kinetic energy 1/2 sum m v(n+1/2)^2 */
+  StepControl       *c = &fab->step;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(EV_Check, 0, 0, 0, 0));
+  PetscCall(PotentialEnergy(fab, fab->state.watch_x, &e[0]));
+  e[1] = 0;
+  PetscCall(VecGetArrayRead(fab->state.watch_v, &v0));
+  PetscCall(VecGetArrayRead(fab->state.V, &v1));
+  for (PetscInt k = 0; k < fab->grid.nloc; k++)
+    if (fab->grid.inv_m[k] > 0) {
+      const PetscReal m = fab->grid.mass[k];
+      e[0] += 0.5 * m * (v0[3 * k] * v1[3 * k] + v0[3 * k + 1] * v1[3 * k + 1] + v0[3 * k + 2] * v1[3 * k + 2]);
+      e[1] += 0.5 * m * (v1[3 * k] * v1[3 * k] + v1[3 * k + 1] * v1[3 * k + 1] + v1[3 * k + 2] * v1[3 * k + 2]);
+    }
+  PetscCall(VecRestoreArrayRead(fab->state.V, &v1));
+  PetscCall(VecRestoreArrayRead(fab->state.watch_v, &v0));
+  PetscCall(GlobalSum(fab->comm, e, 2));
+  PetscCall(PetscLogEventEnd(EV_Check, 0, 0, 0, 0));
+  if (!c->watch_checks++) c->watch_h0 = c->watch_hmin = e[0], c->watch_kmax = 0;
+  c->watch_kmax = PetscMax(c->watch_kmax, e[1]);
+  PetscCall(PetscInfo(NULL, "energy watch: load step %" PetscInt_FMT ", te step %" PetscInt_FMT ": H %.10e J (first %.10e, lowest %.10e), kinetic %.4e J (largest %.4e)\n",
+                      fab->load.load_step, n, (double) e[0], (double) c->watch_h0, (double) c->watch_hmin, (double) e[1], (double) c->watch_kmax));
+  /* grown by more than the fraction of what the round released and of the largest kinetic energy
+     (the scale of what H's kinetic part can swing by on a nonlinear chain) */
+  if (e[0] - c->watch_hmin > fab->s.num.energy_watch * (c->watch_h0 - c->watch_hmin + c->watch_kmax))
+    PetscCall(StopPumping(fab, n, c->watch_h0, c->watch_hmin, e[0]));
+  c->watch_hmin = PetscMin(c->watch_hmin, e[0]);
+  PetscFunctionReturn(0);
+}
