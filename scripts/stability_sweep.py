@@ -83,15 +83,26 @@ BASE_S = ("-test square -gravity 0,0,0 -warp_break_pct 0 -weft_break_pct 0 -gaug
           "-weft_crimp_pct 0 -bending 0 -shear 0 -point_load_N 0,0,0.5 -load_steps 12 -predict none -balance_tol 1e-6 "
           "-speed_tol 1e-6 -damping_ratio 0.05 -max_inner_steps 100000")
 
-BASES = {"L": BASE_L, "C": BASE_C, "T": BASE_T, "Q": BASE_Q, "S": BASE_S}
+# N: the square net of inputs/square_net.yaml scaled to 101 x 101 crossings (41.67 mm; crimped
+# cotton yarns with bending and shear, gravity), its central 0.5 N in one load step: a slack net
+# whose slow mode is transverse, and whose yarns cross the yarn law's kink at zero strain (the
+# damped scheme below its best damping rings there and can pump energy). Reference: the
+# quasi-static solution, 1.55717084 mm (`-solver static -balance_tol 1e-8`, docs/relaxation.md);
+# compared: the loaded crossing's travel.
+BASE_N = ("-scene inputs/square_net.yaml -gauge_mm 41.6666667 -width_mm 41.6666667 -load_steps 1 "
+          "-balance_tol 1e-6 -max_inner_steps 200000")
+NET_REFERENCE_MM = 1.55717084
+
+BASES = {"L": BASE_L, "C": BASE_C, "T": BASE_T, "Q": BASE_Q, "S": BASE_S, "N": BASE_N}
 BASE_TEXT = {
     "L": "linear strip: 10 uncrimped yarns, 20 mm (49 x 10 crossings), 2 % in 4 load steps, no prediction; exact force = n_yarns EA strain",
     "C": "crimped cotton strip (inputs/strip_warp.yaml, gravity off, 5 mm x 20 mm: 49 x 12), to 20 % in 20 load steps, breaking at 6.5 % yarn strain; exact force = n_yarns T(e) of MODEL.md 5.1, 0 once broken",
     "T": "one yarn (49 crossings), ends fixed, 0.05 N transverse point load at its middle in 10 load steps; exact midpoint deflection (closed form without bending, the discrete chain's balance with bending)",
     "Q": "3 x 3 net (-test square), one free crossing, central point load 0.05 N in 5 load steps; exact deflection from P = 2[2 EA (l/l0 - 1) d/l + 4 B l0 d/l^4]",
     "S": "square net 25 x 25 (10 mm, edges clamped, no bending or shear), central load to 0.5 N in 12 load steps; log-log slope of load vs deflection over the last 6 = 3 (tolerance: 0.1 in the slope)",
+    "N": "inputs/square_net.yaml scaled to 101 x 101 crossings, central 0.5 N in one load step (yarns crossing the kink at zero strain); the loaded crossing's travel against the quasi-static solution 1.55717084 mm",
 }
-TOL = {"L": 1e-4, "C": 1e-4, "T": 1e-4, "Q": 1e-4, "S": 0.1 / 3}
+TOL = {"L": 1e-4, "C": 1e-4, "T": 1e-4, "Q": 1e-4, "S": 0.1 / 3, "N": 1e-5}
 
 
 def gauge_for(n, density_cm=24.0):
@@ -216,6 +227,15 @@ def cases():
     add("net 25x25 slope 3", "S", "", limit=240)
     add("net 25x25 slope 3, damping 1", "S", "-damping_ratio 1", limit=240, note="the default ratio, tuned to the axial mode")
     add("net 25x25 past breaking", "S", "-point_load_N 0,0,20 -warp_break_pct 6.5 -weft_break_pct 6.5 -max_inner_steps 50000", limit=240)
+
+    # --- damping x te safety on the 101 x 101 net: below its best damping the damped scheme rings
+    # at the kink; a run that pumps energy must be stopped by the energy watch, never balanced wrong
+    for d in ("0.01", "0.02", "0.05"):
+        for ts in ("0.5", "0.9"):
+            add("net 101x101 damping %s te %s" % (d, ts), "N", "-damping_ratio %s -te_safety %s" % (d, ts), np_=2, limit=300)
+    add("net 101x101 damping 0.02, energy watch off", "N", "-damping_ratio 0.02 -energy_watch 0", np_=2, limit=300,
+        note="the pumping run without the watch: runs its 200 000 te steps, flagged")
+    add("net 101x101 fire", "N", "-integrator fire", np_=2, limit=300)
 
     # --- corners and ranks
     add("corner: paper te 1.0 no damping 3x3", "L", "-yarns 3 -gauge_mm %s -integrator paper -te_safety 1.0 -damping_ratio 0 -max_inner_steps 20000" % gauge_for(3))
@@ -424,6 +444,12 @@ def net3_rows(args, summ, rows):
     return out
 
 
+def net101_rows(args, summ, rows):
+    """per load step: (figure, travel mm, the quasi-static solution, relative error)"""
+    return [("travel mm at %.3g N" % r["force_N"], r["travel_mm"], NET_REFERENCE_MM,
+             abs(r["travel_mm"] - NET_REFERENCE_MM) / NET_REFERENCE_MM) for r in rows]
+
+
 def slope_check(rows):
     """least-squares log-log slope of load vs deflection over the second half of the load steps"""
     pts = [(math.log(r["travel_mm"]), math.log(r["force_N"])) for r in rows[len(rows) // 2:] if r["travel_mm"] > 0 and r["force_N"] > 0]
@@ -436,7 +462,7 @@ def slope_check(rows):
     return "log-log slope of load vs deflection", slope, 3.0, abs(slope - 3.0) / 3.0
 
 
-ROW_CHECKS = {"L": strip_rows, "C": strip_rows, "Q": net3_rows}
+ROW_CHECKS = {"L": strip_rows, "C": strip_rows, "Q": net3_rows, "N": net101_rows}
 
 
 def self_check():
@@ -656,7 +682,7 @@ def main():
 
     print("## Stability sweep%s\n" % (" (-fast)" if a.fast else ""))
     print("Base cases (every row adds its options to one of them, and `%s -output_dir DIR`):\n" % QUIET)
-    for k in ("L", "C", "T", "Q", "S"):
+    for k in ("L", "C", "T", "Q", "S", "N"):
         if any(c["base"] == k for c in todo):
             print("- **%s**: %s, tolerance %.0e relative.  \n  `%s`" % (k, BASE_TEXT[k], TOL[k], BASES[k]))
     print()

@@ -3,8 +3,10 @@
  *   test_verification -case linear_strip|crimp_knee|wave_speed|transverse_load|
  *                           stable_095|unstable_110|paper_parasitic|square_net|bias_extension|plane_rest|
  *                           pedestal_rest|friction_incline|
- *                           grip_lines|grip_path|drape_measure|spectrum_chain|spectrum_scenes
+ *                           grip_lines|grip_path|drape_measure|spectrum_chain|spectrum_scenes|
+ *                           balance_crossings
  */
+#include "balance.h"
 #include "comm.h"
 #include "integrate.h"
 #include "measure.h"
@@ -812,6 +814,69 @@ static PetscErrorCode DrapeMeasure(void)
     PetscCall(DrapeOutline(fab, &row));
     PetscCall(PetscSNPrintf(what, sizeof what, "waved into %d lobes: %d folds", (int) n, (int) n));
     CheckTrue(what, fab->meas.folds == n, (double) fab->meas.folds);
+  }
+  PetscCall(FabricDestroy(&fab));
+  PetscFunctionReturn(0);
+}
+
+/* The balance test per crossing (balance.c) on the smallest net, 3 x 3 crossings (-test square,
+   edges clamped): one free crossing, uncrimped straight yarns, so that in the flat state its yarn,
+   bending and shear terms are all zero and its forces are its weight m g and the point load P.
+   - Flat state, P = (m |g|, 0, 0) horizontal: residual |P + m g| = sqrt(2) m |g| against the sum
+     of the magnitudes |P| + |m g| = 2 m |g|: the ratio is 1/sqrt(2), at crossing (1, 1), to 1e-12.
+   - Gravity off, P = (0, 0, 0.05 N): ratio |P| / |P| = 1.
+   - Relaxed under P = (0, 0, 0.05 N), -balance_tol 1e-8: every load step balanced, the per-crossing
+     ratio at the end at most 1e-8, and the deflection that of the exact balance
+     P = 2 [2 EA (l/l0 - 1) d/l + 4 B l0 d/l^4] (stability sweep's base Q), to 1e-6. */
+#define NET3 "-test square -gauge_mm 0.8333 -width_mm 0.8333 -warp_crimp_pct 0 -weft_crimp_pct 0 -predict none "
+static PetscErrorCode BalanceCrossingsCase(void)
+{
+  Fabric    fab;
+  PetscReal m = 0, worst, g = 1000; /* m g above the force floor of 1e-6 N */
+  PetscInt  wi, wj;
+  char      opts[512];
+
+  PetscFunctionBeginUser;
+  /* the free crossing's mass, from a first fabric */
+  PetscCall(NewFabric(BASE NET3, &fab));
+  for (PetscInt k = 0; k < fab->grid.nloc; k++)
+    if (fab->grid.inv_m[k] > 0) m = PetscMax(m, fab->grid.mass[k]);
+  PetscCall(GlobalMax(PETSC_COMM_WORLD, &m, 1));
+  PetscCall(FabricDestroy(&fab));
+
+  PetscCall(PetscSNPrintf(opts, sizeof opts, BASE NET3 "-gravity 0,0,%.17g -point_load_N %.17g,0,0", -g, m * g));
+  PetscCall(NewFabric(opts, &fab));
+  fab->load.load_factor = 1.0; /* the whole point load, as at the end of the load program */
+  PetscCall(BalanceCrossings(fab, &worst, &wi, &wj));
+  CheckRel("flat net, P = m|g| horizontal: residual / sum of the force magnitudes at the free crossing", worst,
+           1.0 / PetscSqrtReal(2.0), 1e-12);
+  CheckTrue("... found at crossing (1, 1)", wi == 1 && wj == 1, (double) (10 * wi + wj));
+  PetscCall(FabricDestroy(&fab));
+
+  PetscCall(NewFabric(BASE NET3 "-point_load_N 0,0,0.05", &fab));
+  fab->load.load_factor = 1.0;
+  PetscCall(BalanceCrossings(fab, &worst, &wi, &wj));
+  CheckRel("flat net, P = 0.05 N vertical, no gravity: ratio", worst, 1.0, 1e-12);
+  PetscCall(FabricDestroy(&fab));
+
+  PetscCall(NewFabric(BASE NET3 "-point_load_N 0,0,0.05 -load_steps 5 -balance_tol 1e-8 -speed_tol 1e-8 "
+                                "-max_inner_steps 100000",
+                      &fab));
+  PetscCall(FabricRun(fab));
+  {
+    const CurveRow *r  = &fab->stats.curve[fab->s.load.load_steps - 1];
+    const PetscReal EA = fab->s.yarns.warp.EA, B = fab->s.yarns.warp.bending, l0 = fab->grid.patch.ax, P = 0.05;
+    PetscReal       lo = 0, hi = 10 * l0;
+    for (int it = 0; it < 200; it++) { /* the exact deflection, by bisection on the monotone load */
+      const PetscReal d = 0.5 * (lo + hi), l = PetscSqrtReal(l0 * l0 + d * d);
+      if (2 * (2 * EA * (l / l0 - 1) * d / l + 4 * B * l0 * d / PetscPowReal(l, 4)) > P) hi = d;
+      else lo = d;
+    }
+    CheckTrue("every load step balanced", fab->stats.converged, r->residual);
+    PetscCall(BalanceCrossings(fab, &worst, &wi, &wj));
+    CheckTrue("after the run, every free crossing's residual / its force magnitudes <= -balance_tol 1e-8",
+              worst <= 1e-8, worst);
+    CheckRel("deflection at 0.05 N (exact balance of traction and bending)", r->travel, 0.5 * (lo + hi), 1e-6);
   }
   PetscCall(FabricDestroy(&fab));
   PetscFunctionReturn(0);

@@ -13,6 +13,8 @@ CASE(paper_parasitic, PaperParasitic(), "verification", 300)
 /* the measured stable limit (spectrum.c) against an exact spectrum, and the bound against it */
 CASE(spectrum_chain, SpectrumChain(), "verification", 120)
 CASE(spectrum_scenes, SpectrumScenes(), "verification", 300)
+/* the balance test per crossing against exact ratios, and after a relaxation (balance.c) */
+CASE(balance_crossings, BalanceCrossingsCase(), "verification", 120)
 /* scenes with shapes, clamp regions, rigid bodies, clamp and grip lines and the grip's path */
 CASE(square_net, SquareNet(), "verification;scenes", 120)
 CASE(bias_extension, BiasExtension(), "verification;scenes", 120)
