@@ -26,7 +26,8 @@
 #include <math.h>
 #include <string.h>
 
-#define ENERGY_WATCH_EVERY 256 /* te steps between two watched te steps */
+#define ENERGY_WATCH_EVERY    256  /* te steps between two watched te steps */
+#define ENERGY_WATCH_ROUNDING 1e-9 /* a rise of H below this times the magnitudes it sums is rounding */
 
 /* the global index of owned point k (k = (j - ys) xm + (i - xs)) as a max-reducible key: minus it */
 static PetscReal KeyOf(const Patch *p, PetscInt k)
@@ -140,8 +141,9 @@ PetscErrorCode EnergyWatchBefore(Fabric fab, PetscInt n, PetscBool *due)
 }
 
 /* this rank's part of Pi at positions X (up to a constant): the internal terms, the bodies'
-   penalty, minus the work of gravity and of the point load */
-static PetscErrorCode PotentialEnergy(Fabric fab, Vec X, PetscReal *E)
+   penalty, minus the work of gravity and of the point load; *A: the sum of those parts'
+   magnitudes (the scale of Pi's rounding) */
+static PetscErrorCode PotentialEnergy(Fabric fab, Vec X, PetscReal *E, PetscReal *A)
 {
   const Patch       *p      = &fab->grid.patch;
   const PetscInt     all[4] = {p->xs, p->xs + p->xm, p->ys, p->ys + p->ym};
@@ -153,20 +155,23 @@ static PetscErrorCode PotentialEnergy(Fabric fab, Vec X, PetscReal *E)
   PetscCall(HaloExchange(fab->grid.da, X, fab->state.Xl));
   PetscCall(VecGetArrayRead(fab->state.Xl, &xl));
   *E = InternalEnergy(p, xl, all);
+  *A = PetscAbsReal(*E);
   PetscCall(VecRestoreArrayRead(fab->state.Xl, &xl));
   for (PetscInt q = 0; q < fab->bodies.n; q++) BodyPosition(&fab->bodies.body[q], fab->load.travel_now, c[q]);
   PetscCall(VecGetArrayRead(X, &x));
   for (PetscInt k = 0; k < fab->grid.nloc; k++) {
     if (!(fab->grid.inv_m[k] > 0)) continue;
-    for (int d = 0; d < 3; d++) *E -= fab->grid.mass[k] * g[d] * x[3 * k + d];
+    for (int d = 0; d < 3; d++) *E -= fab->grid.mass[k] * g[d] * x[3 * k + d], *A += PetscAbsReal(fab->grid.mass[k] * g[d] * x[3 * k + d]);
     for (PetscInt q = 0; q < fab->bodies.n; q++) {
-      PetscReal gb[3], Kb[9];
-      *E += BodyEnergy(&fab->bodies.body[q], c[q], x + 3 * k, gb, Kb);
+      PetscReal gb[3], Kb[9], eb = BodyEnergy(&fab->bodies.body[q], c[q], x + 3 * k, gb, Kb);
+      *E += eb, *A += PetscAbsReal(eb);
     }
   }
   if (fab->grid.load_index >= 0)
-    for (int d = 0; d < 3; d++)
-      *E -= fab->load.load_factor * fab->s.load.point_load[d] * x[3 * fab->grid.load_index + d];
+    for (int d = 0; d < 3; d++) {
+      const PetscReal w = fab->load.load_factor * fab->s.load.point_load[d] * x[3 * fab->grid.load_index + d];
+      *E -= w, *A += PetscAbsReal(w);
+    }
   PetscCall(VecRestoreArrayRead(X, &x));
   PetscFunctionReturn(0);
 }
@@ -245,32 +250,36 @@ static PetscErrorCode StopPumping(Fabric fab, PetscInt n, PetscReal h0, PetscRea
 PetscErrorCode EnergyWatchAfter(Fabric fab, PetscInt n)
 {
   const PetscScalar *v0, *v1;
-  PetscReal          e[2]; /* H, and the kinetic energy 1/2 sum m v(n+1/2)^2 */
+  PetscReal          e[3]; /* H, the kinetic energy 1/2 sum m v(n+1/2)^2, and the magnitudes H sums */
   StepControl       *c = &fab->step;
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(EV_Check, 0, 0, 0, 0));
-  PetscCall(PotentialEnergy(fab, fab->state.watch_x, &e[0]));
+  PetscCall(PotentialEnergy(fab, fab->state.watch_x, &e[0], &e[2]));
   e[1] = 0;
   PetscCall(VecGetArrayRead(fab->state.watch_v, &v0));
   PetscCall(VecGetArrayRead(fab->state.V, &v1));
   for (PetscInt k = 0; k < fab->grid.nloc; k++)
     if (fab->grid.inv_m[k] > 0) {
       const PetscReal m = fab->grid.mass[k];
-      e[0] += 0.5 * m * (v0[3 * k] * v1[3 * k] + v0[3 * k + 1] * v1[3 * k + 1] + v0[3 * k + 2] * v1[3 * k + 2]);
+      const PetscReal kin = 0.5 * m * (v0[3 * k] * v1[3 * k] + v0[3 * k + 1] * v1[3 * k + 1] + v0[3 * k + 2] * v1[3 * k + 2]);
+      e[0] += kin, e[2] += PetscAbsReal(kin);
       e[1] += 0.5 * m * (v1[3 * k] * v1[3 * k] + v1[3 * k + 1] * v1[3 * k + 1] + v1[3 * k + 2] * v1[3 * k + 2]);
     }
   PetscCall(VecRestoreArrayRead(fab->state.V, &v1));
   PetscCall(VecRestoreArrayRead(fab->state.watch_v, &v0));
-  PetscCall(GlobalSum(fab->comm, e, 2));
+  PetscCall(GlobalSum(fab->comm, e, 3));
   PetscCall(PetscLogEventEnd(EV_Check, 0, 0, 0, 0));
   if (!c->watch_checks++) c->watch_h0 = c->watch_hmin = e[0], c->watch_kmax = 0;
   c->watch_kmax = PetscMax(c->watch_kmax, e[1]);
   PetscCall(PetscInfo(NULL, "energy watch: load step %" PetscInt_FMT ", te step %" PetscInt_FMT ": H %.10e J (first %.10e, lowest %.10e), kinetic %.4e J (largest %.4e)\n",
                       fab->load.load_step, n, (double) e[0], (double) c->watch_h0, (double) c->watch_hmin, (double) e[1], (double) c->watch_kmax));
   /* grown by more than the fraction of what the round released and of the largest kinetic energy
-     (the scale of what H's kinetic part can swing by on a nonlinear chain) */
-  if (e[0] - c->watch_hmin > fab->s.num.energy_watch * (c->watch_h0 - c->watch_hmin + c->watch_kmax))
+     (the scale of what H's kinetic part can swing by on a nonlinear chain), and by more than
+     H's rounding: H is a sum of parts of magnitude e[2] whose order depends on the ranks (near
+     balance the round releases almost nothing and a rise of 1e-17 J is rounding) */
+  if (e[0] - c->watch_hmin > fab->s.num.energy_watch * (c->watch_h0 - c->watch_hmin + c->watch_kmax) &&
+      e[0] - c->watch_hmin > ENERGY_WATCH_ROUNDING * e[2])
     PetscCall(StopPumping(fab, n, c->watch_h0, c->watch_hmin, e[0]));
   c->watch_hmin = PetscMin(c->watch_hmin, e[0]);
   PetscFunctionReturn(0);
