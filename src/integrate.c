@@ -235,6 +235,29 @@ static void IntegrateFire(PetscInt n, PetscReal dt, PetscReal cv, PetscReal cf, 
 }
 
 
+/* FIRE's terms on one row of n points: the power F.v, |F|^2 and |v|^2 of each free point (0 at a
+   fixed one), F = f + m g, into P, F2, V2; the largest |term| of each into scale[] */
+static void FireTerms(PetscInt n, const PetscReal g[3], const PetscReal *restrict mass,
+                      const PetscReal *restrict inv_m, const PetscReal *restrict f, const PetscReal *restrict v,
+                      PetscReal *restrict P, PetscReal *restrict F2, PetscReal *restrict V2, PetscReal scale[3])
+{
+  PetscReal sp = scale[0], sf = scale[1], sv = scale[2];
+  for (PetscInt k = 0; k < n; k++) {
+    const PetscReal m = mass[k];
+    const int       fr = inv_m[k] > 0;
+    const PetscReal Fx = f[3 * k] + m * g[0], Fy = f[3 * k + 1] + m * g[1], Fz = f[3 * k + 2] + m * g[2];
+    const PetscReal vx = v[3 * k], vy = v[3 * k + 1], vz = v[3 * k + 2];
+    const PetscReal p = Fx * vx + Fy * vy + Fz * vz, a = Fx * Fx + Fy * Fy + Fz * Fz, b = vx * vx + vy * vy + vz * vz;
+    P[k]  = fr ? p : 0.0;
+    F2[k] = fr ? a : 0.0;
+    V2[k] = fr ? b : 0.0;
+    sp    = PetscMax(sp, PetscAbsReal(P[k]));
+    sf    = PetscMax(sf, F2[k]);
+    sv    = PetscMax(sv, V2[k]);
+  }
+  scale[0] = sp, scale[1] = sf, scale[2] = sv;
+}
+
 /* FIRE's decision for this te step, from the forces just computed on box (F) and the velocities:
    the global power P = sum F.v and the norms |F|, |v| over free points, exact sums (the same on
    any number of ranks). Sets the step and the mixing (cv, cf) the sweep applies. */
@@ -244,24 +267,19 @@ static PetscErrorCode FirePower(Fabric fab, const PetscInt box[4], PetscScalar *
   const Patch     *p = &fab->grid.patch;
   const PetscReal *g = fab->load.gravity_now;
   StepControl     *c = &fab->step;
-  PetscReal        sum[3];
+  PetscReal        sum[3], scale[3] = {0, 0, 0};
   PetscInt         cnt = 0, n;
 
   PetscFunctionBeginUser;
   n = (box[1] - box[0]) * (box[3] - box[2]);
-  for (PetscInt j = box[2]; j < box[3]; j++)
-    for (PetscInt i = box[0]; i < box[1]; i++, cnt++) {
-      const PetscInt  k  = (j - p->ys) * p->xm + (i - p->xs);
-      const PetscReal im = fab->grid.inv_m[k], m = fab->grid.mass[k];
-      PetscReal       P = 0, F2 = 0, V2 = 0;
-      if (im > 0)
-        for (int d = 0; d < 3; d++) {
-          const PetscReal F = f[3 * k + d] + m * g[d];
-          P += F * v[3 * k + d], F2 += F * F, V2 += v[3 * k + d] * v[3 * k + d];
-        }
-      c->fire_terms[cnt] = P, c->fire_terms[n + cnt] = F2, c->fire_terms[2 * n + cnt] = V2;
-    }
-  PetscCall(GlobalSumsExact(fab->comm, 3, c->fire_terms, n, sum));
+  for (PetscInt j = box[2]; j < box[3]; j++) {
+    const PetscInt k0 = (j - p->ys) * p->xm + (box[0] - p->xs), nr = box[1] - box[0];
+    FireTerms(nr, g, fab->grid.mass + k0, fab->grid.inv_m + k0, f + 3 * k0, v + 3 * k0, c->fire_terms + cnt,
+              c->fire_terms + n + cnt, c->fire_terms + 2 * n + cnt, scale);
+    cnt += nr;
+  }
+  PetscCall(GlobalMax(fab->comm, scale, 3));
+  PetscCall(GlobalSumsExactScaled(fab->comm, 3, c->fire_terms, n, scale, sum));
   if (!(sum[2] > 0)) /* at rest: nothing to mix, nothing to judge */
     *cv = 1.0, *cf = 0.0;
   else if (sum[0] > 0) {
