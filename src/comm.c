@@ -9,6 +9,7 @@
 
 #include <math.h>
 #include <petscdmda.h>
+#include <string.h>
 
 #define HALO_SHARES "fabric_halo_shares_owned"
 
@@ -127,6 +128,42 @@ void ExactSumScales(PetscInt m, const PetscReal *terms, PetscInt n, PetscReal *s
   }
 }
 
+/* sum of RoundHalfAway(t[k] inv_q), k < n, mod 2^64, for finite inv_q (|t[k] inv_q| <= 2^40 as
+   |t[k]| <= the scale). In blocks, in integer and bit operations only, so that the loop vectorises:
+   adding 1.5 2^52 to y = t inv_q rounds it to the integer the sum's bits hold (halves to even,
+   |y| < 2^51); d = y - that integer is exact, |d| <= 1/2, and a block where some |d| = 1/2 (a half:
+   half-even and half-away may differ) or y is NaN is summed again with RoundHalfAway. As
+   |d| <= 1/2, bits(|d|) + 2^62 - bits(1/2) reaches bit 62 or 63 only at a half or a NaN. */
+#define EXACT_SUM_BLOCK 256
+static unsigned long long QuantisedSum(const PetscReal *t, PetscInt n, PetscReal inv_q)
+{
+  const double       shift = 6755399441055744.0, half = 0.5; /* 1.5 2^52 */
+  unsigned long long bshift, bhalf, flag, total = 0;
+
+  memcpy(&bshift, &shift, sizeof bshift);
+  memcpy(&bhalf, &half, sizeof bhalf);
+  flag = (1ULL << 62) - bhalf;
+  for (PetscInt k0 = 0; k0 < n; k0 += EXACT_SUM_BLOCK) {
+    const PetscInt     nb = PetscMin(EXACT_SUM_BLOCK, n - k0);
+    const PetscReal   *tb = t + k0;
+    unsigned long long s = 0, odd = 0;
+    for (PetscInt k = 0; k < nb; k++) {
+      const double       y = tb[k] * inv_q, z = y + shift, ad = fabs(y - (z - shift));
+      unsigned long long b, c;
+      memcpy(&b, &z, sizeof b);
+      memcpy(&c, &ad, sizeof c);
+      s += b - bshift;
+      odd |= c + flag;
+    }
+    if (odd >> 62) {
+      s = 0;
+      for (PetscInt k = 0; k < nb; k++) s += (unsigned long long) RoundHalfAway(tb[k] * inv_q);
+    }
+    total += s;
+  }
+  return total;
+}
+
 PetscErrorCode GlobalSumsExactScaled(MPI_Comm comm, PetscInt m, const PetscReal *terms, PetscInt n,
                                      const PetscReal *scale, PetscReal *sums)
 {
@@ -139,15 +176,13 @@ PetscErrorCode GlobalSumsExactScaled(MPI_Comm comm, PetscInt m, const PetscReal 
   PetscCall(PetscMPIIntCast(m, &count));
   for (PetscInt c = 0; c < m; c++) {
     if (!(scale[c] > 0) || !isfinite(scale[c])) continue; /* all zero (or a NaN the caller's watch reports) */
-    const PetscReal  inv_q = ldexp(1.0, EXACT_SUM_BITS) / scale[c], *t = terms + c * n;
-    unsigned long long s[2] = {0, 0}; /* integer sums: exact in any order (mod 2^64, as the int64 sum wraps) */
-    PetscInt           k    = 0;
-    for (; k + 2 <= n; k += 2) {
-      s[0] += (unsigned long long) RoundHalfAway(t[k] * inv_q);
-      s[1] += (unsigned long long) RoundHalfAway(t[k + 1] * inv_q);
+    const PetscReal inv_q = ldexp(1.0, EXACT_SUM_BITS) / scale[c], *t = terms + c * n;
+    if (isfinite(inv_q)) isum[c] = (long long) QuantisedSum(t, n, inv_q);
+    else { /* a subnormal scale: y = +-inf or NaN, llround's LLONG_MIN each */
+      unsigned long long s = 0;
+      for (PetscInt k = 0; k < n; k++) s += (unsigned long long) RoundHalfAway(t[k] * inv_q);
+      isum[c] = (long long) s;
     }
-    if (k < n) s[0] += (unsigned long long) RoundHalfAway(t[k] * inv_q);
-    isum[c] = (long long) (s[0] + s[1]);
   }
   PetscCall(PetscLogEventBegin(EV_Reduce, 0, 0, 0, 0));
   PetscCallMPI(MPI_Allreduce(isum, total, count, MPI_LONG_LONG, MPI_SUM, comm));
