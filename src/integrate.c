@@ -333,20 +333,27 @@ static PetscErrorCode StepBackToPeak(Fabric fab, const PetscScalar *v)
    has passed it; at that peak all velocities are set to zero, and the motion starts again
    from there, nearer to rest. It needs no tuning to the spectrum (viscous damping that is
    critical for the fastest of the slow modes overdamps the slowest ones). K feeds back into
-   the positions, so it is an exact sum (GlobalSumsExact): the same on any number of ranks. */
-static PetscErrorCode KineticDamping(Fabric fab)
+   the positions, so it is an exact sum (GlobalSumsExact): the same on any number of ranks.
+   KineticTerms puts each point's energy in ke_terms and their local max in *scale, which the te
+   step's max-reduction makes global; KineticDamping then takes the sum (one reduction). */
+static void KineticTerms(Fabric fab, const PetscScalar *v, PetscReal *scale)
 {
-  PetscScalar *v;
-  PetscReal    ke;
-
-  PetscFunctionBeginUser;
-  PetscCall(VecGetArray(fab->state.V, &v));
   for (PetscInt k = 0; k < fab->grid.nloc; k++)
     fab->step.ke_terms[k] = fab->grid.inv_m[k] > 0
                                 ? 0.5 * fab->grid.mass[k] *
                                       (v[3 * k] * v[3 * k] + v[3 * k + 1] * v[3 * k + 1] + v[3 * k + 2] * v[3 * k + 2])
                                 : 0.0;
-  PetscCall(GlobalSumsExact(fab->comm, 1, fab->step.ke_terms, fab->grid.nloc, &ke));
+  ExactSumScales(1, fab->step.ke_terms, fab->grid.nloc, scale);
+}
+
+static PetscErrorCode KineticDamping(Fabric fab, PetscReal scale)
+{
+  PetscScalar *v;
+  PetscReal    ke;
+
+  PetscFunctionBeginUser;
+  PetscCall(GlobalSumsExactScaled(fab->comm, 1, fab->step.ke_terms, fab->grid.nloc, &scale, &ke));
+  PetscCall(VecGetArray(fab->state.V, &v));
   if (ke < fab->step.ke_prev) { /* past the peak: back to it (MODEL.md 15), and start again from rest there */
     PetscCall(StepBackToPeak(fab, v));
     for (PetscInt k = 0; k < 3 * fab->grid.nloc; k++) v[k] = 0;
@@ -386,12 +393,13 @@ static PetscErrorCode StopNonFinite(Fabric fab)
 
 /* One te step: halo exchange, forces and integration on the points the front and sleeping
    leave to compute, then the global balance test and the stability watch (one max-reduction,
-   which also carries the awake box). Stops with an error on NaN, Inf or runaway motion. */
+   which also carries the awake box and, with kinetic damping, the scale of its exact sum). Stops
+   with an error on NaN, Inf or runaway motion. */
 PetscErrorCode TimeStep(Fabric fab, StepStats *out)
 {
   const Scene    *s = &fab->s;
   const Patch    *p = &fab->grid.patch;
-  PetscReal       tension_max, red[8];
+  PetscReal       tension_max, red[9];
   PetscInt        gbox[4], box[4];
   SweepStats      all = {0, 0, 0, 0, 0};
   PetscScalar    *x, *v, *f, *xold = NULL, *vold = NULL;
@@ -402,7 +410,9 @@ PetscErrorCode TimeStep(Fabric fab, StepStats *out)
                       sleep ? PetscSqr(s->num.speed_tol * s->num.sleep_tol / s->num.balance_tol) : PETSC_MAX_REAL;
   PetscInt alo = PETSC_MAX_INT, ahi = -1, ajlo = PETSC_MAX_INT, ajhi = -1;
   const PetscBool fire = s->num.integrator == INTEGRATOR_FIRE && !fab->step.tear; /* a tear is dynamics: damped */
-  PetscReal       cv = 1, cf = 0;
+  PetscReal       cv = 1, cf = 0, ke_scale = 0;
+  const PetscBool kinetic = s->num.kinetic_damping && !fab->step.tear;
+  PetscInt        nred    = sleep ? 8 : 4;
 
   PetscFunctionBeginUser;
   fab->stats.point_updates += FrontStepBox(fab, gbox, box);
@@ -439,6 +449,7 @@ PetscErrorCode TimeStep(Fabric fab, StepStats *out)
       }
     }
   }
+  if (kinetic) KineticTerms(fab, v, &ke_scale);
   if (xold) {
     PetscCall(VecRestoreArray(fab->state.Xold, &xold));
     PetscCall(VecRestoreArray(fab->state.Vold, &vold));
@@ -454,7 +465,8 @@ PetscErrorCode TimeStep(Fabric fab, StepStats *out)
   red[3] = isfinite(all.v2sum) ? 0.0 : 1.0;
   red[4] = -(PetscReal) alo, red[5] = (PetscReal) ahi, red[6] = -(PetscReal) ajlo,
   red[7] = (PetscReal) ajhi; /* awake box */
-  PetscCall(GlobalMax(fab->comm, red, sleep ? 8 : 4));
+  if (kinetic) red[nred++] = ke_scale;
+  PetscCall(GlobalMax(fab->comm, red, nred));
   if (sleep) {
     fab->front.awake_box[0] = (PetscInt) -red[4], fab->front.awake_box[1] = (PetscInt) red[5];
     fab->front.awake_box[2] = (PetscInt) -red[6], fab->front.awake_box[3] = (PetscInt) red[7];
@@ -470,7 +482,7 @@ PetscErrorCode TimeStep(Fabric fab, StepStats *out)
              "bound %g s)",
              fab->load.load_step, fab->stats.te_steps, (double) (out->speed * fab->step.te), (double) fab->grid.extent,
              (double) fab->step.te, (double) fab->step.te_bound);
-  if (s->num.kinetic_damping && !fab->step.tear) PetscCall(KineticDamping(fab));
+  if (kinetic) PetscCall(KineticDamping(fab, red[nred - 1]));
   out->balanced  = (out->residual <= s->num.balance_tol && out->speed <= s->num.speed_tol &&
                    fab->load.ramp_done >= fab->load.ramp_steps)
                        ? PETSC_TRUE
