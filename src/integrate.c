@@ -236,7 +236,8 @@ static void IntegrateFire(PetscInt n, PetscReal dt, PetscReal cv, PetscReal cf, 
 
 
 /* FIRE's terms on one row of n points: the power F.v, |F|^2 and |v|^2 of each free point (0 at a
-   fixed one), F = f + m g, into P, F2, V2; the largest |term| of each into scale[] */
+   fixed one), F = f + m g, into P, F2, V2; the largest |term| of each into scale[]. (A sum
+   started at 0 differs from these only in the sign of a zero, which the exact sums do not see.) */
 static void FireTerms(PetscInt n, const PetscReal g[3], const PetscReal *restrict mass,
                       const PetscReal *restrict inv_m, const PetscReal *restrict f, const PetscReal *restrict v,
                       PetscReal *restrict P, PetscReal *restrict F2, PetscReal *restrict V2, PetscReal scale[3])
