@@ -19,6 +19,12 @@ PetscErrorCode GlobalSum(MPI_Comm comm, PetscReal *v, PetscInt n);
 /* exact, rank-independent sums of m <= 4 quantities over all ranks (fixed point): quantity c's n local
    terms at terms[c n ...], its sum into sums[c] */
 PetscErrorCode GlobalSumsExact(MPI_Comm comm, PetscInt m, const PetscReal *terms, PetscInt n, PetscReal *sums);
+/* the same in two parts, so that a caller's own maxima share the first reduction: the local
+   max |term| of each quantity into scale[c] (no communication); then, with scale[] the global
+   maxima (GlobalMax of the local ones), the sums (one reduction) */
+void           ExactSumScales(PetscInt m, const PetscReal *terms, PetscInt n, PetscReal *scale);
+PetscErrorCode GlobalSumsExactScaled(MPI_Comm comm, PetscInt m, const PetscReal *terms, PetscInt n,
+                                     const PetscReal *scale, PetscReal *sums);
 /* integer sums over all ranks, in place: exact; the uint64 one mod 2^64 (checkpoint checksums) */
 PetscErrorCode GlobalSumInt(MPI_Comm comm, PetscInt *v, PetscInt n);
 PetscErrorCode GlobalSumUInt64(MPI_Comm comm, uint64_t *v, PetscInt n);

@@ -8,7 +8,9 @@
 # Table 1: point updates per second per rank (summary.json: the whole run, set-up included)
 # and the 2-rank speed-up. Table 2 (1 rank): the te steps alone (the -log_view times of
 # FabricForce + FabricIntegrate + FabricHalo + FabricReduce), then build/bench_sweep on the
-# same grid: a STREAM-like triad and a plain 4-spring te step (src/bench_sweep.c).
+# same grid: a STREAM-like triad and a plain 4-spring te step (src/bench_sweep.c); last, each
+# of those four events per point update (FabricIntegrate holds FIRE's power pass and its exact
+# sums besides the update).
 # Bytes and flops per point update are counted from the code (docs/performance.md):
 #   bytes: the arrays a te step must stream once per point, 1 rank: force kernel x 24 read,
 #     exists + broken_x + broken_y 3, f 24 written; integration f 24, mass 8, inv_m 8, x 24 read
@@ -38,11 +40,13 @@ done
 echo
 # the te steps' time on 1 rank, from -log_view (max over ranks, 4th field)
 step_s=$(awk '/^Fabric(Force|Integrate|Halo|Reduce) / {t += $4} END {print t}' "$work/log1.txt")
+events=$(awk '/^Fabric(Force|Integrate|Halo|Reduce) / {printf "%s=%s ", $1, $4}' "$work/log1.txt")
 line=$(mpiexec -n 1 build/bench_sweep -scene inputs/square_1000.yaml -bench_sweeps 20 | tail -n 1)
-/usr/bin/python3 - "$updates1" "$step_s" "$line" $BYTES $FLOPS $SPRING_BYTES <<'EOF'
+/usr/bin/python3 - "$updates1" "$step_s" "$line" $BYTES $FLOPS $SPRING_BYTES "$events" <<'EOF'
 import sys
 updates, step_s, line = float(sys.argv[1]), float(sys.argv[2]), sys.argv[3]
 B, F, SB = (float(a) for a in sys.argv[4:7])
+ev = dict(w.split("=") for w in sys.argv[7].split())
 kv = dict(w.split("=") for w in line.split())
 rate = updates / step_s
 spring = float(kv["spring_rate"])
@@ -51,4 +55,7 @@ print(f"{'ranks':<6} {'steps_updates/s':>16} {'bytes/upd':>10} {'flops/upd':>10}
 print(f"{1:<6} {rate:16.3e} {B:10.0f} {F:10.0f} {rate * B / 1e9:7.2f} {rate * F / 1e9:8.2f}"
       f" {float(kv['triad_GBps']):11.2f} {spring:13.3e} {spring * SB / 1e9:12.2f} {rate / spring:10.2f}")
 print(f"bench_sweep, ns per point: halo {kv['halo_ns']}, force kernel {kv['force_ns']}, spring te step {kv['spring_ns']}")
+print("te step events (1 rank), ns per point update: " +
+      ", ".join(f"{k[6:]} {1e9 * float(ev[k]) / updates:.2f}" for k in
+                ("FabricForce", "FabricIntegrate", "FabricHalo", "FabricReduce") if k in ev))
 EOF

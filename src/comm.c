@@ -9,6 +9,7 @@
 
 #include <math.h>
 #include <petscdmda.h>
+#include <string.h>
 
 #define HALO_SHARES "fabric_halo_shares_owned"
 
@@ -100,26 +101,88 @@ PetscErrorCode GlobalSum(MPI_Comm comm, PetscReal *v, PetscInt n)
    dynamics (kinetic damping, FIRE) must be taken this way: a floating-point sum depends on the
    order of the terms. The quantisation error is at most n q / 2 = n max|term| 2^-41; the integer
    sum cannot overflow below 2^22 terms per unit of max |term| (8 M points at the max each). Two
-   reductions for all m quantities. */
+   reductions for all m quantities: the max (GlobalMax, which a caller may share with its own
+   maxima, then GlobalSumsExactScaled) and the integer sum. */
 #define EXACT_SUM_BITS 40
 #define EXACT_SUMS_MAX 4
-PetscErrorCode GlobalSumsExact(MPI_Comm comm, PetscInt m, const PetscReal *terms, PetscInt n, PetscReal *sums)
+
+/* x rounded to the nearest integer, halves away from zero: llround's result for |x| < 2^62
+   (NaN: LLONG_MIN, as llround on x86-64), without a library call. k truncates x; x - k is exact. */
+static inline long long RoundHalfAway(double x)
 {
-  PetscReal scale[EXACT_SUMS_MAX] = {0};
-  long long isum[EXACT_SUMS_MAX] = {0}, total[EXACT_SUMS_MAX];
+  const long long k = (long long) x;
+  const double    d = x - (double) k;
+  return k + (d >= 0.5) - (d <= -0.5);
+}
+
+void ExactSumScales(PetscInt m, const PetscReal *terms, PetscInt n, PetscReal *scale)
+{
+  for (PetscInt c = 0; c < m; c++) {
+    const PetscReal *t = terms + c * n;
+    PetscReal        s[4] = {0, 0, 0, 0}; /* max is exact in any order (a NaN term is skipped, as PetscMax does) */
+    PetscInt         k    = 0;
+    for (; k + 4 <= n; k += 4)
+      for (int l = 0; l < 4; l++) s[l] = PetscMax(s[l], PetscAbsReal(t[k + l]));
+    for (; k < n; k++) s[0] = PetscMax(s[0], PetscAbsReal(t[k]));
+    scale[c] = PetscMax(PetscMax(s[0], s[1]), PetscMax(s[2], s[3]));
+  }
+}
+
+/* sum of RoundHalfAway(t[k] inv_q), k < n, mod 2^64, for finite inv_q (|t[k] inv_q| <= 2^40 as
+   |t[k]| <= the scale). In blocks, in integer and bit operations only, so that the loop vectorises:
+   adding 1.5 2^52 to y = t inv_q rounds it to the integer the sum's bits hold (halves to even,
+   |y| < 2^51); d = y - that integer is exact, |d| <= 1/2, and a block where some |d| = 1/2 (a half:
+   half-even and half-away may differ) or y is NaN is summed again with RoundHalfAway. As
+   |d| <= 1/2, bits(|d|) + 2^62 - bits(1/2) reaches bit 62 or 63 only at a half or a NaN. */
+#define EXACT_SUM_BLOCK 256
+static unsigned long long QuantisedSum(const PetscReal *t, PetscInt n, PetscReal inv_q)
+{
+  const double       shift = 6755399441055744.0, half = 0.5; /* 1.5 2^52 */
+  unsigned long long bshift, bhalf, flag, total = 0;
+
+  memcpy(&bshift, &shift, sizeof bshift);
+  memcpy(&bhalf, &half, sizeof bhalf);
+  flag = (1ULL << 62) - bhalf;
+  for (PetscInt k0 = 0; k0 < n; k0 += EXACT_SUM_BLOCK) {
+    const PetscInt     nb = PetscMin(EXACT_SUM_BLOCK, n - k0);
+    const PetscReal   *tb = t + k0;
+    unsigned long long s = 0, odd = 0;
+    for (PetscInt k = 0; k < nb; k++) {
+      const double       y = tb[k] * inv_q, z = y + shift, ad = fabs(y - (z - shift));
+      unsigned long long b, c;
+      memcpy(&b, &z, sizeof b);
+      memcpy(&c, &ad, sizeof c);
+      s += b - bshift;
+      odd |= c + flag;
+    }
+    if (odd >> 62) {
+      s = 0;
+      for (PetscInt k = 0; k < nb; k++) s += (unsigned long long) RoundHalfAway(tb[k] * inv_q);
+    }
+    total += s;
+  }
+  return total;
+}
+
+PetscErrorCode GlobalSumsExactScaled(MPI_Comm comm, PetscInt m, const PetscReal *terms, PetscInt n,
+                                     const PetscReal *scale, PetscReal *sums)
+{
+  long long   isum[EXACT_SUMS_MAX] = {0}, total[EXACT_SUMS_MAX];
   PetscMPIInt count;
 
   PetscFunctionBeginUser;
   PetscCheck(m >= 1 && m <= EXACT_SUMS_MAX, comm, PETSC_ERR_ARG_OUTOFRANGE, "%" PetscInt_FMT " exact sums at once, at most %d",
              m, EXACT_SUMS_MAX);
   PetscCall(PetscMPIIntCast(m, &count));
-  for (PetscInt c = 0; c < m; c++)
-    for (PetscInt k = 0; k < n; k++) scale[c] = PetscMax(scale[c], PetscAbsReal(terms[c * n + k]));
-  PetscCall(GlobalMax(comm, scale, m));
   for (PetscInt c = 0; c < m; c++) {
     if (!(scale[c] > 0) || !isfinite(scale[c])) continue; /* all zero (or a NaN the caller's watch reports) */
-    const PetscReal inv_q = ldexp(1.0, EXACT_SUM_BITS) / scale[c];
-    for (PetscInt k = 0; k < n; k++) isum[c] += llround(terms[c * n + k] * inv_q);
+    const PetscReal inv_q = ldexp(1.0, EXACT_SUM_BITS) / scale[c], *t = terms + c * n;
+    if (isfinite(inv_q)) isum[c] = (long long) QuantisedSum(t, n, inv_q);
+    else { /* a subnormal scale: y = +-inf or NaN, llround's LLONG_MIN each */
+      unsigned long long s = 0;
+      for (PetscInt k = 0; k < n; k++) s += (unsigned long long) RoundHalfAway(t[k] * inv_q);
+      isum[c] = (long long) s;
+    }
   }
   PetscCall(PetscLogEventBegin(EV_Reduce, 0, 0, 0, 0));
   PetscCallMPI(MPI_Allreduce(isum, total, count, MPI_LONG_LONG, MPI_SUM, comm));
@@ -127,6 +190,19 @@ PetscErrorCode GlobalSumsExact(MPI_Comm comm, PetscInt m, const PetscReal *terms
   for (PetscInt c = 0; c < m; c++)
     sums[c] = (scale[c] > 0 && isfinite(scale[c])) ? (PetscReal) total[c] * (scale[c] / ldexp(1.0, EXACT_SUM_BITS))
                                                    : (scale[c] > 0 ? scale[c] : 0.0);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode GlobalSumsExact(MPI_Comm comm, PetscInt m, const PetscReal *terms, PetscInt n, PetscReal *sums)
+{
+  PetscReal scale[EXACT_SUMS_MAX] = {0};
+
+  PetscFunctionBeginUser;
+  PetscCheck(m >= 1 && m <= EXACT_SUMS_MAX, comm, PETSC_ERR_ARG_OUTOFRANGE, "%" PetscInt_FMT " exact sums at once, at most %d",
+             m, EXACT_SUMS_MAX);
+  ExactSumScales(m, terms, n, scale);
+  PetscCall(GlobalMax(comm, scale, m));
+  PetscCall(GlobalSumsExactScaled(comm, m, terms, n, scale, sums));
   PetscFunctionReturn(0);
 }
 

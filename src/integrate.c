@@ -235,6 +235,30 @@ static void IntegrateFire(PetscInt n, PetscReal dt, PetscReal cv, PetscReal cf, 
 }
 
 
+/* FIRE's terms on one row of n points: the power F.v, |F|^2 and |v|^2 of each free point (0 at a
+   fixed one), F = f + m g, into P, F2, V2; the largest |term| of each into scale[]. (A sum
+   started at 0 differs from these only in the sign of a zero, which the exact sums do not see.) */
+static void FireTerms(PetscInt n, const PetscReal g[3], const PetscReal *restrict mass,
+                      const PetscReal *restrict inv_m, const PetscReal *restrict f, const PetscReal *restrict v,
+                      PetscReal *restrict P, PetscReal *restrict F2, PetscReal *restrict V2, PetscReal scale[3])
+{
+  PetscReal sp = scale[0], sf = scale[1], sv = scale[2];
+  for (PetscInt k = 0; k < n; k++) {
+    const PetscReal m = mass[k];
+    const int       fr = inv_m[k] > 0;
+    const PetscReal Fx = f[3 * k] + m * g[0], Fy = f[3 * k + 1] + m * g[1], Fz = f[3 * k + 2] + m * g[2];
+    const PetscReal vx = v[3 * k], vy = v[3 * k + 1], vz = v[3 * k + 2];
+    const PetscReal p = Fx * vx + Fy * vy + Fz * vz, a = Fx * Fx + Fy * Fy + Fz * Fz, b = vx * vx + vy * vy + vz * vz;
+    P[k]  = fr ? p : 0.0;
+    F2[k] = fr ? a : 0.0;
+    V2[k] = fr ? b : 0.0;
+    sp    = PetscMax(sp, PetscAbsReal(P[k]));
+    sf    = PetscMax(sf, F2[k]);
+    sv    = PetscMax(sv, V2[k]);
+  }
+  scale[0] = sp, scale[1] = sf, scale[2] = sv;
+}
+
 /* FIRE's decision for this te step, from the forces just computed on box (F) and the velocities:
    the global power P = sum F.v and the norms |F|, |v| over free points, exact sums (the same on
    any number of ranks). Sets the step and the mixing (cv, cf) the sweep applies. */
@@ -244,24 +268,19 @@ static PetscErrorCode FirePower(Fabric fab, const PetscInt box[4], PetscScalar *
   const Patch     *p = &fab->grid.patch;
   const PetscReal *g = fab->load.gravity_now;
   StepControl     *c = &fab->step;
-  PetscReal        sum[3];
+  PetscReal        sum[3], scale[3] = {0, 0, 0};
   PetscInt         cnt = 0, n;
 
   PetscFunctionBeginUser;
   n = (box[1] - box[0]) * (box[3] - box[2]);
-  for (PetscInt j = box[2]; j < box[3]; j++)
-    for (PetscInt i = box[0]; i < box[1]; i++, cnt++) {
-      const PetscInt  k  = (j - p->ys) * p->xm + (i - p->xs);
-      const PetscReal im = fab->grid.inv_m[k], m = fab->grid.mass[k];
-      PetscReal       P = 0, F2 = 0, V2 = 0;
-      if (im > 0)
-        for (int d = 0; d < 3; d++) {
-          const PetscReal F = f[3 * k + d] + m * g[d];
-          P += F * v[3 * k + d], F2 += F * F, V2 += v[3 * k + d] * v[3 * k + d];
-        }
-      c->fire_terms[cnt] = P, c->fire_terms[n + cnt] = F2, c->fire_terms[2 * n + cnt] = V2;
-    }
-  PetscCall(GlobalSumsExact(fab->comm, 3, c->fire_terms, n, sum));
+  for (PetscInt j = box[2]; j < box[3]; j++) {
+    const PetscInt k0 = (j - p->ys) * p->xm + (box[0] - p->xs), nr = box[1] - box[0];
+    FireTerms(nr, g, fab->grid.mass + k0, fab->grid.inv_m + k0, f + 3 * k0, v + 3 * k0, c->fire_terms + cnt,
+              c->fire_terms + n + cnt, c->fire_terms + 2 * n + cnt, scale);
+    cnt += nr;
+  }
+  PetscCall(GlobalMax(fab->comm, scale, 3));
+  PetscCall(GlobalSumsExactScaled(fab->comm, 3, c->fire_terms, n, scale, sum));
   if (!(sum[2] > 0)) /* at rest: nothing to mix, nothing to judge */
     *cv = 1.0, *cf = 0.0;
   else if (sum[0] > 0) {
@@ -315,20 +334,27 @@ static PetscErrorCode StepBackToPeak(Fabric fab, const PetscScalar *v)
    has passed it; at that peak all velocities are set to zero, and the motion starts again
    from there, nearer to rest. It needs no tuning to the spectrum (viscous damping that is
    critical for the fastest of the slow modes overdamps the slowest ones). K feeds back into
-   the positions, so it is an exact sum (GlobalSumsExact): the same on any number of ranks. */
-static PetscErrorCode KineticDamping(Fabric fab)
+   the positions, so it is an exact sum (GlobalSumsExact): the same on any number of ranks.
+   KineticTerms puts each point's energy in ke_terms and their local max in *scale, which the te
+   step's max-reduction makes global; KineticDamping then takes the sum (one reduction). */
+static void KineticTerms(Fabric fab, const PetscScalar *v, PetscReal *scale)
 {
-  PetscScalar *v;
-  PetscReal    ke;
-
-  PetscFunctionBeginUser;
-  PetscCall(VecGetArray(fab->state.V, &v));
   for (PetscInt k = 0; k < fab->grid.nloc; k++)
     fab->step.ke_terms[k] = fab->grid.inv_m[k] > 0
                                 ? 0.5 * fab->grid.mass[k] *
                                       (v[3 * k] * v[3 * k] + v[3 * k + 1] * v[3 * k + 1] + v[3 * k + 2] * v[3 * k + 2])
                                 : 0.0;
-  PetscCall(GlobalSumsExact(fab->comm, 1, fab->step.ke_terms, fab->grid.nloc, &ke));
+  ExactSumScales(1, fab->step.ke_terms, fab->grid.nloc, scale);
+}
+
+static PetscErrorCode KineticDamping(Fabric fab, PetscReal scale)
+{
+  PetscScalar *v;
+  PetscReal    ke;
+
+  PetscFunctionBeginUser;
+  PetscCall(GlobalSumsExactScaled(fab->comm, 1, fab->step.ke_terms, fab->grid.nloc, &scale, &ke));
+  PetscCall(VecGetArray(fab->state.V, &v));
   if (ke < fab->step.ke_prev) { /* past the peak: back to it (MODEL.md 15), and start again from rest there */
     PetscCall(StepBackToPeak(fab, v));
     for (PetscInt k = 0; k < 3 * fab->grid.nloc; k++) v[k] = 0;
@@ -368,12 +394,13 @@ static PetscErrorCode StopNonFinite(Fabric fab)
 
 /* One te step: halo exchange, forces and integration on the points the front and sleeping
    leave to compute, then the global balance test and the stability watch (one max-reduction,
-   which also carries the awake box). Stops with an error on NaN, Inf or runaway motion. */
+   which also carries the awake box and, with kinetic damping, the scale of its exact sum). Stops
+   with an error on NaN, Inf or runaway motion. */
 PetscErrorCode TimeStep(Fabric fab, StepStats *out)
 {
   const Scene    *s = &fab->s;
   const Patch    *p = &fab->grid.patch;
-  PetscReal       tension_max, red[8];
+  PetscReal       tension_max, red[9];
   PetscInt        gbox[4], box[4];
   SweepStats      all = {0, 0, 0, 0, 0};
   PetscScalar    *x, *v, *f, *xold = NULL, *vold = NULL;
@@ -384,7 +411,9 @@ PetscErrorCode TimeStep(Fabric fab, StepStats *out)
                       sleep ? PetscSqr(s->num.speed_tol * s->num.sleep_tol / s->num.balance_tol) : PETSC_MAX_REAL;
   PetscInt alo = PETSC_MAX_INT, ahi = -1, ajlo = PETSC_MAX_INT, ajhi = -1;
   const PetscBool fire = s->num.integrator == INTEGRATOR_FIRE && !fab->step.tear; /* a tear is dynamics: damped */
-  PetscReal       cv = 1, cf = 0;
+  PetscReal       cv = 1, cf = 0, ke_scale = 0;
+  const PetscBool kinetic = s->num.kinetic_damping && !fab->step.tear;
+  PetscInt        nred    = sleep ? 8 : 4;
 
   PetscFunctionBeginUser;
   fab->stats.point_updates += FrontStepBox(fab, gbox, box);
@@ -421,6 +450,7 @@ PetscErrorCode TimeStep(Fabric fab, StepStats *out)
       }
     }
   }
+  if (kinetic) KineticTerms(fab, v, &ke_scale);
   if (xold) {
     PetscCall(VecRestoreArray(fab->state.Xold, &xold));
     PetscCall(VecRestoreArray(fab->state.Vold, &vold));
@@ -436,7 +466,8 @@ PetscErrorCode TimeStep(Fabric fab, StepStats *out)
   red[3] = isfinite(all.v2sum) ? 0.0 : 1.0;
   red[4] = -(PetscReal) alo, red[5] = (PetscReal) ahi, red[6] = -(PetscReal) ajlo,
   red[7] = (PetscReal) ajhi; /* awake box */
-  PetscCall(GlobalMax(fab->comm, red, sleep ? 8 : 4));
+  if (kinetic) red[nred++] = ke_scale;
+  PetscCall(GlobalMax(fab->comm, red, nred));
   if (sleep) {
     fab->front.awake_box[0] = (PetscInt) -red[4], fab->front.awake_box[1] = (PetscInt) red[5];
     fab->front.awake_box[2] = (PetscInt) -red[6], fab->front.awake_box[3] = (PetscInt) red[7];
@@ -452,7 +483,7 @@ PetscErrorCode TimeStep(Fabric fab, StepStats *out)
              "bound %g s)",
              fab->load.load_step, fab->stats.te_steps, (double) (out->speed * fab->step.te), (double) fab->grid.extent,
              (double) fab->step.te, (double) fab->step.te_bound);
-  if (s->num.kinetic_damping && !fab->step.tear) PetscCall(KineticDamping(fab));
+  if (kinetic) PetscCall(KineticDamping(fab, red[nred - 1]));
   out->balanced  = (out->residual <= s->num.balance_tol && out->speed <= s->num.speed_tol &&
                    fab->load.ramp_done >= fab->load.ramp_steps)
                        ? PETSC_TRUE
