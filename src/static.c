@@ -46,6 +46,12 @@ typedef struct {                          /* the solver's own options (ReadOptio
   PetscBool line_smoother;            /* multigrid levels smoothed by block lines (LineSmoother) */
 } StaticOptions;
 
+typedef struct {   /* three grid rows of block rows, the ghost points either side included */
+  PetscReal *buf[3]; /* grid row j in buf[(j - ys + 1) % 3]: per point (xs - 1 ... xs + xm) ROW_SLOTS 3x3 blocks */
+  PetscInt   jo;     /* the row whose owners are being visited */
+  PetscBool  used[13]; /* the slots of the terms' stencil */
+} RowRing;
+
 struct _p_StaticSolver {
   Fabric         fab;
   SNES           snes;
@@ -60,6 +66,7 @@ struct _p_StaticSolver {
   PetscReal      lh[3];    /* their load factors */
   PetscInt       nhist;
   StaticOptions  opt;
+  RowRing        ring; /* the tangent's block rows being accumulated (FormJacobian) */
 };
 
 /* gravity on the free owned points and the residual rows of the held ones */
@@ -126,28 +133,107 @@ static PetscErrorCode FormObjective(SNES snes, Vec U, PetscReal *pi, void *ctx)
   PetscFunctionReturn(0);
 }
 
-/* a TermBlocksFn: the blocks between free crossings only (rows and columns of held ones zeroed) */
+/* The tangent is assembled by rows. An instance owned by a point of grid row j (a segment, a
+   bending centre, a shear crossing) has its points within one of its owner, so it adds only to
+   the block rows of grid rows j-1, j and j+1: those three rows (with the ghost points either side
+   of the patch) are accumulated in a ring of row buffers while the owners of row j are visited,
+   and row j-1, then complete, is inserted, one MatSetValuesBlockedLocal per crossing. A block row
+   has a slot per stencil neighbour: (di, dj) in the 3x3 box and (+-2, 0), (0, +-2) (bending). */
+#define ROW_SLOTS 13
+static const int SlotDi[ROW_SLOTS] = {0, -1, 0, 1, -2, -1, 0, 1, 2, -1, 0, 1, 0};
+static const int SlotDj[ROW_SLOTS] = {-2, -1, -1, -1, 0, 0, 0, 0, 0, 1, 1, 1, 2};
+#define SLOT_CENTRE 6
+
+static inline int SlotOf(PetscInt di, PetscInt dj)
+{
+  static const int slot[5][5] = {{-1, -1, 0, -1, -1}, {-1, 1, 2, 3, -1}, {4, 5, 6, 7, 8}, {-1, 9, 10, 11, -1}, {-1, -1, 12, -1, -1}};
+  return (di < -2 || di > 2 || dj < -2 || dj > 2) ? -1 : slot[dj + 2][di + 2];
+}
+
+/* the slots a tangent of these terms fills: the star of width 1 (traction), the box's corners
+   with shear, the points two apart along a yarn with bending */
+static PetscBool SlotUsed(const Patch *p, int s)
+{
+  const int ai = PetscAbsInt(SlotDi[s]), aj = PetscAbsInt(SlotDj[s]);
+  if (ai + aj <= 1) return PETSC_TRUE;
+  if (ai == 1 && aj == 1) return p->shear;
+  return p->bending;
+}
+
+/* a TermBlocksFn: adds the blocks between free crossings (those of held ones are left out) to
+   the rows of the ring */
 static PetscErrorCode AddFreeBlocks(void *ctx, PetscInt n, const PetscInt i[], const PetscInt j[], const PetscReal K[])
 {
   StaticSolver ss = (StaticSolver) ctx;
+  RowRing     *rr = &ss->ring;
   const Patch *p  = &ss->fab->grid.patch;
-  PetscReal    Kf[9 * TERM_MAX_POINTS * TERM_MAX_POINTS];
-  MatStencil   st[TERM_MAX_POINTS];
   int          held[TERM_MAX_POINTS];
 
   PetscFunctionBeginUser;
-  for (PetscInt q = 0; q < n; q++) {
-    held[q] = !ss->free_g[(j[q] - p->gys) * p->gxm + (i[q] - p->gxs)];
-    st[q]   = (MatStencil){.k = 0, .j = j[q], .i = i[q], .c = 0};
+  for (PetscInt q = 0; q < n; q++) held[q] = !ss->free_g[(j[q] - p->gys) * p->gxm + (i[q] - p->gxs)];
+  for (PetscInt a = 0; a < n; a++) {
+    PetscReal *row;
+    if (held[a]) continue;
+    PetscCheck(j[a] >= rr->jo - 1 && j[a] <= rr->jo + 1 && i[a] >= p->xs - 1 && i[a] <= p->xs + p->xm, PETSC_COMM_SELF,
+               PETSC_ERR_PLIB, "a tangent block of row (%" PetscInt_FMT ", %" PetscInt_FMT ") from an owner in row %" PetscInt_FMT,
+               i[a], j[a], rr->jo);
+    row = rr->buf[(j[a] - p->ys + 1) % 3] + 9 * ROW_SLOTS * (i[a] - p->xs + 1);
+    for (PetscInt b = 0; b < n; b++) {
+      const int s = held[b] ? -1 : SlotOf(i[b] - i[a], j[b] - j[a]);
+      if (held[b]) continue;
+      PetscCheck(s >= 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "a tangent block outside the stencil");
+      for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) row[9 * s + 3 * r + c] += K[(3 * a + r) * 3 * n + 3 * b + c];
+    }
   }
-  for (PetscInt a = 0; a < 3 * n; a++)
-    for (PetscInt b = 0; b < 3 * n; b++) Kf[a * 3 * n + b] = (held[a / 3] || held[b / 3]) ? 0.0 : K[a * 3 * n + b];
-  PetscCall(MatSetValuesBlockedStencil(ss->J, n, st, n, st, Kf, ADD_VALUES));
   PetscFunctionReturn(0);
 }
 
-/* the pretension shift k_s I on the segments of the owned points (each owns its +x and +y segment) */
-static PetscErrorCode AddShift(StaticSolver ss)
+/* inserts the block rows of grid row jr held in the ring and clears them: an owned crossing's row
+   with every slot of the stencil inside the grid (zeros too, so that the matrix keeps one nonzero
+   structure), a ghost crossing's with its nonzero blocks only (they go to the owner at assembly) */
+static PetscErrorCode FlushRow(StaticSolver ss, PetscInt jr)
+{
+  RowRing     *rr = &ss->ring;
+  const Patch *p  = &ss->fab->grid.patch;
+  PetscReal   *buf;
+  PetscInt     gxs, gys, gxm, gym, zs, zm;
+
+  PetscFunctionBeginUser;
+  if (jr < p->ys - 1) PetscFunctionReturn(0);
+  buf = rr->buf[(jr - p->ys + 1) % 3];
+  if (jr >= 0 && jr < p->ny) {
+    PetscCall(DMDAGetGhostCorners(ss->dm, &gxs, &gys, &zs, &gxm, &gym, &zm));
+    for (PetscInt i = PetscMax(p->xs - 1, 0); i < PetscMin(p->xs + p->xm + 1, p->nx); i++) {
+      const PetscReal *row   = buf + 9 * ROW_SLOTS * (i - p->xs + 1);
+      const PetscBool  owned = (i >= p->xs && i < p->xs + p->xm && jr >= p->ys && jr < p->ys + p->ym) ? PETSC_TRUE : PETSC_FALSE;
+      const PetscInt   lrow  = (jr - gys) * gxm + (i - gxs);
+      PetscInt         nc    = 0, cols[ROW_SLOTS];
+      int              sl[ROW_SLOTS];
+      PetscReal        vals[9 * ROW_SLOTS];
+      for (int s = 0; s < ROW_SLOTS; s++) {
+        const PetscInt ic = i + SlotDi[s], jc = jr + SlotDj[s];
+        PetscBool      keep;
+        if (ic < 0 || ic >= p->nx || jc < 0 || jc >= p->ny || !rr->used[s]) continue;
+        keep = owned;
+        for (int e = 0; e < 9 && !keep; e++) keep = row[9 * s + e] != 0 ? PETSC_TRUE : PETSC_FALSE;
+        if (!keep) continue;
+        cols[nc] = (jc - gys) * gxm + (ic - gxs);
+        sl[nc++] = s;
+      }
+      for (PetscInt q = 0; q < nc; q++) /* 3 rows of 3 nc values */
+        for (int r = 0; r < 3; r++)
+          for (int c = 0; c < 3; c++) vals[r * 3 * nc + 3 * q + c] = row[9 * sl[q] + 3 * r + c];
+      if (nc) PetscCall(MatSetValuesBlockedLocal(ss->J, 1, &lrow, nc, cols, vals, ADD_VALUES));
+    }
+  }
+  PetscCall(PetscArrayzero(buf, 9 * ROW_SLOTS * (p->xm + 2)));
+  PetscFunctionReturn(0);
+}
+
+/* the pretension shift k_s I on the segments owned by the points of row j (each owns its +x and
+   +y segment) */
+static PetscErrorCode AddShift(StaticSolver ss, PetscInt j)
 {
   const Patch    *p  = &ss->fab->grid.patch;
   const PetscReal ks = ss->shift * ss->k_ref;
@@ -157,58 +243,50 @@ static PetscErrorCode AddShift(StaticSolver ss)
   if (!(ks > 0)) PetscFunctionReturn(0);
   for (int a = 0; a < 6; a++)
     for (int b = 0; b < 6; b++) K[6 * a + b] = (a % 3 == b % 3) ? (a / 3 == b / 3 ? ks : -ks) : 0.0;
-  for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
-    for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
-      const PetscInt g = (j - p->gys) * p->gxm + (i - p->gxs);
-      if (!p->exists[g]) continue;
-      if (i + 1 < p->nx && p->exists[g + 1] && !p->broken_x[g]) {
-        const PetscInt ii[2] = {i, i + 1}, jj[2] = {j, j};
-        PetscCall(AddFreeBlocks(ss, 2, ii, jj, K));
-      }
-      if (j + 1 < p->ny && p->exists[g + p->gxm] && !p->broken_y[g]) {
-        const PetscInt ii[2] = {i, i}, jj[2] = {j, j + 1};
-        PetscCall(AddFreeBlocks(ss, 2, ii, jj, K));
-      }
+  for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
+    const PetscInt g = (j - p->gys) * p->gxm + (i - p->gxs);
+    if (!p->exists[g]) continue;
+    if (i + 1 < p->nx && p->exists[g + 1] && !p->broken_x[g]) {
+      const PetscInt ii[2] = {i, i + 1}, jj[2] = {j, j};
+      PetscCall(AddFreeBlocks(ss, 2, ii, jj, K));
     }
-  PetscFunctionReturn(0);
-}
-
-/* the bodies' penalty Hessians on the free owned points and the held points' scaled identity rows */
-static PetscErrorCode AddPointBlocks(StaticSolver ss, const PetscScalar *u)
-{
-  Fabric       fab = ss->fab;
-  const Patch *p   = &fab->grid.patch;
-  PetscReal    c[BODY_KINDS][3];
-
-  PetscFunctionBeginUser;
-  for (PetscInt q = 0; q < fab->bodies.n; q++) BodyPosition(&fab->bodies.body[q], fab->load.travel_now, c[q]);
-  for (PetscInt k = 0; k < fab->grid.nloc; k++) {
-    const MatStencil st   = {.k = 0, .j = p->ys + k / p->xm, .i = p->xs + k % p->xm, .c = 0};
-    PetscReal        K[9] = {0};
-    if (fab->grid.inv_m[k] > 0) {
-      PetscBool touch = PETSC_FALSE;
-      for (PetscInt q = 0; q < fab->bodies.n; q++) {
-        PetscReal gb[3], Kb[9];
-        if (BodyEnergy(&fab->bodies.body[q], c[q], u + 3 * k, gb, Kb) > 0) {
-          for (int e = 0; e < 9; e++) K[e] += Kb[e];
-          touch = PETSC_TRUE;
-        }
-      }
-      if (!touch) continue;
-    } else
-      K[0] = K[4] = K[8] = ss->k_ref;
-    PetscCall(MatSetValuesBlockedStencil(ss->J, 1, &st, 1, &st, K, ADD_VALUES));
+    if (j + 1 < p->ny && p->exists[g + p->gxm] && !p->broken_y[g]) {
+      const PetscInt ii[2] = {i, i}, jj[2] = {j, j + 1};
+      PetscCall(AddFreeBlocks(ss, 2, ii, jj, K));
+    }
   }
   PetscFunctionReturn(0);
 }
 
+/* the bodies' penalty Hessians on the free points of row j and the held points' scaled identity
+   rows */
+static void AddPointBlocks(StaticSolver ss, const PetscScalar *u, const PetscReal c[][3], PetscInt j)
+{
+  Fabric       fab = ss->fab;
+  const Patch *p   = &fab->grid.patch;
+
+  for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
+    const PetscInt k   = (j - p->ys) * p->xm + (i - p->xs);
+    PetscReal     *row = ss->ring.buf[(j - p->ys + 1) % 3] + 9 * ROW_SLOTS * (i - p->xs + 1) + 9 * SLOT_CENTRE;
+    if (fab->grid.inv_m[k] > 0) {
+      for (PetscInt q = 0; q < fab->bodies.n; q++) {
+        PetscReal gb[3], Kb[9];
+        if (BodyEnergy(&fab->bodies.body[q], c[q], u + 3 * k, gb, Kb) > 0)
+          for (int e = 0; e < 9; e++) row[e] += Kb[e];
+      }
+    } else
+      row[0] += ss->k_ref, row[4] += ss->k_ref, row[8] += ss->k_ref;
+  }
+}
+
 static PetscErrorCode FormJacobian(SNES snes, Vec U, Mat A, Mat P, void *ctx)
 {
-  StaticSolver       ss     = (StaticSolver) ctx;
-  Fabric             fab    = ss->fab;
-  const Patch       *p      = &fab->grid.patch;
-  const PetscInt     all[4] = {p->xs, p->xs + p->xm, p->ys, p->ys + p->ym};
+  StaticSolver       ss  = (StaticSolver) ctx;
+  Fabric             fab = ss->fab;
+  const Patch       *p   = &fab->grid.patch;
+  RowRing           *rr  = &ss->ring;
   const PetscScalar *xl, *u;
+  PetscReal          c[BODY_KINDS][3];
 
   PetscFunctionBeginUser;
   (void) snes;
@@ -216,13 +294,23 @@ static PetscErrorCode FormJacobian(SNES snes, Vec U, Mat A, Mat P, void *ctx)
   PetscCheck(P == ss->J, fab->comm, PETSC_ERR_SUP, "the quasi-static solver assembles its own matrix");
   PetscCall(MatZeroEntries(P));
   PetscCall(HaloExchange(fab->grid.da, U, fab->state.Xl));
+  for (PetscInt q = 0; q < fab->bodies.n; q++) BodyPosition(&fab->bodies.body[q], fab->load.travel_now, c[q]);
+  for (int s = 0; s < ROW_SLOTS; s++) rr->used[s] = SlotUsed(p, s);
+  for (int q = 0; q < 3; q++) PetscCall(PetscArrayzero(rr->buf[q], 9 * ROW_SLOTS * (p->xm + 2)));
   PetscCall(VecGetArrayRead(fab->state.Xl, &xl));
-  PetscCall(InternalTangent(p, xl, all, AddFreeBlocks, ss));
-  PetscCall(VecRestoreArrayRead(fab->state.Xl, &xl));
-  PetscCall(AddShift(ss));
   PetscCall(VecGetArrayRead(U, &u));
-  PetscCall(AddPointBlocks(ss, u));
+  for (PetscInt j = p->ys; j < p->ys + p->ym; j++) { /* the ring holds rows j-1, j, j+1 */
+    const PetscInt row[4] = {p->xs, p->xs + p->xm, j, j + 1};
+    rr->jo                = j;
+    PetscCall(InternalTangent(p, xl, row, AddFreeBlocks, ss));
+    PetscCall(AddShift(ss, j));
+    AddPointBlocks(ss, u, (const PetscReal(*)[3]) c, j);
+    PetscCall(FlushRow(ss, j - 1)); /* complete: its buffer becomes row j+2's */
+  }
+  PetscCall(FlushRow(ss, p->ys + p->ym - 1));
+  PetscCall(FlushRow(ss, p->ys + p->ym));
   PetscCall(VecRestoreArrayRead(U, &u));
+  PetscCall(VecRestoreArrayRead(fab->state.Xl, &xl));
   PetscCall(MatAssemblyBegin(P, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyEnd(P, MAT_FINAL_ASSEMBLY));
   PetscFunctionReturn(0);
@@ -736,6 +824,7 @@ PetscErrorCode StaticCreate(Fabric fab, StaticSolver *out)
   PetscCall(VecRestoreArray(flag, &a));
   PetscCall(HaloExchange(fab->grid.da, flag, flagl));
   PetscCall(PetscMalloc1(p->gxm * p->gym, &ss->free_g));
+  for (int q = 0; q < 3; q++) PetscCall(PetscMalloc1(9 * ROW_SLOTS * (p->xm + 2), &ss->ring.buf[q]));
   PetscCall(VecGetArray(flagl, &a));
   for (PetscInt g = 0; g < p->gxm * p->gym; g++) ss->free_g[g] = a[3 * g] > 0.5 ? 1 : 0;
   PetscCall(VecRestoreArray(flagl, &a));
@@ -771,6 +860,7 @@ PetscErrorCode StaticDestroy(StaticSolver *pss)
   PetscCall(VecDestroy(&ss->Xbc));
   for (int q = 0; q < 3; q++) PetscCall(VecDestroy(&ss->Xh[q]));
   PetscCall(PetscFree(ss->free_g));
+  for (int q = 0; q < 3; q++) PetscCall(PetscFree(ss->ring.buf[q]));
   ss->fab->grid.patch.tension_field = PETSC_FALSE;
   PetscCall(PetscFree(ss));
   *pss = NULL;
