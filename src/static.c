@@ -32,6 +32,7 @@
 #include "comm.h"
 #include "integrate.h"
 
+#include <petscsf.h>
 #include <petscsnes.h>
 
 #define SHIFT_START  1e-2  /* k_s / k_ref at the first Newton step of the run (-snes_shift_start) */
@@ -433,19 +434,31 @@ static PetscErrorCode Converged(SNES snes, PetscInt it, PetscReal xnorm, PetscRe
    and soft across (its tension T/L, about the strain times EA/L): the in-plane displacement along
    x is strongly coupled along the warp yarns (x-lines) only, the one along y along the weft
    yarns (y-lines) only, an anisotropy of 1/strain that point smoothers (SOR, Jacobi) cannot
-   smooth, so that multigrid slows as the net grows and its strain falls. Each application
-   solves exactly along every x-line, then every y-line, then every x-line again, each on the
-   residual left by the one before (a symmetric smoother for CG): one block-tridiagonal solve
-   (3x3 blocks: a crossing's coupling to its neighbours along the line) per line of the rank's
-   patch; the couplings across lines and ranks stay in the residual. */
+   smooth, so that multigrid slows as the net grows and its strain falls. A sweep solves exactly
+   along every line of one direction (a block-tridiagonal solve, 3x3 blocks: a crossing's
+   coupling to its neighbours along the line) on the residual the sweep before left; the down
+   smoother sweeps the x-lines then the y-lines, the up smoother the y-lines then the x-lines (a
+   symmetric V-cycle for CG). Only the couplings across lines stay in the residual.
+   A line that lies on one rank is solved in place: an x-line along its points, the y-lines side
+   by side (one point of every y-line after the other, in memory order). The lines of a direction
+   that crosses ranks (x-lines when the process grid has more than one column, y-lines when it has
+   more than one row) are dealt out whole among the ranks that share them: each rank receives its
+   share of those lines, every point's blocks at set-up and every residual at a sweep (a PetscSF
+   from the points' owners), solves them and sends the solution back. */
 static PetscLogEvent EV_LineSetUp, EV_LineSolve;
 
 typedef struct {
-  PetscInt   xs, ys, xm, ym; /* the level's owned patch */
-  PetscReal *fac[2];         /* per owned point and line direction: S^-1, S^-1 U, L (3x3 each) */
-  Vec        t, s;           /* work: residual, one line sweep's correction */
-  PetscBool  pivot_fixed;    /* a non-positive 3x3 pivot was replaced by its diagonal (indefinite level) */
-  int        order[3];       /* the line directions of one application, -1 ends */
+  PetscInt     xs, ys, xm, ym;           /* the level's owned patch */
+  PetscBool    cut[2];                   /* the lines of direction dir (0: x, 1: y) cross ranks */
+  PetscReal   *fac[2];                   /* a direction not cut: per owned point S^-1, S^-1 U, L (3x3 each) */
+  PetscSF      sf[2];                    /* a cut direction: the points of the lines dealt to this rank
+                                            (leaves, line after line, along each) from their owners (roots) */
+  PetscInt     nlines[2], len[2];        /* the lines dealt to this rank, their length */
+  PetscReal   *lfac[2], *lr[2], *lx[2];  /* their factors (as fac), right-hand side and solution */
+  MPI_Datatype t3, t27;                  /* a point's 3 unknowns, its 3 blocks along a line */
+  Vec          t, s;                     /* work: residual, one line sweep's correction */
+  PetscBool    pivot_fixed;              /* a non-positive 3x3 pivot was replaced by its diagonal (indefinite level) */
+  int          order[3];                 /* the line directions of one application, -1 ends */
 } LineSmoother;
 
 /* inverse of a 3x3 block; a pivot that is not positive definite enough is replaced by the absolute
@@ -472,101 +485,226 @@ static inline void Mul3(const PetscReal a[9], const PetscReal b[9], PetscReal c[
     for (int q = 0; q < 3; q++) c[3 * r + q] = a[3 * r] * b[q] + a[3 * r + 1] * b[3 + q] + a[3 * r + 2] * b[6 + q];
 }
 
-/* the blocks of the level operator along the lines, factored: for the points k0, k1 ... of a line,
-   S_0 = D_0, S_i = D_i - L_i S_{i-1}^-1 U_{i-1}; kept: S_i^-1, S_i^-1 U_i, L_i */
+/* Lines of len points, point q of a line at k (blocks at 27 k), its predecessor at k - qs.
+   Factor: S_0 = D_0, S_q = D_q - L_q S_{q-1}^-1 U_{q-1}; kept in fac: S_q^-1, S_q^-1 U_q, L_q.
+   Solve: forward g_q = S_q^-1 (r_q - L_q g_{q-1}), backward x_q = g_q - S_q^-1 U_q x_{q+1}. */
+static inline PetscBool FactorPoint(const PetscReal *blk, PetscReal *fac, PetscInt k, PetscInt q, PetscInt qs)
+{
+  PetscReal *f = fac + 27 * k, S[9], L[9], U[9]; /* copies: fac may be blk (factored in place) */
+  PetscBool  fixed;
+
+  for (int e = 0; e < 9; e++) S[e] = blk[27 * k + e], L[e] = blk[27 * k + 9 + e], U[e] = blk[27 * k + 18 + e];
+  if (q > 0) { /* S -= L W_{q-1} */
+    PetscReal LW[9];
+    Mul3(L, fac + 27 * (k - qs) + 9, LW);
+    for (int e = 0; e < 9; e++) S[e] -= LW[e];
+  }
+  fixed = Invert3(S, f);
+  Mul3(f, U, f + 9);
+  for (int e = 0; e < 9; e++) f[18 + e] = L[e];
+  return fixed;
+}
+
+static inline void ForwardPoint(const PetscReal *fac, const PetscScalar *r, PetscScalar *x, PetscInt k, PetscInt q, PetscInt qs)
+{
+  const PetscReal *f = fac + 27 * k, *L = f + 18;
+  PetscReal        b[3] = {r[3 * k], r[3 * k + 1], r[3 * k + 2]};
+
+  if (q > 0) {
+    const PetscScalar *g = x + 3 * (k - qs);
+    for (int c = 0; c < 3; c++) b[c] -= L[3 * c] * g[0] + L[3 * c + 1] * g[1] + L[3 * c + 2] * g[2];
+  }
+  for (int c = 0; c < 3; c++) x[3 * k + c] = f[3 * c] * b[0] + f[3 * c + 1] * b[1] + f[3 * c + 2] * b[2];
+}
+
+static inline void BackwardPoint(const PetscReal *fac, PetscScalar *x, PetscInt k, PetscInt qs)
+{
+  const PetscReal   *W = fac + 27 * k + 9;
+  const PetscScalar *y = x + 3 * (k + qs);
+
+  for (int c = 0; c < 3; c++) x[3 * k + c] -= W[3 * c] * y[0] + W[3 * c + 1] * y[1] + W[3 * c + 2] * y[2];
+}
+
+/* nlines lines, point q of line l at k = l * lstride + q * qs: one of the strides is 1, and the
+   loop over it is the inner one (a line after the other, or all lines a point at a time) */
+static PetscBool FactorLines(const PetscReal *blk, PetscInt nlines, PetscInt len, PetscInt lstride, PetscInt qs, PetscReal *fac)
+{
+  PetscBool fixed = PETSC_FALSE;
+
+  if (qs == 1) {
+    for (PetscInt l = 0; l < nlines; l++)
+      for (PetscInt q = 0; q < len; q++) fixed |= FactorPoint(blk, fac, l * lstride + q, q, 1);
+  } else {
+    for (PetscInt q = 0; q < len; q++)
+      for (PetscInt l = 0; l < nlines; l++) fixed |= FactorPoint(blk, fac, l * lstride + q * qs, q, qs);
+  }
+  return fixed;
+}
+
+static void SolveLines(const PetscReal *fac, PetscInt nlines, PetscInt len, PetscInt lstride, PetscInt qs, const PetscScalar *r, PetscScalar *x)
+{
+  if (qs == 1) {
+    for (PetscInt l = 0; l < nlines; l++) {
+      for (PetscInt q = 0; q < len; q++) ForwardPoint(fac, r, x, l * lstride + q, q, 1);
+      for (PetscInt q = len - 2; q >= 0; q--) BackwardPoint(fac, x, l * lstride + q, 1);
+    }
+  } else {
+    for (PetscInt q = 0; q < len; q++)
+      for (PetscInt l = 0; l < nlines; l++) ForwardPoint(fac, r, x, l * lstride + q * qs, q, qs);
+    for (PetscInt q = len - 2; q >= 0; q--)
+      for (PetscInt l = 0; l < nlines; l++) BackwardPoint(fac, x, l * lstride + q * qs, qs);
+  }
+}
+
+/* the lines of a cut direction dealt to this rank: those of its patch's rows (x-lines) or columns
+   (y-lines) in equal shares among the ranks of its process row (column), each whole; the PetscSF
+   from their points' owners, point q of line l the leaf l * len + q */
+static PetscErrorCode DealLines(LineSmoother *ls, MPI_Comm comm, int dir, PetscInt M, PetscInt N, PetscInt m, PetscInt n,
+                                const PetscInt lxr[], const PetscInt ox[], const PetscInt oy[],
+                                const PetscInt x0[], const PetscInt y0[], PetscMPIInt rank)
+{
+  const PetscInt pi = rank % m, pj = rank / m;
+  PetscInt       first, nl, len;
+  PetscSFNode   *remote;
+
+  PetscFunctionBeginUser;
+  if (dir == 0) first = ls->ys + (pi * ls->ym) / m, nl = ls->ys + ((pi + 1) * ls->ym) / m - first, len = M;
+  else first = ls->xs + (pj * ls->xm) / n, nl = ls->xs + ((pj + 1) * ls->xm) / n - first, len = N;
+  PetscCall(PetscMalloc1(nl * len, &remote));
+  for (PetscInt l = 0; l < nl; l++)
+    for (PetscInt q = 0; q < len; q++) {
+      PetscSFNode *e = remote + l * len + q;
+      if (dir == 0) { /* point (q, first + l) */
+        const PetscInt qi = ox[q];
+        e->rank  = pj * m + qi;
+        e->index = (first + l - y0[pj]) * lxr[qi] + (q - x0[qi]);
+      } else { /* point (first + l, q) */
+        const PetscInt qj = oy[q];
+        e->rank  = qj * m + pi;
+        e->index = (q - y0[qj]) * lxr[pi] + (first + l - x0[pi]);
+      }
+    }
+  ls->nlines[dir] = nl, ls->len[dir] = len;
+  PetscCall(PetscSFCreate(comm, &ls->sf[dir]));
+  PetscCall(PetscSFSetGraph(ls->sf[dir], ls->xm * ls->ym, nl * len, NULL, PETSC_OWN_POINTER, remote, PETSC_OWN_POINTER));
+  PetscCall(PetscSFSetUp(ls->sf[dir]));
+  PetscCall(PetscMalloc3(27 * nl * len, &ls->lfac[dir], 3 * nl * len, &ls->lr[dir], 3 * nl * len, &ls->lx[dir]));
+  PetscFunctionReturn(0);
+}
+
+/* the blocks of the level operator along the lines, factored */
 static PetscErrorCode LineSmootherSetUp(PC pc)
 {
-  LineSmoother *ls;
-  DM            dm;
-  Mat           A;
-  PetscInt      rstart, rend, npts, zs, zm;
-  PetscReal    *blk; /* per owned point: D, L_x, U_x, L_y, U_y (3x3 each) */
+  LineSmoother   *ls;
+  DM              dm;
+  Mat             A;
+  MPI_Comm        comm = PetscObjectComm((PetscObject) pc);
+  PetscMPIInt     rank;
+  PetscInt        rstart, rend, npts, zs, zm, M, N, m, n, *ox, *oy, *x0, *y0;
+  const PetscInt *lxr, *lyr, *ranges;
+  PetscReal      *blk, *b27; /* per owned point: D, L_x, U_x, L_y, U_y; D, L, U of one direction (3x3 each) */
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(EV_LineSetUp, pc, 0, 0, 0));
   PetscCall(PCShellGetContext(pc, &ls));
   PetscCall(PCGetDM(pc, &dm));
-  PetscCheck(dm, PetscObjectComm((PetscObject) pc), PETSC_ERR_SUP, "the line smoother needs the level's DMDA");
+  PetscCheck(dm, comm, PETSC_ERR_SUP, "the line smoother needs the level's DMDA");
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscCall(DMDAGetCorners(dm, &ls->xs, &ls->ys, &zs, &ls->xm, &ls->ym, &zm));
+  PetscCall(DMDAGetInfo(dm, NULL, &M, &N, NULL, &m, &n, NULL, NULL, NULL, NULL, NULL, NULL, NULL));
+  PetscCall(DMDAGetOwnershipRanges(dm, &lxr, &lyr, NULL));
   PetscCall(PCGetOperators(pc, NULL, &A));
   PetscCall(MatGetOwnershipRange(A, &rstart, &rend));
+  PetscCall(MatGetOwnershipRanges(A, &ranges));
   npts = ls->xm * ls->ym;
   PetscCheck(rend - rstart == 3 * npts, PETSC_COMM_SELF, PETSC_ERR_SUP, "the line smoother needs 3 unknowns a point");
+  /* the process column of each grid column, the process row of each grid row, their first points */
+  PetscCall(PetscMalloc4(M, &ox, N, &oy, m, &x0, n, &y0));
+  for (PetscInt a = 0, s = 0; a < m; s += lxr[a++]) {
+    x0[a] = s;
+    for (PetscInt i = s; i < s + lxr[a]; i++) ox[i] = a;
+  }
+  for (PetscInt a = 0, s = 0; a < n; s += lyr[a++]) {
+    y0[a] = s;
+    for (PetscInt j = s; j < s + lyr[a]; j++) oy[j] = a;
+  }
   if (!ls->t) {
     PetscCall(MatCreateVecs(A, &ls->t, &ls->s));
-    PetscCall(PetscMalloc2(27 * npts, &ls->fac[0], 27 * npts, &ls->fac[1]));
+    PetscCallMPI(MPI_Type_contiguous(3, MPIU_SCALAR, &ls->t3));
+    PetscCallMPI(MPI_Type_commit(&ls->t3));
+    PetscCallMPI(MPI_Type_contiguous(27, MPIU_REAL, &ls->t27));
+    PetscCallMPI(MPI_Type_commit(&ls->t27));
+    ls->cut[0] = m > 1 ? PETSC_TRUE : PETSC_FALSE;
+    ls->cut[1] = n > 1 ? PETSC_TRUE : PETSC_FALSE;
+    for (int dir = 0; dir < 2; dir++) {
+      if (ls->cut[dir]) PetscCall(DealLines(ls, comm, dir, M, N, m, n, lxr, ox, oy, x0, y0, rank));
+      else PetscCall(PetscMalloc1(27 * npts, &ls->fac[dir]));
+    }
   }
-  PetscCall(PetscCalloc1(45 * npts, &blk));
+  /* the blocks, by the global block indices of each point and its neighbours (on any rank) */
+  PetscCall(PetscCalloc2(45 * npts, &blk, 27 * npts, &b27));
   for (PetscInt k = 0; k < npts; k++) {
-    const PetscInt i = k % ls->xm;
+    const PetscInt i = ls->xs + k % ls->xm, j = ls->ys + k / ls->xm;
+    const PetscInt ni[5] = {i, i - 1, i + 1, i, i}, nj[5] = {j, j, j, j - 1, j + 1};
+    PetscInt       nb[5];
+    for (int w = 0; w < 5; w++) {
+      const PetscInt a = ni[w], b = nj[w];
+      nb[w] = (a < 0 || a >= M || b < 0 || b >= N) ? -1 : ranges[oy[b] * m + ox[a]] / 3 + (b - y0[oy[b]]) * lxr[ox[a]] + (a - x0[ox[a]]);
+    }
     for (int c = 0; c < 3; c++) {
       PetscInt           ncols;
       const PetscInt    *cols;
       const PetscScalar *vals;
       PetscCall(MatGetRow(A, rstart + 3 * k + c, &ncols, &cols, &vals));
       for (PetscInt q = 0; q < ncols; q++) {
-        const PetscInt col = cols[q] - rstart, kk = col / 3, cc = col % 3;
-        int            which;
-        if (cols[q] < rstart || cols[q] >= rend) continue; /* another rank's: left in the residual */
-        if (kk == k) which = 0;
-        else if (kk == k - 1 && i > 0) which = 1;
-        else if (kk == k + 1 && i + 1 < ls->xm) which = 2;
-        else if (kk == k - ls->xm) which = 3;
-        else if (kk == k + ls->xm) which = 4;
-        else continue;
-        blk[45 * k + 9 * which + 3 * c + cc] = vals[q];
+        const PetscInt kk = cols[q] / 3, cc = cols[q] % 3;
+        for (int w = 0; w < 5; w++)
+          if (kk == nb[w]) blk[45 * k + 9 * w + 3 * c + cc] = vals[q];
       }
       PetscCall(MatRestoreRow(A, rstart + 3 * k + c, &ncols, &cols, &vals));
     }
   }
   ls->pivot_fixed = PETSC_FALSE;
   for (int dir = 0; dir < 2; dir++) {
-    const PetscInt nlines = dir ? ls->xm : ls->ym, len = dir ? ls->ym : ls->xm, stride = dir ? ls->xm : 1;
-    for (PetscInt line = 0; line < nlines; line++)
-      for (PetscInt q = 0; q < len; q++) {
-        const PetscInt   k = dir ? line + q * ls->xm : line * ls->xm + q;
-        const PetscReal *D = blk + 45 * k, *L = D + 9 * (1 + 2 * dir), *U = D + 9 * (2 + 2 * dir);
-        PetscReal       *f = ls->fac[dir] + 27 * k, S[9];
-        for (int e = 0; e < 9; e++) S[e] = D[e];
-        if (q > 0) { /* S -= L_i W_{i-1} */
-          PetscReal LW[9];
-          Mul3(L, ls->fac[dir] + 27 * (k - stride) + 9, LW);
-          for (int e = 0; e < 9; e++) S[e] -= LW[e];
-        }
-        if (Invert3(S, f)) ls->pivot_fixed = PETSC_TRUE;
-        Mul3(f, U, f + 9);
-        for (int e = 0; e < 9; e++) f[18 + e] = L[e];
-      }
+    for (PetscInt k = 0; k < npts; k++) {
+      PetscCall(PetscArraycpy(b27 + 27 * k, blk + 45 * k, 9));
+      PetscCall(PetscArraycpy(b27 + 27 * k + 9, blk + 45 * k + 9 * (1 + 2 * dir), 18));
+    }
+    if (!ls->cut[dir]) {
+      if (dir == 0) ls->pivot_fixed |= FactorLines(b27, ls->ym, ls->xm, ls->xm, 1, ls->fac[0]);
+      else ls->pivot_fixed |= FactorLines(b27, ls->xm, ls->ym, 1, ls->xm, ls->fac[1]);
+    } else { /* the dealt lines' blocks, factored in place */
+      PetscReal *lb = ls->lfac[dir];
+      PetscCall(PetscArrayzero(lb, 27 * ls->nlines[dir] * ls->len[dir]));
+      PetscCall(PetscSFBcastBegin(ls->sf[dir], ls->t27, b27, lb, MPI_REPLACE));
+      PetscCall(PetscSFBcastEnd(ls->sf[dir], ls->t27, b27, lb, MPI_REPLACE));
+      ls->pivot_fixed |= FactorLines(lb, ls->nlines[dir], ls->len[dir], ls->len[dir], 1, lb);
+    }
   }
-  PetscCall(PetscFree(blk));
+  PetscCall(PetscFree2(blk, b27));
+  PetscCall(PetscFree4(ox, oy, x0, y0));
   PetscCall(PetscLogEventEnd(EV_LineSetUp, pc, 0, 0, 0));
   PetscFunctionReturn(0);
 }
 
 /* x = T^-1 r for the block-tridiagonal T of every line of direction dir (0: x-lines, 1: y-lines) */
-static void LineSolve(const LineSmoother *ls, int dir, const PetscScalar *r, PetscScalar *x)
+static PetscErrorCode LineSolve(LineSmoother *ls, int dir, const PetscScalar *r, PetscScalar *x)
 {
-  const PetscInt nlines = dir ? ls->xm : ls->ym, len = dir ? ls->ym : ls->xm, stride = dir ? ls->xm : 1;
-
-  for (PetscInt line = 0; line < nlines; line++) {
-    const PetscInt k0 = dir ? line : line * ls->xm;
-    for (PetscInt q = 0; q < len; q++) { /* forward: g_i = S_i^-1 (r_i - L_i g_{i-1}) */
-      const PetscInt   k = k0 + q * stride;
-      const PetscReal *f = ls->fac[dir] + 27 * k, *L = f + 18;
-      PetscReal        b[3] = {r[3 * k], r[3 * k + 1], r[3 * k + 2]};
-      if (q > 0) {
-        const PetscScalar *g = x + 3 * (k - stride);
-        for (int c = 0; c < 3; c++) b[c] -= L[3 * c] * g[0] + L[3 * c + 1] * g[1] + L[3 * c + 2] * g[2];
-      }
-      for (int c = 0; c < 3; c++) x[3 * k + c] = f[3 * c] * b[0] + f[3 * c + 1] * b[1] + f[3 * c + 2] * b[2];
-    }
-    for (PetscInt q = len - 2; q >= 0; q--) { /* backward: x_i = g_i - S_i^-1 U_i x_{i+1} */
-      const PetscInt     k = k0 + q * stride;
-      const PetscReal   *W = ls->fac[dir] + 27 * k + 9;
-      const PetscScalar *y = x + 3 * (k + stride);
-      for (int c = 0; c < 3; c++) x[3 * k + c] -= W[3 * c] * y[0] + W[3 * c + 1] * y[1] + W[3 * c + 2] * y[2];
-    }
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(EV_LineSolve, 0, 0, 0, 0));
+  if (!ls->cut[dir]) {
+    if (dir == 0) SolveLines(ls->fac[0], ls->ym, ls->xm, ls->xm, 1, r, x);
+    else SolveLines(ls->fac[1], ls->xm, ls->ym, 1, ls->xm, r, x);
+  } else {
+    const PetscInt nl = ls->nlines[dir], len = ls->len[dir];
+    PetscCall(PetscSFBcastBegin(ls->sf[dir], ls->t3, r, ls->lr[dir], MPI_REPLACE));
+    PetscCall(PetscSFBcastEnd(ls->sf[dir], ls->t3, r, ls->lr[dir], MPI_REPLACE));
+    SolveLines(ls->lfac[dir], nl, len, len, 1, ls->lr[dir], ls->lx[dir]);
+    PetscCall(PetscSFReduceBegin(ls->sf[dir], ls->t3, ls->lx[dir], x, MPI_REPLACE));
+    PetscCall(PetscSFReduceEnd(ls->sf[dir], ls->t3, ls->lx[dir], x, MPI_REPLACE));
   }
+  PetscCall(PetscLogEventEnd(EV_LineSolve, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
 }
 
 /* One sweep over the lines of direction dir: x += T^-1 (b - A x), or x = T^-1 b from x = 0. */
@@ -577,11 +715,9 @@ static PetscErrorCode LineSweep(LineSmoother *ls, Mat A, int dir, Vec b, Vec x, 
 
   PetscFunctionBeginUser;
   if (zero) {
-    PetscCall(PetscLogEventBegin(EV_LineSolve, 0, 0, 0, 0));
     PetscCall(VecGetArrayRead(b, &rr));
     PetscCall(VecGetArrayWrite(x, &zz));
-    LineSolve(ls, dir, rr, zz);
-    PetscCall(PetscLogEventEnd(EV_LineSolve, 0, 0, 0, 0));
+    PetscCall(LineSolve(ls, dir, rr, zz));
     PetscCall(VecRestoreArrayWrite(x, &zz));
     PetscCall(VecRestoreArrayRead(b, &rr));
     PetscFunctionReturn(0);
@@ -590,9 +726,7 @@ static PetscErrorCode LineSweep(LineSmoother *ls, Mat A, int dir, Vec b, Vec x, 
   PetscCall(VecAYPX(ls->t, -1.0, b));
   PetscCall(VecGetArrayRead(ls->t, &rr));
   PetscCall(VecGetArrayWrite(ls->s, &zz));
-  PetscCall(PetscLogEventBegin(EV_LineSolve, 0, 0, 0, 0));
-  LineSolve(ls, dir, rr, zz);
-  PetscCall(PetscLogEventEnd(EV_LineSolve, 0, 0, 0, 0));
+  PetscCall(LineSolve(ls, dir, rr, zz));
   PetscCall(VecRestoreArrayWrite(ls->s, &zz));
   PetscCall(VecRestoreArrayRead(ls->t, &rr));
   PetscCall(VecAXPY(x, 1.0, ls->s));
@@ -641,7 +775,13 @@ static PetscErrorCode LineSmootherDestroy(PC pc)
   PetscCall(PCShellGetContext(pc, &ls));
   PetscCall(VecDestroy(&ls->t));
   PetscCall(VecDestroy(&ls->s));
-  PetscCall(PetscFree2(ls->fac[0], ls->fac[1]));
+  for (int dir = 0; dir < 2; dir++) {
+    PetscCall(PetscFree(ls->fac[dir]));
+    PetscCall(PetscSFDestroy(&ls->sf[dir]));
+    PetscCall(PetscFree3(ls->lfac[dir], ls->lr[dir], ls->lx[dir]));
+  }
+  if (ls->t3 != MPI_DATATYPE_NULL) PetscCallMPI(MPI_Type_free(&ls->t3));
+  if (ls->t27 != MPI_DATATYPE_NULL) PetscCallMPI(MPI_Type_free(&ls->t27));
   PetscCall(PetscFree(ls));
   PetscFunctionReturn(0);
 }
@@ -659,6 +799,7 @@ static PetscErrorCode SetLineSmoother(KSP ksp, const int order[3])
   PetscCall(PCSetType(pc, PCSHELL));
   PetscCall(PetscNew(&ls));
   for (int q = 0; q < 3; q++) ls->order[q] = order[q];
+  ls->t3 = ls->t27 = MPI_DATATYPE_NULL;
   PetscCall(PCShellSetContext(pc, ls));
   PetscCall(PCShellSetName(pc, "alternating block-line relaxation"));
   PetscCall(PCShellSetSetUp(pc, LineSmootherSetUp));
