@@ -894,6 +894,41 @@ static PetscErrorCode CreateMatrixDM(Fabric fab, DM *dm)
   PetscFunctionReturn(0);
 }
 
+/* The tangent: an AIJ matrix of the grid's layout (3x3 blocks, the DM's local numbering)
+   preallocated with the blocks the terms fill, the slots of SlotUsed: 5 a row for traction alone,
+   9 with shear, 13 with shear and bending, where the DMDA's box of width 2 would reserve 25.
+   FormJacobian inserts every one of them in an owned row, so the structure stays fixed. */
+static PetscErrorCode CreateTangent(StaticSolver ss)
+{
+  const Patch           *p    = &ss->fab->grid.patch;
+  const PetscInt         npts = p->xm * p->ym;
+  PetscInt              *dnz, *onz;
+  ISLocalToGlobalMapping l2g;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscCalloc2(npts, &dnz, npts, &onz));
+  for (PetscInt k = 0; k < npts; k++) {
+    const PetscInt i = p->xs + k % p->xm, j = p->ys + k / p->xm;
+    for (int s = 0; s < ROW_SLOTS; s++) {
+      const PetscInt ic = i + SlotDi[s], jc = j + SlotDj[s];
+      if (!SlotUsed(p, s) || ic < 0 || ic >= p->nx || jc < 0 || jc >= p->ny) continue;
+      if (ic >= p->xs && ic < p->xs + p->xm && jc >= p->ys && jc < p->ys + p->ym) dnz[k]++;
+      else onz[k]++;
+    }
+  }
+  PetscCall(MatCreate(ss->fab->comm, &ss->J));
+  PetscCall(MatSetSizes(ss->J, 3 * npts, 3 * npts, PETSC_DETERMINE, PETSC_DETERMINE));
+  PetscCall(MatSetBlockSize(ss->J, 3));
+  PetscCall(MatSetType(ss->J, MATAIJ));
+  PetscCall(MatXAIJSetPreallocation(ss->J, 3, dnz, onz, NULL, NULL));
+  PetscCall(PetscFree2(dnz, onz));
+  PetscCall(DMGetLocalToGlobalMapping(ss->dm, &l2g));
+  PetscCall(MatSetLocalToGlobalMapping(ss->J, l2g, l2g));
+  PetscCall(MatSetDM(ss->J, ss->dm));
+  PetscCall(MatSetOption(ss->J, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
+  PetscFunctionReturn(0);
+}
+
 /* the solver's own options: their defaults, then the options database's values */
 static PetscErrorCode ReadOptions(MPI_Comm comm, StaticOptions *o)
 {
@@ -949,7 +984,7 @@ PetscErrorCode StaticCreate(Fabric fab, StaticSolver *out)
   PetscCall(PetscNew(&ss));
   ss->fab = fab;
   PetscCall(CreateMatrixDM(fab, &ss->dm));
-  PetscCall(DMCreateMatrix(ss->dm, &ss->J));
+  PetscCall(CreateTangent(ss));
   PetscCall(MatSetOption(ss->J, MAT_SYMMETRIC, PETSC_TRUE));
   PetscCall(VecDuplicate(fab->state.X, &ss->Xbc));
   for (int q = 0; q < 3; q++) PetscCall(VecDuplicate(fab->state.X, &ss->Xh[q]));
