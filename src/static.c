@@ -67,7 +67,8 @@ struct _p_StaticSolver {
   PetscReal      lh[3];    /* their load factors */
   PetscInt       nhist;
   StaticOptions  opt;
-  RowRing        ring; /* the tangent's block rows being accumulated (FormJacobian) */
+  RowRing        ring;     /* the tangent's block rows being accumulated (FormJacobian) */
+  PetscInt       tangents; /* assembled so far: a level's line smoother factors its operator once for each */
 };
 
 /* gravity on the free owned points and the residual rows of the held ones */
@@ -294,6 +295,7 @@ static PetscErrorCode FormJacobian(SNES snes, Vec U, Mat A, Mat P, void *ctx)
   (void) A;
   PetscCheck(P == ss->J, fab->comm, PETSC_ERR_SUP, "the quasi-static solver assembles its own matrix");
   PetscCall(MatZeroEntries(P));
+  ss->tangents++;
   PetscCall(HaloExchange(fab->grid.da, U, fab->state.Xl));
   for (PetscInt q = 0; q < fab->bodies.n; q++) BodyPosition(&fab->bodies.body[q], fab->load.travel_now, c[q]);
   for (int s = 0; s < ROW_SLOTS; s++) rr->used[s] = SlotUsed(p, s);
@@ -458,8 +460,16 @@ typedef struct {
   MPI_Datatype t3, t27;                  /* a point's 3 unknowns, its 3 blocks along a line */
   Vec          t, s;                     /* work: residual, one line sweep's correction */
   PetscBool    pivot_fixed;              /* a non-positive 3x3 pivot was replaced by its diagonal (indefinite level) */
-  int          order[3];                 /* the line directions of one application, -1 ends */
+  PetscInt     refs;                     /* the level's down and up smoothers share it */
+  Mat             A;                     /* the operator factored, at tangent number factored */
+  PetscInt        factored;
+  const PetscInt *tangents;              /* the tangents assembled so far (FormJacobian) */
 } LineSmoother;
+
+typedef struct {     /* one smoother (PCSHELL context): the level's factors, its sweeps */
+  LineSmoother *ls;
+  int           order[3]; /* the line directions of one application, -1 ends */
+} LineShell;
 
 /* inverse of a 3x3 block; a pivot that is not positive definite enough is replaced by the absolute
    values of its diagonal (an indefinite tangent: the smoother stays a symmetric positive one) */
@@ -603,17 +613,20 @@ static PetscErrorCode LineSmootherSetUp(PC pc)
   PetscInt        rstart, rend, npts, zs, zm, M, N, m, n, *ox, *oy, *x0, *y0;
   const PetscInt *lxr, *lyr, *ranges;
   PetscReal      *blk, *b27; /* per owned point: D, L_x, U_x, L_y, U_y; D, L, U of one direction (3x3 each) */
+  LineShell      *sh;
 
   PetscFunctionBeginUser;
+  PetscCall(PCShellGetContext(pc, &sh));
+  ls = sh->ls;
+  PetscCall(PCGetOperators(pc, NULL, &A));
+  if (ls->t && ls->A == A && ls->factored == *ls->tangents) PetscFunctionReturn(0); /* the level's other smoother did */
   PetscCall(PetscLogEventBegin(EV_LineSetUp, pc, 0, 0, 0));
-  PetscCall(PCShellGetContext(pc, &ls));
   PetscCall(PCGetDM(pc, &dm));
   PetscCheck(dm, comm, PETSC_ERR_SUP, "the line smoother needs the level's DMDA");
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscCall(DMDAGetCorners(dm, &ls->xs, &ls->ys, &zs, &ls->xm, &ls->ym, &zm));
   PetscCall(DMDAGetInfo(dm, NULL, &M, &N, NULL, &m, &n, NULL, NULL, NULL, NULL, NULL, NULL, NULL));
   PetscCall(DMDAGetOwnershipRanges(dm, &lxr, &lyr, NULL));
-  PetscCall(PCGetOperators(pc, NULL, &A));
   PetscCall(MatGetOwnershipRange(A, &rstart, &rend));
   PetscCall(MatGetOwnershipRanges(A, &ranges));
   npts = ls->xm * ls->ym;
@@ -673,16 +686,20 @@ static PetscErrorCode LineSmootherSetUp(PC pc)
     if (!ls->cut[dir]) {
       if (dir == 0) ls->pivot_fixed |= FactorLines(b27, ls->ym, ls->xm, ls->xm, 1, ls->fac[0]);
       else ls->pivot_fixed |= FactorLines(b27, ls->xm, ls->ym, 1, ls->xm, ls->fac[1]);
-    } else { /* the dealt lines' blocks, factored in place */
+    } else { /* the dealt lines' blocks, factored in place (by a copy of the PetscSF, whose
+                buffers for the blocks go with it instead of staying in the sweeps' one) */
       PetscReal *lb = ls->lfac[dir];
-      PetscCall(PetscArrayzero(lb, 27 * ls->nlines[dir] * ls->len[dir]));
-      PetscCall(PetscSFBcastBegin(ls->sf[dir], ls->t27, b27, lb, MPI_REPLACE));
-      PetscCall(PetscSFBcastEnd(ls->sf[dir], ls->t27, b27, lb, MPI_REPLACE));
+      PetscSF    sf;
+      PetscCall(PetscSFDuplicate(ls->sf[dir], PETSCSF_DUPLICATE_GRAPH, &sf));
+      PetscCall(PetscSFBcastBegin(sf, ls->t27, b27, lb, MPI_REPLACE));
+      PetscCall(PetscSFBcastEnd(sf, ls->t27, b27, lb, MPI_REPLACE));
+      PetscCall(PetscSFDestroy(&sf));
       ls->pivot_fixed |= FactorLines(lb, ls->nlines[dir], ls->len[dir], ls->len[dir], 1, lb);
     }
   }
   PetscCall(PetscFree2(blk, b27));
   PetscCall(PetscFree4(ox, oy, x0, y0));
+  ls->A = A, ls->factored = *ls->tangents;
   PetscCall(PetscLogEventEnd(EV_LineSetUp, pc, 0, 0, 0));
   PetscFunctionReturn(0);
 }
@@ -736,13 +753,13 @@ static PetscErrorCode LineSweep(LineSmoother *ls, Mat A, int dir, Vec b, Vec x, 
 /* z = M^-1 r: one application (the sweeps of ls->order, each on the residual the last left) */
 static PetscErrorCode LineSmootherApply(PC pc, Vec r, Vec z)
 {
-  LineSmoother *ls;
-  Mat           A;
+  LineShell *sh;
+  Mat        A;
 
   PetscFunctionBeginUser;
-  PetscCall(PCShellGetContext(pc, &ls));
+  PetscCall(PCShellGetContext(pc, &sh));
   PetscCall(PCGetOperators(pc, &A, NULL));
-  for (int q = 0; q < 3 && ls->order[q] >= 0; q++) PetscCall(LineSweep(ls, A, ls->order[q], r, z, q == 0));
+  for (int q = 0; q < 3 && sh->order[q] >= 0; q++) PetscCall(LineSweep(sh->ls, A, sh->order[q], r, z, q == 0));
   PetscFunctionReturn(0);
 }
 
@@ -752,16 +769,16 @@ static PetscErrorCode LineSmootherRichardson(PC pc, Vec b, Vec x, Vec r, PetscRe
                                              PetscReal dtol, PetscInt maxits, PetscBool guesszero, PetscInt *its,
                                              PCRichardsonConvergedReason *reason)
 {
-  LineSmoother *ls;
-  Mat           A;
+  LineShell *sh;
+  Mat        A;
 
   PetscFunctionBeginUser;
   (void) r, (void) rtol, (void) abstol, (void) dtol;
-  PetscCall(PCShellGetContext(pc, &ls));
+  PetscCall(PCShellGetContext(pc, &sh));
   PetscCall(PCGetOperators(pc, &A, NULL));
   for (PetscInt it = 0; it < maxits; it++)
-    for (int q = 0; q < 3 && ls->order[q] >= 0; q++)
-      PetscCall(LineSweep(ls, A, ls->order[q], b, x, guesszero && it == 0 && q == 0 ? PETSC_TRUE : PETSC_FALSE));
+    for (int q = 0; q < 3 && sh->order[q] >= 0; q++)
+      PetscCall(LineSweep(sh->ls, A, sh->order[q], b, x, guesszero && it == 0 && q == 0 ? PETSC_TRUE : PETSC_FALSE));
   *its    = maxits;
   *reason = PCRICHARDSON_CONVERGED_ITS;
   PetscFunctionReturn(0);
@@ -769,10 +786,14 @@ static PetscErrorCode LineSmootherRichardson(PC pc, Vec b, Vec x, Vec r, PetscRe
 
 static PetscErrorCode LineSmootherDestroy(PC pc)
 {
+  LineShell    *sh;
   LineSmoother *ls;
 
   PetscFunctionBeginUser;
-  PetscCall(PCShellGetContext(pc, &ls));
+  PetscCall(PCShellGetContext(pc, &sh));
+  ls = sh->ls;
+  PetscCall(PetscFree(sh));
+  if (--ls->refs > 0) PetscFunctionReturn(0);
   PetscCall(VecDestroy(&ls->t));
   PetscCall(VecDestroy(&ls->s));
   for (int dir = 0; dir < 2; dir++) {
@@ -786,21 +807,23 @@ static PetscErrorCode LineSmootherDestroy(PC pc)
   PetscFunctionReturn(0);
 }
 
-/* level l's smoother: one application of the line smoother (Richardson, one iteration) */
-static PetscErrorCode SetLineSmoother(KSP ksp, const int order[3])
+/* a smoother of a level: one application of the line smoother (Richardson, one iteration) with
+   the level's factors ls (shared by its down and up smoothers) */
+static PetscErrorCode SetLineSmoother(KSP ksp, const int order[3], LineSmoother *ls)
 {
-  PC            pc;
-  LineSmoother *ls;
+  PC         pc;
+  LineShell *sh;
 
   PetscFunctionBeginUser;
   PetscCall(KSPSetType(ksp, KSPRICHARDSON));
   PetscCall(KSPSetTolerances(ksp, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, 1));
   PetscCall(KSPGetPC(ksp, &pc));
   PetscCall(PCSetType(pc, PCSHELL));
-  PetscCall(PetscNew(&ls));
-  for (int q = 0; q < 3; q++) ls->order[q] = order[q];
-  ls->t3 = ls->t27 = MPI_DATATYPE_NULL;
-  PetscCall(PCShellSetContext(pc, ls));
+  PetscCall(PetscNew(&sh));
+  for (int q = 0; q < 3; q++) sh->order[q] = order[q];
+  sh->ls = ls;
+  ls->refs++;
+  PetscCall(PCShellSetContext(pc, sh));
   PetscCall(PCShellSetName(pc, "alternating block-line relaxation"));
   PetscCall(PCShellSetSetUp(pc, LineSmootherSetUp));
   PetscCall(PCShellSetApply(pc, LineSmootherApply));
@@ -856,13 +879,17 @@ static PetscErrorCode SetDefaults(StaticSolver ss)
     PetscCall(PCMGSetLevels(pc, levels, NULL));
     PetscCall(PCMGSetGalerkin(pc, PC_MG_GALERKIN_BOTH));
     for (PetscInt l = 1; l < levels && ss->opt.line_smoother; l++) { /* down x then y lines, up y then x */
-      const int down[3] = {0, 1, -1}, up[3] = {1, 0, -1};
-      KSP       smoother;
+      const int     down[3] = {0, 1, -1}, up[3] = {1, 0, -1};
+      KSP           smoother;
+      LineSmoother *ls;
+      PetscCall(PetscNew(&ls));
+      ls->t3 = ls->t27 = MPI_DATATYPE_NULL;
+      ls->tangents     = &ss->tangents;
       PetscCall(PCMGGetSmootherDown(pc, l, &smoother));
-      PetscCall(SetLineSmoother(smoother, down));
+      PetscCall(SetLineSmoother(smoother, down, ls));
       PetscCall(KSPSetInitialGuessNonzero(smoother, PETSC_FALSE));
       PetscCall(PCMGGetSmootherUp(pc, l, &smoother));
-      PetscCall(SetLineSmoother(smoother, up));
+      PetscCall(SetLineSmoother(smoother, up, ls));
     }
   } else
     PetscCall(PCSetType(pc, PCGAMG));
