@@ -8,7 +8,8 @@
  * stays symmetric, and Newton never moves it.
  * Objective: Pi (SNESSetObjective). The backtracking line search then decreases the energy,
  * which stays convex across the yarn law's kinks, where |F| need not decrease.
- * Tangent: the force terms' blocks (TermTangent), the bodies' penalty Hessians, plus a
+ * Tangent: assembled by rows (FormJacobian) into a matrix preallocated with the blocks the
+ * terms fill (CreateTangent): the force terms' blocks (TermTangent), the bodies' penalty Hessians, plus a
  * pretension shift: every existing segment carries an extra geometric stiffness k_s I (a graph
  * Laplacian of the yarns). A flat net without tension has a singular tangent (no out-of-plane
  * stiffness) and compressed yarns an indefinite one; the shift makes both solvable and spreads a
@@ -22,7 +23,8 @@
  * Linear solves: CG (on the true residual) preconditioned by geometric multigrid on the DMDA
  * hierarchy (Galerkin coarse operators) where the grid halves at least once, smoothed by
  * alternating block-line relaxation (LineSmoother: a yarn is 1/strain times stiffer along itself
- * than across, which point smoothers cannot smooth); GAMG with the rigid-body modes otherwise.
+ * than across, which point smoothers cannot smooth; every line solved whole, across ranks too);
+ * GAMG with the rigid-body modes otherwise.
  * All are overridden by -snes_*, -ksp_*, -pc_*, -mg_* (the options prefix is none).
  * Convergence: the explicit path's balance test (the largest free force over the larger of the
  * largest yarn tension and the force floor) at -balance_tol.
@@ -902,8 +904,9 @@ static PetscErrorCode SetDefaults(StaticSolver ss)
 /* The grid's layout (same sizes and ownership, so the same global vectors) with the stencil
    the tangent needs: a segment couples neighbours along a yarn (star, width 1), a shear crossing
    its diagonal neighbours too (box, width 1), a bending centre the points two apart (star,
-   width 2), both the box of width 2. A smaller stencil stores fewer zeros: a tangent of
-   traction alone has 15 nonzeros a row instead of 75. */
+   width 2), both the box of width 2. Its ghost points number the tangent's columns
+   (MatSetValuesBlockedLocal); the tangent's own preallocation is CreateTangent's, and the
+   multigrid levels are its coarsenings. */
 static PetscErrorCode CreateMatrixDM(Fabric fab, DM *dm)
 {
   const Patch    *p = &fab->grid.patch;
