@@ -883,15 +883,15 @@ static PetscErrorCode SetDefaults(StaticSolver ss)
     for (PetscInt l = 1; l < levels && ss->opt.line_smoother; l++) { /* down x then y lines, up y then x */
       const int     down[3] = {0, 1, -1}, up[3] = {1, 0, -1};
       KSP           smoother;
-      LineSmoother *ls;
-      PetscCall(PetscNew(&ls));
-      ls->t3 = ls->t27 = MPI_DATATYPE_NULL;
-      ls->tangents     = &ss->tangents;
+      LineSmoother *lines; /* the level's factors, shared */
+      PetscCall(PetscNew(&lines));
+      lines->t3 = lines->t27 = MPI_DATATYPE_NULL;
+      lines->tangents        = &ss->tangents;
       PetscCall(PCMGGetSmootherDown(pc, l, &smoother));
-      PetscCall(SetLineSmoother(smoother, down, ls));
+      PetscCall(SetLineSmoother(smoother, down, lines));
       PetscCall(KSPSetInitialGuessNonzero(smoother, PETSC_FALSE));
       PetscCall(PCMGGetSmootherUp(pc, l, &smoother));
-      PetscCall(SetLineSmoother(smoother, up, ls));
+      PetscCall(SetLineSmoother(smoother, up, lines));
     }
   } else
     PetscCall(PCSetType(pc, PCGAMG));
