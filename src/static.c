@@ -150,7 +150,8 @@ static const int SlotDj[ROW_SLOTS] = {-2, -1, -1, -1, 0, 0, 0, 0, 0, 1, 1, 1, 2}
 
 static inline int SlotOf(PetscInt di, PetscInt dj)
 {
-  static const int slot[5][5] = {{-1, -1, 0, -1, -1}, {-1, 1, 2, 3, -1}, {4, 5, 6, 7, 8}, {-1, 9, 10, 11, -1}, {-1, -1, 12, -1, -1}};
+  static const int slot[5][5] = {
+    {-1, -1, 0, -1, -1}, {-1, 1, 2, 3, -1}, {4, 5, 6, 7, 8}, {-1, 9, 10, 11, -1}, {-1, -1, 12, -1, -1}};
   return (di < -2 || di > 2 || dj < -2 || dj > 2) ? -1 : slot[dj + 2][di + 2];
 }
 
@@ -179,8 +180,9 @@ static PetscErrorCode AddFreeBlocks(void *ctx, PetscInt n, const PetscInt i[], c
     PetscReal *row;
     if (held[a]) continue;
     PetscCheck(j[a] >= rr->jo - 1 && j[a] <= rr->jo + 1 && i[a] >= p->xs - 1 && i[a] <= p->xs + p->xm, PETSC_COMM_SELF,
-               PETSC_ERR_PLIB, "a tangent block of row (%" PetscInt_FMT ", %" PetscInt_FMT ") from an owner in row %" PetscInt_FMT,
-               i[a], j[a], rr->jo);
+               PETSC_ERR_PLIB,
+               "a tangent block of row (%" PetscInt_FMT ", %" PetscInt_FMT ") from an owner in row %" PetscInt_FMT, i[a],
+               j[a], rr->jo);
     row = rr->buf[(j[a] - p->ys + 1) % 3] + 9 * ROW_SLOTS * (i[a] - p->xs + 1);
     for (PetscInt b = 0; b < n; b++) {
       const int s = held[b] ? -1 : SlotOf(i[b] - i[a], j[b] - j[a]);
@@ -210,7 +212,8 @@ static PetscErrorCode FlushRow(StaticSolver ss, PetscInt jr)
     PetscCall(DMDAGetGhostCorners(ss->dm, &gxs, &gys, &zs, &gxm, &gym, &zm));
     for (PetscInt i = PetscMax(p->xs - 1, 0); i < PetscMin(p->xs + p->xm + 1, p->nx); i++) {
       const PetscReal *row   = buf + 9 * ROW_SLOTS * (i - p->xs + 1);
-      const PetscBool  owned = (i >= p->xs && i < p->xs + p->xm && jr >= p->ys && jr < p->ys + p->ym) ? PETSC_TRUE : PETSC_FALSE;
+      const PetscBool  owned = (i >= p->xs && i < p->xs + p->xm && jr >= p->ys && jr < p->ys + p->ym) ? PETSC_TRUE
+                                                                                                       : PETSC_FALSE;
       const PetscInt   lrow  = (jr - gys) * gxm + (i - gxs);
       PetscInt         nc    = 0, cols[ROW_SLOTS];
       int              sl[ROW_SLOTS];
@@ -517,7 +520,8 @@ static inline PetscBool FactorPoint(const PetscReal *blk, PetscReal *fac, PetscI
   return fixed;
 }
 
-static inline void ForwardPoint(const PetscReal *fac, const PetscScalar *r, PetscScalar *x, PetscInt k, PetscInt q, PetscInt qs)
+static inline void ForwardPoint(const PetscReal *fac, const PetscScalar *r, PetscScalar *x, PetscInt k, PetscInt q,
+                                PetscInt qs)
 {
   const PetscReal *f = fac + 27 * k, *L = f + 18;
   PetscReal        b[3] = {r[3 * k], r[3 * k + 1], r[3 * k + 2]};
@@ -539,7 +543,8 @@ static inline void BackwardPoint(const PetscReal *fac, PetscScalar *x, PetscInt 
 
 /* nlines lines, point q of line l at k = l * lstride + q * qs: one of the strides is 1, and the
    loop over it is the inner one (a line after the other, or all lines a point at a time) */
-static PetscBool FactorLines(const PetscReal *blk, PetscInt nlines, PetscInt len, PetscInt lstride, PetscInt qs, PetscReal *fac)
+static PetscBool FactorLines(const PetscReal *blk, PetscInt nlines, PetscInt len, PetscInt lstride, PetscInt qs,
+                             PetscReal *fac)
 {
   PetscBool fixed = PETSC_FALSE;
 
@@ -553,7 +558,8 @@ static PetscBool FactorLines(const PetscReal *blk, PetscInt nlines, PetscInt len
   return fixed;
 }
 
-static void SolveLines(const PetscReal *fac, PetscInt nlines, PetscInt len, PetscInt lstride, PetscInt qs, const PetscScalar *r, PetscScalar *x)
+static void SolveLines(const PetscReal *fac, PetscInt nlines, PetscInt len, PetscInt lstride, PetscInt qs,
+                       const PetscScalar *r, PetscScalar *x)
 {
   if (qs == 1) {
     for (PetscInt l = 0; l < nlines; l++) {
@@ -598,7 +604,8 @@ static PetscErrorCode DealLines(LineSmoother *ls, MPI_Comm comm, int dir, PetscI
     }
   ls->nlines[dir] = nl, ls->len[dir] = len;
   PetscCall(PetscSFCreate(comm, &ls->sf[dir]));
-  PetscCall(PetscSFSetGraph(ls->sf[dir], ls->xm * ls->ym, nl * len, NULL, PETSC_OWN_POINTER, remote, PETSC_OWN_POINTER));
+  PetscCall(
+      PetscSFSetGraph(ls->sf[dir], ls->xm * ls->ym, nl * len, NULL, PETSC_OWN_POINTER, remote, PETSC_OWN_POINTER));
   PetscCall(PetscSFSetUp(ls->sf[dir]));
   PetscCall(PetscMalloc3(27 * nl * len, &ls->lfac[dir], 3 * nl * len, &ls->lr[dir], 3 * nl * len, &ls->lx[dir]));
   PetscFunctionReturn(0);
@@ -664,7 +671,9 @@ static PetscErrorCode LineSmootherSetUp(PC pc)
     PetscInt       nb[5];
     for (int w = 0; w < 5; w++) {
       const PetscInt a = ni[w], b = nj[w];
-      nb[w] = (a < 0 || a >= M || b < 0 || b >= N) ? -1 : ranges[oy[b] * m + ox[a]] / 3 + (b - y0[oy[b]]) * lxr[ox[a]] + (a - x0[ox[a]]);
+      nb[w] = (a < 0 || a >= M || b < 0 || b >= N)
+                ? -1
+                : ranges[oy[b] * m + ox[a]] / 3 + (b - y0[oy[b]]) * lxr[ox[a]] + (a - x0[ox[a]]);
     }
     for (int c = 0; c < 3; c++) {
       PetscInt           ncols;
