@@ -181,8 +181,8 @@ static PetscErrorCode AddFreeBlocks(void *ctx, PetscInt n, const PetscInt i[], c
     if (held[a]) continue;
     PetscCheck(j[a] >= rr->jo - 1 && j[a] <= rr->jo + 1 && i[a] >= p->xs - 1 && i[a] <= p->xs + p->xm, PETSC_COMM_SELF,
                PETSC_ERR_PLIB,
-               "a tangent block of row (%" PetscInt_FMT ", %" PetscInt_FMT ") from an owner in row %" PetscInt_FMT, i[a],
-               j[a], rr->jo);
+               "a tangent block of row (%" PetscInt_FMT ", %" PetscInt_FMT ") from an owner in row %" PetscInt_FMT,
+               i[a], j[a], rr->jo);
     row = rr->buf[(j[a] - p->ys + 1) % 3] + 9 * ROW_SLOTS * (i[a] - p->xs + 1);
     for (PetscInt b = 0; b < n; b++) {
       const int s = held[b] ? -1 : SlotOf(i[b] - i[a], j[b] - j[a]);
@@ -577,7 +577,8 @@ static void SolveLines(const PetscReal *fac, PetscInt nlines, PetscInt len, Pets
 /* the lines of a cut direction dealt to this rank: those of its patch's rows (x-lines) or columns
    (y-lines) in equal shares among the ranks of its process row (column), each whole; the PetscSF
    from their points' owners, point q of line l the leaf l * len + q */
-static PetscErrorCode DealLines(LineSmoother *ls, MPI_Comm comm, int dir, PetscInt M, PetscInt N, PetscInt m, PetscInt n,
+static PetscErrorCode DealLines(LineSmoother *ls, MPI_Comm comm, int dir, PetscInt M, PetscInt N, PetscInt m,
+                                PetscInt n,
                                 const PetscInt lxr[], const PetscInt ox[], const PetscInt oy[],
                                 const PetscInt x0[], const PetscInt y0[], PetscMPIInt rank)
 {
