@@ -8,7 +8,8 @@
  * stays symmetric, and Newton never moves it.
  * Objective: Pi (SNESSetObjective). The backtracking line search then decreases the energy,
  * which stays convex across the yarn law's kinks, where |F| need not decrease.
- * Tangent: the force terms' blocks (TermTangent), the bodies' penalty Hessians, plus a
+ * Tangent: assembled by rows (FormJacobian) into a matrix preallocated with the blocks the
+ * terms fill (CreateTangent): the force terms' blocks (TermTangent), the bodies' penalty Hessians, plus a
  * pretension shift: every existing segment carries an extra geometric stiffness k_s I (a graph
  * Laplacian of the yarns). A flat net without tension has a singular tangent (no out-of-plane
  * stiffness) and compressed yarns an indefinite one; the shift makes both solvable and spreads a
@@ -22,7 +23,8 @@
  * Linear solves: CG (on the true residual) preconditioned by geometric multigrid on the DMDA
  * hierarchy (Galerkin coarse operators) where the grid halves at least once, smoothed by
  * alternating block-line relaxation (LineSmoother: a yarn is 1/strain times stiffer along itself
- * than across, which point smoothers cannot smooth); GAMG with the rigid-body modes otherwise.
+ * than across, which point smoothers cannot smooth; every line solved whole, across ranks too);
+ * GAMG with the rigid-body modes otherwise.
  * All are overridden by -snes_*, -ksp_*, -pc_*, -mg_* (the options prefix is none).
  * Convergence: the explicit path's balance test (the largest free force over the larger of the
  * largest yarn tension and the force floor) at -balance_tol.
@@ -32,6 +34,7 @@
 #include "comm.h"
 #include "integrate.h"
 
+#include <petscsf.h>
 #include <petscsnes.h>
 
 #define SHIFT_START  1e-2  /* k_s / k_ref at the first Newton step of the run (-snes_shift_start) */
@@ -45,6 +48,12 @@ typedef struct {                          /* the solver's own options (ReadOptio
   PetscInt  order;                    /* of the first guess's extrapolation */
   PetscBool line_smoother;            /* multigrid levels smoothed by block lines (LineSmoother) */
 } StaticOptions;
+
+typedef struct {   /* three grid rows of block rows, the ghost points either side included */
+  PetscReal *buf[3]; /* grid row j in buf[(j - ys + 1) % 3]: per point (xs - 1 ... xs + xm) ROW_SLOTS 3x3 blocks */
+  PetscInt   jo;     /* the row whose owners are being visited */
+  PetscBool  used[13]; /* the slots of the terms' stencil */
+} RowRing;
 
 struct _p_StaticSolver {
   Fabric         fab;
@@ -60,6 +69,8 @@ struct _p_StaticSolver {
   PetscReal      lh[3];    /* their load factors */
   PetscInt       nhist;
   StaticOptions  opt;
+  RowRing        ring;     /* the tangent's block rows being accumulated (FormJacobian) */
+  PetscInt       tangents; /* assembled so far: a level's line smoother factors its operator once for each */
 };
 
 /* gravity on the free owned points and the residual rows of the held ones */
@@ -126,28 +137,110 @@ static PetscErrorCode FormObjective(SNES snes, Vec U, PetscReal *pi, void *ctx)
   PetscFunctionReturn(0);
 }
 
-/* a TermBlocksFn: the blocks between free crossings only (rows and columns of held ones zeroed) */
+/* The tangent is assembled by rows. An instance owned by a point of grid row j (a segment, a
+   bending centre, a shear crossing) has its points within one of its owner, so it adds only to
+   the block rows of grid rows j-1, j and j+1: those three rows (with the ghost points either side
+   of the patch) are accumulated in a ring of row buffers while the owners of row j are visited,
+   and row j-1, then complete, is inserted, one MatSetValuesBlockedLocal per crossing. A block row
+   has a slot per stencil neighbour: (di, dj) in the 3x3 box and (+-2, 0), (0, +-2) (bending). */
+#define ROW_SLOTS 13
+static const int SlotDi[ROW_SLOTS] = {0, -1, 0, 1, -2, -1, 0, 1, 2, -1, 0, 1, 0};
+static const int SlotDj[ROW_SLOTS] = {-2, -1, -1, -1, 0, 0, 0, 0, 0, 1, 1, 1, 2};
+#define SLOT_CENTRE 6
+
+static inline int SlotOf(PetscInt di, PetscInt dj)
+{
+  static const int slot[5][5] = {
+    {-1, -1, 0, -1, -1}, {-1, 1, 2, 3, -1}, {4, 5, 6, 7, 8}, {-1, 9, 10, 11, -1}, {-1, -1, 12, -1, -1}};
+  return (di < -2 || di > 2 || dj < -2 || dj > 2) ? -1 : slot[dj + 2][di + 2];
+}
+
+/* the slots a tangent of these terms fills: the star of width 1 (traction), the box's corners
+   with shear, the points two apart along a yarn with bending */
+static PetscBool SlotUsed(const Patch *p, int s)
+{
+  const int ai = PetscAbsInt(SlotDi[s]), aj = PetscAbsInt(SlotDj[s]);
+  if (ai + aj <= 1) return PETSC_TRUE;
+  if (ai == 1 && aj == 1) return p->shear;
+  return p->bending;
+}
+
+/* a TermBlocksFn: adds the blocks between free crossings (those of held ones are left out) to
+   the rows of the ring */
 static PetscErrorCode AddFreeBlocks(void *ctx, PetscInt n, const PetscInt i[], const PetscInt j[], const PetscReal K[])
 {
   StaticSolver ss = (StaticSolver) ctx;
+  RowRing     *rr = &ss->ring;
   const Patch *p  = &ss->fab->grid.patch;
-  PetscReal    Kf[9 * TERM_MAX_POINTS * TERM_MAX_POINTS];
-  MatStencil   st[TERM_MAX_POINTS];
   int          held[TERM_MAX_POINTS];
 
   PetscFunctionBeginUser;
-  for (PetscInt q = 0; q < n; q++) {
-    held[q] = !ss->free_g[(j[q] - p->gys) * p->gxm + (i[q] - p->gxs)];
-    st[q]   = (MatStencil){.k = 0, .j = j[q], .i = i[q], .c = 0};
+  for (PetscInt q = 0; q < n; q++) held[q] = !ss->free_g[(j[q] - p->gys) * p->gxm + (i[q] - p->gxs)];
+  for (PetscInt a = 0; a < n; a++) {
+    PetscReal *row;
+    if (held[a]) continue;
+    PetscCheck(j[a] >= rr->jo - 1 && j[a] <= rr->jo + 1 && i[a] >= p->xs - 1 && i[a] <= p->xs + p->xm, PETSC_COMM_SELF,
+               PETSC_ERR_PLIB,
+               "a tangent block of row (%" PetscInt_FMT ", %" PetscInt_FMT ") from an owner in row %" PetscInt_FMT,
+               i[a], j[a], rr->jo);
+    row = rr->buf[(j[a] - p->ys + 1) % 3] + 9 * ROW_SLOTS * (i[a] - p->xs + 1);
+    for (PetscInt b = 0; b < n; b++) {
+      const int s = held[b] ? -1 : SlotOf(i[b] - i[a], j[b] - j[a]);
+      if (held[b]) continue;
+      PetscCheck(s >= 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "a tangent block outside the stencil");
+      for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) row[9 * s + 3 * r + c] += K[(3 * a + r) * 3 * n + 3 * b + c];
+    }
   }
-  for (PetscInt a = 0; a < 3 * n; a++)
-    for (PetscInt b = 0; b < 3 * n; b++) Kf[a * 3 * n + b] = (held[a / 3] || held[b / 3]) ? 0.0 : K[a * 3 * n + b];
-  PetscCall(MatSetValuesBlockedStencil(ss->J, n, st, n, st, Kf, ADD_VALUES));
   PetscFunctionReturn(0);
 }
 
-/* the pretension shift k_s I on the segments of the owned points (each owns its +x and +y segment) */
-static PetscErrorCode AddShift(StaticSolver ss)
+/* inserts the block rows of grid row jr held in the ring and clears them: an owned crossing's row
+   with every slot of the stencil inside the grid (zeros too, so that the matrix keeps one nonzero
+   structure), a ghost crossing's with its nonzero blocks only (they go to the owner at assembly) */
+static PetscErrorCode FlushRow(StaticSolver ss, PetscInt jr)
+{
+  RowRing     *rr = &ss->ring;
+  const Patch *p  = &ss->fab->grid.patch;
+  PetscReal   *buf;
+  PetscInt     gxs, gys, gxm, gym, zs, zm;
+
+  PetscFunctionBeginUser;
+  if (jr < p->ys - 1) PetscFunctionReturn(0);
+  buf = rr->buf[(jr - p->ys + 1) % 3];
+  if (jr >= 0 && jr < p->ny) {
+    PetscCall(DMDAGetGhostCorners(ss->dm, &gxs, &gys, &zs, &gxm, &gym, &zm));
+    for (PetscInt i = PetscMax(p->xs - 1, 0); i < PetscMin(p->xs + p->xm + 1, p->nx); i++) {
+      const PetscReal *row   = buf + 9 * ROW_SLOTS * (i - p->xs + 1);
+      const PetscBool  owned = (i >= p->xs && i < p->xs + p->xm && jr >= p->ys && jr < p->ys + p->ym) ? PETSC_TRUE
+                                                                                                       : PETSC_FALSE;
+      const PetscInt   lrow  = (jr - gys) * gxm + (i - gxs);
+      PetscInt         nc    = 0, cols[ROW_SLOTS];
+      int              sl[ROW_SLOTS];
+      PetscReal        vals[9 * ROW_SLOTS];
+      for (int s = 0; s < ROW_SLOTS; s++) {
+        const PetscInt ic = i + SlotDi[s], jc = jr + SlotDj[s];
+        PetscBool      keep;
+        if (ic < 0 || ic >= p->nx || jc < 0 || jc >= p->ny || !rr->used[s]) continue;
+        keep = owned;
+        for (int e = 0; e < 9 && !keep; e++) keep = row[9 * s + e] != 0 ? PETSC_TRUE : PETSC_FALSE;
+        if (!keep) continue;
+        cols[nc] = (jc - gys) * gxm + (ic - gxs);
+        sl[nc++] = s;
+      }
+      for (PetscInt q = 0; q < nc; q++) /* 3 rows of 3 nc values */
+        for (int r = 0; r < 3; r++)
+          for (int c = 0; c < 3; c++) vals[r * 3 * nc + 3 * q + c] = row[9 * sl[q] + 3 * r + c];
+      if (nc) PetscCall(MatSetValuesBlockedLocal(ss->J, 1, &lrow, nc, cols, vals, ADD_VALUES));
+    }
+  }
+  PetscCall(PetscArrayzero(buf, 9 * ROW_SLOTS * (p->xm + 2)));
+  PetscFunctionReturn(0);
+}
+
+/* the pretension shift k_s I on the segments owned by the points of row j (each owns its +x and
+   +y segment) */
+static PetscErrorCode AddShift(StaticSolver ss, PetscInt j)
 {
   const Patch    *p  = &ss->fab->grid.patch;
   const PetscReal ks = ss->shift * ss->k_ref;
@@ -157,72 +250,75 @@ static PetscErrorCode AddShift(StaticSolver ss)
   if (!(ks > 0)) PetscFunctionReturn(0);
   for (int a = 0; a < 6; a++)
     for (int b = 0; b < 6; b++) K[6 * a + b] = (a % 3 == b % 3) ? (a / 3 == b / 3 ? ks : -ks) : 0.0;
-  for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
-    for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
-      const PetscInt g = (j - p->gys) * p->gxm + (i - p->gxs);
-      if (!p->exists[g]) continue;
-      if (i + 1 < p->nx && p->exists[g + 1] && !p->broken_x[g]) {
-        const PetscInt ii[2] = {i, i + 1}, jj[2] = {j, j};
-        PetscCall(AddFreeBlocks(ss, 2, ii, jj, K));
-      }
-      if (j + 1 < p->ny && p->exists[g + p->gxm] && !p->broken_y[g]) {
-        const PetscInt ii[2] = {i, i}, jj[2] = {j, j + 1};
-        PetscCall(AddFreeBlocks(ss, 2, ii, jj, K));
-      }
+  for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
+    const PetscInt g = (j - p->gys) * p->gxm + (i - p->gxs);
+    if (!p->exists[g]) continue;
+    if (i + 1 < p->nx && p->exists[g + 1] && !p->broken_x[g]) {
+      const PetscInt ii[2] = {i, i + 1}, jj[2] = {j, j};
+      PetscCall(AddFreeBlocks(ss, 2, ii, jj, K));
     }
-  PetscFunctionReturn(0);
-}
-
-/* the bodies' penalty Hessians on the free owned points and the held points' scaled identity rows */
-static PetscErrorCode AddPointBlocks(StaticSolver ss, const PetscScalar *u)
-{
-  Fabric       fab = ss->fab;
-  const Patch *p   = &fab->grid.patch;
-  PetscReal    c[BODY_KINDS][3];
-
-  PetscFunctionBeginUser;
-  for (PetscInt q = 0; q < fab->bodies.n; q++) BodyPosition(&fab->bodies.body[q], fab->load.travel_now, c[q]);
-  for (PetscInt k = 0; k < fab->grid.nloc; k++) {
-    const MatStencil st   = {.k = 0, .j = p->ys + k / p->xm, .i = p->xs + k % p->xm, .c = 0};
-    PetscReal        K[9] = {0};
-    if (fab->grid.inv_m[k] > 0) {
-      PetscBool touch = PETSC_FALSE;
-      for (PetscInt q = 0; q < fab->bodies.n; q++) {
-        PetscReal gb[3], Kb[9];
-        if (BodyEnergy(&fab->bodies.body[q], c[q], u + 3 * k, gb, Kb) > 0) {
-          for (int e = 0; e < 9; e++) K[e] += Kb[e];
-          touch = PETSC_TRUE;
-        }
-      }
-      if (!touch) continue;
-    } else
-      K[0] = K[4] = K[8] = ss->k_ref;
-    PetscCall(MatSetValuesBlockedStencil(ss->J, 1, &st, 1, &st, K, ADD_VALUES));
+    if (j + 1 < p->ny && p->exists[g + p->gxm] && !p->broken_y[g]) {
+      const PetscInt ii[2] = {i, i}, jj[2] = {j, j + 1};
+      PetscCall(AddFreeBlocks(ss, 2, ii, jj, K));
+    }
   }
   PetscFunctionReturn(0);
 }
 
+/* the bodies' penalty Hessians on the free points of row j and the held points' scaled identity
+   rows */
+static void AddPointBlocks(StaticSolver ss, const PetscScalar *u, const PetscReal c[][3], PetscInt j)
+{
+  Fabric       fab = ss->fab;
+  const Patch *p   = &fab->grid.patch;
+
+  for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
+    const PetscInt k   = (j - p->ys) * p->xm + (i - p->xs);
+    PetscReal     *row = ss->ring.buf[(j - p->ys + 1) % 3] + 9 * ROW_SLOTS * (i - p->xs + 1) + 9 * SLOT_CENTRE;
+    if (fab->grid.inv_m[k] > 0) {
+      for (PetscInt q = 0; q < fab->bodies.n; q++) {
+        PetscReal gb[3], Kb[9];
+        if (BodyEnergy(&fab->bodies.body[q], c[q], u + 3 * k, gb, Kb) > 0)
+          for (int e = 0; e < 9; e++) row[e] += Kb[e];
+      }
+    } else
+      row[0] += ss->k_ref, row[4] += ss->k_ref, row[8] += ss->k_ref;
+  }
+}
+
 static PetscErrorCode FormJacobian(SNES snes, Vec U, Mat A, Mat P, void *ctx)
 {
-  StaticSolver       ss     = (StaticSolver) ctx;
-  Fabric             fab    = ss->fab;
-  const Patch       *p      = &fab->grid.patch;
-  const PetscInt     all[4] = {p->xs, p->xs + p->xm, p->ys, p->ys + p->ym};
+  StaticSolver       ss  = (StaticSolver) ctx;
+  Fabric             fab = ss->fab;
+  const Patch       *p   = &fab->grid.patch;
+  RowRing           *rr  = &ss->ring;
   const PetscScalar *xl, *u;
+  PetscReal          c[BODY_KINDS][3];
 
   PetscFunctionBeginUser;
   (void) snes;
   (void) A;
   PetscCheck(P == ss->J, fab->comm, PETSC_ERR_SUP, "the quasi-static solver assembles its own matrix");
   PetscCall(MatZeroEntries(P));
+  ss->tangents++;
   PetscCall(HaloExchange(fab->grid.da, U, fab->state.Xl));
+  for (PetscInt q = 0; q < fab->bodies.n; q++) BodyPosition(&fab->bodies.body[q], fab->load.travel_now, c[q]);
+  for (int s = 0; s < ROW_SLOTS; s++) rr->used[s] = SlotUsed(p, s);
+  for (int q = 0; q < 3; q++) PetscCall(PetscArrayzero(rr->buf[q], 9 * ROW_SLOTS * (p->xm + 2)));
   PetscCall(VecGetArrayRead(fab->state.Xl, &xl));
-  PetscCall(InternalTangent(p, xl, all, AddFreeBlocks, ss));
-  PetscCall(VecRestoreArrayRead(fab->state.Xl, &xl));
-  PetscCall(AddShift(ss));
   PetscCall(VecGetArrayRead(U, &u));
-  PetscCall(AddPointBlocks(ss, u));
+  for (PetscInt j = p->ys; j < p->ys + p->ym; j++) { /* the ring holds rows j-1, j, j+1 */
+    const PetscInt row[4] = {p->xs, p->xs + p->xm, j, j + 1};
+    rr->jo                = j;
+    PetscCall(InternalTangent(p, xl, row, AddFreeBlocks, ss));
+    PetscCall(AddShift(ss, j));
+    AddPointBlocks(ss, u, (const PetscReal(*)[3]) c, j);
+    PetscCall(FlushRow(ss, j - 1)); /* complete: its buffer becomes row j+2's */
+  }
+  PetscCall(FlushRow(ss, p->ys + p->ym - 1));
+  PetscCall(FlushRow(ss, p->ys + p->ym));
   PetscCall(VecRestoreArrayRead(U, &u));
+  PetscCall(VecRestoreArrayRead(fab->state.Xl, &xl));
   PetscCall(MatAssemblyBegin(P, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyEnd(P, MAT_FINAL_ASSEMBLY));
   PetscFunctionReturn(0);
@@ -345,20 +441,40 @@ static PetscErrorCode Converged(SNES snes, PetscInt it, PetscReal xnorm, PetscRe
    and soft across (its tension T/L, about the strain times EA/L): the in-plane displacement along
    x is strongly coupled along the warp yarns (x-lines) only, the one along y along the weft
    yarns (y-lines) only, an anisotropy of 1/strain that point smoothers (SOR, Jacobi) cannot
-   smooth, so that multigrid slows as the net grows and its strain falls. Each application
-   solves exactly along every x-line, then every y-line, then every x-line again, each on the
-   residual left by the one before (a symmetric smoother for CG): one block-tridiagonal solve
-   (3x3 blocks: a crossing's coupling to its neighbours along the line) per line of the rank's
-   patch; the couplings across lines and ranks stay in the residual. */
+   smooth, so that multigrid slows as the net grows and its strain falls. A sweep solves exactly
+   along every line of one direction (a block-tridiagonal solve, 3x3 blocks: a crossing's
+   coupling to its neighbours along the line) on the residual the sweep before left; the down
+   smoother sweeps the x-lines then the y-lines, the up smoother the y-lines then the x-lines (a
+   symmetric V-cycle for CG). Only the couplings across lines stay in the residual.
+   A line that lies on one rank is solved in place: an x-line along its points, the y-lines side
+   by side (one point of every y-line after the other, in memory order). The lines of a direction
+   that crosses ranks (x-lines when the process grid has more than one column, y-lines when it has
+   more than one row) are dealt out whole among the ranks that share them: each rank receives its
+   share of those lines, every point's blocks at set-up and every residual at a sweep (a PetscSF
+   from the points' owners), solves them and sends the solution back. */
 static PetscLogEvent EV_LineSetUp, EV_LineSolve;
 
 typedef struct {
-  PetscInt   xs, ys, xm, ym; /* the level's owned patch */
-  PetscReal *fac[2];         /* per owned point and line direction: S^-1, S^-1 U, L (3x3 each) */
-  Vec        t, s;           /* work: residual, one line sweep's correction */
-  PetscBool  pivot_fixed;    /* a non-positive 3x3 pivot was replaced by its diagonal (indefinite level) */
-  int        order[3];       /* the line directions of one application, -1 ends */
+  PetscInt     xs, ys, xm, ym;           /* the level's owned patch */
+  PetscBool    cut[2];                   /* the lines of direction dir (0: x, 1: y) cross ranks */
+  PetscReal   *fac[2];                   /* a direction not cut: per owned point S^-1, S^-1 U, L (3x3 each) */
+  PetscSF      sf[2];                    /* a cut direction: the points of the lines dealt to this rank
+                                            (leaves, line after line, along each) from their owners (roots) */
+  PetscInt     nlines[2], len[2];        /* the lines dealt to this rank, their length */
+  PetscReal   *lfac[2], *lr[2], *lx[2];  /* their factors (as fac), right-hand side and solution */
+  MPI_Datatype t3, t27;                  /* a point's 3 unknowns, its 3 blocks along a line */
+  Vec          t, s;                     /* work: residual, one line sweep's correction */
+  PetscBool    pivot_fixed;              /* a non-positive 3x3 pivot was replaced by its diagonal (indefinite level) */
+  PetscInt     refs;                     /* the level's down and up smoothers share it */
+  Mat             A;                     /* the operator factored, at tangent number factored */
+  PetscInt        factored;
+  const PetscInt *tangents;              /* the tangents assembled so far (FormJacobian) */
 } LineSmoother;
+
+typedef struct {     /* one smoother (PCSHELL context): the level's factors, its sweeps */
+  LineSmoother *ls;
+  int           order[3]; /* the line directions of one application, -1 ends */
+} LineShell;
 
 /* inverse of a 3x3 block; a pivot that is not positive definite enough is replaced by the absolute
    values of its diagonal (an indefinite tangent: the smoother stays a symmetric positive one) */
@@ -384,101 +500,240 @@ static inline void Mul3(const PetscReal a[9], const PetscReal b[9], PetscReal c[
     for (int q = 0; q < 3; q++) c[3 * r + q] = a[3 * r] * b[q] + a[3 * r + 1] * b[3 + q] + a[3 * r + 2] * b[6 + q];
 }
 
-/* the blocks of the level operator along the lines, factored: for the points k0, k1 ... of a line,
-   S_0 = D_0, S_i = D_i - L_i S_{i-1}^-1 U_{i-1}; kept: S_i^-1, S_i^-1 U_i, L_i */
-static PetscErrorCode LineSmootherSetUp(PC pc)
+/* Lines of len points, point q of a line at k (blocks at 27 k), its predecessor at k - qs.
+   Factor: S_0 = D_0, S_q = D_q - L_q S_{q-1}^-1 U_{q-1}; kept in fac: S_q^-1, S_q^-1 U_q, L_q.
+   Solve: forward g_q = S_q^-1 (r_q - L_q g_{q-1}), backward x_q = g_q - S_q^-1 U_q x_{q+1}. */
+static inline PetscBool FactorPoint(const PetscReal *blk, PetscReal *fac, PetscInt k, PetscInt q, PetscInt qs)
 {
-  LineSmoother *ls;
-  DM            dm;
-  Mat           A;
-  PetscInt      rstart, rend, npts, zs, zm;
-  PetscReal    *blk; /* per owned point: D, L_x, U_x, L_y, U_y (3x3 each) */
+  PetscReal *f = fac + 27 * k, S[9], L[9], U[9]; /* copies: fac may be blk (factored in place) */
+  PetscBool  fixed;
+
+  for (int e = 0; e < 9; e++) S[e] = blk[27 * k + e], L[e] = blk[27 * k + 9 + e], U[e] = blk[27 * k + 18 + e];
+  if (q > 0) { /* S -= L W_{q-1} */
+    PetscReal LW[9];
+    Mul3(L, fac + 27 * (k - qs) + 9, LW);
+    for (int e = 0; e < 9; e++) S[e] -= LW[e];
+  }
+  fixed = Invert3(S, f);
+  Mul3(f, U, f + 9);
+  for (int e = 0; e < 9; e++) f[18 + e] = L[e];
+  return fixed;
+}
+
+static inline void ForwardPoint(const PetscReal *fac, const PetscScalar *r, PetscScalar *x, PetscInt k, PetscInt q,
+                                PetscInt qs)
+{
+  const PetscReal *f = fac + 27 * k, *L = f + 18;
+  PetscReal        b[3] = {r[3 * k], r[3 * k + 1], r[3 * k + 2]};
+
+  if (q > 0) {
+    const PetscScalar *g = x + 3 * (k - qs);
+    for (int c = 0; c < 3; c++) b[c] -= L[3 * c] * g[0] + L[3 * c + 1] * g[1] + L[3 * c + 2] * g[2];
+  }
+  for (int c = 0; c < 3; c++) x[3 * k + c] = f[3 * c] * b[0] + f[3 * c + 1] * b[1] + f[3 * c + 2] * b[2];
+}
+
+static inline void BackwardPoint(const PetscReal *fac, PetscScalar *x, PetscInt k, PetscInt qs)
+{
+  const PetscReal   *W = fac + 27 * k + 9;
+  const PetscScalar *y = x + 3 * (k + qs);
+
+  for (int c = 0; c < 3; c++) x[3 * k + c] -= W[3 * c] * y[0] + W[3 * c + 1] * y[1] + W[3 * c + 2] * y[2];
+}
+
+/* nlines lines, point q of line l at k = l * lstride + q * qs: one of the strides is 1, and the
+   loop over it is the inner one (a line after the other, or all lines a point at a time) */
+static PetscBool FactorLines(const PetscReal *blk, PetscInt nlines, PetscInt len, PetscInt lstride, PetscInt qs,
+                             PetscReal *fac)
+{
+  PetscBool fixed = PETSC_FALSE;
+
+  if (qs == 1) {
+    for (PetscInt l = 0; l < nlines; l++)
+      for (PetscInt q = 0; q < len; q++) fixed |= FactorPoint(blk, fac, l * lstride + q, q, 1);
+  } else {
+    for (PetscInt q = 0; q < len; q++)
+      for (PetscInt l = 0; l < nlines; l++) fixed |= FactorPoint(blk, fac, l * lstride + q * qs, q, qs);
+  }
+  return fixed;
+}
+
+static void SolveLines(const PetscReal *fac, PetscInt nlines, PetscInt len, PetscInt lstride, PetscInt qs,
+                       const PetscScalar *r, PetscScalar *x)
+{
+  if (qs == 1) {
+    for (PetscInt l = 0; l < nlines; l++) {
+      for (PetscInt q = 0; q < len; q++) ForwardPoint(fac, r, x, l * lstride + q, q, 1);
+      for (PetscInt q = len - 2; q >= 0; q--) BackwardPoint(fac, x, l * lstride + q, 1);
+    }
+  } else {
+    for (PetscInt q = 0; q < len; q++)
+      for (PetscInt l = 0; l < nlines; l++) ForwardPoint(fac, r, x, l * lstride + q * qs, q, qs);
+    for (PetscInt q = len - 2; q >= 0; q--)
+      for (PetscInt l = 0; l < nlines; l++) BackwardPoint(fac, x, l * lstride + q * qs, qs);
+  }
+}
+
+/* the lines of a cut direction dealt to this rank: those of its patch's rows (x-lines) or columns
+   (y-lines) in equal shares among the ranks of its process row (column), each whole; the PetscSF
+   from their points' owners, point q of line l the leaf l * len + q */
+static PetscErrorCode DealLines(LineSmoother *ls, MPI_Comm comm, int dir, PetscInt M, PetscInt N, PetscInt m,
+                                PetscInt n,
+                                const PetscInt lxr[], const PetscInt ox[], const PetscInt oy[],
+                                const PetscInt x0[], const PetscInt y0[], PetscMPIInt rank)
+{
+  const PetscInt pi = rank % m, pj = rank / m;
+  PetscInt       first, nl, len;
+  PetscSFNode   *remote;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscLogEventBegin(EV_LineSetUp, pc, 0, 0, 0));
-  PetscCall(PCShellGetContext(pc, &ls));
-  PetscCall(PCGetDM(pc, &dm));
-  PetscCheck(dm, PetscObjectComm((PetscObject) pc), PETSC_ERR_SUP, "the line smoother needs the level's DMDA");
-  PetscCall(DMDAGetCorners(dm, &ls->xs, &ls->ys, &zs, &ls->xm, &ls->ym, &zm));
+  if (dir == 0) first = ls->ys + (pi * ls->ym) / m, nl = ls->ys + ((pi + 1) * ls->ym) / m - first, len = M;
+  else first = ls->xs + (pj * ls->xm) / n, nl = ls->xs + ((pj + 1) * ls->xm) / n - first, len = N;
+  PetscCall(PetscMalloc1(nl * len, &remote));
+  for (PetscInt l = 0; l < nl; l++)
+    for (PetscInt q = 0; q < len; q++) {
+      PetscSFNode *e = remote + l * len + q;
+      if (dir == 0) { /* point (q, first + l) */
+        const PetscInt qi = ox[q];
+        e->rank  = pj * m + qi;
+        e->index = (first + l - y0[pj]) * lxr[qi] + (q - x0[qi]);
+      } else { /* point (first + l, q) */
+        const PetscInt qj = oy[q];
+        e->rank  = qj * m + pi;
+        e->index = (q - y0[qj]) * lxr[pi] + (first + l - x0[pi]);
+      }
+    }
+  ls->nlines[dir] = nl, ls->len[dir] = len;
+  PetscCall(PetscSFCreate(comm, &ls->sf[dir]));
+  PetscCall(
+      PetscSFSetGraph(ls->sf[dir], ls->xm * ls->ym, nl * len, NULL, PETSC_OWN_POINTER, remote, PETSC_OWN_POINTER));
+  PetscCall(PetscSFSetUp(ls->sf[dir]));
+  PetscCall(PetscMalloc3(27 * nl * len, &ls->lfac[dir], 3 * nl * len, &ls->lr[dir], 3 * nl * len, &ls->lx[dir]));
+  PetscFunctionReturn(0);
+}
+
+/* the blocks of the level operator along the lines, factored */
+static PetscErrorCode LineSmootherSetUp(PC pc)
+{
+  LineSmoother   *ls;
+  DM              dm;
+  Mat             A;
+  MPI_Comm        comm = PetscObjectComm((PetscObject) pc);
+  PetscMPIInt     rank;
+  PetscInt        rstart, rend, npts, zs, zm, M, N, m, n, *ox, *oy, *x0, *y0;
+  const PetscInt *lxr, *lyr, *ranges;
+  PetscReal      *blk, *b27; /* per owned point: D, L_x, U_x, L_y, U_y; D, L, U of one direction (3x3 each) */
+  LineShell      *sh;
+
+  PetscFunctionBeginUser;
+  PetscCall(PCShellGetContext(pc, &sh));
+  ls = sh->ls;
   PetscCall(PCGetOperators(pc, NULL, &A));
+  if (ls->t && ls->A == A && ls->factored == *ls->tangents) PetscFunctionReturn(0); /* the level's other smoother did */
+  PetscCall(PetscLogEventBegin(EV_LineSetUp, pc, 0, 0, 0));
+  PetscCall(PCGetDM(pc, &dm));
+  PetscCheck(dm, comm, PETSC_ERR_SUP, "the line smoother needs the level's DMDA");
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCall(DMDAGetCorners(dm, &ls->xs, &ls->ys, &zs, &ls->xm, &ls->ym, &zm));
+  PetscCall(DMDAGetInfo(dm, NULL, &M, &N, NULL, &m, &n, NULL, NULL, NULL, NULL, NULL, NULL, NULL));
+  PetscCall(DMDAGetOwnershipRanges(dm, &lxr, &lyr, NULL));
   PetscCall(MatGetOwnershipRange(A, &rstart, &rend));
+  PetscCall(MatGetOwnershipRanges(A, &ranges));
   npts = ls->xm * ls->ym;
   PetscCheck(rend - rstart == 3 * npts, PETSC_COMM_SELF, PETSC_ERR_SUP, "the line smoother needs 3 unknowns a point");
+  /* the process column of each grid column, the process row of each grid row, their first points */
+  PetscCall(PetscMalloc4(M, &ox, N, &oy, m, &x0, n, &y0));
+  for (PetscInt a = 0, s = 0; a < m; s += lxr[a++]) {
+    x0[a] = s;
+    for (PetscInt i = s; i < s + lxr[a]; i++) ox[i] = a;
+  }
+  for (PetscInt a = 0, s = 0; a < n; s += lyr[a++]) {
+    y0[a] = s;
+    for (PetscInt j = s; j < s + lyr[a]; j++) oy[j] = a;
+  }
   if (!ls->t) {
     PetscCall(MatCreateVecs(A, &ls->t, &ls->s));
-    PetscCall(PetscMalloc2(27 * npts, &ls->fac[0], 27 * npts, &ls->fac[1]));
+    PetscCallMPI(MPI_Type_contiguous(3, MPIU_SCALAR, &ls->t3));
+    PetscCallMPI(MPI_Type_commit(&ls->t3));
+    PetscCallMPI(MPI_Type_contiguous(27, MPIU_REAL, &ls->t27));
+    PetscCallMPI(MPI_Type_commit(&ls->t27));
+    ls->cut[0] = m > 1 ? PETSC_TRUE : PETSC_FALSE;
+    ls->cut[1] = n > 1 ? PETSC_TRUE : PETSC_FALSE;
+    for (int dir = 0; dir < 2; dir++) {
+      if (ls->cut[dir]) PetscCall(DealLines(ls, comm, dir, M, N, m, n, lxr, ox, oy, x0, y0, rank));
+      else PetscCall(PetscMalloc1(27 * npts, &ls->fac[dir]));
+    }
   }
-  PetscCall(PetscCalloc1(45 * npts, &blk));
+  /* the blocks, by the global block indices of each point and its neighbours (on any rank) */
+  PetscCall(PetscCalloc2(45 * npts, &blk, 27 * npts, &b27));
   for (PetscInt k = 0; k < npts; k++) {
-    const PetscInt i = k % ls->xm;
+    const PetscInt i = ls->xs + k % ls->xm, j = ls->ys + k / ls->xm;
+    const PetscInt ni[5] = {i, i - 1, i + 1, i, i}, nj[5] = {j, j, j, j - 1, j + 1};
+    PetscInt       nb[5];
+    for (int w = 0; w < 5; w++) {
+      const PetscInt a = ni[w], b = nj[w];
+      nb[w] = (a < 0 || a >= M || b < 0 || b >= N)
+                ? -1
+                : ranges[oy[b] * m + ox[a]] / 3 + (b - y0[oy[b]]) * lxr[ox[a]] + (a - x0[ox[a]]);
+    }
     for (int c = 0; c < 3; c++) {
       PetscInt           ncols;
       const PetscInt    *cols;
       const PetscScalar *vals;
       PetscCall(MatGetRow(A, rstart + 3 * k + c, &ncols, &cols, &vals));
       for (PetscInt q = 0; q < ncols; q++) {
-        const PetscInt col = cols[q] - rstart, kk = col / 3, cc = col % 3;
-        int            which;
-        if (cols[q] < rstart || cols[q] >= rend) continue; /* another rank's: left in the residual */
-        if (kk == k) which = 0;
-        else if (kk == k - 1 && i > 0) which = 1;
-        else if (kk == k + 1 && i + 1 < ls->xm) which = 2;
-        else if (kk == k - ls->xm) which = 3;
-        else if (kk == k + ls->xm) which = 4;
-        else continue;
-        blk[45 * k + 9 * which + 3 * c + cc] = vals[q];
+        const PetscInt kk = cols[q] / 3, cc = cols[q] % 3;
+        for (int w = 0; w < 5; w++)
+          if (kk == nb[w]) blk[45 * k + 9 * w + 3 * c + cc] = vals[q];
       }
       PetscCall(MatRestoreRow(A, rstart + 3 * k + c, &ncols, &cols, &vals));
     }
   }
   ls->pivot_fixed = PETSC_FALSE;
   for (int dir = 0; dir < 2; dir++) {
-    const PetscInt nlines = dir ? ls->xm : ls->ym, len = dir ? ls->ym : ls->xm, stride = dir ? ls->xm : 1;
-    for (PetscInt line = 0; line < nlines; line++)
-      for (PetscInt q = 0; q < len; q++) {
-        const PetscInt   k = dir ? line + q * ls->xm : line * ls->xm + q;
-        const PetscReal *D = blk + 45 * k, *L = D + 9 * (1 + 2 * dir), *U = D + 9 * (2 + 2 * dir);
-        PetscReal       *f = ls->fac[dir] + 27 * k, S[9];
-        for (int e = 0; e < 9; e++) S[e] = D[e];
-        if (q > 0) { /* S -= L_i W_{i-1} */
-          PetscReal LW[9];
-          Mul3(L, ls->fac[dir] + 27 * (k - stride) + 9, LW);
-          for (int e = 0; e < 9; e++) S[e] -= LW[e];
-        }
-        if (Invert3(S, f)) ls->pivot_fixed = PETSC_TRUE;
-        Mul3(f, U, f + 9);
-        for (int e = 0; e < 9; e++) f[18 + e] = L[e];
-      }
+    for (PetscInt k = 0; k < npts; k++) {
+      PetscCall(PetscArraycpy(b27 + 27 * k, blk + 45 * k, 9));
+      PetscCall(PetscArraycpy(b27 + 27 * k + 9, blk + 45 * k + 9 * (1 + 2 * dir), 18));
+    }
+    if (!ls->cut[dir]) {
+      if (dir == 0) ls->pivot_fixed |= FactorLines(b27, ls->ym, ls->xm, ls->xm, 1, ls->fac[0]);
+      else ls->pivot_fixed |= FactorLines(b27, ls->xm, ls->ym, 1, ls->xm, ls->fac[1]);
+    } else { /* the dealt lines' blocks, factored in place (by a copy of the PetscSF, whose
+                buffers for the blocks go with it instead of staying in the sweeps' one) */
+      PetscReal *lb = ls->lfac[dir];
+      PetscSF    sf;
+      PetscCall(PetscSFDuplicate(ls->sf[dir], PETSCSF_DUPLICATE_GRAPH, &sf));
+      PetscCall(PetscSFBcastBegin(sf, ls->t27, b27, lb, MPI_REPLACE));
+      PetscCall(PetscSFBcastEnd(sf, ls->t27, b27, lb, MPI_REPLACE));
+      PetscCall(PetscSFDestroy(&sf));
+      ls->pivot_fixed |= FactorLines(lb, ls->nlines[dir], ls->len[dir], ls->len[dir], 1, lb);
+    }
   }
-  PetscCall(PetscFree(blk));
+  PetscCall(PetscFree2(blk, b27));
+  PetscCall(PetscFree4(ox, oy, x0, y0));
+  ls->A = A, ls->factored = *ls->tangents;
   PetscCall(PetscLogEventEnd(EV_LineSetUp, pc, 0, 0, 0));
   PetscFunctionReturn(0);
 }
 
 /* x = T^-1 r for the block-tridiagonal T of every line of direction dir (0: x-lines, 1: y-lines) */
-static void LineSolve(const LineSmoother *ls, int dir, const PetscScalar *r, PetscScalar *x)
+static PetscErrorCode LineSolve(LineSmoother *ls, int dir, const PetscScalar *r, PetscScalar *x)
 {
-  const PetscInt nlines = dir ? ls->xm : ls->ym, len = dir ? ls->ym : ls->xm, stride = dir ? ls->xm : 1;
-
-  for (PetscInt line = 0; line < nlines; line++) {
-    const PetscInt k0 = dir ? line : line * ls->xm;
-    for (PetscInt q = 0; q < len; q++) { /* forward: g_i = S_i^-1 (r_i - L_i g_{i-1}) */
-      const PetscInt   k = k0 + q * stride;
-      const PetscReal *f = ls->fac[dir] + 27 * k, *L = f + 18;
-      PetscReal        b[3] = {r[3 * k], r[3 * k + 1], r[3 * k + 2]};
-      if (q > 0) {
-        const PetscScalar *g = x + 3 * (k - stride);
-        for (int c = 0; c < 3; c++) b[c] -= L[3 * c] * g[0] + L[3 * c + 1] * g[1] + L[3 * c + 2] * g[2];
-      }
-      for (int c = 0; c < 3; c++) x[3 * k + c] = f[3 * c] * b[0] + f[3 * c + 1] * b[1] + f[3 * c + 2] * b[2];
-    }
-    for (PetscInt q = len - 2; q >= 0; q--) { /* backward: x_i = g_i - S_i^-1 U_i x_{i+1} */
-      const PetscInt     k = k0 + q * stride;
-      const PetscReal   *W = ls->fac[dir] + 27 * k + 9;
-      const PetscScalar *y = x + 3 * (k + stride);
-      for (int c = 0; c < 3; c++) x[3 * k + c] -= W[3 * c] * y[0] + W[3 * c + 1] * y[1] + W[3 * c + 2] * y[2];
-    }
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(EV_LineSolve, 0, 0, 0, 0));
+  if (!ls->cut[dir]) {
+    if (dir == 0) SolveLines(ls->fac[0], ls->ym, ls->xm, ls->xm, 1, r, x);
+    else SolveLines(ls->fac[1], ls->xm, ls->ym, 1, ls->xm, r, x);
+  } else {
+    const PetscInt nl = ls->nlines[dir], len = ls->len[dir];
+    PetscCall(PetscSFBcastBegin(ls->sf[dir], ls->t3, r, ls->lr[dir], MPI_REPLACE));
+    PetscCall(PetscSFBcastEnd(ls->sf[dir], ls->t3, r, ls->lr[dir], MPI_REPLACE));
+    SolveLines(ls->lfac[dir], nl, len, len, 1, ls->lr[dir], ls->lx[dir]);
+    PetscCall(PetscSFReduceBegin(ls->sf[dir], ls->t3, ls->lx[dir], x, MPI_REPLACE));
+    PetscCall(PetscSFReduceEnd(ls->sf[dir], ls->t3, ls->lx[dir], x, MPI_REPLACE));
   }
+  PetscCall(PetscLogEventEnd(EV_LineSolve, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
 }
 
 /* One sweep over the lines of direction dir: x += T^-1 (b - A x), or x = T^-1 b from x = 0. */
@@ -489,11 +744,9 @@ static PetscErrorCode LineSweep(LineSmoother *ls, Mat A, int dir, Vec b, Vec x, 
 
   PetscFunctionBeginUser;
   if (zero) {
-    PetscCall(PetscLogEventBegin(EV_LineSolve, 0, 0, 0, 0));
     PetscCall(VecGetArrayRead(b, &rr));
     PetscCall(VecGetArrayWrite(x, &zz));
-    LineSolve(ls, dir, rr, zz);
-    PetscCall(PetscLogEventEnd(EV_LineSolve, 0, 0, 0, 0));
+    PetscCall(LineSolve(ls, dir, rr, zz));
     PetscCall(VecRestoreArrayWrite(x, &zz));
     PetscCall(VecRestoreArrayRead(b, &rr));
     PetscFunctionReturn(0);
@@ -502,9 +755,7 @@ static PetscErrorCode LineSweep(LineSmoother *ls, Mat A, int dir, Vec b, Vec x, 
   PetscCall(VecAYPX(ls->t, -1.0, b));
   PetscCall(VecGetArrayRead(ls->t, &rr));
   PetscCall(VecGetArrayWrite(ls->s, &zz));
-  PetscCall(PetscLogEventBegin(EV_LineSolve, 0, 0, 0, 0));
-  LineSolve(ls, dir, rr, zz);
-  PetscCall(PetscLogEventEnd(EV_LineSolve, 0, 0, 0, 0));
+  PetscCall(LineSolve(ls, dir, rr, zz));
   PetscCall(VecRestoreArrayWrite(ls->s, &zz));
   PetscCall(VecRestoreArrayRead(ls->t, &rr));
   PetscCall(VecAXPY(x, 1.0, ls->s));
@@ -514,13 +765,13 @@ static PetscErrorCode LineSweep(LineSmoother *ls, Mat A, int dir, Vec b, Vec x, 
 /* z = M^-1 r: one application (the sweeps of ls->order, each on the residual the last left) */
 static PetscErrorCode LineSmootherApply(PC pc, Vec r, Vec z)
 {
-  LineSmoother *ls;
-  Mat           A;
+  LineShell *sh;
+  Mat        A;
 
   PetscFunctionBeginUser;
-  PetscCall(PCShellGetContext(pc, &ls));
+  PetscCall(PCShellGetContext(pc, &sh));
   PetscCall(PCGetOperators(pc, &A, NULL));
-  for (int q = 0; q < 3 && ls->order[q] >= 0; q++) PetscCall(LineSweep(ls, A, ls->order[q], r, z, q == 0));
+  for (int q = 0; q < 3 && sh->order[q] >= 0; q++) PetscCall(LineSweep(sh->ls, A, sh->order[q], r, z, q == 0));
   PetscFunctionReturn(0);
 }
 
@@ -530,16 +781,16 @@ static PetscErrorCode LineSmootherRichardson(PC pc, Vec b, Vec x, Vec r, PetscRe
                                              PetscReal dtol, PetscInt maxits, PetscBool guesszero, PetscInt *its,
                                              PCRichardsonConvergedReason *reason)
 {
-  LineSmoother *ls;
-  Mat           A;
+  LineShell *sh;
+  Mat        A;
 
   PetscFunctionBeginUser;
   (void) r, (void) rtol, (void) abstol, (void) dtol;
-  PetscCall(PCShellGetContext(pc, &ls));
+  PetscCall(PCShellGetContext(pc, &sh));
   PetscCall(PCGetOperators(pc, &A, NULL));
   for (PetscInt it = 0; it < maxits; it++)
-    for (int q = 0; q < 3 && ls->order[q] >= 0; q++)
-      PetscCall(LineSweep(ls, A, ls->order[q], b, x, guesszero && it == 0 && q == 0 ? PETSC_TRUE : PETSC_FALSE));
+    for (int q = 0; q < 3 && sh->order[q] >= 0; q++)
+      PetscCall(LineSweep(sh->ls, A, sh->order[q], b, x, guesszero && it == 0 && q == 0 ? PETSC_TRUE : PETSC_FALSE));
   *its    = maxits;
   *reason = PCRICHARDSON_CONVERGED_ITS;
   PetscFunctionReturn(0);
@@ -547,31 +798,44 @@ static PetscErrorCode LineSmootherRichardson(PC pc, Vec b, Vec x, Vec r, PetscRe
 
 static PetscErrorCode LineSmootherDestroy(PC pc)
 {
+  LineShell    *sh;
   LineSmoother *ls;
 
   PetscFunctionBeginUser;
-  PetscCall(PCShellGetContext(pc, &ls));
+  PetscCall(PCShellGetContext(pc, &sh));
+  ls = sh->ls;
+  PetscCall(PetscFree(sh));
+  if (--ls->refs > 0) PetscFunctionReturn(0);
   PetscCall(VecDestroy(&ls->t));
   PetscCall(VecDestroy(&ls->s));
-  PetscCall(PetscFree2(ls->fac[0], ls->fac[1]));
+  for (int dir = 0; dir < 2; dir++) {
+    PetscCall(PetscFree(ls->fac[dir]));
+    PetscCall(PetscSFDestroy(&ls->sf[dir]));
+    PetscCall(PetscFree3(ls->lfac[dir], ls->lr[dir], ls->lx[dir]));
+  }
+  if (ls->t3 != MPI_DATATYPE_NULL) PetscCallMPI(MPI_Type_free(&ls->t3));
+  if (ls->t27 != MPI_DATATYPE_NULL) PetscCallMPI(MPI_Type_free(&ls->t27));
   PetscCall(PetscFree(ls));
   PetscFunctionReturn(0);
 }
 
-/* level l's smoother: one application of the line smoother (Richardson, one iteration) */
-static PetscErrorCode SetLineSmoother(KSP ksp, const int order[3])
+/* a smoother of a level: one application of the line smoother (Richardson, one iteration) with
+   the level's factors ls (shared by its down and up smoothers) */
+static PetscErrorCode SetLineSmoother(KSP ksp, const int order[3], LineSmoother *ls)
 {
-  PC            pc;
-  LineSmoother *ls;
+  PC         pc;
+  LineShell *sh;
 
   PetscFunctionBeginUser;
   PetscCall(KSPSetType(ksp, KSPRICHARDSON));
   PetscCall(KSPSetTolerances(ksp, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, 1));
   PetscCall(KSPGetPC(ksp, &pc));
   PetscCall(PCSetType(pc, PCSHELL));
-  PetscCall(PetscNew(&ls));
-  for (int q = 0; q < 3; q++) ls->order[q] = order[q];
-  PetscCall(PCShellSetContext(pc, ls));
+  PetscCall(PetscNew(&sh));
+  for (int q = 0; q < 3; q++) sh->order[q] = order[q];
+  sh->ls = ls;
+  ls->refs++;
+  PetscCall(PCShellSetContext(pc, sh));
   PetscCall(PCShellSetName(pc, "alternating block-line relaxation"));
   PetscCall(PCShellSetSetUp(pc, LineSmootherSetUp));
   PetscCall(PCShellSetApply(pc, LineSmootherApply));
@@ -627,13 +891,17 @@ static PetscErrorCode SetDefaults(StaticSolver ss)
     PetscCall(PCMGSetLevels(pc, levels, NULL));
     PetscCall(PCMGSetGalerkin(pc, PC_MG_GALERKIN_BOTH));
     for (PetscInt l = 1; l < levels && ss->opt.line_smoother; l++) { /* down x then y lines, up y then x */
-      const int down[3] = {0, 1, -1}, up[3] = {1, 0, -1};
-      KSP       smoother;
+      const int     down[3] = {0, 1, -1}, up[3] = {1, 0, -1};
+      KSP           smoother;
+      LineSmoother *lines; /* the level's factors, shared */
+      PetscCall(PetscNew(&lines));
+      lines->t3 = lines->t27 = MPI_DATATYPE_NULL;
+      lines->tangents        = &ss->tangents;
       PetscCall(PCMGGetSmootherDown(pc, l, &smoother));
-      PetscCall(SetLineSmoother(smoother, down));
+      PetscCall(SetLineSmoother(smoother, down, lines));
       PetscCall(KSPSetInitialGuessNonzero(smoother, PETSC_FALSE));
       PetscCall(PCMGGetSmootherUp(pc, l, &smoother));
-      PetscCall(SetLineSmoother(smoother, up));
+      PetscCall(SetLineSmoother(smoother, up, lines));
     }
   } else
     PetscCall(PCSetType(pc, PCGAMG));
@@ -646,8 +914,9 @@ static PetscErrorCode SetDefaults(StaticSolver ss)
 /* The grid's layout (same sizes and ownership, so the same global vectors) with the stencil
    the tangent needs: a segment couples neighbours along a yarn (star, width 1), a shear crossing
    its diagonal neighbours too (box, width 1), a bending centre the points two apart (star,
-   width 2), both the box of width 2. A smaller stencil stores fewer zeros: a tangent of
-   traction alone has 15 nonzeros a row instead of 75. */
+   width 2), both the box of width 2. Its ghost points number the tangent's columns
+   (MatSetValuesBlockedLocal); the tangent's own preallocation is CreateTangent's, and the
+   multigrid levels are its coarsenings. */
 static PetscErrorCode CreateMatrixDM(Fabric fab, DM *dm)
 {
   const Patch    *p = &fab->grid.patch;
@@ -662,6 +931,41 @@ static PetscErrorCode CreateMatrixDM(Fabric fab, DM *dm)
   PetscCall(
       DMDACreate2d(fab->comm, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, type, p->nx, p->ny, m, n, 3, width, lx, ly, dm));
   PetscCall(DMSetUp(*dm));
+  PetscFunctionReturn(0);
+}
+
+/* The tangent: an AIJ matrix of the grid's layout (3x3 blocks, the DM's local numbering)
+   preallocated with the blocks the terms fill, the slots of SlotUsed: 5 a row for traction alone,
+   9 with shear, 13 with shear and bending, where the DMDA's box of width 2 would reserve 25.
+   FormJacobian inserts every one of them in an owned row, so the structure stays fixed. */
+static PetscErrorCode CreateTangent(StaticSolver ss)
+{
+  const Patch           *p    = &ss->fab->grid.patch;
+  const PetscInt         npts = p->xm * p->ym;
+  PetscInt              *dnz, *onz;
+  ISLocalToGlobalMapping l2g;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscCalloc2(npts, &dnz, npts, &onz));
+  for (PetscInt k = 0; k < npts; k++) {
+    const PetscInt i = p->xs + k % p->xm, j = p->ys + k / p->xm;
+    for (int s = 0; s < ROW_SLOTS; s++) {
+      const PetscInt ic = i + SlotDi[s], jc = j + SlotDj[s];
+      if (!SlotUsed(p, s) || ic < 0 || ic >= p->nx || jc < 0 || jc >= p->ny) continue;
+      if (ic >= p->xs && ic < p->xs + p->xm && jc >= p->ys && jc < p->ys + p->ym) dnz[k]++;
+      else onz[k]++;
+    }
+  }
+  PetscCall(MatCreate(ss->fab->comm, &ss->J));
+  PetscCall(MatSetSizes(ss->J, 3 * npts, 3 * npts, PETSC_DETERMINE, PETSC_DETERMINE));
+  PetscCall(MatSetBlockSize(ss->J, 3));
+  PetscCall(MatSetType(ss->J, MATAIJ));
+  PetscCall(MatXAIJSetPreallocation(ss->J, 3, dnz, onz, NULL, NULL));
+  PetscCall(PetscFree2(dnz, onz));
+  PetscCall(DMGetLocalToGlobalMapping(ss->dm, &l2g));
+  PetscCall(MatSetLocalToGlobalMapping(ss->J, l2g, l2g));
+  PetscCall(MatSetDM(ss->J, ss->dm));
+  PetscCall(MatSetOption(ss->J, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
   PetscFunctionReturn(0);
 }
 
@@ -720,7 +1024,7 @@ PetscErrorCode StaticCreate(Fabric fab, StaticSolver *out)
   PetscCall(PetscNew(&ss));
   ss->fab = fab;
   PetscCall(CreateMatrixDM(fab, &ss->dm));
-  PetscCall(DMCreateMatrix(ss->dm, &ss->J));
+  PetscCall(CreateTangent(ss));
   PetscCall(MatSetOption(ss->J, MAT_SYMMETRIC, PETSC_TRUE));
   PetscCall(VecDuplicate(fab->state.X, &ss->Xbc));
   for (int q = 0; q < 3; q++) PetscCall(VecDuplicate(fab->state.X, &ss->Xh[q]));
@@ -736,6 +1040,7 @@ PetscErrorCode StaticCreate(Fabric fab, StaticSolver *out)
   PetscCall(VecRestoreArray(flag, &a));
   PetscCall(HaloExchange(fab->grid.da, flag, flagl));
   PetscCall(PetscMalloc1(p->gxm * p->gym, &ss->free_g));
+  for (int q = 0; q < 3; q++) PetscCall(PetscMalloc1(9 * ROW_SLOTS * (p->xm + 2), &ss->ring.buf[q]));
   PetscCall(VecGetArray(flagl, &a));
   for (PetscInt g = 0; g < p->gxm * p->gym; g++) ss->free_g[g] = a[3 * g] > 0.5 ? 1 : 0;
   PetscCall(VecRestoreArray(flagl, &a));
@@ -771,6 +1076,7 @@ PetscErrorCode StaticDestroy(StaticSolver *pss)
   PetscCall(VecDestroy(&ss->Xbc));
   for (int q = 0; q < 3; q++) PetscCall(VecDestroy(&ss->Xh[q]));
   PetscCall(PetscFree(ss->free_g));
+  for (int q = 0; q < 3; q++) PetscCall(PetscFree(ss->ring.buf[q]));
   ss->fab->grid.patch.tension_field = PETSC_FALSE;
   PetscCall(PetscFree(ss));
   *pss = NULL;
