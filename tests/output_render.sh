@@ -5,15 +5,16 @@
 # measured curve overlaid; tests/check_png.py checks that the images show what they should.
 set -u
 # xvfb-run can fail to start its X server when others start at the same moment ("bad X server
-# connection"): retry that, and only that, up to 3 times. A failure of render.py itself is kept.
+# connection"), most often on a loaded machine: retry that, and only that, up to 5 times, waiting
+# longer each time. A failure of render.py itself is kept.
 xvfb_pvbatch() {
   local try out rc
-  for try in 1 2 3; do
+  for try in 1 2 3 4 5; do
     out="$(xvfb-run -a pvbatch "$@" 2>&1)"; rc=$?
     if [[ $rc -eq 0 ]] || ! grep -qiE "X server|xvfb|cannot open display|unable to open display" <<<"$out"; then
       printf '%s\n' "$out"; return $rc
     fi
-    sleep 1
+    sleep $((2 * try))
   done
   printf '%s\n' "$out"; return $rc
 }
