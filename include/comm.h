@@ -16,6 +16,9 @@ PetscErrorCode OwnedFromLocal(DM da, Vec Xl, Vec X);
 PetscErrorCode NaturalOrder(DM da, Vec X, Vec N);
 PetscErrorCode GlobalMax(MPI_Comm comm, PetscReal *v, PetscInt n);
 PetscErrorCode GlobalSum(MPI_Comm comm, PetscReal *v, PetscInt n);
+/* the largest *value over all ranks and, among the ranks that hold it, the lowest index: each rank
+   gives its own value and index (index < 0: none), and gets both back; rank-independent */
+PetscErrorCode GlobalArgMax(MPI_Comm comm, PetscReal *value, PetscInt *index);
 /* exact, rank-independent sums of m <= 4 quantities over all ranks (fixed point): quantity c's n local
    terms at terms[c n ...], its sum into sums[c] */
 PetscErrorCode GlobalSumsExact(MPI_Comm comm, PetscInt m, const PetscReal *terms, PetscInt n, PetscReal *sums);

@@ -29,11 +29,10 @@
 #define ENERGY_WATCH_EVERY    256  /* te steps between two watched te steps */
 #define ENERGY_WATCH_ROUNDING 1e-9 /* a rise of H below this times the magnitudes it sums is rounding */
 
-/* the global index of owned point k (k = (j - ys) xm + (i - xs)) as a max-reducible key: minus it */
-static PetscReal KeyOf(const Patch *p, PetscInt k)
+/* the global index j nx + i of owned point k (k = (j - ys) xm + (i - xs)), -1 for none */
+static PetscInt GlobalIndexOf(const Patch *p, PetscInt k)
 {
-  const PetscInt i = p->xs + k % p->xm, j = p->ys + k / p->xm;
-  return -(PetscReal) (j * p->nx + i);
+  return k < 0 ? -1 : (p->ys + k / p->xm) * p->nx + p->xs + k % p->xm;
 }
 
 /* adds |g| of every instance point that is owned to scale and -g to fint (the force): the
@@ -63,7 +62,8 @@ PetscErrorCode BalanceCrossings(Fabric fab, PetscReal *worst, PetscInt *wi, Pets
   const Patch       *p = &fab->grid.patch;
   const PetscReal   *g = fab->load.gravity_now;
   const PetscScalar *f, *xl;
-  PetscReal         *scale, *fint, tmax, red[2];
+  PetscReal         *scale, *fint, tmax, best = 0;
+  PetscInt           kbest = -1, where;
 
   PetscFunctionBeginUser;
   PetscCall(ComputeForces(fab, NULL, &tmax)); /* every crossing, at these positions; halo into Xl */
@@ -72,11 +72,9 @@ PetscErrorCode BalanceCrossings(Fabric fab, PetscReal *worst, PetscInt *wi, Pets
   PetscCall(VecGetArrayRead(fab->state.Xl, &xl));
   for (int t = 0; t < INTERNAL_TERMS; t++) TermMagnitudes(InternalTerms[t], p, xl, scale, fint);
   PetscCall(VecRestoreArrayRead(fab->state.Xl, &xl));
-  red[0] = tmax;
-  PetscCall(GlobalMax(fab->comm, red, 1));
+  PetscCall(GlobalMax(fab->comm, &tmax, 1));
   {
-    const PetscReal floor = PetscMax(fab->step.force_floor, fab->s.num.balance_floor * red[0]);
-    red[0] = 0, red[1] = -PETSC_MAX_REAL;
+    const PetscReal floor = PetscMax(fab->step.force_floor, fab->s.num.balance_floor * tmax);
     PetscCall(VecGetArrayRead(fab->state.F, &f));
     for (PetscInt k = 0; k < fab->grid.nloc; k++) {
       const PetscReal m = fab->grid.mass[k];
@@ -90,20 +88,16 @@ PetscErrorCode BalanceCrossings(Fabric fab, PetscReal *worst, PetscInt *wi, Pets
       }
       ratio = PetscSqrtReal(R2) /
               PetscMax(scale[k] + PetscSqrtReal(C2) + PetscSqrtReal(L2) + PetscSqrtReal(W2), floor);
-      if (ratio > red[0]) red[0] = ratio, red[1] = KeyOf(p, k); /* the first in the patch's order on a tie */
+      if (ratio > best) best = ratio, kbest = k; /* the first in the patch's order on a tie */
     }
     PetscCall(VecRestoreArrayRead(fab->state.F, &f));
   }
   PetscCall(PetscFree2(scale, fint));
-  {
-    PetscReal best = red[0];
-    PetscCall(GlobalMax(fab->comm, &best, 1));
-    red[1] = red[0] == best ? red[1] : -PETSC_MAX_REAL; /* the lowest global index among the worst */
-    PetscCall(GlobalMax(fab->comm, &red[1], 1));
-    *worst = best;
-    *wi    = red[1] > -PETSC_MAX_REAL ? (PetscInt) (-red[1]) % p->nx : -1;
-    *wj    = red[1] > -PETSC_MAX_REAL ? (PetscInt) (-red[1]) / p->nx : -1;
-  }
+  where = GlobalIndexOf(p, kbest);
+  PetscCall(GlobalArgMax(fab->comm, &best, &where)); /* the lowest global index among the worst */
+  *worst = best;
+  *wi    = where >= 0 ? where % p->nx : -1;
+  *wj    = where >= 0 ? where / p->nx : -1;
   PetscCall(PetscLogEventEnd(EV_Check, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
@@ -182,8 +176,8 @@ static PetscErrorCode StopPumping(Fabric fab, PetscInt n, PetscReal h0, PetscRea
 {
   const Patch       *p = &fab->grid.patch;
   const PetscScalar *v, *xl;
-  PetscReal          best[2] = {-1, -PETSC_MAX_REAL}, info[4] = {-PETSC_MAX_REAL, -PETSC_MAX_REAL, -PETSC_MAX_REAL, -PETSC_MAX_REAL};
-  PetscInt           kb = -1;
+  PetscReal          best = -1, info[4] = {-PETSC_MAX_REAL, -PETSC_MAX_REAL, -PETSC_MAX_REAL, -PETSC_MAX_REAL};
+  PetscInt           kb = -1, where;
   const char        *seg[4] = {"warp to (i-1,j)", "warp to (i+1,j)", "weft to (i,j-1)", "weft to (i,j+1)"};
   char               strains[256] = "", kink[128] = "";
 
@@ -191,17 +185,13 @@ static PetscErrorCode StopPumping(Fabric fab, PetscInt n, PetscReal h0, PetscRea
   PetscCall(VecGetArrayRead(fab->state.V, &v));
   for (PetscInt k = 0; k < fab->grid.nloc; k++) {
     const PetscReal ke = fab->grid.inv_m[k] > 0 ? fab->grid.mass[k] * (v[3 * k] * v[3 * k] + v[3 * k + 1] * v[3 * k + 1] + v[3 * k + 2] * v[3 * k + 2]) : -1;
-    if (ke > best[0]) best[0] = ke, kb = k;
+    if (ke > best) best = ke, kb = k;
   }
   PetscCall(VecRestoreArrayRead(fab->state.V, &v));
+  where = GlobalIndexOf(p, kb);
+  PetscCall(GlobalArgMax(fab->comm, &best, &where));
   {
-    PetscReal top = best[0];
-    PetscCall(GlobalMax(fab->comm, &top, 1));
-    best[1] = kb >= 0 && best[0] == top ? KeyOf(p, kb) : -PETSC_MAX_REAL;
-    PetscCall(GlobalMax(fab->comm, &best[1], 1));
-  }
-  {
-    const PetscInt gi = (PetscInt) (-best[1]) % p->nx, gj = (PetscInt) (-best[1]) / p->nx;
+    const PetscInt gi = where % p->nx, gj = where / p->nx;
     PetscCall(HaloExchange(fab->grid.da, fab->state.X, fab->state.Xl)); /* collective */
     if (gi >= p->xs && gi < p->xs + p->xm && gj >= p->ys && gj < p->ys + p->ym) { /* its owner: the strains */
       PetscCall(VecGetArrayRead(fab->state.Xl, &xl));

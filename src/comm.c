@@ -85,6 +85,20 @@ PetscErrorCode GlobalMax(MPI_Comm comm, PetscReal *v, PetscInt n)
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode GlobalArgMax(MPI_Comm comm, PetscReal *value, PetscInt *index)
+{
+  const PetscReal mine = *value;
+  PetscReal       key;
+
+  PetscFunctionBeginUser;
+  PetscCall(GlobalMax(comm, value, 1));
+  /* minus the index, from the ranks that hold the largest value: its max is the lowest index */
+  key = *index >= 0 && mine == *value ? -(PetscReal) *index : -PETSC_MAX_REAL;
+  PetscCall(GlobalMax(comm, &key, 1));
+  *index = key > -PETSC_MAX_REAL ? (PetscInt) (-key) : -1;
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode GlobalSum(MPI_Comm comm, PetscReal *v, PetscInt n)
 {
   PetscFunctionBeginUser;

@@ -51,14 +51,13 @@ static PetscErrorCode CheckBreaks(Fabric fab, PetscInt *broke)
   r->segments += n;
   if (r->first.ratio == 0) { /* the first break: the most overstrained segment */
     const PetscInt nx = fab->s.spec.nx, ny = fab->s.spec.ny;
-    PetscReal      best = site.ratio, code;
-    PetscCall(GlobalMax(fab->comm, &best, 1));
-    code = site.ratio == best ? -(PetscReal) (site.dir * nx * ny + site.j * nx + site.i) : -PETSC_MAX_REAL;
-    PetscCall(GlobalMax(fab->comm, &code, 1));
+    PetscReal      best = site.ratio;
+    PetscInt       code = site.dir * nx * ny + site.j * nx + site.i;
+    PetscCall(GlobalArgMax(fab->comm, &best, &code));
     r->first.ratio = best;
-    r->first.dir   = (PetscInt) (-code) / (nx * ny);
-    r->first.j     = ((PetscInt) (-code) % (nx * ny)) / nx;
-    r->first.i     = (PetscInt) (-code) % nx;
+    r->first.dir   = code / (nx * ny);
+    r->first.j     = (code % (nx * ny)) / nx;
+    r->first.i     = code % nx;
     r->first_step  = fab->load.load_step;
     r->first_time  = TestTime(&fab->s, &fab->load);
   }
