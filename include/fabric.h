@@ -81,7 +81,7 @@ typedef struct {       /* te against the measured stable limit at one state (-te
   PetscInt  load_step; /* the load step the state belongs to */
   PetscBool end;       /* its balanced end (else its start, after the grips moved and the prediction) */
   PetscReal te;        /* s: the te in use from (start) or up to (end) that state */
-  PetscReal te_bound;  /* s: the Gershgorin bound at that state */
+  PetscReal te_bound;  /* s: the stable bound at that state */
   PetscReal limit;     /* s: 2/omega_max (damped) or 1/omega_max (paper), omega_max^2 measured */
 } TeMeasure;
 
@@ -137,6 +137,7 @@ typedef struct {               /* yarn breaking and rupture (relax.c) */
 
 typedef struct { /* run statistics and the curve */
   PetscInt64     te_steps, point_updates;
+  PetscInt64     te_rebounds; /* stable steps taken again within a load step (a state left te's window) */
   PetscInt64     nonlinear_iterations, linear_iterations; /* the quasi-static solver's Newton and Krylov steps */
   PetscBool      converged;
   PetscBool      broken_any; /* a yarn segment broke */

@@ -9,7 +9,8 @@
 PetscErrorCode ComputeForces(Fabric fab, const PetscInt box[4], PetscReal *tension_max);
 /* the same at positions X into F (vectors of the grid's DMDA): the quasi-static path's trial states */
 PetscErrorCode ComputeForcesAt(Fabric fab, Vec X, Vec F, const PetscInt box[4], PetscReal *tension_max);
-/* te from the Gershgorin bound of the tangent stiffness; the damping of the slowest mode */
+/* te from the stable bound over the window of the current state (StableOmega2); the damping of
+   the slowest mode */
 PetscErrorCode StableStep(Fabric fab);
 /* one te step: forces, integration, the balance test and the stability watch */
 PetscErrorCode TimeStep(Fabric fab, StepStats *st);

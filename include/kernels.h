@@ -24,6 +24,7 @@ typedef struct {           /* a row of yarn segments */
   PetscReal *inv_len;      /* 1/L (0 if absent) */
   PetscReal *fx, *fy, *fz; /* T * unit chord: force on the segment's first point */
   PetscReal *T;            /* tension, N */
+  PetscReal *e;            /* chord strain (a dead segment: its family's window floor, never out of it) */
 } SegmentRow;
 
 typedef struct { /* bending centres of a row: kb * ds/de1 and kb * ds/de2 */
@@ -32,6 +33,7 @@ typedef struct { /* bending centres of a row: kb * ds/de1 and kb * ds/de2 */
 
 typedef struct { /* shear crossings of a row: E'(s) ds/dtw, E'(s) ds/dtf, one-sided self term */
   PetscReal *hwx, *hwy, *hwz, *hfx, *hfy, *hfz, *sx, *sy, *sz;
+  PetscReal *as; /* |s| = |sin(shear angle)| (0 without shear) */
 } ShearRow;
 
 typedef struct {
@@ -46,6 +48,12 @@ typedef struct {
   PetscReal kbx, kby;       /* B / L0 along x and y, N m */
   PetscReal Ks, Kj, s_lock; /* shear stiffness per crossing, jamming stiffness (N m), sin(gamma_lock) */
   PetscReal k_contact;      /* penalty stiffness of rigid-body contact (N/m), 0 = no body */
+  /* the stable step's window (StableStep, MODEL.md 7.3): the chord strains of each family
+     (0 warp, 1 weft) and the |sin(shear angle)| its bound covers; ComputeInternalForces sets
+     left_window when a segment or crossing next to a point of its box is outside them */
+  PetscReal win_lo[2], win_hi[2], win_s;
+  PetscReal win_k[2]; /* the largest yarn tangent (N) within each family's window, over L0 (WindowSet) */
+  int       left_window;
   PetscBool tension_field;  /* the traction tangent drops a compressed segment's geometric part, max(T,0)/L:
                                a positive semi-definite Newton matrix (the quasi-static path); else exact */
   /* ghosted per-point and per-segment state */
@@ -89,14 +97,20 @@ typedef struct {      /* the segment a break check found the most strained past 
    segments broken whose first crossing is owned; *site: the most overstrained of those. */
 PetscInt BreakSegments(Patch *p, const PetscReal *x, BreakSite *site);
 
-/* Largest Gershgorin row sum of the tangent stiffness over the point mass, over owned
-   points with inv_m > 0 (omega_max^2 bound, MODEL.md 7.3): the sum of the terms' bound_row
-   plus the contact penalty. window: chord-strain margin around the current strain over which
-   the yarn tangent is maximised, and the margin in sin(shear angle) below the lock from which
-   the jamming stiffness counts (1: always). omega2_pull: the same bound from the current
-   tangent (no window) of the yarns along pull_dir (0: x, 1: y) alone: the highest frequency
-   of the chain the damping is tuned to. */
-PetscReal StableOmega2(const Patch *p, const PetscReal *x, const PetscReal *inv_m, PetscReal window, int pull_dir,
+/* The range of the state a stable-step bound covers (MODEL.md 7.3): over the owned points'
+   segments and crossings, r = {-min e_warp, max e_warp, -min e_weft, max e_weft, max |s|}
+   (-PETSC_MAX_REAL where there is none), for a max-reduction; WindowSet then widens the reduced
+   range by margin (chord strain, and sin(shear angle)) into the patch's window. */
+void WindowRange(const Patch *p, const PetscReal *x, PetscReal r[5]);
+void WindowSet(Patch *p, const PetscReal r[5], PetscReal margin);
+
+/* Bound on omega_max^2 of M^-1 K over owned points with inv_m > 0 (MODEL.md 7.3), for any
+   state within the patch's window: at each point, 2 lambda_max of the sum of its yarn
+   segments' 3x3 blocks (yarn tangent maximised over the window, geometric part max(T,0)/L),
+   plus the Gershgorin row sums of bending and shear (jamming counted if the window reaches the
+   lock), plus the contact penalty. omega2_pull: the same from the current tangent of the yarns
+   along pull_dir (0: x, 1: y) alone: the highest frequency of the chain the damping is tuned to. */
+PetscReal StableOmega2(const Patch *p, const PetscReal *x, const PetscReal *inv_m, int pull_dir,
                        PetscReal *omega2_pull);
 
 /* ---------------- force terms as plug-ins (MODEL.md 5.1-5.3, 7.3, 14) ---------------- */
@@ -132,10 +146,10 @@ typedef struct {
   /* the forces of this term alone on the owned points of box (written, not added), by the row
      pipeline of ComputeInternalForces with the other terms off */
   void (*forces)(Patch *p, const PetscReal *x, const PetscInt box[4], PetscReal *f);
-  /* adds the term's Gershgorin row sum at owned point (i,j) to *rs (and the pull-direction
-     yarns' to *rp), as StableOmega2 sums them (MODEL.md 7.3) */
-  void (*bound_row)(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j, PetscReal window, int pull_dir,
-                    PetscReal *rs, PetscReal *rp);
+  /* adds the term's share of the bound at owned point (i,j) to *rs (and the pull-direction
+     yarns' to *rp), as StableOmega2 sums them, for states within the patch's window (MODEL.md 7.3) */
+  void (*bound_row)(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j, int pull_dir, PetscReal *rs,
+                    PetscReal *rp);
 } ForceTerm;
 
 extern const ForceTerm TractionTerm, BendingTerm, ShearTerm;

@@ -1,5 +1,5 @@
 /* spectrum.h - the true largest eigenvalue of M^-1 K at the current state (spectrum.c): the
- * measured stable limit that the Gershgorin bound of the stable step (MODEL.md 7.3) is checked
+ * measured stable limit that the bound of the stable step (MODEL.md 7.3) is checked
  * against. */
 #ifndef FABRIC_SPECTRUM_H
 #define FABRIC_SPECTRUM_H

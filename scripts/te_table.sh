@@ -6,7 +6,7 @@
 # Runs each scene (default: strip_warp strip_weft square_net bias drape) on NP ranks (2) with
 # -te_measure set to its number of load steps (load step 1's start and end and the last load step's
 # start are measured), then prints a markdown table from summary.json: the
-# te used, the Gershgorin bound, the measured limit 2/omega_max and te / limit at the first
+# te used, the stable bound, the measured limit 2/omega_max and te / limit at the first
 # state (load step 1 after its grips moved), the last, the tightest (smallest limit) and the worst
 # (largest te / limit), each once.
 set -euo pipefail
@@ -21,7 +21,7 @@ extra=("$@")
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-echo "| scene | state | te s | Gershgorin bound s | measured limit s | te / limit | bound / limit |"
+echo "| scene | state | te s | stable bound s | measured limit s | te / limit | bound / limit |"
 echo "|---|---|---:|---:|---:|---:|---:|"
 for sc in "${scenes[@]}"; do
   yaml=$here/inputs/${sc%.yaml}.yaml

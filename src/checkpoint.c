@@ -220,7 +220,8 @@ static PetscInt StateVecs(FabricState *st, StateVec *sv)
 typedef struct {
   long   within, round, te_step, inner_steps, ramp_steps, ramp_done, front_step, front_covered, bound_fresh;
   long   last_balanced, te_frame_load_step, te_frame_base, fire_npos, fire_stops;
-  long   balance_held, balance_need, watch_checks;
+  long   balance_held, balance_need, watch_checks, te_rebounds;
+  double win_lo[2], win_hi[2], win_s;
   double travel_from, travel_now, te, te_bound, omega_max, damp_c, omega1, last_residual, last_speed, gravity[3];
   double fire_dt, fire_alpha, watch_h0, watch_hmin, watch_kmax;
 } RelaxState;
@@ -231,7 +232,7 @@ typedef struct {
   void       *value;
 } Attr;
 
-#define MAX_RELAX_ATTRS 40
+#define MAX_RELAX_ATTRS 48
 
 static int RelaxAttrs(RelaxState *r, Attr *a)
 {
@@ -253,6 +254,8 @@ static int RelaxAttrs(RelaxState *r, Attr *a)
   ATTR_L("balance_held", balance_held), ATTR_L("balance_need", balance_need);
   ATTR_L("energy_watch_checks", watch_checks), ATTR_D("energy_watch_first_J", watch_h0);
   ATTR_D("energy_watch_lowest_J", watch_hmin), ATTR_D("energy_watch_kinetic_J", watch_kmax);
+  ATTR_L("te_rebounds", te_rebounds), ATTR_D("te_window_warp_lo", win_lo[0]), ATTR_D("te_window_warp_hi", win_hi[0]);
+  ATTR_D("te_window_weft_lo", win_lo[1]), ATTR_D("te_window_weft_hi", win_hi[1]), ATTR_D("te_window_shear", win_s);
 #undef ATTR_L
 #undef ATTR_D
   return n;
@@ -293,6 +296,9 @@ static void RelaxStatePack(Fabric fab, const RelaxPoint *at, RelaxState *r)
   r->watch_h0           = fab->step.watch_h0;
   r->watch_hmin         = fab->step.watch_hmin;
   r->watch_kmax         = fab->step.watch_kmax;
+  r->te_rebounds        = (long) fab->stats.te_rebounds;
+  for (int d = 0; d < 2; d++) r->win_lo[d] = fab->grid.patch.win_lo[d], r->win_hi[d] = fab->grid.patch.win_hi[d];
+  r->win_s = fab->grid.patch.win_s;
 }
 
 static void RelaxStateUnpack(const RelaxState *r, Fabric fab)
@@ -325,6 +331,9 @@ static void RelaxStateUnpack(const RelaxState *r, Fabric fab)
   fab->step.watch_h0     = r->watch_h0;
   fab->step.watch_hmin   = r->watch_hmin;
   fab->step.watch_kmax   = r->watch_kmax;
+  fab->stats.te_rebounds = (PetscInt64) r->te_rebounds;
+  for (int d = 0; d < 2; d++) fab->grid.patch.win_lo[d] = r->win_lo[d], fab->grid.patch.win_hi[d] = r->win_hi[d];
+  fab->grid.patch.win_s = r->win_s;
 }
 
 /* broken segments of the owned points as a dof-2 vector: [to i+1, to j+1] */

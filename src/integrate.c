@@ -6,8 +6,9 @@
  * paper, eq. (10), a leapfrog over two interleaved chains:
  *   V(n+1) = (2 te / m)(R_n - nu V(n)) + V(n-1),  u(n+1) = 2 te V(n) + u(n-1)
  *   stable only for omega_max te <= 1, and with nu > 0 it has a growing parasitic mode.
- * te = safety * bound, bound = 2/omega_max (damped) or 1/omega_max (paper), with
- * omega_max^2 from the Gershgorin row sums of the tangent stiffness (kernels.c).
+ * te = safety * bound, bound = 2/omega_max (damped, FIRE) or 1/omega_max (paper), with
+ * omega_max^2 bounded over a window of states around the current one (StableOmega2, kernels.c);
+ * a te step that leaves the window (the force sweep checks it) takes the bound again.
  */
 #include "integrate.h"
 #include "bodies.h"
@@ -98,19 +99,23 @@ PetscErrorCode ComputeForces(Fabric fab, const PetscInt box[4], PetscReal *tensi
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode StableStep(Fabric fab)
+/* the window of the state (WindowRange, reduced, widened by -te_strain_window) and the bound on
+   omega_max^2 for every state within it; te from it, or the user's -te checked against it */
+static PetscErrorCode StableBound(Fabric fab, PetscReal omega2[2])
 {
-  const Scene       *s       = &fab->s;
-  const PetscReal    te_prev = fab->step.te; /* in use up to this state */
+  const Scene       *s = &fab->s;
+  Patch             *p = &fab->grid.patch;
   const PetscScalar *xl;
-  PetscReal          omega2[2];
+  PetscReal          r[5];
 
   PetscFunctionBeginUser;
   PetscCall(HaloExchange(fab->grid.da, fab->state.X, fab->state.Xl));
   PetscCall(PetscLogEventBegin(EV_Bound, 0, 0, 0, 0));
   PetscCall(VecGetArrayRead(fab->state.Xl, &xl));
-  omega2[0] = StableOmega2(&fab->grid.patch, xl, fab->grid.inv_m, s->num.te_window, s->spec.pull == PULL_WARP ? 0 : 1,
-                           &omega2[1]);
+  WindowRange(p, xl, r);
+  PetscCall(GlobalMax(fab->comm, r, 5));
+  WindowSet(p, r, s->num.te_window);
+  omega2[0] = StableOmega2(p, xl, fab->grid.inv_m, s->spec.pull == PULL_WARP ? 0 : 1, &omega2[1]);
   PetscCall(VecRestoreArrayRead(fab->state.Xl, &xl));
   PetscCall(PetscLogEventEnd(EV_Bound, 0, 0, 0, 0));
   PetscCall(GlobalMax(fab->comm, omega2, 2));
@@ -128,6 +133,17 @@ PetscErrorCode StableStep(Fabric fab)
     fab->step.te = s->num.te_user;
   } else
     fab->step.te = s->num.te_safety * fab->step.te_bound;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode StableStep(Fabric fab)
+{
+  const Scene    *s       = &fab->s;
+  const PetscReal te_prev = fab->step.te; /* in use up to this state */
+  PetscReal       omega2[2];
+
+  PetscFunctionBeginUser;
+  PetscCall(StableBound(fab, omega2));
   fab->step.fire_dt    = fab->step.te; /* FIRE starts again at each stable step (each load step) */
   fab->step.fire_alpha = FIRE_ALPHA0;
   fab->step.fire_npos  = 0;
@@ -140,6 +156,20 @@ PetscErrorCode StableStep(Fabric fab)
     fab->step.damp_c = 2.0 * s->num.damping_ratio * fab->step.omega1;
   }
   if (s->num.te_measure) PetscCall(StableStepMeasure(fab, te_prev)); /* the true limit here (spectrum.c) */
+  PetscFunctionReturn(0);
+}
+
+/* A te step found a segment or crossing outside the window its bound covers: the bound again
+   from this state, within the load step (the damping, the ramp and FIRE's state go on; FIRE's
+   step never exceeds te) */
+static PetscErrorCode StableStepRebound(Fabric fab)
+{
+  PetscReal omega2[2];
+
+  PetscFunctionBeginUser;
+  PetscCall(StableBound(fab, omega2));
+  fab->step.fire_dt = PetscMin(fab->step.fire_dt, fab->step.te);
+  fab->stats.te_rebounds++;
   PetscFunctionReturn(0);
 }
 
@@ -463,7 +493,7 @@ PetscErrorCode TimeStep(Fabric fab, StepStats *out)
   red[0] = all.res2;
   red[1] = all.v2;
   red[2] = tension_max;
-  red[3] = isfinite(all.v2sum) ? 0.0 : 1.0;
+  red[3] = !isfinite(all.v2sum) ? 2.0 : p->left_window ? 1.0 : 0.0; /* not finite; out of te's window */
   red[4] = -(PetscReal) alo, red[5] = (PetscReal) ahi, red[6] = -(PetscReal) ajlo,
   red[7] = (PetscReal) ajhi; /* awake box */
   if (kinetic) red[nred++] = ke_scale;
@@ -473,7 +503,7 @@ PetscErrorCode TimeStep(Fabric fab, StepStats *out)
     fab->front.awake_box[2] = (PetscInt) -red[6], fab->front.awake_box[3] = (PetscInt) red[7];
   }
   fab->stats.te_steps++;
-  if (red[3] != 0.0) PetscCall(StopNonFinite(fab));
+  if (red[3] == 2.0) PetscCall(StopNonFinite(fab));
   out->speed       = PetscSqrtReal(red[1]);
   out->tension_max = red[2];
   out->residual    = PetscSqrtReal(red[0]) / PetscMax(red[2], fab->step.force_floor);
@@ -489,5 +519,6 @@ PetscErrorCode TimeStep(Fabric fab, StepStats *out)
                        ? PETSC_TRUE
                        : PETSC_FALSE;
   fab->step.last = *out;
+  if (red[3] == 1.0) PetscCall(StableStepRebound(fab));
   PetscFunctionReturn(0);
 }

@@ -14,7 +14,7 @@
  *
  * The file has one section per term, each with: the row function of the force pipeline and
  * its gather, the instance (energy, gradient and dense Hessian of one segment, centre or
- * crossing, for the quasi-static path) and the term's Gershgorin row bound (MODEL.md 7.3).
+ * crossing, for the quasi-static path) and the term's share of the stable-step bound (MODEL.md 7.3).
  * Then: the fused row pipeline, the terms' descriptors with the loops over a box (energy,
  * tangent), and the stable-step bound.
  *
@@ -52,25 +52,25 @@ static PetscErrorCode PatchAllocRows(Patch *p)
   PetscInt n = p->gxm, per_row = n + 2, rows = 0, k = 0;
 
   PetscFunctionBeginUser;
-  rows = 8 + 8 * KERNEL_RING + 6 + 6 * KERNEL_RING + 9 * KERNEL_RING;
+  rows = 9 + 9 * KERNEL_RING + 6 + 6 * KERNEL_RING + 10 * KERNEL_RING;
   PetscCall(PetscCalloc1((size_t) rows * per_row, &p->work));
   {
     SegmentRow *s      = &p->xs_row;
-    PetscReal **ptrs[] = {&s->ux, &s->uy, &s->uz, &s->inv_len, &s->fx, &s->fy, &s->fz, &s->T};
-    PetscCall(AllocRow(n, 8, p->work + (k++) * 8 * per_row, ptrs));
+    PetscReal **ptrs[] = {&s->ux, &s->uy, &s->uz, &s->inv_len, &s->fx, &s->fy, &s->fz, &s->T, &s->e};
+    PetscCall(AllocRow(n, 9, p->work + (k++) * 9 * per_row, ptrs));
   }
   for (PetscInt r = 0; r < KERNEL_RING; r++) {
     SegmentRow *s      = &p->ys_ring[r];
-    PetscReal **ptrs[] = {&s->ux, &s->uy, &s->uz, &s->inv_len, &s->fx, &s->fy, &s->fz, &s->T};
-    PetscCall(AllocRow(n, 8, p->work + (k++) * 8 * per_row, ptrs));
+    PetscReal **ptrs[] = {&s->ux, &s->uy, &s->uz, &s->inv_len, &s->fx, &s->fy, &s->fz, &s->T, &s->e};
+    PetscCall(AllocRow(n, 9, p->work + (k++) * 9 * per_row, ptrs));
   }
   {
     BendRow    *b      = &p->bx_row;
     PetscReal **ptrs[] = {&b->g1x, &b->g1y, &b->g1z, &b->g2x, &b->g2y, &b->g2z};
-    PetscCall(AllocRow(n, 6, p->work + k * 8 * per_row, ptrs));
+    PetscCall(AllocRow(n, 6, p->work + k * 9 * per_row, ptrs));
   }
   {
-    PetscReal *base = p->work + (k * 8 + 6) * per_row;
+    PetscReal *base = p->work + (k * 9 + 6) * per_row;
     for (PetscInt r = 0; r < KERNEL_RING; r++) {
       BendRow    *b      = &p->by_ring[r];
       PetscReal **ptrs[] = {&b->g1x, &b->g1y, &b->g1z, &b->g2x, &b->g2y, &b->g2z};
@@ -79,8 +79,8 @@ static PetscErrorCode PatchAllocRows(Patch *p)
     base += 6 * KERNEL_RING * per_row;
     for (PetscInt r = 0; r < KERNEL_RING; r++) {
       ShearRow   *s      = &p->sh_ring[r];
-      PetscReal **ptrs[] = {&s->hwx, &s->hwy, &s->hwz, &s->hfx, &s->hfy, &s->hfz, &s->sx, &s->sy, &s->sz};
-      PetscCall(AllocRow(n, 9, base + r * 9 * per_row, ptrs));
+      PetscReal **ptrs[] = {&s->hwx, &s->hwy, &s->hwz, &s->hfx, &s->hfy, &s->hfz, &s->sx, &s->sy, &s->sz, &s->as};
+      PetscCall(AllocRow(n, 10, base + r * 10 * per_row, ptrs));
     }
   }
   PetscFunctionReturn(0);
@@ -92,6 +92,8 @@ PetscErrorCode PatchSetUp(Patch *p)
 
   PetscFunctionBeginUser;
   PetscCall(PatchAllocRows(p));
+  for (int d = 0; d < 2; d++) p->win_lo[d] = -PETSC_MAX_REAL, p->win_hi[d] = PETSC_MAX_REAL; /* until a bound */
+  p->win_s = PETSC_MAX_REAL;
   PetscCall(PetscCalloc1(3 * (size_t) p->gxm, &p->zero_row));
   PetscCall(PetscCalloc1((size_t) (p->gym + 2) * per_row, &p->epad));
   for (PetscInt j = 0; j < p->gym; j++)
@@ -262,10 +264,11 @@ PetscReal ChordEnergy(const YarnLaw *y, const PetscReal *integral, PetscReal e)
 
 /* --- force rows --- */
 
-static void ZeroSegmentRow(SegmentRow *s, PetscInt c0, PetscInt c1)
+static void ZeroSegmentRow(SegmentRow *s, PetscInt c0, PetscInt c1, PetscReal e_dead)
 {
   PetscReal *a[] = {s->ux, s->uy, s->uz, s->inv_len, s->fx, s->fy, s->fz, s->T};
   for (int k = 0; k < 8; k++) memset(a[k] + c0, 0, sizeof(PetscReal) * (size_t) (c1 - c0));
+  for (PetscInt i = c0; i < c1; i++) s->e[i] = e_dead;
 }
 
 /* Chords a[i] -> b[i], c0 <= i < c1: unit chord and 1/L (0 for an absent, broken or zero-length
@@ -310,26 +313,36 @@ static void SegmentForceKernel(PetscInt c0, PetscInt c1, const PetscReal *restri
    the forces vectorise: chords and strains (the strain parked in T, the chord in f), the yarn
    law (branches and a table lookup per segment: scalar), then f = T d / L. Each value is the
    same expression as in one pass, so the results do not depend on the split. */
-static void ComputeSegmentRow(const YarnLaw *law, PetscReal L0, PetscBool traction, PetscInt c0, PetscInt c1,
-                              const PetscReal *xa, const PetscReal *xb, const unsigned char *ea,
+static void ComputeSegmentRow(const YarnLaw *law, PetscReal L0, PetscBool traction, PetscReal e_dead, PetscInt c0,
+                              PetscInt c1, const PetscReal *xa, const PetscReal *xb, const unsigned char *ea,
                               const unsigned char *eb, const unsigned char *broken, SegmentRow *s)
 {
-  PetscReal *restrict T = s->T;
+  PetscReal *restrict T = s->T, *restrict e = s->e;
 
   ChordRowKernel(1.0 / L0, c0, c1, xa, xb, ea, eb, broken, s->ux, s->uy, s->uz, s->inv_len, T, s->fx, s->fy, s->fz);
   if (traction)
-    for (PetscInt i = c0; i < c1; i++) T[i] = (ea[i] && eb[i] && !broken[i]) ? ChordTension(law, T[i]) : 0.0;
+    for (PetscInt i = c0; i < c1; i++) {
+      const int alive = ea[i] && eb[i] && !broken[i];
+      e[i]            = alive ? T[i] : e_dead;
+      T[i]            = alive ? ChordTension(law, T[i]) : 0.0;
+    }
   else
-    for (PetscInt i = c0; i < c1; i++) T[i] = 0.0;
+    for (PetscInt i = c0; i < c1; i++) T[i] = 0.0, e[i] = e_dead;
   SegmentForceKernel(c0, c1, T, s->inv_len, s->fx, s->fy, s->fz);
 }
 
 /* traction on the points i0 <= i < i1 of row j (written: the first term of the sum), from the
    x-segments of the row and the y-segments below (yd) and above (yu); returns the largest |T| */
 static PetscReal GatherTraction(const SegmentRow *xs, const SegmentRow *yd, const SegmentRow *yu, PetscInt i0,
-                                PetscInt i1, PetscReal *restrict fr, PetscReal tmax)
+                                PetscInt i1, const PetscReal lo[2], const PetscReal hi[2], PetscReal *restrict fr,
+                                PetscReal tmax, int *left)
 {
+  int out = 0;
+
   for (PetscInt i = i0; i < i1; i++) {
+    const PetscReal exa = xs->e[i - 1], exb = xs->e[i], eya = yd->e[i], eyb = yu->e[i];
+    out |= (PetscMin(exa, exb) < lo[0]) | (PetscMax(exa, exb) > hi[0]) | (PetscMin(eya, eyb) < lo[1]) |
+           (PetscMax(eya, eyb) > hi[1]);
     fr[3 * i]         = xs->fx[i] - xs->fx[i - 1] + yu->fx[i] - yd->fx[i];
     fr[3 * i + 1]     = xs->fy[i] - xs->fy[i - 1] + yu->fy[i] - yd->fy[i];
     fr[3 * i + 2]     = xs->fz[i] - xs->fz[i - 1] + yu->fz[i] - yd->fz[i];
@@ -337,6 +350,7 @@ static PetscReal GatherTraction(const SegmentRow *xs, const SegmentRow *yd, cons
                                  PetscMax(PetscAbsReal(yu->T[i]), PetscAbsReal(yd->T[i])));
     tmax              = PetscMax(tmax, t);
   }
+  *left |= out;
   return tmax;
 }
 
@@ -378,25 +392,55 @@ static int TractionInstance(const Patch *p, const PetscReal *x, PetscInt i, Pets
   return 1;
 }
 
-/* --- stable-step bound: a spring adds 2 max(dT/de / L0, T/L) to each end's row --- */
+/* --- stable-step bound: the yarn segments' 3x3 blocks at a point --- */
 
-static void TractionBoundRow(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j, PetscReal window, int pull_dir,
-                             PetscReal *rs, PetscReal *rp)
+/* the largest eigenvalue of the symmetric 3x3 matrix b = {xx, yy, zz, xy, xz, yz}: the
+   trigonometric solution of its characteristic cubic (the roots are real) */
+static PetscReal SymMaxEig3(const PetscReal b[6])
 {
+  const PetscReal off = b[3] * b[3] + b[4] * b[4] + b[5] * b[5];
+  const PetscReal q   = (b[0] + b[1] + b[2]) / 3.0;
+  if (off == 0.0) return PetscMax(PetscMax(b[0], b[1]), b[2]);
+  const PetscReal a0 = b[0] - q, a1 = b[1] - q, a2 = b[2] - q;
+  const PetscReal pp = PetscSqrtReal((a0 * a0 + a1 * a1 + a2 * a2 + 2.0 * off) / 6.0);
+  /* det((b - q I) / pp) / 2 */
+  const PetscReal r = (a0 * (a1 * a2 - b[5] * b[5]) - b[3] * (b[3] * a2 - b[5] * b[4]) + b[4] * (b[3] * b[5] - a1 * b[4])) /
+                      (2.0 * pp * pp * pp);
+  const PetscReal phi = PetscAcosReal(PetscMin(PetscMax(r, -1.0), 1.0)) / 3.0;
+  return q + 2.0 * pp * PetscCosReal(phi);
+}
+
+/* Traction's share at point p: v^T K v = sum_s (v_a - v_b)^T A_s (v_a - v_b) <= sum_s 2 (v_a^T A_s v_a
+   + v_b^T A_s v_b) with A_s = k n n^T + g (I - n n^T) >= the segment's tangent, k the yarn tangent's
+   largest value in the family's window over L0, g = max(T,0)/L (a compressed segment's negative
+   geometric stiffness only lowers K); so the point's row is 2 lambda_max(sum of its segments' A_s). */
+static void TractionBoundRow(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j, int pull_dir, PetscReal *rs,
+                             PetscReal *rp)
+{
+  PetscReal B[6] = {0, 0, 0, 0, 0, 0};
+
   for (int dir = 0; dir < 2; dir++) {
     const YarnLaw  *law = dir == 0 ? p->warp : p->weft;
     const PetscReal L0  = dir == 0 ? p->ax : p->ay;
+    const PetscReal k   = p->win_k[dir];
     for (int side = -1; side <= 0; side++) {
       const PetscInt ia = i + (dir == 0 ? side : 0), ja = j + (dir == 1 ? side : 0);
-      const Chord    c = ChordAt(p, x, ia, ja, dir);
-      if (!c.alive) continue;
-      const PetscReal e = c.L / L0 - 1.0, T = ChordTension(law, e);
-      const PetscReal TL = c.L > 0 ? PetscAbsReal(T) / c.L : 0.0; /* a zero-length chord: no geometric stiffness */
-      *rs += 2.0 * PetscMax(ChordTangentMax(law, e - window, e + window) / L0, TL);
+      if (!SegmentAlive(p, ia, ja, dir)) continue;
+      const PetscReal *a = Pos(p, x, ia, ja), *b = Pos(p, x, ia + (dir == 0), ja + (dir == 1));
+      const PetscReal  d[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+      const PetscReal  L = PetscSqrtReal(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+      const PetscReal  e = L / L0 - 1.0, T = ChordTension(law, e);
+      if (L > 0) {
+        const PetscReal g = PetscMax(T, 0.0) / L, c = (k - g) / (L * L);
+        B[0] += c * d[0] * d[0] + g, B[1] += c * d[1] * d[1] + g, B[2] += c * d[2] * d[2] + g;
+        B[3] += c * d[0] * d[1], B[4] += c * d[0] * d[2], B[5] += c * d[1] * d[2];
+      } else /* a zero-length chord: the yarn stiffness in any direction */
+        B[0] += k, B[1] += k, B[2] += k;
       if (dir == pull_dir) /* current stiffness, tension side */
-        *rp += 2.0 * PetscMax(ChordTangentMax(law, e, e + 0.005) / L0, TL);
+        *rp += 2.0 * PetscMax(ChordTangentMax(law, e, e + 0.005) / L0, L > 0 ? PetscAbsReal(T) / L : 0.0);
     }
   }
+  *rs += 2.0 * SymMaxEig3(B);
 }
 
 /* Break every segment of the patch whose yarn strain exceeds its breaking strain
@@ -565,8 +609,8 @@ static int BendingInstance(const Patch *p, const PetscReal *x, PetscInt i, Petsc
 
 /* --- stable-step bound: centre c in {p-1, p, p+1}; row sums 12, 24, 12 times kb / Lmin^2, with
    Lmin no longer than the contact length (a chord can be squeezed that far in a step) --- */
-static void BendingBoundRow(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j, PetscReal window, int pull_dir,
-                            PetscReal *rs, PetscReal *rp)
+static void BendingBoundRow(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j, int pull_dir, PetscReal *rs,
+                            PetscReal *rp)
 {
   for (int dir = 0; dir < 2; dir++) {
     const PetscReal kb = dir == 0 ? p->kbx : p->kby;
@@ -622,6 +666,7 @@ static void ShearRowEdge(const Patch *p, PetscInt lr, PetscInt c0, PetscInt c1, 
     sh->sx[li]  = aw * hwx + af * hfx;
     sh->sy[li]  = aw * hwy + af * hfy;
     sh->sz[li]  = aw * hwz + af * hfz;
+    sh->as[li]  = as;
   }
 }
 
@@ -636,7 +681,7 @@ static void ShearRowKernel(PetscReal Ks, PetscReal Kj, PetscReal sl, PetscInt c0
                            const unsigned char *restrict eu, PetscReal *restrict hwx_, PetscReal *restrict hwy_,
                            PetscReal *restrict hwz_, PetscReal *restrict hfx_, PetscReal *restrict hfy_,
                            PetscReal *restrict hfz_, PetscReal *restrict sx_, PetscReal *restrict sy_,
-                           PetscReal *restrict sz_)
+                           PetscReal *restrict sz_, PetscReal *restrict as_)
 {
   for (PetscInt li = c0; li < c1; li++) {
     const int       self = er[li] != 0, hl = er[li - 1] != 0, hr = er[li + 1] != 0, hd = ed[li] != 0, hu = eu[li] != 0;
@@ -671,6 +716,7 @@ static void ShearRowKernel(PetscReal Ks, PetscReal Kj, PetscReal sl, PetscInt c0
     sx_[li]  = aw * hwx + af * hfx;
     sy_[li]  = aw * hwy + af * hfy;
     sz_[li]  = aw * hwz + af * hfz;
+    as_[li]  = as;
   }
 }
 
@@ -680,7 +726,8 @@ static void ShearRowFull(PetscReal Ks, PetscReal Kj, PetscReal sl, PetscInt c0, 
                          const PetscReal *restrict xr, const PetscReal *restrict xd, const PetscReal *restrict xu,
                          PetscReal *restrict hwx_, PetscReal *restrict hwy_, PetscReal *restrict hwz_,
                          PetscReal *restrict hfx_, PetscReal *restrict hfy_, PetscReal *restrict hfz_,
-                         PetscReal *restrict sx_, PetscReal *restrict sy_, PetscReal *restrict sz_)
+                         PetscReal *restrict sx_, PetscReal *restrict sy_, PetscReal *restrict sz_,
+                         PetscReal *restrict as_)
 {
   for (PetscInt li = c0; li < c1; li++) {
     const PetscReal twx = xr[3 * li + 3] - xr[3 * li - 3], twy = xr[3 * li + 4] - xr[3 * li - 2];
@@ -707,6 +754,7 @@ static void ShearRowFull(PetscReal Ks, PetscReal Kj, PetscReal sl, PetscInt c0, 
     sx_[li]  = 0.0 * hwx + 0.0 * hfx; /* aw hw + af hf with aw = af = 0, signed zeros included */
     sy_[li]  = 0.0 * hwy + 0.0 * hfy;
     sz_[li]  = 0.0 * hwz + 0.0 * hfz;
+    as_[li]  = as;
   }
 }
 
@@ -727,8 +775,8 @@ static void ComputeShearRow(const Patch *p, const PetscReal *x, PetscInt r, Pets
   const unsigned char *er = p->epad + (lr + 1) * (n + 2) + 1;
 
   if (lr < 0 || lr >= p->gym) { /* no crossing outside the patch */
-    PetscReal *z[] = {sh->hwx, sh->hwy, sh->hwz, sh->hfx, sh->hfy, sh->hfz, sh->sx, sh->sy, sh->sz};
-    for (int k = 0; k < 9; k++) memset(z[k] + c0, 0, sizeof(PetscReal) * (size_t) (c1 - c0));
+    PetscReal *z[] = {sh->hwx, sh->hwy, sh->hwz, sh->hfx, sh->hfy, sh->hfz, sh->sx, sh->sy, sh->sz, sh->as};
+    for (int k = 0; k < 10; k++) memset(z[k] + c0, 0, sizeof(PetscReal) * (size_t) (c1 - c0));
     return;
   }
   if (a >= b) {
@@ -738,19 +786,23 @@ static void ComputeShearRow(const Patch *p, const PetscReal *x, PetscInt r, Pets
   ShearRowEdge(p, lr, c0, a, xr, xd, xu, sh);
   if (AllExist(er + a - 1, b - a + 2) && AllExist(er - (n + 2) + a, b - a) && AllExist(er + (n + 2) + a, b - a))
     ShearRowFull(p->Ks, p->Kj, p->s_lock, a, b, xr, xd, xu, sh->hwx, sh->hwy, sh->hwz, sh->hfx, sh->hfy, sh->hfz, sh->sx,
-                 sh->sy, sh->sz);
+                 sh->sy, sh->sz, sh->as);
   else
     ShearRowKernel(p->Ks, p->Kj, p->s_lock, a, b, xr, xd, xu, er, er - (n + 2), er + (n + 2), sh->hwx, sh->hwy,
-                   sh->hwz, sh->hfx, sh->hfy, sh->hfz, sh->sx, sh->sy, sh->sz);
+                   sh->hwz, sh->hfx, sh->hfy, sh->hfz, sh->sx, sh->sy, sh->sz, sh->as);
   ShearRowEdge(p, lr, b, c1, xr, xd, xu, sh);
 }
 
 /* shear on the points i0 <= i < i1 of row j, added: crossings i-1, i+1 of the row (sc), below
    (sd) and above (su), and the point's own crossing where it is a tangent's end (one-sided) */
 static void GatherShear(const ShearRow *sd, const ShearRow *sc, const ShearRow *su, PetscInt i0, PetscInt i1,
-                        PetscReal *restrict fr)
+                        PetscReal s_hi, PetscReal *restrict fr, int *left)
 {
+  int out = 0;
+
   for (PetscInt i = i0; i < i1; i++) {
+    const PetscReal m = PetscMax(PetscMax(PetscMax(sc->as[i - 1], sc->as[i]), sc->as[i + 1]), PetscMax(sd->as[i], su->as[i]));
+    out |= m > s_hi;
     fr[3 * i] += sc->hwx[i + 1] - sc->hwx[i - 1] + su->hfx[i] - sd->hfx[i] + sc->sx[i];
     fr[3 * i + 1] += sc->hwy[i + 1] - sc->hwy[i - 1] + su->hfy[i] - sd->hfy[i] + sc->sy[i];
     fr[3 * i + 2] += sc->hwz[i + 1] - sc->hwz[i - 1] + su->hfz[i] - sd->hfz[i] + sc->sz[i];
@@ -819,25 +871,23 @@ static int ShearInstance(const Patch *p, const PetscReal *x, PetscInt i, PetscIn
 /* --- stable-step bound --- */
 
 /* Gershgorin contribution of crossing (i,j)'s shear energy to one of its points:
-   |E''| |grad s|_a sum_b |grad s|_b + |E'| |hess s| row <= (Ks+Kj)(4 + 12|s|)/tmin^2;
-   the jamming stiffness counts once the crossing is within the window of the lock (in
-   s = sin(shear angle)); the default window (1) always counts it */
-static PetscReal ShearCrossingBound(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j, PetscReal window)
+   |E''| |grad s|_a sum_b |grad s|_b + |E'| |hess s| row <= (Ks+Kj)(4 + 12|s|)/tmin^2, for any
+   |s| up to the window's win_s; the jamming stiffness counts once the window reaches the lock */
+static PetscReal ShearCrossingBound(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j)
 {
   PetscReal s, tmin;
   if (!CrossingShear(p, x, i, j, &s, &tmin)) return 0.0;
-  return (p->Ks + (PetscAbsReal(s) + window >= p->s_lock ? p->Kj : 0.0)) * (4.0 + 12.0 * PetscAbsReal(s)) /
-         (tmin * tmin);
+  return (p->Ks + (p->win_s >= p->s_lock ? p->Kj : 0.0)) * (4.0 + 12.0 * PetscMin(p->win_s, 1.0)) / (tmin * tmin);
 }
 
 /* the crossings that involve point (i,j): its four neighbours', and its own at an edge */
-static void ShearBoundRow(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j, PetscReal window, int pull_dir,
-                          PetscReal *rs, PetscReal *rp)
+static void ShearBoundRow(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j, int pull_dir, PetscReal *rs,
+                          PetscReal *rp)
 {
-  *rs += ShearCrossingBound(p, x, i - 1, j, window) + ShearCrossingBound(p, x, i + 1, j, window) +
-         ShearCrossingBound(p, x, i, j - 1, window) + ShearCrossingBound(p, x, i, j + 1, window);
+  *rs += ShearCrossingBound(p, x, i - 1, j) + ShearCrossingBound(p, x, i + 1, j) + ShearCrossingBound(p, x, i, j - 1) +
+         ShearCrossingBound(p, x, i, j + 1);
   if (!ExistsG(p, i - 1, j) || !ExistsG(p, i + 1, j) || !ExistsG(p, i, j - 1) || !ExistsG(p, i, j + 1))
-    *rs += ShearCrossingBound(p, x, i, j, window);
+    *rs += ShearCrossingBound(p, x, i, j);
 }
 
 /* ============================ the fused row pipeline ============================ */
@@ -849,10 +899,10 @@ static void YSegments(Patch *p, const PetscReal *x, PetscInt r, PetscInt c0, Pet
   SegmentRow    *s = &p->ys_ring[SLOT(r)];
 
   if (lr < 0 || lr + 1 >= p->gym) {
-    ZeroSegmentRow(s, c0, c1);
+    ZeroSegmentRow(s, c0, c1, p->win_lo[1]);
     return;
   }
-  ComputeSegmentRow(p->weft, p->ay, p->traction, c0, c1, x + 3 * lr * n, x + 3 * (lr + 1) * n, p->exists + lr * n,
+  ComputeSegmentRow(p->weft, p->ay, p->traction, p->win_lo[1], c0, c1, x + 3 * lr * n, x + 3 * (lr + 1) * n, p->exists + lr * n,
                     p->exists + (lr + 1) * n, p->broken_y + lr * n, s);
 }
 
@@ -873,8 +923,9 @@ static void AdvancePipeline(Patch *p, const PetscReal *x, PetscInt j, PetscInt c
   YSegments(p, x, j + 1, c0, c1);
   if (p->bending) YBending(p, j + 1, c0, c1);
   if (p->shear) ComputeShearRow(p, x, j + 1, c0, c1, &p->sh_ring[SLOT(j + 1)]);
-  ComputeSegmentRow(p->warp, p->ax, p->traction, c0, cx, x + 3 * lj * n, x + 3 * lj * n + 3, p->exists + lj * n,
+  ComputeSegmentRow(p->warp, p->ax, p->traction, p->win_lo[0], c0, cx, x + 3 * lj * n, x + 3 * lj * n + 3, p->exists + lj * n,
                     p->exists + lj * n + 1, p->broken_x + lj * n, xs);
+  xs->e[c0 - 1] = xs->e[cx] = p->win_lo[0]; /* no segment there (padding, or past the ghosts): never outside */
   if (p->bending)
     ComputeBendRow(p->kbx, c0, cx - 1, xs->ux, xs->uy, xs->uz, xs->inv_len, xs->ux + 1, xs->uy + 1, xs->uz + 1,
                    xs->inv_len + 1, &p->bx_row, 1);
@@ -886,8 +937,10 @@ void ComputeInternalForces(Patch *p, const PetscReal *x, const PetscInt box[4], 
   const PetscInt  c0 = PetscMax(i0 - 2, 0), c1 = PetscMin(i1 + 2, n); /* columns the box's forces need */
   const PetscBool bend = p->bending, shear = p->shear;
   PetscReal       tmax = 0.0;
+  int             left = 0;
 
-  *tension_max = 0.0;
+  *tension_max   = 0.0;
+  p->left_window = 0;
   if (i1 <= i0 || j1 <= j0) return;
   /* prime the pipeline: rows below the first row of the box */
   for (PetscInt r = j0 - 2; r <= j0; r++) YSegments(p, x, r, c0, c1);
@@ -900,12 +953,15 @@ void ComputeInternalForces(Patch *p, const PetscReal *x, const PetscInt box[4], 
     /* gather: each point of row j in the box sums its terms in a fixed order */
     PetscReal *restrict fr = f + 3 * (j - p->ys) * p->xm - 3 * (p->xs - p->gxs);
     AdvancePipeline(p, x, j, c0, c1);
-    tmax = GatherTraction(&p->xs_row, &p->ys_ring[SLOT(j - 1)], &p->ys_ring[SLOT(j)], i0, i1, fr, tmax);
+    tmax = GatherTraction(&p->xs_row, &p->ys_ring[SLOT(j - 1)], &p->ys_ring[SLOT(j)], i0, i1, p->win_lo, p->win_hi, fr,
+                          tmax, &left);
     if (bend)
       GatherBending(&p->bx_row, &p->by_ring[SLOT(j - 1)], &p->by_ring[SLOT(j)], &p->by_ring[SLOT(j + 1)], i0, i1, fr);
-    if (shear) GatherShear(&p->sh_ring[SLOT(j - 1)], &p->sh_ring[SLOT(j)], &p->sh_ring[SLOT(j + 1)], i0, i1, fr);
+    if (shear)
+      GatherShear(&p->sh_ring[SLOT(j - 1)], &p->sh_ring[SLOT(j)], &p->sh_ring[SLOT(j + 1)], i0, i1, p->win_s, fr, &left);
   }
-  *tension_max = tmax;
+  *tension_max   = tmax;
+  p->left_window = left;
 }
 
 /* ======================= the terms as plug-ins (MODEL.md 14) ======================= */
@@ -1012,10 +1068,37 @@ PetscErrorCode TermBlocksAddToMat(void *ctx, PetscInt n, const PetscInt i[], con
   PetscFunctionReturn(0);
 }
 
-/* ============== stable step: Gershgorin bound of the tangent stiffness (MODEL.md 7.3) ============== */
+/* ============== stable step: a bound on the tangent stiffness over a window of states (MODEL.md 7.3) ============== */
 
-PetscReal StableOmega2(const Patch *p, const PetscReal *x, const PetscReal *inv_m, PetscReal window, int pull_dir,
-                       PetscReal *omega2_pull)
+void WindowRange(const Patch *p, const PetscReal *x, PetscReal r[5])
+{
+  for (int k = 0; k < 5; k++) r[k] = -PETSC_MAX_REAL;
+  for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
+    for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
+      PetscReal s, tmin;
+      for (int dir = 0; dir < 2; dir++) {
+        const Chord c = ChordAt(p, x, i, j, dir);
+        if (!c.alive) continue;
+        const PetscReal e = c.L / (dir == 0 ? p->ax : p->ay) - 1.0;
+        r[2 * dir] = PetscMax(r[2 * dir], -e), r[2 * dir + 1] = PetscMax(r[2 * dir + 1], e);
+      }
+      if (p->shear && CrossingShear(p, x, i, j, &s, &tmin)) r[4] = PetscMax(r[4], PetscAbsReal(s));
+    }
+}
+
+void WindowSet(Patch *p, const PetscReal r[5], PetscReal margin)
+{
+  for (int dir = 0; dir < 2; dir++) {
+    const int none = r[2 * dir + 1] == -PETSC_MAX_REAL; /* no live segment: none can come back */
+    p->win_lo[dir] = none ? 0.0 : -r[2 * dir] - margin;
+    p->win_hi[dir] = none ? 0.0 : r[2 * dir + 1] + margin;
+    p->win_k[dir]  = ChordTangentMax(dir == 0 ? p->warp : p->weft, p->win_lo[dir], p->win_hi[dir]) /
+                    (dir == 0 ? p->ax : p->ay);
+  }
+  p->win_s = PetscMax(r[4], 0.0) + margin;
+}
+
+PetscReal StableOmega2(const Patch *p, const PetscReal *x, const PetscReal *inv_m, int pull_dir, PetscReal *omega2_pull)
 {
   PetscReal omega2 = 0.0, pull2 = 0.0;
 
@@ -1026,9 +1109,9 @@ PetscReal StableOmega2(const Patch *p, const PetscReal *x, const PetscReal *inv_
       if (im <= 0.0) continue;
       /* the terms' bound_row in the order of InternalTerms, called directly (inlined: the loop
          through the descriptors' pointers costs 10 % here) */
-      if (p->traction) TractionBoundRow(p, x, i, j, window, pull_dir, &rs, &rp);
-      if (p->bending) BendingBoundRow(p, x, i, j, window, pull_dir, &rs, &rp);
-      if (p->shear) ShearBoundRow(p, x, i, j, window, pull_dir, &rs, &rp);
+      if (p->traction) TractionBoundRow(p, x, i, j, pull_dir, &rs, &rp);
+      if (p->bending) BendingBoundRow(p, x, i, j, pull_dir, &rs, &rp);
+      if (p->shear) ShearBoundRow(p, x, i, j, pull_dir, &rs, &rp);
       rs += p->k_contact; /* a rigid body's penalty spring, whether in contact or not */
       omega2 = PetscMax(omega2, rs * im);
       pull2  = PetscMax(pull2, rp * im);

@@ -293,7 +293,7 @@ static void SummaryRupture(Fabric fab, FILE *fp)
   } else fprintf(fp, "  \"rupture\": null,\n");
 }
 
-/* one state measured by -te_measure: te, the Gershgorin bound and the measured limit 2/omega_max */
+/* one state measured by -te_measure: te, the stable bound and the measured limit 2/omega_max */
 static void JsonTeMeasure(FILE *fp, const char *name, const TeMeasure *m, const char *sep)
 {
   fprintf(fp,
@@ -355,6 +355,7 @@ PetscErrorCode OutputSummary(Fabric fab, const char *error)
           ",\n  \"wall_s\": %.6f,\n  \"point_updates_per_s\": %.6e,\n",
           fab->stats.te_steps, fab->stats.point_updates, (double) fab->stats.wall,
           fab->stats.wall > 0 ? (double) fab->stats.point_updates / fab->stats.wall : 0.0);
+  fprintf(fp, "  \"te_rebounds\": %" PetscInt64_FMT ",\n", fab->stats.te_rebounds);
   fprintf(fp, "  \"gauge_mm\": %.6g,\n  \"width_mm\": %.6g,\n  \"peak_force_N\": %.9g,\n",
           (double) (s->spec.gauge * 1e3), (double) (s->spec.width * 1e3), (double) fab->stats.rupture.peak_force);
   SummaryRupture(fab, fp);

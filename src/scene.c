@@ -269,14 +269,14 @@ static const OptionDesc Options[] = {
          "when the power F.v turns negative; MODEL.md 15); damped: damped central differences with -damping_ratio; "
          "paper: the paper's eq. (10)"),
     REAL("", "te", te, DEF(0), NONNEG, NONNEG_MUST, "time step te (s); 0 = from the stable bound"),
-    RANGED("", "te_safety", te_safety, DEF(0.9), 0, 1, 1, 0, "in (0,1]", "te = safety * stable bound (Gershgorin)"),
+    RANGED("", "te_safety", te_safety, DEF(0.8), 0, 1, 1, 0, "in (0,1]", "te = safety * stable bound"),
     BOOL("", "te_check", te_check, DEF(1), "refuse a -te above the stable bound (0: experts and stability tests only)"),
     INT("", "te_measure", te_measure, DEF(0), 0, "0 (never) or a number of load steps",
         "measure the true largest eigenvalue of M^-1 K (Lanczos on the tangent stiffness) at the start and end of "
         "load step 1, of every this many load steps and of the last: te against 2/omega_max in summary.json"),
-    REAL("", "te_strain_window", te_strain_window, DEF(1), NONNEG, NONNEG_MUST,
-         "chord-strain margin around each segment's strain over which the yarn tangent is maximised for the bound, and "
-         "margin in sin(shear angle) below the locking angle from which the jamming stiffness counts"),
+    REAL("", "te_strain_window", te_strain_window, DEF(0.005), NONNEG, NONNEG_MUST,
+         "margin (chord strain, and sin(shear angle)) around the state's range of each yarn family's strains and of "
+         "the shear that the stable bound covers; a te step that leaves it takes the bound again"),
     BOOL("", "early_exit", early_exit, DEF(1),
          "end a load step as soon as the balance test passes (modified multi-sampling)"),
     REAL("", "balance_tol", balance_tol, DEF(1e-3), POSITIVE, POS_MUST,

@@ -2,7 +2,7 @@
  *
  * Central differences are stable while te <= 2/omega_max (the paper's scheme: 1/omega_max),
  * omega_max^2 the largest eigenvalue of M^-1 K with K the tangent stiffness of the free crossings
- * (MODEL.md 7.3). The stable step takes omega_max^2 from a Gershgorin bound (kernels.c); this
+ * (MODEL.md 7.3). The stable step takes omega_max^2 from a bound (StableOmega2, kernels.c); this
  * module measures it, to check the bound and say how loose it is (-te_measure, summary.json).
  *
  * K: the exact Hessians of the force terms' instances (TermInstance, as the quasi-static path
@@ -312,7 +312,7 @@ PetscErrorCode StableStepMeasure(Fabric fab, PetscReal te_prev)
   KeepRecord(&fab->step, &m);
   PetscCall(PetscInfo(
       NULL,
-      "load step %" PetscInt_FMT " %s: te %g s, Gershgorin bound %g s, measured limit %g s (%" PetscInt_FMT
+      "load step %" PetscInt_FMT " %s: te %g s, stable bound %g s, measured limit %g s (%" PetscInt_FMT
       " Lanczos steps): te / limit %.4f\n",
       of, end ? "end" : "start", (double) m.te, (double) m.te_bound, (double) m.limit, its, (double) (m.te / m.limit)));
   PetscFunctionReturn(0);
