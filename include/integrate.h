@@ -12,6 +12,9 @@ PetscErrorCode ComputeForcesAt(Fabric fab, Vec X, Vec F, const PetscInt box[4], 
 /* te from the stable bound over the window of the current state (StableOmega2); the damping of
    the slowest mode */
 PetscErrorCode StableStep(Fabric fab);
+/* the damping of the slowest mode alone, at the current state (te kept; with -te_measure the
+   bound and the measured limit there are recorded too) */
+PetscErrorCode StableDamping(Fabric fab);
 /* one te step: forces, integration, the balance test and the stability watch */
 PetscErrorCode TimeStep(Fabric fab, StepStats *st);
 

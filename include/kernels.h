@@ -112,6 +112,8 @@ void WindowSet(Patch *p, const PetscReal r[5], PetscReal margin);
    along pull_dir (0: x, 1: y) alone: the highest frequency of the chain the damping is tuned to. */
 PetscReal StableOmega2(const Patch *p, const PetscReal *x, const PetscReal *inv_m, int pull_dir,
                        PetscReal *omega2_pull);
+/* omega2_pull of StableOmega2 alone */
+PetscReal PullOmega2(const Patch *p, const PetscReal *x, const PetscReal *inv_m, int pull_dir);
 
 /* ---------------- force terms as plug-ins (MODEL.md 5.1-5.3, 7.3, 14) ---------------- */
 

@@ -136,6 +136,18 @@ static PetscErrorCode StableBound(Fabric fab, PetscReal omega2[2])
   PetscFunctionReturn(0);
 }
 
+/* damping: the paper's nu per point, plus a mass-proportional part c = 2 zeta omega_1 with
+   omega_1 ~ pi omega_pull / (2 n) the slowest mode of the chain of n segments along the
+   pull, omega_pull = 2 sqrt(k/m) its highest (from the pull-direction springs alone) */
+static void SetDamping(Fabric fab, PetscReal omega2_pull)
+{
+  const Scene   *s = &fab->s;
+  const PetscInt n = (s->spec.pull == PULL_WARP ? s->spec.nx : s->spec.ny) - 1;
+
+  fab->step.omega1 = PETSC_PI * PetscSqrtReal(omega2_pull) / (2.0 * n);
+  fab->step.damp_c = 2.0 * s->num.damping_ratio * fab->step.omega1;
+}
+
 PetscErrorCode StableStep(Fabric fab)
 {
   const Scene    *s       = &fab->s;
@@ -147,15 +159,32 @@ PetscErrorCode StableStep(Fabric fab)
   fab->step.fire_dt    = fab->step.te; /* FIRE starts again at each stable step (each load step) */
   fab->step.fire_alpha = FIRE_ALPHA0;
   fab->step.fire_npos  = 0;
-  /* damping: the paper's nu per point, plus a mass-proportional part c = 2 zeta omega_1 with
-     omega_1 ~ pi omega_pull / (2 n) the slowest mode of the chain of n segments along the
-     pull, omega_pull = 2 sqrt(k/m) its highest (from the pull-direction springs alone) */
-  {
-    const PetscInt n = (s->spec.pull == PULL_WARP ? s->spec.nx : s->spec.ny) - 1;
-    fab->step.omega1 = PETSC_PI * PetscSqrtReal(omega2[1]) / (2.0 * n);
-    fab->step.damp_c = 2.0 * s->num.damping_ratio * fab->step.omega1;
-  }
+  SetDamping(fab, omega2[1]);
   if (s->num.te_measure) PetscCall(StableStepMeasure(fab, te_prev)); /* the true limit here (spectrum.c) */
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode StableDamping(Fabric fab)
+{
+  const PetscScalar *xl;
+  PetscReal          pull2;
+
+  PetscFunctionBeginUser;
+  PetscCall(HaloExchange(fab->grid.da, fab->state.X, fab->state.Xl));
+  PetscCall(PetscLogEventBegin(EV_Bound, 0, 0, 0, 0));
+  PetscCall(VecGetArrayRead(fab->state.Xl, &xl));
+  pull2 = PullOmega2(&fab->grid.patch, xl, fab->grid.inv_m, fab->s.spec.pull == PULL_WARP ? 0 : 1);
+  PetscCall(VecRestoreArrayRead(fab->state.Xl, &xl));
+  PetscCall(PetscLogEventEnd(EV_Bound, 0, 0, 0, 0));
+  PetscCall(GlobalMax(fab->comm, &pull2, 1));
+  SetDamping(fab, pull2);
+  if (fab->s.num.te_measure) { /* the bound and the true limit here, te kept (spectrum.c) */
+    const PetscReal te = fab->step.te;
+    PetscReal       omega2[2];
+    PetscCall(StableBound(fab, omega2));
+    fab->step.te = te;
+    PetscCall(StableStepMeasure(fab, te));
+  }
   PetscFunctionReturn(0);
 }
 

@@ -410,6 +410,13 @@ static PetscReal SymMaxEig3(const PetscReal b[6])
   return q + 2.0 * pp * PetscCosReal(phi);
 }
 
+/* a pull-direction segment's share of its ends' rows for the damping: its current stiffness,
+   tension side (no window) */
+static inline PetscReal PullSpringRow(const YarnLaw *law, PetscReal L0, PetscReal e, PetscReal T, PetscReal L)
+{
+  return 2.0 * PetscMax(ChordTangentMax(law, e, e + 0.005) / L0, L > 0 ? PetscAbsReal(T) / L : 0.0);
+}
+
 /* Traction's share at point p: v^T K v = sum_s (v_a - v_b)^T A_s (v_a - v_b) <= sum_s 2 (v_a^T A_s v_a
    + v_b^T A_s v_b) with A_s = k n n^T + g (I - n n^T) >= the segment's tangent, k the yarn tangent's
    largest value in the family's window over L0, g = max(T,0)/L (a compressed segment's negative
@@ -436,11 +443,33 @@ static void TractionBoundRow(const Patch *p, const PetscReal *x, PetscInt i, Pet
         B[3] += c * d[0] * d[1], B[4] += c * d[0] * d[2], B[5] += c * d[1] * d[2];
       } else /* a zero-length chord: the yarn stiffness in any direction */
         B[0] += k, B[1] += k, B[2] += k;
-      if (dir == pull_dir) /* current stiffness, tension side */
-        *rp += 2.0 * PetscMax(ChordTangentMax(law, e, e + 0.005) / L0, L > 0 ? PetscAbsReal(T) / L : 0.0);
+      if (dir == pull_dir) *rp += PullSpringRow(law, L0, e, T, L);
     }
   }
   *rs += 2.0 * SymMaxEig3(B);
+}
+
+PetscReal PullOmega2(const Patch *p, const PetscReal *x, const PetscReal *inv_m, int pull_dir)
+{
+  const YarnLaw  *law   = pull_dir == 0 ? p->warp : p->weft;
+  const PetscReal L0    = pull_dir == 0 ? p->ax : p->ay;
+  PetscReal       pull2 = 0.0;
+
+  if (!p->traction) return 0.0;
+  for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
+    for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
+      const PetscReal im = inv_m[(j - p->ys) * p->xm + (i - p->xs)];
+      PetscReal       rp = 0.0;
+      if (im <= 0.0) continue;
+      for (int side = -1; side <= 0; side++) {
+        const Chord c = ChordAt(p, x, i + (pull_dir == 0 ? side : 0), j + (pull_dir == 1 ? side : 0), pull_dir);
+        if (!c.alive) continue;
+        const PetscReal e = c.L / L0 - 1.0;
+        rp += PullSpringRow(law, L0, e, ChordTension(law, e), c.L);
+      }
+      pull2 = PetscMax(pull2, rp * im);
+    }
+  return pull2;
 }
 
 /* Break every segment of the patch whose yarn strain exceeds its breaking strain
@@ -615,9 +644,10 @@ static void BendingBoundRow(const Patch *p, const PetscReal *x, PetscInt i, Pets
   for (int dir = 0; dir < 2; dir++) {
     const PetscReal kb = dir == 0 ? p->kbx : p->kby;
     const PetscReal Lc = (1.0 + (dir == 0 ? p->warp : p->weft)->e_contact) * (dir == 0 ? p->ax : p->ay);
-    for (int k = -1; k <= 1; k++) {
-      const PetscInt ic = i + (dir == 0 ? k : 0), jc = j + (dir == 1 ? k : 0);
-      const Chord    c1 = ChordAt(p, x, ic - (dir == 0), jc - (dir == 1), dir), c2 = ChordAt(p, x, ic, jc, dir);
+    Chord           ch[4]; /* the chords from point q to q + 1 along dir, q = -2..1 from (i,j) */
+    for (int q = -2; q <= 1; q++) ch[q + 2] = ChordAt(p, x, i + (dir == 0 ? q : 0), j + (dir == 1 ? q : 0), dir);
+    for (int k = -1; k <= 1; k++) { /* the bending centre at k: chords k-1 and k */
+      const Chord c1 = ch[k + 1], c2 = ch[k + 2];
       if (!c1.alive || !c2.alive) continue;
       const PetscReal Lmin = PetscMin(PetscMin(c1.L, c2.L), Lc);
       if (!(Lmin > 0)) continue; /* a zero-length chord has no direction: no bending force */

@@ -104,7 +104,7 @@ PetscErrorCode ApplyLoadStep(Fabric fab, PetscInt k)
     for (int d = 0; d < 3; d++) fab->load.gravity_now[d] = lambda * s->terms.gravity[d];
   /* the damping is tuned to the balanced state before the grips jump: right after the jump
      the segment at the grip is strained far beyond the rest of the chain */
-  if (!fab->step.bound_fresh) PetscCall(StableStep(fab)); /* else FabricRun just took it, at this state */
+  if (!fab->step.bound_fresh) PetscCall(StableDamping(fab)); /* else FabricRun just took it, at this state */
   damp_c = fab->step.damp_c;
   omega1 = fab->step.omega1;
   /* Without prediction a jump of the jaw is an impact on the yarns (they fold and pile up):
