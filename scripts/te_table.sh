@@ -3,7 +3,7 @@
 #
 #   scripts/te_table.sh [SCENE ...] [-- extra fabric options]
 #
-# Runs each scene (default: strip_warp strip_weft square_net bias drape) on NP ranks (2) with
+# Runs each scene (default: strip_warp strip_weft square_net bias drape pushing) on NP ranks (2) with
 # -te_measure set to its number of load steps (load step 1's start and end and the last load step's
 # start are measured), then prints a markdown table from summary.json: the
 # te used, the stable bound, the measured limit 2/omega_max and te / limit at the first
@@ -17,7 +17,7 @@ scenes=()
 while [[ $# -gt 0 && $1 != -- ]]; do scenes+=("$1"); shift; done
 [[ ${1:-} == -- ]] && shift
 extra=("$@")
-[[ ${#scenes[@]} -gt 0 ]] || scenes=(strip_warp strip_weft square_net bias drape)
+[[ ${#scenes[@]} -gt 0 ]] || scenes=(strip_warp strip_weft square_net bias drape pushing)
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
