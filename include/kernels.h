@@ -24,7 +24,6 @@ typedef struct {           /* a row of yarn segments */
   PetscReal *inv_len;      /* 1/L (0 if absent) */
   PetscReal *fx, *fy, *fz; /* T * unit chord: force on the segment's first point */
   PetscReal *T;            /* tension, N */
-  PetscReal *e;            /* chord strain (a dead segment: its family's window floor, never out of it) */
 } SegmentRow;
 
 typedef struct { /* bending centres of a row: kb * ds/de1 and kb * ds/de2 */
@@ -67,6 +66,7 @@ typedef struct {
   PetscReal     *zero_row; /* 3*gxm zeros: positions of rows outside the patch */
   unsigned char *epad;     /* exists, padded by one absent point on every side */
   PetscReal     *work;
+  PetscInt       chk[4]; /* the box being computed: local columns i0, i1 and global rows j0, j1 (window check) */
   /* traction energy of a tabulated yarn law (warp, weft): integral of Tyarn over the table's
      cells below each node (PatchSetUp; NULL for a linear law) */
   PetscReal *yarn_integral[2];

@@ -52,25 +52,25 @@ static PetscErrorCode PatchAllocRows(Patch *p)
   PetscInt n = p->gxm, per_row = n + 2, rows = 0, k = 0;
 
   PetscFunctionBeginUser;
-  rows = 9 + 9 * KERNEL_RING + 6 + 6 * KERNEL_RING + 10 * KERNEL_RING;
+  rows = 8 + 8 * KERNEL_RING + 6 + 6 * KERNEL_RING + 10 * KERNEL_RING;
   PetscCall(PetscCalloc1((size_t) rows * per_row, &p->work));
   {
     SegmentRow *s      = &p->xs_row;
-    PetscReal **ptrs[] = {&s->ux, &s->uy, &s->uz, &s->inv_len, &s->fx, &s->fy, &s->fz, &s->T, &s->e};
-    PetscCall(AllocRow(n, 9, p->work + (k++) * 9 * per_row, ptrs));
+    PetscReal **ptrs[] = {&s->ux, &s->uy, &s->uz, &s->inv_len, &s->fx, &s->fy, &s->fz, &s->T};
+    PetscCall(AllocRow(n, 8, p->work + (k++) * 8 * per_row, ptrs));
   }
   for (PetscInt r = 0; r < KERNEL_RING; r++) {
     SegmentRow *s      = &p->ys_ring[r];
-    PetscReal **ptrs[] = {&s->ux, &s->uy, &s->uz, &s->inv_len, &s->fx, &s->fy, &s->fz, &s->T, &s->e};
-    PetscCall(AllocRow(n, 9, p->work + (k++) * 9 * per_row, ptrs));
+    PetscReal **ptrs[] = {&s->ux, &s->uy, &s->uz, &s->inv_len, &s->fx, &s->fy, &s->fz, &s->T};
+    PetscCall(AllocRow(n, 8, p->work + (k++) * 8 * per_row, ptrs));
   }
   {
     BendRow    *b      = &p->bx_row;
     PetscReal **ptrs[] = {&b->g1x, &b->g1y, &b->g1z, &b->g2x, &b->g2y, &b->g2z};
-    PetscCall(AllocRow(n, 6, p->work + k * 9 * per_row, ptrs));
+    PetscCall(AllocRow(n, 6, p->work + k * 8 * per_row, ptrs));
   }
   {
-    PetscReal *base = p->work + (k * 9 + 6) * per_row;
+    PetscReal *base = p->work + (k * 8 + 6) * per_row;
     for (PetscInt r = 0; r < KERNEL_RING; r++) {
       BendRow    *b      = &p->by_ring[r];
       PetscReal **ptrs[] = {&b->g1x, &b->g1y, &b->g1z, &b->g2x, &b->g2y, &b->g2z};
@@ -264,11 +264,10 @@ PetscReal ChordEnergy(const YarnLaw *y, const PetscReal *integral, PetscReal e)
 
 /* --- force rows --- */
 
-static void ZeroSegmentRow(SegmentRow *s, PetscInt c0, PetscInt c1, PetscReal e_dead)
+static void ZeroSegmentRow(SegmentRow *s, PetscInt c0, PetscInt c1)
 {
   PetscReal *a[] = {s->ux, s->uy, s->uz, s->inv_len, s->fx, s->fy, s->fz, s->T};
   for (int k = 0; k < 8; k++) memset(a[k] + c0, 0, sizeof(PetscReal) * (size_t) (c1 - c0));
-  for (PetscInt i = c0; i < c1; i++) s->e[i] = e_dead;
 }
 
 /* Chords a[i] -> b[i], c0 <= i < c1: unit chord and 1/L (0 for an absent, broken or zero-length
@@ -313,36 +312,36 @@ static void SegmentForceKernel(PetscInt c0, PetscInt c1, const PetscReal *restri
    the forces vectorise: chords and strains (the strain parked in T, the chord in f), the yarn
    law (branches and a table lookup per segment: scalar), then f = T d / L. Each value is the
    same expression as in one pass, so the results do not depend on the split. */
-static void ComputeSegmentRow(const YarnLaw *law, PetscReal L0, PetscBool traction, PetscReal e_dead, PetscInt c0,
-                              PetscInt c1, const PetscReal *xa, const PetscReal *xb, const unsigned char *ea,
-                              const unsigned char *eb, const unsigned char *broken, SegmentRow *s)
+/* a row of segments [c0, c1); those in [k0, k1) are checked against the window [lo, hi] of
+   their family's chord strain (left: set if one is outside) */
+static void ComputeSegmentRow(const YarnLaw *law, PetscReal L0, PetscBool traction, PetscReal lo, PetscReal hi,
+                              PetscInt c0, PetscInt c1, PetscInt k0, PetscInt k1, const PetscReal *xa,
+                              const PetscReal *xb, const unsigned char *ea, const unsigned char *eb,
+                              const unsigned char *broken, SegmentRow *s, int *left)
 {
-  PetscReal *restrict T = s->T, *restrict e = s->e;
+  PetscReal *restrict T = s->T;
+  int                 out = 0;
 
   ChordRowKernel(1.0 / L0, c0, c1, xa, xb, ea, eb, broken, s->ux, s->uy, s->uz, s->inv_len, T, s->fx, s->fy, s->fz);
   if (traction)
     for (PetscInt i = c0; i < c1; i++) {
-      const int alive = ea[i] && eb[i] && !broken[i];
-      e[i]            = alive ? T[i] : e_dead;
-      T[i]            = alive ? ChordTension(law, T[i]) : 0.0;
+      const int       alive = ea[i] && eb[i] && !broken[i];
+      const PetscReal e     = T[i];
+      out |= alive & (i >= k0) & (i < k1) & ((e < lo) | (e > hi));
+      T[i] = alive ? ChordTension(law, e) : 0.0;
     }
   else
-    for (PetscInt i = c0; i < c1; i++) T[i] = 0.0, e[i] = e_dead;
+    for (PetscInt i = c0; i < c1; i++) T[i] = 0.0;
+  *left |= out;
   SegmentForceKernel(c0, c1, T, s->inv_len, s->fx, s->fy, s->fz);
 }
 
 /* traction on the points i0 <= i < i1 of row j (written: the first term of the sum), from the
    x-segments of the row and the y-segments below (yd) and above (yu); returns the largest |T| */
 static PetscReal GatherTraction(const SegmentRow *xs, const SegmentRow *yd, const SegmentRow *yu, PetscInt i0,
-                                PetscInt i1, const PetscReal lo[2], const PetscReal hi[2], PetscReal *restrict fr,
-                                PetscReal tmax, int *left)
+                                PetscInt i1, PetscReal *restrict fr, PetscReal tmax)
 {
-  int out = 0;
-
   for (PetscInt i = i0; i < i1; i++) {
-    const PetscReal exa = xs->e[i - 1], exb = xs->e[i], eya = yd->e[i], eyb = yu->e[i];
-    out |= (PetscMin(exa, exb) < lo[0]) | (PetscMax(exa, exb) > hi[0]) | (PetscMin(eya, eyb) < lo[1]) |
-           (PetscMax(eya, eyb) > hi[1]);
     fr[3 * i]         = xs->fx[i] - xs->fx[i - 1] + yu->fx[i] - yd->fx[i];
     fr[3 * i + 1]     = xs->fy[i] - xs->fy[i - 1] + yu->fy[i] - yd->fy[i];
     fr[3 * i + 2]     = xs->fz[i] - xs->fz[i - 1] + yu->fz[i] - yd->fz[i];
@@ -350,7 +349,6 @@ static PetscReal GatherTraction(const SegmentRow *xs, const SegmentRow *yd, cons
                                  PetscMax(PetscAbsReal(yu->T[i]), PetscAbsReal(yd->T[i])));
     tmax              = PetscMax(tmax, t);
   }
-  *left |= out;
   return tmax;
 }
 
@@ -796,7 +794,7 @@ static inline int AllExist(const unsigned char *e, PetscInt n)
 
 /* Shear crossings of row r (global), local columns [c0, c1) (MODEL.md 5.3): the edge columns
    point by point, the others by the vector kernel. */
-static void ComputeShearRow(const Patch *p, const PetscReal *x, PetscInt r, PetscInt c0, PetscInt c1, ShearRow *sh)
+static void ComputeShearRow(Patch *p, const PetscReal *x, PetscInt r, PetscInt c0, PetscInt c1, ShearRow *sh)
 {
   const PetscInt   n = p->gxm, lr = r - p->gys, a = PetscMax(c0, 1), b = PetscMin(c1, n - 1);
   const PetscReal *xr = (lr >= 0 && lr < p->gym) ? x + 3 * lr * n : p->zero_row;
@@ -809,30 +807,32 @@ static void ComputeShearRow(const Patch *p, const PetscReal *x, PetscInt r, Pets
     for (int k = 0; k < 10; k++) memset(z[k] + c0, 0, sizeof(PetscReal) * (size_t) (c1 - c0));
     return;
   }
-  if (a >= b) {
+  if (a >= b)
     ShearRowEdge(p, lr, c0, c1, xr, xd, xu, sh);
-    return;
+  else {
+    ShearRowEdge(p, lr, c0, a, xr, xd, xu, sh);
+    if (AllExist(er + a - 1, b - a + 2) && AllExist(er - (n + 2) + a, b - a) && AllExist(er + (n + 2) + a, b - a))
+      ShearRowFull(p->Ks, p->Kj, p->s_lock, a, b, xr, xd, xu, sh->hwx, sh->hwy, sh->hwz, sh->hfx, sh->hfy, sh->hfz,
+                   sh->sx, sh->sy, sh->sz, sh->as);
+    else
+      ShearRowKernel(p->Ks, p->Kj, p->s_lock, a, b, xr, xd, xu, er, er - (n + 2), er + (n + 2), sh->hwx, sh->hwy,
+                     sh->hwz, sh->hfx, sh->hfy, sh->hfz, sh->sx, sh->sy, sh->sz, sh->as);
+    ShearRowEdge(p, lr, b, c1, xr, xd, xu, sh);
   }
-  ShearRowEdge(p, lr, c0, a, xr, xd, xu, sh);
-  if (AllExist(er + a - 1, b - a + 2) && AllExist(er - (n + 2) + a, b - a) && AllExist(er + (n + 2) + a, b - a))
-    ShearRowFull(p->Ks, p->Kj, p->s_lock, a, b, xr, xd, xu, sh->hwx, sh->hwy, sh->hwz, sh->hfx, sh->hfy, sh->hfz, sh->sx,
-                 sh->sy, sh->sz, sh->as);
-  else
-    ShearRowKernel(p->Ks, p->Kj, p->s_lock, a, b, xr, xd, xu, er, er - (n + 2), er + (n + 2), sh->hwx, sh->hwy,
-                   sh->hwz, sh->hfx, sh->hfy, sh->hfz, sh->sx, sh->sy, sh->sz, sh->as);
-  ShearRowEdge(p, lr, b, c1, xr, xd, xu, sh);
+  if (r >= p->chk[2] - 1 && r <= p->chk[3]) { /* checked: the crossings within 1 of a box point */
+    const PetscInt k0 = PetscMax(c0, p->chk[0] - 1), k1 = PetscMin(c1, p->chk[1] + 1);
+    int            out = 0;
+    for (PetscInt li = k0; li < k1; li++) out |= sh->as[li] > p->win_s;
+    p->left_window |= out;
+  }
 }
 
 /* shear on the points i0 <= i < i1 of row j, added: crossings i-1, i+1 of the row (sc), below
    (sd) and above (su), and the point's own crossing where it is a tangent's end (one-sided) */
 static void GatherShear(const ShearRow *sd, const ShearRow *sc, const ShearRow *su, PetscInt i0, PetscInt i1,
-                        PetscReal s_hi, PetscReal *restrict fr, int *left)
+                        PetscReal *restrict fr)
 {
-  int out = 0;
-
   for (PetscInt i = i0; i < i1; i++) {
-    const PetscReal m = PetscMax(PetscMax(PetscMax(sc->as[i - 1], sc->as[i]), sc->as[i + 1]), PetscMax(sd->as[i], su->as[i]));
-    out |= m > s_hi;
     fr[3 * i] += sc->hwx[i + 1] - sc->hwx[i - 1] + su->hfx[i] - sd->hfx[i] + sc->sx[i];
     fr[3 * i + 1] += sc->hwy[i + 1] - sc->hwy[i - 1] + su->hfy[i] - sd->hfy[i] + sc->sy[i];
     fr[3 * i + 2] += sc->hwz[i + 1] - sc->hwz[i - 1] + su->hfz[i] - sd->hfz[i] + sc->sz[i];
@@ -929,11 +929,15 @@ static void YSegments(Patch *p, const PetscReal *x, PetscInt r, PetscInt c0, Pet
   SegmentRow    *s = &p->ys_ring[SLOT(r)];
 
   if (lr < 0 || lr + 1 >= p->gym) {
-    ZeroSegmentRow(s, c0, c1, p->win_lo[1]);
+    ZeroSegmentRow(s, c0, c1);
     return;
   }
-  ComputeSegmentRow(p->weft, p->ay, p->traction, p->win_lo[1], c0, c1, x + 3 * lr * n, x + 3 * (lr + 1) * n, p->exists + lr * n,
-                    p->exists + (lr + 1) * n, p->broken_y + lr * n, s);
+  { /* checked: the segments from a box point to the one above it, or from below into the box */
+    const int in = r >= p->chk[2] - 1 && r < p->chk[3];
+    ComputeSegmentRow(p->weft, p->ay, p->traction, p->win_lo[1], p->win_hi[1], c0, c1, in ? p->chk[0] : 0,
+                      in ? p->chk[1] : 0, x + 3 * lr * n, x + 3 * (lr + 1) * n, p->exists + lr * n,
+                      p->exists + (lr + 1) * n, p->broken_y + lr * n, s, &p->left_window);
+  }
 }
 
 /* y-bending centres of row r: chords y(r-1) and y(r) */
@@ -953,9 +957,10 @@ static void AdvancePipeline(Patch *p, const PetscReal *x, PetscInt j, PetscInt c
   YSegments(p, x, j + 1, c0, c1);
   if (p->bending) YBending(p, j + 1, c0, c1);
   if (p->shear) ComputeShearRow(p, x, j + 1, c0, c1, &p->sh_ring[SLOT(j + 1)]);
-  ComputeSegmentRow(p->warp, p->ax, p->traction, p->win_lo[0], c0, cx, x + 3 * lj * n, x + 3 * lj * n + 3, p->exists + lj * n,
-                    p->exists + lj * n + 1, p->broken_x + lj * n, xs);
-  xs->e[c0 - 1] = xs->e[cx] = p->win_lo[0]; /* no segment there (padding, or past the ghosts): never outside */
+  /* checked: the segments that end at a box point of row j */
+  ComputeSegmentRow(p->warp, p->ax, p->traction, p->win_lo[0], p->win_hi[0], c0, cx, p->chk[0] - 1, p->chk[1],
+                    x + 3 * lj * n, x + 3 * lj * n + 3, p->exists + lj * n, p->exists + lj * n + 1,
+                    p->broken_x + lj * n, xs, &p->left_window);
   if (p->bending)
     ComputeBendRow(p->kbx, c0, cx - 1, xs->ux, xs->uy, xs->uz, xs->inv_len, xs->ux + 1, xs->uy + 1, xs->uz + 1,
                    xs->inv_len + 1, &p->bx_row, 1);
@@ -967,11 +972,11 @@ void ComputeInternalForces(Patch *p, const PetscReal *x, const PetscInt box[4], 
   const PetscInt  c0 = PetscMax(i0 - 2, 0), c1 = PetscMin(i1 + 2, n); /* columns the box's forces need */
   const PetscBool bend = p->bending, shear = p->shear;
   PetscReal       tmax = 0.0;
-  int             left = 0;
 
   *tension_max   = 0.0;
   p->left_window = 0;
   if (i1 <= i0 || j1 <= j0) return;
+  p->chk[0] = i0, p->chk[1] = i1, p->chk[2] = j0, p->chk[3] = j1;
   /* prime the pipeline: rows below the first row of the box */
   for (PetscInt r = j0 - 2; r <= j0; r++) YSegments(p, x, r, c0, c1);
   if (bend)
@@ -983,15 +988,12 @@ void ComputeInternalForces(Patch *p, const PetscReal *x, const PetscInt box[4], 
     /* gather: each point of row j in the box sums its terms in a fixed order */
     PetscReal *restrict fr = f + 3 * (j - p->ys) * p->xm - 3 * (p->xs - p->gxs);
     AdvancePipeline(p, x, j, c0, c1);
-    tmax = GatherTraction(&p->xs_row, &p->ys_ring[SLOT(j - 1)], &p->ys_ring[SLOT(j)], i0, i1, p->win_lo, p->win_hi, fr,
-                          tmax, &left);
+    tmax = GatherTraction(&p->xs_row, &p->ys_ring[SLOT(j - 1)], &p->ys_ring[SLOT(j)], i0, i1, fr, tmax);
     if (bend)
       GatherBending(&p->bx_row, &p->by_ring[SLOT(j - 1)], &p->by_ring[SLOT(j)], &p->by_ring[SLOT(j + 1)], i0, i1, fr);
-    if (shear)
-      GatherShear(&p->sh_ring[SLOT(j - 1)], &p->sh_ring[SLOT(j)], &p->sh_ring[SLOT(j + 1)], i0, i1, p->win_s, fr, &left);
+    if (shear) GatherShear(&p->sh_ring[SLOT(j - 1)], &p->sh_ring[SLOT(j)], &p->sh_ring[SLOT(j + 1)], i0, i1, fr);
   }
-  *tension_max   = tmax;
-  p->left_window = left;
+  *tension_max = tmax;
 }
 
 /* ======================= the terms as plug-ins (MODEL.md 14) ======================= */

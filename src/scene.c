@@ -269,14 +269,16 @@ static const OptionDesc Options[] = {
          "when the power F.v turns negative; MODEL.md 15); damped: damped central differences with -damping_ratio; "
          "paper: the paper's eq. (10)"),
     REAL("", "te", te, DEF(0), NONNEG, NONNEG_MUST, "time step te (s); 0 = from the stable bound"),
-    RANGED("", "te_safety", te_safety, DEF(0.8), 0, 1, 1, 0, "in (0,1]", "te = safety * stable bound"),
+    RANGED("", "te_safety", te_safety, DEF(0), 0, 1, 0, 0, "in [0,1]",
+           "te = safety * stable bound; 0 = by the integrator: 0.8 with fire, 0.65 with damped and paper"),
     BOOL("", "te_check", te_check, DEF(1), "refuse a -te above the stable bound (0: experts and stability tests only)"),
     INT("", "te_measure", te_measure, DEF(0), 0, "0 (never) or a number of load steps",
         "measure the true largest eigenvalue of M^-1 K (Lanczos on the tangent stiffness) at the start and end of "
         "load step 1, of every this many load steps and of the last: te against 2/omega_max in summary.json"),
-    REAL("", "te_strain_window", te_strain_window, DEF(0.005), NONNEG, NONNEG_MUST,
-         "margin (chord strain, and sin(shear angle)) around the state's range of each yarn family's strains and of "
-         "the shear that the stable bound covers; a te step that leaves it takes the bound again"),
+    RANGED("", "te_strain_window", te_strain_window, DEF(-1), -1, PETSC_MAX_REAL, 0, 0, "-1 (by the integrator) or more",
+           "margin (chord strain, and sin(shear angle)) around the state's range of each yarn family's strains and of "
+           "the shear that the stable bound covers; a te step that leaves it takes the bound again; negative = by "
+           "the integrator: 0.005 with fire, 1 (the whole yarn law) with damped and paper"),
     BOOL("", "early_exit", early_exit, DEF(1),
          "end a load step as soon as the balance test passes (modified multi-sampling)"),
     REAL("", "balance_tol", balance_tol, DEF(1e-3), POSITIVE, POS_MUST,
@@ -933,8 +935,11 @@ static void DeriveNumerics(const SceneInput *in, Scene *s)
   n->solver          = (SolverType) in->solver;
   n->integrator      = (IntegratorType) in->integrator;
   n->te_user         = in->te;
-  n->te_safety       = in->te_safety;
-  n->te_window       = in->te_strain_window;
+  /* FIRE stops all motion at an uphill step: it runs close to the limit over a narrow window. The
+     damped and paper schemes gain energy where a yarn crosses a kink of its law within a te
+     step, so they keep a step that resolves the law's stiffest branch (docs/stability.md) */
+  n->te_safety = in->te_safety > 0 ? in->te_safety : in->integrator == INTEGRATOR_FIRE ? 0.8 : 0.65;
+  n->te_window = in->te_strain_window >= 0 ? in->te_strain_window : in->integrator == INTEGRATOR_FIRE ? 0.005 : 1.0;
   n->te_check        = in->te_check;
   n->te_measure      = in->te_measure;
   n->early_exit      = in->early_exit;
