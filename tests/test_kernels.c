@@ -1188,7 +1188,7 @@ static PetscErrorCode TestWindowFlag(const char *csv)
   double    x[3 * NP], f[3 * NP], tmax, r[5];
   PetscInt  box[4] = {3, 6, 3, 6};
   const int edge = 4 * NX + 5, far = 5 * NX; /* point (5,4) in the box; point (0,5), 3 to its left */
-  int       flags[3];
+  int       flags[4];
 
   PetscFunctionBeginUser;
   PetscCall(LawsSetUp(&warp, &weft, csv));
@@ -1204,9 +1204,13 @@ static PetscErrorCode TestWindowFlag(const char *csv)
   x[3 * edge] += (p.win_hi[0] - p.win_lo[0] + 0.02) * p.ax; /* its warp segments out of the window */
   ComputeInternalForces(&p, x, box, f, &tmax);
   flags[2] = p.left_window;
-  Check("window check: flags at the window's state, after a far move, after a box point's segment left it "
-        "(0, 0, 1: differences)",
-        (double) (flags[0] != 0) + (flags[1] != 0) + (flags[2] != 1), 0.0);
+  for (int d = 0; d < 2; d++) p.win_lo[d] = -1e300, p.win_hi[d] = 1e300; /* every strain inside: the shear alone */
+  p.win_s = 0.0;
+  ComputeInternalForces(&p, x, box, f, &tmax);
+  flags[3] = p.left_window;
+  Check("window check: flags at the window's state, after a far move, after a box point's segment left it, with "
+        "a shear window of 0 (0, 0, 1, 1: differences)",
+        (double) (flags[0] != 0) + (flags[1] != 0) + (flags[2] != 1) + (flags[3] != 1), 0.0);
   PetscCall(PatchFree(&p));
   PetscCall(YarnLawDestroy(&warp));
   PetscCall(YarnLawDestroy(&weft));
