@@ -15,6 +15,10 @@ PetscErrorCode StableStep(Fabric fab);
 /* the damping of the slowest mode alone, at the current state (te kept; with -te_measure the
    bound and the measured limit there are recorded too) */
 PetscErrorCode StableDamping(Fabric fab);
+/* the bound again at the current state within a load step (damping and FIRE's state kept, FIRE's
+   step at most te): for a te step that left the window, and as a tear starts and ends (a tear
+   runs the damped scheme, with its te safety and window) */
+PetscErrorCode StableStepAgain(Fabric fab);
 /* one te step: forces, integration, the balance test and the stability watch */
 PetscErrorCode TimeStep(Fabric fab, StepStats *st);
 

@@ -161,6 +161,7 @@ typedef struct {         /* integration, balance test and speed-ups */
   SolverType     solver; /* explicit relaxation or the quasi-static Newton-Krylov solve (static.h) */
   IntegratorType integrator;
   PetscReal      te_user, te_safety, te_window;
+  PetscReal      te_safety_tear, te_window_tear; /* a tear's (the damped scheme's) */
   PetscBool      te_check;
   PetscInt       te_measure; /* measure omega_max^2 of the tangent every this many load steps (0: never) */
   PetscBool      early_exit;

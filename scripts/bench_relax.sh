@@ -69,7 +69,7 @@ if [[ " $tables " == *" 2 "* ]]; then
   printf '%-12s %-44s %10s %8s %9s  %s\n' scene relaxation te_steps wall_s balanced result
   # scene|former damped options
   for row in "strip_warp|-damping_ratio 1" "square_net|-damping_ratio 1" "bias|-damping_ratio 0.05" \
-             "drape|-damping_ratio 0.003 -te_safety 0.75 -balance_tol 1e-3" "pushing|-damping_ratio 1"; do
+             "drape|-damping_ratio 0.003 -te_safety 0.75 -te_strain_window 0.03 -balance_tol 1e-3" "pushing|-damping_ratio 1"; do
     sc="${row%%|*}"; old="${row#*|}"
     # shellcheck disable=SC2086
     read -r n w c r < <(run "${sc}_damped" -scene "inputs/$sc.yaml" -integrator damped $old)

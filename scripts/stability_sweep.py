@@ -233,8 +233,8 @@ def cases():
     for d in ("0.01", "0.02", "0.05"):
         for ts in ("0.5", "0.9"):
             add("net 101x101 damping %s te %s" % (d, ts), "N", "-damping_ratio %s -te_safety %s" % (d, ts), np_=2, limit=900)
-    add("net 101x101 damping 0.02, energy watch off", "N", "-damping_ratio 0.02 -energy_watch 0", np_=2, limit=900,
-        note="the pumping run without the watch: runs its 200 000 te steps, flagged")
+    add("net 101x101 damping 0.02 te 0.9, energy watch off", "N", "-damping_ratio 0.02 -te_safety 0.9 -energy_watch 0",
+        np_=2, limit=900, note="the pumping run without the watch: runs its 200 000 te steps, flagged")
     add("net 101x101 fire", "N", "-integrator fire", np_=2, limit=300)
 
     # --- corners and ranks

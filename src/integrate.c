@@ -114,7 +114,7 @@ static PetscErrorCode StableBound(Fabric fab, PetscReal omega2[2])
   PetscCall(VecGetArrayRead(fab->state.Xl, &xl));
   WindowRange(p, xl, r);
   PetscCall(GlobalMax(fab->comm, r, 5));
-  WindowSet(p, r, s->num.te_window);
+  WindowSet(p, r, fab->step.tear ? s->num.te_window_tear : s->num.te_window);
   omega2[0] = StableOmega2(p, xl, fab->grid.inv_m, s->spec.pull == PULL_WARP ? 0 : 1, &omega2[1]);
   PetscCall(VecRestoreArrayRead(fab->state.Xl, &xl));
   PetscCall(PetscLogEventEnd(EV_Bound, 0, 0, 0, 0));
@@ -132,7 +132,7 @@ static PetscErrorCode StableBound(Fabric fab, PetscReal omega2[2])
                IntegratorNames[s->num.integrator], (double) fab->step.omega_max, (double) fab->step.te_bound);
     fab->step.te = s->num.te_user;
   } else
-    fab->step.te = s->num.te_safety * fab->step.te_bound;
+    fab->step.te = (fab->step.tear ? s->num.te_safety_tear : s->num.te_safety) * fab->step.te_bound;
   PetscFunctionReturn(0);
 }
 
@@ -191,13 +191,20 @@ PetscErrorCode StableDamping(Fabric fab)
 /* A te step found a segment or crossing outside the window its bound covers: the bound again
    from this state, within the load step (the damping, the ramp and FIRE's state go on; FIRE's
    step never exceeds te) */
-static PetscErrorCode StableStepRebound(Fabric fab)
+PetscErrorCode StableStepAgain(Fabric fab)
 {
   PetscReal omega2[2];
 
   PetscFunctionBeginUser;
   PetscCall(StableBound(fab, omega2));
   fab->step.fire_dt = PetscMin(fab->step.fire_dt, fab->step.te);
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode StableStepRebound(Fabric fab)
+{
+  PetscFunctionBeginUser;
+  PetscCall(StableStepAgain(fab));
   fab->stats.te_rebounds++;
   PetscFunctionReturn(0);
 }

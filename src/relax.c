@@ -233,20 +233,21 @@ static PetscErrorCode CheckRupture(Fabric fab, const StepStats *st, PetscInt n, 
 static PetscErrorCode FollowTear(Fabric fab, StepStats *st, CurveRow *row, PetscBool *ruptured)
 {
   const Scene    *s      = &fab->s;
-  const PetscInt  quiet  = TearQuietSteps(fab);
-  const PetscInt  most   = (PetscInt) PetscMax(1.0, PetscMin(PetscFloorReal(s->rupture.max_time / fab->step.te), (PetscReal) PETSC_MAX_INT));
-  const PetscInt  check  = CanRupture(s) ? PetscMax(1, quiet / 8) : 0;
   const PetscInt  before = row->inner_steps, every = s->out.output_tear_every;
   const FrameInfo load   = LoadStepFrame(fab);
   const PetscReal damp_c = fab->step.damp_c; /* the relaxation's */
-  PetscInt        last = 0, n = 0;
+  PetscInt        last = 0, n = 0, quiet, most, check;
 
   PetscFunctionBeginUser;
   *ruptured = PETSC_FALSE;
   FrontWakeAll(fab);
   fab->front.front_covered = PETSC_TRUE;
   fab->step.tear           = PETSC_TRUE;
-  fab->step.damp_c         = 2.0 * s->rupture.damping * fab->step.omega1;
+  PetscCall(StableStepAgain(fab)); /* the damped scheme's te */
+  fab->step.damp_c = 2.0 * s->rupture.damping * fab->step.omega1;
+  quiet            = TearQuietSteps(fab);
+  most  = (PetscInt) PetscMax(1.0, PetscMin(PetscFloorReal(s->rupture.max_time / fab->step.te), (PetscReal) PETSC_MAX_INT));
+  check = CanRupture(s) ? PetscMax(1, quiet / 8) : 0;
   while (n < most && n - last < quiet && !*ruptured) {
     PetscInt broke;
     PetscCall(TimeStep(fab, st));
@@ -262,6 +263,7 @@ static PetscErrorCode FollowTear(Fabric fab, StepStats *st, CurveRow *row, Petsc
   if (check && n % check) PetscCall(CheckRupture(fab, st, before + n, row, ruptured));
   fab->step.tear   = PETSC_FALSE;
   fab->step.damp_c = damp_c;
+  PetscCall(StableStepAgain(fab)); /* the relaxation's te again */
   row->inner_steps += n;
   fab->stats.rupture.tear_te_steps += n;
   PetscCall(PetscInfo(NULL, "load step %" PetscInt_FMT ": a tear of %" PetscInt_FMT " te steps, the last break at %" PetscInt_FMT "%s\n",

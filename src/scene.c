@@ -940,6 +940,8 @@ static void DeriveNumerics(const SceneInput *in, Scene *s)
      step, so they keep a step that resolves the law's stiffest branch (docs/stability.md) */
   n->te_safety = in->te_safety > 0 ? in->te_safety : in->integrator == INTEGRATOR_FIRE ? 0.8 : 0.65;
   n->te_window = in->te_strain_window >= 0 ? in->te_strain_window : in->integrator == INTEGRATOR_FIRE ? 0.005 : 1.0;
+  n->te_safety_tear = in->te_safety > 0 ? in->te_safety : 0.65; /* a tear runs the damped scheme */
+  n->te_window_tear = in->te_strain_window >= 0 ? in->te_strain_window : 1.0;
   n->te_check        = in->te_check;
   n->te_measure      = in->te_measure;
   n->early_exit      = in->early_exit;
