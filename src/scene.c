@@ -275,10 +275,10 @@ static const OptionDesc Options[] = {
     INT("", "te_measure", te_measure, DEF(0), 0, "0 (never) or a number of load steps",
         "measure the true largest eigenvalue of M^-1 K (Lanczos on the tangent stiffness) at the start and end of "
         "load step 1, of every this many load steps and of the last: te against 2/omega_max in summary.json"),
-    RANGED("", "te_strain_window", te_strain_window, DEF(-1), -1, PETSC_MAX_REAL, 0, 0, "-1 (by the integrator) or more",
-           "margin (chord strain, and sin(shear angle)) around the state's range of each yarn family's strains and of "
-           "the shear that the stable bound covers; a te step that leaves it takes the bound again; negative = by "
-           "the integrator: 0.005 with fire, 1 (the whole yarn law) with damped and paper"),
+    REAL("", "te_strain_window", te_strain_window, DEF(0), NONNEG, NONNEG_MUST,
+         "margin (chord strain, and sin(shear angle)) around the state's range of each yarn family's strains and of "
+         "the shear that the stable bound covers; a te step that leaves it takes the bound again; 0 = by the "
+         "integrator: 0.005 with fire, 1 (the whole yarn law) with damped and paper"),
     BOOL("", "early_exit", early_exit, DEF(1),
          "end a load step as soon as the balance test passes (modified multi-sampling)"),
     REAL("", "balance_tol", balance_tol, DEF(1e-3), POSITIVE, POS_MUST,
@@ -939,9 +939,9 @@ static void DeriveNumerics(const SceneInput *in, Scene *s)
      damped and paper schemes gain energy where a yarn crosses a kink of its law within a te
      step, so they keep a step that resolves the law's stiffest branch (docs/stability.md) */
   n->te_safety = in->te_safety > 0 ? in->te_safety : in->integrator == INTEGRATOR_FIRE ? 0.8 : 0.65;
-  n->te_window = in->te_strain_window >= 0 ? in->te_strain_window : in->integrator == INTEGRATOR_FIRE ? 0.005 : 1.0;
+  n->te_window = in->te_strain_window > 0 ? in->te_strain_window : in->integrator == INTEGRATOR_FIRE ? 0.005 : 1.0;
   n->te_safety_tear = in->te_safety > 0 ? in->te_safety : 0.65; /* a tear runs the damped scheme */
-  n->te_window_tear = in->te_strain_window >= 0 ? in->te_strain_window : 1.0;
+  n->te_window_tear = in->te_strain_window > 0 ? in->te_strain_window : 1.0;
   n->te_check        = in->te_check;
   n->te_measure      = in->te_measure;
   n->early_exit      = in->early_exit;
