@@ -143,17 +143,19 @@ static inline int SegmentAlive(const Patch *p, PetscInt i, PetscInt j, int dir)
 }
 
 typedef struct {
-  PetscReal L; /* chord length */
+  PetscReal d[3]; /* chord vector, from (i,j) */
+  PetscReal L;    /* chord length */
   int       alive;
 } Chord;
 
 /* chord from (i,j) along x (dir 0) or y (dir 1) */
 static Chord ChordAt(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j, int dir)
 {
-  Chord c = {0.0, 0};
+  Chord c = {{0.0, 0.0, 0.0}, 0.0, 0};
   if (!SegmentAlive(p, i, j, dir)) return c;
   const PetscReal *a = Pos(p, x, i, j), *b = Pos(p, x, i + (dir == 0), j + (dir == 1));
-  c.L     = PetscSqrtReal(PetscSqr(b[0] - a[0]) + PetscSqr(b[1] - a[1]) + PetscSqr(b[2] - a[2]));
+  for (int q = 0; q < 3; q++) c.d[q] = b[q] - a[q];
+  c.L     = PetscSqrtReal(PetscSqr(c.d[0]) + PetscSqr(c.d[1]) + PetscSqr(c.d[2]));
   c.alive = 1;
   return c;
 }
@@ -311,9 +313,9 @@ static void SegmentForceKernel(PetscInt c0, PetscInt c1, const PetscReal *restri
    computed even with traction off: bending needs them. Three passes, so that the geometry and
    the forces vectorise: chords and strains (the strain parked in T, the chord in f), the yarn
    law (branches and a table lookup per segment: scalar), then f = T d / L. Each value is the
-   same expression as in one pass, so the results do not depend on the split. */
-/* a row of segments [c0, c1); those in [k0, k1) are checked against the window [lo, hi] of
-   their family's chord strain (left: set if one is outside) */
+   same expression as in one pass, so the results do not depend on the split. The segments in
+   [k0, k1) are checked against the window [lo, hi] of their family's chord strain (left: set if
+   one is outside). */
 static void ComputeSegmentRow(const YarnLaw *law, PetscReal L0, PetscBool traction, PetscReal lo, PetscReal hi,
                               PetscInt c0, PetscInt c1, PetscInt k0, PetscInt k1, const PetscReal *xa,
                               const PetscReal *xb, const unsigned char *ea, const unsigned char *eb,
@@ -429,16 +431,14 @@ static void TractionBoundRow(const Patch *p, const PetscReal *x, PetscInt i, Pet
     const PetscReal L0  = dir == 0 ? p->ax : p->ay;
     const PetscReal k   = p->win_k[dir];
     for (int side = -1; side <= 0; side++) {
-      const PetscInt ia = i + (dir == 0 ? side : 0), ja = j + (dir == 1 ? side : 0);
-      if (!SegmentAlive(p, ia, ja, dir)) continue;
-      const PetscReal *a = Pos(p, x, ia, ja), *b = Pos(p, x, ia + (dir == 0), ja + (dir == 1));
-      const PetscReal  d[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-      const PetscReal  L = PetscSqrtReal(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-      const PetscReal  e = L / L0 - 1.0, T = ChordTension(law, e);
+      const Chord c = ChordAt(p, x, i + (dir == 0 ? side : 0), j + (dir == 1 ? side : 0), dir);
+      if (!c.alive) continue;
+      const PetscReal *d = c.d;
+      const PetscReal  L = c.L, e = L / L0 - 1.0, T = ChordTension(law, e);
       if (L > 0) {
-        const PetscReal g = PetscMax(T, 0.0) / L, c = (k - g) / (L * L);
-        B[0] += c * d[0] * d[0] + g, B[1] += c * d[1] * d[1] + g, B[2] += c * d[2] * d[2] + g;
-        B[3] += c * d[0] * d[1], B[4] += c * d[0] * d[2], B[5] += c * d[1] * d[2];
+        const PetscReal g = PetscMax(T, 0.0) / L, kg = (k - g) / (L * L);
+        B[0] += kg * d[0] * d[0] + g, B[1] += kg * d[1] * d[1] + g, B[2] += kg * d[2] * d[2] + g;
+        B[3] += kg * d[0] * d[1], B[4] += kg * d[0] * d[2], B[5] += kg * d[1] * d[2];
       } else /* a zero-length chord: the yarn stiffness in any direction */
         B[0] += k, B[1] += k, B[2] += k;
       if (dir == pull_dir) *rp += PullSpringRow(law, L0, e, T, L);

@@ -928,6 +928,18 @@ static PetscErrorCode CheckSolverOptions(MPI_Comm comm, const SceneInput *in)
   PetscFunctionReturn(0);
 }
 
+/* te safety and window for an integrator: the user's, or (0) the integrator's own. FIRE stops
+   all motion at an uphill step: it runs close to the limit over a narrow window. The damped and
+   paper schemes gain energy where a yarn crosses a kink of its law within a te step, so they keep
+   a step that resolves the law's stiffest branch (docs/stability.md) */
+static void StepPolicy(const SceneInput *in, IntegratorType integrator, PetscReal *safety, PetscReal *window)
+{
+  const PetscBool fire = integrator == INTEGRATOR_FIRE ? PETSC_TRUE : PETSC_FALSE;
+
+  *safety = in->te_safety > 0 ? in->te_safety : fire ? 0.8 : 0.65;
+  *window = in->te_strain_window > 0 ? in->te_strain_window : fire ? 0.005 : 1.0;
+}
+
 static void DeriveNumerics(const SceneInput *in, Scene *s)
 {
   Numerics *n = &s->num;
@@ -935,13 +947,8 @@ static void DeriveNumerics(const SceneInput *in, Scene *s)
   n->solver          = (SolverType) in->solver;
   n->integrator      = (IntegratorType) in->integrator;
   n->te_user         = in->te;
-  /* FIRE stops all motion at an uphill step: it runs close to the limit over a narrow window. The
-     damped and paper schemes gain energy where a yarn crosses a kink of its law within a te
-     step, so they keep a step that resolves the law's stiffest branch (docs/stability.md) */
-  n->te_safety = in->te_safety > 0 ? in->te_safety : in->integrator == INTEGRATOR_FIRE ? 0.8 : 0.65;
-  n->te_window = in->te_strain_window > 0 ? in->te_strain_window : in->integrator == INTEGRATOR_FIRE ? 0.005 : 1.0;
-  n->te_safety_tear = in->te_safety > 0 ? in->te_safety : 0.65; /* a tear runs the damped scheme */
-  n->te_window_tear = in->te_strain_window > 0 ? in->te_strain_window : 1.0;
+  StepPolicy(in, n->integrator, &n->te_safety, &n->te_window);
+  StepPolicy(in, INTEGRATOR_DAMPED, &n->te_safety_tear, &n->te_window_tear); /* a tear runs the damped scheme */
   n->te_check        = in->te_check;
   n->te_measure      = in->te_measure;
   n->early_exit      = in->early_exit;

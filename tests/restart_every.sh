@@ -5,9 +5,9 @@
 #             until the end of that round is within it (-rupture_drop_pct 0: the test goes on past
 #             the rupture). Killed with SIGKILL once the first one is
 #             there, restarted on 3 ranks from 2: bit-identical to the uninterrupted run.
-#   every_s   -checkpoint_every_s 0.25 on 1 rank: checkpoints within load steps while the run goes on,
-#             which then ends as the run without them; restarted on 2 ranks from its last one, it
-#             ends bit-identical too.
+#   every_s   -checkpoint_every_s 0.05 on 1 rank (the run takes about 0.25 s): checkpoints within load
+#             steps while the run goes on, which then ends as the run without them; restarted on 2
+#             ranks from its last one, it ends bit-identical too.
 #   killed while writing: -checkpoint_every_te 20 on 2 ranks, SIGKILL amid its writes: checkpoint.h5,
 #             written aside and renamed, is the last complete one and restarts bit-identically.
 # Compared: final positions, curve.csv, fabric.h5 (h5diff), fabric.xmf, summary.json's counters.
@@ -59,7 +59,7 @@ opts=(-scene "$scene" -gauge_mm 20 -width_mm 5 -load_steps 6 -elongation_pct 3 -
       -point_load_N 0,0,0.001 -balance_tol 1e-5 -output_every 1 -output_te_every 1000)
 a="$work/s_whole" b="$work/s_clock"
 mpiexec -n 1 "$fabric" "${opts[@]}" -quiet -output_dir "$a" -positions_out "$a/positions.bin" >/dev/null || { echo "FAIL the uninterrupted run failed"; exit 1; }
-mpiexec -n 1 "$fabric" "${opts[@]}" -checkpoint_every_s 0.25 -output_dir "$b" -positions_out "$b/positions.bin" >"$work/clock.log" 2>&1
+mpiexec -n 1 "$fabric" "${opts[@]}" -checkpoint_every_s 0.05 -output_dir "$b" -positions_out "$b/positions.bin" >"$work/clock.log" 2>&1
 rc=$?
 n=$(grep -c "^checkpoint at load step [0-9]*, te step [0-9]*: " "$work/clock.log")
 wall=$(sed -n 's/.*"wall_s": \([0-9.]*\).*/\1/p' "$b/summary.json" 2>/dev/null)
