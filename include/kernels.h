@@ -119,7 +119,12 @@ PetscReal PullOmega2(const Patch *p, const PetscReal *x, const PetscReal *inv_m,
 
 #define TERM_MAX_POINTS 5 /* a shear crossing couples its centre and four neighbours */
 
-enum { TERM_ENERGY = 1, TERM_GRADIENT = 2, TERM_HESSIAN = 4 }; /* what an instance computes */
+/* what an instance computes; TERM_CONVEX (with TERM_HESSIAN): the Hessian's positive part
+   instead, the second derivatives in the term's two tangents (a 6 x 6 matrix) with their
+   negative eigenvalues set to 0 (bending, shear), or a yarn segment's geometric part max(T,0)/L
+   (as with the patch's tension field), so that K is positive semi-definite and exceeds the
+   Hessian by a positive semi-definite matrix */
+enum { TERM_ENERGY = 1, TERM_GRADIENT = 2, TERM_HESSIAN = 4, TERM_CONVEX = 8 };
 
 /* One instance of a term: a yarn segment (2 points), a bending centre (3) or a crossing
    (3 to 5 points). Every instance is owned by one point, so a sum over the owned points of
@@ -161,12 +166,17 @@ extern const ForceTerm *const InternalTerms[INTERNAL_TERMS]; /* traction, bendin
 /* energy of the instances owned by the points of box (global, half-open, owned): 0 if off */
 PetscReal TermEnergy(const ForceTerm *t, const Patch *p, const PetscReal *x, const PetscInt box[4]);
 /* the tangent of every instance owned by a point of box, one call of add per instance
-   (its blocks reach ghost points within 1 of the box); nothing if the term is off */
+   (its blocks reach ghost points within 1 of the box); nothing if the term is off. convex: each
+   instance's positive part (TERM_CONVEX) */
 PetscErrorCode TermTangent(const ForceTerm *t, const Patch *p, const PetscReal *x, const PetscInt box[4],
-                           TermBlocksFn add, void *ctx);
+                           PetscBool convex, TermBlocksFn add, void *ctx);
 /* the same summed over the three internal terms */
 PetscReal      InternalEnergy(const Patch *p, const PetscReal *x, const PetscInt box[4]);
-PetscErrorCode InternalTangent(const Patch *p, const PetscReal *x, const PetscInt box[4], TermBlocksFn add, void *ctx);
+PetscErrorCode InternalTangent(const Patch *p, const PetscReal *x, const PetscInt box[4], PetscBool convex,
+                               TermBlocksFn add, void *ctx);
+/* the symmetric n x n matrix A (row-major, n <= 6) replaced by its positive part: its
+   eigenvalues below 0 set to 0 (cyclic Jacobi rotations) */
+void SymPositivePart(PetscInt n, PetscReal *A);
 /* a TermBlocksFn for ctx = a Mat of the DMDA (DMCreateMatrix, dof 3, box stencil width 2):
    MatSetValuesBlockedStencil with ADD_VALUES (rows of ghost points go to their owners at assembly) */
 PetscErrorCode TermBlocksAddToMat(void *ctx, PetscInt n, const PetscInt i[], const PetscInt j[], const PetscReal K[]);

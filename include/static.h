@@ -19,8 +19,10 @@ typedef struct {                  /* one load step's solve */
    PETSc's options (-snes_*, -ksp_*, -pc_*) override them */
 PetscErrorCode StaticCreate(Fabric fab, StaticSolver *ss);
 PetscErrorCode StaticDestroy(StaticSolver *ss);
-/* -help: the solver's own options (-snes_shift_start, -snes_shift_carry, -snes_extrapolate, -mg_line_smoother) */
-PetscErrorCode StaticHelp(MPI_Comm comm);
+/* the solver's own options (-snes_shift_start, -snes_shift_carry, -snes_extrapolate,
+   -mg_line_smoother, -mg_line_lump, -snes_convex_tangent): listed under -help, and their values
+   checked before a run writes anything */
+PetscErrorCode StaticOptionsCheck(MPI_Comm comm);
 /* balance the current load step from the current positions (the prediction is the first guess),
    with the crossings of inv_m = 0 held where they are */
 PetscErrorCode StaticSolve(StaticSolver ss, StaticResult *r);

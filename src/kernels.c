@@ -388,7 +388,8 @@ static int TractionInstance(const Patch *p, const PetscReal *x, PetscInt i, Pets
   if (want & TERM_GRADIENT)
     for (int q = 0; q < 3; q++) t->g[q] = -T * n[q], t->g[3 + q] = T * n[q];
   if (want & TERM_HESSIAN)
-    SegmentHessian(ChordTensionSlope(law, e) / L0, (p->tension_field ? PetscMax(T, 0) : T) / L, n, t->K);
+    SegmentHessian(ChordTensionSlope(law, e) / L0, (p->tension_field || (want & TERM_CONVEX) ? PetscMax(T, 0) : T) / L,
+                   n, t->K);
   return 1;
 }
 
@@ -532,6 +533,50 @@ static void CosineDerivatives(const PetscReal a[3], const PetscReal b[3], int he
     }
 }
 
+void SymPositivePart(PetscInt n, PetscReal *A)
+{
+  PetscReal V[36], off = 0, scale = 0;
+
+  for (PetscInt r = 0; r < n; r++)
+    for (PetscInt q = 0; q < n; q++) V[n * r + q] = r == q ? 1.0 : 0.0, scale += A[n * r + q] * A[n * r + q];
+  for (int sweep = 0; sweep < 30; sweep++) {
+    off = 0;
+    for (PetscInt r = 0; r < n; r++)
+      for (PetscInt q = r + 1; q < n; q++) off += A[n * r + q] * A[n * r + q];
+    if (!(off > 1e-32 * scale)) break;
+    for (PetscInt a = 0; a < n; a++)
+      for (PetscInt b = a + 1; b < n; b++) { /* the rotation that zeroes A[a][b] */
+        const PetscReal apq = A[n * a + b];
+        if (apq == 0) continue;
+        const PetscReal th = (A[n * b + b] - A[n * a + a]) / (2.0 * apq);
+        const PetscReal t  = (th >= 0 ? 1.0 : -1.0) / (PetscAbsReal(th) + PetscSqrtReal(th * th + 1.0));
+        const PetscReal cs = 1.0 / PetscSqrtReal(t * t + 1.0), sn = t * cs;
+        for (PetscInt k = 0; k < n; k++) { /* columns a and b */
+          const PetscReal ka = A[n * k + a], kb = A[n * k + b];
+          A[n * k + a] = cs * ka - sn * kb, A[n * k + b] = sn * ka + cs * kb;
+        }
+        for (PetscInt k = 0; k < n; k++) { /* rows a and b */
+          const PetscReal ak = A[n * a + k], bk = A[n * b + k];
+          A[n * a + k] = cs * ak - sn * bk, A[n * b + k] = sn * ak + cs * bk;
+        }
+        for (PetscInt k = 0; k < n; k++) {
+          const PetscReal va = V[n * k + a], vb = V[n * k + b];
+          V[n * k + a] = cs * va - sn * vb, V[n * k + b] = sn * va + cs * vb;
+        }
+      }
+  }
+  {
+    PetscReal lam[6];
+    for (PetscInt k = 0; k < n; k++) lam[k] = PetscMax(A[n * k + k], 0.0);
+    for (PetscInt r = 0; r < n; r++)
+      for (PetscInt q = r; q < n; q++) {
+        PetscReal v = 0;
+        for (PetscInt k = 0; k < n; k++) v += V[n * r + k] * lam[k] * V[n * q + k];
+        A[n * r + q] = A[n * q + r] = v;
+      }
+  }
+}
+
 /* Gradient and Hessian of E = phi(s) over n points, with the tangents a = sum_q ca[q] x_q and
    b = sum_q cb[q] x_q; dphi = phi'(s), d2phi = phi''(s) (chain rule). */
 static void CosineTermDerivatives(const Cosine *c, PetscReal dphi, PetscReal d2phi, PetscInt n, const PetscReal ca[],
@@ -550,6 +595,23 @@ static void CosineTermDerivatives(const Cosine *c, PetscReal dphi, PetscReal d2p
       Mab[3 * r + q] = d2phi * c->ga[r] * c->gb[q] + dphi * c->Hab[3 * r + q];
       Mbb[3 * r + q] = d2phi * c->gb[r] * c->gb[q] + dphi * c->Hbb[3 * r + q];
     }
+  if (want & TERM_CONVEX) { /* the positive part of [Maa Mab; Mab^T Mbb] */
+    PetscReal M[36];
+    for (int r = 0; r < 3; r++)
+      for (int q = 0; q < 3; q++) {
+        M[6 * r + q]           = Maa[3 * r + q];
+        M[6 * r + 3 + q]       = Mab[3 * r + q];
+        M[6 * (3 + r) + q]     = Mab[3 * q + r];
+        M[6 * (3 + r) + 3 + q] = Mbb[3 * r + q];
+      }
+    SymPositivePart(6, M);
+    for (int r = 0; r < 3; r++)
+      for (int q = 0; q < 3; q++) {
+        Maa[3 * r + q] = M[6 * r + q];
+        Mab[3 * r + q] = M[6 * r + 3 + q];
+        Mbb[3 * r + q] = M[6 * (3 + r) + 3 + q];
+      }
+  }
   for (PetscInt P = 0; P < n; P++)
     for (PetscInt Q = 0; Q < n; Q++)
       for (int r = 0; r < 3; r++)
@@ -1057,8 +1119,9 @@ PetscReal TermEnergy(const ForceTerm *t, const Patch *p, const PetscReal *x, con
 }
 
 PetscErrorCode TermTangent(const ForceTerm *t, const Patch *p, const PetscReal *x, const PetscInt box[4],
-                           TermBlocksFn add, void *ctx)
+                           PetscBool convex, TermBlocksFn add, void *ctx)
 {
+  const int    want = TERM_HESSIAN | (convex ? TERM_CONVEX : 0);
   TermInstance inst;
 
   PetscFunctionBeginUser;
@@ -1066,7 +1129,7 @@ PetscErrorCode TermTangent(const ForceTerm *t, const Patch *p, const PetscReal *
   for (PetscInt j = box[2]; j < box[3]; j++)
     for (PetscInt i = box[0]; i < box[1]; i++)
       for (int k = 0; k < t->per_point; k++)
-        if (t->instance(p, x, i, j, k, TERM_HESSIAN, &inst)) PetscCall(add(ctx, inst.n, inst.i, inst.j, inst.K));
+        if (t->instance(p, x, i, j, k, want, &inst)) PetscCall(add(ctx, inst.n, inst.i, inst.j, inst.K));
   PetscFunctionReturn(0);
 }
 
@@ -1077,10 +1140,11 @@ PetscReal InternalEnergy(const Patch *p, const PetscReal *x, const PetscInt box[
   return E;
 }
 
-PetscErrorCode InternalTangent(const Patch *p, const PetscReal *x, const PetscInt box[4], TermBlocksFn add, void *ctx)
+PetscErrorCode InternalTangent(const Patch *p, const PetscReal *x, const PetscInt box[4], PetscBool convex,
+                               TermBlocksFn add, void *ctx)
 {
   PetscFunctionBeginUser;
-  for (int t = 0; t < INTERNAL_TERMS; t++) PetscCall(TermTangent(InternalTerms[t], p, x, box, add, ctx));
+  for (int t = 0; t < INTERNAL_TERMS; t++) PetscCall(TermTangent(InternalTerms[t], p, x, box, convex, add, ctx));
   PetscFunctionReturn(0);
 }
 

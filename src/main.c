@@ -92,11 +92,12 @@ static PetscErrorCode Run(int argc, char **argv)
   PetscCall(FabricCreate(PETSC_COMM_WORLD, &fab));
   PetscCall(PetscOptionsHasHelp(NULL, &help));
   if (help) {
-    PetscCall(StaticHelp(PETSC_COMM_WORLD)); /* the quasi-static solver's own options */
+    PetscCall(StaticOptionsCheck(PETSC_COMM_WORLD)); /* the quasi-static solver's own options */
     PetscCall(FabricDestroy(&fab));
     PetscFunctionReturn(0);
   }
   PetscCall(SceneCheckUnused(PETSC_COMM_WORLD, fab->s.num.solver == SOLVER_STATIC));
+  if (fab->s.num.solver == SOLVER_STATIC) PetscCall(StaticOptionsCheck(PETSC_COMM_WORLD));
   if (!fab->s.out.quiet)
     PetscCall(PetscPrintf(
         PETSC_COMM_WORLD,

@@ -47,6 +47,8 @@ typedef struct {                          /* the solver's own options (ReadOptio
   PetscReal shift_start, shift_carry; /* the shift of a load step's first Newton step: see StaticSolve */
   PetscInt  order;                    /* of the first guess's extrapolation */
   PetscBool line_smoother;            /* multigrid levels smoothed by block lines (LineSmoother) */
+  PetscBool convex;                   /* the terms' and bodies' positive parts in the tangent (TERM_CONVEX) */
+  PetscReal line_lump;                /* the line smoother's lines carry this times their off-line couplings' magnitudes */
 } StaticOptions;
 
 typedef struct {   /* three grid rows of block rows, the ghost points either side included */
@@ -278,8 +280,9 @@ static void AddPointBlocks(StaticSolver ss, const PetscScalar *u, const PetscRea
     if (fab->grid.inv_m[k] > 0) {
       for (PetscInt q = 0; q < fab->bodies.n; q++) {
         PetscReal gb[3], Kb[9];
-        if (BodyEnergy(&fab->bodies.body[q], c[q], u + 3 * k, gb, Kb) > 0)
-          for (int e = 0; e < 9; e++) row[e] += Kb[e];
+        if (!(BodyEnergy(&fab->bodies.body[q], c[q], u + 3 * k, gb, Kb) > 0)) continue;
+        if (ss->opt.convex) SymPositivePart(3, Kb); /* a curved body's tangential part is negative */
+        for (int e = 0; e < 9; e++) row[e] += Kb[e];
       }
     } else
       row[0] += ss->k_ref, row[4] += ss->k_ref, row[8] += ss->k_ref;
@@ -310,7 +313,7 @@ static PetscErrorCode FormJacobian(SNES snes, Vec U, Mat A, Mat P, void *ctx)
   for (PetscInt j = p->ys; j < p->ys + p->ym; j++) { /* the ring holds rows j-1, j, j+1 */
     const PetscInt row[4] = {p->xs, p->xs + p->xm, j, j + 1};
     rr->jo                = j;
-    PetscCall(InternalTangent(p, xl, row, AddFreeBlocks, ss));
+    PetscCall(InternalTangent(p, xl, row, ss->opt.convex, AddFreeBlocks, ss));
     PetscCall(AddShift(ss, j));
     AddPointBlocks(ss, u, (const PetscReal(*)[3]) c, j);
     PetscCall(FlushRow(ss, j - 1)); /* complete: its buffer becomes row j+2's */
@@ -465,6 +468,7 @@ typedef struct {
   MPI_Datatype t3, t27;                  /* a point's 3 unknowns, its 3 blocks along a line */
   Vec          t, s;                     /* work: residual, one line sweep's correction */
   PetscBool    pivot_fixed;              /* a non-positive 3x3 pivot was replaced by its diagonal (indefinite level) */
+  PetscReal    lump;                     /* this times the off-line couplings' magnitudes added to the lines' diagonal */
   PetscInt     refs;                     /* the level's down and up smoothers share it */
   Mat             A;                     /* the operator factored, at tangent number factored */
   PetscInt        factored;
@@ -623,6 +627,7 @@ static PetscErrorCode LineSmootherSetUp(PC pc)
   PetscInt        rstart, rend, npts, zs, zm, M, N, m, n, *ox, *oy, *x0, *y0;
   const PetscInt *lxr, *lyr, *ranges;
   PetscReal      *blk, *b27; /* per owned point: D, L_x, U_x, L_y, U_y; D, L, U of one direction (3x3 each) */
+  PetscReal      *lump;      /* per owned point and direction: each row's off-line couplings, summed in magnitude */
   LineShell      *sh;
 
   PetscFunctionBeginUser;
@@ -665,7 +670,7 @@ static PetscErrorCode LineSmootherSetUp(PC pc)
     }
   }
   /* the blocks, by the global block indices of each point and its neighbours (on any rank) */
-  PetscCall(PetscCalloc2(45 * npts, &blk, 27 * npts, &b27));
+  PetscCall(PetscCalloc3(45 * npts, &blk, 27 * npts, &b27, 3 * npts, &lump));
   for (PetscInt k = 0; k < npts; k++) {
     const PetscInt i = ls->xs + k % ls->xm, j = ls->ys + k / ls->xm;
     const PetscInt ni[5] = {i, i - 1, i + 1, i, i}, nj[5] = {j, j, j, j - 1, j + 1};
@@ -683,8 +688,10 @@ static PetscErrorCode LineSmootherSetUp(PC pc)
       PetscCall(MatGetRow(A, rstart + 3 * k + c, &ncols, &cols, &vals));
       for (PetscInt q = 0; q < ncols; q++) {
         const PetscInt kk = cols[q] / 3, cc = cols[q] % 3;
+        int            star = 0;
         for (int w = 0; w < 5; w++)
-          if (kk == nb[w]) blk[45 * k + 9 * w + 3 * c + cc] = vals[q];
+          if (kk == nb[w]) blk[45 * k + 9 * w + 3 * c + cc] = vals[q], star = 1;
+        if (!star) lump[3 * k + c] += PetscAbsScalar(vals[q]);
       }
       PetscCall(MatRestoreRow(A, rstart + 3 * k + c, &ncols, &cols, &vals));
     }
@@ -694,6 +701,7 @@ static PetscErrorCode LineSmootherSetUp(PC pc)
     for (PetscInt k = 0; k < npts; k++) {
       PetscCall(PetscArraycpy(b27 + 27 * k, blk + 45 * k, 9));
       PetscCall(PetscArraycpy(b27 + 27 * k + 9, blk + 45 * k + 9 * (1 + 2 * dir), 18));
+      for (int c = 0; c < 3; c++) b27[27 * k + 4 * c] += ls->lump * lump[3 * k + c];
     }
     if (!ls->cut[dir]) {
       if (dir == 0) ls->pivot_fixed |= FactorLines(b27, ls->ym, ls->xm, ls->xm, 1, ls->fac[0]);
@@ -709,7 +717,7 @@ static PetscErrorCode LineSmootherSetUp(PC pc)
       ls->pivot_fixed |= FactorLines(lb, ls->nlines[dir], ls->len[dir], ls->len[dir], 1, lb);
     }
   }
-  PetscCall(PetscFree2(blk, b27));
+  PetscCall(PetscFree3(blk, b27, lump));
   PetscCall(PetscFree4(ox, oy, x0, y0));
   ls->A = A, ls->factored = *ls->tangents;
   PetscCall(PetscLogEventEnd(EV_LineSetUp, pc, 0, 0, 0));
@@ -896,6 +904,7 @@ static PetscErrorCode SetDefaults(StaticSolver ss)
       LineSmoother *lines; /* the level's factors, shared */
       PetscCall(PetscNew(&lines));
       lines->t3 = lines->t27 = MPI_DATATYPE_NULL;
+      lines->lump            = ss->opt.line_lump;
       lines->tangents        = &ss->tangents;
       PetscCall(PCMGGetSmootherDown(pc, l, &smoother));
       PetscCall(SetLineSmoother(smoother, down, lines));
@@ -977,6 +986,8 @@ static PetscErrorCode ReadOptions(MPI_Comm comm, StaticOptions *o)
   o->shift_carry   = SHIFT_CARRY;
   o->order         = 2;
   o->line_smoother = PETSC_TRUE;
+  o->convex        = PETSC_FALSE;
+  o->line_lump     = 1.0;
   PetscOptionsBegin(comm, NULL, "Quasi-static solver (-solver static, docs/static.md)", NULL);
   PetscCall(PetscOptionsReal("-snes_shift_start", "pretension shift k_s / k_ref at the run's first Newton step", NULL,
                              o->shift_start, &o->shift_start, NULL));
@@ -988,16 +999,24 @@ static PetscErrorCode ReadOptions(MPI_Comm comm, StaticOptions *o)
                             o->order, &o->order, NULL));
   PetscCall(PetscOptionsBool("-mg_line_smoother", "geometric multigrid smoothed by alternating block lines (else PETSc's)",
                              NULL, o->line_smoother, &o->line_smoother, NULL));
+  PetscCall(PetscOptionsBool("-snes_convex_tangent",
+                             "tangent of bending, shear and contact: their positive parts (else their exact Hessians)", NULL,
+                             o->convex, &o->convex, NULL));
+  PetscCall(PetscOptionsReal("-mg_line_lump",
+                             "each line's diagonal carries this times its couplings outside the star, in magnitude (0: none)",
+                             NULL, o->line_lump, &o->line_lump, NULL));
   PetscOptionsEnd();
   PetscCheck(o->order >= 0 && o->order <= 2, comm, PETSC_ERR_USER_INPUT, "-snes_extrapolate %" PetscInt_FMT ": 0, 1 or 2",
              o->order);
+  PetscCheck(o->line_lump >= 0 && o->line_lump < PETSC_INFINITY, comm, PETSC_ERR_USER_INPUT,
+             "-mg_line_lump %g: must be a finite number, 0 or more", (double) o->line_lump);
   PetscCheck(o->shift_start >= 0 && o->shift_carry >= 0, comm, PETSC_ERR_USER_INPUT,
              "-snes_shift_start %g, -snes_shift_carry %g: must not be negative", (double) o->shift_start,
              (double) o->shift_carry);
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode StaticHelp(MPI_Comm comm)
+PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
 {
   StaticOptions o;
 

@@ -846,9 +846,9 @@ static PetscErrorCode DenseTangent(const Patch *p, const ForceTerm *t, const dou
   Dense d = {p, K};
   PetscFunctionBeginUser;
   if (t)
-    PetscCall(TermTangent(t, p, x, box, AddDense, &d));
+    PetscCall(TermTangent(t, p, x, box, PETSC_FALSE, AddDense, &d));
   else
-    PetscCall(InternalTangent(p, x, box, AddDense, &d));
+    PetscCall(InternalTangent(p, x, box, PETSC_FALSE, AddDense, &d));
   PetscFunctionReturn(0);
 }
 
@@ -901,7 +901,7 @@ static PetscErrorCode CheckMat(const Patch *p, const double *x, const double *K)
   PetscCall(DMSetUp(da));
   PetscCall(DMCreateMatrix(da, &A));
   PetscCall(MatSetOption(A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE)); /* the stencil holds every block */
-  PetscCall(InternalTangent(p, x, box, TermBlocksAddToMat, A));
+  PetscCall(InternalTangent(p, x, box, PETSC_FALSE, TermBlocksAddToMat, A));
   PetscCall(MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY));
   for (PetscInt k = 0; k < N; k++) cols[k] = k;
@@ -979,6 +979,111 @@ static PetscErrorCode CountBlocks(void *ctx, PetscInt n, const PetscInt i[], con
   return 0;
 }
 
+
+/* ======== (b') positive parts: SymPositivePart and the convex tangent (TERM_CONVEX) ======== */
+
+/* how far the symmetric n x n matrix M is from positive semi-definite: the smallest shift s >= 0
+   (relative to big, the scale of the matrices it comes from, to 1e-14) with which M + s I has a
+   Cholesky factor, found by bisection: an answer by elimination, independent of the rotations of
+   SymPositivePart */
+static double NonPsd(int n, const double *M, double big)
+{
+  double lo = 0, hi = 2.0 * n;
+  if (big == 0) return 0;
+  for (int it = 0; it < 60 && hi - lo > 1e-14; it++) {
+    const double s = it == 0 ? 1e-14 : 0.5 * (lo + hi);
+    double       L[15 * 15];
+    int          ok = 1;
+    for (int r = 0; r < n && ok; r++)
+      for (int c = 0; c <= r && ok; c++) {
+        double v = M[n * r + c] / big + (r == c ? s : 0.0);
+        for (int k = 0; k < c; k++) v -= L[n * r + k] * L[n * c + k];
+        if (r == c) ok = v > 0, L[n * r + r] = ok ? sqrt(v) : 0;
+        else L[n * r + c] = v / L[n * c + c];
+      }
+    if (it == 0 && ok) return 0;
+    if (ok) hi = s;
+    else lo = s;
+  }
+  return hi;
+}
+
+static void TestPositivePart(void)
+{
+  double worst[3] = {0, 0, 0}, same = 0, zero = 0;
+  srand(77);
+  for (int trial = 0; trial < 200; trial++) {
+    const int n = trial % 2 ? 6 : 3;
+    double    A[36], P[36], N[36], PN = 0, big;
+    for (int r = 0; r < n; r++)
+      for (int c = 0; c <= r; c++) A[n * r + c] = A[n * c + r] = 2.0 * rand() / RAND_MAX - 1.0;
+    memcpy(P, A, sizeof P);
+    SymPositivePart(n, P);
+    big = MaxAbs(A, n * n);
+    for (int e = 0; e < n * n; e++) N[e] = P[e] - A[e];
+    for (int r = 0; r < n; r++) /* P (P - A) = 0: the parts are orthogonal */
+      for (int c = 0; c < n; c++) {
+        double v = 0;
+        for (int k = 0; k < n; k++) v += P[n * r + k] * N[n * k + c];
+        PN = fmax(PN, fabs(v) / (big * big));
+      }
+    worst[0] = fmax(worst[0], NonPsd(n, P, big)), worst[1] = fmax(worst[1], NonPsd(n, N, big)), worst[2] = fmax(worst[2], PN);
+    { /* a positive semi-definite matrix stays (A^T A); a negative one vanishes */
+      double S[36], Z[36];
+      for (int r = 0; r < n; r++)
+        for (int c = 0; c < n; c++) {
+          double v = 0;
+          for (int k = 0; k < n; k++) v += A[n * k + r] * A[n * k + c];
+          S[n * r + c] = v, Z[n * r + c] = -v;
+        }
+      memcpy(P, S, sizeof P);
+      SymPositivePart(n, P);
+      SymPositivePart(n, Z);
+      big = MaxAbs(S, n * n);
+      for (int e = 0; e < n * n; e++) same = fmax(same, fabs(P[e] - S[e]) / big), zero = fmax(zero, fabs(Z[e]) / big);
+    }
+  }
+  Check("positive part of 200 random symmetric 3x3 and 6x6 matrices: positive semi-definite (Cholesky shift)",
+        worst[0], 1e-13);
+  Check("positive part minus the matrix: positive semi-definite (Cholesky shift)", worst[1], 1e-13);
+  Check("positive part times (positive part minus the matrix) / max|A|^2: zero", worst[2], 1e-13);
+  Check("positive part of a positive semi-definite A^T A: itself, relative", same, 1e-13);
+  Check("positive part of a negative semi-definite -A^T A: zero, relative", zero, 1e-13);
+}
+
+/* every instance of the rich patch (its terms with exact tangents: compressed segments keep their
+   negative geometric part): the convex tangent is positive semi-definite and exceeds the exact
+   one by a positive semi-definite matrix; a segment whose own tangent is so keeps it */
+static void CheckConvexInstances(const Patch *p, const double *x)
+{
+  double worst[3] = {0, 0, 0};
+  int    count[3] = {0, 0, 0}, indefinite = 0;
+  for (int t = 0; t < INTERNAL_TERMS; t++)
+    for (int j = 0; j < NY; j++)
+      for (int i = 0; i < NX; i++)
+        for (int k = 0; k < InternalTerms[t]->per_point; k++) {
+          TermInstance ex, cv;
+          double       D[225];
+          if (!InternalTerms[t]->instance(p, x, i, j, k, TERM_HESSIAN, &ex)) continue;
+          InternalTerms[t]->instance(p, x, i, j, k, TERM_HESSIAN | TERM_CONVEX, &cv);
+          const int    m   = 3 * (int) ex.n;
+          const double big = MaxAbs(ex.K, m * m);
+          if (!(big > 0)) continue;
+          for (int e = 0; e < m * m; e++) D[e] = cv.K[e] - ex.K[e];
+          count[t]++;
+          indefinite += NonPsd(m, ex.K, big) > 1e-10;
+          worst[0] = fmax(worst[0], NonPsd(m, cv.K, big)), worst[1] = fmax(worst[1], NonPsd(m, D, big));
+          if (ex.n == 2 && NonPsd(m, ex.K, big) == 0) /* a segment in tension: its own tangent */
+            worst[2] = fmax(worst[2], MaxAbs(D, m * m) / big);
+        }
+  printf("convex tangent: %d segments, %d bending centres, %d crossings; %d exact instances indefinite\n", count[0],
+         count[1], count[2], indefinite);
+  Check("convex tangent of the rich patch: some exact instance is indefinite (0 = yes)", indefinite > 0 ? 0 : 1, 0);
+  Check("convex tangent of every instance: positive semi-definite (Cholesky shift)", worst[0], 1e-12);
+  Check("convex minus exact tangent of every instance: positive semi-definite (Cholesky shift)", worst[1], 1e-12);
+  Check("convex tangent of a segment whose own is positive semi-definite: the same, relative", worst[2], 1e-15);
+}
+
 static PetscErrorCode TestTerms(const char *csv)
 {
   YarnLaw  warp = {0}, weft = {0};
@@ -1006,12 +1111,13 @@ static PetscErrorCode TestTerms(const char *csv)
   CheckGradient(&p, NULL, x);
   CheckInstanceGradients(&p, NULL, x);
   CheckTangent(&p, NULL, x, K);
+  CheckConvexInstances(&p, x);
   PetscCall(CheckMat(&p, x, K));
   PetscCall(CheckPartition(&p, x, K));
   { /* a term switched off costs nothing: no energy, no blocks */
     int calls = 0;
     p.bending = PETSC_FALSE;
-    PetscCall(TermTangent(&BendingTerm, &p, x, full, CountBlocks, &calls));
+    PetscCall(TermTangent(&BendingTerm, &p, x, full, PETSC_FALSE, CountBlocks, &calls));
     Check("bending off: its energy and number of tangent blocks", TermEnergy(&BendingTerm, &p, x, full) + calls, 0);
   }
   PetscCall(PetscFree(K));
@@ -1311,6 +1417,7 @@ int main(int argc, char **argv)
   PetscCall(TestForces());
   PetscCall(TestLaw(csv));
   PetscCall(TestTerms(csv));
+  TestPositivePart();
   PetscCall(TestIdentity(csv));
   if (csv[0]) PetscCall(TestTable(csv));
   TestTangent();

@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# The pushing test (inputs/pushing.yaml, 24 threads/cm, 15 load steps) by both paths, in one run
+# of this script on 2 ranks: the quasi-static path balanced to 1e-8 is the reference curve; every
+# row gives its wall time, its iterations (te steps, or Newton and Krylov), its force at 5, 10 and
+# 15 mm of travel and its largest relative force error against the reference from 5 mm on, and
+# the wall-time ratio of the explicit path as shipped to the row.
+# usage: scripts/bench_pushing.sh [extra options for every run, e.g. -ends_per_cm 8 -picks_per_cm 8]
+set -eu
+here="$(cd "$(dirname "$0")/.." && pwd)"
+fabric="${FABRIC:-$here/build/fabric}"
+[[ -x "$fabric" ]] || bash "$here/scripts/setup.sh" >/dev/null
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+ranks="${RANKS:-2}"
+work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
+extra=("$@")
+
+run() { # name, options...
+  local name="$1"; shift
+  mpiexec -n "$ranks" "$fabric" -scene "$here/inputs/pushing.yaml" -output_every 0 -quiet -output_dir "$work/$name" \
+    "${extra[@]}" "$@" >"$work/$name.log" 2>&1 || { echo "run $name failed: $(tail -3 "$work/$name.log")" >&2; exit 1; }
+}
+key() { sed -n "s/.*\"$2\": \\([0-9.e+-]*\\|[a-z]*\\).*/\\1/p" "$work/$1/summary.json" | head -1; }
+
+rows=(static_1e-8 static explicit explicit_5e-4 explicit_3e-4 explicit_2e-4)
+run static_1e-8 -solver static -balance_tol 1e-8
+run static -solver static
+run explicit
+run explicit_5e-4 -balance_tol 5e-4 -max_inner_steps 400000
+run explicit_3e-4 -balance_tol 3e-4 -max_inner_steps 400000
+run explicit_2e-4 -balance_tol 2e-4 -max_inner_steps 400000
+
+
+printf '%-15s %8s %9s %7s %7s %10s %10s %10s %10s %9s %9s\n' run balanced wall_s te_steps newton krylov F5_N F10_N F15_N err_5mm+ speedup
+t_ref="$(key explicit wall_s)"
+for r in "${rows[@]}"; do
+  /usr/bin/python3 - "$work/static_1e-8/curve.csv" "$work/$r/curve.csv" "$r" "$(key "$r" wall_s)" "$(key "$r" te_steps)" \
+    "$(key "$r" nonlinear_iterations)" "$(key "$r" linear_iterations)" "$(key "$r" converged)" "$t_ref" <<'PY'
+import csv, sys
+ref = {round(float(r["travel_mm"]), 6): float(r["force_N"]) for r in csv.DictReader(open(sys.argv[1]))}
+rows = {round(float(r["travel_mm"]), 6): float(r["force_N"]) for r in csv.DictReader(open(sys.argv[2]))}
+name, wall, te, nl, li, conv, t_ref = sys.argv[3:10]
+err = max(abs(f - ref[t]) / abs(ref[t]) for t, f in rows.items() if t >= 5 - 1e-9)
+at = lambda mm: f"{rows.get(float(mm), float('nan')):.4f}"
+te = te if te not in ("", "0") else "-"
+print(f"{name:<15} {conv or '-':>8} {float(wall):9.2f} {te:>7} {nl or '-':>7} {li or '-':>10} {at(5):>10} {at(10):>10} "
+      f"{at(15):>10} {100 * err:8.3f}% {float(t_ref) / float(wall):9.2f}")
+PY
+done
