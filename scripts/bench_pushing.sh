@@ -19,7 +19,7 @@ run() { # name, options...
   mpiexec -n "$ranks" "$fabric" -scene "$here/inputs/pushing.yaml" -output_every 0 -quiet -output_dir "$work/$name" \
     "${extra[@]}" "$@" >"$work/$name.log" 2>&1 || { echo "run $name failed: $(tail -3 "$work/$name.log")" >&2; exit 1; }
 }
-key() { sed -n "s/.*\"$2\": \\([0-9.e+-]*\\|[a-z]*\\).*/\\1/p" "$work/$1/summary.json" | head -1; }
+key() { sed -n "s/^ *\"$2\": \\([^,]*\\),*$/\\1/p" "$work/$1/summary.json" | head -1; }
 
 rows=(static_1e-8 static explicit explicit_5e-4 explicit_3e-4 explicit_2e-4)
 run static_1e-8 -solver static -balance_tol 1e-8
