@@ -886,6 +886,9 @@ static PetscErrorCode SetDefaults(StaticSolver ss)
   /* CG stops at negative curvature with a descent direction (its iterate so far): the line
      search takes it, and AdaptShift stiffens the next tangent */
   PetscCall(SNESSetMaxLinearSolveFailures(ss->snes, PETSC_MAX_INT));
+  /* the multigrid hierarchy (Galerkin products, line factors) of every second tangent: the
+     Krylov count hardly grows, and the set-up is a third of a Newton step (docs/static.md) */
+  PetscCall(SNESSetLagPreconditioner(ss->snes, 2));
   PetscCall(SNESGetKSP(ss->snes, &ksp));
   PetscCall(KSPSetType(ksp, KSPCG));
   /* the true residual's reduction: the preconditioned norm of a multigrid on this anisotropic
