@@ -21,14 +21,16 @@ run() { # name, options...
 }
 key() { sed -n "s/^ *\"$2\": \\([^,]*\\),*$/\\1/p" "$work/$1/summary.json" | head -1; }
 
-rows=(static_1e-8 static explicit explicit_5e-4 explicit_3e-4 explicit_2e-4)
-run static_1e-8 -solver static -balance_tol 1e-8
-run static -solver static
-run explicit
-run explicit_5e-4 -balance_tol 5e-4 -max_inner_steps 400000
-run explicit_3e-4 -balance_tol 3e-4 -max_inner_steps 400000
-run explicit_2e-4 -balance_tol 2e-4 -max_inner_steps 400000
-
+# name|options; the first row is the reference
+runs=("static_1e-8|-solver static -balance_tol 1e-8" "static|-solver static" "explicit|"
+      "explicit_5e-4|-balance_tol 5e-4 -max_inner_steps 400000" "explicit_3e-4|-balance_tol 3e-4 -max_inner_steps 400000"
+      "explicit_2e-4|-balance_tol 2e-4 -max_inner_steps 400000")
+rows=()
+for r in "${runs[@]}"; do
+  rows+=("${r%%|*}")
+  # shellcheck disable=SC2086
+  run "${r%%|*}" ${r#*|}
+done
 
 printf '%-15s %8s %9s %7s %7s %10s %10s %10s %10s %9s %9s\n' run balanced wall_s te_steps newton krylov F5_N F10_N F15_N err_5mm+ speedup
 t_ref="$(key explicit wall_s)"

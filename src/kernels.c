@@ -535,12 +535,12 @@ static void CosineDerivatives(const PetscReal a[3], const PetscReal b[3], int he
 
 void SymPositivePart(PetscInt n, PetscReal *A)
 {
-  PetscReal V[36], off = 0, scale = 0;
+  PetscReal V[36], scale = 0;
 
   for (PetscInt r = 0; r < n; r++)
     for (PetscInt q = 0; q < n; q++) V[n * r + q] = r == q ? 1.0 : 0.0, scale += A[n * r + q] * A[n * r + q];
   for (int sweep = 0; sweep < 30; sweep++) {
-    off = 0;
+    PetscReal off = 0;
     for (PetscInt r = 0; r < n; r++)
       for (PetscInt q = r + 1; q < n; q++) off += A[n * r + q] * A[n * r + q];
     if (!(off > 1e-32 * scale)) break;

@@ -48,7 +48,7 @@ typedef struct {                          /* the solver's own options (ReadOptio
   PetscInt  order;                    /* of the first guess's extrapolation */
   PetscBool line_smoother;            /* multigrid levels smoothed by block lines (LineSmoother) */
   PetscBool convex;                   /* the terms' and bodies' positive parts in the tangent (TERM_CONVEX) */
-  PetscReal line_lump;                /* the line smoother's lines carry this times their off-line couplings' magnitudes */
+  PetscReal line_lump;                /* each line's diagonal carries this times its couplings outside the star */
 } StaticOptions;
 
 typedef struct {   /* three grid rows of block rows, the ghost points either side included */
@@ -468,7 +468,7 @@ typedef struct {
   MPI_Datatype t3, t27;                  /* a point's 3 unknowns, its 3 blocks along a line */
   Vec          t, s;                     /* work: residual, one line sweep's correction */
   PetscBool    pivot_fixed;              /* a non-positive 3x3 pivot was replaced by its diagonal (indefinite level) */
-  PetscReal    lump;                     /* this times the off-line couplings' magnitudes added to the lines' diagonal */
+  PetscReal    lump;                     /* this times the couplings outside the star added to the lines' diagonal */
   PetscInt     refs;                     /* the level's down and up smoothers share it */
   Mat             A;                     /* the operator factored, at tangent number factored */
   PetscInt        factored;
@@ -627,7 +627,7 @@ static PetscErrorCode LineSmootherSetUp(PC pc)
   PetscInt        rstart, rend, npts, zs, zm, M, N, m, n, *ox, *oy, *x0, *y0;
   const PetscInt *lxr, *lyr, *ranges;
   PetscReal      *blk, *b27; /* per owned point: D, L_x, U_x, L_y, U_y; D, L, U of one direction (3x3 each) */
-  PetscReal      *lump;      /* per owned point and direction: each row's off-line couplings, summed in magnitude */
+  PetscReal      *lump;      /* per owned point, 3 rows: the couplings outside the star, summed in magnitude */
   LineShell      *sh;
 
   PetscFunctionBeginUser;
