@@ -100,6 +100,7 @@ typedef struct { /* the time step, damping and the balance test's scales */
   PetscInt   fire_npos;   /* FIRE: te steps since the power F.v was last <= 0 */
   PetscInt64 fire_stops;  /* FIRE: velocity resets (power F.v <= 0) so far */
   PetscReal *fire_terms;  /* FIRE: owned points' F.v, |F|^2, |v|^2 (work, 3 nloc) */
+  PetscReal *tally_rows;  /* a row's |F|^2 and |v|^2 for the sweep's statistics (work, 2 xm) */
   PetscInt   balance_held; /* te steps in a row the balance test has passed */
   PetscInt   balance_need; /* te steps in a row it must pass before the test per crossing (relax.c) */
   PetscInt   watch_checks; /* energy watch: watched te steps of this relaxation round */

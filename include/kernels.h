@@ -63,7 +63,8 @@ typedef struct {
   SegmentRow     xs_row, ys_ring[KERNEL_RING];
   BendRow        by_ring[KERNEL_RING], bx_row;
   ShearRow       sh_ring[KERNEL_RING];
-  PetscReal     *zero_row; /* 3*gxm zeros: positions of rows outside the patch */
+  PetscReal     *zero_row;   /* 3*gxm zeros: positions of rows outside the patch */
+  PetscReal     *strain_row; /* gxm: the chord strains of the segment row being computed */
   unsigned char *epad;     /* exists, padded by one absent point on every side */
   PetscReal     *work;
   PetscInt       chk[4]; /* the box being computed: local columns i0, i1 and global rows j0, j1 (window check) */
@@ -182,6 +183,8 @@ void SymPositivePart(PetscInt n, PetscReal *A);
 PetscErrorCode TermBlocksAddToMat(void *ctx, PetscInt n, const PetscInt i[], const PetscInt j[], const PetscReal K[]);
 
 /* The yarn law's derivative and integral (MODEL.md 5.1, 14). */
+/* T[i] = ChordTension(y, e[i]), i < n, by the force rows' vectorised law (bit-identical to it) */
+void ChordTensionLive(const YarnLaw *y, PetscInt n, const PetscReal *e, PetscReal *T);
 /* dT/de of ChordTension: the blends' cubics, the pieces' slopes, the Hermite table's derivative */
 PetscReal ChordTensionSlope(const YarnLaw *y, PetscReal e);
 /* integral of ChordTension from 0 to e, exact (blends and Hermite cells integrate in closed form);

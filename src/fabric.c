@@ -455,6 +455,7 @@ PetscErrorCode FabricCreate(MPI_Comm comm, Fabric *out)
   }
   if (s->num.kinetic_damping) PetscCall(PetscCalloc1(fab->grid.nloc, &fab->step.ke_terms));
   if (s->num.integrator == INTEGRATOR_FIRE) PetscCall(PetscCalloc1(3 * fab->grid.nloc, &fab->step.fire_terms));
+  PetscCall(PetscCalloc1(2 * fab->grid.patch.xm, &fab->step.tally_rows));
   PetscCall(SetUpAnchors(fab));
   PetscCall(PredictSetUp(fab));
   PetscCall(FrontSetUp(fab));
@@ -476,6 +477,7 @@ PetscErrorCode FabricDestroy(Fabric *pfab)
   PetscCall(PetscFree(fab->stats.curve));
   PetscCall(PetscFree(fab->step.ke_terms));
   PetscCall(PetscFree(fab->step.fire_terms));
+  PetscCall(PetscFree(fab->step.tally_rows));
   PetscCall(PetscFree(fab->front.front_box));
   PetscCall(PetscFree4(fab->grid.mass, fab->grid.inv_m, fab->grid.kind, fab->grid.predict_w));
   PetscCall(PetscFree(fab->grid.patch.exists));

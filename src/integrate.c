@@ -209,33 +209,52 @@ static PetscErrorCode StableStepRebound(Fabric fab)
   PetscFunctionReturn(0);
 }
 
-/* accumulators of one sweep: max |F|^2 and |v|^2 over free points, sum |v|^2 (non-finite
-   watch), and the awake points' bounding box in the sweep's index (sleeping: a free point
-   whose |F|^2 exceeds f2 or whose new |v|^2 exceeds v2; f2 = v2 = PETSC_MAX_REAL without it) */
+/* the statistics of one sweep: max |F|^2 and |v|^2 over free points, whether some |v|^2 is not
+   finite, and the awake points' bounding box in the sweep's index (sleeping: a free point whose
+   |F|^2 exceeds f2 or whose new |v|^2 exceeds v2max) */
 typedef struct {
-  PetscReal res2, v2, v2sum;
+  PetscReal res2, v2;
+  int       bad;                /* some |v|^2 is inf or NaN */
   PetscInt  awake_lo, awake_hi; /* first and one past the last awake index, or lo >= hi */
 } SweepStats;
 
-/* point k of a sweep into its statistics: r2 its residual |F|^2 (0 for a fixed point), w2 its new
-   |v|^2; an awake free point (over f2 or v2max) widens the awake range */
-static inline void Tally(SweepStats *st, PetscInt k, PetscReal im, PetscReal r2, PetscReal w2, PetscReal f2,
-                         PetscReal v2max)
+/* a row's statistics from its points' r2 (residual |F|^2, 0 at a fixed point) and w2 (new |v|^2),
+   which the update loops store so that they vectorise: the maxima in four lanes (max is exact in
+   any order: the values of one running max), the awake range only when sleeping */
+static void RowTally(PetscInt n, const PetscReal *restrict r2, const PetscReal *restrict w2,
+                     const PetscReal *restrict inv_m, PetscBool sleep, PetscReal f2, PetscReal v2max, SweepStats *st)
 {
-  st->res2 = PetscMax(st->res2, r2);
-  st->v2   = PetscMax(st->v2, w2);
-  st->v2sum += w2;
-  if (im > 0 && (r2 > f2 || w2 > v2max)) {
-    st->awake_lo = PetscMin(st->awake_lo, k);
-    st->awake_hi = k + 1;
+  PetscReal r[4] = {0, 0, 0, 0}, w[4] = {0, 0, 0, 0};
+  int       bad[4] = {0, 0, 0, 0};
+  PetscInt  k      = 0;
+
+  for (; k + 4 <= n; k += 4)
+    for (int l = 0; l < 4; l++) {
+      r[l] = PetscMax(r[l], r2[k + l]);
+      w[l] = PetscMax(w[l], w2[k + l]);
+      bad[l] |= !(w2[k + l] <= PETSC_MAX_REAL);
+    }
+  for (; k < n; k++) {
+    r[0] = PetscMax(r[0], r2[k]);
+    w[0] = PetscMax(w[0], w2[k]);
+    bad[0] |= !(w2[k] <= PETSC_MAX_REAL);
   }
+  *st = (SweepStats){PetscMax(PetscMax(r[0], r[1]), PetscMax(r[2], r[3])),
+                     PetscMax(PetscMax(w[0], w[1]), PetscMax(w[2], w[3])), bad[0] | bad[1] | bad[2] | bad[3], n, 0};
+  if (sleep)
+    for (k = 0; k < n; k++)
+      if (inv_m[k] > 0 && (r2[k] > f2 || w2[k] > v2max)) {
+        st->awake_lo = PetscMin(st->awake_lo, k);
+        st->awake_hi = k + 1;
+      }
 }
 
+/* the update loops: point k's new velocity and position, its r2 and w2 for RowTally */
 static void IntegrateDamped(PetscInt n, PetscReal te, PetscReal c0, PetscReal nu, const PetscReal g[3],
-                            const PetscReal *mass, const PetscReal *inv_m, const PetscReal *f, PetscReal f2,
-                            PetscReal v2max, PetscReal *restrict x, PetscReal *restrict v, SweepStats *st)
+                            const PetscReal *restrict mass, const PetscReal *restrict inv_m,
+                            const PetscReal *restrict f, PetscReal *restrict x, PetscReal *restrict v,
+                            PetscReal *restrict r2, PetscReal *restrict w2)
 {
-  *st = (SweepStats){0, 0, 0, n, 0};
   for (PetscInt k = 0; k < n; k++) {
     const PetscReal im = inv_m[k], m = mass[k], c = c0 + nu * im;
     const PetscReal den = 1.0 / (2.0 + c * te), a = (2.0 - c * te) * den, b = 2.0 * te * im * den;
@@ -247,17 +266,17 @@ static void IntegrateDamped(PetscInt n, PetscReal te, PetscReal c0, PetscReal nu
     x[3 * k] += te * vx;
     x[3 * k + 1] += te * vy;
     x[3 * k + 2] += te * vz;
-    const PetscReal w2 = vx * vx + vy * vy + vz * vz, r2 = im > 0 ? Fx * Fx + Fy * Fy + Fz * Fz : 0.0;
-    Tally(st, k, im, r2, w2, f2, v2max);
+    w2[k] = vx * vx + vy * vy + vz * vz;
+    r2[k] = im > 0 ? Fx * Fx + Fy * Fy + Fz * Fz : 0.0;
   }
 }
 
 static void IntegratePaper(PetscInt n, PetscReal te, PetscReal c0, PetscReal nu, const PetscReal g[3],
-                           const PetscReal *mass, const PetscReal *inv_m, const PetscReal *f, PetscReal f2,
-                           PetscReal v2max, PetscReal *restrict x, PetscReal *restrict v, PetscReal *restrict xold,
-                           PetscReal *restrict vold, SweepStats *st)
+                           const PetscReal *restrict mass, const PetscReal *restrict inv_m,
+                           const PetscReal *restrict f, PetscReal *restrict x, PetscReal *restrict v,
+                           PetscReal *restrict xold, PetscReal *restrict vold, PetscReal *restrict r2s,
+                           PetscReal *restrict w2s)
 {
-  *st = (SweepStats){0, 0, 0, n, 0};
   for (PetscInt k = 0; k < n; k++) {
     const PetscReal im = inv_m[k], m = mass[k], c = c0 + nu * im;
     PetscReal       r2 = 0, w2 = 0;
@@ -271,7 +290,8 @@ static void IntegratePaper(PetscInt n, PetscReal te, PetscReal c0, PetscReal nu,
       r2 += F * F;
       w2 += Vnew * Vnew;
     }
-    Tally(st, k, im, im > 0 ? r2 : 0.0, w2, f2, v2max);
+    r2s[k] = im > 0 ? r2 : 0.0;
+    w2s[k] = w2;
   }
 }
 
@@ -279,10 +299,10 @@ static void IntegratePaper(PetscInt n, PetscReal te, PetscReal c0, PetscReal nu,
    velocities are first mixed towards the force, v <- cv v + cf F (cv = 1 - alpha,
    cf = alpha |v|/|F|, global norms), then v <- v + dt F/m, x <- x + dt v. */
 static void IntegrateFire(PetscInt n, PetscReal dt, PetscReal cv, PetscReal cf, const PetscReal g[3],
-                          const PetscReal *mass, const PetscReal *inv_m, const PetscReal *f, PetscReal f2,
-                          PetscReal v2max, PetscReal *restrict x, PetscReal *restrict v, SweepStats *st)
+                          const PetscReal *restrict mass, const PetscReal *restrict inv_m,
+                          const PetscReal *restrict f, PetscReal *restrict x, PetscReal *restrict v,
+                          PetscReal *restrict r2, PetscReal *restrict w2)
 {
-  *st = (SweepStats){0, 0, 0, n, 0};
   for (PetscInt k = 0; k < n; k++) {
     const PetscReal im = inv_m[k], m = mass[k], b = dt * im;
     const PetscReal Fx = f[3 * k] + m * g[0], Fy = f[3 * k + 1] + m * g[1], Fz = f[3 * k + 2] + m * g[2];
@@ -295,34 +315,31 @@ static void IntegrateFire(PetscInt n, PetscReal dt, PetscReal cv, PetscReal cf, 
     x[3 * k] += dt * vx;
     x[3 * k + 1] += dt * vy;
     x[3 * k + 2] += dt * vz;
-    const PetscReal w2 = vx * vx + vy * vy + vz * vz, r2 = im > 0 ? Fx * Fx + Fy * Fy + Fz * Fz : 0.0;
-    Tally(st, k, im, r2, w2, f2, v2max);
+    w2[k] = vx * vx + vy * vy + vz * vz;
+    r2[k] = im > 0 ? Fx * Fx + Fy * Fy + Fz * Fz : 0.0;
   }
 }
 
 
 /* FIRE's terms on one row of n points: the power F.v, |F|^2 and |v|^2 of each free point (0 at a
-   fixed one), F = f + m g, into P, F2, V2; the largest |term| of each into scale[]. (A sum
-   started at 0 differs from these only in the sign of a zero, which the exact sums do not see.) */
+   fixed one), F = f + m g, into P, F2, V2: computed for every point (the loop vectorises), then
+   the fixed ones zeroed. (A sum started at 0 differs from these only in the sign of a zero, which
+   the exact sums do not see.) */
 static void FireTerms(PetscInt n, const PetscReal g[3], const PetscReal *restrict mass,
                       const PetscReal *restrict inv_m, const PetscReal *restrict f, const PetscReal *restrict v,
-                      PetscReal *restrict P, PetscReal *restrict F2, PetscReal *restrict V2, PetscReal scale[3])
+                      PetscReal *restrict P, PetscReal *restrict F2, PetscReal *restrict V2)
 {
-  PetscReal sp = scale[0], sf = scale[1], sv = scale[2];
+  const PetscReal gx = g[0], gy = g[1], gz = g[2];
   for (PetscInt k = 0; k < n; k++) {
     const PetscReal m = mass[k];
-    const int       fr = inv_m[k] > 0;
-    const PetscReal Fx = f[3 * k] + m * g[0], Fy = f[3 * k + 1] + m * g[1], Fz = f[3 * k + 2] + m * g[2];
+    const PetscReal Fx = f[3 * k] + m * gx, Fy = f[3 * k + 1] + m * gy, Fz = f[3 * k + 2] + m * gz;
     const PetscReal vx = v[3 * k], vy = v[3 * k + 1], vz = v[3 * k + 2];
-    const PetscReal p = Fx * vx + Fy * vy + Fz * vz, a = Fx * Fx + Fy * Fy + Fz * Fz, b = vx * vx + vy * vy + vz * vz;
-    P[k]  = fr ? p : 0.0;
-    F2[k] = fr ? a : 0.0;
-    V2[k] = fr ? b : 0.0;
-    sp    = PetscMax(sp, PetscAbsReal(P[k]));
-    sf    = PetscMax(sf, F2[k]);
-    sv    = PetscMax(sv, V2[k]);
+    P[k]  = Fx * vx + Fy * vy + Fz * vz;
+    F2[k] = Fx * Fx + Fy * Fy + Fz * Fz;
+    V2[k] = vx * vx + vy * vy + vz * vz;
   }
-  scale[0] = sp, scale[1] = sf, scale[2] = sv;
+  for (PetscInt k = 0; k < n; k++)
+    if (!(inv_m[k] > 0)) P[k] = F2[k] = V2[k] = 0.0;
 }
 
 /* FIRE's decision for this te step, from the forces just computed on box (F) and the velocities:
@@ -334,7 +351,7 @@ static PetscErrorCode FirePower(Fabric fab, const PetscInt box[4], PetscScalar *
   const Patch     *p = &fab->grid.patch;
   const PetscReal *g = fab->load.gravity_now;
   StepControl     *c = &fab->step;
-  PetscReal        sum[3], scale[3] = {0, 0, 0};
+  PetscReal        sum[3];
   PetscInt         cnt = 0, n;
 
   PetscFunctionBeginUser;
@@ -342,11 +359,10 @@ static PetscErrorCode FirePower(Fabric fab, const PetscInt box[4], PetscScalar *
   for (PetscInt j = box[2]; j < box[3]; j++) {
     const PetscInt k0 = (j - p->ys) * p->xm + (box[0] - p->xs), nr = box[1] - box[0];
     FireTerms(nr, g, fab->grid.mass + k0, fab->grid.inv_m + k0, f + 3 * k0, v + 3 * k0, c->fire_terms + cnt,
-              c->fire_terms + n + cnt, c->fire_terms + 2 * n + cnt, scale);
+              c->fire_terms + n + cnt, c->fire_terms + 2 * n + cnt);
     cnt += nr;
   }
-  PetscCall(GlobalMax(fab->comm, scale, 3));
-  PetscCall(GlobalSumsExactScaled(fab->comm, 3, c->fire_terms, n, scale, sum));
+  PetscCall(GlobalSumsExact(fab->comm, 3, c->fire_terms, n, sum));
   if (!(sum[2] > 0)) /* at rest: nothing to mix, nothing to judge */
     *cv = 1.0, *cf = 0.0;
   else if (sum[0] > 0) {
@@ -495,20 +511,21 @@ PetscErrorCode TimeStep(Fabric fab, StepStats *out)
   if (fire) PetscCall(FirePower(fab, box, x, v, f, &cv, &cf));
   for (PetscInt j = box[2]; j < box[3]; j++) {
     const PetscInt k0 = (j - p->ys) * p->xm + (box[0] - p->xs), n = box[1] - box[0];
+    PetscReal     *r2 = fab->step.tally_rows, *w2 = r2 + p->xm;
     SweepStats     st;
     if (fire)
       IntegrateFire(n, fab->step.fire_dt, cv, cf, fab->load.gravity_now, fab->grid.mass + k0, fab->grid.inv_m + k0,
-                    f + 3 * k0, sleep_f2, sleep_v2, x + 3 * k0, v + 3 * k0, &st);
+                    f + 3 * k0, x + 3 * k0, v + 3 * k0, r2, w2);
     else if (s->num.integrator == INTEGRATOR_PAPER)
       IntegratePaper(n, fab->step.te, fab->step.damp_c, s->num.nu, fab->load.gravity_now, fab->grid.mass + k0,
-                     fab->grid.inv_m + k0, f + 3 * k0, sleep_f2, sleep_v2, x + 3 * k0, v + 3 * k0, xold + 3 * k0,
-                     vold + 3 * k0, &st);
+                     fab->grid.inv_m + k0, f + 3 * k0, x + 3 * k0, v + 3 * k0, xold + 3 * k0, vold + 3 * k0, r2, w2);
     else
       IntegrateDamped(n, fab->step.te, fab->step.damp_c, s->num.nu, fab->load.gravity_now, fab->grid.mass + k0,
-                      fab->grid.inv_m + k0, f + 3 * k0, sleep_f2, sleep_v2, x + 3 * k0, v + 3 * k0, &st);
+                      fab->grid.inv_m + k0, f + 3 * k0, x + 3 * k0, v + 3 * k0, r2, w2);
+    RowTally(n, r2, w2, fab->grid.inv_m + k0, sleep, sleep_f2, sleep_v2, &st);
     all.res2 = PetscMax(all.res2, st.res2);
     all.v2   = PetscMax(all.v2, st.v2);
-    all.v2sum += st.v2sum;
+    all.bad |= st.bad;
     if (sleep) {
       if (st.awake_lo < st.awake_hi) {
         alo = PetscMin(alo, box[0] + st.awake_lo), ahi = PetscMax(ahi, box[0] + st.awake_hi);
@@ -529,7 +546,7 @@ PetscErrorCode TimeStep(Fabric fab, StepStats *out)
   red[0] = all.res2;
   red[1] = all.v2;
   red[2] = tension_max;
-  red[3] = !isfinite(all.v2sum) ? 2.0 : p->left_window ? 1.0 : 0.0; /* not finite; out of te's window */
+  red[3] = all.bad ? 2.0 : p->left_window ? 1.0 : 0.0; /* not finite; out of te's window */
   red[4] = -(PetscReal) alo, red[5] = (PetscReal) ahi, red[6] = -(PetscReal) ajlo,
   red[7] = (PetscReal) ajhi; /* awake box */
   if (kinetic) red[nred++] = ke_scale;

@@ -95,6 +95,7 @@ PetscErrorCode PatchSetUp(Patch *p)
   for (int d = 0; d < 2; d++) p->win_lo[d] = -PETSC_MAX_REAL, p->win_hi[d] = PETSC_MAX_REAL; /* until a bound */
   p->win_s = PETSC_MAX_REAL;
   PetscCall(PetscCalloc1(3 * (size_t) p->gxm, &p->zero_row));
+  PetscCall(PetscCalloc1((size_t) p->gxm, &p->strain_row));
   PetscCall(PetscCalloc1((size_t) (p->gym + 2) * per_row, &p->epad));
   for (PetscInt j = 0; j < p->gym; j++)
     for (PetscInt i = 0; i < p->gxm; i++) p->epad[(j + 1) * per_row + i + 1] = p->exists[j * p->gxm + i];
@@ -108,6 +109,7 @@ PetscErrorCode PatchDestroy(Patch *p)
   PetscFunctionBeginUser;
   PetscCall(PetscFree(p->work));
   PetscCall(PetscFree(p->zero_row));
+  PetscCall(PetscFree(p->strain_row));
   PetscCall(PetscFree(p->epad));
   PetscCall(PetscFree(p->yarn_integral[0]));
   PetscCall(PetscFree(p->yarn_integral[1]));
@@ -309,30 +311,67 @@ static void SegmentForceKernel(PetscInt c0, PetscInt c1, const PetscReal *restri
   }
 }
 
+/* T[i] = ChordTension(y, e[i]) for the live segments (alive: both ends exist, not broken), 0 for
+   the others, c0 <= i < c1. Every piece of the law is evaluated on the whole row and the right one
+   selected, so that the loops vectorise and a row whose strains straddle a kink (a slack net)
+   costs no mispredicted branches; a tabulated yarn law's tension piece (a table lookup) runs in a
+   scalar pass over the segments past the crimp. Each value is ChordTension's own expression, the
+   blends taken first (the last pass, from the last blend to the first): bit-identical to it. */
+static void ChordTensionRow(const YarnLaw *y, PetscInt c0, PetscInt c1, const PetscReal *restrict e,
+                            const unsigned char *restrict ea, const unsigned char *restrict eb,
+                            const unsigned char *restrict broken, PetscReal *restrict T)
+{
+  const PetscReal ec = y->e_contact, EA = y->EA, kEA = y->k_comp * y->EA, Ec = y->Ec, c = y->crimp;
+  const PetscReal Tcontact = kEA * ec, Tcrimp = Ec * c, c1p = 1.0 + c;
+
+  for (PetscInt i = c0; i < c1; i++) { /* ChordTensionPiecewise, YarnTension of a linear law */
+    const PetscReal x = e[i];
+    const PetscReal contact = Tcontact + EA * (x - ec), comp = kEA * x, decrimp = Ec * x,
+                    tension = Tcrimp + EA * ((x - c) / c1p);
+    T[i] = x <= ec ? contact : x <= 0.0 ? comp : x <= c ? decrimp : tension;
+  }
+  if (y->ntab)
+    for (PetscInt i = c0; i < c1; i++)
+      if (e[i] > c) T[i] = Tcrimp + YarnTension(y, (e[i] - c) / c1p);
+  for (PetscInt k = y->nblend - 1; k >= 0; k--) {
+    const PetscReal lo = y->blend[k].lo, hi = y->blend[k].hi, b0 = y->blend[k].c0, b1 = y->blend[k].c1,
+                    b2 = y->blend[k].c2, b3 = y->blend[k].c3;
+    for (PetscInt i = c0; i < c1; i++) {
+      const PetscReal x = e[i], s = x - lo, cubic = b0 + s * (b1 + s * (b2 + s * b3));
+      T[i]                = (x >= lo) & (x <= hi) ? cubic : T[i];
+    }
+  }
+  for (PetscInt i = c0; i < c1; i++) T[i] = (ea[i] != 0) & (eb[i] != 0) & (broken[i] == 0) ? T[i] : 0.0;
+}
+
+void ChordTensionLive(const YarnLaw *y, PetscInt n, const PetscReal *e, PetscReal *T)
+{
+  unsigned char one[64], none[64];
+  memset(one, 1, sizeof one);
+  memset(none, 0, sizeof none);
+  for (PetscInt i0 = 0; i0 < n; i0 += 64) ChordTensionRow(y, 0, PetscMin(64, n - i0), e + i0, one, one, none, T + i0);
+}
+
 /* Segments a[i] -> b[i], c0 <= i < c1: chord and tension (MODEL.md 5.1). The chords are
    computed even with traction off: bending needs them. Three passes, so that the geometry and
-   the forces vectorise: chords and strains (the strain parked in T, the chord in f), the yarn
-   law (branches and a table lookup per segment: scalar), then f = T d / L. Each value is the
-   same expression as in one pass, so the results do not depend on the split. The segments in
-   [k0, k1) are checked against the window [lo, hi] of their family's chord strain (left: set if
-   one is outside). */
+   the forces vectorise: chords and strains (the strain in the scratch row e, the chord parked in
+   f), the chord law (ChordTensionRow), then f = T d / L. Each value is the same expression as in
+   one pass, so the results do not depend on the split. The segments in [k0, k1) are checked
+   against the window [lo, hi] of their family's chord strain (left: set if one is outside). */
 static void ComputeSegmentRow(const YarnLaw *law, PetscReal L0, PetscBool traction, PetscReal lo, PetscReal hi,
                               PetscInt c0, PetscInt c1, PetscInt k0, PetscInt k1, const PetscReal *xa,
                               const PetscReal *xb, const unsigned char *ea, const unsigned char *eb,
-                              const unsigned char *broken, SegmentRow *s, int *left)
+                              const unsigned char *broken, PetscReal *restrict e, SegmentRow *s, int *left)
 {
   PetscReal *restrict T = s->T;
   int                 out = 0;
 
-  ChordRowKernel(1.0 / L0, c0, c1, xa, xb, ea, eb, broken, s->ux, s->uy, s->uz, s->inv_len, T, s->fx, s->fy, s->fz);
-  if (traction)
-    for (PetscInt i = c0; i < c1; i++) {
-      const int       alive = ea[i] && eb[i] && !broken[i];
-      const PetscReal e     = T[i];
-      out |= alive & (i >= k0) & (i < k1) & ((e < lo) | (e > hi));
-      T[i] = alive ? ChordTension(law, e) : 0.0;
-    }
-  else
+  ChordRowKernel(1.0 / L0, c0, c1, xa, xb, ea, eb, broken, s->ux, s->uy, s->uz, s->inv_len, e, s->fx, s->fy, s->fz);
+  if (traction) {
+    for (PetscInt i = c0; i < c1; i++)
+      out |= (ea[i] != 0) & (eb[i] != 0) & (broken[i] == 0) & (i >= k0) & (i < k1) & ((e[i] < lo) | (e[i] > hi));
+    ChordTensionRow(law, c0, c1, e, ea, eb, broken, T);
+  } else
     for (PetscInt i = c0; i < c1; i++) T[i] = 0.0;
   *left |= out;
   SegmentForceKernel(c0, c1, T, s->inv_len, s->fx, s->fy, s->fz);
@@ -998,7 +1037,7 @@ static void YSegments(Patch *p, const PetscReal *x, PetscInt r, PetscInt c0, Pet
     const int in = r >= p->chk[2] - 1 && r < p->chk[3];
     ComputeSegmentRow(p->weft, p->ay, p->traction, p->win_lo[1], p->win_hi[1], c0, c1, in ? p->chk[0] : 0,
                       in ? p->chk[1] : 0, x + 3 * lr * n, x + 3 * (lr + 1) * n, p->exists + lr * n,
-                      p->exists + (lr + 1) * n, p->broken_y + lr * n, s, &p->left_window);
+                      p->exists + (lr + 1) * n, p->broken_y + lr * n, p->strain_row, s, &p->left_window);
   }
 }
 
@@ -1022,7 +1061,7 @@ static void AdvancePipeline(Patch *p, const PetscReal *x, PetscInt j, PetscInt c
   /* checked: the segments that end at a box point of row j */
   ComputeSegmentRow(p->warp, p->ax, p->traction, p->win_lo[0], p->win_hi[0], c0, cx, p->chk[0] - 1, p->chk[1],
                     x + 3 * lj * n, x + 3 * lj * n + 3, p->exists + lj * n, p->exists + lj * n + 1,
-                    p->broken_x + lj * n, xs, &p->left_window);
+                    p->broken_x + lj * n, p->strain_row, xs, &p->left_window);
   if (p->bending)
     ComputeBendRow(p->kbx, c0, cx - 1, xs->ux, xs->uy, xs->uz, xs->inv_len, xs->ux + 1, xs->uy + 1, xs->uz + 1,
                    xs->inv_len + 1, &p->bx_row, 1);

@@ -696,6 +696,20 @@ static void CheckLaw(const char *name, const YarnLaw *y, const PetscReal *integr
   Check(what, eK / kbig, 1e-6);
   snprintf(what, sizeof what, "%s: ChordEnergy with the cell table vs summing the cells (bits)", name);
   Check(what, eI, 0.0);
+  { /* the force rows' vectorised law: the same bits as ChordTension, on the grid above and at each
+       break of the law and one ulp either side of it */
+    double ends[10], e[4001 + 30], Trow[4001 + 30];
+    int    n = 0, nb = LawBreaks(y, ends), differ = 0;
+    for (int q = 0; q <= 4000; q++) e[n++] = -0.3 + de * q + 1.234567e-5;
+    for (int k = 0; k < nb; k++) e[n++] = ends[k], e[n++] = nextafter(ends[k], -1.0), e[n++] = nextafter(ends[k], 1.0);
+    ChordTensionLive(y, n, e, Trow);
+    for (int q = 0; q < n; q++) {
+      const double T = ChordTension(y, e[q]);
+      differ += memcmp(&T, &Trow[q], sizeof T) != 0;
+    }
+    snprintf(what, sizeof what, "%s: the force rows' law vs ChordTension at %d strains (values that differ)", name, n);
+    Check(what, differ, 0.0);
+  }
 }
 
 static PetscErrorCode TestLaw(const char *csv)
