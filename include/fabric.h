@@ -104,6 +104,7 @@ typedef struct { /* the time step, damping and the balance test's scales */
   PetscInt   balance_held; /* te steps in a row the balance test has passed */
   PetscInt   balance_need; /* te steps in a row it must pass before the test per crossing (relax.c) */
   PetscInt   watch_checks; /* energy watch: watched te steps of this relaxation round */
+  PetscInt   watch_held;   /* energy watch: watched te steps in a row with H above its lowest */
   PetscReal  watch_h0, watch_hmin, watch_kmax; /* energy watch: the round's first and lowest mechanical energy
                                                  and its largest kinetic energy, J */
   /* -te_measure: the first and last states measured, the one with the smallest limit, the one with

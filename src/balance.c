@@ -15,7 +15,10 @@
  * (docs/stability.md). The watch measures H across one te step every ENERGY_WATCH_EVERY te steps
  * and stops the run when H has grown above its lowest by more than -energy_watch times the energy
  * the round released (its first H less its lowest) plus the largest kinetic energy seen: an
- * undamped run releases nothing, and H's kinetic part swings on a nonlinear chain.
+ * undamped run releases nothing, and H's kinetic part swings on a nonlinear chain. A ring the kink
+ * feeds as fast as the damping drains it can hold its level, or rise slowly, below that bound: with
+ * damping, H falls whenever anything moves, so the watch also stops a run whose H has stayed above
+ * its lowest (by more than rounding) at ENERGY_WATCH_HELD watched te steps in a row.
  * FIRE needs no watch: it stops all motion at the first te step whose power F.v is negative.
  */
 #include "balance.h"
@@ -28,6 +31,7 @@
 
 #define ENERGY_WATCH_EVERY    256  /* te steps between two watched te steps */
 #define ENERGY_WATCH_ROUNDING 1e-9 /* a rise of H below this times the magnitudes it sums is rounding */
+#define ENERGY_WATCH_HELD     32   /* watched te steps in a row with H above its lowest: a ring the kink feeds */
 
 /* the global index j nx + i of owned point k (k = (j - ys) xm + (i - xs)), -1 for none */
 static PetscInt GlobalIndexOf(const Patch *p, PetscInt k)
@@ -172,16 +176,19 @@ static PetscErrorCode PotentialEnergy(Fabric fab, Vec X, PetscReal *E, PetscReal
 
 /* The watch found the energy growing: name the crossing with the largest kinetic energy, its
    yarn segments' chord strains and the nearest kink of their yarn law, and stop. */
-static PetscErrorCode StopPumping(Fabric fab, PetscInt n, PetscReal h0, PetscReal hmin, PetscReal h)
+static PetscErrorCode StopPumping(Fabric fab, PetscInt n, PetscReal h0, PetscReal hmin, PetscReal h, PetscInt held)
 {
   const Patch       *p = &fab->grid.patch;
   const PetscScalar *v, *xl;
   PetscReal          best = -1, info[4] = {-PETSC_MAX_REAL, -PETSC_MAX_REAL, -PETSC_MAX_REAL, -PETSC_MAX_REAL};
   PetscInt           kb = -1, where;
   const char        *seg[4] = {"warp to (i-1,j)", "warp to (i+1,j)", "weft to (i,j-1)", "weft to (i,j+1)"};
-  char               strains[256] = "", kink[128] = "";
+  char               strains[256] = "", kink[128] = "", how[96] = "";
 
   PetscFunctionBeginUser;
+  if (held)
+    PetscCall(PetscSNPrintf(how, sizeof how, " and has stayed above it for the last %d te steps",
+                            ENERGY_WATCH_HELD * ENERGY_WATCH_EVERY));
   PetscCall(VecGetArrayRead(fab->state.V, &v));
   for (PetscInt k = 0; k < fab->grid.nloc; k++) {
     const PetscReal ke = fab->grid.inv_m[k] > 0 ? fab->grid.mass[k] * (v[3 * k] * v[3 * k] + v[3 * k + 1] * v[3 * k + 1] + v[3 * k + 2] * v[3 * k + 2]) : -1;
@@ -226,13 +233,13 @@ static PetscErrorCode StopPumping(Fabric fab, PetscInt n, PetscReal h0, PetscRea
     SETERRQ(fab->comm, PETSC_ERR_NOT_CONVERGED,
             "energy watch: at load step %" PetscInt_FMT ", te step %" PetscInt_FMT
             " of its relaxation, the mechanical energy has grown by %g J since its lowest %g J (the relaxation had "
-            "released %g J) while nothing did work on the fabric: the %s integrator pumps energy. It moves most at "
+            "released %g J)%s while nothing did work on the fabric: the %s integrator pumps energy. It moves most at "
             "crossing (%" PetscInt_FMT ", %" PetscInt_FMT "), chord strains %s, nearest to %s: a segment crossing a kink "
             "of the yarn law within a te step gains energy that a low damping does not take out. Use -integrator "
             "fire, a larger -damping_ratio (now %g) or a smaller -te_safety (now %g); -energy_watch 0 switches the "
             "watch off",
             fab->load.load_step, n, (double) (h - hmin), (double) hmin, (double) (h0 - hmin),
-            IntegratorNames[fab->s.num.integrator], gi, gj, strains[0] ? strains : "(none)",
+            how, IntegratorNames[fab->s.num.integrator], gi, gj, strains[0] ? strains : "(none)",
             kink[0] ? kink : "(no segment)", (double) fab->s.num.damping_ratio, (double) fab->s.num.te_safety);
   }
 }
@@ -260,7 +267,7 @@ PetscErrorCode EnergyWatchAfter(Fabric fab, PetscInt n)
   PetscCall(VecRestoreArrayRead(fab->state.watch_v, &v0));
   PetscCall(GlobalSum(fab->comm, e, 3));
   PetscCall(PetscLogEventEnd(EV_Check, 0, 0, 0, 0));
-  if (!c->watch_checks++) c->watch_h0 = c->watch_hmin = e[0], c->watch_kmax = 0;
+  if (!c->watch_checks++) c->watch_h0 = c->watch_hmin = e[0], c->watch_kmax = 0, c->watch_held = 0;
   c->watch_kmax = PetscMax(c->watch_kmax, e[1]);
   PetscCall(PetscInfo(NULL, "energy watch: load step %" PetscInt_FMT ", te step %" PetscInt_FMT ": H %.10e J (first %.10e, lowest %.10e), kinetic %.4e J (largest %.4e)\n",
                       fab->load.load_step, n, (double) e[0], (double) c->watch_h0, (double) c->watch_hmin, (double) e[1], (double) c->watch_kmax));
@@ -270,7 +277,11 @@ PetscErrorCode EnergyWatchAfter(Fabric fab, PetscInt n)
      balance the round releases almost nothing and a rise of 1e-17 J is rounding) */
   if (e[0] - c->watch_hmin > fab->s.num.energy_watch * (c->watch_h0 - c->watch_hmin + c->watch_kmax) &&
       e[0] - c->watch_hmin > ENERGY_WATCH_ROUNDING * e[2])
-    PetscCall(StopPumping(fab, n, c->watch_h0, c->watch_hmin, e[0]));
+    PetscCall(StopPumping(fab, n, c->watch_h0, c->watch_hmin, e[0], 0));
+  /* held above the lowest: a damped run's H falls while anything moves (near balance, by less
+     than rounding: not counted) */
+  c->watch_held = e[0] - c->watch_hmin > ENERGY_WATCH_ROUNDING * e[2] ? c->watch_held + 1 : 0;
+  if (c->watch_held >= ENERGY_WATCH_HELD) PetscCall(StopPumping(fab, n, c->watch_h0, c->watch_hmin, e[0], 1));
   c->watch_hmin = PetscMin(c->watch_hmin, e[0]);
   PetscFunctionReturn(0);
 }

@@ -220,7 +220,7 @@ static PetscInt StateVecs(FabricState *st, StateVec *sv)
 typedef struct {
   long   within, round, te_step, inner_steps, ramp_steps, ramp_done, front_step, front_covered, bound_fresh;
   long   last_balanced, te_frame_load_step, te_frame_base, fire_npos, fire_stops;
-  long   balance_held, balance_need, watch_checks, te_rebounds;
+  long   balance_held, balance_need, watch_checks, watch_held, te_rebounds;
   double win_lo[2], win_hi[2], win_s;
   double travel_from, travel_now, te, te_bound, omega_max, damp_c, omega1, last_residual, last_speed, gravity[3];
   double fire_dt, fire_alpha, watch_h0, watch_hmin, watch_kmax;
@@ -254,6 +254,7 @@ static int RelaxAttrs(RelaxState *r, Attr *a)
   ATTR_L("balance_held", balance_held), ATTR_L("balance_need", balance_need);
   ATTR_L("energy_watch_checks", watch_checks), ATTR_D("energy_watch_first_J", watch_h0);
   ATTR_D("energy_watch_lowest_J", watch_hmin), ATTR_D("energy_watch_kinetic_J", watch_kmax);
+  ATTR_L("energy_watch_held", watch_held);
   ATTR_L("te_rebounds", te_rebounds), ATTR_D("te_window_warp_lo", win_lo[0]), ATTR_D("te_window_warp_hi", win_hi[0]);
   ATTR_D("te_window_weft_lo", win_lo[1]), ATTR_D("te_window_weft_hi", win_hi[1]), ATTR_D("te_window_shear", win_s);
 #undef ATTR_L
@@ -293,6 +294,7 @@ static void RelaxStatePack(Fabric fab, const RelaxPoint *at, RelaxState *r)
   r->balance_held       = (long) fab->step.balance_held;
   r->balance_need       = (long) fab->step.balance_need;
   r->watch_checks       = (long) fab->step.watch_checks;
+  r->watch_held         = (long) fab->step.watch_held;
   r->watch_h0           = fab->step.watch_h0;
   r->watch_hmin         = fab->step.watch_hmin;
   r->watch_kmax         = fab->step.watch_kmax;
@@ -328,6 +330,7 @@ static void RelaxStateUnpack(const RelaxState *r, Fabric fab)
   fab->step.balance_held = (PetscInt) r->balance_held;
   fab->step.balance_need = (PetscInt) r->balance_need;
   fab->step.watch_checks = (PetscInt) r->watch_checks;
+  fab->step.watch_held   = (PetscInt) r->watch_held;
   fab->step.watch_h0     = r->watch_h0;
   fab->step.watch_hmin   = r->watch_hmin;
   fab->step.watch_kmax   = r->watch_kmax;

@@ -5,6 +5,11 @@
 # The case: inputs/square_net.yaml scaled to 51 x 51 crossings, its 0.5 N in one load step,
 # -integrator damped -damping_ratio 0.01 (below the net's best ratio: the ring at the kink at zero
 # strain gains energy; measured: H rises from -3.42e-4 J, stopped at te step 9217).
+# The level ring: the same net at 101 x 101 crossings with -damping_ratio 0.01 -te_safety 0.5, whose
+# H reaches its lowest (-5.8578e-4 J) by te step 24 577 and then rises far below the first test's
+# bound (measured: 3.3e-6 J by te step 59 905, against 0.5 x 7.9e-4 J; without the second test it
+# ran its 200 000 te steps, flagged); stopped at te step 32 769 by the second test (H above its
+# lowest at 32 watched te steps in a row).
 set -u
 fabric="$1"
 here="$(cd "$(dirname "$0")/.." && pwd)"
@@ -34,4 +39,12 @@ mpiexec -n 1 "$fabric" "${net[@]}" -damping_ratio 0.01 -energy_watch 0 -max_inne
 # no false alarm: a damping that does not pump (0.05) runs on, watched
 mpiexec -n 1 "$fabric" "${net[@]}" -damping_ratio 0.05 -max_inner_steps 20000 -output_dir "$work/ok" >"$work/logok" 2>&1 \
   && echo "PASS damping 0.05: watched, not stopped (exit 0)" || { echo "FAIL damping 0.05 stopped: $(grep error "$work/logok")"; fail=1; }
+# the level ring: stopped by the held test, within 40 000 te steps
+mpiexec -n 1 "$fabric" "${net[@]}" -gauge_mm 41.6666667 -width_mm 41.6666667 -damping_ratio 0.01 -te_safety 0.5 \
+  -max_inner_steps 40000 -output_dir "$work/ring" >"$work/logring" 2>&1; rc=$?
+msg="$(grep '^fabric: error:' "$work/logring")"
+if [[ $rc -ne 0 && $msg =~ "energy watch: at load step 1, te step "[0-9]+" of its relaxation" &&
+      $msg == *"has stayed above it for the last 8192 te steps"* && $msg == *"yarn law's kink"* ]]; then
+  echo "PASS level ring (101 x 101, damping 0.01, te 0.5): stopped: ${msg:22:100}"
+else echo "FAIL level ring: expected the held stop, got exit $rc: ${msg:0:200}"; fail=1; fi
 exit $fail
