@@ -105,6 +105,8 @@ typedef struct { /* the time step, damping and the balance test's scales */
   PetscInt   balance_need; /* te steps in a row it must pass before the test per crossing (relax.c) */
   PetscInt   watch_checks; /* energy watch: watched te steps of this relaxation round */
   PetscInt   watch_held;   /* energy watch: watched te steps in a row with H above its lowest */
+  PetscInt   window_grow;  /* te's window: its margin doubled this many times (StableStepRebound) */
+  PetscInt64 window_bound_at; /* te's window: the te step count when it was last set */
   PetscReal  watch_h0, watch_hmin, watch_kmax; /* energy watch: the round's first and lowest mechanical energy
                                                  and its largest kinetic energy, J */
   /* -te_measure: the first and last states measured, the one with the smallest limit, the one with

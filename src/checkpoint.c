@@ -220,7 +220,7 @@ static PetscInt StateVecs(FabricState *st, StateVec *sv)
 typedef struct {
   long   within, round, te_step, inner_steps, ramp_steps, ramp_done, front_step, front_covered, bound_fresh;
   long   last_balanced, te_frame_load_step, te_frame_base, fire_npos, fire_stops;
-  long   balance_held, balance_need, watch_checks, watch_held, te_rebounds;
+  long   balance_held, balance_need, watch_checks, watch_held, window_grow, window_bound_at, te_rebounds;
   double win_lo[2], win_hi[2], win_s;
   double travel_from, travel_now, te, te_bound, omega_max, damp_c, omega1, last_residual, last_speed, gravity[3];
   double fire_dt, fire_alpha, watch_h0, watch_hmin, watch_kmax;
@@ -254,7 +254,8 @@ static int RelaxAttrs(RelaxState *r, Attr *a)
   ATTR_L("balance_held", balance_held), ATTR_L("balance_need", balance_need);
   ATTR_L("energy_watch_checks", watch_checks), ATTR_D("energy_watch_first_J", watch_h0);
   ATTR_D("energy_watch_lowest_J", watch_hmin), ATTR_D("energy_watch_kinetic_J", watch_kmax);
-  ATTR_L("energy_watch_held", watch_held);
+  ATTR_L("energy_watch_held", watch_held), ATTR_L("te_window_doublings", window_grow);
+  ATTR_L("te_window_set_at", window_bound_at);
   ATTR_L("te_rebounds", te_rebounds), ATTR_D("te_window_warp_lo", win_lo[0]), ATTR_D("te_window_warp_hi", win_hi[0]);
   ATTR_D("te_window_weft_lo", win_lo[1]), ATTR_D("te_window_weft_hi", win_hi[1]), ATTR_D("te_window_shear", win_s);
 #undef ATTR_L
@@ -295,6 +296,8 @@ static void RelaxStatePack(Fabric fab, const RelaxPoint *at, RelaxState *r)
   r->balance_need       = (long) fab->step.balance_need;
   r->watch_checks       = (long) fab->step.watch_checks;
   r->watch_held         = (long) fab->step.watch_held;
+  r->window_grow        = (long) fab->step.window_grow;
+  r->window_bound_at    = (long) fab->step.window_bound_at;
   r->watch_h0           = fab->step.watch_h0;
   r->watch_hmin         = fab->step.watch_hmin;
   r->watch_kmax         = fab->step.watch_kmax;
@@ -331,6 +334,8 @@ static void RelaxStateUnpack(const RelaxState *r, Fabric fab)
   fab->step.balance_need = (PetscInt) r->balance_need;
   fab->step.watch_checks = (PetscInt) r->watch_checks;
   fab->step.watch_held   = (PetscInt) r->watch_held;
+  fab->step.window_grow  = (PetscInt) r->window_grow;
+  fab->step.window_bound_at = (PetscInt64) r->window_bound_at;
   fab->step.watch_h0     = r->watch_h0;
   fab->step.watch_hmin   = r->watch_hmin;
   fab->step.watch_kmax   = r->watch_kmax;

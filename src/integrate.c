@@ -114,7 +114,8 @@ static PetscErrorCode StableBound(Fabric fab, PetscReal omega2[2])
   PetscCall(VecGetArrayRead(fab->state.Xl, &xl));
   WindowRange(p, xl, r);
   PetscCall(GlobalMax(fab->comm, r, 5));
-  WindowSet(p, r, fab->step.tear ? s->num.te_window_tear : s->num.te_window);
+  WindowSet(p, r, (fab->step.tear ? s->num.te_window_tear : s->num.te_window) * (PetscReal) (1 << fab->step.window_grow));
+  fab->step.window_bound_at = fab->stats.te_steps;
   omega2[0] = StableOmega2(p, xl, fab->grid.inv_m, s->spec.pull == PULL_WARP ? 0 : 1, &omega2[1]);
   PetscCall(VecRestoreArrayRead(fab->state.Xl, &xl));
   PetscCall(PetscLogEventEnd(EV_Bound, 0, 0, 0, 0));
@@ -155,6 +156,7 @@ PetscErrorCode StableStep(Fabric fab)
   PetscReal       omega2[2];
 
   PetscFunctionBeginUser;
+  fab->step.window_grow = 0; /* each load step starts from the window's margin as set */
   PetscCall(StableBound(fab, omega2));
   fab->step.fire_dt    = fab->step.te; /* FIRE starts again at each stable step (each load step) */
   fab->step.fire_alpha = FIRE_ALPHA0;
@@ -201,9 +203,20 @@ PetscErrorCode StableStepAgain(Fabric fab)
   PetscFunctionReturn(0);
 }
 
+/* A state left the window within the load step. A bound costs about 8 te steps (a Gershgorin
+   sweep with the law's tangent over the window); strains that leave the window again within
+   WINDOW_GROW_BEFORE te steps double its margin (up to WINDOW_GROW_MAX times), so that a state
+   whose strains move fast takes the bound a few times, not at every margin's worth of strain; a
+   slower one keeps the margin as set (a wider window takes in stiffer parts of the law: a
+   smaller te). */
+#define WINDOW_GROW_BEFORE 64
+#define WINDOW_GROW_MAX    5
 static PetscErrorCode StableStepRebound(Fabric fab)
 {
   PetscFunctionBeginUser;
+  fab->step.window_grow = fab->stats.te_steps - fab->step.window_bound_at < WINDOW_GROW_BEFORE
+                              ? PetscMin(fab->step.window_grow + 1, WINDOW_GROW_MAX)
+                              : 0;
   PetscCall(StableStepAgain(fab));
   fab->stats.te_rebounds++;
   PetscFunctionReturn(0);
