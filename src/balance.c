@@ -17,8 +17,9 @@
  * the round released (its first H less its lowest) plus the largest kinetic energy seen: an
  * undamped run releases nothing, and H's kinetic part swings on a nonlinear chain. A ring the kink
  * feeds as fast as the damping drains it can hold its level, or rise slowly, below that bound: with
- * damping, H falls whenever anything moves, so the watch also stops a run whose H has stayed above
- * its lowest (by more than rounding) at ENERGY_WATCH_HELD watched te steps in a row.
+ * viscous damping, H falls whenever anything moves, so the watch also stops a run whose H has stayed
+ * above its lowest (by more than rounding and ENERGY_WATCH_HELD_RISE of the energy in play) at
+ * ENERGY_WATCH_HELD watched te steps in a row.
  * FIRE needs no watch: it stops all motion at the first te step whose power F.v is negative.
  */
 #include "balance.h"
@@ -31,7 +32,8 @@
 
 #define ENERGY_WATCH_EVERY    256  /* te steps between two watched te steps */
 #define ENERGY_WATCH_ROUNDING 1e-9 /* a rise of H below this times the magnitudes it sums is rounding */
-#define ENERGY_WATCH_HELD     32   /* watched te steps in a row with H above its lowest: a ring the kink feeds */
+#define ENERGY_WATCH_HELD      32   /* watched te steps in a row with H above its lowest: a ring the kink feeds */
+#define ENERGY_WATCH_HELD_RISE 1e-5 /* ... by more than this times the energy released + the largest kinetic */
 
 /* the global index j nx + i of owned point k (k = (j - ys) xm + (i - xs)), -1 for none */
 static PetscInt GlobalIndexOf(const Patch *p, PetscInt k)
@@ -278,9 +280,14 @@ PetscErrorCode EnergyWatchAfter(Fabric fab, PetscInt n)
   if (e[0] - c->watch_hmin > fab->s.num.energy_watch * (c->watch_h0 - c->watch_hmin + c->watch_kmax) &&
       e[0] - c->watch_hmin > ENERGY_WATCH_ROUNDING * e[2])
     PetscCall(StopPumping(fab, n, c->watch_h0, c->watch_hmin, e[0], 0));
-  /* held above the lowest: a damped run's H falls while anything moves (near balance, by less
-     than rounding: not counted) */
-  c->watch_held = e[0] - c->watch_hmin > ENERGY_WATCH_ROUNDING * e[2] ? c->watch_held + 1 : 0;
+  /* held above the lowest: with viscous damping, H falls while anything moves. Not counted: a
+     run without it (nothing lowers H), and a rise within rounding or below ENERGY_WATCH_HELD_RISE
+     of what the round has set in motion (near rest, H's last digits) */
+  c->watch_held = (fab->step.damp_c > 0 || fab->s.num.nu > 0) &&
+                          e[0] - c->watch_hmin > PetscMax(ENERGY_WATCH_ROUNDING * e[2],
+                                                          ENERGY_WATCH_HELD_RISE * (c->watch_h0 - c->watch_hmin + c->watch_kmax))
+                      ? c->watch_held + 1
+                      : 0;
   if (c->watch_held >= ENERGY_WATCH_HELD) PetscCall(StopPumping(fab, n, c->watch_h0, c->watch_hmin, e[0], 1));
   c->watch_hmin = PetscMin(c->watch_hmin, e[0]);
   PetscFunctionReturn(0);

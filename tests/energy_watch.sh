@@ -8,7 +8,7 @@
 # The level ring: the same net at 101 x 101 crossings with -damping_ratio 0.01 -te_safety 0.5, whose
 # H reaches its lowest (-5.8578e-4 J) by te step 24 577 and then rises far below the first test's
 # bound (measured: 3.3e-6 J by te step 59 905, against 0.5 x 7.9e-4 J; without the second test it
-# ran its 200 000 te steps, flagged); stopped at te step 32 769 by the second test (H above its
+# ran its 200 000 te steps, flagged); stopped at te step 33 025 by the second test (H above its
 # lowest at 32 watched te steps in a row).
 set -u
 fabric="$1"
