@@ -19,6 +19,8 @@ PetscErrorCode StableDamping(Fabric fab);
    step at most te): for a te step that left the window, and as a tear starts and ends (a tear
    runs the damped scheme, with its te safety and window) */
 PetscErrorCode StableStepAgain(Fabric fab);
+/* te's window margin doubles at most this many times within a load step (StableStepRebound) */
+#define WINDOW_GROW_MAX 5
 /* one te step: forces, integration, the balance test and the stability watch */
 PetscErrorCode TimeStep(Fabric fab, StepStats *st);
 

@@ -38,6 +38,7 @@
 #include "comm.h"
 #include "events.h"
 #include "hash.h"
+#include "integrate.h"
 #include "load.h"
 
 #include <fcntl.h>
@@ -843,6 +844,9 @@ static int ReadRelaxState(const Scene *s, hid_t g, const char *file, Header *h)
       return REFUSE("-restart %s: damaged checkpoint: the relaxation's state (%s) is missing", file, a[k].name);
   if (r->within != 0 && r->within != 1)
     return REFUSE("-restart %s: damaged checkpoint: within_load_step = %ld", file, r->within);
+  if (r->window_grow < 0 || r->window_grow > WINDOW_GROW_MAX)
+    return REFUSE("-restart %s: damaged checkpoint: te_window_doublings = %ld (0 to %d)", file, r->window_grow,
+                  WINDOW_GROW_MAX);
   if (r->within && (r->te_step < 1 || r->te_step >= s->load.max_inner_steps || r->round < 0 || r->inner_steps < 0))
     return REFUSE(
         "-restart %s: damaged checkpoint: te step %ld of round %ld within a load step of at most %" PetscInt_FMT

@@ -208,13 +208,12 @@ PetscErrorCode StableStepAgain(Fabric fab)
    WINDOW_GROW_BEFORE te steps double its margin (up to WINDOW_GROW_MAX times), so that a state
    whose strains move fast takes the bound a few times, not at every margin's worth of strain; a
    slower one keeps the margin as set (a wider window takes in stiffer parts of the law: a
-   smaller te). */
+   smaller te). A te the user set (-te) is only checked against the bound: its window never grows. */
 #define WINDOW_GROW_BEFORE 64
-#define WINDOW_GROW_MAX    5
 static PetscErrorCode StableStepRebound(Fabric fab)
 {
   PetscFunctionBeginUser;
-  fab->step.window_grow = fab->stats.te_steps - fab->step.window_bound_at < WINDOW_GROW_BEFORE
+  fab->step.window_grow = fab->s.num.te_user <= 0 && fab->stats.te_steps - fab->step.window_bound_at < WINDOW_GROW_BEFORE
                               ? PetscMin(fab->step.window_grow + 1, WINDOW_GROW_MAX)
                               : 0;
   PetscCall(StableStepAgain(fab));

@@ -316,7 +316,8 @@ static void SegmentForceKernel(PetscInt c0, PetscInt c1, const PetscReal *restri
    selected, so that the loops vectorise and a row whose strains straddle a kink (a slack net)
    costs no mispredicted branches; a tabulated yarn law's tension piece (a table lookup) runs in a
    scalar pass over the segments past the crimp. Each value is ChordTension's own expression, the
-   blends taken first (the last pass, from the last blend to the first): bit-identical to it. */
+   blends taken first (the last pass, from the last blend to the first): bit-identical to it at
+   every strain but NaN, which gives NaN here (ChordTension would index a table with it). */
 static void ChordTensionRow(const YarnLaw *y, PetscInt c0, PetscInt c1, const PetscReal *restrict e,
                             const unsigned char *restrict ea, const unsigned char *restrict eb,
                             const unsigned char *restrict broken, PetscReal *restrict T)

@@ -243,6 +243,7 @@ static PetscErrorCode FollowTear(Fabric fab, StepStats *st, CurveRow *row, Petsc
   FrontWakeAll(fab);
   fab->front.front_covered = PETSC_TRUE;
   fab->step.tear           = PETSC_TRUE;
+  fab->step.window_grow    = 0; /* the tear's window from its own margin */
   PetscCall(StableStepAgain(fab)); /* the damped scheme's te */
   fab->step.damp_c = 2.0 * s->rupture.damping * fab->step.omega1;
   quiet            = TearQuietSteps(fab);
@@ -262,7 +263,8 @@ static PetscErrorCode FollowTear(Fabric fab, StepStats *st, CurveRow *row, Petsc
   }
   if (check && n % check) PetscCall(CheckRupture(fab, st, before + n, row, ruptured));
   fab->step.tear   = PETSC_FALSE;
-  fab->step.damp_c = damp_c;
+  fab->step.damp_c      = damp_c;
+  fab->step.window_grow = 0;
   PetscCall(StableStepAgain(fab)); /* the relaxation's te again */
   row->inner_steps += n;
   fab->stats.rupture.tear_te_steps += n;
