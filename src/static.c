@@ -21,10 +21,10 @@
  * First guess: the free crossings extrapolated in the load factor through the last three balanced
  * states (-snes_extrapolate), unless the driver's prediction moved them.
  * Linear solves: CG (on the true residual) preconditioned by geometric multigrid on the DMDA
- * hierarchy (Galerkin coarse operators) where the grid halves at least once, smoothed by
+ * hierarchy (MultigridHierarchy: any grid size; Galerkin coarse operators), smoothed by
  * alternating block-line relaxation (LineSmoother: a yarn is 1/strain times stiffer along itself
  * than across, which point smoothers cannot smooth; every line solved whole, across ranks too);
- * GAMG with the rigid-body modes otherwise.
+ * GAMG with the rigid-body modes on a grid too small to coarsen.
  * All are overridden by -snes_*, -ksp_*, -pc_*, -mg_* (the options prefix is none).
  * Convergence: the explicit path's balance test (the largest free force over the larger of the
  * largest yarn tension and the force floor) at -balance_tol.
@@ -852,19 +852,168 @@ static PetscErrorCode SetLineSmoother(KSP ksp, const int order[3], LineSmoother 
   PetscFunctionReturn(0);
 }
 
-/* geometric multigrid levels: how often both grid sides halve with at least 4 points a rank */
-static PetscErrorCode MultigridLevels(DM da, PetscInt *levels)
+/* One coarsening of the grid's layout: the coarse point I lies on the fine point min(2I, M - 1)
+   (M / 2 + 1 points: every other fine point and both ends, for any M; where M - 1 is odd the last
+   coarse spacing is one fine spacing), owned by the rank that owns that fine point. Returns the
+   coarse layout and the fewest coarse points of a rank's column or row (no layout if 0). */
+static PetscErrorCode CoarsenLayout(DM fine, DM *coarse, PetscInt *fewest)
 {
-  PetscInt nx, ny, m, n;
+  PetscInt        M, N, m, n, Mc, Nc, *lxc, *lyc, s = 0;
+  const PetscInt *lx, *ly;
 
   PetscFunctionBeginUser;
-  PetscCall(DMDAGetInfo(da, NULL, &nx, &ny, NULL, &m, &n, NULL, NULL, NULL, NULL, NULL, NULL, NULL));
-  *levels = 1;
-  while ((nx - 1) % 2 == 0 && (ny - 1) % 2 == 0 && (nx - 1) / 2 + 1 >= 4 * m && (ny - 1) / 2 + 1 >= 4 * n &&
-         *levels < 12) {
-    nx = (nx - 1) / 2 + 1, ny = (ny - 1) / 2 + 1;
-    (*levels)++;
+  PetscCall(DMDAGetInfo(fine, NULL, &M, &N, NULL, &m, &n, NULL, NULL, NULL, NULL, NULL, NULL, NULL));
+  PetscCall(DMDAGetOwnershipRanges(fine, &lx, &ly, NULL));
+  Mc = M / 2 + 1, Nc = N / 2 + 1;
+  PetscCall(PetscMalloc2(m, &lxc, n, &lyc));
+  *fewest = PETSC_MAX_INT;
+  for (PetscInt a = 0; a < m; s += lx[a++]) { /* the even points of [s, s + lx[a]), and the end */
+    lxc[a] = (s + lx[a] + 1) / 2 - (s + 1) / 2 + (a == m - 1 && M % 2 == 0 ? 1 : 0);
+    *fewest = PetscMin(*fewest, lxc[a]);
   }
+  s = 0;
+  for (PetscInt a = 0; a < n; s += ly[a++]) {
+    lyc[a] = (s + ly[a] + 1) / 2 - (s + 1) / 2 + (a == n - 1 && N % 2 == 0 ? 1 : 0);
+    *fewest = PetscMin(*fewest, lyc[a]);
+  }
+  *coarse = NULL;
+  if (*fewest >= 1) {
+    PetscCall(DMDACreate2d(PetscObjectComm((PetscObject) fine), DM_BOUNDARY_NONE, DM_BOUNDARY_NONE,
+                           DMDA_STENCIL_STAR, Mc, Nc, m, n, 3, 1, lxc, lyc, coarse));
+    PetscCall(DMSetUp(*coarse));
+  }
+  PetscCall(PetscFree2(lxc, lyc));
+  PetscFunctionReturn(0);
+}
+
+/* the global index of the natural point (i, j) of a layout: its rank's first index plus its place
+   in the rank's patch (ox, oy: each column's and row's rank column and row; x0, y0: their first
+   points; start: each rank's first point) */
+typedef struct {
+  PetscInt M, N, m, *ox, *oy, *x0, *y0, *start;
+  const PetscInt *lx;
+} Numbering;
+
+static PetscErrorCode NumberingCreate(DM da, Numbering *nb)
+{
+  PetscInt        n;
+  const PetscInt *ly;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMDAGetInfo(da, NULL, &nb->M, &nb->N, NULL, &nb->m, &n, NULL, NULL, NULL, NULL, NULL, NULL, NULL));
+  PetscCall(DMDAGetOwnershipRanges(da, &nb->lx, &ly, NULL));
+  PetscCall(PetscMalloc5(nb->M, &nb->ox, nb->N, &nb->oy, nb->m, &nb->x0, n, &nb->y0, nb->m * n + 1, &nb->start));
+  for (PetscInt a = 0, s = 0; a < nb->m; s += nb->lx[a++]) {
+    nb->x0[a] = s;
+    for (PetscInt i = s; i < s + nb->lx[a]; i++) nb->ox[i] = a;
+  }
+  for (PetscInt a = 0, s = 0; a < n; s += ly[a++]) {
+    nb->y0[a] = s;
+    for (PetscInt j = s; j < s + ly[a]; j++) nb->oy[j] = a;
+  }
+  nb->start[0] = 0;
+  for (PetscInt r = 0; r < nb->m * n; r++) nb->start[r + 1] = nb->start[r] + nb->lx[r % nb->m] * ly[r / nb->m];
+  PetscFunctionReturn(0);
+}
+
+static inline PetscInt NumberingIndex(const Numbering *nb, PetscInt i, PetscInt j)
+{
+  const PetscInt a = nb->ox[i], b = nb->oy[j];
+  return nb->start[b * nb->m + a] + (j - nb->y0[b]) * nb->lx[a] + (i - nb->x0[a]);
+}
+
+static PetscErrorCode NumberingDestroy(Numbering *nb)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscFree5(nb->ox, nb->oy, nb->x0, nb->y0, nb->start));
+  PetscFunctionReturn(0);
+}
+
+/* the coarse point(s) c over fine point i of a side of M points, and their weights (linear) */
+static inline int Under(PetscInt i, PetscInt M, PetscInt c[2], PetscReal w[2])
+{
+  if (i % 2 == 0 || i == M - 1) {
+    c[0] = (i + 1) / 2, w[0] = 1;
+    return 1;
+  }
+  c[0] = (i - 1) / 2, c[1] = (i + 1) / 2, w[0] = w[1] = 0.5;
+  return 2;
+}
+
+/* bilinear interpolation from the coarse layout to the fine one, each of the 3 components alone */
+static PetscErrorCode CreateInterpolation(DM coarse, DM fine, Mat *P)
+{
+  Numbering nc;
+  PetscInt  M, N, xs, ys, xm, ym, xcm, ycm, rstart;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMDAGetInfo(fine, NULL, &M, &N, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL));
+  PetscCall(DMDAGetCorners(fine, &xs, &ys, NULL, &xm, &ym, NULL));
+  PetscCall(DMDAGetCorners(coarse, NULL, NULL, NULL, &xcm, &ycm, NULL));
+  PetscCall(NumberingCreate(coarse, &nc));
+  PetscCall(MatCreateAIJ(PetscObjectComm((PetscObject) fine), 3 * xm * ym, 3 * xcm * ycm, PETSC_DETERMINE,
+                         PETSC_DETERMINE, 4, NULL, 4, NULL, P));
+  PetscCall(MatSetOption(*P, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
+  PetscCall(MatGetOwnershipRange(*P, &rstart, NULL));
+  for (PetscInt j = ys; j < ys + ym; j++)
+    for (PetscInt i = xs; i < xs + xm; i++) {
+      const PetscInt row = 3 * ((j - ys) * xm + (i - xs));
+      PetscInt       ci[2], cj[2];
+      PetscReal      wi[2], wj[2];
+      const int      ni = Under(i, M, ci, wi), nj = Under(j, N, cj, wj);
+      for (int b = 0; b < nj; b++)
+        for (int a = 0; a < ni; a++) {
+          const PetscInt col = 3 * NumberingIndex(&nc, ci[a], cj[b]);
+          for (PetscInt c = 0; c < 3; c++) {
+            const PetscInt    r = rstart + row + c, q = col + c;
+            const PetscScalar v = wi[a] * wj[b];
+            PetscCall(MatSetValues(*P, 1, &r, 1, &q, &v, INSERT_VALUES));
+          }
+        }
+    }
+  PetscCall(MatAssemblyBegin(*P, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyEnd(*P, MAT_FINAL_ASSEMBLY));
+  PetscCall(NumberingDestroy(&nc));
+  PetscFunctionReturn(0);
+}
+
+/* The geometric multigrid hierarchy: the grid's layout coarsened (CoarsenLayout) while both
+   sides keep at least 4 points a rank and every rank at least 2 points of each side, at most 12
+   levels. A grid whose side has an odd number of spacings is coarsened only while it has more than
+   MG_COARSEST points: such coarse spaces are poorer, and on the 201 x 201 net two more of them
+   below 26 x 26 took 496 Krylov iterations against 321 (docs/static.md); dms[levels - 1] is the grid's own layout, Ps[l] interpolates from level l - 1 to l
+   (both new references but the finest layout). */
+#define MG_MAX_LEVELS 12
+#define MG_COARSEST   1024 /* points: a grid this small is coarsened only where its sides halve exactly */
+static PetscErrorCode MultigridHierarchy(DM da, PetscInt *levels, DM dms[MG_MAX_LEVELS], Mat Ps[MG_MAX_LEVELS])
+{
+  DM       top[MG_MAX_LEVELS];
+  Mat      Pt[MG_MAX_LEVELS];
+  PetscInt L = 1;
+
+  PetscFunctionBeginUser;
+  top[0] = da, Pt[0] = NULL;
+  while (L < MG_MAX_LEVELS) {
+    PetscInt M, N, m, n, fewest = 0;
+    DM       c;
+    PetscCall(DMDAGetInfo(top[L - 1], NULL, &M, &N, NULL, &m, &n, NULL, NULL, NULL, NULL, NULL, NULL, NULL));
+    if ((((M - 1) % 2 || (N - 1) % 2) && M * N <= MG_COARSEST) || M / 2 + 1 < 4 * m || N / 2 + 1 < 4 * n || M < 3 ||
+        N < 3)
+      break;
+    PetscCall(CoarsenLayout(top[L - 1], &c, &fewest));
+    if (fewest < 2) {
+      PetscCall(DMDestroy(&c));
+      break;
+    }
+    top[L] = c;
+    PetscCall(CreateInterpolation(c, top[L - 1], &Pt[L - 1]));
+    L++;
+  }
+  /* top[0] is the finest; the levels count from the coarsest */
+  for (PetscInt l = 0; l < L; l++) dms[l] = top[L - 1 - l];
+  Ps[0] = NULL;
+  for (PetscInt l = 1; l < L; l++) Ps[l] = Pt[L - 1 - l];
+  *levels = L;
   PetscFunctionReturn(0);
 }
 
@@ -874,6 +1023,8 @@ static PetscErrorCode SetDefaults(StaticSolver ss)
   KSP            ksp;
   PC             pc;
   PetscInt       levels = 1;
+  DM             dms[MG_MAX_LEVELS];
+  Mat            Ps[MG_MAX_LEVELS];
   MatNullSpace   rigid;
   SNESLineSearch ls;
 
@@ -896,11 +1047,21 @@ static PetscErrorCode SetDefaults(StaticSolver ss)
   PetscCall(KSPSetNormType(ksp, KSP_NORM_UNPRECONDITIONED));
   PetscCall(KSPSetTolerances(ksp, 1e-3, PETSC_DEFAULT, PETSC_DEFAULT, 1000));
   PetscCall(KSPGetPC(ksp, &pc));
-  PetscCall(MultigridLevels(ss->dm, &levels));
+  PetscCall(MultigridHierarchy(ss->dm, &levels, dms, Ps));
   if (levels > 1) {
     PetscCall(PCSetType(pc, PCMG));
     PetscCall(PCMGSetLevels(pc, levels, NULL));
     PetscCall(PCMGSetGalerkin(pc, PC_MG_GALERKIN_BOTH));
+    for (PetscInt l = 1; l < levels; l++) { /* each level's layout (for its line smoother), not its operators */
+      KSP k;
+      PetscCall(PCMGSetInterpolation(pc, l, Ps[l]));
+      PetscCall(PCMGGetSmootherDown(pc, l, &k));
+      PetscCall(KSPSetDM(k, dms[l]));
+      PetscCall(KSPSetDMActive(k, PETSC_FALSE));
+      PetscCall(PCMGGetSmootherUp(pc, l, &k));
+      PetscCall(KSPSetDM(k, dms[l]));
+      PetscCall(KSPSetDMActive(k, PETSC_FALSE));
+    }
     for (PetscInt l = 1; l < levels && ss->opt.line_smoother; l++) { /* down x then y lines, up y then x */
       const int     down[3] = {0, 1, -1}, up[3] = {1, 0, -1};
       KSP           smoother;
@@ -917,6 +1078,10 @@ static PetscErrorCode SetDefaults(StaticSolver ss)
     }
   } else
     PetscCall(PCSetType(pc, PCGAMG));
+  for (PetscInt l = 0; l < levels - 1; l++) { /* held by the multigrid now */
+    PetscCall(DMDestroy(&dms[l]));
+    PetscCall(MatDestroy(&Ps[l + 1]));
+  }
   PetscCall(MatNullSpaceCreateRigidBody(fab->grid.X0, &rigid)); /* GAMG's near-null space */
   PetscCall(MatSetNearNullSpace(ss->J, rigid));
   PetscCall(MatNullSpaceDestroy(&rigid));

@@ -1,0 +1,34 @@
+#!/usr/bin/python3
+"""Error against wall time of the explicit path's knobs, from a table of scripts/tradeoff.sh.
+   /usr/bin/python3 scripts/plot_tradeoff.py table.csv -o figure.png [--title TEXT]"""
+import argparse, csv, sys
+
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+
+ap = argparse.ArgumentParser(description=__doc__)
+ap.add_argument("table")
+ap.add_argument("-o", "--output", required=True)
+ap.add_argument("--title", default="")
+a = ap.parse_args()
+rows = list(csv.DictReader(open(a.table)))
+if not rows or "force_err_pct" not in rows[0]:
+    sys.exit(f"plot_tradeoff.py: {a.table}: not a table of scripts/tradeoff.sh")
+fig, ax = plt.subplots(figsize=(6.4, 4.4))
+floor = 1e-6  # percent: the reference's own level; errors below it are drawn at it
+for knob in dict.fromkeys(r["knob"] for r in rows if r["knob"] != "reference"):
+    pts = [r for r in rows if r["knob"] == knob and r["wall_s"] != "-"]
+    ax.scatter([float(r["wall_s"]) for r in pts], [max(float(r["force_err_pct"]), floor) for r in pts],
+               label=knob, marker="o" if knob != "shipped" else "*", s=60 if knob == "shipped" else 30)
+    for r in pts:
+        if r["value"] != "-":
+            ax.annotate(r["value"], (float(r["wall_s"]), max(float(r["force_err_pct"]), floor)), fontsize=7,
+                        xytext=(3, 3), textcoords="offset points")
+ref = [r for r in rows if r["knob"] == "reference"]
+if ref:
+    ax.axvline(float(ref[0]["wall_s"]), color="gray", ls="--", lw=1, label="static 1e-8 (reference)")
+ax.set_xscale("log"); ax.set_yscale("log")
+ax.set_xlabel("wall time on 2 ranks [s]"); ax.set_ylabel("largest force error against the reference [%]")
+ax.set_title(a.title); ax.grid(True, which="both", lw=0.3); ax.legend(fontsize=7)
+fig.tight_layout(); fig.savefig(a.output, dpi=110)

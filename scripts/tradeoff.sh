@@ -1,0 +1,83 @@
+#!/usr/bin/env bash
+# The explicit path's speed/accuracy trade against the quasi-static reference, for one scene:
+# the scene solved by -solver static at -balance_tol 1e-8 is the reference; each row runs the
+# explicit path as shipped with one knob changed (balance tolerance, te safety, prediction, rank
+# propagation, sleeping, the relaxation scheme) and gives its wall time, te steps, whether every
+# load step balanced, and its error against the reference: the largest relative force error
+# over the curve's rows (the pushing test: from 5 mm of travel on, where the force is above 1 N)
+# and, for the bias test, the largest error of the centre's shear angle. All runs on 2 ranks in
+# one run of this script: compare the times within its table only.
+#   scripts/tradeoff.sh pushing|bias [table.csv]       (RANKS=ranks, default 2)
+# /usr/bin/python3 scripts/plot_tradeoff.py table.csv -o figure.png draws error against time.
+set -eu
+here="$(cd "$(dirname "$0")/.." && pwd)"
+fabric="${FABRIC:-$here/build/fabric}"
+[[ -x "$fabric" ]] || bash "$here/scripts/setup.sh" >/dev/null
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+scene="${1:?usage: scripts/tradeoff.sh pushing|bias [table.csv]}"
+case "$scene" in pushing | bias) ;; *) echo "scripts/tradeoff.sh: scene '$scene': one of pushing, bias" >&2; exit 2 ;; esac
+csv="${2:-}"
+ranks="${RANKS:-2}"
+work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
+
+run() { # name, options...: a run that the solver stops (its message in NAME.error) is a row too
+  local name="$1"; shift
+  mpiexec -n "$ranks" "$fabric" -scene "$here/inputs/$scene.yaml" -output_every 0 -quiet -output_dir "$work/$name" \
+    "$@" >"$work/$name.log" 2>&1 && return
+  grep -m1 '^fabric: error' "$work/$name.log" >"$work/$name.error" || { echo "run $name failed: $(tail -3 "$work/$name.log")" >&2; exit 1; }
+}
+
+# knob|value|options; the first row is the reference, the second the explicit path as shipped
+runs=("reference|static 1e-8|-solver static -balance_tol 1e-8"
+      "shipped|-|"
+      "balance_tol|1e-2|-balance_tol 1e-2" "balance_tol|3e-3|-balance_tol 3e-3"
+      "balance_tol|3e-4|-balance_tol 3e-4 -max_inner_steps 400000"
+      "balance_tol|1e-4|-balance_tol 1e-4 -max_inner_steps 400000"
+      "te_safety|0.5|-te_safety 0.5" "te_safety|0.95|-te_safety 0.95"
+      "predict|none|-predict none" "predict|linear|-predict linear" "predict|extrapolate|-predict extrapolate"
+      "front|on|-front" "sleep_tol|1e-4|-sleep_tol 1e-4"
+      "integrator|damped 0.05|-integrator damped -damping_ratio 0.05 -max_inner_steps 400000"
+      "integrator|paper 0.05|-integrator paper -damping_ratio 0.05 -max_inner_steps 400000")
+i=0
+for r in "${runs[@]}"; do
+  opts="${r#*|}"; opts="${opts#*|}"
+  # shellcheck disable=SC2086
+  run "r$i" $opts
+  i=$((i + 1))
+done
+
+/usr/bin/python3 - "$work" "$scene" "$csv" "${runs[@]}" <<'PY'
+import csv, json, sys
+work, scene, out, runs = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4:]
+def load(i):
+    s = json.load(open(f"{work}/r{i}/summary.json"))
+    return s, list(csv.DictReader(open(f"{work}/r{i}/curve.csv")))
+_, ref = load(0)
+keep = lambda r: float(r["travel_mm"]) >= 5 - 1e-9 if scene == "pushing" else True
+head = ["knob", "value", "balanced", "wall_s", "te_steps", "force_err_pct"] + (["shear_err_deg"] if scene == "bias" else [])
+print(" ".join(f"{h:>13}" for h in head))
+table = []
+for i, r in enumerate(runs):
+    knob, value = r.split("|")[:2]
+    try:
+        err = open(f"{work}/r{i}.error").read()
+    except OSError:
+        err = ""
+    if err:  # stopped with a message (the energy watch, say): no curve to compare
+        row = [knob, value, "stopped", "-", "-", "-"] + (["-"] if scene == "bias" else [])
+        table.append(row)
+        print(" ".join(f"{c:>13}" for c in row) + "   " + err.strip()[:60] + "...")
+        continue
+    s, rows = load(i)
+    assert len(rows) == len(ref), f"{knob} {value}: {len(rows)} load steps, the reference has {len(ref)}"
+    pairs = [(a, b) for a, b in zip(rows, ref) if keep(b)]
+    ferr = max(abs(float(a["force_N"]) - float(b["force_N"])) / abs(float(b["force_N"])) for a, b in pairs)
+    row = [knob, value, str(s["converged"]).lower(), f"{s['wall_s']:.2f}", str(s.get("te_steps") or "-"), f"{100 * ferr:.4f}"]
+    if scene == "bias":
+        row.append(f"{max(abs(float(a['center_shear_deg']) - float(b['center_shear_deg'])) for a, b in pairs):.5f}")
+    table.append(row)
+    print(" ".join(f"{c:>13}" for c in row))
+if out:
+    with open(out, "w", newline="") as f:
+        w = csv.writer(f); w.writerow(head); w.writerows(table)
+PY
