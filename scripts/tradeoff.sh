@@ -7,7 +7,7 @@
 # over the curve's rows (the pushing test: from 5 mm of travel on, where the force is above 1 N)
 # and, for the bias test, the largest error of the centre's shear angle. All runs on 2 ranks in
 # one run of this script: compare the times within its table only.
-#   scripts/tradeoff.sh pushing|bias [table.csv]       (RANKS=ranks, default 2)
+#   scripts/tradeoff.sh pushing|bias [table.csv]   (RANKS=ranks, default 2; LIMIT_S=a run's limit, 300 s)
 # /usr/bin/python3 scripts/plot_tradeoff.py table.csv -o figure.png draws error against time.
 set -eu
 here="$(cd "$(dirname "$0")/.." && pwd)"
@@ -18,12 +18,16 @@ scene="${1:?usage: scripts/tradeoff.sh pushing|bias [table.csv]}"
 case "$scene" in pushing | bias) ;; *) echo "scripts/tradeoff.sh: scene '$scene': one of pushing, bias" >&2; exit 2 ;; esac
 csv="${2:-}"
 ranks="${RANKS:-2}"
+limit="${LIMIT_S:-300}" # seconds a run may take
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
 
-run() { # name, options...: a run that the solver stops (its message in NAME.error) is a row too
-  local name="$1"; shift
-  mpiexec -n "$ranks" "$fabric" -scene "$here/inputs/$scene.yaml" -output_every 0 -quiet -output_dir "$work/$name" \
-    "$@" >"$work/$name.log" 2>&1 && return
+run() { # name, options...: a run that the solver stops (its message in NAME.error), or that
+         # passes the time limit, is a row too
+  local name="$1" rc=0; shift
+  timeout "$limit" mpiexec -n "$ranks" "$fabric" -scene "$here/inputs/$scene.yaml" -output_every 0 -quiet \
+    -output_dir "$work/$name" "$@" >"$work/$name.log" 2>&1 || rc=$?
+  ((rc == 0)) && return
+  if ((rc == 124)); then echo "fabric: stopped by the script's time limit of $limit s" >"$work/$name.error"; return; fi
   grep -m1 '^fabric: error' "$work/$name.log" >"$work/$name.error" || { echo "run $name failed: $(tail -3 "$work/$name.log")" >&2; exit 1; }
 }
 
@@ -64,7 +68,7 @@ for i, r in enumerate(runs):
     except OSError:
         err = ""
     if err:  # stopped with a message (the energy watch, say): no curve to compare
-        row = [knob, value, "stopped", "-", "-", "-"] + (["-"] if scene == "bias" else [])
+        row = [knob, value, "timeout" if "time limit" in err else "stopped", "-", "-", "-"] + (["-"] if scene == "bias" else [])
         table.append(row)
         print(" ".join(f"{c:>13}" for c in row) + "   " + err.strip()[:60] + "...")
         continue

@@ -36,6 +36,7 @@
 
 #include <petscsf.h>
 #include <petscsnes.h>
+#include <petsctao.h>
 
 #define SHIFT_START  1e-2  /* k_s / k_ref at the first Newton step of the run (-snes_shift_start) */
 #define SHIFT_CARRY  10.0  /* a later load step starts from this times the last one's final shift (-snes_shift_carry) */
@@ -49,6 +50,7 @@ typedef struct {                          /* the solver's own options (ReadOptio
   PetscBool line_smoother;            /* multigrid levels smoothed by block lines (LineSmoother) */
   PetscBool convex;                   /* the terms' and bodies' positive parts in the tangent (TERM_CONVEX) */
   PetscReal line_lump;                /* each line's diagonal carries this times its couplings outside the star */
+  PetscBool tao;                      /* minimise Pi by TAO (-static_minimizer tao) instead of SNES */
 } StaticOptions;
 
 typedef struct {   /* three grid rows of block rows, the ghost points either side included */
@@ -60,6 +62,7 @@ typedef struct {   /* three grid rows of block rows, the ghost points either sid
 struct _p_StaticSolver {
   Fabric         fab;
   SNES           snes;
+  Tao            tao; /* -static_minimizer tao: TAO's Newton on Pi instead of SNES */
   DM             dm; /* the grid's layout with the tangent's stencil (the SNES's and multigrid's DM) */
   Mat            J;
   Vec            Xbc;    /* positions of the held crossings this load step */
@@ -1017,35 +1020,18 @@ static PetscErrorCode MultigridHierarchy(DM da, PetscInt *levels, DM dms[MG_MAX_
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode SetDefaults(StaticSolver ss)
+/* The preconditioner of the tangent's linear solves: geometric multigrid on the grid's hierarchy
+   with the line smoother, or GAMG with the rigid-body modes on a grid too small to coarsen */
+static PetscErrorCode SetPreconditioner(StaticSolver ss, KSP ksp)
 {
-  Fabric         fab = ss->fab;
-  KSP            ksp;
-  PC             pc;
-  PetscInt       levels = 1;
-  DM             dms[MG_MAX_LEVELS];
-  Mat            Ps[MG_MAX_LEVELS];
-  MatNullSpace   rigid;
-  SNESLineSearch ls;
+  Fabric       fab = ss->fab;
+  PC           pc;
+  PetscInt     levels = 1;
+  DM           dms[MG_MAX_LEVELS];
+  Mat          Ps[MG_MAX_LEVELS];
+  MatNullSpace rigid;
 
   PetscFunctionBeginUser;
-  PetscCall(SNESSetType(ss->snes, SNESNEWTONLS));
-  PetscCall(SNESGetLineSearch(ss->snes, &ls));
-  PetscCall(SNESLineSearchSetType(ls, SNESLINESEARCHSHELL));
-  PetscCall(SNESLineSearchShellSetUserFunc(ls, EnergyLineSearch, ss));
-  PetscCall(SNESSetTolerances(ss->snes, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, 200, 100000));
-  /* CG stops at negative curvature with a descent direction (its iterate so far): the line
-     search takes it, and AdaptShift stiffens the next tangent */
-  PetscCall(SNESSetMaxLinearSolveFailures(ss->snes, PETSC_MAX_INT));
-  /* the multigrid hierarchy (Galerkin products, line factors) of every second tangent: the
-     Krylov count hardly grows, and the set-up is a third of a Newton step (docs/static.md) */
-  PetscCall(SNESSetLagPreconditioner(ss->snes, 2));
-  PetscCall(SNESGetKSP(ss->snes, &ksp));
-  PetscCall(KSPSetType(ksp, KSPCG));
-  /* the true residual's reduction: the preconditioned norm of a multigrid on this anisotropic
-     tangent overstates it, and Newton then takes an extra step per load step */
-  PetscCall(KSPSetNormType(ksp, KSP_NORM_UNPRECONDITIONED));
-  PetscCall(KSPSetTolerances(ksp, 1e-3, PETSC_DEFAULT, PETSC_DEFAULT, 1000));
   PetscCall(KSPGetPC(ksp, &pc));
   PetscCall(MultigridHierarchy(ss->dm, &levels, dms, Ps));
   if (levels > 1) {
@@ -1085,6 +1071,33 @@ static PetscErrorCode SetDefaults(StaticSolver ss)
   PetscCall(MatNullSpaceCreateRigidBody(fab->grid.X0, &rigid)); /* GAMG's near-null space */
   PetscCall(MatSetNearNullSpace(ss->J, rigid));
   PetscCall(MatNullSpaceDestroy(&rigid));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode SetDefaults(StaticSolver ss)
+{
+  KSP            ksp;
+  SNESLineSearch ls;
+
+  PetscFunctionBeginUser;
+  PetscCall(SNESSetType(ss->snes, SNESNEWTONLS));
+  PetscCall(SNESGetLineSearch(ss->snes, &ls));
+  PetscCall(SNESLineSearchSetType(ls, SNESLINESEARCHSHELL));
+  PetscCall(SNESLineSearchShellSetUserFunc(ls, EnergyLineSearch, ss));
+  PetscCall(SNESSetTolerances(ss->snes, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, 200, 100000));
+  /* CG stops at negative curvature with a descent direction (its iterate so far): the line
+     search takes it, and AdaptShift stiffens the next tangent */
+  PetscCall(SNESSetMaxLinearSolveFailures(ss->snes, PETSC_MAX_INT));
+  /* the multigrid hierarchy (Galerkin products, line factors) of every second tangent: the
+     Krylov count hardly grows, and the set-up is a third of a Newton step (docs/static.md) */
+  PetscCall(SNESSetLagPreconditioner(ss->snes, 2));
+  PetscCall(SNESGetKSP(ss->snes, &ksp));
+  PetscCall(KSPSetType(ksp, KSPCG));
+  /* the true residual's reduction: the preconditioned norm of a multigrid on this anisotropic
+     tangent overstates it, and Newton then takes an extra step per load step */
+  PetscCall(KSPSetNormType(ksp, KSP_NORM_UNPRECONDITIONED));
+  PetscCall(KSPSetTolerances(ksp, 1e-3, PETSC_DEFAULT, PETSC_DEFAULT, 1000));
+  PetscCall(SetPreconditioner(ss, ksp));
   PetscFunctionReturn(0);
 }
 
@@ -1156,6 +1169,7 @@ static PetscErrorCode ReadOptions(MPI_Comm comm, StaticOptions *o)
   o->line_smoother = PETSC_TRUE;
   o->convex        = PETSC_FALSE;
   o->line_lump     = 1.0;
+  o->tao           = PETSC_FALSE;
   PetscOptionsBegin(comm, NULL, "Quasi-static solver (-solver static, docs/static.md)", NULL);
   PetscCall(PetscOptionsReal("-snes_shift_start", "pretension shift k_s / k_ref at the run's first Newton step", NULL,
                              o->shift_start, &o->shift_start, NULL));
@@ -1173,6 +1187,14 @@ static PetscErrorCode ReadOptions(MPI_Comm comm, StaticOptions *o)
   PetscCall(PetscOptionsReal("-mg_line_lump",
                              "each line's diagonal carries this times its couplings outside the star, in magnitude (0: none)",
                              NULL, o->line_lump, &o->line_lump, NULL));
+  {
+    const char *const minimizers[] = {"snes", "tao"};
+    PetscInt          which        = o->tao ? 1 : 0;
+    PetscCall(PetscOptionsEList("-static_minimizer",
+                                "Newton on Pi by SNES (shifted tangent, line search on Pi) or by TAO (-tao_type nls, ntr ...)",
+                                NULL, minimizers, 2, minimizers[which], &which, NULL));
+    o->tao = which == 1 ? PETSC_TRUE : PETSC_FALSE;
+  }
   PetscOptionsEnd();
   PetscCheck(o->order >= 0 && o->order <= 2, comm, PETSC_ERR_USER_INPUT, "-snes_extrapolate %" PetscInt_FMT ": 0, 1 or 2",
              o->order);
@@ -1190,6 +1212,70 @@ PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
 
   PetscFunctionBeginUser;
   PetscCall(ReadOptions(comm, &o));
+  PetscFunctionReturn(0);
+}
+
+/* TAO's view of the same problem (-static_minimizer tao): Pi and its gradient (the residual),
+   the tangent without the shift (TAO's Newton methods perturb or bound the step themselves), and
+   the explicit path's balance test */
+static PetscErrorCode TaoObjectiveAndGradient(Tao tao, Vec U, PetscReal *pi, Vec G, void *ctx)
+{
+  PetscFunctionBeginUser;
+  (void) tao;
+  PetscCall(FormObjective(NULL, U, pi, ctx));
+  PetscCall(FormFunction(NULL, U, G, ctx));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode TaoHessian(Tao tao, Vec U, Mat H, Mat Hpre, void *ctx)
+{
+  StaticSolver ss = (StaticSolver) ctx;
+
+  PetscFunctionBeginUser;
+  (void) tao;
+  ss->shift = 0;
+  PetscCall(FormJacobian(NULL, U, H, Hpre, ctx));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode TaoBalanced(Tao tao, void *ctx)
+{
+  StaticSolver       ss  = (StaticSolver) ctx;
+  Fabric             fab = ss->fab;
+  Vec                G;
+  PetscReal          fmax;
+  TaoConvergedReason reason;
+
+  PetscFunctionBeginUser;
+  PetscCall(TaoDefaultConvergenceTest(tao, NULL)); /* NaN, iteration and evaluation limits */
+  PetscCall(TaoGetConvergedReason(tao, &reason));
+  if (reason < 0) PetscFunctionReturn(0);
+  PetscCall(TaoGetGradient(tao, &G, NULL, NULL));
+  PetscCall(FreeForceMax(ss, G, &fmax));
+  PetscCall(TaoSetConvergedReason(tao, fmax <= fab->s.num.balance_tol * PetscMax(ss->tmax, fab->step.force_floor)
+                                         ? TAO_CONVERGED_USER
+                                         : TAO_CONTINUE_ITERATING));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode CreateTao(StaticSolver ss)
+{
+  KSP ksp;
+
+  PetscFunctionBeginUser;
+  PetscCall(TaoCreate(ss->fab->comm, &ss->tao));
+  PetscCall(TaoSetType(ss->tao, TAONLS));
+  PetscCall(TaoSetSolution(ss->tao, ss->fab->state.X));
+  PetscCall(TaoSetObjectiveAndGradient(ss->tao, NULL, TaoObjectiveAndGradient, ss));
+  PetscCall(TaoSetHessian(ss->tao, ss->J, ss->J, TaoHessian, ss));
+  PetscCall(TaoSetConvergenceTest(ss->tao, TaoBalanced, ss));
+  PetscCall(TaoSetTolerances(ss->tao, 0, 0, 0));
+  PetscCall(TaoSetMaximumIterations(ss->tao, 200));
+  PetscCall(TaoGetKSP(ss->tao, &ksp));
+  PetscCall(KSPSetDM(ksp, ss->dm));
+  PetscCall(KSPSetDMActive(ksp, PETSC_FALSE));
+  PetscCall(SetPreconditioner(ss, ksp));
+  PetscCall(TaoSetFromOptions(ss->tao));
   PetscFunctionReturn(0);
 }
 
@@ -1247,6 +1333,7 @@ PetscErrorCode StaticCreate(Fabric fab, StaticSolver *out)
   PetscCall(SNESSetConvergenceTest(ss->snes, Converged, ss, NULL));
   PetscCall(SetDefaults(ss));
   PetscCall(SNESSetFromOptions(ss->snes));
+  if (ss->opt.tao) PetscCall(CreateTao(ss));
   *out = ss;
   PetscFunctionReturn(0);
 }
@@ -1258,6 +1345,7 @@ PetscErrorCode StaticDestroy(StaticSolver *pss)
   PetscFunctionBeginUser;
   if (!ss) PetscFunctionReturn(0);
   PetscCall(SNESDestroy(&ss->snes));
+  PetscCall(TaoDestroy(&ss->tao));
   PetscCall(MatDestroy(&ss->J));
   PetscCall(DMDestroy(&ss->dm));
   PetscCall(VecDestroy(&ss->Xbc));
@@ -1337,7 +1425,16 @@ PetscErrorCode StaticSolve(StaticSolver ss, StaticResult *r)
   /* the first load step from -snes_shift_start; a later one from where the last ended (a taut
      fabric: nearly plain Newton), raised by AdaptShift if that fails */
   ss->shift = ss->nhist ? PetscMin(ss->opt.shift_start, ss->opt.shift_carry * ss->shift) : ss->opt.shift_start;
-  for (int attempt = 0; attempt < MAX_ATTEMPTS; attempt++) { /* a failed solve is retried, stiffer */
+  if (ss->tao) { /* TAO's Newton: one solve */
+    TaoConvergedReason treason;
+    PetscCall(TaoSolve(ss->tao));
+    PetscCall(TaoGetConvergedReason(ss->tao, &treason));
+    PetscCall(TaoGetIterationNumber(ss->tao, &its));
+    PetscCall(TaoGetLinearSolveIterations(ss->tao, &r->linear_iterations));
+    r->nonlinear_iterations = its;
+    PetscCall(PetscStrncpy(r->reason, TaoConvergedReasons[treason], sizeof r->reason));
+  }
+  for (int attempt = 0; attempt < MAX_ATTEMPTS && !ss->tao; attempt++) { /* a failed solve is retried, stiffer */
     PetscInt lits;
     PetscCall(SNESSolve(ss->snes, NULL, fab->state.X));
     PetscCall(SNESGetConvergedReason(ss->snes, &reason));
@@ -1348,7 +1445,7 @@ PetscErrorCode StaticSolve(StaticSolver ss, StaticResult *r)
     if (reason != SNES_DIVERGED_LINE_SEARCH && reason != SNES_DIVERGED_LINEAR_SOLVE) break;
     ss->shift = PetscMax(100.0 * ss->shift, 1e-6); /* start again from where it stopped, stiffer */
   }
-  PetscCall(PetscStrncpy(r->reason, SNESConvergedReasons[reason], sizeof r->reason));
+  if (!ss->tao) PetscCall(PetscStrncpy(r->reason, SNESConvergedReasons[reason], sizeof r->reason));
   /* the state's forces at the solution (the measurements read them) give the balance test */
   {
     const PetscScalar *f;
