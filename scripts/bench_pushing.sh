@@ -23,8 +23,8 @@ key() { sed -n "s/^ *\"$2\": \\([^,]*\\),*$/\\1/p" "$work/$1/summary.json" | hea
 
 # name|options; the first row is the reference
 runs=("static_1e-8|-solver static -balance_tol 1e-8" "static|-solver static" "explicit|"
-      "explicit_5e-4|-balance_tol 5e-4 -max_inner_steps 400000" "explicit_3e-4|-balance_tol 3e-4 -max_inner_steps 400000"
-      "explicit_2e-4|-balance_tol 2e-4 -max_inner_steps 400000")
+      "explicit_1e-3|-balance_tol 1e-3" "explicit_lin_1e-3|-predict linear -balance_tol 1e-3"
+      "explicit_1e-4|-balance_tol 1e-4 -max_inner_steps 400000")
 rows=()
 for r in "${runs[@]}"; do
   rows+=("${r%%|*}")

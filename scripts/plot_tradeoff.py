@@ -19,8 +19,10 @@ fig, ax = plt.subplots(figsize=(6.4, 4.4))
 floor = 1e-6  # percent: the reference's own level; errors below it are drawn at it
 for knob in dict.fromkeys(r["knob"] for r in rows if r["knob"] != "reference"):
     pts = [r for r in rows if r["knob"] == knob and r["wall_s"] != "-"]
+    if not pts:  # stopped, refused or out of time: in the table only
+        continue
     ax.scatter([float(r["wall_s"]) for r in pts], [max(float(r["force_err_pct"]), floor) for r in pts],
-               label=knob, marker="o" if knob != "shipped" else "*", s=60 if knob == "shipped" else 30)
+               label=knob, marker="o" if knob != "base" else "*", s=60 if knob == "base" else 30)
     for r in pts:
         if r["value"] != "-":
             ax.annotate(r["value"], (float(r["wall_s"]), max(float(r["force_err_pct"]), floor)), fontsize=7,
@@ -30,5 +32,5 @@ if ref:
     ax.axvline(float(ref[0]["wall_s"]), color="gray", ls="--", lw=1, label="static 1e-8 (reference)")
 ax.set_xscale("log"); ax.set_yscale("log")
 ax.set_xlabel("wall time on 2 ranks [s]"); ax.set_ylabel("largest force error against the reference [%]")
-ax.set_title(a.title); ax.grid(True, which="both", lw=0.3); ax.legend(fontsize=7)
+ax.set_title(a.title, fontsize=10); ax.grid(True, which="both", lw=0.3); ax.legend(fontsize=7)
 fig.tight_layout(); fig.savefig(a.output, dpi=110)

@@ -1,13 +1,16 @@
 #!/usr/bin/env bash
 # The explicit path's speed/accuracy trade against the quasi-static reference, for one scene:
 # the scene solved by -solver static at -balance_tol 1e-8 is the reference; each row runs the
-# explicit path as shipped with one knob changed (balance tolerance, te safety, prediction, rank
+# explicit path as set (the scene, and the options given) with one knob changed (balance tolerance, te safety, prediction, rank
 # propagation, sleeping, the relaxation scheme) and gives its wall time, te steps, whether every
 # load step balanced, and its error against the reference: the largest relative force error
 # over the curve's rows (the pushing test: from 5 mm of travel on, where the force is above 1 N)
 # and, for the bias test, the largest error of the centre's shear angle. All runs on 2 ranks in
 # one run of this script: compare the times within its table only.
-#   scripts/tradeoff.sh pushing|bias [table.csv]   (RANKS=ranks, default 2; LIMIT_S=a run's limit, 300 s)
+#   scripts/tradeoff.sh pushing|bias [table.csv [options...]]   (RANKS=ranks, default 2; LIMIT_S=a
+#   run's limit, 300 s). The options go to every run before the row's own (a row's knob wins):
+#   scripts/tradeoff.sh pushing t.csv -predict linear -balance_tol 1e-3 measures the knobs around
+#   that setting instead of the scene's.
 # /usr/bin/python3 scripts/plot_tradeoff.py table.csv -o figure.png draws error against time.
 set -eu
 here="$(cd "$(dirname "$0")/.." && pwd)"
@@ -17,6 +20,7 @@ export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_
 scene="${1:?usage: scripts/tradeoff.sh pushing|bias [table.csv]}"
 case "$scene" in pushing | bias) ;; *) echo "scripts/tradeoff.sh: scene '$scene': one of pushing, bias" >&2; exit 2 ;; esac
 csv="${2:-}"
+base=("${@:3}")
 ranks="${RANKS:-2}"
 limit="${LIMIT_S:-300}" # seconds a run may take
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
@@ -25,15 +29,16 @@ run() { # name, options...: a run that the solver stops (its message in NAME.err
          # passes the time limit, is a row too
   local name="$1" rc=0; shift
   timeout "$limit" mpiexec -n "$ranks" "$fabric" -scene "$here/inputs/$scene.yaml" -output_every 0 -quiet \
-    -output_dir "$work/$name" "$@" >"$work/$name.log" 2>&1 || rc=$?
+    -output_dir "$work/$name" "${base[@]}" "$@" >"$work/$name.log" 2>&1 || rc=$?
   ((rc == 0)) && return
   if ((rc == 124)); then echo "fabric: stopped by the script's time limit of $limit s" >"$work/$name.error"; return; fi
   grep -m1 '^fabric: error' "$work/$name.log" >"$work/$name.error" || { echo "run $name failed: $(tail -3 "$work/$name.log")" >&2; exit 1; }
 }
 
-# knob|value|options; the first row is the reference, the second the explicit path as shipped
+# knob|value|options; the first row is the reference, the second the explicit path as set (the
+# scene and the options given)
 runs=("reference|static 1e-8|-solver static -balance_tol 1e-8"
-      "shipped|-|"
+      "base|-|"
       "balance_tol|1e-2|-balance_tol 1e-2" "balance_tol|3e-3|-balance_tol 3e-3"
       "balance_tol|3e-4|-balance_tol 3e-4 -max_inner_steps 400000"
       "balance_tol|1e-4|-balance_tol 1e-4 -max_inner_steps 400000"

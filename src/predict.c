@@ -144,7 +144,12 @@ PetscErrorCode PredictLoadStep(Fabric fab, PetscReal grip_step, const PetscReal 
   PetscScalar       *x, *xold = NULL;
   const PetscScalar *a = NULL, *b = NULL;
   const PetscBool    have_history = fab->state.Xconv_prev && fab->load.travel_step_prev != 0 ? PETSC_TRUE : PETSC_FALSE;
-  PetscBool          extrapolate  = s->num.predict == PREDICT_EXTRAPOLATE && have_history ? PETSC_TRUE : PETSC_FALSE;
+  /* the static path puts the ball straight at its new place: it starts from the ball's linear
+     prediction, which moves the crossings the ball would penetrate with it, never from an
+     extrapolation that leaves some inside it (Newton did not recover from that penalty force:
+     docs/static.md) */
+  const PetscBool ball_static = s->bodies.sphere_radius > 0 && s->num.solver == SOLVER_STATIC ? PETSC_TRUE : PETSC_FALSE;
+  PetscBool       extrapolate = s->num.predict == PREDICT_EXTRAPOLATE && have_history && !ball_static ? PETSC_TRUE : PETSC_FALSE;
 
   PetscFunctionBeginUser;
   if (s->num.predict == PREDICT_NONE || grip_step == 0) PetscFunctionReturn(0);
