@@ -6,8 +6,8 @@
 #  2. the square net balanced to 1e-12 on 1, 2 and 3 ranks: positions agree to 1e-10 relative
 #     (Krylov sums round differently on different splits: bitwise identity is not claimed);
 #  3. the pushing test at 8 threads/cm to 8 mm (bending, shear, the ball's contact, a slack
-#     membrane whose lines have no stiffness across), from the sphere's linear prediction (the
-#     scene's extrapolating one gives first guesses where 6 solves did): CG never meets an indefinite preconditioner
+#     membrane whose lines have no stiffness across), from the ball's linear prediction (what
+#     the static path starts from with a ball, whatever -predict): CG never meets an indefinite preconditioner
 #     (the line smoother's lines carry their other couplings), and the force on the ball at every
 #     load step from 3 mm on is the explicit path's within 2e-6 relative (explicit: FIRE at
 #     -balance_tol 1e-7, 26 589 te steps; measured differences 2.5e-8 to 8.2e-7);
@@ -50,7 +50,7 @@ sys.exit(1 if bad else 0)
 PY
 
 run 2 -scene "$inputs/pushing.yaml" -ends_per_cm 8 -picks_per_cm 8 -sphere_travel_mm 8 -load_steps 8 -solver static \
-  -predict linear -balance_tol 1e-9 -output_every 0 -ksp_converged_reason -output_dir "$work/push"
+  -balance_tol 1e-9 -output_every 0 -ksp_converged_reason -output_dir "$work/push"
 "$py" - "$work/push/curve.csv" "$work/log" <<'PY' || fail=1
 import csv, sys
 explicit = [0.00348968302, 0.0294812799, 0.110036163, 0.283633209, 0.592744071, 1.08702037, 1.86389305, 5.47940393]
