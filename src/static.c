@@ -1212,6 +1212,17 @@ PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
 
   PetscFunctionBeginUser;
   PetscCall(ReadOptions(comm, &o));
+  if (o.tao) { /* TAO's type from -tao_type: one with a Newton step (a KSP) */
+    Tao tao;
+    KSP ksp;
+    PetscCall(TaoCreate(comm, &tao));
+    PetscCall(TaoSetType(tao, TAONLS));
+    PetscCall(TaoSetFromOptions(tao));
+    PetscCall(TaoGetKSP(tao, &ksp));
+    PetscCall(TaoDestroy(&tao));
+    PetscCheck(ksp, comm, PETSC_ERR_USER_INPUT,
+               "-static_minimizer tao needs a Newton method of TAO (-tao_type nls, ntr, ntl)");
+  }
   PetscFunctionReturn(0);
 }
 
@@ -1247,14 +1258,15 @@ static PetscErrorCode TaoBalanced(Tao tao, void *ctx)
   TaoConvergedReason reason;
 
   PetscFunctionBeginUser;
-  PetscCall(TaoDefaultConvergenceTest(tao, NULL)); /* NaN, iteration and evaluation limits */
-  PetscCall(TaoGetConvergedReason(tao, &reason));
-  if (reason < 0) PetscFunctionReturn(0);
   PetscCall(TaoGetGradient(tao, &G, NULL, NULL));
   PetscCall(FreeForceMax(ss, G, &fmax));
-  PetscCall(TaoSetConvergedReason(tao, fmax <= fab->s.num.balance_tol * PetscMax(ss->tmax, fab->step.force_floor)
-                                         ? TAO_CONVERGED_USER
-                                         : TAO_CONTINUE_ITERATING));
+  if (fmax <= fab->s.num.balance_tol * PetscMax(ss->tmax, fab->step.force_floor)) {
+    PetscCall(TaoSetConvergedReason(tao, TAO_CONVERGED_USER));
+    PetscFunctionReturn(0);
+  }
+  PetscCall(TaoDefaultConvergenceTest(tao, NULL)); /* NaN, iteration and evaluation limits */
+  PetscCall(TaoGetConvergedReason(tao, &reason));
+  if (reason > 0) PetscCall(TaoSetConvergedReason(tao, TAO_CONTINUE_ITERATING)); /* only the balance test converges */
   PetscFunctionReturn(0);
 }
 
@@ -1271,11 +1283,16 @@ static PetscErrorCode CreateTao(StaticSolver ss)
   PetscCall(TaoSetConvergenceTest(ss->tao, TaoBalanced, ss));
   PetscCall(TaoSetTolerances(ss->tao, 0, 0, 0));
   PetscCall(TaoSetMaximumIterations(ss->tao, 200));
+  PetscCall(TaoSetFromOptions(ss->tao)); /* first: a -tao_type replaces the KSP */
+  /* the KSP of the type chosen (options prefix -tao_nls_, -tao_ntr_ ...): the SNES path's
+     tolerances and preconditioner, then its options */
   PetscCall(TaoGetKSP(ss->tao, &ksp));
+  PetscCheck(ksp, ss->fab->comm, PETSC_ERR_SUP, "-static_minimizer tao needs a Newton method of TAO (-tao_type nls, ntr, ntl)");
   PetscCall(KSPSetDM(ksp, ss->dm));
   PetscCall(KSPSetDMActive(ksp, PETSC_FALSE));
+  PetscCall(KSPSetTolerances(ksp, 1e-3, PETSC_DEFAULT, PETSC_DEFAULT, 1000));
   PetscCall(SetPreconditioner(ss, ksp));
-  PetscCall(TaoSetFromOptions(ss->tao));
+  PetscCall(KSPSetFromOptions(ksp));
   PetscFunctionReturn(0);
 }
 
