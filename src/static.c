@@ -581,6 +581,49 @@ static void SolveLines(const PetscReal *fac, PetscInt nlines, PetscInt len, Pets
   }
 }
 
+/* the global index of the natural point (i, j) of a layout: its rank's first index plus its place
+   in the rank's patch (ox, oy: each column's and row's rank column and row; x0, y0: their first
+   points; start: each rank's first point) */
+typedef struct {
+  PetscInt M, N, m, *ox, *oy, *x0, *y0, *start;
+  const PetscInt *lx;
+} Numbering;
+
+static PetscErrorCode NumberingCreate(DM da, Numbering *nb)
+{
+  PetscInt        n;
+  const PetscInt *ly;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMDAGetInfo(da, NULL, &nb->M, &nb->N, NULL, &nb->m, &n, NULL, NULL, NULL, NULL, NULL, NULL, NULL));
+  PetscCall(DMDAGetOwnershipRanges(da, &nb->lx, &ly, NULL));
+  PetscCall(PetscMalloc5(nb->M, &nb->ox, nb->N, &nb->oy, nb->m, &nb->x0, n, &nb->y0, nb->m * n + 1, &nb->start));
+  for (PetscInt a = 0, s = 0; a < nb->m; s += nb->lx[a++]) {
+    nb->x0[a] = s;
+    for (PetscInt i = s; i < s + nb->lx[a]; i++) nb->ox[i] = a;
+  }
+  for (PetscInt a = 0, s = 0; a < n; s += ly[a++]) {
+    nb->y0[a] = s;
+    for (PetscInt j = s; j < s + ly[a]; j++) nb->oy[j] = a;
+  }
+  nb->start[0] = 0;
+  for (PetscInt r = 0; r < nb->m * n; r++) nb->start[r + 1] = nb->start[r] + nb->lx[r % nb->m] * ly[r / nb->m];
+  PetscFunctionReturn(0);
+}
+
+static inline PetscInt NumberingIndex(const Numbering *nb, PetscInt i, PetscInt j)
+{
+  const PetscInt a = nb->ox[i], b = nb->oy[j];
+  return nb->start[b * nb->m + a] + (j - nb->y0[b]) * nb->lx[a] + (i - nb->x0[a]);
+}
+
+static PetscErrorCode NumberingDestroy(Numbering *nb)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscFree5(nb->ox, nb->oy, nb->x0, nb->y0, nb->start));
+  PetscFunctionReturn(0);
+}
+
 /* the lines of a cut direction dealt to this rank: those of its patch's rows (x-lines) or columns
    (y-lines) in equal shares among the ranks of its process row (column), each whole; the PetscSF
    from their points' owners, point q of line l the leaf l * len + q */
@@ -628,7 +671,8 @@ static PetscErrorCode LineSmootherSetUp(PC pc)
   MPI_Comm        comm = PetscObjectComm((PetscObject) pc);
   PetscMPIInt     rank;
   PetscInt        rstart, rend, npts, zs, zm, M, N, m, n, *ox, *oy, *x0, *y0;
-  const PetscInt *lxr, *lyr, *ranges;
+  const PetscInt *lxr;
+  Numbering       num;
   PetscReal      *blk, *b27; /* per owned point: D, L_x, U_x, L_y, U_y; D, L, U of one direction (3x3 each) */
   PetscReal      *lump;      /* per owned point, 3 rows: the couplings outside the star, summed in magnitude */
   LineShell      *sh;
@@ -644,21 +688,13 @@ static PetscErrorCode LineSmootherSetUp(PC pc)
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscCall(DMDAGetCorners(dm, &ls->xs, &ls->ys, &zs, &ls->xm, &ls->ym, &zm));
   PetscCall(DMDAGetInfo(dm, NULL, &M, &N, NULL, &m, &n, NULL, NULL, NULL, NULL, NULL, NULL, NULL));
-  PetscCall(DMDAGetOwnershipRanges(dm, &lxr, &lyr, NULL));
+
   PetscCall(MatGetOwnershipRange(A, &rstart, &rend));
-  PetscCall(MatGetOwnershipRanges(A, &ranges));
   npts = ls->xm * ls->ym;
   PetscCheck(rend - rstart == 3 * npts, PETSC_COMM_SELF, PETSC_ERR_SUP, "the line smoother needs 3 unknowns a point");
   /* the process column of each grid column, the process row of each grid row, their first points */
-  PetscCall(PetscMalloc4(M, &ox, N, &oy, m, &x0, n, &y0));
-  for (PetscInt a = 0, s = 0; a < m; s += lxr[a++]) {
-    x0[a] = s;
-    for (PetscInt i = s; i < s + lxr[a]; i++) ox[i] = a;
-  }
-  for (PetscInt a = 0, s = 0; a < n; s += lyr[a++]) {
-    y0[a] = s;
-    for (PetscInt j = s; j < s + lyr[a]; j++) oy[j] = a;
-  }
+  PetscCall(NumberingCreate(dm, &num));
+  ox = num.ox, oy = num.oy, x0 = num.x0, y0 = num.y0, lxr = num.lx;
   if (!ls->t) {
     PetscCall(MatCreateVecs(A, &ls->t, &ls->s));
     PetscCallMPI(MPI_Type_contiguous(3, MPIU_SCALAR, &ls->t3));
@@ -682,7 +718,7 @@ static PetscErrorCode LineSmootherSetUp(PC pc)
       const PetscInt a = ni[w], b = nj[w];
       nb[w] = (a < 0 || a >= M || b < 0 || b >= N)
                 ? -1
-                : ranges[oy[b] * m + ox[a]] / 3 + (b - y0[oy[b]]) * lxr[ox[a]] + (a - x0[ox[a]]);
+                : NumberingIndex(&num, a, b);
     }
     for (int c = 0; c < 3; c++) {
       PetscInt           ncols;
@@ -721,7 +757,7 @@ static PetscErrorCode LineSmootherSetUp(PC pc)
     }
   }
   PetscCall(PetscFree3(blk, b27, lump));
-  PetscCall(PetscFree4(ox, oy, x0, y0));
+  PetscCall(NumberingDestroy(&num));
   ls->A = A, ls->factored = *ls->tangents;
   PetscCall(PetscLogEventEnd(EV_LineSetUp, pc, 0, 0, 0));
   PetscFunctionReturn(0);
@@ -886,49 +922,6 @@ static PetscErrorCode CoarsenLayout(DM fine, DM *coarse, PetscInt *fewest)
     PetscCall(DMSetUp(*coarse));
   }
   PetscCall(PetscFree2(lxc, lyc));
-  PetscFunctionReturn(0);
-}
-
-/* the global index of the natural point (i, j) of a layout: its rank's first index plus its place
-   in the rank's patch (ox, oy: each column's and row's rank column and row; x0, y0: their first
-   points; start: each rank's first point) */
-typedef struct {
-  PetscInt M, N, m, *ox, *oy, *x0, *y0, *start;
-  const PetscInt *lx;
-} Numbering;
-
-static PetscErrorCode NumberingCreate(DM da, Numbering *nb)
-{
-  PetscInt        n;
-  const PetscInt *ly;
-
-  PetscFunctionBeginUser;
-  PetscCall(DMDAGetInfo(da, NULL, &nb->M, &nb->N, NULL, &nb->m, &n, NULL, NULL, NULL, NULL, NULL, NULL, NULL));
-  PetscCall(DMDAGetOwnershipRanges(da, &nb->lx, &ly, NULL));
-  PetscCall(PetscMalloc5(nb->M, &nb->ox, nb->N, &nb->oy, nb->m, &nb->x0, n, &nb->y0, nb->m * n + 1, &nb->start));
-  for (PetscInt a = 0, s = 0; a < nb->m; s += nb->lx[a++]) {
-    nb->x0[a] = s;
-    for (PetscInt i = s; i < s + nb->lx[a]; i++) nb->ox[i] = a;
-  }
-  for (PetscInt a = 0, s = 0; a < n; s += ly[a++]) {
-    nb->y0[a] = s;
-    for (PetscInt j = s; j < s + ly[a]; j++) nb->oy[j] = a;
-  }
-  nb->start[0] = 0;
-  for (PetscInt r = 0; r < nb->m * n; r++) nb->start[r + 1] = nb->start[r] + nb->lx[r % nb->m] * ly[r / nb->m];
-  PetscFunctionReturn(0);
-}
-
-static inline PetscInt NumberingIndex(const Numbering *nb, PetscInt i, PetscInt j)
-{
-  const PetscInt a = nb->ox[i], b = nb->oy[j];
-  return nb->start[b * nb->m + a] + (j - nb->y0[b]) * nb->lx[a] + (i - nb->x0[a]);
-}
-
-static PetscErrorCode NumberingDestroy(Numbering *nb)
-{
-  PetscFunctionBeginUser;
-  PetscCall(PetscFree5(nb->ox, nb->oy, nb->x0, nb->y0, nb->start));
   PetscFunctionReturn(0);
 }
 
