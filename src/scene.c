@@ -719,7 +719,7 @@ PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv)
 /* the options of PETSc's solvers, read when the quasi-static solver sets itself up and solves */
 static PetscBool SolverOption(const char *name)
 {
-  static const char *const prefix[] = {"snes_", "ksp_", "pc_", "mg_", "mat_", "tao_", "static_"};
+  static const char *const prefix[] = {"snes_", "ksp_", "pc_", "mg_", "mat_", "matptap_", "tao_", "static_"};
   for (size_t q = 0; q < sizeof prefix / sizeof prefix[0]; q++)
     if (!strncmp(name, prefix[q], strlen(prefix[q]))) return PETSC_TRUE;
   return PETSC_FALSE;

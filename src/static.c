@@ -49,7 +49,7 @@ typedef struct {                          /* the solver's own options (ReadOptio
   PetscInt  order;                    /* of the first guess's extrapolation */
   PetscBool line_smoother;            /* multigrid levels smoothed by block lines (LineSmoother) */
   PetscBool convex;                   /* the terms' and bodies' positive parts in the tangent (TERM_CONVEX) */
-  PetscReal line_lump;                /* each line's diagonal carries this times its couplings outside the star */
+  PetscReal line_lump;                /* each fine line's diagonal carries this times its couplings outside the star */
   PetscBool tao;                      /* minimise Pi by TAO (-static_minimizer tao) instead of SNES */
 } StaticOptions;
 
@@ -1047,8 +1047,11 @@ static PetscErrorCode SetPreconditioner(StaticSolver ss, KSP ksp)
       LineSmoother *lines; /* the level's factors, shared */
       PetscCall(PetscNew(&lines));
       lines->t3 = lines->t27 = MPI_DATATYPE_NULL;
-      lines->lump            = ss->opt.line_lump;
-      lines->tangents        = &ss->tangents;
+      /* the fine level's lines carry the fabric's couplings outside the star (bending, shear);
+         the coarse operators' corners are not lumped: they did not make the V-cycle indefinite,
+         and lumping them slowed it (docs/static.md) */
+      lines->lump     = l == levels - 1 ? ss->opt.line_lump : 0.0;
+      lines->tangents = &ss->tangents;
       PetscCall(PCMGGetSmootherDown(pc, l, &smoother));
       PetscCall(SetLineSmoother(smoother, down, lines));
       PetscCall(KSPSetInitialGuessNonzero(smoother, PETSC_FALSE));
@@ -1178,7 +1181,7 @@ static PetscErrorCode ReadOptions(MPI_Comm comm, StaticOptions *o)
                              "tangent of bending, shear and contact: their positive parts (else their exact Hessians)", NULL,
                              o->convex, &o->convex, NULL));
   PetscCall(PetscOptionsReal("-mg_line_lump",
-                             "each line's diagonal carries this times its couplings outside the star, in magnitude (0: none)",
+                             "each fine-grid line's diagonal carries this times its couplings outside the star, in magnitude (0: none)",
                              NULL, o->line_lump, &o->line_lump, NULL));
   {
     const char *const minimizers[] = {"snes", "tao"};
@@ -1215,6 +1218,19 @@ PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
     PetscCall(TaoDestroy(&tao));
     PetscCheck(ksp, comm, PETSC_ERR_USER_INPUT,
                "-static_minimizer tao needs a Newton method of TAO (-tao_type nls, ntr, ntl)");
+  }
+  { /* PETSc reads -matptap_via when the multigrid first forms its Galerkin products, mid-run: a
+       product of small matrices of the tangent's type (AIJ on this communicator) reads it now */
+    Mat      A, C;
+    PetscInt r0;
+    PetscCall(MatCreateAIJ(comm, 1, 1, PETSC_DETERMINE, PETSC_DETERMINE, 1, NULL, 0, NULL, &A));
+    PetscCall(MatGetOwnershipRange(A, &r0, NULL));
+    PetscCall(MatSetValue(A, r0, r0, 1.0, INSERT_VALUES));
+    PetscCall(MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY));
+    PetscCall(MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY));
+    PetscCall(MatPtAP(A, A, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &C));
+    PetscCall(MatDestroy(&C));
+    PetscCall(MatDestroy(&A));
   }
   PetscFunctionReturn(0);
 }
