@@ -1295,8 +1295,7 @@ static PetscErrorCode CreateTao(StaticSolver ss)
   PetscCall(TaoSetFromOptions(ss->tao)); /* first: a -tao_type replaces the KSP */
   /* the KSP of the type chosen (options prefix -tao_nls_, -tao_ntr_ ...): the SNES path's
      tolerances and preconditioner, then its options */
-  PetscCall(TaoGetKSP(ss->tao, &ksp));
-  PetscCheck(ksp, ss->fab->comm, PETSC_ERR_SUP, "-static_minimizer tao needs a Newton method of TAO (-tao_type nls, ntr, ntl)");
+  PetscCall(TaoGetKSP(ss->tao, &ksp)); /* a type without one is refused by StaticOptionsCheck */
   PetscCall(KSPSetDM(ksp, ss->dm));
   PetscCall(KSPSetDMActive(ksp, PETSC_FALSE));
   PetscCall(KSPSetTolerances(ksp, 1e-3, PETSC_DEFAULT, PETSC_DEFAULT, 1000));
