@@ -463,12 +463,12 @@ static PetscLogEvent EV_LineSetUp, EV_LineSolve;
 typedef struct {
   PetscInt     xs, ys, xm, ym;           /* the level's owned patch */
   PetscBool    cut[2];                   /* the lines of direction dir (0: x, 1: y) cross ranks */
-  PetscReal   *fac[2];                   /* a direction not cut: per owned point S^-1, S^-1 U, L (3x3 each) */
+  PetscReal   *fac[2];                   /* a direction not cut: per owned point S^-1, S^-1 U (FactorLines) */
   PetscSF      sf[2];                    /* a cut direction: the points of the lines dealt to this rank
                                             (leaves, line after line, along each) from their owners (roots) */
   PetscInt     nlines[2], len[2];        /* the lines dealt to this rank, their length */
   PetscReal   *lfac[2], *lr[2], *lx[2];  /* their factors (as fac), right-hand side and solution */
-  MPI_Datatype t3, t27;                  /* a point's 3 unknowns, its 3 blocks along a line */
+  MPI_Datatype t3, tfac;                 /* a point's 3 unknowns, its LINE_FAC reals */
   Vec          t, s;                     /* work: residual, one line sweep's correction */
   PetscBool    pivot_fixed;              /* a non-positive 3x3 pivot was replaced by its diagonal (indefinite level) */
   PetscReal    lump;                     /* this times the couplings outside the star added to the lines' diagonal */
@@ -507,60 +507,74 @@ static inline void Mul3(const PetscReal a[9], const PetscReal b[9], PetscReal c[
     for (int q = 0; q < 3; q++) c[3 * r + q] = a[3 * r] * b[q] + a[3 * r + 1] * b[3 + q] + a[3 * r + 2] * b[6 + q];
 }
 
-/* Lines of len points, point q of a line at k (blocks at 27 k), its predecessor at k - qs.
-   Factor: S_0 = D_0, S_q = D_q - L_q S_{q-1}^-1 U_{q-1}; kept in fac: S_q^-1, S_q^-1 U_q, L_q.
-   Solve: forward g_q = S_q^-1 (r_q - L_q g_{q-1}), backward x_q = g_q - S_q^-1 U_q x_{q+1}. */
-static inline PetscBool FactorPoint(const PetscReal *blk, PetscReal *fac, PetscInt k, PetscInt q, PetscInt qs)
+/* Lines of len points, point q of a line at k, its predecessor at k - qs. A line's operator is
+   block-tridiagonal and symmetric: D_q on the diagonal, U_q coupling q to q + 1 and U_{q-1}^T
+   coupling q to q - 1, so a point keeps LINE_FAC = 18 reals: on input D_q, U_q; factored
+   (in place) S_q^-1, W_q = S_q^-1 U_q, where S_0 = D_0, S_q = D_q - U_{q-1}^T W_{q-1}.
+   Solve T x = r: forward b_q = r_q - W_{q-1}^T b_{q-1} (= r_q - U_{q-1}^T S_{q-1}^-1 b_{q-1}, S
+   symmetric), held in x; backward x_q = S_q^-1 b_q - W_q x_{q+1}. */
+#define LINE_FAC 18
+static inline void Mul3T(const PetscReal a[9], const PetscReal b[9], PetscReal c[9]) /* c = a^T b */
 {
-  PetscReal *f = fac + 27 * k, S[9], L[9], U[9]; /* copies: fac may be blk (factored in place) */
+  for (int r = 0; r < 3; r++)
+    for (int q = 0; q < 3; q++) c[3 * r + q] = a[r] * b[q] + a[3 + r] * b[3 + q] + a[6 + r] * b[6 + q];
+}
+
+/* factors point k (q-th of its line) in place; up: U_{q-1} on entry, U_q on return */
+static inline PetscBool FactorPoint(PetscReal *fac, PetscReal up[9], PetscInt k, PetscInt q, PetscInt qs)
+{
+  PetscReal *f = fac + LINE_FAC * k, S[9], U[9];
   PetscBool  fixed;
 
-  for (int e = 0; e < 9; e++) S[e] = blk[27 * k + e], L[e] = blk[27 * k + 9 + e], U[e] = blk[27 * k + 18 + e];
-  if (q > 0) { /* S -= L W_{q-1} */
-    PetscReal LW[9];
-    Mul3(L, fac + 27 * (k - qs) + 9, LW);
-    for (int e = 0; e < 9; e++) S[e] -= LW[e];
+  for (int e = 0; e < 9; e++) S[e] = f[e], U[e] = f[9 + e];
+  if (q > 0) { /* S -= U_{q-1}^T W_{q-1} */
+    PetscReal UW[9];
+    Mul3T(up, fac + LINE_FAC * (k - qs) + 9, UW);
+    for (int e = 0; e < 9; e++) S[e] -= UW[e];
   }
   fixed = Invert3(S, f);
   Mul3(f, U, f + 9);
-  for (int e = 0; e < 9; e++) f[18 + e] = L[e];
+  for (int e = 0; e < 9; e++) up[e] = U[e];
   return fixed;
 }
 
 static inline void ForwardPoint(const PetscReal *fac, const PetscScalar *r, PetscScalar *x, PetscInt k, PetscInt q,
                                 PetscInt qs)
 {
-  const PetscReal *f = fac + 27 * k, *L = f + 18;
-  PetscReal        b[3] = {r[3 * k], r[3 * k + 1], r[3 * k + 2]};
-
+  for (int c = 0; c < 3; c++) x[3 * k + c] = r[3 * k + c];
   if (q > 0) {
-    const PetscScalar *g = x + 3 * (k - qs);
-    for (int c = 0; c < 3; c++) b[c] -= L[3 * c] * g[0] + L[3 * c + 1] * g[1] + L[3 * c + 2] * g[2];
+    const PetscReal   *W = fac + LINE_FAC * (k - qs) + 9;
+    const PetscScalar *b = x + 3 * (k - qs);
+    for (int c = 0; c < 3; c++) x[3 * k + c] -= W[c] * b[0] + W[3 + c] * b[1] + W[6 + c] * b[2];
   }
-  for (int c = 0; c < 3; c++) x[3 * k + c] = f[3 * c] * b[0] + f[3 * c + 1] * b[1] + f[3 * c + 2] * b[2];
 }
 
-static inline void BackwardPoint(const PetscReal *fac, PetscScalar *x, PetscInt k, PetscInt qs)
+static inline void BackwardPoint(const PetscReal *fac, PetscScalar *x, PetscInt k, PetscInt q, PetscInt len, PetscInt qs)
 {
-  const PetscReal   *W = fac + 27 * k + 9;
-  const PetscScalar *y = x + 3 * (k + qs);
+  const PetscReal *Si = fac + LINE_FAC * k, *W = Si + 9;
+  const PetscReal  b[3] = {x[3 * k], x[3 * k + 1], x[3 * k + 2]};
 
-  for (int c = 0; c < 3; c++) x[3 * k + c] -= W[3 * c] * y[0] + W[3 * c + 1] * y[1] + W[3 * c + 2] * y[2];
+  for (int c = 0; c < 3; c++) x[3 * k + c] = Si[3 * c] * b[0] + Si[3 * c + 1] * b[1] + Si[3 * c + 2] * b[2];
+  if (q < len - 1) {
+    const PetscScalar *y = x + 3 * (k + qs);
+    for (int c = 0; c < 3; c++) x[3 * k + c] -= W[3 * c] * y[0] + W[3 * c + 1] * y[1] + W[3 * c + 2] * y[2];
+  }
 }
 
 /* nlines lines, point q of line l at k = l * lstride + q * qs: one of the strides is 1, and the
-   loop over it is the inner one (a line after the other, or all lines a point at a time) */
-static PetscBool FactorLines(const PetscReal *blk, PetscInt nlines, PetscInt len, PetscInt lstride, PetscInt qs,
-                             PetscReal *fac)
+   loop over it is the inner one (a line after the other, or all lines a point at a time); up:
+   9 reals a line, work */
+static PetscBool FactorLines(PetscReal *fac, PetscInt nlines, PetscInt len, PetscInt lstride, PetscInt qs,
+                             PetscReal *up)
 {
   PetscBool fixed = PETSC_FALSE;
 
   if (qs == 1) {
     for (PetscInt l = 0; l < nlines; l++)
-      for (PetscInt q = 0; q < len; q++) fixed |= FactorPoint(blk, fac, l * lstride + q, q, 1);
+      for (PetscInt q = 0; q < len; q++) fixed |= FactorPoint(fac, up, l * lstride + q, q, 1);
   } else {
     for (PetscInt q = 0; q < len; q++)
-      for (PetscInt l = 0; l < nlines; l++) fixed |= FactorPoint(blk, fac, l * lstride + q * qs, q, qs);
+      for (PetscInt l = 0; l < nlines; l++) fixed |= FactorPoint(fac, up + 9 * l, l * lstride + q * qs, q, qs);
   }
   return fixed;
 }
@@ -571,13 +585,13 @@ static void SolveLines(const PetscReal *fac, PetscInt nlines, PetscInt len, Pets
   if (qs == 1) {
     for (PetscInt l = 0; l < nlines; l++) {
       for (PetscInt q = 0; q < len; q++) ForwardPoint(fac, r, x, l * lstride + q, q, 1);
-      for (PetscInt q = len - 2; q >= 0; q--) BackwardPoint(fac, x, l * lstride + q, 1);
+      for (PetscInt q = len - 1; q >= 0; q--) BackwardPoint(fac, x, l * lstride + q, q, len, 1);
     }
   } else {
     for (PetscInt q = 0; q < len; q++)
       for (PetscInt l = 0; l < nlines; l++) ForwardPoint(fac, r, x, l * lstride + q * qs, q, qs);
-    for (PetscInt q = len - 2; q >= 0; q--)
-      for (PetscInt l = 0; l < nlines; l++) BackwardPoint(fac, x, l * lstride + q * qs, qs);
+    for (PetscInt q = len - 1; q >= 0; q--)
+      for (PetscInt l = 0; l < nlines; l++) BackwardPoint(fac, x, l * lstride + q * qs, q, len, qs);
   }
 }
 
@@ -658,7 +672,7 @@ static PetscErrorCode DealLines(LineSmoother *ls, MPI_Comm comm, int dir, PetscI
   PetscCall(
       PetscSFSetGraph(ls->sf[dir], ls->xm * ls->ym, nl * len, NULL, PETSC_OWN_POINTER, remote, PETSC_OWN_POINTER));
   PetscCall(PetscSFSetUp(ls->sf[dir]));
-  PetscCall(PetscMalloc3(27 * nl * len, &ls->lfac[dir], 3 * nl * len, &ls->lr[dir], 3 * nl * len, &ls->lx[dir]));
+  PetscCall(PetscMalloc3(LINE_FAC * nl * len, &ls->lfac[dir], 3 * nl * len, &ls->lr[dir], 3 * nl * len, &ls->lx[dir]));
   PetscFunctionReturn(0);
 }
 
@@ -673,8 +687,8 @@ static PetscErrorCode LineSmootherSetUp(PC pc)
   PetscInt        rstart, rend, npts, zs, zm, M, N, m, n, *ox, *oy, *x0, *y0;
   const PetscInt *lxr;
   Numbering       num;
-  PetscReal      *blk, *b27; /* per owned point: D, L_x, U_x, L_y, U_y; D, L, U of one direction (3x3 each) */
-  PetscReal      *lump;      /* per owned point, 3 rows: the couplings outside the star, summed in magnitude */
+  PetscReal      *blk[2] = {NULL, NULL}; /* per owned point, D and U of each direction's lines (FactorLines) */
+  PetscReal      *up;                    /* FactorLines' work */
   LineShell      *sh;
 
   PetscFunctionBeginUser;
@@ -699,64 +713,68 @@ static PetscErrorCode LineSmootherSetUp(PC pc)
     PetscCall(MatCreateVecs(A, &ls->t, &ls->s));
     PetscCallMPI(MPI_Type_contiguous(3, MPIU_SCALAR, &ls->t3));
     PetscCallMPI(MPI_Type_commit(&ls->t3));
-    PetscCallMPI(MPI_Type_contiguous(27, MPIU_REAL, &ls->t27));
-    PetscCallMPI(MPI_Type_commit(&ls->t27));
+    PetscCallMPI(MPI_Type_contiguous(LINE_FAC, MPIU_REAL, &ls->tfac));
+    PetscCallMPI(MPI_Type_commit(&ls->tfac));
     ls->cut[0] = m > 1 ? PETSC_TRUE : PETSC_FALSE;
     ls->cut[1] = n > 1 ? PETSC_TRUE : PETSC_FALSE;
     for (int dir = 0; dir < 2; dir++) {
       if (ls->cut[dir]) PetscCall(DealLines(ls, comm, dir, M, N, m, n, lxr, ox, oy, x0, y0, rank));
-      else PetscCall(PetscMalloc1(27 * npts, &ls->fac[dir]));
+      else PetscCall(PetscMalloc1(LINE_FAC * npts, &ls->fac[dir]));
     }
   }
-  /* the blocks, by the global block indices of each point and its neighbours (on any rank) */
-  PetscCall(PetscCalloc3(45 * npts, &blk, 27 * npts, &b27, 3 * npts, &lump));
+  /* each direction's blocks, by the global block indices of each point and its neighbours (on
+     any rank): into its factors (a direction on this rank) or into the blocks its lines' owners
+     receive; the couplings outside the star (shear corners, bending's points two apart) lumped */
+  for (int dir = 0; dir < 2; dir++) {
+    if (ls->cut[dir]) PetscCall(PetscMalloc1(LINE_FAC * npts, &blk[dir]));
+    else blk[dir] = ls->fac[dir];
+    PetscCall(PetscArrayzero(blk[dir], LINE_FAC * npts));
+  }
   for (PetscInt k = 0; k < npts; k++) {
     const PetscInt i = ls->xs + k % ls->xm, j = ls->ys + k / ls->xm;
     const PetscInt ni[5] = {i, i - 1, i + 1, i, i}, nj[5] = {j, j, j, j - 1, j + 1};
     PetscInt       nb[5];
     for (int w = 0; w < 5; w++) {
       const PetscInt a = ni[w], b = nj[w];
-      nb[w] = (a < 0 || a >= M || b < 0 || b >= N)
-                ? -1
-                : NumberingIndex(&num, a, b);
+      nb[w] = (a < 0 || a >= M || b < 0 || b >= N) ? -1 : NumberingIndex(&num, a, b);
     }
     for (int c = 0; c < 3; c++) {
       PetscInt           ncols;
       const PetscInt    *cols;
       const PetscScalar *vals;
+      PetscReal          lump = 0;
       PetscCall(MatGetRow(A, rstart + 3 * k + c, &ncols, &cols, &vals));
       for (PetscInt q = 0; q < ncols; q++) {
         const PetscInt kk = cols[q] / 3, cc = cols[q] % 3;
-        int            star = 0;
-        for (int w = 0; w < 5; w++)
-          if (kk == nb[w]) blk[45 * k + 9 * w + 3 * c + cc] = vals[q], star = 1;
-        if (!star) lump[3 * k + c] += PetscAbsScalar(vals[q]);
+        if (kk == nb[0]) blk[0][LINE_FAC * k + 3 * c + cc] = blk[1][LINE_FAC * k + 3 * c + cc] = vals[q];
+        else if (kk == nb[2]) blk[0][LINE_FAC * k + 9 + 3 * c + cc] = vals[q];
+        else if (kk == nb[4]) blk[1][LINE_FAC * k + 9 + 3 * c + cc] = vals[q];
+        else if (kk != nb[1] && kk != nb[3]) lump += PetscAbsScalar(vals[q]);
       }
       PetscCall(MatRestoreRow(A, rstart + 3 * k + c, &ncols, &cols, &vals));
+      for (int dir = 0; dir < 2; dir++) blk[dir][LINE_FAC * k + 4 * c] += ls->lump * lump;
     }
   }
   ls->pivot_fixed = PETSC_FALSE;
   for (int dir = 0; dir < 2; dir++) {
-    for (PetscInt k = 0; k < npts; k++) {
-      PetscCall(PetscArraycpy(b27 + 27 * k, blk + 45 * k, 9));
-      PetscCall(PetscArraycpy(b27 + 27 * k + 9, blk + 45 * k + 9 * (1 + 2 * dir), 18));
-      for (int c = 0; c < 3; c++) b27[27 * k + 4 * c] += ls->lump * lump[3 * k + c];
-    }
     if (!ls->cut[dir]) {
-      if (dir == 0) ls->pivot_fixed |= FactorLines(b27, ls->ym, ls->xm, ls->xm, 1, ls->fac[0]);
-      else ls->pivot_fixed |= FactorLines(b27, ls->xm, ls->ym, 1, ls->xm, ls->fac[1]);
+      PetscCall(PetscMalloc1(9 * (dir == 0 ? 1 : ls->xm), &up));
+      if (dir == 0) ls->pivot_fixed |= FactorLines(ls->fac[0], ls->ym, ls->xm, ls->xm, 1, up);
+      else ls->pivot_fixed |= FactorLines(ls->fac[1], ls->xm, ls->ym, 1, ls->xm, up);
     } else { /* the dealt lines' blocks, factored in place (by a copy of the PetscSF, whose
                 buffers for the blocks go with it instead of staying in the sweeps' one) */
       PetscReal *lb = ls->lfac[dir];
       PetscSF    sf;
       PetscCall(PetscSFDuplicate(ls->sf[dir], PETSCSF_DUPLICATE_GRAPH, &sf));
-      PetscCall(PetscSFBcastBegin(sf, ls->t27, b27, lb, MPI_REPLACE));
-      PetscCall(PetscSFBcastEnd(sf, ls->t27, b27, lb, MPI_REPLACE));
+      PetscCall(PetscSFBcastBegin(sf, ls->tfac, blk[dir], lb, MPI_REPLACE));
+      PetscCall(PetscSFBcastEnd(sf, ls->tfac, blk[dir], lb, MPI_REPLACE));
       PetscCall(PetscSFDestroy(&sf));
-      ls->pivot_fixed |= FactorLines(lb, ls->nlines[dir], ls->len[dir], ls->len[dir], 1, lb);
+      PetscCall(PetscFree(blk[dir]));
+      PetscCall(PetscMalloc1(9, &up));
+      ls->pivot_fixed |= FactorLines(lb, ls->nlines[dir], ls->len[dir], ls->len[dir], 1, up);
     }
+    PetscCall(PetscFree(up));
   }
-  PetscCall(PetscFree3(blk, b27, lump));
   PetscCall(NumberingDestroy(&num));
   ls->A = A, ls->factored = *ls->tangents;
   PetscCall(PetscLogEventEnd(EV_LineSetUp, pc, 0, 0, 0));
@@ -861,7 +879,7 @@ static PetscErrorCode LineSmootherDestroy(PC pc)
     PetscCall(PetscFree3(ls->lfac[dir], ls->lr[dir], ls->lx[dir]));
   }
   if (ls->t3 != MPI_DATATYPE_NULL) PetscCallMPI(MPI_Type_free(&ls->t3));
-  if (ls->t27 != MPI_DATATYPE_NULL) PetscCallMPI(MPI_Type_free(&ls->t27));
+  if (ls->tfac != MPI_DATATYPE_NULL) PetscCallMPI(MPI_Type_free(&ls->tfac));
   PetscCall(PetscFree(ls));
   PetscFunctionReturn(0);
 }
@@ -1046,7 +1064,7 @@ static PetscErrorCode SetPreconditioner(StaticSolver ss, KSP ksp)
       KSP           smoother;
       LineSmoother *lines; /* the level's factors, shared */
       PetscCall(PetscNew(&lines));
-      lines->t3 = lines->t27 = MPI_DATATYPE_NULL;
+      lines->t3 = lines->tfac = MPI_DATATYPE_NULL;
       /* the fine level's lines carry the fabric's couplings outside the star (bending, shear);
          the coarse operators' corners are not lumped: they did not make the V-cycle indefinite,
          and lumping them slowed it (docs/static.md) */
