@@ -1437,6 +1437,35 @@ static PetscErrorCode Extrapolate(StaticSolver ss)
   PetscFunctionReturn(0);
 }
 
+/* Without a prediction (-predict none) the ball is put at its new place with the fabric where it
+   was: a free crossing closer to its centre than the contact distance (the ball's radius and half
+   the thickness) moves out radially onto that distance. From inside, a crossing's penalty force
+   (the contact stiffness times a penetration of up to a load step's travel) threw Newton far off
+   (docs/static.md). */
+static PetscErrorCode LeaveSphere(StaticSolver ss)
+{
+  Fabric       fab = ss->fab;
+  PetscScalar *x;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecGetArray(fab->state.X, &x));
+  for (PetscInt q = 0; q < fab->bodies.n; q++) {
+    const Body *b = &fab->bodies.body[q];
+    PetscReal   c[3];
+    if (b->kind != BODY_SPHERE) continue;
+    BodyPosition(b, fab->load.travel_now, c);
+    for (PetscInt k = 0; k < fab->grid.nloc; k++) {
+      PetscScalar    *y    = x + 3 * k;
+      const PetscReal d[3] = {y[0] - c[0], y[1] - c[1], y[2] - c[2]};
+      const PetscReal r    = PetscSqrtReal(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+      if (!(fab->grid.inv_m[k] > 0) || !(r < b->reach) || !(r > 0)) continue;
+      for (int e = 0; e < 3; e++) y[e] = c[e] + d[e] * (b->reach / r);
+    }
+  }
+  PetscCall(VecRestoreArray(fab->state.X, &x));
+  PetscFunctionReturn(0);
+}
+
 /* remember a balanced state (a re-solve at the same load factor, after yarns broke, replaces it) */
 static PetscErrorCode KeepBalanced(StaticSolver ss)
 {
@@ -1465,6 +1494,7 @@ PetscErrorCode StaticSolve(StaticSolver ss, StaticResult *r)
   PetscCall(PetscMemzero(r, sizeof *r));
   PetscCall(VecCopy(fab->state.X, ss->Xbc));
   PetscCall(Extrapolate(ss));
+  if (fab->s.num.predict == PREDICT_NONE) PetscCall(LeaveSphere(ss));
   /* the first load step from -snes_shift_start; a later one from where the last ended (a taut
      fabric: nearly plain Newton), raised by AdaptShift if that fails */
   ss->shift = ss->nhist ? PetscMin(ss->opt.shift_start, ss->opt.shift_carry * ss->shift) : ss->opt.shift_start;
