@@ -19,7 +19,8 @@
  * 1e-12 of the yarns' stiffness, so the last steps are plain Newton steps and converge fast.
  * The first load step starts at -snes_shift_start, a later one from 10x where the last ended.
  * First guess: the free crossings extrapolated in the load factor through the last three balanced
- * states (-snes_extrapolate), unless the driver's prediction moved them.
+ * states (-snes_extrapolate), unless the driver's prediction moved them; without a prediction
+ * the crossings inside the ball move out onto its surface (LeaveSphere).
  * Linear solves: CG (on the true residual) preconditioned by geometric multigrid on the DMDA
  * hierarchy (MultigridHierarchy: any grid size; Galerkin coarse operators), smoothed by
  * alternating block-line relaxation (LineSmoother: a yarn is 1/strain times stiffer along itself
@@ -551,8 +552,8 @@ static inline void ForwardPoint(const PetscReal *fac, const PetscScalar *r, Pets
 
 static inline void BackwardPoint(const PetscReal *fac, PetscScalar *x, PetscInt k, PetscInt q, PetscInt len, PetscInt qs)
 {
-  const PetscReal *Si = fac + LINE_FAC * k, *W = Si + 9;
-  const PetscReal  b[3] = {x[3 * k], x[3 * k + 1], x[3 * k + 2]};
+  const PetscReal  *Si = fac + LINE_FAC * k, *W = Si + 9;
+  const PetscScalar b[3] = {x[3 * k], x[3 * k + 1], x[3 * k + 2]};
 
   for (int c = 0; c < 3; c++) x[3 * k + c] = Si[3 * c] * b[0] + Si[3 * c + 1] * b[1] + Si[3 * c + 2] * b[2];
   if (q < len - 1) {
@@ -756,9 +757,9 @@ static PetscErrorCode LineSmootherSetUp(PC pc)
     }
   }
   ls->pivot_fixed = PETSC_FALSE;
+  PetscCall(PetscMalloc1(9 * PetscMax(1, ls->xm), &up)); /* y-lines side by side: 9 reals each */
   for (int dir = 0; dir < 2; dir++) {
     if (!ls->cut[dir]) {
-      PetscCall(PetscMalloc1(9 * (dir == 0 ? 1 : ls->xm), &up));
       if (dir == 0) ls->pivot_fixed |= FactorLines(ls->fac[0], ls->ym, ls->xm, ls->xm, 1, up);
       else ls->pivot_fixed |= FactorLines(ls->fac[1], ls->xm, ls->ym, 1, ls->xm, up);
     } else { /* the dealt lines' blocks, factored in place (by a copy of the PetscSF, whose
@@ -770,11 +771,10 @@ static PetscErrorCode LineSmootherSetUp(PC pc)
       PetscCall(PetscSFBcastEnd(sf, ls->tfac, blk[dir], lb, MPI_REPLACE));
       PetscCall(PetscSFDestroy(&sf));
       PetscCall(PetscFree(blk[dir]));
-      PetscCall(PetscMalloc1(9, &up));
       ls->pivot_fixed |= FactorLines(lb, ls->nlines[dir], ls->len[dir], ls->len[dir], 1, up);
     }
-    PetscCall(PetscFree(up));
   }
+  PetscCall(PetscFree(up));
   PetscCall(NumberingDestroy(&num));
   ls->A = A, ls->factored = *ls->tangents;
   PetscCall(PetscLogEventEnd(EV_LineSetUp, pc, 0, 0, 0));
@@ -1458,8 +1458,8 @@ static PetscErrorCode LeaveSphere(StaticSolver ss)
       PetscScalar    *y    = x + 3 * k;
       const PetscReal d[3] = {y[0] - c[0], y[1] - c[1], y[2] - c[2]};
       const PetscReal r    = PetscSqrtReal(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-      if (!(fab->grid.inv_m[k] > 0) || !(r < b->reach) || !(r > 0)) continue;
-      for (int e = 0; e < 3; e++) y[e] = c[e] + d[e] * (b->reach / r);
+      if (!(fab->grid.inv_m[k] > 0) || !(r < b->reach)) continue;
+      for (int e = 0; e < 3; e++) y[e] = c[e] + (r > 0 ? d[e] * (b->reach / r) : b->reach * b->dir[e]); /* at the centre: ahead */
     }
   }
   PetscCall(VecRestoreArray(fab->state.X, &x));
@@ -1494,7 +1494,8 @@ PetscErrorCode StaticSolve(StaticSolver ss, StaticResult *r)
   PetscCall(PetscMemzero(r, sizeof *r));
   PetscCall(VecCopy(fab->state.X, ss->Xbc));
   PetscCall(Extrapolate(ss));
-  if (fab->s.num.predict == PREDICT_NONE) PetscCall(LeaveSphere(ss));
+  if (fab->s.num.predict == PREDICT_NONE && !(ss->nhist > 0 && fab->load.load_factor == ss->lh[0]))
+    PetscCall(LeaveSphere(ss)); /* the ball moved (not a re-solve after yarns broke) */
   /* the first load step from -snes_shift_start; a later one from where the last ended (a taut
      fabric: nearly plain Newton), raised by AdaptShift if that fails */
   ss->shift = ss->nhist ? PetscMin(ss->opt.shift_start, ss->opt.shift_carry * ss->shift) : ss->opt.shift_start;
