@@ -532,6 +532,8 @@ static inline PetscBool FactorPoint(PetscReal *fac, PetscReal up[9], PetscInt k,
     PetscReal UW[9];
     Mul3T(up, fac + LINE_FAC * (k - qs) + 9, UW);
     for (int e = 0; e < 9; e++) S[e] -= UW[e];
+    for (int r = 0; r < 3; r++) /* symmetric to the last bit (U^T W is, up to rounding) */
+      for (int c = r + 1; c < 3; c++) S[3 * r + c] = S[3 * c + r] = 0.5 * (S[3 * r + c] + S[3 * c + r]);
   }
   fixed = Invert3(S, f);
   Mul3(f, U, f + 9);
