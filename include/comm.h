@@ -5,11 +5,12 @@
 #include <petscdm.h>
 #include <stdint.h>
 
-/* refresh the ghost crossing points of Xl from X (a vector of the DMDA da); with Xl marked by
-   HaloShareOwned and one rank, Xl then reads X's array itself (no copy) until the next exchange:
-   only for a local vector that is read, never written, and read only after an exchange */
+/* refresh the ghost crossing points of Xl from X (a vector of the DMDA da). With X and Xl paired
+   by HaloHome, where the patch spans its rows, Xl then reads X's ghosted home (only the ghost
+   points move) until an exchange of another vector: only for a local vector that is read, never
+   written, and read only after an exchange */
 PetscErrorCode HaloExchange(DM da, Vec X, Vec Xl);
-PetscErrorCode HaloShareOwned(Vec Xl);
+PetscErrorCode HaloHome(DM da, Vec X, Vec Xl);
 /* the owned points of the ghosted Xl back into X (the reverse of HaloExchange, ghosts dropped) */
 PetscErrorCode OwnedFromLocal(DM da, Vec Xl, Vec X);
 /* X (a vector of the DMDA da) in the natural order of the grid, i fastest, into N (DMDACreateNaturalVector) */

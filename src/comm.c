@@ -11,21 +11,87 @@
 #include <petscdmda.h>
 #include <string.h>
 
-#define HALO_SHARES "fabric_halo_shares_owned"
+#define HALO_HOME "fabric_halo_home"
 
-/* On one rank the ghosted patch is the owned patch (no periodic edges): a local vector marked by
-   HaloShareOwned then reads X's own array instead of a copy of it. */
-PetscErrorCode HaloShareOwned(Vec Xl)
+/* What HaloHome gives X and its read-only ghosted Xl, composed on Xl:
+   - home: a local vector of the DMDA whose owned rows are X's array (X's own array is set aside);
+   - ghosts: X's ghost points into home's ghost rows (NULL on one rank: there are none);
+   - owner: X (not referenced: X and Xl live and die together);
+   - placed: home's array is placed in Xl until an exchange of another vector. */
+typedef struct {
+  Vec        home, owner;
+  VecScatter ghosts;
+  PetscBool  placed;
+} HaloHomeCtx;
+
+static PetscErrorCode HaloHomeDestroy(void *ptr)
 {
-  PetscContainer mark;
-  PetscBool     *placed; /* an array of X is placed in Xl */
+  HaloHomeCtx *h = (HaloHomeCtx *) ptr;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscNew(&placed));
+  PetscCall(VecScatterDestroy(&h->ghosts));
+  PetscCall(VecDestroy(&h->home));
+  PetscCall(PetscFree(h));
+  PetscFunctionReturn(0);
+}
+
+/* The ghost points of this rank's patch: their block indices in a local vector (to) and in the
+   DMDA's global numbering (from) */
+static PetscErrorCode GhostScatter(DM da, Vec X, Vec home, VecScatter *ghosts)
+{
+  DMDALocalInfo          info;
+  ISLocalToGlobalMapping ltog;
+  PetscInt               n = 0, k = 0, *loc, *glob;
+  IS                     from, to;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMDAGetLocalInfo(da, &info));
+  n = info.gxm * info.gym - info.xm * info.ym;
+  PetscCall(PetscMalloc2(n, &loc, n, &glob));
+  for (PetscInt j = info.gys; j < info.gys + info.gym; j++)
+    for (PetscInt i = info.gxs; i < info.gxs + info.gxm; i++) {
+      if (i >= info.xs && i < info.xs + info.xm && j >= info.ys && j < info.ys + info.ym) continue;
+      loc[k++] = (j - info.gys) * info.gxm + (i - info.gxs);
+    }
+  PetscCall(DMGetLocalToGlobalMapping(da, &ltog));
+  PetscCall(ISLocalToGlobalMappingApplyBlock(ltog, n, loc, glob));
+  PetscCall(ISCreateBlock(PETSC_COMM_SELF, info.dof, n, glob, PETSC_COPY_VALUES, &from));
+  PetscCall(ISCreateBlock(PETSC_COMM_SELF, info.dof, n, loc, PETSC_COPY_VALUES, &to));
+  PetscCall(VecScatterCreate(X, from, home, to, ghosts));
+  PetscCall(ISDestroy(&from));
+  PetscCall(ISDestroy(&to));
+  PetscCall(PetscFree2(loc, glob));
+  PetscFunctionReturn(0);
+}
+
+/* Where this rank's patch spans its rows (no ghost columns: one rank, or the grid split in rows
+   alone), the owned points of a ghosted array are one contiguous block: X's array is placed there,
+   in a local vector of its own (its home), so that an exchange of X moves the ghost points alone and
+   Xl reads the home. Call it before X holds anything. Elsewhere nothing changes: an exchange copies
+   every point. */
+PetscErrorCode HaloHome(DM da, Vec X, Vec Xl)
+{
+  DMDALocalInfo  info;
+  PetscContainer mark;
+  HaloHomeCtx   *h;
+  PetscScalar   *a;
+  PetscMPIInt    size;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMDAGetLocalInfo(da, &info));
+  if (info.gxs != info.xs || info.gxm != info.xm) PetscFunctionReturn(0);
+  PetscCall(PetscNew(&h));
+  h->owner = X;
+  PetscCall(DMCreateLocalVector(da, &h->home));
+  PetscCall(VecGetArray(h->home, &a));
+  PetscCall(VecPlaceArray(X, a + (size_t) info.dof * (info.ys - info.gys) * info.gxm));
+  PetscCall(VecRestoreArray(h->home, &a));
+  PetscCallMPI(MPI_Comm_size(PetscObjectComm((PetscObject) da), &size));
+  if (size > 1) PetscCall(GhostScatter(da, X, h->home, &h->ghosts));
   PetscCall(PetscContainerCreate(PetscObjectComm((PetscObject) Xl), &mark));
-  PetscCall(PetscContainerSetPointer(mark, placed));
-  PetscCall(PetscContainerSetUserDestroy(mark, PetscContainerUserDestroyDefault));
-  PetscCall(PetscObjectCompose((PetscObject) Xl, HALO_SHARES, (PetscObject) mark));
+  PetscCall(PetscContainerSetPointer(mark, h));
+  PetscCall(PetscContainerSetUserDestroy(mark, HaloHomeDestroy));
+  PetscCall(PetscObjectCompose((PetscObject) Xl, HALO_HOME, (PetscObject) mark));
   PetscCall(PetscContainerDestroy(&mark));
   PetscFunctionReturn(0);
 }
@@ -33,26 +99,30 @@ PetscErrorCode HaloShareOwned(Vec Xl)
 /* refresh the ghost crossing points of Xl from X (one per te step on the hot path) */
 PetscErrorCode HaloExchange(DM da, Vec X, Vec Xl)
 {
-  PetscObject mark;
-  PetscMPIInt size;
-  PetscInt    nl, ng;
+  PetscObject  mark;
+  HaloHomeCtx *h = NULL;
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(EV_Halo, 0, 0, 0, 0));
-  PetscCall(PetscObjectQuery((PetscObject) Xl, HALO_SHARES, &mark));
-  PetscCallMPI(MPI_Comm_size(PetscObjectComm((PetscObject) da), &size));
-  PetscCall(VecGetLocalSize(Xl, &nl));
-  PetscCall(VecGetLocalSize(X, &ng));
-  if (mark && size == 1 && nl == ng) { /* Xl is X: its array placed in Xl until the next exchange */
-    const PetscScalar *x;
-    PetscBool         *placed;
-    PetscCall(PetscContainerGetPointer((PetscContainer) mark, (void **) &placed));
-    if (*placed) PetscCall(VecResetArray(Xl));
-    PetscCall(VecGetArrayRead(X, &x));
-    PetscCall(VecPlaceArray(Xl, x));
-    PetscCall(VecRestoreArrayRead(X, &x));
-    *placed = PETSC_TRUE;
+  PetscCall(PetscObjectQuery((PetscObject) Xl, HALO_HOME, &mark));
+  if (mark) PetscCall(PetscContainerGetPointer((PetscContainer) mark, (void **) &h));
+  if (h && h->owner == X) { /* X's ghosts into its home, and Xl reads the home */
+    if (h->ghosts) {
+      PetscCall(VecScatterBegin(h->ghosts, X, h->home, INSERT_VALUES, SCATTER_FORWARD));
+      PetscCall(VecScatterEnd(h->ghosts, X, h->home, INSERT_VALUES, SCATTER_FORWARD));
+    }
+    if (!h->placed) {
+      const PetscScalar *a;
+      PetscCall(VecGetArrayRead(h->home, &a));
+      PetscCall(VecPlaceArray(Xl, a));
+      PetscCall(VecRestoreArrayRead(h->home, &a));
+      h->placed = PETSC_TRUE;
+    }
   } else {
+    if (h && h->placed) {
+      PetscCall(VecResetArray(Xl));
+      h->placed = PETSC_FALSE;
+    }
     PetscCall(DMGlobalToLocalBegin(da, X, INSERT_VALUES, Xl));
     PetscCall(DMGlobalToLocalEnd(da, X, INSERT_VALUES, Xl));
   }

@@ -213,7 +213,7 @@ static PetscErrorCode CreateState(Fabric fab, const DMDALocalInfo *info_)
   PetscCall(VecDuplicate(fab->state.X, &fab->state.F));
   PetscCall(VecDuplicate(fab->state.X, &fab->grid.X0));
   PetscCall(DMCreateLocalVector(fab->grid.da, &fab->state.Xl));
-  PetscCall(HaloShareOwned(fab->state.Xl)); /* read-only ghosted positions: no copy on one rank */
+  PetscCall(HaloHome(fab->grid.da, fab->state.X, fab->state.Xl)); /* read-only ghosted positions: the ghosts alone move */
 
   {
     const PetscReal ax = 1.0 / s->spec.picks_per_m, ay = 1.0 / s->spec.ends_per_m;
