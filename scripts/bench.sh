@@ -10,7 +10,7 @@
 # FabricForce + FabricIntegrate + FabricHalo + FabricReduce), then build/bench_sweep on the
 # same grid: a STREAM-like triad and a plain 4-spring te step (src/bench_sweep.c); last, each
 # of those four events per point update (FabricIntegrate holds FIRE's power pass and its exact
-# sums besides the update).
+# sums besides the update), on 1 rank and on 2 (the slowest rank, per point it updates).
 # Bytes and flops per point update are counted from the code (docs/performance.md):
 #   bytes: the arrays a te step must stream once per point, 1 rank: force kernel x 24 read,
 #     exists + broken_x + broken_y 3, f 24 written; integration f 24, mass 8, inv_m 8, x 24 read
@@ -41,12 +41,14 @@ echo
 # the te steps' time on 1 rank, from -log_view (max over ranks, 4th field)
 step_s=$(awk '/^Fabric(Force|Integrate|Halo|Reduce) / {t += $4} END {print t}' "$work/log1.txt")
 events=$(awk '/^Fabric(Force|Integrate|Halo|Reduce) / {printf "%s=%s ", $1, $4}' "$work/log1.txt")
+events2=$(awk '/^Fabric(Force|Integrate|Halo|Reduce) / {printf "%s=%s ", $1, $4}' "$work/log2.txt")
 line=$(mpiexec -n 1 build/bench_sweep -scene inputs/square_1000.yaml -bench_sweeps 20 | tail -n 1)
-/usr/bin/python3 - "$updates1" "$step_s" "$line" $BYTES $FLOPS $SPRING_BYTES "$events" <<'EOF'
+/usr/bin/python3 - "$updates1" "$step_s" "$line" $BYTES $FLOPS $SPRING_BYTES "$events" "$events2" <<'EOF'
 import sys
 updates, step_s, line = float(sys.argv[1]), float(sys.argv[2]), sys.argv[3]
 B, F, SB = (float(a) for a in sys.argv[4:7])
 ev = dict(w.split("=") for w in sys.argv[7].split())
+ev2 = dict(w.split("=") for w in sys.argv[8].split())
 kv = dict(w.split("=") for w in line.split())
 rate = updates / step_s
 spring = float(kv["spring_rate"])
@@ -58,4 +60,8 @@ print(f"bench_sweep, ns per point: halo {kv['halo_ns']}, force kernel {kv['force
 print("te step events (1 rank), ns per point update: " +
       ", ".join(f"{k[6:]} {1e9 * float(ev[k]) / updates:.2f}" for k in
                 ("FabricForce", "FabricIntegrate", "FabricHalo", "FabricReduce") if k in ev))
+# 2 ranks: each rank updates half the points; the slowest rank's time per point it updates
+print("te step events (2 ranks), ns per point update of a rank: " +
+      ", ".join(f"{k[6:]} {2e9 * float(ev2[k]) / updates:.2f}" for k in
+                ("FabricForce", "FabricIntegrate", "FabricHalo", "FabricReduce") if k in ev2))
 EOF
