@@ -334,24 +334,28 @@ static void IntegrateFire(PetscInt n, PetscReal dt, PetscReal cv, PetscReal cf, 
 
 
 /* FIRE's terms on one row of n points: the power F.v, |F|^2 and |v|^2 of each free point (0 at a
-   fixed one), F = f + m g, into P, F2, V2: computed for every point (the loop vectorises), then
-   the fixed ones zeroed. (A sum started at 0 differs from these only in the sign of a zero, which
-   the exact sums do not see.) */
+   fixed one), F = f + m g, into P, F2, V2 (selects: the loop vectorises; a sum started at 0 would
+   differ from these only in the sign of a zero, which the exact sums do not see); then the row's
+   largest magnitude of each, while the row is in cache, into scale (the exact sums' scales) */
 static void FireTerms(PetscInt n, const PetscReal g[3], const PetscReal *restrict mass,
                       const PetscReal *restrict inv_m, const PetscReal *restrict f, const PetscReal *restrict v,
-                      PetscReal *restrict P, PetscReal *restrict F2, PetscReal *restrict V2)
+                      PetscReal *restrict P, PetscReal *restrict F2, PetscReal *restrict V2, PetscReal scale[3])
 {
   const PetscReal gx = g[0], gy = g[1], gz = g[2];
   for (PetscInt k = 0; k < n; k++) {
     const PetscReal m = mass[k];
     const PetscReal Fx = f[3 * k] + m * gx, Fy = f[3 * k + 1] + m * gy, Fz = f[3 * k + 2] + m * gz;
     const PetscReal vx = v[3 * k], vy = v[3 * k + 1], vz = v[3 * k + 2];
-    P[k]  = Fx * vx + Fy * vy + Fz * vz;
-    F2[k] = Fx * Fx + Fy * Fy + Fz * Fz;
-    V2[k] = vx * vx + vy * vy + vz * vz;
+    const int       free_ = inv_m[k] > 0;
+    P[k]                  = free_ ? Fx * vx + Fy * vy + Fz * vz : 0.0;
+    F2[k]                 = free_ ? Fx * Fx + Fy * Fy + Fz * Fz : 0.0;
+    V2[k]                 = free_ ? vx * vx + vy * vy + vz * vz : 0.0;
   }
-  for (PetscInt k = 0; k < n; k++)
-    if (!(inv_m[k] > 0)) P[k] = F2[k] = V2[k] = 0.0;
+  for (int c = 0; c < 3; c++) {
+    PetscReal row;
+    ExactSumScales(1, c == 0 ? P : c == 1 ? F2 : V2, n, &row);
+    scale[c] = PetscMax(scale[c], row);
+  }
 }
 
 /* FIRE's decision for this te step, from the forces just computed on box (F) and the velocities:
@@ -363,7 +367,7 @@ static PetscErrorCode FirePower(Fabric fab, const PetscInt box[4], PetscScalar *
   const Patch     *p = &fab->grid.patch;
   const PetscReal *g = fab->load.gravity_now;
   StepControl     *c = &fab->step;
-  PetscReal        sum[3];
+  PetscReal        sum[3], scale[3] = {0, 0, 0};
   PetscInt         cnt = 0, n;
 
   PetscFunctionBeginUser;
@@ -371,10 +375,11 @@ static PetscErrorCode FirePower(Fabric fab, const PetscInt box[4], PetscScalar *
   for (PetscInt j = box[2]; j < box[3]; j++) {
     const PetscInt k0 = (j - p->ys) * p->xm + (box[0] - p->xs), nr = box[1] - box[0];
     FireTerms(nr, g, fab->grid.mass + k0, fab->grid.inv_m + k0, f + 3 * k0, v + 3 * k0, c->fire_terms + cnt,
-              c->fire_terms + n + cnt, c->fire_terms + 2 * n + cnt);
+              c->fire_terms + n + cnt, c->fire_terms + 2 * n + cnt, scale);
     cnt += nr;
   }
-  PetscCall(GlobalSumsExact(fab->comm, 3, c->fire_terms, n, sum));
+  PetscCall(GlobalMax(fab->comm, scale, 3)); /* GlobalSumsExact, its scales taken row by row above */
+  PetscCall(GlobalSumsExactScaled(fab->comm, 3, c->fire_terms, n, scale, sum));
   if (!(sum[2] > 0)) /* at rest: nothing to mix, nothing to judge */
     *cv = 1.0, *cf = 0.0;
   else if (sum[0] > 0) {
