@@ -17,11 +17,13 @@
    - home: a local vector of the DMDA whose owned rows are X's array (X's own array is set aside);
    - ghosts: X's ghost points into home's ghost rows (NULL on one rank: there are none);
    - owner: X (not referenced: X and Xl live and die together);
-   - placed: home's array is placed in Xl until an exchange of another vector. */
+   - placed: the array placed in Xl: none, home's, or on one rank that of the other vector
+     exchanged last. */
+typedef enum { PLACED_NONE, PLACED_HOME, PLACED_OTHER } HaloPlaced;
 typedef struct {
   Vec        home, owner;
   VecScatter ghosts;
-  PetscBool  placed;
+  HaloPlaced placed;
 } HaloHomeCtx;
 
 static PetscErrorCode HaloHomeDestroy(void *ptr)
@@ -111,20 +113,29 @@ PetscErrorCode HaloExchange(DM da, Vec X, Vec Xl)
       PetscCall(VecScatterBegin(h->ghosts, X, h->home, INSERT_VALUES, SCATTER_FORWARD));
       PetscCall(VecScatterEnd(h->ghosts, X, h->home, INSERT_VALUES, SCATTER_FORWARD));
     }
-    if (!h->placed) {
+    if (h->placed != PLACED_HOME) {
       const PetscScalar *a;
+      if (h->placed == PLACED_OTHER) PetscCall(VecResetArray(Xl));
       PetscCall(VecGetArrayRead(h->home, &a));
       PetscCall(VecPlaceArray(Xl, a));
       PetscCall(VecRestoreArrayRead(h->home, &a));
-      h->placed = PETSC_TRUE;
+      h->placed = PLACED_HOME;
     }
   } else {
-    if (h && h->placed) {
+    if (h && h->placed != PLACED_NONE) {
       PetscCall(VecResetArray(Xl));
-      h->placed = PETSC_FALSE;
+      h->placed = PLACED_NONE;
     }
-    PetscCall(DMGlobalToLocalBegin(da, X, INSERT_VALUES, Xl));
-    PetscCall(DMGlobalToLocalEnd(da, X, INSERT_VALUES, Xl));
+    if (h && !h->ghosts) { /* one rank: no ghosts, Xl reads X's own array */
+      const PetscScalar *a;
+      PetscCall(VecGetArrayRead(X, &a));
+      PetscCall(VecPlaceArray(Xl, a));
+      PetscCall(VecRestoreArrayRead(X, &a));
+      h->placed = PLACED_OTHER;
+    } else {
+      PetscCall(DMGlobalToLocalBegin(da, X, INSERT_VALUES, Xl));
+      PetscCall(DMGlobalToLocalEnd(da, X, INSERT_VALUES, Xl));
+    }
   }
   PetscCall(PetscLogEventEnd(EV_Halo, 0, 0, 0, 0));
   PetscFunctionReturn(0);
