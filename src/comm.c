@@ -80,6 +80,8 @@ PetscErrorCode HaloHome(DM da, Vec X, Vec Xl)
   PetscMPIInt    size;
 
   PetscFunctionBeginUser;
+  PetscCall(PetscObjectQuery((PetscObject) Xl, HALO_HOME, (PetscObject *) &mark));
+  PetscCheck(!mark, PetscObjectComm((PetscObject) Xl), PETSC_ERR_ARG_WRONGSTATE, "HaloHome: this local vector has a home already");
   PetscCall(DMDAGetLocalInfo(da, &info));
   if (info.gxs != info.xs || info.gxm != info.xm) PetscFunctionReturn(0);
   PetscCall(PetscNew(&h));
@@ -120,13 +122,20 @@ PetscErrorCode HaloExchange(DM da, Vec X, Vec Xl)
       PetscCall(VecPlaceArray(Xl, a));
       PetscCall(VecRestoreArrayRead(h->home, &a));
       h->placed = PLACED_HOME;
+    } else { /* its values changed under it: its state moves on, as after any exchange */
+      PetscScalar *a;
+      PetscCall(VecGetArray(Xl, &a));
+      PetscCall(VecRestoreArray(Xl, &a));
     }
   } else {
+    PetscInt nl, ng;
+    PetscCall(VecGetLocalSize(Xl, &nl));
+    PetscCall(VecGetLocalSize(X, &ng));
     if (h && h->placed != PLACED_NONE) {
       PetscCall(VecResetArray(Xl));
       h->placed = PLACED_NONE;
     }
-    if (h && !h->ghosts) { /* one rank: no ghosts, Xl reads X's own array */
+    if (h && !h->ghosts && nl == ng) { /* one rank: no ghosts, Xl reads X's own array */
       const PetscScalar *a;
       PetscCall(VecGetArrayRead(X, &a));
       PetscCall(VecPlaceArray(Xl, a));

@@ -24,7 +24,7 @@ run 2 "${fixed[@]}" -da_processors_x 2 -da_processors_y 1 -output_dir "$work/f2c
 for np in 2 3 4 2c; do
   what="$np ranks"; [[ $np == 2c ]] && what="2 ranks split in columns"
   if cmp -s "$work/pos1.bin" "$work/pos$np.bin"; then echo "PASS positions after 600 te steps: $what == 1 rank (bit-identical)"
-  else echo "FAIL positions differ between 1 and $np ranks"; fail=1; fi
+  else echo "FAIL positions differ between 1 rank and $what"; fail=1; fi
 done
 resets() { sed -n 's/.*"kinetic_damping_resets": \([0-9]*\).*/\1/p' "$1/summary.json"; }
 for np in 2 3; do
