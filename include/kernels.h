@@ -13,6 +13,17 @@
 #ifndef FABRIC_KERNELS_H
 #define FABRIC_KERNELS_H
 
+/* FABRIC_WIDE: a hot loop nest built for x86-64-v4 (AVX-512), x86-64-v3 (AVX2) and the baseline,
+   everything it calls inlined into each (flatten), the widest the CPU runs picked when the
+   program loads (GCC's target_clones, an ifunc: x86-64 Linux). With no contraction into fused
+   multiply-adds (CMakeLists.txt) every clone computes the same bits. -DFABRIC_CLONES=OFF: the
+   baseline alone. */
+#if defined(FABRIC_CLONES) && defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
+  #define FABRIC_WIDE __attribute__((flatten, target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
+#else
+  #define FABRIC_WIDE
+#endif
+
 #include <petscmat.h>
 
 #include "material.h"

@@ -45,8 +45,9 @@ static void Triad(PetscInt n, PetscReal s, PetscReal *restrict a, const PetscRea
 }
 
 /* the forces of a net of linear springs (stiffness k, rest length L0) on the owned xm x ym points
-   of x (3 per point, rows of xm): the four neighbours within the patch */
-static void SpringForces(PetscInt xm, PetscInt ym, PetscReal k, PetscReal L0, const PetscReal *restrict x,
+   of x (3 per point, rows of xm): the four neighbours within the patch. Built for the same
+   instruction sets as the force kernel (FABRIC_WIDE), so that the two compare on one footing. */
+FABRIC_WIDE static void SpringForces(PetscInt xm, PetscInt ym, PetscReal k, PetscReal L0, const PetscReal *restrict x,
                          PetscReal *restrict f)
 {
   for (PetscInt j = 0; j < ym; j++)
@@ -67,7 +68,7 @@ static void SpringForces(PetscInt xm, PetscInt ym, PetscReal k, PetscReal L0, co
 }
 
 /* v = a v + b f, x += te v (the damped central-difference update, constant coefficients) */
-static void SpringUpdate(PetscInt n, PetscReal a, PetscReal b, PetscReal te, const PetscReal *restrict f,
+FABRIC_WIDE static void SpringUpdate(PetscInt n, PetscReal a, PetscReal b, PetscReal te, const PetscReal *restrict f,
                          PetscReal *restrict v, PetscReal *restrict x)
 {
   for (PetscInt k = 0; k < 3 * n; k++) {

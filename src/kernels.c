@@ -1068,7 +1068,8 @@ static void AdvancePipeline(Patch *p, const PetscReal *x, PetscInt j, PetscInt c
                    xs->inv_len + 1, &p->bx_row, 1);
 }
 
-void ComputeInternalForces(Patch *p, const PetscReal *x, const PetscInt box[4], PetscReal *f, PetscReal *tension_max)
+FABRIC_WIDE void ComputeInternalForces(Patch *p, const PetscReal *x, const PetscInt box[4], PetscReal *f,
+                                       PetscReal *tension_max)
 {
   const PetscInt  n = p->gxm, i0 = box[0] - p->gxs, i1 = box[1] - p->gxs, j0 = box[2], j1 = box[3];
   const PetscInt  c0 = PetscMax(i0 - 2, 0), c1 = PetscMin(i1 + 2, n); /* columns the box's forces need */
