@@ -233,7 +233,7 @@ typedef struct {
 /* a row's statistics from its points' r2 (residual |F|^2, 0 at a fixed point) and w2 (new |v|^2),
    which the update loops store so that they vectorise: the maxima in four lanes (max is exact in
    any order: the values of one running max), the awake range only when sleeping */
-static void RowTally(PetscInt n, const PetscReal *restrict r2, const PetscReal *restrict w2,
+FABRIC_WIDE static void RowTally(PetscInt n, const PetscReal *restrict r2, const PetscReal *restrict w2,
                      const PetscReal *restrict inv_m, PetscBool sleep, PetscReal f2, PetscReal v2max, SweepStats *st)
 {
   PetscReal r[4] = {0, 0, 0, 0}, w[4] = {0, 0, 0, 0};
@@ -262,7 +262,7 @@ static void RowTally(PetscInt n, const PetscReal *restrict r2, const PetscReal *
 }
 
 /* the update loops: point k's new velocity and position, its r2 and w2 for RowTally */
-static void IntegrateDamped(PetscInt n, PetscReal te, PetscReal c0, PetscReal nu, const PetscReal g[3],
+FABRIC_WIDE static void IntegrateDamped(PetscInt n, PetscReal te, PetscReal c0, PetscReal nu, const PetscReal g[3],
                             const PetscReal *restrict mass, const PetscReal *restrict inv_m,
                             const PetscReal *restrict f, PetscReal *restrict x, PetscReal *restrict v,
                             PetscReal *restrict r2, PetscReal *restrict w2)
@@ -283,7 +283,7 @@ static void IntegrateDamped(PetscInt n, PetscReal te, PetscReal c0, PetscReal nu
   }
 }
 
-static void IntegratePaper(PetscInt n, PetscReal te, PetscReal c0, PetscReal nu, const PetscReal g[3],
+FABRIC_WIDE static void IntegratePaper(PetscInt n, PetscReal te, PetscReal c0, PetscReal nu, const PetscReal g[3],
                            const PetscReal *restrict mass, const PetscReal *restrict inv_m,
                            const PetscReal *restrict f, PetscReal *restrict x, PetscReal *restrict v,
                            PetscReal *restrict xold, PetscReal *restrict vold, PetscReal *restrict r2s,
@@ -310,7 +310,7 @@ static void IntegratePaper(PetscInt n, PetscReal te, PetscReal c0, PetscReal nu,
 /* FIRE (Bitzek et al. 2006) with semi-implicit Euler, as FIRE 2.0 (Guenole et al. 2020): the
    velocities are first mixed towards the force, v <- cv v + cf F (cv = 1 - alpha,
    cf = alpha |v|/|F|, global norms), then v <- v + dt F/m, x <- x + dt v. */
-static void IntegrateFire(PetscInt n, PetscReal dt, PetscReal cv, PetscReal cf, const PetscReal g[3],
+FABRIC_WIDE static void IntegrateFire(PetscInt n, PetscReal dt, PetscReal cv, PetscReal cf, const PetscReal g[3],
                           const PetscReal *restrict mass, const PetscReal *restrict inv_m,
                           const PetscReal *restrict f, PetscReal *restrict x, PetscReal *restrict v,
                           PetscReal *restrict r2, PetscReal *restrict w2)
@@ -337,7 +337,7 @@ static void IntegrateFire(PetscInt n, PetscReal dt, PetscReal cv, PetscReal cf, 
    fixed one), F = f + m g, into P, F2, V2 (selects: the loop vectorises; a sum started at 0 would
    differ from these only in the sign of a zero, which the exact sums do not see); then the row's
    largest magnitude of each, while the row is in cache, into scale (the exact sums' scales) */
-static void FireTerms(PetscInt n, const PetscReal g[3], const PetscReal *restrict mass,
+FABRIC_WIDE static void FireTerms(PetscInt n, const PetscReal g[3], const PetscReal *restrict mass,
                       const PetscReal *restrict inv_m, const PetscReal *restrict f, const PetscReal *restrict v,
                       PetscReal *restrict P, PetscReal *restrict F2, PetscReal *restrict V2, PetscReal scale[3])
 {
