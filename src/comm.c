@@ -128,14 +128,16 @@ PetscErrorCode HaloExchange(DM da, Vec X, Vec Xl)
       PetscCall(VecRestoreArray(Xl, &a));
     }
   } else {
-    PetscInt nl, ng;
-    PetscCall(VecGetLocalSize(Xl, &nl));
-    PetscCall(VecGetLocalSize(X, &ng));
+    PetscInt nl = 0, ng = -1;
     if (h && h->placed != PLACED_NONE) {
       PetscCall(VecResetArray(Xl));
       h->placed = PLACED_NONE;
     }
-    if (h && !h->ghosts && nl == ng) { /* one rank: no ghosts, Xl reads X's own array */
+    if (h && !h->ghosts) { /* one rank: the local vector is the global one if the sizes agree */
+      PetscCall(VecGetLocalSize(Xl, &nl));
+      PetscCall(VecGetLocalSize(X, &ng));
+    }
+    if (nl == ng) { /* no ghosts: Xl reads X's own array */
       const PetscScalar *a;
       PetscCall(VecGetArrayRead(X, &a));
       PetscCall(VecPlaceArray(Xl, a));
