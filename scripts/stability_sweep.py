@@ -83,8 +83,8 @@ BASE_S = ("-test square -gravity 0,0,0 -warp_break_pct 0 -weft_break_pct 0 -gaug
           "-weft_crimp_pct 0 -bending 0 -shear 0 -point_load_N 0,0,0.5 -load_steps 12 -predict none -balance_tol 1e-6 "
           "-speed_tol 1e-6 -damping_ratio 0.05 -max_inner_steps 100000")
 
-# N: the square net of inputs/square_net.yaml scaled to 101 x 101 crossings (41.67 mm; crimped
-# cotton yarns with bending and shear, gravity), its central 0.5 N in one load step: a slack net
+# N: the square net of inputs/square_net.yaml scaled to 101 x 101 crossings (41.67 mm; uncrimped
+# yarns, no bending, shear or gravity), its central 0.5 N in one load step: a slack net
 # whose slow mode is transverse, and whose yarns cross the yarn law's kink at zero strain (the
 # damped scheme below its best damping rings there and can pump energy). Reference: the
 # quasi-static solution, 1.55717084 mm (`-solver static -balance_tol 1e-8`, docs/relaxation.md);
@@ -140,7 +140,7 @@ def cases():
     add("te_safety 1.0 net 3x3 B=1e-6", "Q", "-warp_bending_Nm2 1e-6 -weft_bending_Nm2 1e-6 -te_safety 1.0")
     add("te_safety 1.0 crimped", "C", "-predict none -te_safety 1.0 -elongation_pct 14 -load_steps 14 -max_inner_steps 50000")
     add("te_safety 1.5 (refused)", "L", "-te_safety 1.5", fast=True)
-    add("te_safety 0 (refused)", "L", "-te_safety 0")
+    add("te_safety 0 (the integrator's own)", "L", "-te_safety 0")
     add("te 1e-3 s above the bound (refused)", "L", "-te 1e-3", fast=True)
     add("te 1.5x bound, check off, damped", "L", "-te_check 0 -damping_ratio 0.1 -te {1.5*bound:L}",
         note="te set from the base case's te_bound_s")
