@@ -90,6 +90,7 @@ typedef struct { /* the time step, damping and the balance test's scales */
   PetscReal  omega1;      /* slowest mode along the pull (estimate), rad/s */
   PetscBool  bound_fresh; /* the stable step was just taken at the current state */
   PetscBool  tear;        /* a tear is followed (relax.c FollowTear): no kinetic damping */
+  PetscBool  torn;        /* the relaxation after a tear, to the load step's end: the paper scheme gives way to the damped one */
   StepStats  last;
   PetscReal  force_floor; /* smallest force scale of the balance test, N */
   PetscReal  ke_prev;     /* kinetic damping: total kinetic energy after the last te step, J */

@@ -135,7 +135,7 @@ PetscErrorCode EnergyWatchBefore(Fabric fab, PetscInt n, PetscBool *due)
     PetscCall(VecDuplicate(fab->state.X, &fab->state.watch_v));
   }
   PetscCall(VecCopy(fab->state.X, fab->state.watch_x)); /* x_n (paper: u_n) */
-  PetscCall(VecCopy(fab->s.num.integrator == INTEGRATOR_PAPER ? fab->state.Vold : fab->state.V,
+  PetscCall(VecCopy(PaperSteps(fab) ? fab->state.Vold : fab->state.V,
                     fab->state.watch_v)); /* v(n-1/2) (paper: V(n-1)) */
   PetscFunctionReturn(0);
 }
@@ -208,6 +208,7 @@ static PetscErrorCode StopPumping(Fabric fab, PetscInt n, PetscReal h0, PetscRea
         const PetscInt ni = gi + (q == 0 ? -1 : q == 1 ? 1 : 0), nj = gj + (q == 2 ? -1 : q == 3 ? 1 : 0);
         const PetscInt a = (gj - p->gys) * p->gxm + (gi - p->gxs), b = (nj - p->gys) * p->gxm + (ni - p->gxs);
         if (ni < 0 || ni >= p->nx || nj < 0 || nj >= p->ny || !p->exists[a] || !p->exists[b]) continue;
+        if (q == 0 ? p->broken_x[b] : q == 1 ? p->broken_x[a] : q == 2 ? p->broken_y[b] : p->broken_y[a]) continue;
         const PetscReal L0 = q < 2 ? p->ax : p->ay;
         info[q] = PetscSqrtReal(PetscSqr(xl[3 * b] - xl[3 * a]) + PetscSqr(xl[3 * b + 1] - xl[3 * a + 1]) +
                                 PetscSqr(xl[3 * b + 2] - xl[3 * a + 2])) / L0 - 1.0;
@@ -237,12 +238,17 @@ static PetscErrorCode StopPumping(Fabric fab, PetscInt n, PetscReal h0, PetscRea
             " of its relaxation, the mechanical energy has grown by %g J since its lowest %g J (the relaxation had "
             "released %g J)%s while nothing did work on the fabric: the %s integrator pumps energy. It moves most at "
             "crossing (%" PetscInt_FMT ", %" PetscInt_FMT "), chord strains %s, nearest to %s: a segment crossing a kink "
-            "of the yarn law within a te step gains energy that a low damping does not take out. Use -integrator "
-            "fire, a larger -damping_ratio (now %g) or a smaller -te_safety (now %g); -energy_watch 0 switches the "
-            "watch off",
+            "of the yarn law within a te step gains energy that a low damping does not take out. %s a larger "
+            "-damping_ratio (now %g) or a smaller -te_safety (now %g); -energy_watch 0 switches the watch off",
             fab->load.load_step, n, (double) (h - hmin), (double) hmin, (double) (h0 - hmin),
             how, IntegratorNames[fab->s.num.integrator], gi, gj, strains[0] ? strains : "(none)",
-            kink[0] ? kink : "(no segment)", (double) fab->s.num.damping_ratio, (double) fab->s.num.te_safety);
+            kink[0] ? kink : "(no segment)",
+            fab->s.num.integrator == INTEGRATOR_PAPER && fab->stats.broken_any
+                ? "Yarns have broken: their loose ends cross the kinks over and over, which the paper integrator "
+                  "does not relax at any damping or te safety measured (docs/rupture.md); use -integrator fire or "
+                  "damped. Else"
+                : "Use -integrator fire,",
+            (double) fab->s.num.damping_ratio, (double) fab->s.num.te_safety);
   }
 }
 

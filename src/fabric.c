@@ -178,6 +178,35 @@ static PetscErrorCode RankGrid(PetscInt nx, PetscInt ny, PetscMPIInt size, Petsc
   PetscFunctionReturn(0);
 }
 
+/* PETSc's -da_processors_x and -da_processors_y, checked here on every rank alike (the DMDA would
+   fail on some ranks only): a split of the size, 2 crossings a rank at least along a split
+   direction; one of them given, the other is the rest of the ranks */
+static PetscErrorCode UserRankGrid(PetscInt nx, PetscInt ny, PetscMPIInt size, MPI_Comm comm, PetscInt *m, PetscInt *n)
+{
+  PetscInt  px = 0, py = 0;
+  PetscBool hx = PETSC_FALSE, hy = PETSC_FALSE;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsGetInt(NULL, NULL, "-da_processors_x", &px, &hx));
+  PetscCall(PetscOptionsGetInt(NULL, NULL, "-da_processors_y", &py, &hy));
+  if (!hx && !hy) PetscFunctionReturn(0);
+  PetscCheck(!hx || (px >= 1 && px <= size && size % px == 0), comm, PETSC_ERR_USER_INPUT,
+             "-da_processors_x %" PetscInt_FMT ": must divide the %d ranks", px, size);
+  PetscCheck(!hy || (py >= 1 && py <= size && size % py == 0), comm, PETSC_ERR_USER_INPUT,
+             "-da_processors_y %" PetscInt_FMT ": must divide the %d ranks", py, size);
+  if (!hx) px = size / py;
+  if (!hy) py = size / px;
+  PetscCheck(px * py == size, comm, PETSC_ERR_USER_INPUT,
+             "-da_processors_x %" PetscInt_FMT " -da_processors_y %" PetscInt_FMT ": their product must be the %d ranks", px,
+             py, size);
+  PetscCheck((px == 1 || nx / px >= 2) && (py == 1 || ny / py >= 2), comm, PETSC_ERR_USER_INPUT,
+             "-da_processors_x %" PetscInt_FMT " -da_processors_y %" PetscInt_FMT ": grid too small: %" PetscInt_FMT
+             " x %" PetscInt_FMT " crossings leave a rank fewer than 2 crossings along a split direction",
+             px, py, nx, ny);
+  *m = px, *n = py;
+  PetscFunctionReturn(0);
+}
+
 /* the DMDA (dof 3, box stencil of width 2) and its dof-2 twin; the rank grid is picked here, since a patch narrower
  * than the stencil makes the DMDA fail on some ranks only (and the others wait forever) */
 static PetscErrorCode CreateGrid(Fabric fab)
@@ -194,6 +223,7 @@ static PetscErrorCode CreateGrid(Fabric fab)
                " crossings cannot be split over %d ranks (each rank needs at least 2 crossings along each direction "
                "the grid is split in); use fewer ranks",
                s->spec.nx, s->spec.ny, fab->size);
+    PetscCall(UserRankGrid(s->spec.nx, s->spec.ny, fab->size, comm, &m, &n));
     PetscCall(DMDACreate2d(comm, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, DMDA_STENCIL_BOX, s->spec.nx, s->spec.ny, m, n, 3,
                            2, NULL, NULL, &fab->grid.da));
     PetscCall(DMSetFromOptions(fab->grid.da));

@@ -124,7 +124,7 @@ static PetscErrorCode StableBound(Fabric fab, PetscReal omega2[2])
              "no free crossing point has any stiffness: nothing to integrate (check -traction, -bending, -shear and "
              "the clamps)");
   fab->step.omega_max = PetscSqrtReal(omega2[0]);
-  fab->step.te_bound  = (s->num.integrator == INTEGRATOR_PAPER ? 1.0 : 2.0) / fab->step.omega_max;
+  fab->step.te_bound  = (PaperSteps(fab) ? 1.0 : 2.0) / fab->step.omega_max;
   if (s->num.te_user > 0) {
     PetscCheck(!s->num.te_check || s->num.te_user <= fab->step.te_bound, fab->comm, PETSC_ERR_USER_INPUT,
                "-te %g s is above the stable bound %g s at load step %" PetscInt_FMT
@@ -135,6 +135,11 @@ static PetscErrorCode StableBound(Fabric fab, PetscReal omega2[2])
   } else
     fab->step.te = (fab->step.tear ? s->num.te_safety_tear : s->num.te_safety) * fab->step.te_bound;
   PetscFunctionReturn(0);
+}
+
+PetscBool PaperSteps(const Fabric fab)
+{
+  return fab->s.num.integrator == INTEGRATOR_PAPER && !fab->step.tear && !fab->step.torn ? PETSC_TRUE : PETSC_FALSE;
 }
 
 /* damping: the paper's nu per point, plus a mass-proportional part c = 2 zeta omega_1 with
@@ -509,7 +514,9 @@ PetscErrorCode TimeStep(Fabric fab, StepStats *out)
                   sleep_v2 =
                       sleep ? PetscSqr(s->num.speed_tol * s->num.sleep_tol / s->num.balance_tol) : PETSC_MAX_REAL;
   PetscInt alo = PETSC_MAX_INT, ahi = -1, ajlo = PETSC_MAX_INT, ajhi = -1;
-  const PetscBool fire = s->num.integrator == INTEGRATOR_FIRE && !fab->step.tear; /* a tear is dynamics: damped */
+  /* a tear is dynamics: the damped scheme, whatever relaxes the load steps */
+  const PetscBool fire  = s->num.integrator == INTEGRATOR_FIRE && !fab->step.tear;
+  const PetscBool paper = PaperSteps(fab);
   PetscReal       cv = 1, cf = 0, ke_scale = 0;
   const PetscBool kinetic = s->num.kinetic_damping && !fab->step.tear;
   PetscInt        nred    = sleep ? 8 : 4;
@@ -521,7 +528,7 @@ PetscErrorCode TimeStep(Fabric fab, StepStats *out)
   PetscCall(VecGetArray(fab->state.X, &x));
   PetscCall(VecGetArray(fab->state.V, &v));
   PetscCall(VecGetArray(fab->state.F, &f));
-  if (s->num.integrator == INTEGRATOR_PAPER) {
+  if (paper) {
     PetscCall(VecGetArray(fab->state.Xold, &xold));
     PetscCall(VecGetArray(fab->state.Vold, &vold));
   }
@@ -533,7 +540,7 @@ PetscErrorCode TimeStep(Fabric fab, StepStats *out)
     if (fire)
       IntegrateFire(n, fab->step.fire_dt, cv, cf, fab->load.gravity_now, fab->grid.mass + k0, fab->grid.inv_m + k0,
                     f + 3 * k0, x + 3 * k0, v + 3 * k0, r2, w2);
-    else if (s->num.integrator == INTEGRATOR_PAPER)
+    else if (paper)
       IntegratePaper(n, fab->step.te, fab->step.damp_c, s->num.nu, fab->load.gravity_now, fab->grid.mass + k0,
                      fab->grid.inv_m + k0, f + 3 * k0, x + 3 * k0, v + 3 * k0, xold + 3 * k0, vold + 3 * k0, r2, w2);
     else

@@ -263,6 +263,7 @@ static PetscErrorCode FollowTear(Fabric fab, StepStats *st, CurveRow *row, Petsc
   }
   if (check && n % check) PetscCall(CheckRupture(fab, st, before + n, row, ruptured));
   fab->step.tear   = PETSC_FALSE;
+  fab->step.torn   = PETSC_TRUE; /* PaperSteps: the damped scheme relaxes the broken pieces */
   fab->step.damp_c      = damp_c;
   fab->step.window_grow = 0;
   PetscCall(StableStepAgain(fab)); /* the relaxation's te again */
@@ -333,6 +334,20 @@ static void RoundStart(Fabric fab)
   EnergyWatchReset(fab);
 }
 
+/* After a tear the damped scheme relaxed the load step (PaperSteps): the paper scheme's two chains
+   start the next one at rest where it left the points */
+static PetscErrorCode PaperAtRest(Fabric fab)
+{
+  PetscFunctionBeginUser;
+  if (!fab->step.torn) PetscFunctionReturn(0);
+  fab->step.torn = PETSC_FALSE;
+  if (!fab->state.Xold) PetscFunctionReturn(0);
+  PetscCall(VecCopy(fab->state.X, fab->state.Xold));
+  PetscCall(VecZeroEntries(fab->state.V));
+  PetscCall(VecZeroEntries(fab->state.Vold));
+  PetscFunctionReturn(0);
+}
+
 /* Relax the current load step: te steps until balance (early exit) or max_inner_steps. */
 PetscErrorCode RelaxLoadStep(Fabric fab, CurveRow *row)
 {
@@ -349,6 +364,7 @@ PetscErrorCode RelaxLoadStep(Fabric fab, CurveRow *row)
     PetscInt  broke;
     PetscBool ruptured;
     PetscBool done = PETSC_FALSE;
+    fab->step.torn = round > 0 ? PETSC_TRUE : PETSC_FALSE; /* after a tear (also on a restart within it) */
     if (!at.te_step) RoundStart(fab); /* else restarted within the round: its state is the checkpoint's */
     for (n = at.te_step + 1; n <= s->load.max_inner_steps; n++) {
       PetscBool watched;
@@ -378,6 +394,7 @@ PetscErrorCode RelaxLoadStep(Fabric fab, CurveRow *row)
     if (ruptured) PetscFunctionReturn(0);
     if (!broke || round >= MAX_BREAK_ROUNDS) break;
   }
+  PetscCall(PaperAtRest(fab));
   PetscCall(FinishRow(fab, st.residual, st.balanced, measured, row));
   PetscFunctionReturn(0);
 }

@@ -11,7 +11,10 @@
 #     reports the same rupture;
 #  3. scattered strengths (CV 10 %): a 50 x 20 mm strip ruptures from its weakest segment, the tear
 #     breaks at least one segment of each of its 48 warp yarns, and positions, the first break and
-#     the rupture are bit-identical on 1, 2 and 3 ranks.
+#     the rupture are bit-identical on 1, 2 and 3 ranks;
+#  4. -integrator paper: the tear of case 1 runs the damped scheme (FIRE's run's tear te steps, not
+#     the paper scheme's twice as many at half the step); a tear that leaves the strip whole, then the
+#     paper scheme on the broken ends: stopped by the energy watch, which says to use fire or damped.
 set -u
 fabric="$1"; inputs="$2"
 . "$(dirname "$0")/runs.sh" # $py, $work, $fail, run NP ARGS...
@@ -47,6 +50,25 @@ print(("PASS" if ok else "FAIL") + f" -solver static up to the break, then the t
 sys.exit(0 if ok else 1)
 PY
 cp "$work/cv0/summary.json" "$work/cv0.json"
+run 1 -scene "$scene" -gauge_mm 20 -width_mm 5 -warp_break_cv_pct 0 -weft_break_cv_pct 0 -output_dir "$work/cv0p" \
+  -output_every 0 -integrator paper
+"$py" - "$work/cv0.json" "$work/cv0p/summary.json" <<'PY' || fail=1
+import json, sys
+a, b = (json.load(open(f)) for f in sys.argv[1:3])
+ok = b["rupture"] is not None and b["rupture"]["load_step"] == 61 and b["tear_te_steps"] == a["tear_te_steps"] \
+    and abs(b["max_force_N"] / a["max_force_N"] - 1) <= 1e-5
+print(("PASS" if ok else "FAIL") + f" -integrator paper: the tear by the damped scheme, {b['tear_te_steps']} te steps "
+      f"(FIRE's run: {a['tear_te_steps']}), rupture {b['rupture']}, maximum force {b['max_force_N']} N")
+sys.exit(0 if ok else 1)
+PY
+if mpiexec -n 1 "$fabric" -quiet -scene "$scene" -ends_per_cm 8 -picks_per_cm 8 -gauge_mm 30 -width_mm 10 -load_steps 20 \
+  -max_inner_steps 2000 -integrator paper -rupture_drop_pct 0 -output_dir "$work/paperwhole" >"$work/log" 2>&1; then
+  echo "FAIL -integrator paper on broken yarn ends: the run went on"; fail=1
+elif grep -q "energy watch: .*Yarns have broken: .*use -integrator fire or damped" "$work/log"; then
+  echo "PASS -integrator paper on broken yarn ends: stopped by the energy watch, which names fire and damped"
+else
+  cat "$work/log"; echo "FAIL -integrator paper on broken yarn ends: not the energy watch's message"; fail=1
+fi
 run 2 -scene "$scene" -gauge_mm 20 -width_mm 5 -warp_break_cv_pct 0 -weft_break_cv_pct 0 -output_dir "$work/cv0r" \
   -output_every 0 -restart "$work/cv0/checkpoint.h5"
 "$py" - "$work/cv0.json" "$work/cv0r/summary.json" <<'PY' || fail=1
