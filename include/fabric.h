@@ -58,12 +58,20 @@ typedef struct {               /* the grid of crossings: layout, rest state, mas
   PetscReal      centre[3]; /* m: the grid centre at rest */
 } FabricGrid;
 
+typedef struct { /* -solver static: what a load step's solve starts from (static.c), checkpointed */
+  Vec       Xh[3]; /* the last balanced states, the latest first */
+  PetscReal lh[3]; /* their load factors */
+  PetscInt  nhist;
+  PetscReal shift; /* the pretension shift k_s / k_ref where the last solve ended */
+} StaticHistory;
+
 typedef struct {         /* the dynamic state */
   Vec X, V, F, Xl;       /* positions, velocities, forces, ghosted positions */
   Vec Xold, Vold;        /* paper scheme: x(n-1), V(n-1) */
   Vec Xconv, Xconv_prev; /* converged positions of the last two load steps (extrapolation) */
   Vec anchor[3];         /* friction anchors of the sphere, plane, pedestal (bodies.h), NULL = none */
   Vec watch_x, watch_v;  /* energy watch: x and v before a watched te step (balance.c), NULL until one */
+  StaticHistory hist;    /* -solver static */
 } FabricState;
 
 typedef struct { /* where the load program is */

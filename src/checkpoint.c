@@ -210,6 +210,9 @@ static PetscInt StateVecs(FabricState *st, StateVec *sv)
   sv[n++]    = (StateVec){"friction_anchors_sphere", &st->anchor[0], "has_friction_anchors_sphere"};
   sv[n++]    = (StateVec){"friction_anchors_plane", &st->anchor[1], "has_friction_anchors_plane"};
   sv[n++]    = (StateVec){"friction_anchors_pedestal", &st->anchor[2], "has_friction_anchors_pedestal"};
+  sv[n++]    = (StateVec){"static_balanced_1", &st->hist.Xh[0], "has_static_balanced_1"};
+  sv[n++]    = (StateVec){"static_balanced_2", &st->hist.Xh[1], "has_static_balanced_2"};
+  sv[n++]    = (StateVec){"static_balanced_3", &st->hist.Xh[2], "has_static_balanced_3"};
   return n;
 }
 
@@ -225,6 +228,8 @@ typedef struct {
   double win_lo[2], win_hi[2], win_s;
   double travel_from, travel_now, te, te_bound, omega_max, damp_c, omega1, last_residual, last_speed, gravity[3];
   double fire_dt, fire_alpha, watch_h0, watch_hmin, watch_kmax;
+  long   static_nhist, nonlinear_iterations, linear_iterations; /* -solver static */
+  double static_lh[3], static_shift;
 } RelaxState;
 
 typedef struct {
@@ -233,7 +238,7 @@ typedef struct {
   void       *value;
 } Attr;
 
-#define MAX_RELAX_ATTRS 48
+#define MAX_RELAX_ATTRS 56
 
 static int RelaxAttrs(RelaxState *r, Attr *a)
 {
@@ -259,6 +264,10 @@ static int RelaxAttrs(RelaxState *r, Attr *a)
   ATTR_L("te_window_set_at", window_bound_at);
   ATTR_L("te_rebounds", te_rebounds), ATTR_D("te_window_warp_lo", win_lo[0]), ATTR_D("te_window_warp_hi", win_hi[0]);
   ATTR_D("te_window_weft_lo", win_lo[1]), ATTR_D("te_window_weft_hi", win_hi[1]), ATTR_D("te_window_shear", win_s);
+  ATTR_L("static_balanced_count", static_nhist), ATTR_D("static_load_factor_1", static_lh[0]);
+  ATTR_D("static_load_factor_2", static_lh[1]), ATTR_D("static_load_factor_3", static_lh[2]);
+  ATTR_D("static_shift", static_shift), ATTR_L("nonlinear_iterations", nonlinear_iterations);
+  ATTR_L("linear_iterations", linear_iterations);
 #undef ATTR_L
 #undef ATTR_D
   return n;
@@ -293,6 +302,11 @@ static void RelaxStatePack(Fabric fab, const RelaxPoint *at, RelaxState *r)
   r->fire_alpha         = fab->step.fire_alpha;
   r->fire_npos          = (long) fab->step.fire_npos;
   r->fire_stops         = (long) fab->step.fire_stops;
+  r->static_nhist       = (long) fab->state.hist.nhist;
+  r->static_shift       = fab->state.hist.shift;
+  for (int q = 0; q < 3; q++) r->static_lh[q] = fab->state.hist.lh[q];
+  r->nonlinear_iterations = (long) fab->stats.nonlinear_iterations;
+  r->linear_iterations    = (long) fab->stats.linear_iterations;
   r->balance_held       = (long) fab->step.balance_held;
   r->balance_need       = (long) fab->step.balance_need;
   r->watch_checks       = (long) fab->step.watch_checks;
@@ -331,6 +345,11 @@ static void RelaxStateUnpack(const RelaxState *r, Fabric fab)
   fab->step.fire_alpha  = r->fire_alpha;
   fab->step.fire_npos   = (PetscInt) r->fire_npos;
   fab->step.fire_stops  = (PetscInt64) r->fire_stops;
+  fab->state.hist.nhist = (PetscInt) r->static_nhist;
+  fab->state.hist.shift = r->static_shift;
+  for (int q = 0; q < 3; q++) fab->state.hist.lh[q] = r->static_lh[q];
+  fab->stats.nonlinear_iterations = (PetscInt64) r->nonlinear_iterations;
+  fab->stats.linear_iterations    = (PetscInt64) r->linear_iterations;
   fab->step.balance_held = (PetscInt) r->balance_held;
   fab->step.balance_need = (PetscInt) r->balance_need;
   fab->step.watch_checks = (PetscInt) r->watch_checks;
@@ -681,6 +700,25 @@ PetscErrorCode CheckpointTeStep(Fabric fab, const RelaxPoint *at)
   PetscFunctionReturn(0);
 }
 
+/* At the end of a load step of the static path, which takes no te steps: on SIGTERM or SIGUSR1, a
+   checkpoint of the load step (one max-reduction: every rank alike), then the run stops */
+PetscErrorCode CheckpointLoadStepSignal(Fabric fab)
+{
+  PetscReal look = (PetscReal) caught_signal;
+
+  PetscFunctionBeginUser;
+  if (!fab->s.out.output_dir[0]) PetscFunctionReturn(0);
+  PetscCall(GlobalMax(fab->comm, &look, 1));
+  if (!(look > 0)) PetscFunctionReturn(0);
+  PetscCall(CheckpointWrite(fab, NULL));
+  ckpt.stopped_by = (int) look;
+  PetscCall(PetscPrintf(fab->comm,
+                        "fabric: %s: checkpoint written at the end of load step %" PetscInt_FMT
+                        ": restart with -restart %s/checkpoint.h5\n",
+                        SignalName(ckpt.stopped_by), fab->load.load_step, fab->s.out.output_dir));
+  PetscFunctionReturn(0);
+}
+
 /* ------------------------------------------------------------------ restart */
 
 typedef struct {     /* what rank 0 reads alone, then broadcasts */
@@ -844,6 +882,8 @@ static int ReadRelaxState(const Scene *s, hid_t g, const char *file, Header *h)
       return REFUSE("-restart %s: damaged checkpoint: the relaxation's state (%s) is missing", file, a[k].name);
   if (r->within != 0 && r->within != 1)
     return REFUSE("-restart %s: damaged checkpoint: within_load_step = %ld", file, r->within);
+  if (r->static_nhist < 0 || r->static_nhist > 3)
+    return REFUSE("-restart %s: damaged checkpoint: static_balanced_count = %ld (0 to 3)", file, r->static_nhist);
   if (r->window_grow < 0 || r->window_grow > WINDOW_GROW_MAX)
     return REFUSE("-restart %s: damaged checkpoint: te_window_doublings = %ld (0 to %d)", file, r->window_grow,
                   WINDOW_GROW_MAX);

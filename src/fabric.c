@@ -526,6 +526,7 @@ PetscErrorCode FabricDestroy(Fabric *pfab)
   PetscCall(VecDestroy(&fab->state.F));
   PetscCall(VecDestroy(&fab->grid.X0));
   PetscCall(VecDestroy(&fab->state.Xl));
+  for (int q = 0; q < 3; q++) PetscCall(VecDestroy(&fab->state.hist.Xh[q]));
   PetscCall(VecDestroy(&fab->state.Xold));
   PetscCall(VecDestroy(&fab->state.Vold));
   PetscCall(VecDestroy(&fab->state.Xconv));

@@ -464,11 +464,13 @@ PetscErrorCode FabricRun(Fabric fab)
   PetscCall(PetscTime(&fab->stats.wall_start));
   PetscCall(StableStep(fab));         /* refuses a -te above the bound before any output exists */
   fab->step.bound_fresh = PETSC_TRUE; /* taken at the state the run starts from */
-  PetscCall(RestartLoad(fab));        /* -restart: state, counters and curve rows of the checkpoint */
+  /* the static solver's scales from the rest state's stable step, before a restart's state replaces
+     it (a restart then solves as the run it continues) */
+  if (s->num.solver == SOLVER_STATIC) PetscCall(StaticCreate(fab, &ss));
+  PetscCall(RestartLoad(fab)); /* -restart: state, counters and curve rows of the checkpoint */
   PetscCall(OutputOpen(fab));
   f = LoadStepFrame(fab);                   /* the state the run starts from */
   PetscCall(FramesOpen(fab->io, &src, &f)); /* fabric.h5 and fabric.xmf */
-  if (s->num.solver == SOLVER_STATIC) PetscCall(StaticCreate(fab, &ss));
   for (PetscInt k = fab->load.load_step + 1; k <= s->load.load_steps && !fab->stats.rupture.rupture_step; k++) {
     CurveRow *row = &fab->stats.curve[k - 1];
     if (!CheckpointWithinLoadStep(fab, k)) PetscCall(ApplyLoadStep(fab, k)); /* else restarted within it */
@@ -488,6 +490,10 @@ PetscErrorCode FabricRun(Fabric fab)
     PetscCall(OutputProgress(fab, row));
     PetscCall(CheckpointLoadStep(fab));
     if (ruptured) break; /* the test ends: the specimen has broken */
+    if (ss && k < s->load.load_steps) { /* a signal: the load step's checkpoint, then stop (the explicit path looks within load steps) */
+      PetscCall(CheckpointLoadStepSignal(fab));
+      if (CheckpointStopped()) break;
+    }
   }
   PetscCall(StaticDestroy(&ss));
   if (CheckpointStopped()) PetscFunctionReturn(0);

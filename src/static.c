@@ -69,11 +69,8 @@ struct _p_StaticSolver {
   Vec            Xbc;    /* positions of the held crossings this load step */
   unsigned char *free_g; /* ghosted: the crossing is free (inv_m > 0) */
   PetscReal      k_ref;  /* N/m: stiffness scale (a yarn segment's), for k_bc and the shift */
-  PetscReal      shift;  /* k_s / k_ref */
   PetscReal      tmax;   /* largest yarn tension of the last evaluation (the balance test's scale) */
-  Vec            Xh[3];    /* the last balanced states, the latest first */
-  PetscReal      lh[3];    /* their load factors */
-  PetscInt       nhist;
+  StaticHistory *h;        /* the fabric's: the last balanced states and the shift (checkpointed) */
   StaticOptions  opt;
   RowRing        ring;     /* the tangent's block rows being accumulated (FormJacobian) */
   PetscInt       tangents; /* assembled so far: a level's line smoother factors its operator once for each */
@@ -249,7 +246,7 @@ static PetscErrorCode FlushRow(StaticSolver ss, PetscInt jr)
 static PetscErrorCode AddShift(StaticSolver ss, PetscInt j)
 {
   const Patch    *p  = &ss->fab->grid.patch;
-  const PetscReal ks = ss->shift * ss->k_ref;
+  const PetscReal ks = ss->h->shift * ss->k_ref;
   PetscReal       K[36];
 
   PetscFunctionBeginUser;
@@ -399,11 +396,11 @@ static PetscErrorCode AdaptShift(SNES snes, PetscInt step)
   PetscCall(SNESGetKSP(snes, &ksp));
   PetscCall(KSPGetConvergedReason(ksp, &kreason));
   if (kreason < 0) /* an indefinite tangent (CG met negative curvature): stiffen the shift */
-    ss->shift = PetscMax(10.0 * ss->shift, 1e-6);
+    ss->h->shift = PetscMax(10.0 * ss->h->shift, 1e-6);
   else if (lambda >= 1.0)
-    ss->shift = ss->shift / 10.0 < SHIFT_FLOOR ? 0.0 : ss->shift / 10.0;
+    ss->h->shift = ss->h->shift / 10.0 < SHIFT_FLOOR ? 0.0 : ss->h->shift / 10.0;
   else if (lambda < 0.25)
-    ss->shift = PetscMax(4.0 * ss->shift, SHIFT_FLOOR);
+    ss->h->shift = PetscMax(4.0 * ss->h->shift, SHIFT_FLOOR);
   PetscFunctionReturn(0);
 }
 
@@ -1273,7 +1270,7 @@ static PetscErrorCode TaoHessian(Tao tao, Vec U, Mat H, Mat Hpre, void *ctx)
 
   PetscFunctionBeginUser;
   (void) tao;
-  ss->shift = 0;
+  ss->h->shift = 0;
   PetscCall(FormJacobian(NULL, U, H, Hpre, ctx));
   PetscFunctionReturn(0);
 }
@@ -1345,7 +1342,9 @@ PetscErrorCode StaticCreate(Fabric fab, StaticSolver *out)
   PetscCall(CreateTangent(ss));
   PetscCall(MatSetOption(ss->J, MAT_SYMMETRIC, PETSC_TRUE));
   PetscCall(VecDuplicate(fab->state.X, &ss->Xbc));
-  for (int q = 0; q < 3; q++) PetscCall(VecDuplicate(fab->state.X, &ss->Xh[q]));
+  ss->h = &fab->state.hist; /* restored by a restart, else empty */
+  for (int q = 0; q < 3; q++)
+    if (!ss->h->Xh[q]) PetscCall(VecDuplicate(fab->state.X, &ss->h->Xh[q]));
   PetscCall(ReadOptions(fab->comm, &ss->opt));
   /* the free flags, ghosted */
   PetscCall(DMGetGlobalVector(fab->grid.da, &flag));
@@ -1394,7 +1393,6 @@ PetscErrorCode StaticDestroy(StaticSolver *pss)
   PetscCall(MatDestroy(&ss->J));
   PetscCall(DMDestroy(&ss->dm));
   PetscCall(VecDestroy(&ss->Xbc));
-  for (int q = 0; q < 3; q++) PetscCall(VecDestroy(&ss->Xh[q]));
   PetscCall(PetscFree(ss->free_g));
   for (int q = 0; q < 3; q++) PetscCall(PetscFree(ss->ring.buf[q]));
   ss->fab->grid.patch.tension_field = PETSC_FALSE;
@@ -1410,21 +1408,21 @@ PetscErrorCode StaticDestroy(StaticSolver *pss)
 static PetscErrorCode Extrapolate(StaticSolver ss)
 {
   Fabric             fab = ss->fab;
-  const PetscInt     np  = PetscMin(ss->nhist, ss->opt.order + 1);
+  const PetscInt     np  = PetscMin(ss->h->nhist, ss->opt.order + 1);
   const PetscReal    l   = fab->load.load_factor;
   PetscReal          w[3], moved = 0;
   PetscScalar       *x;
   const PetscScalar *h[3];
 
   PetscFunctionBeginUser;
-  if (np < 2 || !(l > ss->lh[0])) PetscFunctionReturn(0);
+  if (np < 2 || !(l > ss->h->lh[0])) PetscFunctionReturn(0);
   for (PetscInt a = 0; a < np; a++) { /* Lagrange weights at l */
     w[a] = 1;
     for (PetscInt b = 0; b < np; b++)
-      if (b != a) w[a] *= (l - ss->lh[b]) / (ss->lh[a] - ss->lh[b]);
+      if (b != a) w[a] *= (l - ss->h->lh[b]) / (ss->h->lh[a] - ss->h->lh[b]);
   }
   PetscCall(VecGetArray(fab->state.X, &x));
-  for (PetscInt a = 0; a < np; a++) PetscCall(VecGetArrayRead(ss->Xh[a], &h[a]));
+  for (PetscInt a = 0; a < np; a++) PetscCall(VecGetArrayRead(ss->h->Xh[a], &h[a]));
   for (PetscInt k = 0; k < 3 * fab->grid.nloc; k++)
     if (fab->grid.inv_m[k / 3] > 0) moved = PetscMax(moved, PetscAbsReal(x[k] - h[0][k]));
   PetscCall(GlobalMax(fab->comm, &moved, 1));
@@ -1434,7 +1432,7 @@ static PetscErrorCode Extrapolate(StaticSolver ss)
       x[k] = 0;
       for (PetscInt a = 0; a < np; a++) x[k] += w[a] * h[a][k];
     }
-  for (PetscInt a = 0; a < np; a++) PetscCall(VecRestoreArrayRead(ss->Xh[a], &h[a]));
+  for (PetscInt a = 0; a < np; a++) PetscCall(VecRestoreArrayRead(ss->h->Xh[a], &h[a]));
   PetscCall(VecRestoreArray(fab->state.X, &x));
   PetscFunctionReturn(0);
 }
@@ -1474,15 +1472,15 @@ static PetscErrorCode KeepBalanced(StaticSolver ss)
   Fabric fab = ss->fab;
 
   PetscFunctionBeginUser;
-  if (!(ss->nhist > 0 && fab->load.load_factor == ss->lh[0])) {
-    Vec t = ss->Xh[2];
-    ss->Xh[2] = ss->Xh[1], ss->lh[2] = ss->lh[1];
-    ss->Xh[1] = ss->Xh[0], ss->lh[1] = ss->lh[0];
-    ss->Xh[0] = t;
-    ss->nhist = PetscMin(ss->nhist + 1, 3);
+  if (!(ss->h->nhist > 0 && fab->load.load_factor == ss->h->lh[0])) {
+    Vec t = ss->h->Xh[2];
+    ss->h->Xh[2] = ss->h->Xh[1], ss->h->lh[2] = ss->h->lh[1];
+    ss->h->Xh[1] = ss->h->Xh[0], ss->h->lh[1] = ss->h->lh[0];
+    ss->h->Xh[0] = t;
+    ss->h->nhist = PetscMin(ss->h->nhist + 1, 3);
   }
-  ss->lh[0] = fab->load.load_factor;
-  PetscCall(VecCopy(fab->state.X, ss->Xh[0]));
+  ss->h->lh[0] = fab->load.load_factor;
+  PetscCall(VecCopy(fab->state.X, ss->h->Xh[0]));
   PetscFunctionReturn(0);
 }
 
@@ -1496,11 +1494,11 @@ PetscErrorCode StaticSolve(StaticSolver ss, StaticResult *r)
   PetscCall(PetscMemzero(r, sizeof *r));
   PetscCall(VecCopy(fab->state.X, ss->Xbc));
   PetscCall(Extrapolate(ss));
-  if (fab->s.num.predict == PREDICT_NONE && !(ss->nhist > 0 && fab->load.load_factor == ss->lh[0]))
+  if (fab->s.num.predict == PREDICT_NONE && !(ss->h->nhist > 0 && fab->load.load_factor == ss->h->lh[0]))
     PetscCall(LeaveSphere(ss)); /* the ball moved (not a re-solve after yarns broke) */
   /* the first load step from -snes_shift_start; a later one from where the last ended (a taut
      fabric: nearly plain Newton), raised by AdaptShift if that fails */
-  ss->shift = ss->nhist ? PetscMin(ss->opt.shift_start, ss->opt.shift_carry * ss->shift) : ss->opt.shift_start;
+  ss->h->shift = ss->h->nhist ? PetscMin(ss->opt.shift_start, ss->opt.shift_carry * ss->h->shift) : ss->opt.shift_start;
   if (ss->tao) { /* TAO's Newton: one solve */
     TaoConvergedReason treason;
     PetscCall(TaoSolve(ss->tao));
@@ -1519,7 +1517,7 @@ PetscErrorCode StaticSolve(StaticSolver ss, StaticResult *r)
     r->nonlinear_iterations += its;
     r->linear_iterations += lits;
     if (reason != SNES_DIVERGED_LINE_SEARCH && reason != SNES_DIVERGED_LINEAR_SOLVE) break;
-    ss->shift = PetscMax(100.0 * ss->shift, 1e-6); /* start again from where it stopped, stiffer */
+    ss->h->shift = PetscMax(100.0 * ss->h->shift, 1e-6); /* start again from where it stopped, stiffer */
   }
   if (!ss->tao) PetscCall(PetscStrncpy(r->reason, SNESConvergedReasons[reason], sizeof r->reason));
   /* the state's forces at the solution (the measurements read them) give the balance test */
