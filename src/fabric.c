@@ -399,6 +399,15 @@ static PetscErrorCode SetUpMasses(Fabric fab, const DMDALocalInfo *info_)
         wmax               = PetscMax(wmax, m * gmag);
         if (i == s->load.load_at[0] && j == s->load.load_at[1]) fab->grid.load_index = k;
       }
+    { /* a point load needs a free crossing to act on: 1 absent, 2 held (clamped or gripped) */
+      const PetscInt k   = fab->grid.load_index;
+      PetscReal      bad = k < 0 ? 0 : !PointExists(s, s->load.load_at[0], s->load.load_at[1]) ? 1 : fab->grid.inv_m[k] > 0 ? 0 : 2;
+      PetscCall(GlobalMax(comm, &bad, 1));
+      PetscCheck(bad == 0 || (s->load.point_load[0] == 0 && s->load.point_load[1] == 0 && s->load.point_load[2] == 0), comm,
+                 PETSC_ERR_USER_INPUT,
+                 "-point_load_at %" PetscInt_FMT ",%" PetscInt_FMT ": the point load acts on a crossing that %s; give a free crossing",
+                 s->load.load_at[0], s->load.load_at[1], bad == 1 ? "is not in the specimen" : "is held (clamped or in a grip)");
+    }
     fab->grid.points = count;
     PetscCall(GlobalSumInt(comm, &fab->grid.points, 1));
     PetscCall(GlobalMax(comm, &wmax, 1));

@@ -1222,6 +1222,57 @@ static void ProbeFile(const char *opt, const char *path, const char *output_dir,
     snprintf(msg, len, "-%s %s: cannot write the file (%s)", opt, path, strerror(errno));
 }
 
+/* path made absolute, its longest existing head resolved (realpath), repeated and trailing slashes
+   dropped: two names of one place compare equal, whether or not it exists yet */
+static void PlaceOf(const char *path, char *out, size_t len)
+{
+  char   abs[2 * PETSC_MAX_PATH_LEN], real[PATH_MAX];
+  size_t n = 0, cut;
+
+  abs[0] = 0;
+  if (path[0] != '/' && realpath(".", real)) snprintf(abs, sizeof abs, "%s/", real);
+  n = strlen(abs);
+  for (const char *c = path; *c && n + 1 < sizeof abs; c++) /* repeated slashes as one */
+    if (!(*c == '/' && n > 0 && abs[n - 1] == '/')) abs[n++] = *c;
+  abs[n] = 0;
+  for (; n > 1 && abs[n - 1] == '/'; n--) abs[n - 1] = 0;
+  for (cut = n; cut > 0; cut--) { /* the longest existing head: abs[0, cut) */
+    if (cut < n && abs[cut] != '/') continue;
+    char head[2 * PETSC_MAX_PATH_LEN];
+    snprintf(head, sizeof head, "%.*s", (int) cut, abs);
+    if (realpath(head, real)) {
+      snprintf(out, len, "%s%s", real, abs + cut);
+      return;
+    }
+  }
+  snprintf(out, len, "%s", abs);
+}
+
+/* -positions_out must not be the output directory or a file the run writes in it */
+static void PositionsOutClash(const SceneOutput *o, char *msg, size_t len)
+{
+  static const char *own[] = {"curve.csv", "summary.json", "fabric.h5", "fabric.xmf", "checkpoint.h5", ".checkpoint.h5.tmp",
+                              ".summary.json.tmp"};
+  char               p[2 * PETSC_MAX_PATH_LEN], d[2 * PETSC_MAX_PATH_LEN], f[3 * PETSC_MAX_PATH_LEN];
+
+  if (!o->output_dir[0] || !o->positions_out[0]) return;
+  PlaceOf(o->positions_out, p, sizeof p);
+  PlaceOf(o->output_dir, d, sizeof d);
+  if (!strcmp(p, d)) {
+    snprintf(msg, len, "-positions_out %s: is the output directory (-output_dir %s); give a file", o->positions_out,
+             o->output_dir);
+    return;
+  }
+  for (size_t k = 0; k < sizeof own / sizeof own[0]; k++) {
+    snprintf(f, sizeof f, "%s/%s", d, own[k]);
+    if (!strcmp(p, f)) {
+      snprintf(msg, len, "-positions_out %s: the run writes its %s there (-output_dir %s); give another file",
+               o->positions_out, own[k], o->output_dir);
+      return;
+    }
+  }
+}
+
 /* -output_dir and -positions_out can be written: rank 0 looks, every rank refuses alike */
 static PetscErrorCode CheckOutputPlaces(MPI_Comm comm, const SceneOutput *o)
 {
@@ -1233,7 +1284,8 @@ static PetscErrorCode CheckOutputPlaces(MPI_Comm comm, const SceneOutput *o)
   PetscCall(PetscOptionsHasHelp(NULL, &help));
   if (help) PetscFunctionReturn(0); /* -help writes nothing */
   PetscCall(CommRank(comm, &rank));
-  if (!rank && o->output_dir[0]) ProbeDirectory("output_dir", o->output_dir, msg, sizeof msg);
+  if (!rank) PositionsOutClash(o, msg, sizeof msg);
+  if (!rank && !msg[0] && o->output_dir[0]) ProbeDirectory("output_dir", o->output_dir, msg, sizeof msg);
   if (!rank && !msg[0] && o->positions_out[0])
     ProbeFile("positions_out", o->positions_out, o->output_dir, msg, sizeof msg);
   PetscCall(BroadcastFromRoot(comm, msg, (PetscInt) sizeof msg, MPI_CHAR));
