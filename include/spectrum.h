@@ -16,5 +16,6 @@ PetscErrorCode TangentOmega2Max(Fabric fab, PetscReal *omega2, PetscInt *iterati
 /* -te_measure: measure the state StableStep has just bounded (te_prev: the te in use up to
    it) and keep it in fab->step's records, if this load step is due */
 PetscErrorCode StableStepMeasure(Fabric fab, PetscReal te_prev);
+PetscErrorCode StableStepMeasureLast(Fabric fab); /* -te_measure: the run's last state, the end of its last load step */
 
 #endif

@@ -15,6 +15,7 @@
 #include "load.h"
 #include "measure.h"
 #include "predict.h"
+#include "spectrum.h"
 #include "report.h"
 #include "static.h"
 
@@ -497,6 +498,7 @@ PetscErrorCode FabricRun(Fabric fab)
   }
   PetscCall(StaticDestroy(&ss));
   if (CheckpointStopped()) PetscFunctionReturn(0);
+  PetscCall(StableStepMeasureLast(fab));
   PetscCall(OutputSummary(fab, NULL));
   if (s->out.positions_out[0]) PetscCall(OutputPositions(fab, s->out.positions_out));
   PetscFunctionReturn(0);

@@ -289,11 +289,13 @@ static void KeepRecord(StepControl *st, const TeMeasure *m)
   st->te_measured++;
 }
 
-PetscErrorCode StableStepMeasure(Fabric fab, PetscReal te_prev)
+/* the true limit at this state: of the load step starting here, or (end, or last: the run's last
+   state) of the one that ended here */
+static PetscErrorCode Measure(Fabric fab, PetscReal te_prev, PetscBool last)
 {
   const PetscInt  every = fab->s.num.te_measure, step = fab->load.load_step;
-  const PetscBool end = step != fab->step.te_prev_step && fab->step.te_prev_step >= 1 ? PETSC_TRUE : PETSC_FALSE;
-  const PetscInt  of  = end ? fab->step.te_prev_step : step; /* the load step this state belongs to */
+  const PetscBool end = last || (step != fab->step.te_prev_step && fab->step.te_prev_step >= 1) ? PETSC_TRUE : PETSC_FALSE;
+  const PetscInt  of  = last ? step : end ? fab->step.te_prev_step : step; /* the load step this state belongs to */
   PetscReal       omega2;
   PetscInt        its;
   TeMeasure       m;
@@ -315,5 +317,19 @@ PetscErrorCode StableStepMeasure(Fabric fab, PetscReal te_prev)
       "load step %" PetscInt_FMT " %s: te %g s, stable bound %g s, measured limit %g s (%" PetscInt_FMT
       " Lanczos steps): te / limit %.4f\n",
       of, end ? "end" : "start", (double) m.te, (double) m.te_bound, (double) m.limit, its, (double) (m.te / m.limit)));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode StableStepMeasure(Fabric fab, PetscReal te_prev)
+{
+  PetscFunctionBeginUser;
+  PetscCall(Measure(fab, te_prev, PETSC_FALSE));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode StableStepMeasureLast(Fabric fab)
+{
+  PetscFunctionBeginUser;
+  if (fab->s.num.te_measure && fab->load.load_step >= 1) PetscCall(Measure(fab, fab->step.te, PETSC_TRUE));
   PetscFunctionReturn(0);
 }
