@@ -152,6 +152,7 @@ typedef struct { /* run statistics and the curve */
   PetscInt64     te_steps, point_updates;
   PetscInt64     te_rebounds; /* stable steps taken again within a load step (a state left te's window) */
   PetscInt64     nonlinear_iterations, linear_iterations; /* the quasi-static solver's Newton and Krylov steps */
+  PetscInt       rows_done; /* load steps done: their curve rows written (not one a failure stopped within) */
   PetscBool      converged;
   PetscBool      broken_any; /* a yarn segment broke */
   RuptureState   rupture;

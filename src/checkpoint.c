@@ -1157,6 +1157,7 @@ PetscErrorCode RestartLoad(Fabric fab)
   RestoreCounters(fab, &h);
   ckpt.last_te = ckpt.last_look = fab->stats.te_steps;
   for (PetscInt k = 0; k < h.load_step; k++) CurveRowUnpack(rows + CURVE_COLS * k, &fab->stats.curve[k]);
+  fab->stats.rows_done = h.load_step;
   io->frames = 0;
   for (PetscInt k = 0; k < h.frames; k++) {
     FrameInfo f = {frames[3 * k], (PetscInt) frames[3 * k + 1], (PetscInt) frames[3 * k + 2]};

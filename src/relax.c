@@ -486,6 +486,7 @@ PetscErrorCode FabricRun(Fabric fab)
     PetscCall(PetscTime(&fab->stats.wall));
     fab->stats.wall -= fab->stats.wall_start;
     PetscCall(OutputCurveRow(fab, row));
+    fab->stats.rows_done = k;
     f = (FrameInfo){row->time, row->load_step, row->inner_steps};
     PetscCall(FramesLoadStep(fab->io, &src, &f, fab->step.te, row->load_step == s->load.load_steps || ruptured));
     PetscCall(OutputProgress(fab, row));

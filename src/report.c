@@ -323,13 +323,11 @@ PetscErrorCode OutputSummary(Fabric fab, const char *error)
   const Scene *s = &fab->s;
   char         file[PETSC_MAX_PATH_LEN], tmp[PETSC_MAX_PATH_LEN];
   FILE        *fp;
-  PetscInt     done = 0;
-  int          write_error;
+  const PetscInt done = fab->stats.rows_done;
+  int            write_error;
 
   PetscFunctionBeginUser;
   if (!s->out.output_dir[0] || fab->rank != 0) PetscFunctionReturn(0);
-  for (PetscInt k = 0; k < s->load.load_steps; k++)
-    if (fab->stats.curve[k].load_step) done++;
   PetscCall(PetscSNPrintf(file, sizeof file, "%s/summary.json", s->out.output_dir));
   PetscCall(PetscSNPrintf(tmp, sizeof tmp, "%s/.summary.json.tmp", s->out.output_dir));
   fp = fopen(tmp, "w");
