@@ -50,7 +50,7 @@
 #include <unistd.h>
 
 #define MAX_KEYS  320
-#define MAX_STATE 12 /* state vectors (StateVecs) */
+#define MAX_STATE 16 /* state vectors (StateVecs) */
 
 typedef struct {
   char      name[40];
@@ -201,18 +201,25 @@ typedef struct {
 static PetscInt StateVecs(FabricState *st, StateVec *sv)
 {
   PetscInt n = 0;
-  sv[n++]    = (StateVec){"positions", &st->X, ""};
-  sv[n++]    = (StateVec){"velocities", &st->V, ""};
-  sv[n++]    = (StateVec){"positions_old", &st->Xold, "has_positions_old"};
-  sv[n++]    = (StateVec){"velocities_old", &st->Vold, "has_velocities_old"};
-  sv[n++]    = (StateVec){"converged_positions", &st->Xconv, "has_converged_positions"};
-  sv[n++]    = (StateVec){"converged_positions_prev", &st->Xconv_prev, "has_converged_positions_prev"};
-  sv[n++]    = (StateVec){"friction_anchors_sphere", &st->anchor[0], "has_friction_anchors_sphere"};
-  sv[n++]    = (StateVec){"friction_anchors_plane", &st->anchor[1], "has_friction_anchors_plane"};
-  sv[n++]    = (StateVec){"friction_anchors_pedestal", &st->anchor[2], "has_friction_anchors_pedestal"};
-  sv[n++]    = (StateVec){"static_balanced_1", &st->hist.Xh[0], "has_static_balanced_1"};
-  sv[n++]    = (StateVec){"static_balanced_2", &st->hist.Xh[1], "has_static_balanced_2"};
-  sv[n++]    = (StateVec){"static_balanced_3", &st->hist.Xh[2], "has_static_balanced_3"};
+#define ADD(...) \
+  do { \
+    PetscCheckAbort(n < MAX_STATE, PETSC_COMM_SELF, PETSC_ERR_PLIB, "StateVecs: more than %d state vectors, raise MAX_STATE", \
+                    MAX_STATE); \
+    sv[n++] = (StateVec){__VA_ARGS__}; \
+  } while (0)
+  ADD("positions", &st->X, "");
+  ADD("velocities", &st->V, "");
+  ADD("positions_old", &st->Xold, "has_positions_old");
+  ADD("velocities_old", &st->Vold, "has_velocities_old");
+  ADD("converged_positions", &st->Xconv, "has_converged_positions");
+  ADD("converged_positions_prev", &st->Xconv_prev, "has_converged_positions_prev");
+  ADD("friction_anchors_sphere", &st->anchor[0], "has_friction_anchors_sphere");
+  ADD("friction_anchors_plane", &st->anchor[1], "has_friction_anchors_plane");
+  ADD("friction_anchors_pedestal", &st->anchor[2], "has_friction_anchors_pedestal");
+  ADD("static_balanced_1", &st->hist.Xh[0], "has_static_balanced_1");
+  ADD("static_balanced_2", &st->hist.Xh[1], "has_static_balanced_2");
+  ADD("static_balanced_3", &st->hist.Xh[2], "has_static_balanced_3");
+#undef ADD
   return n;
 }
 

@@ -346,6 +346,7 @@ static PetscErrorCode PaperAtRest(Fabric fab)
   PetscCall(VecCopy(fab->state.X, fab->state.Xold));
   PetscCall(VecZeroEntries(fab->state.V));
   PetscCall(VecZeroEntries(fab->state.Vold));
+  PetscCall(StableStepAgain(fab)); /* the paper scheme's te: the next load step's ramp is counted in it */
   PetscFunctionReturn(0);
 }
 
@@ -430,6 +431,7 @@ static PetscErrorCode SolveLoadStep(Fabric fab, StaticSolver ss, CurveRow *row)
     if (ruptured) PetscFunctionReturn(0);
     if (!broke || round >= MAX_BREAK_ROUNDS) break;
   }
+  fab->step.torn = PETSC_FALSE; /* Newton relaxed after the tears: no te steps to follow */
   PetscCall(FinishRow(fab, r.residual, r.balanced, measured, row));
   PetscFunctionReturn(0);
 }
@@ -497,9 +499,9 @@ PetscErrorCode FabricRun(Fabric fab)
       if (CheckpointStopped()) break;
     }
   }
+  if (!CheckpointStopped()) PetscCall(StableStepMeasureLast(fab)); /* with the static path's tangent, as the others */
   PetscCall(StaticDestroy(&ss));
   if (CheckpointStopped()) PetscFunctionReturn(0);
-  PetscCall(StableStepMeasureLast(fab));
   PetscCall(OutputSummary(fab, NULL));
   if (s->out.positions_out[0]) PetscCall(OutputPositions(fab, s->out.positions_out));
   PetscFunctionReturn(0);

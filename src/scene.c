@@ -1252,7 +1252,7 @@ static void PlaceOf(const char *path, char *out, size_t len)
 static void PositionsOutClash(const SceneOutput *o, char *msg, size_t len)
 {
   static const char *own[] = {"curve.csv", "summary.json", "fabric.h5", "fabric.xmf", "checkpoint.h5", ".checkpoint.h5.tmp",
-                              ".summary.json.tmp"};
+                              ".summary.json.tmp", ".fabric.xmf.tmp"};
   char               p[2 * PETSC_MAX_PATH_LEN], d[2 * PETSC_MAX_PATH_LEN], f[3 * PETSC_MAX_PATH_LEN];
 
   if (!o->output_dir[0] || !o->positions_out[0]) return;

@@ -22,6 +22,7 @@
 #include "spectrum.h"
 #include "comm.h"
 #include "hash.h"
+#include "integrate.h"
 
 #include <math.h>
 
@@ -310,7 +311,7 @@ static PetscErrorCode Measure(Fabric fab, PetscReal te_prev, PetscBool last)
   m.end       = end;
   m.te        = end ? te_prev : fab->step.te;
   m.te_bound  = fab->step.te_bound;
-  m.limit     = (fab->s.num.integrator == INTEGRATOR_PAPER ? 1.0 : 2.0) / PetscSqrtReal(omega2);
+  m.limit     = (PaperSteps(fab) ? 1.0 : 2.0) / PetscSqrtReal(omega2); /* the scheme te is for */
   KeepRecord(&fab->step, &m);
   PetscCall(PetscInfo(
       NULL,

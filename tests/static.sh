@@ -108,8 +108,9 @@ pushing pushnone "static pushing 8 threads/cm, -predict none"
 sq6=(-scene "$inputs/square_net.yaml" -solver static -load_steps 6 -output_every 0)
 run 2 "${sq6[@]}" -output_dir "$work/rfull" -positions_out "$work/rfull.bin"
 run 2 "${sq6[@]}" -output_dir "$work/rpart" -checkpoint_every 4 -load_steps 6
-run 2 "${sq6[@]}" -output_dir "$work/rpart" -restart "$work/rpart/checkpoint.h5" -positions_out "$work/rpart.bin"
-"$py" - "$work/rfull" "$work/rpart" <<'PY' || fail=1
+cp "$work/rpart/checkpoint.h5" "$work/r4.h5" # restarted into a directory of its own
+run 2 "${sq6[@]}" -output_dir "$work/rnew" -restart "$work/r4.h5" -positions_out "$work/rpart.bin"
+"$py" - "$work/rfull" "$work/rnew" <<'PY' || fail=1
 import json, sys
 a, b = (json.load(open(d + "/summary.json")) for d in sys.argv[1:3])
 ca, cb = (open(d + "/curve.csv").read() for d in sys.argv[1:3])
