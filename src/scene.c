@@ -681,6 +681,56 @@ static int FindMalformedLine(const char *file, char *text, size_t len)
   return found ? lineno : 0;
 }
 
+/* A key given twice in a scene file (PETSc's YAML reader keeps the last, silently) or a 'scene'
+   key in one (a scene does not include another): the option, its line and the earlier one.
+   Keys are flattened as PETSc does, a nested map's key joined to its parent's by '_'. 0 if none. */
+#define SCENE_KEYS_MAX 512
+static int FindBadKey(const char *file, char *msg, size_t len)
+{
+  char  line[1024], seen[SCENE_KEYS_MAX][128], parent[8][128];
+  int   at[SCENE_KEYS_MAX], indent[8], depth = 0, nseen = 0, lineno = 0, bad = 0;
+  FILE *fp = fopen(file, "r");
+
+  if (!fp) return 0;
+  while (!bad && fgets(line, sizeof line, fp)) {
+    char  *c = line, *colon, *v, key[128], full[128] = "";
+    size_t klen;
+    int    ind;
+    lineno++;
+    line[strcspn(line, "\r\n")] = 0;
+    while (*c == ' ') c++;
+    ind = (int) (c - line);
+    if (!*c || *c == '#' || *c == '-' || *c == '[' || *c == '{' || *c == '"' || *c == '\'') continue;
+    colon = strchr(c, ':');
+    if (!colon) continue; /* FindMalformedLine's case */
+    klen = (size_t) (colon - c);
+    while (klen && (c[klen - 1] == ' ' || c[klen - 1] == '\t')) klen--;
+    snprintf(key, sizeof key, "%.*s", (int) (klen < 100 ? klen : 100), c);
+    for (v = colon + 1; *v == ' ' || *v == '\t'; v++) {}
+    while (depth && indent[depth - 1] >= ind) depth--;
+    for (int d = 0; d < depth; d++) snprintf(full + strlen(full), sizeof full - strlen(full), "%.100s_", parent[d]);
+    snprintf(full + strlen(full), sizeof full - strlen(full), "%.100s", key);
+    if (!*v || *v == '#') { /* a map: its keys follow, indented */
+      if (depth < 8) snprintf(parent[depth], sizeof parent[depth], "%.100s", key), indent[depth++] = ind;
+      continue;
+    }
+    if (!strcmp(full, "scene")) {
+      snprintf(msg, len, "line %d: 'scene: %.100s': a scene file cannot name another scene", lineno, v);
+      bad = lineno;
+      break;
+    }
+    for (int k = 0; k < nseen; k++)
+      if (!strcmp(seen[k], full)) {
+        snprintf(msg, len, "line %d: -%.100s given twice (first at line %d); give it once", lineno, full, at[k]);
+        bad = lineno;
+        break;
+      }
+    if (!bad && nseen < SCENE_KEYS_MAX) snprintf(seen[nseen], sizeof seen[nseen], "%.120s", full), at[nseen++] = lineno;
+  }
+  fclose(fp);
+  return bad;
+}
+
 /* -scene FILE: insert the YAML option file, then the command line again so that it wins */
 PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv)
 {
@@ -695,6 +745,16 @@ PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv)
   PetscCall(PetscTestFile(file, 'r', &exists));
   PetscCheck(exists, comm, PETSC_ERR_FILE_OPEN, "-scene %s: no such file, or not readable", file);
   PetscCall(CheckSceneHasOptions(comm, file));
+  {
+    char msg[512] = "";
+    int  bad      = 0;
+    PetscMPIInt rank;
+    PetscCall(CommRank(comm, &rank));
+    if (!rank) bad = FindBadKey(file, msg, sizeof msg); /* rank 0 reads, every rank refuses alike */
+    PetscCall(BroadcastFromRoot(comm, msg, (PetscInt) sizeof msg, MPI_CHAR));
+    PetscCheck(!msg[0], comm, PETSC_ERR_USER_INPUT, "-scene %s: %s", file, msg);
+    (void) bad;
+  }
   PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
   ierr = PetscOptionsInsertFileYAML(comm, NULL, file, PETSC_TRUE);
   PetscCall(PetscPopErrorHandler());

@@ -1225,6 +1225,15 @@ PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
 
   PetscFunctionBeginUser;
   PetscCall(ReadOptions(comm, &o));
+  { /* PETSc's finite-difference operator with the assembled tangent as preconditioner: the
+       multigrid forms its Galerkin products from the operator, and the energy line search never
+       sets the difference's base, so it fails mid-run; -snes_mf (no preconditioner) runs */
+    PetscBool mfop = PETSC_FALSE;
+    PetscCall(PetscOptionsGetBool(NULL, NULL, "-snes_mf_operator", &mfop, NULL));
+    PetscCheck(!mfop, comm, PETSC_ERR_USER_INPUT,
+               "-snes_mf_operator with -solver static: its multigrid and line search need the assembled tangent as "
+               "the operator; leave it out (or use -snes_mf: finite differences, no preconditioner)");
+  }
   if (o.tao) { /* TAO's type from -tao_type: one with a Newton step (a KSP) */
     Tao tao;
     KSP ksp;
