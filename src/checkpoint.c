@@ -788,6 +788,7 @@ static void KeyValue(const char *name, double v, char *buf, size_t len, double o
   } enums[] = {
       {"pull", PullAxisNames, 2}, {"integrator", IntegratorNames, 3}, {"predict", PredictNames, 3},
       {"test", TestNames, 5},     {"shape", ShapeNames, 3},           {"clamp", ClampNames, 4},
+      {"solver", SolverNames, 2},
   };
   char a[64], b[64];
   for (size_t e = 0; e < sizeof enums / sizeof enums[0]; e++)
