@@ -151,6 +151,13 @@ static PetscErrorCode CheckLines(Fabric fab, const DMDALocalInfo *info)
   PetscFunctionReturn(0);
 }
 
+/* an a x b split of an nx x ny grid leaves every rank at least 2 crossings (the stencil width)
+   along each direction it splits */
+static inline PetscBool SplitFits(PetscInt nx, PetscInt ny, PetscInt a, PetscInt b)
+{
+  return (a == 1 || nx / a >= 2) && (b == 1 || ny / b >= 2) ? PETSC_TRUE : PETSC_FALSE;
+}
+
 /* m x n = size ranks with at least 2 crossings per rank along each split direction (the
    stencil width), the split whose halo exchange moves the fewest points; m = 0 if there is none.
    A patch of 2 ghost rows or columns on each inner side sends and receives its ghost points (each
@@ -165,7 +172,7 @@ static PetscErrorCode RankGrid(PetscInt nx, PetscInt ny, PetscMPIInt size, Petsc
   *m = *n = 0;
   for (PetscInt a = 1; a <= size; a++) {
     const PetscInt b = size / a;
-    if (size % a || (a > 1 && nx / a < 2) || (b > 1 && ny / b < 2)) continue;
+    if (size % a || !SplitFits(nx, ny, a, b)) continue;
     const PetscReal w = (PetscReal) nx / a, h = (PetscReal) ny / b;
     const PetscReal ghosts = (a > 1 ? 4 * h : 0) + (b > 1 ? 4 * w : 0) + (a > 1 && b > 1 ? 16 : 0);
     const PetscReal moved  = 2 * ghosts + (a > 1 ? w * h : 0);
@@ -199,7 +206,7 @@ static PetscErrorCode UserRankGrid(PetscInt nx, PetscInt ny, PetscMPIInt size, M
   PetscCheck(px * py == size, comm, PETSC_ERR_USER_INPUT,
              "-da_processors_x %" PetscInt_FMT " -da_processors_y %" PetscInt_FMT ": their product must be the %d ranks", px,
              py, size);
-  PetscCheck((px == 1 || nx / px >= 2) && (py == 1 || ny / py >= 2), comm, PETSC_ERR_USER_INPUT,
+  PetscCheck(SplitFits(nx, ny, px, py), comm, PETSC_ERR_USER_INPUT,
              "-da_processors_x %" PetscInt_FMT " -da_processors_y %" PetscInt_FMT ": grid too small: %" PetscInt_FMT
              " x %" PetscInt_FMT " crossings leave a rank fewer than 2 crossings along a split direction",
              px, py, nx, ny);

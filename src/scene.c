@@ -657,6 +657,16 @@ static PetscErrorCode CheckSceneHasOptions(MPI_Comm comm, const char *file)
   PetscFunctionReturn(0);
 }
 
+/* a line of a scene file, its line end cut: where its key starts, or NULL where it has none
+   (blank, a comment, a list item, a flow or quoted start) */
+static char *KeyLine(char *line)
+{
+  char *c = line;
+  line[strcspn(line, "\r\n")] = 0;
+  while (*c == ' ' || *c == '\t') c++;
+  return !*c || *c == '#' || *c == '-' || *c == '[' || *c == '{' || *c == '"' || *c == '\'' ? NULL : c;
+}
+
 /* The first line of a scene file that cannot be a YAML "key: value" line (no colon, or no space
    after the first one), as a hint when the YAML parser refuses the file without saying where.
    0 if none is found. */
@@ -668,11 +678,9 @@ static int FindMalformedLine(const char *file, char *text, size_t len)
 
   if (!fp) return 0;
   while (!found && fgets(line, sizeof line, fp)) {
-    char *c = line, *colon;
+    char *c, *colon;
     lineno++;
-    line[strcspn(line, "\r\n")] = 0;
-    while (*c == ' ' || *c == '\t') c++;
-    if (!*c || *c == '#' || *c == '-' || *c == '[' || *c == '{' || *c == '"' || *c == '\'') continue;
+    if (!(c = KeyLine(line))) continue;
     colon = strchr(c, ':');
     found = !colon || (colon[1] && colon[1] != ' ' && colon[1] != '\t');
     if (found) snprintf(text, len, "%.100s", c); /* enough to recognise the line */
@@ -693,14 +701,12 @@ static int FindBadKey(const char *file, char *msg, size_t len)
 
   if (!fp) return 0;
   while (!bad && fgets(line, sizeof line, fp)) {
-    char  *c = line, *colon, *v, key[128], full[128] = "";
+    char  *c, *colon, *v, key[128], full[128] = "";
     size_t klen;
     int    ind;
     lineno++;
-    line[strcspn(line, "\r\n")] = 0;
-    while (*c == ' ') c++;
-    ind = (int) (c - line);
-    if (!*c || *c == '#' || *c == '-' || *c == '[' || *c == '{' || *c == '"' || *c == '\'') continue;
+    if (!(c = KeyLine(line))) continue;
+    ind   = (int) (c - line);
     colon = strchr(c, ':');
     if (!colon) continue; /* FindMalformedLine's case */
     klen = (size_t) (colon - c);
