@@ -34,7 +34,9 @@
 #include "bodies.h"
 #include "comm.h"
 #include "integrate.h"
+#include "stencil.h"
 
+#include <petsc/private/petscimpl.h> /* PetscObjectStateIncrease */
 #include <petscsf.h>
 #include <petscsnes.h>
 #include <petsctao.h>
@@ -52,7 +54,12 @@ typedef struct {                          /* the solver's own options (ReadOptio
   PetscBool convex;                   /* the terms' and bodies' positive parts in the tangent (TERM_CONVEX) */
   PetscReal line_lump;                /* each fine line's diagonal carries this times its couplings outside the star */
   PetscBool tao;                      /* minimise Pi by TAO (-static_minimizer tao) instead of SNES */
+  PetscInt  tangent;                  /* the tangent's storage: TANGENT_STENCIL or TANGENT_AIJ (-static_tangent) */
+  PetscBool tangent_set;              /* given by the user */
 } StaticOptions;
+
+enum { TANGENT_STENCIL, TANGENT_AIJ };
+#define MG_MAX_LEVELS 12
 
 typedef struct {   /* three grid rows of block rows, the ghost points either side included */
   PetscReal *buf[3]; /* grid row j in buf[(j - ys + 1) % 3]: per point (xs - 1 ... xs + xm) ROW_SLOTS 3x3 blocks */
@@ -74,6 +81,14 @@ struct _p_StaticSolver {
   StaticOptions  opt;
   RowRing        ring;     /* the tangent's block rows being accumulated (FormJacobian) */
   PetscInt       tangents; /* assembled so far: a level's line smoother factors its operator once for each */
+  PetscInt       levels;   /* of the multigrid hierarchy (MultigridHierarchy; 1: none) */
+  DM             dms[MG_MAX_LEVELS]; /* the levels' layouts, the coarsest first, dms[levels - 1] = dm */
+  Mat            Ps[MG_MAX_LEVELS];  /* Ps[l]: interpolation from level l - 1 to l */
+  PetscBool      stencil;  /* J and the coarse operators stored by stencil (stencil.h) */
+  int            sslot[13]; /* stencil: the slot of J of each ring slot (-1: not in the stencil) */
+  Mat            Ac[MG_MAX_LEVELS]; /* stencil: the levels' Galerkin operators below the finest */
+  Mat            Acoarse;  /* stencil: the coarsest level's, assembled for its direct solve */
+  PetscInt       levels_at; /* stencil: the tangent number the coarse operators were formed from */
 };
 
 /* gravity on the free owned points and the residual rows of the held ones */
@@ -211,7 +226,16 @@ static PetscErrorCode FlushRow(StaticSolver ss, PetscInt jr)
   PetscFunctionBeginUser;
   if (jr < p->ys - 1) PetscFunctionReturn(0);
   buf = rr->buf[(jr - p->ys + 1) % 3];
-  if (jr >= 0 && jr < p->ny) {
+  if (jr >= 0 && jr < p->ny && ss->stencil) { /* the row's blocks into the stencil's slots */
+    StencilData *d;
+    PetscCall(StencilMatGetData(ss->J, &d));
+    for (PetscInt i = PetscMax(p->xs - 1, 0); i < PetscMin(p->xs + p->xm + 1, p->nx); i++) {
+      const PetscReal *row = buf + 9 * ROW_SLOTS * (i - p->xs + 1);
+      PetscReal       *B   = d->blk + 9 * d->ns * ((jr - d->gys) * d->gxm + (i - d->gxs));
+      for (int s = 0; s < ROW_SLOTS; s++)
+        if (ss->sslot[s] >= 0) PetscCall(PetscArraycpy(B + 9 * ss->sslot[s], row + 9 * s, 9));
+    }
+  } else if (jr >= 0 && jr < p->ny) {
     PetscCall(DMDAGetGhostCorners(ss->dm, &gxs, &gys, &zs, &gxm, &gym, &zm));
     for (PetscInt i = PetscMax(p->xs - 1, 0); i < PetscMin(p->xs + p->xm + 1, p->nx); i++) {
       const PetscReal *row   = buf + 9 * ROW_SLOTS * (i - p->xs + 1);
@@ -323,8 +347,11 @@ static PetscErrorCode FormJacobian(SNES snes, Vec U, Mat A, Mat P, void *ctx)
   PetscCall(FlushRow(ss, p->ys + p->ym));
   PetscCall(VecRestoreArrayRead(U, &u));
   PetscCall(VecRestoreArrayRead(fab->state.Xl, &xl));
-  PetscCall(MatAssemblyBegin(P, MAT_FINAL_ASSEMBLY));
-  PetscCall(MatAssemblyEnd(P, MAT_FINAL_ASSEMBLY));
+  if (ss->stencil) PetscCall(StencilMatAssemble(P)); /* the coarse operators follow: RefreshLevels */
+  else {
+    PetscCall(MatAssemblyBegin(P, MAT_FINAL_ASSEMBLY));
+    PetscCall(MatAssemblyEnd(P, MAT_FINAL_ASSEMBLY));
+  }
   PetscFunctionReturn(0);
 }
 
@@ -456,7 +483,7 @@ static PetscErrorCode Converged(SNES snes, PetscInt it, PetscReal xnorm, PetscRe
    more than one row) are dealt out whole among the ranks that share them: each rank receives its
    share of those lines, every point's blocks at set-up and every residual at a sweep (a PetscSF
    from the points' owners), solves them and sends the solution back. */
-static PetscLogEvent EV_LineSetUp, EV_LineSolve;
+static PetscLogEvent EV_LineSetUp, EV_LineSolve, EV_Galerkin;
 
 typedef struct {
   PetscInt     xs, ys, xm, ym;           /* the level's owned patch */
@@ -474,6 +501,8 @@ typedef struct {
   Mat             A;                     /* the operator factored, at tangent number factored */
   PetscInt        factored;
   const PetscInt *tangents;              /* the tangents assembled so far (FormJacobian) */
+  PetscErrorCode (*refresh)(void *);     /* brings a stencil level operator up to the tangent (RefreshLevels) */
+  void           *refresh_ctx;
 } LineSmoother;
 
 typedef struct {     /* one smoother (PCSHELL context): the level's factors, its sweeps */
@@ -676,6 +705,33 @@ static PetscErrorCode DealLines(LineSmoother *ls, MPI_Comm comm, int dir, PetscI
   PetscFunctionReturn(0);
 }
 
+/* a line smoother's blocks from an operator stored by stencil: per owned point, each row c of
+   the centre block into both directions' D, of the +x block into the x-lines' U, of the +y block
+   into the y-lines' U; the magnitudes of the row's other blocks but the -x and -y ones (the
+   couplings outside the star) times lump added to its diagonal */
+static void StencilLineBlocks(const StencilData *d, PetscReal lump, PetscReal *blk[2])
+{
+  const int sc = d->slot[2][2], sx = d->slot[2][3], sy = d->slot[3][2], sxm = d->slot[2][1], sym = d->slot[1][2];
+
+  for (PetscInt j = d->ys; j < d->ys + d->ym; j++)
+    for (PetscInt i = d->xs; i < d->xs + d->xm; i++) {
+      const PetscInt   k = (j - d->ys) * d->xm + (i - d->xs);
+      const PetscReal *B = d->blk + 9 * d->ns * ((j - d->gys) * d->gxm + (i - d->gxs));
+      for (int c = 0; c < 3; c++) {
+        PetscReal l = 0;
+        for (int cc = 0; cc < 3; cc++) {
+          blk[0][LINE_FAC * k + 3 * c + cc] = blk[1][LINE_FAC * k + 3 * c + cc] = B[9 * sc + 3 * c + cc];
+          if (sx >= 0) blk[0][LINE_FAC * k + 9 + 3 * c + cc] = B[9 * sx + 3 * c + cc];
+          if (sy >= 0) blk[1][LINE_FAC * k + 9 + 3 * c + cc] = B[9 * sy + 3 * c + cc];
+        }
+        for (PetscInt s = 0; s < d->ns; s++)
+          if (s != sc && s != sx && s != sy && s != sxm && s != sym)
+            for (int cc = 0; cc < 3; cc++) l += PetscAbsReal(B[9 * s + 3 * c + cc]);
+        for (int dir = 0; dir < 2; dir++) blk[dir][LINE_FAC * k + 4 * c] += lump * l;
+      }
+    }
+}
+
 /* the blocks of the level operator along the lines, factored */
 static PetscErrorCode LineSmootherSetUp(PC pc)
 {
@@ -730,7 +786,13 @@ static PetscErrorCode LineSmootherSetUp(PC pc)
     else blk[dir] = ls->fac[dir];
     PetscCall(PetscArrayzero(blk[dir], LINE_FAC * npts));
   }
-  for (PetscInt k = 0; k < npts; k++) {
+  if (StencilMatIs(A)) { /* the same from the blocks by stencil */
+    StencilData *d;
+    PetscCall(ls->refresh(ls->refresh_ctx));
+    PetscCall(StencilMatGetData(A, &d));
+    StencilLineBlocks(d, ls->lump, blk);
+  }
+  for (PetscInt k = 0; k < npts && !StencilMatIs(A); k++) {
     const PetscInt i = ls->xs + k % ls->xm, j = ls->ys + k / ls->xm;
     const PetscInt ni[5] = {i, i - 1, i + 1, i, i}, nj[5] = {j, j, j, j - 1, j + 1};
     PetscInt       nb[5];
@@ -910,15 +972,16 @@ static PetscErrorCode SetLineSmoother(KSP ksp, const int order[3], LineSmoother 
 
 /* One coarsening of the grid's layout: the coarse point I lies on the fine point min(2I, M - 1)
    (M / 2 + 1 points: every other fine point and both ends, for any M; where M - 1 is odd the last
-   coarse spacing is one fine spacing), owned by the rank that owns that fine point. Returns the
+   coarse spacing is one fine spacing), owned by the rank that owns that fine point; ghosts of the
+   fine layout's width in a box (the reach of the Galerkin operator's stencil). Returns the
    coarse layout and the fewest coarse points of a rank's column or row (no layout if 0). */
 static PetscErrorCode CoarsenLayout(DM fine, DM *coarse, PetscInt *fewest)
 {
-  PetscInt        M, N, m, n, Mc, Nc, *lxc, *lyc, s = 0;
+  PetscInt        M, N, m, n, Mc, Nc, *lxc, *lyc, s = 0, w;
   const PetscInt *lx, *ly;
 
   PetscFunctionBeginUser;
-  PetscCall(DMDAGetInfo(fine, NULL, &M, &N, NULL, &m, &n, NULL, NULL, NULL, NULL, NULL, NULL, NULL));
+  PetscCall(DMDAGetInfo(fine, NULL, &M, &N, NULL, &m, &n, NULL, NULL, &w, NULL, NULL, NULL, NULL));
   PetscCall(DMDAGetOwnershipRanges(fine, &lx, &ly, NULL));
   Mc = M / 2 + 1, Nc = N / 2 + 1;
   PetscCall(PetscMalloc2(m, &lxc, n, &lyc));
@@ -935,22 +998,11 @@ static PetscErrorCode CoarsenLayout(DM fine, DM *coarse, PetscInt *fewest)
   *coarse = NULL;
   if (*fewest >= 1) {
     PetscCall(DMDACreate2d(PetscObjectComm((PetscObject) fine), DM_BOUNDARY_NONE, DM_BOUNDARY_NONE,
-                           DMDA_STENCIL_STAR, Mc, Nc, m, n, 3, 1, lxc, lyc, coarse));
+                           DMDA_STENCIL_BOX, Mc, Nc, m, n, 3, w, lxc, lyc, coarse));
     PetscCall(DMSetUp(*coarse));
   }
   PetscCall(PetscFree2(lxc, lyc));
   PetscFunctionReturn(0);
-}
-
-/* the coarse point(s) c over fine point i of a side of M points, and their weights (linear) */
-static inline int Under(PetscInt i, PetscInt M, PetscInt c[2], PetscReal w[2])
-{
-  if (i % 2 == 0 || i == M - 1) {
-    c[0] = (i + 1) / 2, w[0] = 1;
-    return 1;
-  }
-  c[0] = (i - 1) / 2, c[1] = (i + 1) / 2, w[0] = w[1] = 0.5;
-  return 2;
 }
 
 /* bilinear interpolation from the coarse layout to the fine one, each of the 3 components alone */
@@ -973,7 +1025,7 @@ static PetscErrorCode CreateInterpolation(DM coarse, DM fine, Mat *P)
       const PetscInt row = 3 * ((j - ys) * xm + (i - xs));
       PetscInt       ci[2], cj[2];
       PetscReal      wi[2], wj[2];
-      const int      ni = Under(i, M, ci, wi), nj = Under(j, N, cj, wj);
+      const int      ni = StencilUnder(i, M, ci, wi), nj = StencilUnder(j, N, cj, wj);
       for (int b = 0; b < nj; b++)
         for (int a = 0; a < ni; a++) {
           const PetscInt col = 3 * NumberingIndex(&nc, ci[a], cj[b]);
@@ -996,7 +1048,6 @@ static PetscErrorCode CreateInterpolation(DM coarse, DM fine, Mat *P)
    MG_COARSEST points: such coarse spaces are poorer, and on the 201 x 201 net two more of them
    below 26 x 26 took 496 Krylov iterations against 321 (docs/static.md); dms[levels - 1] is the grid's own layout, Ps[l] interpolates from level l - 1 to l
    (both new references but the finest layout). */
-#define MG_MAX_LEVELS 12
 #define MG_COARSEST   1024 /* points: a grid this small is coarsened only where its sides halve exactly */
 static PetscErrorCode MultigridHierarchy(DM da, PetscInt *levels, DM dms[MG_MAX_LEVELS], Mat Ps[MG_MAX_LEVELS])
 {
@@ -1030,33 +1081,65 @@ static PetscErrorCode MultigridHierarchy(DM da, PetscInt *levels, DM dms[MG_MAX_
   PetscFunctionReturn(0);
 }
 
+/* The stencil operators of the levels below the finest brought up to the last tangent: each the
+   Galerkin operator of the one above it, the coarsest also assembled for its direct solve. Called
+   by the line smoother of a level whose operator changed (the finest one at every tangent); not
+   while SNES reuses the preconditioner (-snes_lag_preconditioner), which then keeps the coarse
+   levels as PCMG keeps its Galerkin products. A level's smoother and the coarse solve set
+   themselves up again at their next solve, their operator having changed. */
+static PetscErrorCode RefreshLevels(void *ctx)
+{
+  StaticSolver ss    = (StaticSolver) ctx;
+  PetscBool    reuse = PETSC_FALSE;
+
+  PetscFunctionBeginUser;
+  if (ss->levels_at == ss->tangents) PetscFunctionReturn(0);
+  if (!ss->opt.tao && ss->levels_at >= 0) {
+    KSP ksp;
+    PetscCall(SNESGetKSP(ss->snes, &ksp));
+    PetscCall(KSPGetReusePreconditioner(ksp, &reuse));
+  }
+  if (reuse) PetscFunctionReturn(0);
+  PetscCall(PetscLogEventBegin(EV_Galerkin, 0, 0, 0, 0));
+  for (PetscInt l = ss->levels - 2; l >= 0; l--) PetscCall(StencilMatGalerkin(l == ss->levels - 2 ? ss->J : ss->Ac[l + 1], ss->Ac[l]));
+  PetscCall(StencilMatToAIJ(ss->Ac[0], ss->Acoarse));
+  ss->levels_at = ss->tangents;
+  PetscCall(PetscLogEventEnd(EV_Galerkin, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
 /* The preconditioner of the tangent's linear solves: geometric multigrid on the grid's hierarchy
-   with the line smoother, or GAMG with the rigid-body modes on a grid too small to coarsen */
+   with the line smoother (its coarse operators PETSc's Galerkin products of an AIJ tangent, or
+   ours of a stencil one), or GAMG with the rigid-body modes on a grid too small to coarsen */
 static PetscErrorCode SetPreconditioner(StaticSolver ss, KSP ksp)
 {
-  Fabric       fab = ss->fab;
+  Fabric       fab    = ss->fab;
+  const PetscInt levels = ss->levels;
   PC           pc;
-  PetscInt     levels = 1;
-  DM           dms[MG_MAX_LEVELS];
-  Mat          Ps[MG_MAX_LEVELS];
   MatNullSpace rigid;
 
   PetscFunctionBeginUser;
   PetscCall(KSPGetPC(ksp, &pc));
-  PetscCall(MultigridHierarchy(ss->dm, &levels, dms, Ps));
   if (levels > 1) {
     PetscCall(PCSetType(pc, PCMG));
     PetscCall(PCMGSetLevels(pc, levels, NULL));
-    PetscCall(PCMGSetGalerkin(pc, PC_MG_GALERKIN_BOTH));
+    PetscCall(PCMGSetGalerkin(pc, ss->stencil ? PC_MG_GALERKIN_EXTERNAL : PC_MG_GALERKIN_BOTH));
     for (PetscInt l = 1; l < levels; l++) { /* each level's layout (for its line smoother), not its operators */
       KSP k;
-      PetscCall(PCMGSetInterpolation(pc, l, Ps[l]));
+      PetscCall(PCMGSetInterpolation(pc, l, ss->Ps[l]));
       PetscCall(PCMGGetSmootherDown(pc, l, &k));
-      PetscCall(KSPSetDM(k, dms[l]));
+      PetscCall(KSPSetDM(k, ss->dms[l]));
       PetscCall(KSPSetDMActive(k, PETSC_FALSE));
+      if (ss->stencil && l < levels - 1) PetscCall(KSPSetOperators(k, ss->Ac[l], ss->Ac[l]));
       PetscCall(PCMGGetSmootherUp(pc, l, &k));
-      PetscCall(KSPSetDM(k, dms[l]));
+      PetscCall(KSPSetDM(k, ss->dms[l]));
       PetscCall(KSPSetDMActive(k, PETSC_FALSE));
+      if (ss->stencil && l < levels - 1) PetscCall(KSPSetOperators(k, ss->Ac[l], ss->Ac[l]));
+    }
+    if (ss->stencil) {
+      KSP k;
+      PetscCall(PCMGGetCoarseSolve(pc, &k));
+      PetscCall(KSPSetOperators(k, ss->Acoarse, ss->Acoarse));
     }
     for (PetscInt l = 1; l < levels && ss->opt.line_smoother; l++) { /* down x then y lines, up y then x */
       const int     down[3] = {0, 1, -1}, up[3] = {1, 0, -1};
@@ -1067,8 +1150,10 @@ static PetscErrorCode SetPreconditioner(StaticSolver ss, KSP ksp)
       /* the fine level's lines carry the fabric's couplings outside the star (bending, shear);
          the coarse operators' corners are not lumped: they did not make the V-cycle indefinite,
          and lumping them slowed it (docs/static.md) */
-      lines->lump     = l == levels - 1 ? ss->opt.line_lump : 0.0;
-      lines->tangents = &ss->tangents;
+      lines->lump        = l == levels - 1 ? ss->opt.line_lump : 0.0;
+      lines->tangents    = &ss->tangents;
+      lines->refresh     = RefreshLevels;
+      lines->refresh_ctx = ss;
       PetscCall(PCMGGetSmootherDown(pc, l, &smoother));
       PetscCall(SetLineSmoother(smoother, down, lines));
       PetscCall(KSPSetInitialGuessNonzero(smoother, PETSC_FALSE));
@@ -1077,13 +1162,11 @@ static PetscErrorCode SetPreconditioner(StaticSolver ss, KSP ksp)
     }
   } else
     PetscCall(PCSetType(pc, PCGAMG));
-  for (PetscInt l = 0; l < levels - 1; l++) { /* held by the multigrid now */
-    PetscCall(DMDestroy(&dms[l]));
-    PetscCall(MatDestroy(&Ps[l + 1]));
+  if (!ss->stencil) {
+    PetscCall(MatNullSpaceCreateRigidBody(fab->grid.X0, &rigid)); /* GAMG's near-null space */
+    PetscCall(MatSetNearNullSpace(ss->J, rigid));
+    PetscCall(MatNullSpaceDestroy(&rigid));
   }
-  PetscCall(MatNullSpaceCreateRigidBody(fab->grid.X0, &rigid)); /* GAMG's near-null space */
-  PetscCall(MatSetNearNullSpace(ss->J, rigid));
-  PetscCall(MatNullSpaceDestroy(&rigid));
   PetscFunctionReturn(0);
 }
 
@@ -1149,6 +1232,21 @@ static PetscErrorCode CreateTangent(StaticSolver ss)
   ISLocalToGlobalMapping l2g;
 
   PetscFunctionBeginUser;
+  if (ss->stencil) { /* the same slots by stencil; the levels' Galerkin operators on theirs */
+    int      di[ROW_SLOTS], dj[ROW_SLOTS], dic[STENCIL_MAX_SLOTS], djc[STENCIL_MAX_SLOTS];
+    PetscInt ns = 0, nsc;
+    for (int s = 0; s < ROW_SLOTS; s++) {
+      ss->sslot[s] = SlotUsed(p, s) ? (int) ns : -1;
+      if (SlotUsed(p, s)) di[ns] = SlotDi[s], dj[ns] = SlotDj[s], ns++;
+    }
+    PetscCall(StencilMatCreate(ss->dm, ns, di, dj, &ss->J));
+    StencilCoarseSlots(ns, di, dj, &nsc, dic, djc);
+    for (PetscInt l = 0; l < ss->levels - 1; l++) PetscCall(StencilMatCreate(ss->dms[l], nsc, dic, djc, &ss->Ac[l]));
+    PetscCall(DMCreateMatrix(ss->dms[0], &ss->Acoarse));
+    PetscCall(MatSetDM(ss->Acoarse, NULL)); /* PCREDUNDANT's coarse solve would look for vectors of that DM */
+    ss->levels_at = -1;
+    PetscFunctionReturn(0);
+  }
   PetscCall(PetscCalloc2(npts, &dnz, npts, &onz));
   for (PetscInt k = 0; k < npts; k++) {
     const PetscInt i = p->xs + k % p->xm, j = p->ys + k / p->xm;
@@ -1183,6 +1281,8 @@ static PetscErrorCode ReadOptions(MPI_Comm comm, StaticOptions *o)
   o->convex        = PETSC_FALSE;
   o->line_lump     = 1.0;
   o->tao           = PETSC_FALSE;
+  o->tangent       = TANGENT_STENCIL;
+  o->tangent_set   = PETSC_FALSE;
   PetscOptionsBegin(comm, NULL, "Quasi-static solver (-solver static, docs/static.md)", NULL);
   PetscCall(PetscOptionsReal("-snes_shift_start", "pretension shift k_s / k_ref at the run's first Newton step", NULL,
                              o->shift_start, &o->shift_start, NULL));
@@ -1208,6 +1308,13 @@ static PetscErrorCode ReadOptions(MPI_Comm comm, StaticOptions *o)
                                 NULL, minimizers, 2, minimizers[which], &which, NULL));
     o->tao = which == 1 ? PETSC_TRUE : PETSC_FALSE;
   }
+  {
+    const char *const storages[] = {"stencil", "aij"};
+    PetscCall(PetscOptionsEList("-static_tangent",
+                                "the tangent's storage: by stencil (3x3 blocks, no indices; Galerkin levels of our own) or "
+                                "PETSc's AIJ (any -pc_type)",
+                                NULL, storages, 2, storages[o->tangent], &o->tangent, &o->tangent_set));
+  }
   PetscOptionsEnd();
   PetscCheck(o->order >= 0 && o->order <= 2, comm, PETSC_ERR_USER_INPUT, "-snes_extrapolate %" PetscInt_FMT ": 0, 1 or 2",
              o->order);
@@ -1219,12 +1326,27 @@ static PetscErrorCode ReadOptions(MPI_Comm comm, StaticOptions *o)
   PetscFunctionReturn(0);
 }
 
+/* the tangent by stencil serves the multigrid with the line smoother (its products, its levels'
+   Galerkin operators and line blocks): not another -pc_type, nor PETSc's smoothers (SOR) */
+static PetscBool StencilFits(const StaticOptions *o)
+{
+  char      pc[64] = "";
+  PetscBool set    = PETSC_FALSE, mg = PETSC_TRUE;
+
+  if (PetscOptionsGetString(NULL, NULL, "-pc_type", pc, sizeof pc, &set)) return PETSC_FALSE;
+  if (set && PetscStrcmp(pc, PCMG, &mg)) return PETSC_FALSE;
+  return mg && o->line_smoother ? PETSC_TRUE : PETSC_FALSE;
+}
+
 PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
 {
   StaticOptions o;
 
   PetscFunctionBeginUser;
   PetscCall(ReadOptions(comm, &o));
+  PetscCheck(!(o.tangent_set && o.tangent == TANGENT_STENCIL && !StencilFits(&o)), comm, PETSC_ERR_USER_INPUT,
+             "-static_tangent stencil: the tangent by stencil needs the multigrid preconditioner with the line "
+             "smoother (-pc_type mg, -mg_line_smoother 1); use -static_tangent aij with another");
   { /* PETSc's finite-difference operator with the assembled tangent as preconditioner: the
        multigrid forms its Galerkin products from the operator, and the energy line search never
        sets the difference's base, so it fails mid-run; -snes_mf (no preconditioner) runs */
@@ -1344,17 +1466,20 @@ PetscErrorCode StaticCreate(Fabric fab, StaticSolver *out)
     PetscCall(PetscClassIdRegister("Static", &id));
     PetscCall(PetscLogEventRegister("StaticLineSetUp", id, &EV_LineSetUp));
     PetscCall(PetscLogEventRegister("StaticLineSolve", id, &EV_LineSolve));
+    PetscCall(PetscLogEventRegister("StaticGalerkin", id, &EV_Galerkin));
   }
   PetscCall(PetscNew(&ss));
   ss->fab = fab;
   PetscCall(CreateMatrixDM(fab, &ss->dm));
+  PetscCall(ReadOptions(fab->comm, &ss->opt));
+  PetscCall(MultigridHierarchy(ss->dm, &ss->levels, ss->dms, ss->Ps));
+  ss->stencil = (ss->opt.tangent == TANGENT_STENCIL && StencilFits(&ss->opt) && ss->levels > 1) ? PETSC_TRUE : PETSC_FALSE;
   PetscCall(CreateTangent(ss));
   PetscCall(MatSetOption(ss->J, MAT_SYMMETRIC, PETSC_TRUE));
   PetscCall(VecDuplicate(fab->state.X, &ss->Xbc));
   ss->h = &fab->state.hist; /* restored by a restart, else empty */
   for (int q = 0; q < 3; q++)
     if (!ss->h->Xh[q]) PetscCall(VecDuplicate(fab->state.X, &ss->h->Xh[q]));
-  PetscCall(ReadOptions(fab->comm, &ss->opt));
   /* the free flags, ghosted */
   PetscCall(DMGetGlobalVector(fab->grid.da, &flag));
   PetscCall(DMGetLocalVector(fab->grid.da, &flagl));
@@ -1387,6 +1512,18 @@ PetscErrorCode StaticCreate(Fabric fab, StaticSolver *out)
   PetscCall(SetDefaults(ss));
   PetscCall(SNESSetFromOptions(ss->snes));
   if (ss->opt.tao) PetscCall(CreateTao(ss));
+  if (ss->stencil) { /* a preconditioner chosen under an options prefix (TAO's KSP) */
+    KSP       ksp;
+    PC        pc;
+    PetscBool mg;
+    if (ss->opt.tao) PetscCall(TaoGetKSP(ss->tao, &ksp));
+    else PetscCall(SNESGetKSP(ss->snes, &ksp));
+    PetscCall(KSPGetPC(ksp, &pc));
+    PetscCall(PetscObjectTypeCompare((PetscObject) pc, PCMG, &mg));
+    PetscCheck(mg, fab->comm, PETSC_ERR_USER_INPUT,
+               "-static_tangent stencil: the tangent by stencil needs the multigrid preconditioner (mg); add "
+               "-static_tangent aij for another one");
+  }
   *out = ss;
   PetscFunctionReturn(0);
 }
@@ -1400,6 +1537,12 @@ PetscErrorCode StaticDestroy(StaticSolver *pss)
   PetscCall(SNESDestroy(&ss->snes));
   PetscCall(TaoDestroy(&ss->tao));
   PetscCall(MatDestroy(&ss->J));
+  PetscCall(MatDestroy(&ss->Acoarse));
+  for (PetscInt l = 0; l < ss->levels - 1; l++) {
+    PetscCall(MatDestroy(&ss->Ac[l]));
+    PetscCall(DMDestroy(&ss->dms[l]));
+    PetscCall(MatDestroy(&ss->Ps[l + 1]));
+  }
   PetscCall(DMDestroy(&ss->dm));
   PetscCall(VecDestroy(&ss->Xbc));
   PetscCall(PetscFree(ss->free_g));
