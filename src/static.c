@@ -85,7 +85,7 @@ struct _p_StaticSolver {
   DM             dms[MG_MAX_LEVELS]; /* the levels' layouts, the coarsest first, dms[levels - 1] = dm */
   Mat            Ps[MG_MAX_LEVELS];  /* Ps[l]: interpolation from level l - 1 to l */
   PetscBool      stencil;  /* J and the coarse operators stored by stencil (stencil.h) */
-  int            sslot[13]; /* stencil: the slot of J of each ring slot (-1: not in the stencil) */
+  int            sslot[13]; /* stencil: the stored slot of J of each ring slot (-1: behind, or not in the stencil) */
   Mat            Ac[MG_MAX_LEVELS]; /* stencil: the levels' Galerkin operators below the finest */
   Mat            Acoarse;  /* stencil: the coarsest level's, assembled for its direct solve */
   PetscInt       levels_at; /* stencil: the tangent number the coarse operators were formed from */
@@ -711,23 +711,28 @@ static PetscErrorCode DealLines(LineSmoother *ls, MPI_Comm comm, int dir, PetscI
    couplings outside the star) times lump added to its diagonal */
 static void StencilLineBlocks(const StencilData *d, PetscReal lump, PetscReal *blk[2])
 {
-  const int sc = d->slot[2][2], sx = d->slot[2][3], sy = d->slot[3][2], sxm = d->slot[2][1], sym = d->slot[1][2];
-
   for (PetscInt j = d->ys; j < d->ys + d->ym; j++)
     for (PetscInt i = d->xs; i < d->xs + d->xm; i++) {
-      const PetscInt   k = (j - d->ys) * d->xm + (i - d->xs);
-      const PetscReal *B = d->blk + 9 * d->ns * ((j - d->gys) * d->gxm + (i - d->gxs));
-      for (int c = 0; c < 3; c++) {
-        PetscReal l = 0;
-        for (int cc = 0; cc < 3; cc++) {
-          blk[0][LINE_FAC * k + 3 * c + cc] = blk[1][LINE_FAC * k + 3 * c + cc] = B[9 * sc + 3 * c + cc];
-          if (sx >= 0) blk[0][LINE_FAC * k + 9 + 3 * c + cc] = B[9 * sx + 3 * c + cc];
-          if (sy >= 0) blk[1][LINE_FAC * k + 9 + 3 * c + cc] = B[9 * sy + 3 * c + cc];
+      const PetscInt k = (j - d->ys) * d->xm + (i - d->xs), g = (j - d->gys) * d->gxm + (i - d->gxs);
+      PetscReal      D[9], Ux[9], Uy[9], l[3] = {0, 0, 0};
+      StencilBlock(d, g, 0, 0, D);
+      StencilBlock(d, g, 1, 0, Ux);
+      StencilBlock(d, g, 0, 1, Uy);
+      for (int dj = -2; dj <= 2 && lump != 0; dj++)
+        for (int di = -2; di <= 2; di++) {
+          PetscReal K[9];
+          if (PetscAbsInt(di) + PetscAbsInt(dj) <= 1 || i + di < 0 || i + di >= d->M || j + dj < 0 || j + dj >= d->N ||
+              !StencilBlock(d, g, di, dj, K))
+            continue;
+          for (int c = 0; c < 3; c++) l[c] += PetscAbsReal(K[3 * c]) + PetscAbsReal(K[3 * c + 1]) + PetscAbsReal(K[3 * c + 2]);
         }
-        for (PetscInt s = 0; s < d->ns; s++)
-          if (s != sc && s != sx && s != sy && s != sxm && s != sym)
-            for (int cc = 0; cc < 3; cc++) l += PetscAbsReal(B[9 * s + 3 * c + cc]);
-        for (int dir = 0; dir < 2; dir++) blk[dir][LINE_FAC * k + 4 * c] += lump * l;
+      for (int c = 0; c < 3; c++) {
+        for (int cc = 0; cc < 3; cc++) {
+          blk[0][LINE_FAC * k + 3 * c + cc] = blk[1][LINE_FAC * k + 3 * c + cc] = D[3 * c + cc];
+          blk[0][LINE_FAC * k + 9 + 3 * c + cc] = Ux[3 * c + cc];
+          blk[1][LINE_FAC * k + 9 + 3 * c + cc] = Uy[3 * c + cc];
+        }
+        for (int dir = 0; dir < 2; dir++) blk[dir][LINE_FAC * k + 4 * c] += lump * l[c];
       }
     }
 }
@@ -1016,8 +1021,28 @@ static PetscErrorCode CreateInterpolation(DM coarse, DM fine, Mat *P)
   PetscCall(DMDAGetCorners(fine, &xs, &ys, NULL, &xm, &ym, NULL));
   PetscCall(DMDAGetCorners(coarse, NULL, NULL, NULL, &xcm, &ycm, NULL));
   PetscCall(NumberingCreate(coarse, &nc));
-  PetscCall(MatCreateAIJ(PetscObjectComm((PetscObject) fine), 3 * xm * ym, 3 * xcm * ycm, PETSC_DETERMINE,
-                         PETSC_DETERMINE, 4, NULL, 4, NULL, P));
+  { /* preallocated exactly: the coarse points over each fine point, on this rank (the owner of the
+       fine point a coarse point lies on) or not */
+    PetscInt *dnz, *onz;
+    PetscCall(PetscMalloc2(3 * xm * ym, &dnz, 3 * xm * ym, &onz));
+    for (PetscInt j = ys; j < ys + ym; j++)
+      for (PetscInt i = xs; i < xs + xm; i++) {
+        const PetscInt row = 3 * ((j - ys) * xm + (i - xs));
+        PetscInt       ci[2], cj[2], d = 0, o = 0;
+        PetscReal      wi[2], wj[2];
+        const int      ni = StencilUnder(i, M, ci, wi), nj = StencilUnder(j, N, cj, wj);
+        for (int b = 0; b < nj; b++)
+          for (int a = 0; a < ni; a++) {
+            const PetscInt fi = PetscMin(2 * ci[a], M - 1), fj = PetscMin(2 * cj[b], N - 1);
+            if (fi >= xs && fi < xs + xm && fj >= ys && fj < ys + ym) d++;
+            else o++;
+          }
+        for (PetscInt c = 0; c < 3; c++) dnz[row + c] = d, onz[row + c] = o;
+      }
+    PetscCall(MatCreateAIJ(PetscObjectComm((PetscObject) fine), 3 * xm * ym, 3 * xcm * ycm, PETSC_DETERMINE,
+                           PETSC_DETERMINE, 0, dnz, 0, onz, P));
+    PetscCall(PetscFree2(dnz, onz));
+  }
   PetscCall(MatSetOption(*P, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
   PetscCall(MatGetOwnershipRange(*P, &rstart, NULL));
   for (PetscInt j = ys; j < ys + ym; j++)
@@ -1233,14 +1258,15 @@ static PetscErrorCode CreateTangent(StaticSolver ss)
 
   PetscFunctionBeginUser;
   if (ss->stencil) { /* the same slots by stencil; the levels' Galerkin operators on theirs */
-    int      di[ROW_SLOTS], dj[ROW_SLOTS], dic[STENCIL_MAX_SLOTS], djc[STENCIL_MAX_SLOTS];
-    PetscInt ns = 0, nsc;
-    for (int s = 0; s < ROW_SLOTS; s++) {
-      ss->sslot[s] = SlotUsed(p, s) ? (int) ns : -1;
+    int          di[ROW_SLOTS], dj[ROW_SLOTS], dic[STENCIL_MAX_SLOTS], djc[STENCIL_MAX_SLOTS];
+    PetscInt     ns = 0, nsc;
+    StencilData *d;
+    for (int s = 0; s < ROW_SLOTS; s++)
       if (SlotUsed(p, s)) di[ns] = SlotDi[s], dj[ns] = SlotDj[s], ns++;
-    }
     PetscCall(StencilMatCreate(ss->dm, ns, di, dj, &ss->J));
-    StencilCoarseSlots(ns, di, dj, &nsc, dic, djc);
+    PetscCall(StencilMatGetData(ss->J, &d));
+    for (int s = 0; s < ROW_SLOTS; s++) ss->sslot[s] = SlotUsed(p, s) ? d->slot[SlotDj[s] + 2][SlotDi[s] + 2] : -1;
+    StencilCoarseSlots(ss->J, &nsc, dic, djc);
     for (PetscInt l = 0; l < ss->levels - 1; l++) PetscCall(StencilMatCreate(ss->dms[l], nsc, dic, djc, &ss->Ac[l]));
     PetscCall(DMCreateMatrix(ss->dms[0], &ss->Acoarse));
     PetscCall(MatSetDM(ss->Acoarse, NULL)); /* PCREDUNDANT's coarse solve would look for vectors of that DM */

@@ -1,12 +1,14 @@
-/* stencil.c - a block operator on the grid's layout stored by stencil: per point of the ghosted
- * patch, one 3x3 block for each slot of a fixed stencil (the tangent's neighbours: the star, the
- * box's corners with shear, the points two apart along a yarn with bending), and no indices.
- * A product reads each block once (an AIJ matrix of the same operator also streams a column index
- * per value and keeps 3 rows per point); the Galerkin operator of the multigrid levels' bilinear
- * interpolation is formed point by point from the blocks (StencilMatGalerkin), with no
- * intermediate products; the coarsest level is copied into an AIJ matrix for its direct solve.
- * Blocks written at a ghost point (a term of this rank reaching a neighbour's point) are added
- * into the owner's by StencilMatAssemble.
+/* stencil.c - a symmetric block operator on the grid's layout stored by stencil: per point of the
+ * ghosted patch, its centre 3x3 block and one for each forward neighbour of a fixed stencil (the
+ * tangent's: the star, the box's corners with shear, the points two apart along a yarn with
+ * bending); a row's backward blocks are the transposes of its neighbours' forward ones. No
+ * indices: a product reads each stored block once and uses it twice (an AIJ matrix of the same
+ * operator streams every block with a column index per value). The Galerkin operator of the
+ * multigrid levels' bilinear interpolation is formed point by point from the blocks
+ * (StencilMatGalerkin), with no intermediate products; the coarsest level is copied into an AIJ
+ * matrix for its direct solve. Blocks written at a ghost point (a term of this rank reaching a
+ * neighbour's point) are added into the owner's, and the sums brought back to the ghost points,
+ * by StencilMatAssemble.
  */
 #include "stencil.h"
 #include "comm.h"
@@ -14,6 +16,8 @@
 #include <petsc/private/petscimpl.h> /* PetscObjectStateIncrease */
 #include <petscsf.h>
 
+/* y = A x: per owned point, its centre block, its forward blocks on the neighbours ahead and the
+   transposes of the blocks of the neighbours behind (ghost points near the patch's edge) */
 static PetscErrorCode StencilMult(Mat A, Vec x, Vec y)
 {
   StencilData       *d;
@@ -28,25 +32,28 @@ static PetscErrorCode StencilMult(Mat A, Vec x, Vec y)
   for (PetscInt j = d->ys; j < d->ys + d->ym; j++) {
     const PetscBool jin = j >= 2 && j < d->N - 2;
     for (PetscInt i = d->xs; i < d->xs + d->xm; i++) {
-      const PetscInt   g = (j - d->gys) * d->gxm + (i - d->gxs);
-      const PetscReal *B = d->blk + 9 * d->ns * g;
-      PetscScalar      y0 = 0, y1 = 0, y2 = 0;
-      if (jin && i >= 2 && i < d->M - 2) { /* every neighbour inside the grid */
-        for (PetscInt s = 0; s < d->ns; s++, B += 9) {
-          const PetscScalar *v = xl + 3 * (g + d->dj[s] * d->gxm + d->di[s]);
-          y0 += B[0] * v[0] + B[1] * v[1] + B[2] * v[2];
-          y1 += B[3] * v[0] + B[4] * v[1] + B[5] * v[2];
-          y2 += B[6] * v[0] + B[7] * v[1] + B[8] * v[2];
+      const PetscInt     g  = (j - d->gys) * d->gxm + (i - d->gxs);
+      const PetscReal   *B  = d->blk + 9 * d->ns * g;
+      const PetscScalar *xp = xl + 3 * g;
+      const PetscBool    in = jin && i >= 2 && i < d->M - 2; /* every neighbour inside the grid */
+      PetscScalar        y0 = B[0] * xp[0] + B[1] * xp[1] + B[2] * xp[2];
+      PetscScalar        y1 = B[3] * xp[0] + B[4] * xp[1] + B[5] * xp[2];
+      PetscScalar        y2 = B[6] * xp[0] + B[7] * xp[1] + B[8] * xp[2];
+      for (PetscInt s = 1; s < d->ns; s++) {
+        const PetscInt off = d->dj[s] * d->gxm + d->di[s];
+        if (in || (i + d->di[s] < d->M && j + d->dj[s] < d->N && i + d->di[s] >= 0)) { /* ahead */
+          const PetscReal   *F = B + 9 * s;
+          const PetscScalar *v = xp + 3 * off;
+          y0 += F[0] * v[0] + F[1] * v[1] + F[2] * v[2];
+          y1 += F[3] * v[0] + F[4] * v[1] + F[5] * v[2];
+          y2 += F[6] * v[0] + F[7] * v[1] + F[8] * v[2];
         }
-      } else {
-        for (PetscInt s = 0; s < d->ns; s++, B += 9) {
-          const PetscInt     ic = i + d->di[s], jc = j + d->dj[s];
-          const PetscScalar *v;
-          if (ic < 0 || ic >= d->M || jc < 0 || jc >= d->N) continue;
-          v = xl + 3 * (g + d->dj[s] * d->gxm + d->di[s]);
-          y0 += B[0] * v[0] + B[1] * v[1] + B[2] * v[2];
-          y1 += B[3] * v[0] + B[4] * v[1] + B[5] * v[2];
-          y2 += B[6] * v[0] + B[7] * v[1] + B[8] * v[2];
+        if (in || (i - d->di[s] >= 0 && j - d->dj[s] >= 0 && i - d->di[s] < d->M)) { /* behind: transposed */
+          const PetscReal   *T = d->blk + 9 * (d->ns * (g - off) + s);
+          const PetscScalar *v = xp - 3 * off;
+          y0 += T[0] * v[0] + T[3] * v[1] + T[6] * v[2];
+          y1 += T[1] * v[0] + T[4] * v[1] + T[7] * v[2];
+          y2 += T[2] * v[0] + T[5] * v[1] + T[8] * v[2];
         }
       }
       {
@@ -55,9 +62,9 @@ static PetscErrorCode StencilMult(Mat A, Vec x, Vec y)
       }
     }
   }
-  PetscCall(VecRestoreArrayWrite(y, &yy));
   PetscCall(VecRestoreArrayRead(d->xl, &xl));
-  PetscCall(PetscLogFlops(18.0 * d->ns * d->xm * d->ym));
+  PetscCall(VecRestoreArrayWrite(y, &yy));
+  PetscCall(PetscLogFlops(18.0 * (2 * d->ns - 1) * d->xm * d->ym));
   PetscFunctionReturn(0);
 }
 
@@ -72,7 +79,7 @@ static PetscErrorCode StencilGetDiagonal(Mat A, Vec diag)
   for (PetscInt j = d->ys; j < d->ys + d->ym; j++)
     for (PetscInt i = d->xs; i < d->xs + d->xm; i++) {
       const PetscInt   g = (j - d->gys) * d->gxm + (i - d->gxs), k = 3 * ((j - d->ys) * d->xm + (i - d->xs));
-      const PetscReal *B = d->blk + 9 * (d->ns * g + d->slot[2][2]);
+      const PetscReal *B = d->blk + 9 * d->ns * g; /* the centre */
       a[k] = B[0], a[k + 1] = B[4], a[k + 2] = B[8];
     }
   PetscCall(VecRestoreArrayWrite(diag, &a));
@@ -88,7 +95,7 @@ static PetscErrorCode StencilShift(Mat A, PetscScalar a)
   PetscCall(MatShellGetContext(A, &d));
   for (PetscInt j = d->ys; j < d->ys + d->ym; j++)
     for (PetscInt i = d->xs; i < d->xs + d->xm; i++) {
-      PetscReal *B = d->blk + 9 * (d->ns * ((j - d->gys) * d->gxm + (i - d->gxs)) + d->slot[2][2]);
+      PetscReal *B = d->blk + 9 * d->ns * ((j - d->gys) * d->gxm + (i - d->gxs)); /* the centre */
       B[0] += a, B[4] += a, B[8] += a;
     }
   PetscCall(PetscObjectStateIncrease((PetscObject) A));
@@ -163,33 +170,45 @@ static PetscErrorCode GhostsCreate(StencilData *d)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode StencilMatCreate(DM dm, PetscInt ns, const int di[], const int dj[], Mat *A)
+PetscErrorCode StencilMatCreate(DM dm, PetscInt nfull, const int di[], const int dj[], Mat *A)
 {
   StencilData *d;
   PetscInt     zs, zm;
 
   PetscFunctionBeginUser;
-  PetscCheck(ns > 0 && ns <= STENCIL_MAX_SLOTS, PetscObjectComm((PetscObject) dm), PETSC_ERR_PLIB, "stencil of %" PetscInt_FMT " slots", ns);
   PetscCall(PetscNew(&d));
   d->unit = MPI_DATATYPE_NULL;
   PetscCall(PetscObjectReference((PetscObject) dm));
   d->dm = dm;
-  d->ns = ns;
   for (int b = 0; b < 5; b++)
-    for (int a = 0; a < 5; a++) d->slot[b][a] = -1;
-  for (PetscInt s = 0; s < ns; s++) {
+    for (int a = 0; a < 5; a++) d->slot[b][a] = -1, d->in[b][a] = PETSC_FALSE;
+  for (PetscInt s = 0; s < nfull; s++) {
     PetscCheck(PetscAbsInt(di[s]) <= 2 && PetscAbsInt(dj[s]) <= 2, PETSC_COMM_SELF, PETSC_ERR_PLIB, "stencil reach");
-    d->di[s] = di[s], d->dj[s] = dj[s], d->slot[dj[s] + 2][di[s] + 2] = (int) s;
+    d->in[dj[s] + 2][di[s] + 2] = PETSC_TRUE;
   }
-  PetscCheck(d->slot[2][2] >= 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "a stencil without its centre");
+  d->di[0] = d->dj[0] = 0, d->slot[2][2] = 0, d->ns = 1; /* the centre, then the forward half in order */
+  for (int b = -2; b <= 2; b++)
+    for (int a = -2; a <= 2; a++) {
+      if (!d->in[b + 2][a + 2]) continue;
+      PetscCheck(d->in[2 - b][2 - a], PETSC_COMM_SELF, PETSC_ERR_PLIB, "an unsymmetric stencil");
+      if (!StencilForward(a, b)) continue;
+      d->di[d->ns] = a, d->dj[d->ns] = b, d->slot[b + 2][a + 2] = (int) d->ns++;
+    }
+  PetscCheck(d->in[2][2], PETSC_COMM_SELF, PETSC_ERR_PLIB, "a stencil without its centre");
   PetscCall(DMDAGetInfo(dm, NULL, &d->M, &d->N, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL));
   PetscCall(DMDAGetCorners(dm, &d->xs, &d->ys, &zs, &d->xm, &d->ym, &zm));
   PetscCall(DMDAGetGhostCorners(dm, &d->gxs, &d->gys, &zs, &d->gxm, &d->gym, &zm));
-  PetscCall(PetscCalloc1(9 * ns * d->gxm * d->gym, &d->blk));
+  PetscCall(PetscCalloc1(9 * d->ns * d->gxm * d->gym, &d->blk));
   PetscCall(DMCreateLocalVector(dm, &d->xl));
   PetscCall(GhostsCreate(d));
   PetscCall(MatCreateShell(PetscObjectComm((PetscObject) dm), 3 * d->xm * d->ym, 3 * d->xm * d->ym, PETSC_DETERMINE,
                            PETSC_DETERMINE, d, A));
+  {
+    PetscInt w;
+    PetscCall(DMDAGetInfo(dm, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, &w, NULL, NULL, NULL, NULL));
+    for (PetscInt s = 0; s < d->ns; s++)
+      PetscCheck(PetscAbsInt(d->di[s]) <= w && d->dj[s] <= w, PETSC_COMM_SELF, PETSC_ERR_PLIB, "a stencil wider than the layout's ghosts");
+  }
   PetscCall(MatSetBlockSize(*A, 3));
   PetscCall(MatShellSetOperation(*A, MATOP_MULT, (void (*)(void)) StencilMult));
   PetscCall(MatShellSetOperation(*A, MATOP_MULT_TRANSPOSE, (void (*)(void)) StencilMult)); /* symmetric */
@@ -229,16 +248,20 @@ PetscErrorCode StencilMatAssemble(Mat A)
   PetscCall(StencilMatGetData(A, &d));
   PetscCall(PetscSFReduceBegin(d->ghosts, d->unit, d->blk, d->blk, MPI_SUM));
   PetscCall(PetscSFReduceEnd(d->ghosts, d->unit, d->blk, d->blk, MPI_SUM));
+  PetscCall(PetscSFBcastBegin(d->ghosts, d->unit, d->blk, d->blk, MPI_REPLACE));
+  PetscCall(PetscSFBcastEnd(d->ghosts, d->unit, d->blk, d->blk, MPI_REPLACE));
   PetscCall(PetscObjectStateIncrease((PetscObject) A));
   PetscFunctionReturn(0);
 }
 
-void StencilCoarseSlots(PetscInt ns, const int di[], const int dj[], PetscInt *nsc, int dic[], int djc[])
+void StencilCoarseSlots(Mat A, PetscInt *nsc, int dic[], int djc[])
 {
-  PetscBool two = PETSC_FALSE;
+  StencilData *d;
+  PetscBool    two = PETSC_FALSE;
 
-  for (PetscInt s = 0; s < ns; s++)
-    if (PetscAbsInt(di[s]) == 2 || PetscAbsInt(dj[s]) == 2) two = PETSC_TRUE;
+  if (MatShellGetContext(A, &d)) return;
+  for (PetscInt s = 0; s < d->ns; s++)
+    if (PetscAbsInt(d->di[s]) == 2 || PetscAbsInt(d->dj[s]) == 2) two = PETSC_TRUE;
   *nsc = 0;
   for (int b = -2; b <= 2; b++)
     for (int a = -2; a <= 2; a++) {
@@ -248,6 +271,10 @@ void StencilCoarseSlots(PetscInt ns, const int di[], const int dj[], PetscInt *n
     }
 }
 
+/* Every fine pair (p, q) of A, p owned, q in p's row (the whole stencil: the backward blocks are
+   the neighbours' transposes), goes to the coarse pairs (I, J) over them with the product of
+   their weights; a coarse pair is stored at I if J is I or ahead of I: the others are the
+   transposes of those, by symmetry. Coarse points of other ranks' patches go to them. */
 PetscErrorCode StencilMatGalerkin(Mat fine, Mat coarse)
 {
   StencilData *f, *c;
@@ -258,38 +285,40 @@ PetscErrorCode StencilMatGalerkin(Mat fine, Mat coarse)
   PetscCall(PetscArrayzero(c->blk, 9 * c->ns * c->gxm * c->gym));
   for (PetscInt j = f->ys; j < f->ys + f->ym; j++)
     for (PetscInt i = f->xs; i < f->xs + f->xm; i++) {
-      const PetscReal *B = f->blk + 9 * f->ns * ((j - f->gys) * f->gxm + (i - f->gxs));
-      PetscInt         ci[2], cj[2];
-      PetscReal        wi[2], wj[2];
-      const int        ni = StencilUnder(i, f->M, ci, wi), nj = StencilUnder(j, f->N, cj, wj);
-      for (PetscInt s = 0; s < f->ns; s++, B += 9) {
-        const PetscInt ic = i + f->di[s], jc = j + f->dj[s];
-        PetscInt       qi[2], qj[2];
-        PetscReal      vi[2], vj[2];
-        int            mi, mj, nz = 0;
-        if (ic < 0 || ic >= f->M || jc < 0 || jc >= f->N) continue;
-        for (int e = 0; e < 9; e++) nz |= B[e] != 0;
-        if (!nz) continue;
-        mi = StencilUnder(ic, f->M, qi, vi), mj = StencilUnder(jc, f->N, qj, vj);
-        for (int b = 0; b < nj; b++)
-          for (int a = 0; a < ni; a++) {
-            const PetscInt ic0 = ci[a], jc0 = cj[b];
-            PetscReal     *row;
-            PetscCheck(ic0 >= c->gxs && ic0 < c->gxs + c->gxm && jc0 >= c->gys && jc0 < c->gys + c->gym, PETSC_COMM_SELF,
-                       PETSC_ERR_PLIB, "a Galerkin row outside the coarse ghosted patch");
-            row = c->blk + 9 * c->ns * ((jc0 - c->gys) * c->gxm + (ic0 - c->gxs));
-            for (int q = 0; q < mj; q++)
-              for (int p = 0; p < mi; p++) {
-                const PetscInt  ddi = qi[p] - ic0, ddj = qj[q] - jc0;
-                const PetscReal w   = wi[a] * wj[b] * vi[p] * vj[q];
-                int             t;
-                PetscCheck(ddi >= -2 && ddi <= 2 && ddj >= -2 && ddj <= 2 && c->slot[ddj + 2][ddi + 2] >= 0,
-                           PETSC_COMM_SELF, PETSC_ERR_PLIB, "a Galerkin block outside the coarse stencil");
-                t = c->slot[ddj + 2][ddi + 2];
-                for (int e = 0; e < 9; e++) row[9 * t + e] += w * B[e];
-              }
-          }
-      }
+      const PetscInt g = (j - f->gys) * f->gxm + (i - f->gxs);
+      PetscInt       ci[2], cj[2];
+      PetscReal      wi[2], wj[2];
+      const int      ni = StencilUnder(i, f->M, ci, wi), nj = StencilUnder(j, f->N, cj, wj);
+      for (int dj = -2; dj <= 2; dj++)
+        for (int di = -2; di <= 2; di++) {
+          const PetscInt ic = i + di, jc = j + dj;
+          PetscReal      B[9];
+          PetscInt       qi[2], qj[2];
+          PetscReal      vi[2], vj[2];
+          int            mi, mj, nz = 0;
+          if (ic < 0 || ic >= f->M || jc < 0 || jc >= f->N || !StencilBlock(f, g, di, dj, B)) continue;
+          for (int e = 0; e < 9; e++) nz |= B[e] != 0;
+          if (!nz) continue;
+          mi = StencilUnder(ic, f->M, qi, vi), mj = StencilUnder(jc, f->N, qj, vj);
+          for (int b = 0; b < nj; b++)
+            for (int a = 0; a < ni; a++) {
+              const PetscInt ic0 = ci[a], jc0 = cj[b];
+              PetscReal     *row;
+              PetscCheck(ic0 >= c->gxs && ic0 < c->gxs + c->gxm && jc0 >= c->gys && jc0 < c->gys + c->gym, PETSC_COMM_SELF,
+                         PETSC_ERR_PLIB, "a Galerkin row outside the coarse ghosted patch");
+              row = c->blk + 9 * c->ns * ((jc0 - c->gys) * c->gxm + (ic0 - c->gxs));
+              for (int q = 0; q < mj; q++)
+                for (int p = 0; p < mi; p++) {
+                  const PetscInt  ddi = qi[p] - ic0, ddj = qj[q] - jc0;
+                  const PetscReal w   = wi[a] * wj[b] * vi[p] * vj[q];
+                  int             t;
+                  PetscCheck(ddi >= -2 && ddi <= 2 && ddj >= -2 && ddj <= 2 && c->in[ddj + 2][ddi + 2], PETSC_COMM_SELF,
+                             PETSC_ERR_PLIB, "a Galerkin block outside the coarse stencil");
+                  if ((t = c->slot[ddj + 2][ddi + 2]) < 0) continue; /* behind: its transpose is stored at J */
+                  for (int e = 0; e < 9; e++) row[9 * t + e] += w * B[e];
+                }
+            }
+        }
     }
   PetscCall(StencilMatAssemble(coarse));
   PetscFunctionReturn(0);
@@ -304,19 +333,19 @@ PetscErrorCode StencilMatToAIJ(Mat A, Mat B)
   PetscCall(MatZeroEntries(B));
   for (PetscInt j = d->ys; j < d->ys + d->ym; j++)
     for (PetscInt i = d->xs; i < d->xs + d->xm; i++) {
-      const PetscInt   g = (j - d->gys) * d->gxm + (i - d->gxs);
-      const PetscReal *blk = d->blk + 9 * d->ns * g;
-      PetscInt         nc = 0, cols[STENCIL_MAX_SLOTS];
-      PetscScalar      vals[9 * STENCIL_MAX_SLOTS];
-      for (PetscInt s = 0; s < d->ns; s++) {
-        const PetscInt ic = i + d->di[s], jc = j + d->dj[s];
-        if (ic < 0 || ic >= d->M || jc < 0 || jc >= d->N) continue;
-        for (int r = 0; r < 3; r++)
-          for (int q = 0; q < 3; q++) vals[r * 3 * STENCIL_MAX_SLOTS + 3 * nc + q] = blk[9 * s + 3 * r + q];
-        cols[nc++] = g + d->dj[s] * d->gxm + d->di[s];
-      }
+      const PetscInt g  = (j - d->gys) * d->gxm + (i - d->gxs);
+      PetscInt       nc = 0, cols[25];
+      PetscScalar    vals[9 * 25];
+      for (int dj = -2; dj <= 2; dj++)
+        for (int di = -2; di <= 2; di++) {
+          PetscReal K[9];
+          if (i + di < 0 || i + di >= d->M || j + dj < 0 || j + dj >= d->N || !StencilBlock(d, g, di, dj, K)) continue;
+          for (int r = 0; r < 3; r++)
+            for (int q = 0; q < 3; q++) vals[r * 3 * 25 + 3 * nc + q] = K[3 * r + q];
+          cols[nc++] = g + dj * d->gxm + di;
+        }
       for (int r = 1; r < 3; r++) /* pack the 3 rows of 3 nc values */
-        for (PetscInt q = 0; q < 3 * nc; q++) vals[r * 3 * nc + q] = vals[r * 3 * STENCIL_MAX_SLOTS + q];
+        for (PetscInt q = 0; q < 3 * nc; q++) vals[r * 3 * nc + q] = vals[r * 3 * 25 + q];
       PetscCall(MatSetValuesBlockedLocal(B, 1, &g, nc, cols, vals, INSERT_VALUES));
     }
   PetscCall(MatAssemblyBegin(B, MAT_FINAL_ASSEMBLY));
