@@ -8,8 +8,9 @@
  * stays symmetric, and Newton never moves it.
  * Objective: Pi (SNESSetObjective). The backtracking line search then decreases the energy,
  * which stays convex across the yarn law's kinks, where |F| need not decrease.
- * Tangent: assembled by rows (FormJacobian) into a matrix preallocated with the blocks the
- * terms fill (CreateTangent): the force terms' blocks (TermTangent), the bodies' penalty Hessians, plus a
+ * Tangent: assembled by rows (FormJacobian) into an operator stored by stencil (stencil.h: 3x3
+ * blocks, no indices), or with -static_tangent aij into an AIJ matrix preallocated with the
+ * blocks the terms fill (CreateTangent): the force terms' blocks (TermTangent), the bodies' penalty Hessians, plus a
  * pretension shift: every existing segment carries an extra geometric stiffness k_s I (a graph
  * Laplacian of the yarns). A flat net without tension has a singular tangent (no out-of-plane
  * stiffness) and compressed yarns an indefinite one; the shift makes both solvable and spreads a
@@ -22,7 +23,8 @@
  * states (-snes_extrapolate), unless the driver's prediction moved them; without a prediction
  * the crossings inside the ball move out onto its surface (LeaveSphere).
  * Linear solves: CG (on the true residual) preconditioned by geometric multigrid on the DMDA
- * hierarchy (MultigridHierarchy: any grid size; Galerkin coarse operators), smoothed by
+ * hierarchy (MultigridHierarchy: any grid size; Galerkin coarse operators, by stencil formed here:
+ * RefreshLevels), smoothed by
  * alternating block-line relaxation (LineSmoother: a yarn is 1/strain times stiffer along itself
  * than across, which point smoothers cannot smooth; every line solved whole, across ranks too);
  * GAMG with the rigid-body modes on a grid too small to coarsen.
@@ -724,7 +726,8 @@ static void StencilLineBlocks(const StencilData *d, PetscReal lump, PetscReal *b
           if (PetscAbsInt(di) + PetscAbsInt(dj) <= 1 || i + di < 0 || i + di >= d->M || j + dj < 0 || j + dj >= d->N ||
               !StencilBlock(d, g, di, dj, K))
             continue;
-          for (int c = 0; c < 3; c++) l[c] += PetscAbsReal(K[3 * c]) + PetscAbsReal(K[3 * c + 1]) + PetscAbsReal(K[3 * c + 2]);
+          for (int c = 0; c < 3; c++)
+            l[c] += PetscAbsReal(K[3 * c]) + PetscAbsReal(K[3 * c + 1]) + PetscAbsReal(K[3 * c + 2]);
         }
       for (int c = 0; c < 3; c++) {
         for (int cc = 0; cc < 3; cc++) {
@@ -1126,7 +1129,8 @@ static PetscErrorCode RefreshLevels(void *ctx)
   }
   if (reuse) PetscFunctionReturn(0);
   PetscCall(PetscLogEventBegin(EV_Galerkin, 0, 0, 0, 0));
-  for (PetscInt l = ss->levels - 2; l >= 0; l--) PetscCall(StencilMatGalerkin(l == ss->levels - 2 ? ss->J : ss->Ac[l + 1], ss->Ac[l]));
+  for (PetscInt l = ss->levels - 2; l >= 0; l--)
+    PetscCall(StencilMatGalerkin(l == ss->levels - 2 ? ss->J : ss->Ac[l + 1], ss->Ac[l]));
   PetscCall(StencilMatToAIJ(ss->Ac[0], ss->Acoarse));
   ss->levels_at = ss->tangents;
   PetscCall(PetscLogEventEnd(EV_Galerkin, 0, 0, 0, 0));
@@ -1499,7 +1503,8 @@ PetscErrorCode StaticCreate(Fabric fab, StaticSolver *out)
   PetscCall(CreateMatrixDM(fab, &ss->dm));
   PetscCall(ReadOptions(fab->comm, &ss->opt));
   PetscCall(MultigridHierarchy(ss->dm, &ss->levels, ss->dms, ss->Ps));
-  ss->stencil = (ss->opt.tangent == TANGENT_STENCIL && StencilFits(&ss->opt) && ss->levels > 1) ? PETSC_TRUE : PETSC_FALSE;
+  ss->stencil = ss->opt.tangent == TANGENT_STENCIL && StencilFits(&ss->opt) && ss->levels > 1 ? PETSC_TRUE
+                                                                                                : PETSC_FALSE;
   PetscCall(CreateTangent(ss));
   PetscCall(MatSetOption(ss->J, MAT_SYMMETRIC, PETSC_TRUE));
   PetscCall(VecDuplicate(fab->state.X, &ss->Xbc));

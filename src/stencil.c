@@ -207,7 +207,8 @@ PetscErrorCode StencilMatCreate(DM dm, PetscInt nfull, const int di[], const int
     PetscInt w;
     PetscCall(DMDAGetInfo(dm, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, &w, NULL, NULL, NULL, NULL));
     for (PetscInt s = 0; s < d->ns; s++)
-      PetscCheck(PetscAbsInt(d->di[s]) <= w && d->dj[s] <= w, PETSC_COMM_SELF, PETSC_ERR_PLIB, "a stencil wider than the layout's ghosts");
+      PetscCheck(PetscAbsInt(d->di[s]) <= w && d->dj[s] <= w, PETSC_COMM_SELF, PETSC_ERR_PLIB,
+                 "a stencil wider than the layout's ghosts");
   }
   PetscCall(MatSetBlockSize(*A, 3));
   PetscCall(MatShellSetOperation(*A, MATOP_MULT, (void (*)(void)) StencilMult));
@@ -304,8 +305,8 @@ PetscErrorCode StencilMatGalerkin(Mat fine, Mat coarse)
             for (int a = 0; a < ni; a++) {
               const PetscInt ic0 = ci[a], jc0 = cj[b];
               PetscReal     *row;
-              PetscCheck(ic0 >= c->gxs && ic0 < c->gxs + c->gxm && jc0 >= c->gys && jc0 < c->gys + c->gym, PETSC_COMM_SELF,
-                         PETSC_ERR_PLIB, "a Galerkin row outside the coarse ghosted patch");
+              PetscCheck(ic0 >= c->gxs && ic0 < c->gxs + c->gxm && jc0 >= c->gys && jc0 < c->gys + c->gym,
+                         PETSC_COMM_SELF, PETSC_ERR_PLIB, "a Galerkin row outside the coarse ghosted patch");
               row = c->blk + 9 * c->ns * ((jc0 - c->gys) * c->gxm + (ic0 - c->gxs));
               for (int q = 0; q < mj; q++)
                 for (int p = 0; p < mi; p++) {
