@@ -1153,7 +1153,7 @@ static PetscErrorCode SetPreconditioner(StaticSolver ss, KSP ksp)
     PetscCall(PCSetType(pc, PCMG));
     PetscCall(PCMGSetLevels(pc, levels, NULL));
     PetscCall(PCMGSetGalerkin(pc, ss->stencil ? PC_MG_GALERKIN_EXTERNAL : PC_MG_GALERKIN_BOTH));
-    for (PetscInt l = 1; l < levels; l++) { /* each level's layout (for its line smoother), not its operators */
+    for (PetscInt l = 1; l < levels; l++) { /* each level's layout (for its line smoother); its stencil operator */
       KSP k;
       PetscCall(PCMGSetInterpolation(pc, l, ss->Ps[l]));
       PetscCall(PCMGGetSmootherDown(pc, l, &k));
@@ -1273,7 +1273,6 @@ static PetscErrorCode CreateTangent(StaticSolver ss)
     StencilCoarseSlots(ss->J, &nsc, dic, djc);
     for (PetscInt l = 0; l < ss->levels - 1; l++) PetscCall(StencilMatCreate(ss->dms[l], nsc, dic, djc, &ss->Ac[l]));
     PetscCall(DMCreateMatrix(ss->dms[0], &ss->Acoarse));
-    PetscCall(MatSetDM(ss->Acoarse, NULL)); /* PCREDUNDANT's coarse solve would look for vectors of that DM */
     ss->levels_at = -1;
     PetscFunctionReturn(0);
   }
