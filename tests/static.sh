@@ -22,6 +22,8 @@
 #     same deflection within 1e-6;
 #  6b. the bias test of 5 by the AIJ tangent and PETSc's Galerkin products: the same Newton and
 #     Krylov steps as by the tangent stored by stencil (the default), the forces within 1e-9;
+#  6c. the square net with another preconditioner (-pc_type jacobi), which takes the AIJ tangent
+#     by itself: the same deflection within 1e-6;
 #  7. the pushing test of 3 with -predict none (the ball put at its new place, the crossings it
 #     would penetrate moved out onto its surface): every load step balanced to 1e-9 and the same
 #     forces within 2e-6 (before that move, load steps 2 to 6 ended unbalanced at 1.5e3 to 1.8e4 N).
@@ -104,6 +106,8 @@ PY
 run 2 -scene "$inputs/square_net.yaml" -solver static -static_tangent aij -matptap_via allatonce -output_every 0 \
   -output_dir "$work/ptap"
 square_net ptap "square net, -static_tangent aij -matptap_via allatonce"
+run 2 -scene "$inputs/square_net.yaml" -solver static -pc_type jacobi -output_every 0 -output_dir "$work/jacobi"
+square_net jacobi "square net, -pc_type jacobi (the AIJ tangent without asking)"
 
 # the bias test of 5 with the tangent in PETSc's AIJ matrix, its coarse operators PETSc's Galerkin
 # products (MatPtAP) instead of ours: the same Newton and Krylov steps, the same forces within 1e-9
