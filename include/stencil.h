@@ -75,7 +75,7 @@ PetscErrorCode StencilMatGetData(Mat A, StencilData **d);
 PetscErrorCode StencilMatAssemble(Mat A);
 /* the stencil of the Galerkin operator P^T A P of A's (the levels' bilinear P): the 3x3 box, and
    with points two apart the box with the points (+-2, +-1) and (+-1, +-2) (21 neighbours) */
-void StencilCoarseSlots(Mat A, PetscInt *nc, int dic[], int djc[]);
+PetscErrorCode StencilCoarseSlots(Mat A, PetscInt *nc, int dic[], int djc[]);
 /* coarse = P^T fine P for the levels' bilinear interpolation (StencilUnder), coarse's layout the
    coarsening of fine's (src/static.c: CoarsenLayout) */
 PetscErrorCode StencilMatGalerkin(Mat fine, Mat coarse);

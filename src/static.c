@@ -1270,7 +1270,7 @@ static PetscErrorCode CreateTangent(StaticSolver ss)
     PetscCall(StencilMatCreate(ss->dm, ns, di, dj, &ss->J));
     PetscCall(StencilMatGetData(ss->J, &d));
     for (int s = 0; s < ROW_SLOTS; s++) ss->sslot[s] = SlotUsed(p, s) ? d->slot[SlotDj[s] + 2][SlotDi[s] + 2] : -1;
-    StencilCoarseSlots(ss->J, &nsc, dic, djc);
+    PetscCall(StencilCoarseSlots(ss->J, &nsc, dic, djc));
     for (PetscInt l = 0; l < ss->levels - 1; l++) PetscCall(StencilMatCreate(ss->dms[l], nsc, dic, djc, &ss->Ac[l]));
     PetscCall(DMCreateMatrix(ss->dms[0], &ss->Acoarse));
     ss->levels_at = -1;

@@ -255,12 +255,13 @@ PetscErrorCode StencilMatAssemble(Mat A)
   PetscFunctionReturn(0);
 }
 
-void StencilCoarseSlots(Mat A, PetscInt *nsc, int dic[], int djc[])
+PetscErrorCode StencilCoarseSlots(Mat A, PetscInt *nsc, int dic[], int djc[])
 {
   StencilData *d;
   PetscBool    two = PETSC_FALSE;
 
-  if (MatShellGetContext(A, &d)) return;
+  PetscFunctionBeginUser;
+  PetscCall(StencilMatGetData(A, &d));
   for (PetscInt s = 0; s < d->ns; s++)
     if (PetscAbsInt(d->di[s]) == 2 || PetscAbsInt(d->dj[s]) == 2) two = PETSC_TRUE;
   *nsc = 0;
@@ -270,6 +271,7 @@ void StencilCoarseSlots(Mat A, PetscInt *nsc, int dic[], int djc[])
       if (aa + bb == 4 || (!two && (aa == 2 || bb == 2))) continue;
       dic[*nsc] = a, djc[*nsc] = b, (*nsc)++;
     }
+  PetscFunctionReturn(0);
 }
 
 /* Every fine pair (p, q) of A, p owned, q in p's row (the whole stencil: the backward blocks are
