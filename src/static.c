@@ -38,7 +38,6 @@
 #include "integrate.h"
 #include "stencil.h"
 
-#include <petsc/private/petscimpl.h> /* PetscObjectStateIncrease */
 #include <petscsf.h>
 #include <petscsnes.h>
 #include <petsctao.h>
