@@ -752,14 +752,12 @@ PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv)
   PetscCheck(exists, comm, PETSC_ERR_FILE_OPEN, "-scene %s: no such file, or not readable", file);
   PetscCall(CheckSceneHasOptions(comm, file));
   {
-    char msg[512] = "";
-    int  bad      = 0;
+    char        msg[512] = "";
     PetscMPIInt rank;
     PetscCall(CommRank(comm, &rank));
-    if (!rank) bad = FindBadKey(file, msg, sizeof msg); /* rank 0 reads, every rank refuses alike */
+    if (!rank) (void) FindBadKey(file, msg, sizeof msg); /* rank 0 reads, every rank refuses alike */
     PetscCall(BroadcastFromRoot(comm, msg, (PetscInt) sizeof msg, MPI_CHAR));
     PetscCheck(!msg[0], comm, PETSC_ERR_USER_INPUT, "-scene %s: %s", file, msg);
-    (void) bad;
   }
   PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
   ierr = PetscOptionsInsertFileYAML(comm, NULL, file, PETSC_TRUE);

@@ -798,32 +798,32 @@ static PetscErrorCode LineSmootherSetUp(PC pc)
     PetscCall(ls->refresh(ls->refresh_ctx));
     PetscCall(StencilMatGetData(A, &d));
     StencilLineBlocks(d, ls->lump, blk);
-  }
-  for (PetscInt k = 0; k < npts && !StencilMatIs(A); k++) {
-    const PetscInt i = ls->xs + k % ls->xm, j = ls->ys + k / ls->xm;
-    const PetscInt ni[5] = {i, i - 1, i + 1, i, i}, nj[5] = {j, j, j, j - 1, j + 1};
-    PetscInt       nb[5];
-    for (int w = 0; w < 5; w++) {
-      const PetscInt a = ni[w], b = nj[w];
-      nb[w] = (a < 0 || a >= M || b < 0 || b >= N) ? -1 : NumberingIndex(&num, a, b);
-    }
-    for (int c = 0; c < 3; c++) {
-      PetscInt           ncols;
-      const PetscInt    *cols;
-      const PetscScalar *vals;
-      PetscReal          lump = 0;
-      PetscCall(MatGetRow(A, rstart + 3 * k + c, &ncols, &cols, &vals));
-      for (PetscInt q = 0; q < ncols; q++) {
-        const PetscInt kk = cols[q] / 3, cc = cols[q] % 3;
-        if (kk == nb[0]) blk[0][LINE_FAC * k + 3 * c + cc] = blk[1][LINE_FAC * k + 3 * c + cc] = vals[q];
-        else if (kk == nb[2]) blk[0][LINE_FAC * k + 9 + 3 * c + cc] = vals[q];
-        else if (kk == nb[4]) blk[1][LINE_FAC * k + 9 + 3 * c + cc] = vals[q];
-        else if (kk != nb[1] && kk != nb[3]) lump += PetscAbsScalar(vals[q]);
+  } else
+    for (PetscInt k = 0; k < npts; k++) {
+      const PetscInt i = ls->xs + k % ls->xm, j = ls->ys + k / ls->xm;
+      const PetscInt ni[5] = {i, i - 1, i + 1, i, i}, nj[5] = {j, j, j, j - 1, j + 1};
+      PetscInt       nb[5];
+      for (int w = 0; w < 5; w++) {
+        const PetscInt a = ni[w], b = nj[w];
+        nb[w] = (a < 0 || a >= M || b < 0 || b >= N) ? -1 : NumberingIndex(&num, a, b);
       }
-      PetscCall(MatRestoreRow(A, rstart + 3 * k + c, &ncols, &cols, &vals));
-      for (int dir = 0; dir < 2; dir++) blk[dir][LINE_FAC * k + 4 * c] += ls->lump * lump;
+      for (int c = 0; c < 3; c++) {
+        PetscInt           ncols;
+        const PetscInt    *cols;
+        const PetscScalar *vals;
+        PetscReal          lump = 0;
+        PetscCall(MatGetRow(A, rstart + 3 * k + c, &ncols, &cols, &vals));
+        for (PetscInt q = 0; q < ncols; q++) {
+          const PetscInt kk = cols[q] / 3, cc = cols[q] % 3;
+          if (kk == nb[0]) blk[0][LINE_FAC * k + 3 * c + cc] = blk[1][LINE_FAC * k + 3 * c + cc] = vals[q];
+          else if (kk == nb[2]) blk[0][LINE_FAC * k + 9 + 3 * c + cc] = vals[q];
+          else if (kk == nb[4]) blk[1][LINE_FAC * k + 9 + 3 * c + cc] = vals[q];
+          else if (kk != nb[1] && kk != nb[3]) lump += PetscAbsScalar(vals[q]);
+        }
+        PetscCall(MatRestoreRow(A, rstart + 3 * k + c, &ncols, &cols, &vals));
+        for (int dir = 0; dir < 2; dir++) blk[dir][LINE_FAC * k + 4 * c] += ls->lump * lump;
+      }
     }
-  }
   ls->pivot_fixed = PETSC_FALSE;
   PetscCall(PetscMalloc1(9 * PetscMax(1, ls->xm), &up)); /* y-lines side by side: 9 reals each */
   for (int dir = 0; dir < 2; dir++) {
@@ -1268,9 +1268,11 @@ static PetscErrorCode CreateTangent(StaticSolver ss)
       if (SlotUsed(p, s)) di[ns] = SlotDi[s], dj[ns] = SlotDj[s], ns++;
     PetscCall(StencilMatCreate(ss->dm, ns, di, dj, &ss->J));
     PetscCall(StencilMatGetData(ss->J, &d));
-    for (int s = 0; s < ROW_SLOTS; s++) ss->sslot[s] = SlotUsed(p, s) ? d->slot[SlotDj[s] + 2][SlotDi[s] + 2] : -1;
+    for (int s = 0; s < ROW_SLOTS; s++)
+      ss->sslot[s] = SlotUsed(p, s) ? d->slot[SlotDj[s] + 2][SlotDi[s] + 2] : -1;
     PetscCall(StencilCoarseSlots(ss->J, &nsc, dic, djc));
-    for (PetscInt l = 0; l < ss->levels - 1; l++) PetscCall(StencilMatCreate(ss->dms[l], nsc, dic, djc, &ss->Ac[l]));
+    for (PetscInt l = 0; l < ss->levels - 1; l++)
+      PetscCall(StencilMatCreate(ss->dms[l], nsc, dic, djc, &ss->Ac[l]));
     PetscCall(DMCreateMatrix(ss->dms[0], &ss->Acoarse));
     ss->levels_at = -1;
     PetscFunctionReturn(0);
@@ -1339,8 +1341,8 @@ static PetscErrorCode ReadOptions(MPI_Comm comm, StaticOptions *o)
   {
     const char *const storages[] = {"stencil", "aij"};
     PetscCall(PetscOptionsEList("-static_tangent",
-                                "the tangent's storage: by stencil (3x3 blocks, no indices; Galerkin levels of our own) or "
-                                "PETSc's AIJ (any -pc_type)",
+                                "the tangent's storage: by stencil (3x3 blocks, no indices; Galerkin levels of our "
+                                "own) or PETSc's AIJ (any -pc_type)",
                                 NULL, storages, 2, storages[o->tangent], &o->tangent, &o->tangent_set));
   }
   PetscOptionsEnd();
