@@ -152,6 +152,7 @@ typedef struct { /* run statistics and the curve */
   PetscInt64     te_steps, point_updates;
   PetscInt64     te_rebounds; /* stable steps taken again within a load step (a state left te's window) */
   PetscInt64     nonlinear_iterations, linear_iterations; /* the quasi-static solver's Newton and Krylov steps */
+  PetscInt64     coarse_nonlinear_iterations; /* its Newton steps on -static_sequence's coarser fabrics */
   PetscInt       rows_done; /* load steps done: their curve rows written (not one a failure stopped within) */
   PetscBool      converged;
   PetscBool      broken_any; /* a yarn segment broke */
@@ -191,6 +192,9 @@ struct _p_Fabric {
 };
 
 PetscErrorCode FabricCreate(MPI_Comm comm, Fabric *fab);
+/* the fabric at half the thread density, for -solver static's grid sequencing (SceneCoarsen);
+   NULL where its crossings would not be every other one of fine's */
+PetscErrorCode FabricCreateCoarse(Fabric fine, Fabric *coarse);
 PetscErrorCode FabricDestroy(Fabric *fab);
 /* a bias specimen's coordinates of crossing (i,j): along its length and across it, m, from its centre */
 void BiasCoords(const Scene *s, PetscInt i, PetscInt j, PetscReal *along, PetscReal *across);

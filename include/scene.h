@@ -218,6 +218,11 @@ PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv);
 PetscErrorCode SceneCheckUnused(MPI_Comm comm, PetscBool solver_options_later);
 PetscErrorCode SceneWarnUnused(MPI_Comm comm);
 PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s);
+/* the same fabric at half the thread density (-solver static's grid sequencing): each coarse yarn
+   stands for two (twice the tex and the bending stiffness: the same stiffness and weight per width
+   and area), no yarn breaks, no output. fits: its crossings are every other one of the fine grid's
+   (an odd number along each side, the point load on one of them; not a strip or bias test) */
+PetscErrorCode SceneCoarsen(MPI_Comm comm, const Scene *fine, Scene *coarse, PetscBool *fits);
 PetscErrorCode SceneDestroy(Scene *s);
 
 /* The numeric options of the option table as (name, values): the checkpoint's scene keys and

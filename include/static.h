@@ -19,6 +19,10 @@ typedef struct {                  /* one load step's solve */
    PETSc's options (-snes_*, -ksp_*, -pc_*) override them */
 PetscErrorCode StaticCreate(Fabric fab, StaticSolver *ss);
 PetscErrorCode StaticDestroy(StaticSolver *ss);
+/* -static_sequence: the fabric at half the thread density and its solver (NULL, NULL: none); the
+   driver brings it to the load step and solves it (its coarser ones first) before this one's solve,
+   which starts from the coarse change interpolated */
+void StaticCoarser(StaticSolver ss, Fabric *cfab, StaticSolver *coarse);
 /* the solver's own options (-snes_shift_start, -snes_shift_carry, -snes_extrapolate,
    -mg_line_smoother, -mg_line_lump, -snes_convex_tangent): listed under -help, and their values
    checked before a run writes anything */

@@ -471,20 +471,13 @@ static PetscErrorCode SetUpAnchors(Fabric fab)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FabricCreate(MPI_Comm comm, Fabric *out)
+/* the grid, state and set-up of the scene fab->s */
+static PetscErrorCode FabricSetUp(Fabric fab)
 {
-  Fabric        fab;
-  Scene        *s;
+  Scene        *s = &fab->s;
   DMDALocalInfo info;
 
   PetscFunctionBeginUser;
-  PetscCall(EventsRegister());
-  PetscCall(PetscNew(&fab));
-  fab->comm = comm;
-  PetscCall(CommRank(comm, &fab->rank));
-  PetscCall(CommSize(comm, &fab->size));
-  s = &fab->s;
-  PetscCall(SceneLoad(comm, s));
   PetscCall(CreateGrid(fab));
   PetscCall(DMDAGetLocalInfo(fab->grid.da, &info));
   fab->grid.nloc = (PetscInt) info.xm * info.ym;
@@ -514,6 +507,40 @@ PetscErrorCode FabricCreate(MPI_Comm comm, Fabric *out)
   fab->stats.converged = PETSC_TRUE;
   PetscCall(PetscCalloc1(s->load.load_steps, &fab->stats.curve));
   PetscCall(IOSetUp(&s->out, &fab->io)); /* the output state of frames and checkpoints */
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FabricCreate(MPI_Comm comm, Fabric *out)
+{
+  Fabric fab;
+
+  PetscFunctionBeginUser;
+  PetscCall(EventsRegister());
+  PetscCall(PetscNew(&fab));
+  fab->comm = comm;
+  PetscCall(CommRank(comm, &fab->rank));
+  PetscCall(CommSize(comm, &fab->size));
+  PetscCall(SceneLoad(comm, &fab->s));
+  PetscCall(FabricSetUp(fab));
+  *out = fab;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FabricCreateCoarse(Fabric fine, Fabric *out)
+{
+  Fabric    fab;
+  PetscBool fits;
+
+  PetscFunctionBeginUser;
+  *out = NULL;
+  PetscCall(PetscNew(&fab));
+  fab->comm = fine->comm, fab->rank = fine->rank, fab->size = fine->size;
+  PetscCall(SceneCoarsen(fine->comm, &fine->s, &fab->s, &fits));
+  if (!fits) {
+    PetscCall(PetscFree(fab));
+    PetscFunctionReturn(0);
+  }
+  PetscCall(FabricSetUp(fab));
   *out = fab;
   PetscFunctionReturn(0);
 }

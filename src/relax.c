@@ -401,6 +401,30 @@ PetscErrorCode RelaxLoadStep(Fabric fab, CurveRow *row)
   PetscFunctionReturn(0);
 }
 
+/* -static_sequence: load step k solved first on the coarser fabrics, the coarsest first (each
+   solve's change is the next finer one's first guess: StaticSolve); their Newton steps add to newton */
+static PetscErrorCode SolveCoarser(StaticSolver ss, PetscInt k, PetscInt64 *newton)
+{
+  Fabric       cf;
+  StaticSolver cs;
+  StaticResult r;
+
+  PetscFunctionBeginUser;
+  StaticCoarser(ss, &cf, &cs);
+  if (!cs) PetscFunctionReturn(0);
+  PetscCall(ApplyLoadStep(cf, k));
+  if (cf->load.travel_now != cf->load.travel) PetscCall(PlaceGrips(cf, cf->load.travel, PETSC_TRUE));
+  cf->load.ramp_done = cf->load.ramp_steps;
+  PetscCall(SolveCoarser(cs, k, newton));
+  PetscCall(StaticSolve(cs, &r));
+  *newton += r.nonlinear_iterations;
+  PetscCall(PetscInfo(NULL, "load step %" PetscInt_FMT ": the %" PetscInt_FMT " x %" PetscInt_FMT
+                            " coarse fabric %s in %" PetscInt_FMT " Newton steps, residual %g\n",
+                      k, cf->s.spec.nx, cf->s.spec.ny, r.balanced ? "balanced" : "not balanced",
+                      r.nonlinear_iterations, (double) r.residual));
+  PetscFunctionReturn(0);
+}
+
 /* Solve the current load step (-solver static): the grips go straight to this load step's
    position, the prediction is Newton's first guess; re-solved while yarns break. */
 static PetscErrorCode SolveLoadStep(Fabric fab, StaticSolver ss, CurveRow *row)
@@ -412,6 +436,7 @@ static PetscErrorCode SolveLoadStep(Fabric fab, StaticSolver ss, CurveRow *row)
   if (fab->load.travel_now != fab->load.travel) PetscCall(PlaceGrips(fab, fab->load.travel, PETSC_TRUE));
   fab->load.ramp_done = fab->load.ramp_steps;
   row->inner_steps    = 0;
+  PetscCall(SolveCoarser(ss, fab->load.load_step, &fab->stats.coarse_nonlinear_iterations));
   for (PetscInt round = 0;; round++) {
     PetscInt  broke;
     PetscBool ruptured;

@@ -340,8 +340,10 @@ PetscErrorCode OutputSummary(Fabric fab, const char *error)
           fab->size, s->spec.nx, s->spec.ny, fab->grid.points);
   fprintf(fp, "  \"solver\": \"%s\",\n", SolverNames[s->num.solver]);
   if (s->num.solver == SOLVER_STATIC)
-    fprintf(fp, "  \"nonlinear_iterations\": %" PetscInt64_FMT ",\n  \"linear_iterations\": %" PetscInt64_FMT ",\n",
-            fab->stats.nonlinear_iterations, fab->stats.linear_iterations);
+    fprintf(fp,
+            "  \"nonlinear_iterations\": %" PetscInt64_FMT ",\n  \"linear_iterations\": %" PetscInt64_FMT
+            ",\n  \"coarse_nonlinear_iterations\": %" PetscInt64_FMT ",\n",
+            fab->stats.nonlinear_iterations, fab->stats.linear_iterations, fab->stats.coarse_nonlinear_iterations);
   fprintf(fp, "  \"integrator\": \"%s\",\n  \"predict\": \"%s\",\n  \"early_exit\": %s,\n",
           IntegratorNames[s->num.integrator], PredictNames[s->num.predict], s->num.early_exit ? "true" : "false");
   fprintf(fp,

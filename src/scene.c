@@ -1373,13 +1373,12 @@ static PetscErrorCode DeriveBreaks(MPI_Comm comm, const SceneInput *in, Scene *s
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s)
+/* everything the scene's options (s->in) give */
+static PetscErrorCode SceneDerive(MPI_Comm comm, Scene *s)
 {
   SceneInput *in = &s->in;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscMemzero(s, sizeof *s));
-  PetscCall(ReadOptions(comm, in));
   s->test = (TestType) in->test;
   PetscCall(DeriveOutput(comm, in, s));
   PetscCall(DeriveYarn(comm, &in->yarn[0], "warp", &s->yarns.warp));
@@ -1398,6 +1397,56 @@ PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s)
   PetscCall(CheckTestOptions(comm, in, s));
   PetscCall(CheckSolverOptions(comm, in));
   PetscCall(CheckOutputPlaces(comm, &s->out));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(s, sizeof *s));
+  PetscCall(ReadOptions(comm, &s->in));
+  PetscCall(SceneDerive(comm, s));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SceneCoarsen(MPI_Comm comm, const Scene *fine, Scene *coarse, PetscBool *fits)
+{
+  SceneInput     *in     = &coarse->in;
+  const PetscReal *f      = fine->load.point_load;
+  const PetscBool  loaded = (f[0] != 0 || f[1] != 0 || f[2] != 0) ? PETSC_TRUE : PETSC_FALSE;
+
+  PetscFunctionBeginUser;
+  *fits = PETSC_FALSE;
+  if (fine->test == TEST_STRIP || fine->test == TEST_BIAS || fine->spec.nx % 2 == 0 || fine->spec.ny % 2 == 0 ||
+      (loaded && (fine->load.load_at[0] % 2 || fine->load.load_at[1] % 2)))
+    PetscFunctionReturn(0); /* its crossings would not lie on every other one of the fine grid's */
+  PetscCall(PetscMemzero(coarse, sizeof *coarse));
+  *in = fine->in;
+  in->ends_per_cm /= 2;
+  in->picks_per_cm /= 2;
+  for (int y = 0; y < 2; y++) { /* each coarse yarn is two of the fabric's */
+    in->yarn[y].tex *= 2;
+    in->yarn[y].bending_Nm2 *= 2;
+    in->yarn[y].break_pct    = 0; /* a first guess: nothing breaks */
+    in->yarn[y].break_cv_pct = 0;
+  }
+  if (in->n_point_load_at) { /* on a coarse crossing when loaded (checked above) */
+    in->point_load_at[0] /= 2;
+    in->point_load_at[1] /= 2;
+  }
+  PetscCall(PetscStrncpy(in->output_dir, "none", sizeof in->output_dir));
+  in->positions_out[0] = in->restart[0] = 0;
+  in->quiet                             = PETSC_TRUE;
+  in->output_every = in->output_te_every = in->output_tear_every = 0;
+  in->checkpoint_every = in->checkpoint_every_te = 0;
+  in->checkpoint_every_s                         = 0;
+  PetscCall(SceneDerive(comm, coarse));
+  *fits = (2 * coarse->spec.nx - 1 == fine->spec.nx && 2 * coarse->spec.ny - 1 == fine->spec.ny &&
+           (!loaded || (2 * coarse->load.load_at[0] == fine->load.load_at[0] &&
+                        2 * coarse->load.load_at[1] == fine->load.load_at[1])))
+              ? PETSC_TRUE
+              : PETSC_FALSE;
+  if (!*fits) PetscCall(SceneDestroy(coarse));
   PetscFunctionReturn(0);
 }
 

@@ -57,6 +57,7 @@ typedef struct {                          /* the solver's own options (ReadOptio
   PetscBool tao;                      /* minimise Pi by TAO (-static_minimizer tao) instead of SNES */
   PetscInt  tangent;                  /* the tangent's storage: TANGENT_STENCIL or TANGENT_AIJ (-static_tangent) */
   PetscBool tangent_set;              /* given by the user */
+  PetscInt  sequence;                 /* coarser fabrics a load step is solved on first (-static_sequence) */
 } StaticOptions;
 
 enum { TANGENT_STENCIL, TANGENT_AIJ };
@@ -90,6 +91,20 @@ struct _p_StaticSolver {
   Mat            Ac[MG_MAX_LEVELS]; /* stencil: the levels' Galerkin operators below the finest */
   Mat            Acoarse;  /* stencil: the coarsest level's, assembled for its direct solve */
   PetscInt       levels_at; /* stencil: the tangent number the coarse operators were formed from */
+  /* grid sequencing (-static_sequence): the fabric at half the thread density and its solver */
+  Fabric         cfab;
+  StaticSolver   coarse;
+  Vec            cnat, lnat;   /* the coarse fabric's grid and the level below's, in the natural ordering */
+  VecScatter     nat;          /* cnat to lnat (the same ordering, the two layouts' shares) */
+  Vec            clevel;       /* a vector of the multigrid level below this one (dms[levels - 2]) */
+  Vec            fcorr, fwt;   /* the interpolated change, and the interpolated weight of existing coarse points */
+  Vec            cmask;        /* coarse fabric: 1 on an existing crossing, 0 on an absent one */
+  PetscInt       corrected_at; /* the load step whose coarse solution last corrected the first guess */
+  /* as the coarse level of a finer solver: this load step's first guess and how its solve ended */
+  Vec            guess;
+  PetscBool      guess_rest;   /* the first guess had no balanced state behind it (the rest state) */
+  PetscInt       solved_at;    /* the load step last solved, -1: none */
+  PetscBool      solved_balanced;
 };
 
 /* gravity on the free owned points and the residual rows of the held ones */
@@ -1313,6 +1328,7 @@ static PetscErrorCode ReadOptions(MPI_Comm comm, StaticOptions *o)
   o->tao           = PETSC_FALSE;
   o->tangent       = TANGENT_STENCIL;
   o->tangent_set   = PETSC_FALSE;
+  o->sequence      = 0;
   PetscOptionsBegin(comm, NULL, "Quasi-static solver (-solver static, docs/static.md)", NULL);
   PetscCall(PetscOptionsReal("-snes_shift_start", "pretension shift k_s / k_ref at the run's first Newton step", NULL,
                              o->shift_start, &o->shift_start, NULL));
@@ -1345,7 +1361,13 @@ static PetscErrorCode ReadOptions(MPI_Comm comm, StaticOptions *o)
                                 "own) or PETSc's AIJ (any -pc_type)",
                                 NULL, storages, 2, storages[o->tangent], &o->tangent, &o->tangent_set));
   }
+  PetscCall(PetscOptionsInt("-static_sequence",
+                            "solve each load step first on this many coarser fabrics (half the thread density each, "
+                            "yarns of twice the tex), the coarsest first: each one's change is the next one's first guess",
+                            NULL, o->sequence, &o->sequence, NULL));
   PetscOptionsEnd();
+  PetscCheck(o->sequence >= 0 && o->sequence <= 8, comm, PETSC_ERR_USER_INPUT,
+             "-static_sequence %" PetscInt_FMT ": 0 (none) to 8 coarser fabrics", o->sequence);
   PetscCheck(o->order >= 0 && o->order <= 2, comm, PETSC_ERR_USER_INPUT, "-snes_extrapolate %" PetscInt_FMT ": 0, 1 or 2",
              o->order);
   PetscCheck(o->line_lump >= 0 && o->line_lump < PETSC_INFINITY, comm, PETSC_ERR_USER_INPUT,
@@ -1482,7 +1504,10 @@ static PetscErrorCode CreateTao(StaticSolver ss)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode StaticCreate(Fabric fab, StaticSolver *out)
+static PetscErrorCode SequenceSetUp(StaticSolver ss);
+
+/* the solver of fab with -static_sequence's coarser fabrics below it (sequence < 0: as the option says) */
+static PetscErrorCode StaticCreateLevel(Fabric fab, PetscInt sequence, StaticSolver *out)
 {
   StaticSolver ss;
   const Patch *p = &fab->grid.patch;
@@ -1502,6 +1527,7 @@ PetscErrorCode StaticCreate(Fabric fab, StaticSolver *out)
   ss->fab = fab;
   PetscCall(CreateMatrixDM(fab, &ss->dm));
   PetscCall(ReadOptions(fab->comm, &ss->opt));
+  if (sequence >= 0) ss->opt.sequence = sequence;
   PetscCall(MultigridHierarchy(ss->dm, &ss->levels, ss->dms, ss->Ps));
   ss->stencil = ss->opt.tangent == TANGENT_STENCIL && StencilFits(&ss->opt) && ss->levels > 1 ? PETSC_TRUE
                                                                                                 : PETSC_FALSE;
@@ -1555,7 +1581,131 @@ PetscErrorCode StaticCreate(Fabric fab, StaticSolver *out)
                "-static_tangent stencil: the tangent by stencil needs the multigrid preconditioner (mg); add "
                "-static_tangent aij for another one");
   }
+  PetscCall(SequenceSetUp(ss));
   *out = ss;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode StaticCreate(Fabric fab, StaticSolver *out)
+{
+  PetscFunctionBeginUser;
+  PetscCall(StaticCreateLevel(fab, -1, out));
+  PetscFunctionReturn(0);
+}
+
+/* a vector of the coarse fabric's grid to the multigrid level below this one (the same crossings
+   in another layout), through the natural ordering */
+static PetscErrorCode ToLevelBelow(StaticSolver ss, Vec c)
+{
+  PetscFunctionBeginUser;
+  PetscCall(DMDAGlobalToNaturalBegin(ss->cfab->grid.da, c, INSERT_VALUES, ss->cnat));
+  PetscCall(DMDAGlobalToNaturalEnd(ss->cfab->grid.da, c, INSERT_VALUES, ss->cnat));
+  PetscCall(VecScatterBegin(ss->nat, ss->cnat, ss->lnat, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(ss->nat, ss->cnat, ss->lnat, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(DMDANaturalToGlobalBegin(ss->dms[ss->levels - 2], ss->lnat, INSERT_VALUES, ss->clevel));
+  PetscCall(DMDANaturalToGlobalEnd(ss->dms[ss->levels - 2], ss->lnat, INSERT_VALUES, ss->clevel));
+  PetscFunctionReturn(0);
+}
+
+/* -static_sequence: the fabric at half the thread density (FabricCreateCoarse) and its own solver,
+   with one coarser fabric fewer below it; none where its crossings are not every other one of
+   this grid's, or where this grid's multigrid has no level of its size or its own would have no
+   level below it (a grid too small for the ranks) */
+static PetscErrorCode SequenceSetUp(StaticSolver ss)
+{
+  Fabric       fab = ss->fab, cf = NULL;
+  PetscInt     M = 0, N = 0;
+  PetscScalar *a;
+
+  PetscFunctionBeginUser;
+  ss->corrected_at = ss->solved_at = -1;
+  if (ss->opt.sequence < 1 || ss->levels < 2) PetscFunctionReturn(0);
+  PetscCall(DMDAGetInfo(ss->dms[ss->levels - 2], NULL, &M, &N, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL,
+                        NULL));
+  if (2 * M - 1 != fab->s.spec.nx || 2 * N - 1 != fab->s.spec.ny) PetscFunctionReturn(0);
+  PetscCall(FabricCreateCoarse(fab, &cf));
+  if (!cf) PetscFunctionReturn(0);
+  PetscCall(StableStep(cf)); /* its stiffness scale (StaticCreateLevel's k_ref) */
+  cf->step.bound_fresh = PETSC_TRUE;
+  ss->cfab             = cf;
+  PetscCall(StaticCreateLevel(cf, ss->opt.sequence - 1, &ss->coarse));
+  if (ss->coarse->levels < 2) { /* too small for its own multigrid: GAMG does not solve a slack net (docs/static.md) */
+    PetscCall(StaticDestroy(&ss->coarse));
+    PetscCall(FabricDestroy(&ss->cfab));
+    PetscFunctionReturn(0);
+  }
+  PetscCall(VecDuplicate(cf->state.X, &ss->coarse->guess));
+  PetscCall(DMDACreateNaturalVector(cf->grid.da, &ss->cnat));
+  PetscCall(DMDACreateNaturalVector(ss->dms[ss->levels - 2], &ss->lnat));
+  {
+    IS       is;
+    PetscInt lo, hi;
+    PetscCall(VecGetOwnershipRange(ss->lnat, &lo, &hi));
+    PetscCall(ISCreateStride(fab->comm, hi - lo, lo, 1, &is));
+    PetscCall(VecScatterCreate(ss->cnat, is, ss->lnat, is, &ss->nat));
+    PetscCall(ISDestroy(&is));
+  }
+  PetscCall(DMCreateGlobalVector(ss->dms[ss->levels - 2], &ss->clevel));
+  PetscCall(VecDuplicate(fab->state.X, &ss->fcorr));
+  PetscCall(VecDuplicate(fab->state.X, &ss->fwt));
+  PetscCall(VecDuplicate(cf->state.X, &ss->cmask));
+  PetscCall(VecGetArray(ss->cmask, &a));
+  {
+    const Patch *p = &cf->grid.patch;
+    for (PetscInt j = 0; j < p->ym; j++)
+      for (PetscInt i = 0; i < p->xm; i++) {
+        const PetscInt k = j * p->xm + i;
+        a[3 * k] = a[3 * k + 1] = a[3 * k + 2] = p->exists[(j + p->ys - p->gys) * p->gxm + i + p->xs - p->gxs] ? 1.0
+                                                                                                                : 0.0;
+      }
+  }
+  PetscCall(VecRestoreArray(ss->cmask, &a));
+  PetscCall(ToLevelBelow(ss, ss->cmask));
+  PetscCall(MatMult(ss->Ps[ss->levels - 1], ss->clevel, ss->fwt)); /* the weight of the existing coarse points */
+  PetscFunctionReturn(0);
+}
+
+void StaticCoarser(StaticSolver ss, Fabric *cfab, StaticSolver *coarse)
+{
+  *cfab   = ss->cfab;
+  *coarse = ss->coarse;
+}
+
+/* Grid sequencing: the coarse fabric's solve of this load step moved its crossings from its first
+   guess by dX (its balanced state minus that guess); each free crossing of this grid moves by
+   dX interpolated bilinearly from the existing coarse crossings around it (their weights scaled to
+   1; a crossing with none around it stays). Where the coarse solve started from its rest state while
+   this one starts from a balanced state (a restart), the coarse displacement from rest is put on
+   this grid's rest state instead. */
+static PetscErrorCode CoarseGuess(StaticSolver ss, PetscBool *moved)
+{
+  Fabric             fab = ss->fab;
+  StaticSolver       cs  = ss->coarse;
+  const PetscBool    from_rest = cs && cs->guess_rest && ss->h->nhist > 0 ? PETSC_TRUE : PETSC_FALSE;
+  PetscScalar       *x;
+  const PetscScalar *c, *w, *x0;
+
+  PetscFunctionBeginUser;
+  *moved = PETSC_FALSE;
+  if (!cs || cs->solved_at != fab->load.load_step || !cs->solved_balanced || ss->corrected_at == fab->load.load_step)
+    PetscFunctionReturn(0);
+  ss->corrected_at = fab->load.load_step;
+  if (from_rest) PetscCall(VecWAXPY(cs->guess, -1.0, ss->cfab->grid.X0, ss->cfab->state.X)); /* dX, in the guess's place */
+  else PetscCall(VecAYPX(cs->guess, -1.0, ss->cfab->state.X));
+  PetscCall(VecPointwiseMult(cs->guess, cs->guess, ss->cmask));
+  PetscCall(ToLevelBelow(ss, cs->guess));
+  PetscCall(MatMult(ss->Ps[ss->levels - 1], ss->clevel, ss->fcorr));
+  PetscCall(VecGetArray(fab->state.X, &x));
+  PetscCall(VecGetArrayRead(ss->fcorr, &c));
+  PetscCall(VecGetArrayRead(ss->fwt, &w));
+  PetscCall(VecGetArrayRead(fab->grid.X0, &x0));
+  for (PetscInt k = 0; k < 3 * fab->grid.nloc; k++)
+    if (fab->grid.inv_m[k / 3] > 0 && w[k] > 0) x[k] = (from_rest ? x0[k] : x[k]) + c[k] / w[k];
+  PetscCall(VecRestoreArrayRead(fab->grid.X0, &x0));
+  PetscCall(VecRestoreArrayRead(ss->fwt, &w));
+  PetscCall(VecRestoreArrayRead(ss->fcorr, &c));
+  PetscCall(VecRestoreArray(fab->state.X, &x));
+  *moved = PETSC_TRUE;
   PetscFunctionReturn(0);
 }
 
@@ -1576,6 +1726,16 @@ PetscErrorCode StaticDestroy(StaticSolver *pss)
   }
   PetscCall(DMDestroy(&ss->dm));
   PetscCall(VecDestroy(&ss->Xbc));
+  PetscCall(StaticDestroy(&ss->coarse));
+  PetscCall(FabricDestroy(&ss->cfab));
+  PetscCall(VecDestroy(&ss->cnat));
+  PetscCall(VecDestroy(&ss->lnat));
+  PetscCall(VecScatterDestroy(&ss->nat));
+  PetscCall(VecDestroy(&ss->clevel));
+  PetscCall(VecDestroy(&ss->fcorr));
+  PetscCall(VecDestroy(&ss->fwt));
+  PetscCall(VecDestroy(&ss->cmask));
+  PetscCall(VecDestroy(&ss->guess));
   PetscCall(PetscFree(ss->free_g));
   for (int q = 0; q < 3; q++) PetscCall(PetscFree(ss->ring.buf[q]));
   ss->fab->grid.patch.tension_field = PETSC_FALSE;
@@ -1679,9 +1839,20 @@ PetscErrorCode StaticSolve(StaticSolver ss, StaticResult *r)
   PetscCall(Extrapolate(ss));
   if (fab->s.num.predict == PREDICT_NONE && !(ss->h->nhist > 0 && fab->load.load_factor == ss->h->lh[0]))
     PetscCall(LeaveSphere(ss)); /* the ball moved (not a re-solve after yarns broke) */
+  if (ss->guess) { /* a coarse level: the finer one's correction starts from here */
+    PetscCall(VecCopy(fab->state.X, ss->guess));
+    ss->guess_rest = ss->h->nhist ? PETSC_FALSE : PETSC_TRUE;
+  }
+  {
+    PetscBool moved;
+    PetscCall(CoarseGuess(ss, &moved));
+    if (moved) PetscCall(LeaveSphere(ss)); /* the interpolated crossings out of the ball */
+  }
   /* the first load step from -snes_shift_start; a later one from where the last ended (a taut
      fabric: nearly plain Newton), raised by AdaptShift if that fails */
   ss->h->shift = ss->h->nhist ? PetscMin(ss->opt.shift_start, ss->opt.shift_carry * ss->h->shift) : ss->opt.shift_start;
+  if (ss->corrected_at == fab->load.load_step) /* from the coarse solution: from where its shift ended */
+    ss->h->shift = PetscMin(ss->opt.shift_start, ss->opt.shift_carry * ss->coarse->h->shift);
   if (ss->tao) { /* TAO's Newton: one solve */
     TaoConvergedReason treason;
     PetscCall(TaoSolve(ss->tao));
@@ -1722,5 +1893,7 @@ PetscErrorCode StaticSolve(StaticSolver ss, StaticResult *r)
   }
   r->balanced = r->residual <= fab->s.num.balance_tol ? PETSC_TRUE : PETSC_FALSE;
   if (r->balanced) PetscCall(KeepBalanced(ss));
+  ss->solved_at       = fab->load.load_step;
+  ss->solved_balanced = r->balanced;
   PetscFunctionReturn(0);
 }
