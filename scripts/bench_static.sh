@@ -4,24 +4,30 @@
 # balanced to 1e-8 relative. One table row per grid: wall time, Newton and Krylov iterations,
 # peak memory (PETSc's -memory_view: the peak resident memory, summed over the ranks) and the time ratio to the grid before,
 # with the exponent p of time ~ crossings^p between the two.
-# usage: scripts/bench_static.sh [N ...]   (default 101 201 401; add 801 1601 for the full study)
+# Options before the sizes go to every run (for example -static_sequence 3: grid sequencing); the
+# column coarse_newton counts the Newton steps on its coarser nets.
+# usage: scripts/bench_static.sh [-option value ...] [N ...]   (default 101 201 401; add 801 1601 for the full study)
 set -eu
 here="$(cd "$(dirname "$0")/.." && pwd)"
 fabric="${FABRIC:-$here/build/fabric}"
 [[ -x "$fabric" ]] || bash "$here/scripts/setup.sh" >/dev/null
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+opts=()
+while (($#)) && [[ $1 == -* ]]; do opts+=("$1" "$2"); shift 2; done
 sizes=("$@"); ((${#sizes[@]})) || sizes=(101 201 401)
 ranks="${RANKS:-2}"; steps="${LOAD_STEPS:-12}"
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
-printf '%-11s %9s %8s %8s %8s %10s %8s %6s\n' crossings wall_s newton krylov mem_MiB deflect_mm ratio p
+((${#opts[@]})) && echo "options: ${opts[*]}"
+printf '%-11s %9s %8s %8s %13s %8s %10s %8s %6s\n' crossings wall_s newton krylov coarse_newton mem_MiB deflect_mm ratio p
 prev_t=""; prev_n=""
 for n in "${sizes[@]}"; do
   mm="$(awk -v n="$n" 'BEGIN{printf "%.10g", (n - 1) * 10 / 24}')" # 24 threads/cm: (n-1) spacings
   mpiexec -n "$ranks" "$fabric" -scene "$here/inputs/square_net.yaml" -solver static -gauge_mm "$mm" -width_mm "$mm" \
-    -balance_tol 1e-8 -load_steps "$steps" -output_every 0 -quiet -output_dir "$work/n$n" -memory_view >"$work/log$n" 2>&1
+    -balance_tol 1e-8 -load_steps "$steps" -output_every 0 -quiet -output_dir "$work/n$n" -memory_view ${opts[@]+"${opts[@]}"} >"$work/log$n" 2>&1
   t="$(sed -n 's/.*"wall_s": \([0-9.e+-]*\).*/\1/p' "$work/n$n/summary.json")"
   nl="$(sed -n 's/.*"nonlinear_iterations": \([0-9]*\).*/\1/p' "$work/n$n/summary.json")"
   li="$(sed -n 's/.*"linear_iterations": \([0-9]*\).*/\1/p' "$work/n$n/summary.json")"
+  ci="$(sed -n 's/.*"coarse_nonlinear_iterations": \([0-9]*\).*/\1/p' "$work/n$n/summary.json")"
   conv="$(sed -n 's/.*"converged": \([a-z]*\).*/\1/p' "$work/n$n/summary.json")"
   mem="$(awk '/^Maximum \(over computational time\) process memory/ {for (i=1;i<NF;i++) if ($i == "total") v=$(i+1)} END {printf "%.0f", v/1048576}' "$work/log$n")"
   w="$(tail -1 "$work/n$n/curve.csv" | cut -d, -f3)"
@@ -30,7 +36,7 @@ for n in "${sizes[@]}"; do
     ratio="$(awk -v a="$t" -v b="$prev_t" 'BEGIN{printf "%.2f", a / b}')"
     p="$(awk -v a="$t" -v b="$prev_t" -v n="$n" -v m="$prev_n" 'BEGIN{printf "%.2f", log(a / b) / log((n * n) / (m * m))}')"
   fi
-  printf '%-11s %9.2f %8s %8s %8s %10.4f %8s %6s%s\n' "${n}x${n}" "$t" "$nl" "$li" "$mem" "$w" "$ratio" "$p" \
+  printf '%-11s %9.2f %8s %8s %13s %8s %10.4f %8s %6s%s\n' "${n}x${n}" "$t" "$nl" "$li" "$ci" "$mem" "$w" "$ratio" "$p" \
     "$([[ $conv == true ]] || echo '  (not every load step balanced)')"
   prev_t="$t"; prev_n="$n"
 done
