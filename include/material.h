@@ -23,6 +23,8 @@
 typedef struct {
   const char *name;          /* "warp" or "weft": names the options in messages */
   PetscReal   tex;           /* linear density, g/km (input unit) */
+  PetscReal   bundle;        /* the fabric's yarns a grid yarn stands for (0 or 1: one; -static_sequence's
+                                coarse fabrics: 2, 4 ...): scales a table's forces */
   PetscReal   mu;            /* linear density, kg/m */
   PetscReal   crimp;         /* c, fraction */
   PetscReal   EA;            /* yarn stiffness, N per unit yarn strain (table: its largest slope) */

@@ -44,6 +44,7 @@ typedef struct {
   PetscReal tex, crimp_pct, modulus_cN_tex, decrimp_ratio, compression_ratio, contact_pct, law_smoothing_pct;
   PetscReal bending_Nm2, break_pct, break_cv_pct;
   char      law_csv[PETSC_MAX_PATH_LEN];
+  PetscReal bundle; /* not an option: the yarns a grid yarn stands for, on a coarse fabric (SceneCoarsen) */
 } YarnInput;
 
 typedef struct {

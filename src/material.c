@@ -98,7 +98,7 @@ static PetscErrorCode ReadYarnCSV(MPI_Comm comm, const YarnLaw *y, PetscInt *n, 
       cap *= 2;
     }
     (*strain)[count] = s / 100.0;
-    (*force)[count]  = f / 100.0;
+    (*force)[count]  = f / 100.0 * (y->bundle > 1 ? y->bundle : 1.0);
     prev_s           = s; /* as given: the next row is compared with it exactly */
     prev_f           = f;
     count++;

@@ -836,6 +836,7 @@ static PetscErrorCode DeriveYarn(MPI_Comm comm, const YarnInput *in, const char 
   y->bending       = in->bending_Nm2;
   y->break_ey      = in->break_pct / 100.0;
   y->decrimp_ratio = in->decrimp_ratio;
+  y->bundle        = in->bundle;
   PetscCall(PetscStrncpy(y->csv, in->law_csv, sizeof y->csv));
   PetscCall(YarnLawSetUp(y, comm));
   PetscFunctionReturn(0);
@@ -1424,7 +1425,8 @@ PetscErrorCode SceneCoarsen(MPI_Comm comm, const Scene *fine, Scene *coarse, Pet
   *in = fine->in;
   in->ends_per_cm /= 2;
   in->picks_per_cm /= 2;
-  for (int y = 0; y < 2; y++) { /* each coarse yarn is two of the fabric's */
+  for (int y = 0; y < 2; y++) { /* each coarse yarn is two of the fabric's (a tabulated law's forces too) */
+    in->yarn[y].bundle = 2 * PetscMax(in->yarn[y].bundle, 1.0);
     in->yarn[y].tex *= 2;
     in->yarn[y].bending_Nm2 *= 2;
     in->yarn[y].break_pct    = 0; /* a first guess: nothing breaks */

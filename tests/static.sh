@@ -30,7 +30,8 @@
 #  8. grid sequencing (-static_sequence 2: each load step solved first on the net at 12 threads/cm,
 #     the yarns of twice the tex, and at 6 threads/cm before it where the ranks leave that net
 #     multigrid levels): the 49 x 49 net balanced to 1e-10 (1e-11 is below its rounding) on 1, 2 and 3 ranks, the coarse nets
-#     take Newton steps, and the positions are those without sequencing within 1e-10 relative.
+#     take Newton steps, and the positions are those without sequencing within 1e-10 relative; the
+#     same on 2 ranks with a tabulated yarn law (inputs/yarns/cotton_20tex.csv).
 set -u
 fabric="$1"; inputs="$2"
 . "$(dirname "$0")/runs.sh" # $py, $work, $fail, run NP ARGS...
@@ -151,6 +152,23 @@ for np in (1, 2, 3):
     print(("PASS" if ok else "FAIL") + f" 49 x 49 net, -static_sequence 2 on {np} ranks: {n} Newton steps on the coarse nets (> 0), "
           f"positions vs without, 1 rank: largest difference / largest coordinate {err:.2e} (tol 1e-10)")
 sys.exit(1 if bad else 0)
+PY
+# the same with a tabulated yarn law (its forces are per yarn: a coarse yarn's are twice a fabric yarn's)
+law=(-warp_law_csv "$inputs/yarns/cotton_20tex.csv" -weft_law_csv "$inputs/yarns/cotton_20tex.csv")
+run 2 "${sq49[@]}" "${law[@]}" -output_dir "$work/seqlaw0" -positions_out "$work/seqlaw0.bin"
+run 2 "${sq49[@]}" "${law[@]}" -static_sequence 2 -output_dir "$work/seqlaw2" -positions_out "$work/seqlaw2.bin"
+"$py" - "$work" <<'PY' || fail=1
+import json, struct, sys
+def read(f):
+    b = open(f, "rb").read(); n = struct.unpack(">ii", b[:8])[1]
+    return struct.unpack(">%dd" % n, b[8:8 + 8 * n])
+w = sys.argv[1]; p0, q = read(w + "/seqlaw0.bin"), read(w + "/seqlaw2.bin"); scale = max(abs(v) for v in p0)
+err = max(abs(x - y) for x, y in zip(p0, q)) / scale
+s = json.load(open(w + "/seqlaw2/summary.json")); n = s["coarse_nonlinear_iterations"]
+ok = len(q) == len(p0) and err <= 1e-10 and n > 0 and s["converged"]
+print(("PASS" if ok else "FAIL") + f" 49 x 49 net, tabulated yarn law, -static_sequence 2 on 2 ranks: {n} coarse Newton steps (> 0), "
+      f"positions vs without: largest difference / largest coordinate {err:.2e} (tol 1e-10)")
+sys.exit(0 if ok else 1)
 PY
 
 # a restart from a checkpoint at load step 4 of 6 (the first guesses, the shift and the counters
