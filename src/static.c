@@ -1588,8 +1588,23 @@ static PetscErrorCode StaticCreateLevel(Fabric fab, PetscInt sequence, StaticSol
 
 PetscErrorCode StaticCreate(Fabric fab, StaticSolver *out)
 {
+  char     list[256] = "";
+  PetscInt used      = 0;
+
   PetscFunctionBeginUser;
   PetscCall(StaticCreateLevel(fab, -1, out));
+  for (StaticSolver c = (*out)->coarse; c; c = c->coarse, used++) {
+    size_t len;
+    PetscCall(PetscStrlen(list, &len));
+    PetscCall(PetscSNPrintf(list + len, sizeof list - len, "%s%" PetscInt_FMT " x %" PetscInt_FMT, used ? ", " : "",
+                            c->fab->s.spec.nx, c->fab->s.spec.ny));
+  }
+  if ((*out)->opt.sequence > used && !fab->s.out.quiet) /* say so: the option asked for more */
+    PetscCall(PetscPrintf(fab->comm,
+                          "fabric: -static_sequence %" PetscInt_FMT ": %" PetscInt_FMT " coarser fabric%s%s%s%s (a coarser one "
+                          "needs an odd number of crossings a side, and multigrid levels on %d ranks; not the strip or bias test)\n",
+                          (*out)->opt.sequence, used, used == 1 ? "" : "s", used ? " (" : "", list, used ? ")" : "",
+                          fab->size));
   PetscFunctionReturn(0);
 }
 
