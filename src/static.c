@@ -1462,13 +1462,18 @@ static PetscErrorCode TaoBalanced(Tao tao, void *ctx)
 {
   StaticSolver       ss  = (StaticSolver) ctx;
   Fabric             fab = ss->fab;
-  Vec                G;
+  Vec                X, G;
   PetscReal          fmax;
   TaoConvergedReason reason;
 
   PetscFunctionBeginUser;
-  PetscCall(TaoGetGradient(tao, &G, NULL, NULL));
+  /* the residual and the largest tension at the iterate: the last evaluation may have been at a
+     trial point the trust region rejected, whose tension (the test's scale) can be far larger */
+  PetscCall(TaoGetSolution(tao, &X));
+  PetscCall(DMGetGlobalVector(fab->grid.da, &G));
+  PetscCall(FormFunction(NULL, X, G, ss));
   PetscCall(FreeForceMax(ss, G, &fmax));
+  PetscCall(DMRestoreGlobalVector(fab->grid.da, &G));
   if (fmax <= fab->s.num.balance_tol * PetscMax(ss->tmax, fab->step.force_floor)) {
     PetscCall(TaoSetConvergedReason(tao, TAO_CONVERGED_USER));
     PetscFunctionReturn(0);
