@@ -108,7 +108,7 @@ typedef struct { /* the time step, damping and the balance test's scales */
   PetscReal  fire_alpha;  /* FIRE: the velocity mixing */
   PetscInt   fire_npos;   /* FIRE: te steps since the power F.v was last <= 0 */
   PetscInt64 fire_stops;  /* FIRE: velocity resets (power F.v <= 0) so far */
-  PetscReal *fire_terms;  /* FIRE: owned points' F.v, |F|^2, |v|^2 (work, 3 nloc) */
+  PetscReal  fire_scale[3]; /* FIRE: the scales of the next te step's sums of F.v, |F|^2, |v|^2 (0: none yet) */
   PetscReal *tally_rows;  /* a row's |F|^2 and |v|^2 for the sweep's statistics (work, 2 xm) */
   PetscInt   balance_held; /* te steps in a row the balance test has passed */
   PetscInt   balance_need; /* te steps in a row it must pass before the test per crossing (relax.c) */

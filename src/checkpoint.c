@@ -234,7 +234,7 @@ typedef struct {
   long   balance_held, balance_need, watch_checks, watch_held, window_grow, window_bound_at, te_rebounds;
   double win_lo[2], win_hi[2], win_s;
   double travel_from, travel_now, te, te_bound, omega_max, damp_c, omega1, last_residual, last_speed, gravity[3];
-  double fire_dt, fire_alpha, watch_h0, watch_hmin, watch_kmax;
+  double fire_dt, fire_alpha, fire_scale[3], watch_h0, watch_hmin, watch_kmax;
   long   static_nhist, nonlinear_iterations, linear_iterations; /* -solver static */
   double static_lh[3], static_shift;
 } RelaxState;
@@ -263,7 +263,8 @@ static int RelaxAttrs(RelaxState *r, Attr *a)
   ATTR_D("gravity_now_x_m_s2", gravity[0]), ATTR_D("gravity_now_y_m_s2", gravity[1]);
   ATTR_D("gravity_now_z_m_s2", gravity[2]);
   ATTR_D("fire_dt_s", fire_dt), ATTR_D("fire_alpha", fire_alpha), ATTR_L("fire_positive_steps", fire_npos);
-  ATTR_L("fire_stops", fire_stops);
+  ATTR_L("fire_stops", fire_stops), ATTR_D("fire_scale_power", fire_scale[0]);
+  ATTR_D("fire_scale_force2", fire_scale[1]), ATTR_D("fire_scale_speed2", fire_scale[2]);
   ATTR_L("balance_held", balance_held), ATTR_L("balance_need", balance_need);
   ATTR_L("energy_watch_checks", watch_checks), ATTR_D("energy_watch_first_J", watch_h0);
   ATTR_D("energy_watch_lowest_J", watch_hmin), ATTR_D("energy_watch_kinetic_J", watch_kmax);
@@ -309,6 +310,7 @@ static void RelaxStatePack(Fabric fab, const RelaxPoint *at, RelaxState *r)
   r->fire_alpha         = fab->step.fire_alpha;
   r->fire_npos          = (long) fab->step.fire_npos;
   r->fire_stops         = (long) fab->step.fire_stops;
+  for (int q = 0; q < 3; q++) r->fire_scale[q] = fab->step.fire_scale[q];
   r->static_nhist       = (long) fab->state.hist.nhist;
   r->static_shift       = fab->state.hist.shift;
   for (int q = 0; q < 3; q++) r->static_lh[q] = fab->state.hist.lh[q];
@@ -352,6 +354,7 @@ static void RelaxStateUnpack(const RelaxState *r, Fabric fab)
   fab->step.fire_alpha  = r->fire_alpha;
   fab->step.fire_npos   = (PetscInt) r->fire_npos;
   fab->step.fire_stops  = (PetscInt64) r->fire_stops;
+  for (int q = 0; q < 3; q++) fab->step.fire_scale[q] = r->fire_scale[q];
   fab->state.hist.nhist = (PetscInt) r->static_nhist;
   fab->state.hist.shift = r->static_shift;
   for (int q = 0; q < 3; q++) fab->state.hist.lh[q] = r->static_lh[q];

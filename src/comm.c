@@ -210,7 +210,6 @@ PetscErrorCode GlobalSum(MPI_Comm comm, PetscReal *v, PetscInt n)
    reductions for all m quantities: the max (GlobalMax, which a caller may share with its own
    maxima, then GlobalSumsExactScaled) and the integer sum. */
 #define EXACT_SUM_BITS 40
-#define EXACT_SUMS_MAX 4
 
 /* x rounded to the nearest integer, halves away from zero: llround's result for |x| < 2^62
    (NaN: LLONG_MIN, as llround on x86-64), without a library call. k truncates x; x - k is exact. */
@@ -309,6 +308,30 @@ PetscErrorCode GlobalSumsExact(MPI_Comm comm, PetscInt m, const PetscReal *terms
   ExactSumScales(m, terms, n, scale);
   PetscCall(GlobalMax(comm, scale, m));
   PetscCall(GlobalSumsExactScaled(comm, m, terms, n, scale, sums));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode GlobalExactParts(MPI_Comm comm, PetscInt m, const ExactPart *local, ExactPart *global)
+{
+  PetscMPIInt size;
+  ExactPart  *all;
+
+  PetscFunctionBeginUser;
+  PetscCheck(m >= 1 && m <= EXACT_SUMS_MAX, comm, PETSC_ERR_ARG_OUTOFRANGE, "%" PetscInt_FMT " exact sums at once, at most %d",
+             m, EXACT_SUMS_MAX);
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  PetscCall(PetscMalloc1(size, &all));
+  PetscCall(PetscLogEventBegin(EV_Reduce, 0, 0, 0, 0));
+  PetscCallMPI(MPI_Allgather(local, (PetscMPIInt) sizeof(ExactPart), MPI_BYTE, all, (PetscMPIInt) sizeof(ExactPart),
+                             MPI_BYTE, comm));
+  PetscCall(PetscLogEventEnd(EV_Reduce, 0, 0, 0, 0));
+  *global = all[0];
+  for (PetscMPIInt r = 1; r < size; r++)
+    for (PetscInt c = 0; c < m; c++) {
+      global->sum[c] += all[r].sum[c];
+      global->top[c] = PetscMax(global->top[c], all[r].top[c]);
+    }
+  PetscCall(PetscFree(all));
   PetscFunctionReturn(0);
 }
 

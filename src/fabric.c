@@ -499,7 +499,6 @@ static PetscErrorCode FabricSetUp(Fabric fab)
     PetscCall(VecCopy(fab->state.X, fab->state.Xold));
   }
   if (s->num.kinetic_damping) PetscCall(PetscCalloc1(fab->grid.nloc, &fab->step.ke_terms));
-  if (s->num.integrator == INTEGRATOR_FIRE) PetscCall(PetscCalloc1(3 * fab->grid.nloc, &fab->step.fire_terms));
   PetscCall(PetscCalloc1(2 * fab->grid.patch.xm, &fab->step.tally_rows));
   PetscCall(SetUpAnchors(fab));
   PetscCall(PredictSetUp(fab));
@@ -555,7 +554,6 @@ PetscErrorCode FabricDestroy(Fabric *pfab)
   PetscCall(IODestroy(&fab->io));
   PetscCall(PetscFree(fab->stats.curve));
   PetscCall(PetscFree(fab->step.ke_terms));
-  PetscCall(PetscFree(fab->step.fire_terms));
   PetscCall(PetscFree(fab->step.tally_rows));
   PetscCall(PetscFree(fab->front.front_box));
   PetscCall(PetscFree4(fab->grid.mass, fab->grid.inv_m, fab->grid.kind, fab->grid.predict_w));

@@ -338,53 +338,112 @@ FABRIC_WIDE static void IntegrateFire(PetscInt n, PetscReal dt, PetscReal cv, Pe
 }
 
 
-/* FIRE's terms on one row of n points: the power F.v, |F|^2 and |v|^2 of each free point (0 at a
-   fixed one), F = f + m g, into P, F2, V2 (selects: the loop vectorises; a sum started at 0 would
-   differ from these only in the sign of a zero, which the exact sums do not see); then the row's
-   largest magnitude of each, while the row is in cache, into scale (the exact sums' scales) */
+/* FIRE's sums on one row of n points, in one pass: the power F.v, |F|^2 and |v|^2 of each free
+   point (times 0 at a fixed one, whose forces are finite), F = f + m g, quantised on the scales
+   2^EXACT_LAG_BITS / inv_q[c] (comm.h) and summed, and their largest magnitudes, into part
+   (products and integer operations: the loop vectorises). */
 FABRIC_WIDE static void FireTerms(PetscInt n, const PetscReal g[3], const PetscReal *restrict mass,
-                      const PetscReal *restrict inv_m, const PetscReal *restrict f, const PetscReal *restrict v,
-                      PetscReal *restrict P, PetscReal *restrict F2, PetscReal *restrict V2, PetscReal scale[3])
+                                  const PetscReal *restrict inv_m, const PetscReal *restrict f,
+                                  const PetscReal *restrict v, const PetscReal inv_q[3], ExactPart *part)
 {
-  const PetscReal gx = g[0], gy = g[1], gz = g[2];
-  for (PetscInt k = 0; k < n; k++) {
-    const PetscReal m = mass[k];
-    const PetscReal Fx = f[3 * k] + m * gx, Fy = f[3 * k + 1] + m * gy, Fz = f[3 * k + 2] + m * gz;
-    const PetscReal vx = v[3 * k], vy = v[3 * k + 1], vz = v[3 * k + 2];
-    const int       free_ = inv_m[k] > 0;
-    P[k]                  = free_ ? Fx * vx + Fy * vy + Fz * vz : 0.0;
-    F2[k]                 = free_ ? Fx * Fx + Fy * Fy + Fz * Fz : 0.0;
-    V2[k]                 = free_ ? vx * vx + vy * vy + vz * vz : 0.0;
+  const PetscReal gx = g[0], gy = g[1], gz = g[2], qP = inv_q[0], qF = inv_q[1], qV = inv_q[2];
+  int64_t         tP = part->top[0], tF = part->top[1], tV = part->top[2];
+
+  for (PetscInt k0 = 0; k0 < n; k0 += EXACT_LAG_BLOCK) {
+    const PetscInt k1 = PetscMin(n, k0 + EXACT_LAG_BLOCK);
+    uint64_t       sP = 0, sF = 0, sV = 0;
+    for (PetscInt k = k0; k < k1; k++) {
+      const PetscReal m = mass[k];
+      const PetscReal Fx = f[3 * k] + m * gx, Fy = f[3 * k + 1] + m * gy, Fz = f[3 * k + 2] + m * gz;
+      const PetscReal vx = v[3 * k], vy = v[3 * k + 1], vz = v[3 * k + 2];
+      const PetscReal w = inv_m[k] > 0 ? 1.0 : 0.0; /* a product, not a select per term: GCC vectorises it */
+      const PetscReal P = (Fx * vx + Fy * vy + Fz * vz) * w, F2 = (Fx * Fx + Fy * Fy + Fz * Fz) * w;
+      const PetscReal V2 = (vx * vx + vy * vy + vz * vz) * w;
+      const int64_t   bP = ExactTopBits(P), bF = ExactTopBits(F2), bV = ExactTopBits(V2);
+      sP += ExactLagTerm(P * qP);
+      sF += ExactLagTerm(F2 * qF);
+      sV += ExactLagTerm(V2 * qV);
+      tP = bP > tP ? bP : tP;
+      tF = bF > tF ? bF : tF;
+      tV = bV > tV ? bV : tV;
+    }
+    part->sum[0] += (int64_t) sP;
+    part->sum[1] += (int64_t) sF;
+    part->sum[2] += (int64_t) sV;
   }
-  for (int c = 0; c < 3; c++) {
-    PetscReal row;
-    ExactSumScales(1, c == 0 ? P : c == 1 ? F2 : V2, n, &row);
-    scale[c] = PetscMax(scale[c], row);
+  part->top[0] = tP, part->top[1] = tF, part->top[2] = tV;
+}
+
+/* the smallest power of 2 >= x > 0 (x finite) */
+static PetscReal PowerOfTwoAbove(PetscReal x)
+{
+  int             e;
+  const PetscReal m = frexp(x, &e);
+  return ldexp(1.0, m == 0.5 ? e - 1 : e);
+}
+
+/* FIRE's sums over the owned points of box on the scales c->fire_scale, into part (global) */
+static PetscErrorCode FireSums(Fabric fab, const PetscInt box[4], const PetscScalar *v, const PetscScalar *f,
+                               ExactPart *part)
+{
+  const Patch     *p = &fab->grid.patch;
+  const PetscReal *g = fab->load.gravity_now, *scale = fab->step.fire_scale;
+  PetscReal        inv_q[3];
+  ExactPart        local;
+
+  PetscFunctionBeginUser;
+  memset(&local, 0, sizeof local);
+  for (int c = 0; c < 3; c++) inv_q[c] = scale[c] > 0 ? ldexp(1.0, EXACT_LAG_BITS) / scale[c] : 0.0;
+  for (PetscInt j = box[2]; j < box[3]; j++) {
+    const PetscInt k0 = (j - p->ys) * p->xm + (box[0] - p->xs);
+    FireTerms(box[1] - box[0], g, fab->grid.mass + k0, fab->grid.inv_m + k0, f + 3 * k0, v + 3 * k0, inv_q, &local);
   }
+  PetscCall(GlobalExactParts(fab->comm, 3, &local, part));
+  PetscFunctionReturn(0);
 }
 
 /* FIRE's decision for this te step, from the forces just computed on box (F) and the velocities:
    the global power P = sum F.v and the norms |F|, |v| over free points, exact sums (the same on
-   any number of ranks). Sets the step and the mixing (cv, cf) the sweep applies. */
+   any number of ranks). Sets the step and the mixing (cv, cf) the sweep applies.
+   The sums take one pass on the scales the last te step's maxima set (4 times the largest term,
+   up to a power of 2); where the largest term came out above its scale or below 2^-FIRE_SCALE_SLACK
+   of it (the terms' resolution 2^(FIRE_SCALE_SLACK - EXACT_LAG_BITS) of it at worst), or at the
+   first te step, a second pass on the scale of this step's largest. The scales are in the
+   checkpoint, so a restart sums as the run it continues. */
+#define FIRE_SCALE_SLACK 12
+#define FIRE_SCALE_TINY  ldexp(1.0, -900) /* a largest term below: the sum is taken as 0 */
 static PetscErrorCode FirePower(Fabric fab, const PetscInt box[4], PetscScalar *x, PetscScalar *v, const PetscScalar *f,
                                 PetscReal *cv, PetscReal *cf)
 {
-  const Patch     *p = &fab->grid.patch;
-  const PetscReal *g = fab->load.gravity_now;
-  StepControl     *c = &fab->step;
-  PetscReal        sum[3], scale[3] = {0, 0, 0};
-  PetscInt         cnt = 0, n;
+  const Patch *p = &fab->grid.patch;
+  StepControl *c = &fab->step;
+  PetscReal    sum[3], top[3];
+  ExactPart    part;
+  PetscBool    again = PETSC_FALSE;
 
   PetscFunctionBeginUser;
-  n = (box[1] - box[0]) * (box[3] - box[2]);
-  for (PetscInt j = box[2]; j < box[3]; j++) {
-    const PetscInt k0 = (j - p->ys) * p->xm + (box[0] - p->xs), nr = box[1] - box[0];
-    FireTerms(nr, g, fab->grid.mass + k0, fab->grid.inv_m + k0, f + 3 * k0, v + 3 * k0, c->fire_terms + cnt,
-              c->fire_terms + n + cnt, c->fire_terms + 2 * n + cnt, scale);
-    cnt += nr;
+  PetscCall(FireSums(fab, box, v, f, &part));
+  for (int q = 0; q < 3; q++) {
+    memcpy(&top[q], &part.top[q], sizeof top[q]);
+    if (top[q] >= FIRE_SCALE_TINY && isfinite(top[q]) &&
+        !(top[q] <= c->fire_scale[q] && top[q] >= ldexp(c->fire_scale[q], -FIRE_SCALE_SLACK))) {
+      c->fire_scale[q] = PowerOfTwoAbove(top[q]);
+      again            = PETSC_TRUE;
+    }
   }
-  PetscCall(GlobalMax(fab->comm, scale, 3)); /* GlobalSumsExact, its scales taken row by row above */
-  PetscCall(GlobalSumsExactScaled(fab->comm, 3, c->fire_terms, n, scale, sum));
+  if (again) {
+    ExactPart redo;
+    PetscCall(FireSums(fab, box, v, f, &redo));
+    for (int q = 0; q < 3; q++) part.sum[q] = redo.sum[q];
+  }
+  for (int q = 0; q < 3; q++) {
+    if (!isfinite(top[q])) sum[q] = top[q]; /* a NaN or Inf (the te step's watch stops the run) */
+    else if (top[q] < FIRE_SCALE_TINY) sum[q] = 0.0;
+    else {
+      sum[q]           = (PetscReal) part.sum[q] * ldexp(c->fire_scale[q], -EXACT_LAG_BITS);
+      c->fire_scale[q] = PowerOfTwoAbove(4.0 * top[q]); /* the next te step's */
+    }
+  }
   if (!(sum[2] > 0)) /* at rest: nothing to mix, nothing to judge */
     *cv = 1.0, *cf = 0.0;
   else if (sum[0] > 0) {

@@ -268,6 +268,15 @@ PetscReal ChordEnergy(const YarnLaw *y, const PetscReal *integral, PetscReal e)
 
 /* --- force rows --- */
 
+/* the bits of |t| as a signed integer, ordered as |t| (a NaN above every number) */
+static inline int64_t AbsBits(PetscReal t)
+{
+  const PetscReal a = PetscAbsReal(t);
+  int64_t         b;
+  memcpy(&b, &a, sizeof b);
+  return b;
+}
+
 static void ZeroSegmentRow(SegmentRow *s, PetscInt c0, PetscInt c1)
 {
   PetscReal *a[] = {s->ux, s->uy, s->uz, s->inv_len, s->fx, s->fy, s->fz, s->T};
@@ -383,14 +392,16 @@ static void ComputeSegmentRow(const YarnLaw *law, PetscReal L0, PetscBool tracti
 static PetscReal GatherTraction(const SegmentRow *xs, const SegmentRow *yd, const SegmentRow *yu, PetscInt i0,
                                 PetscInt i1, PetscReal *restrict fr, PetscReal tmax)
 {
+  int64_t top = AbsBits(tmax); /* the largest |T| as its bits (integer max: the loop vectorises) */
   for (PetscInt i = i0; i < i1; i++) {
-    fr[3 * i]         = xs->fx[i] - xs->fx[i - 1] + yu->fx[i] - yd->fx[i];
-    fr[3 * i + 1]     = xs->fy[i] - xs->fy[i - 1] + yu->fy[i] - yd->fy[i];
-    fr[3 * i + 2]     = xs->fz[i] - xs->fz[i - 1] + yu->fz[i] - yd->fz[i];
-    const PetscReal t = PetscMax(PetscMax(PetscAbsReal(xs->T[i]), PetscAbsReal(xs->T[i - 1])),
-                                 PetscMax(PetscAbsReal(yu->T[i]), PetscAbsReal(yd->T[i])));
-    tmax              = PetscMax(tmax, t);
+    fr[3 * i]     = xs->fx[i] - xs->fx[i - 1] + yu->fx[i] - yd->fx[i];
+    fr[3 * i + 1] = xs->fy[i] - xs->fy[i - 1] + yu->fy[i] - yd->fy[i];
+    fr[3 * i + 2] = xs->fz[i] - xs->fz[i - 1] + yu->fz[i] - yd->fz[i];
+    const int64_t a = AbsBits(xs->T[i]), b = AbsBits(xs->T[i - 1]), c = AbsBits(yu->T[i]), d = AbsBits(yd->T[i]);
+    const int64_t ab = a > b ? a : b, cd = c > d ? c : d, t = ab > cd ? ab : cd;
+    top              = t > top ? t : top;
   }
+  memcpy(&tmax, &top, sizeof tmax);
   return tmax;
 }
 
@@ -518,6 +529,7 @@ PetscInt BreakSegments(Patch *p, const PetscReal *x, BreakSite *site)
   PetscInt n = 0;
 
   site->ratio = site->load = 0;
+  site->dir = site->i = site->j = 0;
   for (int dir = 0; dir < 2; dir++) {
     const YarnLaw   *law    = dir == 0 ? p->warp : p->weft;
     const PetscReal  L0     = dir == 0 ? p->ax : p->ay;

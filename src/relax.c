@@ -53,7 +53,7 @@ static PetscErrorCode CheckBreaks(Fabric fab, PetscInt *broke)
   if (r->first.ratio == 0) { /* the first break: the most overstrained segment */
     const PetscInt nx = fab->s.spec.nx, ny = fab->s.spec.ny;
     PetscReal      best = site.ratio;
-    PetscInt       code = site.dir * nx * ny + site.j * nx + site.i;
+    PetscInt       code = site.ratio > 0 ? site.dir * nx * ny + site.j * nx + site.i : -1; /* -1: none broke here */
     PetscCall(GlobalArgMax(fab->comm, &best, &code));
     r->first.ratio = best;
     r->first.dir   = code / (nx * ny);
