@@ -246,6 +246,7 @@ static PetscErrorCode FollowTear(Fabric fab, StepStats *st, CurveRow *row, Petsc
   fab->step.tear           = PETSC_TRUE;
   fab->step.window_grow    = 0; /* the tear's window from its own margin */
   PetscCall(StableStepAgain(fab)); /* the damped scheme's te */
+  PetscCall(StableStepMeasureTear(fab, "start"));
   fab->step.damp_c = 2.0 * s->rupture.damping * fab->step.omega1;
   quiet            = TearQuietSteps(fab);
   most  = (PetscInt) PetscMax(1.0, PetscMin(PetscFloorReal(s->rupture.max_time / fab->step.te), (PetscReal) PETSC_MAX_INT));
@@ -263,6 +264,7 @@ static PetscErrorCode FollowTear(Fabric fab, StepStats *st, CurveRow *row, Petsc
     if (check && n % check == 0) PetscCall(CheckRupture(fab, st, before + n, row, ruptured));
   }
   if (check && n % check) PetscCall(CheckRupture(fab, st, before + n, row, ruptured));
+  PetscCall(StableStepMeasureTear(fab, "end"));
   fab->step.tear   = PETSC_FALSE;
   fab->step.torn   = PETSC_TRUE; /* PaperSteps: the damped scheme relaxes the broken pieces */
   fab->step.damp_c      = damp_c;

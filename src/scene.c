@@ -270,7 +270,8 @@ static const OptionDesc Options[] = {
          "paper: the paper's eq. (10)"),
     REAL("", "te", te, DEF(0), NONNEG, NONNEG_MUST, "time step te (s); 0 = from the stable bound"),
     RANGED("", "te_safety", te_safety, DEF(0), 0, 1, 0, 0, "in [0,1]",
-           "te = safety * stable bound; 0 = by the integrator: 0.8 with fire, 0.65 with damped and paper"),
+           "te = safety * stable bound; 0 = by the integrator: 0.8 with fire, 0.65 with damped and paper (a tear: "
+           "-tear_te_safety)"),
     BOOL("", "te_check", te_check, DEF(1), "refuse a -te above the stable bound (0: experts and stability tests only)"),
     INT("", "te_measure", te_measure, DEF(0), 0, "0 (never) or a number of load steps",
         "measure the true largest eigenvalue of M^-1 K (Lanczos on the tangent stiffness) at the start and end of "
@@ -317,6 +318,8 @@ static const OptionDesc Options[] = {
     REAL("", "tear_damping_ratio", tear_damping_ratio, DEF(0.05), NONNEG, NONNEG_MUST,
          "damping of a tear as a fraction of critical at the slowest mode (the yarns' own loss, not -damping_ratio's "
          "numerical damping)"),
+    RANGED("", "tear_te_safety", tear_te_safety, DEF(0.9), 0, 1, 1, 0, "in (0,1]",
+           "te of a tear = safety * stable bound over the whole yarn law (the relaxation's is -te_safety)"),
     STRING("Output", "output_dir", output_dir,
            "directory for the results (\"none\": write nothing); default results/SCENE"),
     STRING("", "positions_out", positions_out, "write the final positions (natural order, PETSc binary) to this file"),
@@ -1013,7 +1016,10 @@ static void DeriveNumerics(const SceneInput *in, Scene *s)
   n->integrator      = (IntegratorType) in->integrator;
   n->te_user         = in->te;
   StepPolicy(in, n->integrator, &n->te_safety, &n->te_window);
-  StepPolicy(in, INTEGRATOR_DAMPED, &n->te_safety_tear, &n->te_window_tear); /* a tear runs the damped scheme */
+  /* a tear runs the damped scheme over the whole law, at its own safety: a few thousand te steps of
+     dynamics with no balance to reach (docs/rupture.md) */
+  StepPolicy(in, INTEGRATOR_DAMPED, &n->te_safety_tear, &n->te_window_tear);
+  n->te_safety_tear = in->tear_te_safety;
   n->te_check        = in->te_check;
   n->te_measure      = in->te_measure;
   n->early_exit      = in->early_exit;

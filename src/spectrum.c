@@ -334,3 +334,23 @@ PetscErrorCode StableStepMeasureLast(Fabric fab)
   if (fab->s.num.te_measure && fab->load.load_step >= 1) PetscCall(Measure(fab, fab->step.te, PETSC_TRUE));
   PetscFunctionReturn(0);
 }
+
+PetscErrorCode StableStepMeasureTear(Fabric fab, const char *when)
+{
+  PetscReal omega2;
+  PetscInt  its;
+
+  PetscFunctionBeginUser;
+  if (!fab->s.num.te_measure) PetscFunctionReturn(0);
+  PetscCall(TangentOmega2Max(fab, &omega2, &its));
+  if (!(omega2 > 0)) PetscFunctionReturn(0);
+  {
+    const PetscReal limit = 2.0 / PetscSqrtReal(omega2); /* a tear runs the damped scheme */
+    PetscCall(PetscInfo(NULL,
+                        "load step %" PetscInt_FMT " tear %s: te %g s, stable bound %g s, measured limit %g s (%" PetscInt_FMT
+                        " Lanczos steps): te / limit %.4f\n",
+                        fab->load.load_step, when, (double) fab->step.te, (double) fab->step.te_bound, (double) limit, its,
+                        (double) (fab->step.te / limit)));
+  }
+  PetscFunctionReturn(0);
+}
