@@ -64,7 +64,8 @@ static inline int64_t ExactTopBits(double t)
   memcpy(&b, &a, sizeof b);
   return b;
 }
-/* the parts of all ranks combined: sums added, maxima taken (one collective) */
+/* the parts of all ranks combined: sums added, maxima taken (one reduction, a user-defined MPI
+   operation on the exact integers) */
 PetscErrorCode GlobalExactParts(MPI_Comm comm, PetscInt m, const ExactPart *local, ExactPart *global);
 /* integer sums over all ranks, in place: exact; the uint64 one mod 2^64 (checkpoint checksums) */
 PetscErrorCode GlobalSumInt(MPI_Comm comm, PetscInt *v, PetscInt n);

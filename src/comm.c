@@ -311,27 +311,49 @@ PetscErrorCode GlobalSumsExact(MPI_Comm comm, PetscInt m, const PetscReal *terms
   PetscFunctionReturn(0);
 }
 
+/* The reduction of ExactParts: sums added, maxima taken, all EXACT_SUMS_MAX slots (unused ones are
+   0 on every rank). Integer operations: exact, in any order and any grouping. */
+static void ExactPartsCombine(void *in, void *inout, int *len, MPI_Datatype *type)
+{
+  const ExactPart *a = (const ExactPart *) in;
+  ExactPart       *b = (ExactPart *) inout;
+
+  (void) type;
+  for (int k = 0; k < *len; k++)
+    for (int c = 0; c < EXACT_SUMS_MAX; c++) {
+      b[k].sum[c] += a[k].sum[c];
+      b[k].top[c] = PetscMax(b[k].top[c], a[k].top[c]);
+    }
+}
+
+static MPI_Datatype exact_part_type = MPI_DATATYPE_NULL;
+static MPI_Op       exact_part_op   = MPI_OP_NULL;
+
+static PetscErrorCode ExactPartsFinalize(void)
+{
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Op_free(&exact_part_op));
+  PetscCallMPI(MPI_Type_free(&exact_part_type));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode GlobalExactParts(MPI_Comm comm, PetscInt m, const ExactPart *local, ExactPart *global)
 {
-  PetscMPIInt size;
-  ExactPart  *all;
+  ExactPart mine = *local;
 
   PetscFunctionBeginUser;
   PetscCheck(m >= 1 && m <= EXACT_SUMS_MAX, comm, PETSC_ERR_ARG_OUTOFRANGE, "%" PetscInt_FMT " exact sums at once, at most %d",
              m, EXACT_SUMS_MAX);
-  PetscCallMPI(MPI_Comm_size(comm, &size));
-  PetscCall(PetscMalloc1(size, &all));
+  if (exact_part_op == MPI_OP_NULL) { /* made once, freed when PETSc finalizes */
+    PetscCallMPI(MPI_Type_contiguous((int) sizeof(ExactPart), MPI_BYTE, &exact_part_type));
+    PetscCallMPI(MPI_Type_commit(&exact_part_type));
+    PetscCallMPI(MPI_Op_create(ExactPartsCombine, 1, &exact_part_op));
+    PetscCall(PetscRegisterFinalize(ExactPartsFinalize));
+  }
+  for (PetscInt c = m; c < EXACT_SUMS_MAX; c++) mine.sum[c] = 0, mine.top[c] = 0;
   PetscCall(PetscLogEventBegin(EV_Reduce, 0, 0, 0, 0));
-  PetscCallMPI(MPI_Allgather(local, (PetscMPIInt) sizeof(ExactPart), MPI_BYTE, all, (PetscMPIInt) sizeof(ExactPart),
-                             MPI_BYTE, comm));
+  PetscCallMPI(MPI_Allreduce(&mine, global, 1, exact_part_type, exact_part_op, comm));
   PetscCall(PetscLogEventEnd(EV_Reduce, 0, 0, 0, 0));
-  *global = all[0];
-  for (PetscMPIInt r = 1; r < size; r++)
-    for (PetscInt c = 0; c < m; c++) {
-      global->sum[c] += all[r].sum[c];
-      global->top[c] = PetscMax(global->top[c], all[r].top[c]);
-    }
-  PetscCall(PetscFree(all));
   PetscFunctionReturn(0);
 }
 
