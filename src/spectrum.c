@@ -347,8 +347,8 @@ PetscErrorCode StableStepMeasureTear(Fabric fab, const char *when)
   {
     const PetscReal limit = 2.0 / PetscSqrtReal(omega2); /* a tear runs the damped scheme */
     PetscCall(PetscInfo(NULL,
-                        "load step %" PetscInt_FMT " tear %s: te %g s, stable bound %g s, measured limit %g s (%" PetscInt_FMT
-                        " Lanczos steps): te / limit %.4f\n",
+                        "load step %" PetscInt_FMT " tear %s: te %.10g s, stable bound %.10g s, measured limit %.10g s "
+                        "(%" PetscInt_FMT " Lanczos steps): te / limit %.4f\n",
                         fab->load.load_step, when, (double) fab->step.te, (double) fab->step.te_bound, (double) limit, its,
                         (double) (fab->step.te / limit)));
   }
