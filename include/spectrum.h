@@ -18,8 +18,8 @@ PetscErrorCode TangentOmega2Max(Fabric fab, PetscReal *omega2, PetscInt *iterati
 PetscErrorCode StableStepMeasure(Fabric fab, PetscReal te_prev);
 PetscErrorCode StableStepMeasureLast(Fabric fab); /* -te_measure: the run's last state, the end of its last load step */
 
-/* -te_measure: the true limit at a tear's start or end (when), against the tear's te and bound,
-   for -info only (a tear is not a load step's record) */
+/* -te_measure with -info: the true limit at a tear's start or end (when), against the tear's te
+   and bound, printed only (a tear is not a load step's record) */
 PetscErrorCode StableStepMeasureTear(Fabric fab, const char *when);
 
 #endif

@@ -315,15 +315,17 @@ PetscErrorCode GlobalSumsExact(MPI_Comm comm, PetscInt m, const PetscReal *terms
    0 on every rank). Integer operations: exact, in any order and any grouping. */
 static void ExactPartsCombine(void *in, void *inout, int *len, MPI_Datatype *type)
 {
-  const ExactPart *a = (const ExactPart *) in;
-  ExactPart       *b = (ExactPart *) inout;
-
   (void) type;
-  for (int k = 0; k < *len; k++)
+  for (int k = 0; k < *len; k++) { /* copied in and out: MPI's buffers need not be aligned for __int128 */
+    ExactPart a, b;
+    memcpy(&a, (const char *) in + k * sizeof a, sizeof a);
+    memcpy(&b, (char *) inout + k * sizeof b, sizeof b);
     for (int c = 0; c < EXACT_SUMS_MAX; c++) {
-      b[k].sum[c] += a[k].sum[c];
-      b[k].top[c] = PetscMax(b[k].top[c], a[k].top[c]);
+      b.sum[c] += a.sum[c];
+      b.top[c] = PetscMax(b.top[c], a.top[c]);
     }
+    memcpy((char *) inout + k * sizeof b, &b, sizeof b);
+  }
 }
 
 static MPI_Datatype exact_part_type = MPI_DATATYPE_NULL;

@@ -412,6 +412,7 @@ static PetscErrorCode FireSums(Fabric fab, const PetscInt box[4], const PetscSca
    checkpoint, so a restart sums as the run it continues. */
 #define FIRE_SCALE_SLACK 12
 #define FIRE_SCALE_TINY  ldexp(1.0, -900) /* a largest term below: the sum is taken as 0 */
+#define FIRE_SCALE_HUGE  ldexp(1.0, 1000) /* above: no scale (the run is blowing up; its watch stops it) */
 static PetscErrorCode FirePower(Fabric fab, const PetscInt box[4], PetscScalar *x, PetscScalar *v, const PetscScalar *f,
                                 PetscReal *cv, PetscReal *cf)
 {
@@ -425,7 +426,7 @@ static PetscErrorCode FirePower(Fabric fab, const PetscInt box[4], PetscScalar *
   PetscCall(FireSums(fab, box, v, f, &part));
   for (int q = 0; q < 3; q++) {
     memcpy(&top[q], &part.top[q], sizeof top[q]);
-    if (top[q] >= FIRE_SCALE_TINY && isfinite(top[q]) &&
+    if (top[q] >= FIRE_SCALE_TINY && top[q] <= FIRE_SCALE_HUGE &&
         !(top[q] <= c->fire_scale[q] && top[q] >= ldexp(c->fire_scale[q], -FIRE_SCALE_SLACK))) {
       c->fire_scale[q] = PowerOfTwoAbove(top[q]);
       again            = PETSC_TRUE;
@@ -437,7 +438,7 @@ static PetscErrorCode FirePower(Fabric fab, const PetscInt box[4], PetscScalar *
     for (int q = 0; q < 3; q++) part.sum[q] = redo.sum[q];
   }
   for (int q = 0; q < 3; q++) {
-    if (!isfinite(top[q])) sum[q] = top[q]; /* a NaN or Inf (the te step's watch stops the run) */
+    if (!(top[q] <= FIRE_SCALE_HUGE)) sum[q] = top[q]; /* NaN, Inf or huge: the te step's watch stops the run */
     else if (top[q] < FIRE_SCALE_TINY) sum[q] = 0.0;
     else {
       sum[q]           = (PetscReal) part.sum[q] * ldexp(c->fire_scale[q], -EXACT_LAG_BITS);

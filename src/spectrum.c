@@ -339,15 +339,17 @@ PetscErrorCode StableStepMeasureTear(Fabric fab, const char *when)
 {
   PetscReal omega2;
   PetscInt  its;
+  PetscBool info;
 
   PetscFunctionBeginUser;
-  if (!fab->s.num.te_measure) PetscFunctionReturn(0);
+  PetscCall(PetscInfoEnabled(PETSC_SMALLEST_CLASSID, &info)); /* PetscInfo(NULL, ...)'s class */
+  if (!fab->s.num.te_measure || !info) PetscFunctionReturn(0);
   PetscCall(TangentOmega2Max(fab, &omega2, &its));
   if (!(omega2 > 0)) PetscFunctionReturn(0);
   {
     const PetscReal limit = 2.0 / PetscSqrtReal(omega2); /* a tear runs the damped scheme */
     PetscCall(PetscInfo(NULL,
-                        "load step %" PetscInt_FMT " tear %s: te %.10g s, stable bound %.10g s, measured limit %.10g s "
+                        "load step %" PetscInt_FMT " tear %s: te %.17g s, stable bound %.17g s, measured limit %.10g s "
                         "(%" PetscInt_FMT " Lanczos steps): te / limit %.4f\n",
                         fab->load.load_step, when, (double) fab->step.te, (double) fab->step.te_bound, (double) limit, its,
                         (double) (fab->step.te / limit)));
