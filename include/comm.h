@@ -3,7 +3,6 @@
 #define FABRIC_COMM_H
 
 #include <petscdm.h>
-#include <math.h>
 #include <stdint.h>
 #include <string.h>
 
@@ -43,7 +42,7 @@ PetscErrorCode GlobalSumsExactScaled(MPI_Comm comm, PetscInt m, const PetscReal 
 #define EXACT_LAG_BLOCK 256
 typedef struct {
   __int128 sum[EXACT_SUMS_MAX]; /* the quantised terms */
-  int64_t  top[EXACT_SUMS_MAX]; /* the bits of the largest |term| (non-negative doubles order as their bits) */
+  int64_t  top[EXACT_SUMS_MAX]; /* the bits of the largest |term| (kernels.h AbsBits: they order as |term|) */
 } ExactPart;
 /* the integer nearest y (halves to even) for |y| < 2^51, mod 2^64, in floating-point adds and bit
    operations (so that a loop of them vectorises): y + 1.5 2^52 holds it in its low bits (a y past
@@ -55,14 +54,6 @@ static inline uint64_t ExactLagTerm(double y)
   memcpy(&bz, &z, sizeof bz);
   memcpy(&bs, &shift, sizeof bs);
   return bz - bs;
-}
-/* the bits of |t| as a signed integer: ordered as |t| (a NaN above every number) */
-static inline int64_t ExactTopBits(double t)
-{
-  const double a = fabs(t);
-  int64_t      b;
-  memcpy(&b, &a, sizeof b);
-  return b;
 }
 /* the parts of all ranks combined: sums added, maxima taken (one reduction, a user-defined MPI
    operation on the exact integers) */

@@ -25,10 +25,22 @@
 #endif
 
 #include <petscmat.h>
+#include <stdint.h>
+#include <string.h>
 
 #include "material.h"
 
 #define KERNEL_RING 4 /* rows kept by the row pipeline: y-segments j-2..j+1 */
+
+/* the bits of |t| as a signed integer, ordered as |t| (a NaN above every number): a maximum of
+   them is an integer max, which vectorises where a floating-point one does not */
+static inline int64_t AbsBits(PetscReal t)
+{
+  const PetscReal a = PetscAbsReal(t);
+  int64_t         b;
+  memcpy(&b, &a, sizeof b);
+  return b;
+}
 
 typedef struct {           /* a row of yarn segments */
   PetscReal *ux, *uy, *uz; /* unit chord (0 if the segment is absent or broken) */

@@ -359,7 +359,7 @@ FABRIC_WIDE static void FireTerms(PetscInt n, const PetscReal g[3], const PetscR
       const PetscReal w = inv_m[k] > 0 ? 1.0 : 0.0; /* a product, not a select per term: GCC vectorises it */
       const PetscReal P = (Fx * vx + Fy * vy + Fz * vz) * w, F2 = (Fx * Fx + Fy * Fy + Fz * Fz) * w;
       const PetscReal V2 = (vx * vx + vy * vy + vz * vz) * w;
-      const int64_t   bP = ExactTopBits(P), bF = ExactTopBits(F2), bV = ExactTopBits(V2);
+      const int64_t   bP = AbsBits(P), bF = AbsBits(F2), bV = AbsBits(V2);
       sP += ExactLagTerm(P * qP);
       sF += ExactLagTerm(F2 * qF);
       sV += ExactLagTerm(V2 * qV);

@@ -268,15 +268,6 @@ PetscReal ChordEnergy(const YarnLaw *y, const PetscReal *integral, PetscReal e)
 
 /* --- force rows --- */
 
-/* the bits of |t| as a signed integer, ordered as |t| (a NaN above every number) */
-static inline int64_t AbsBits(PetscReal t)
-{
-  const PetscReal a = PetscAbsReal(t);
-  int64_t         b;
-  memcpy(&b, &a, sizeof b);
-  return b;
-}
-
 static void ZeroSegmentRow(SegmentRow *s, PetscInt c0, PetscInt c1)
 {
   PetscReal *a[] = {s->ux, s->uy, s->uz, s->inv_len, s->fx, s->fy, s->fz, s->T};
