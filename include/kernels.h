@@ -134,8 +134,13 @@ void WindowSet(Patch *p, const PetscReal r[5], PetscReal margin);
    plus the Gershgorin row sums of bending and shear (jamming counted if the window reaches the
    lock), plus the contact penalty. omega2_pull: the same from the current tangent of the yarns
    along pull_dir (0: x, 1: y) alone: the highest frequency of the chain the damping is tuned to. */
+typedef struct {   /* the point whose row sets the bound (the first in the patch's order) */
+  PetscInt  i, j;   /* global crossing */
+  PetscReal omega2; /* its row times 1/m */
+  PetscReal part[4]; /* of it, traction, bending, shear and contact */
+} BoundRow;
 PetscReal StableOmega2(const Patch *p, const PetscReal *x, const PetscReal *inv_m, int pull_dir,
-                       PetscReal *omega2_pull);
+                       PetscReal *omega2_pull, BoundRow *at);
 /* omega2_pull of StableOmega2 alone */
 PetscReal PullOmega2(const Patch *p, const PetscReal *x, const PetscReal *inv_m, int pull_dir);
 

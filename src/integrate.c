@@ -101,12 +101,41 @@ PetscErrorCode ComputeForces(Fabric fab, const PetscInt box[4], PetscReal *tensi
 
 /* the window of the state (WindowRange, reduced, widened by -te_strain_window) and the bound on
    omega_max^2 for every state within it; te from it, or the user's -te checked against it */
+/* -info: where the bound is set (the lowest crossing index among the rows that set it), its
+   terms' parts there, and the window it holds for */
+static PetscErrorCode BoundInfo(Fabric fab, const BoundRow *at)
+{
+  const Patch *p = &fab->grid.patch;
+  PetscBool    info;
+  PetscReal    v     = at->omega2, part[4] = {0, 0, 0, 0};
+  PetscInt     index = at->i >= 0 ? at->j * fab->s.spec.nx + at->i : -1;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscInfoEnabled(PETSC_SMALLEST_CLASSID, &info)); /* PetscInfo(NULL, ...)'s class */
+  if (!info) PetscFunctionReturn(0);
+  PetscCall(GlobalArgMax(fab->comm, &v, &index));
+  if (index < 0) PetscFunctionReturn(0);
+  if (at->i >= 0 && at->omega2 == v && at->j * fab->s.spec.nx + at->i == index)
+    for (int q = 0; q < 4; q++) part[q] = at->part[q];
+  PetscCall(GlobalMax(fab->comm, part, 4)); /* the parts of the rank that holds the row (all >= 0) */
+  PetscCall(PetscInfo(NULL,
+                      "load step %" PetscInt_FMT ", te step %" PetscInt64_FMT ": omega_max^2 <= %.6g rad^2/s^2, set at crossing (%" PetscInt_FMT
+                      ", %" PetscInt_FMT "): traction %.4g, bending %.4g, shear %.4g, contact %.4g; for warp strains in [%.4g, %.4g], weft "
+                      "in [%.4g, %.4g] (yarn stiffness up to %.6g and %.6g N/m a segment), |cos| of the yarns' angle up to %.4g\n",
+                      fab->load.load_step, fab->stats.te_steps, (double) v, index % fab->s.spec.nx, index / fab->s.spec.nx,
+                      (double) part[0], (double) part[1], (double) part[2], (double) part[3], (double) p->win_lo[0],
+                      (double) p->win_hi[0], (double) p->win_lo[1], (double) p->win_hi[1], (double) p->win_k[0],
+                      (double) p->win_k[1], (double) p->win_s));
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode StableBound(Fabric fab, PetscReal omega2[2])
 {
   const Scene       *s = &fab->s;
   Patch             *p = &fab->grid.patch;
   const PetscScalar *xl;
   PetscReal          r[5];
+  BoundRow           at;
 
   PetscFunctionBeginUser;
   PetscCall(HaloExchange(fab->grid.da, fab->state.X, fab->state.Xl));
@@ -116,10 +145,11 @@ static PetscErrorCode StableBound(Fabric fab, PetscReal omega2[2])
   PetscCall(GlobalMax(fab->comm, r, 5));
   WindowSet(p, r, (fab->step.tear ? s->num.te_window_tear : s->num.te_window) * (PetscReal) (1 << fab->step.window_grow));
   fab->step.window_bound_at = fab->stats.te_steps;
-  omega2[0] = StableOmega2(p, xl, fab->grid.inv_m, s->spec.pull == PULL_WARP ? 0 : 1, &omega2[1]);
+  omega2[0] = StableOmega2(p, xl, fab->grid.inv_m, s->spec.pull == PULL_WARP ? 0 : 1, &omega2[1], &at);
   PetscCall(VecRestoreArrayRead(fab->state.Xl, &xl));
   PetscCall(PetscLogEventEnd(EV_Bound, 0, 0, 0, 0));
   PetscCall(GlobalMax(fab->comm, omega2, 2));
+  PetscCall(BoundInfo(fab, &at));
   PetscCheck(omega2[0] > 0, fab->comm, PETSC_ERR_USER_INPUT,
              "no free crossing point has any stiffness: nothing to integrate (check -traction, -bending, -shear and "
              "the clamps)");

@@ -1238,26 +1238,34 @@ void WindowSet(Patch *p, const PetscReal r[5], PetscReal margin)
   p->win_s = PetscMax(r[4], 0.0) + margin;
 }
 
-PetscReal StableOmega2(const Patch *p, const PetscReal *x, const PetscReal *inv_m, int pull_dir, PetscReal *omega2_pull)
+PetscReal StableOmega2(const Patch *p, const PetscReal *x, const PetscReal *inv_m, int pull_dir, PetscReal *omega2_pull,
+                       BoundRow *at)
 {
   PetscReal omega2 = 0.0, pull2 = 0.0;
+  BoundRow  best   = {-1, -1, 0.0, {0, 0, 0, 0}};
 
   for (PetscInt j = p->ys; j < p->ys + p->ym; j++) {
     for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
       const PetscReal im = inv_m[(j - p->ys) * p->xm + (i - p->xs)];
-      PetscReal       rs = 0.0, rp = 0.0;
+      PetscReal       rs = 0.0, rp = 0.0, upto[3];
       if (im <= 0.0) continue;
       /* the terms' bound_row in the order of InternalTerms, called directly (inlined: the loop
          through the descriptors' pointers costs 10 % here) */
       if (p->traction) TractionBoundRow(p, x, i, j, pull_dir, &rs, &rp);
+      upto[0] = rs;
       if (p->bending) BendingBoundRow(p, x, i, j, pull_dir, &rs, &rp);
+      upto[1] = rs;
       if (p->shear) ShearBoundRow(p, x, i, j, pull_dir, &rs, &rp);
+      upto[2] = rs;
       rs += p->k_contact; /* a rigid body's penalty spring, whether in contact or not */
+      if (rs * im > best.omega2)
+        best = (BoundRow){i, j, rs * im, {upto[0] * im, (upto[1] - upto[0]) * im, (upto[2] - upto[1]) * im, p->k_contact * im}};
       omega2 = PetscMax(omega2, rs * im);
       pull2  = PetscMax(pull2, rp * im);
     }
   }
   *omega2_pull = pull2;
+  if (at) *at = best;
   return omega2;
 }
 

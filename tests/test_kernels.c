@@ -1182,14 +1182,26 @@ static void CompareWithReference(Patch *p, const double *x, const double *inv_m,
     const PetscReal margin = windows[w % 3];
     const int       pull   = w / 3;
     PetscReal       o1, o2, p1, p2, r[5], lo[2], hi[2], s_hi;
+    BoundRow        at;
     p->k_contact = contact[w % 2];
     WindowRange(p, x, r);
     WindowSet(p, r, margin);
     RefWindow(p, x, margin, lo, hi, &s_hi);
     bad[1] += memcmp(lo, p->win_lo, sizeof lo) != 0 || memcmp(hi, p->win_hi, sizeof hi) != 0 || s_hi != p->win_s;
-    o1 = StableOmega2(p, x, inv_m, pull, &p1);
+    o1 = StableOmega2(p, x, inv_m, pull, &p1, &at);
     o2 = RefStableOmega2(p, x, inv_m, lo, hi, s_hi, pull, &p2);
     bad[1] += !Close(o1, o2) || !Close(p1, p2);
+    /* where it is set: that row, and each term's part of it */
+    bad[1] += (at.i < 0) != (o1 == 0) || at.omega2 != o1 || !Close(at.part[0] + at.part[1] + at.part[2] + at.part[3], o1); /* none: no stiffness */
+    if (at.i >= 0) {
+      const PetscReal im = inv_m[(at.j - p->ys) * p->xm + (at.i - p->xs)];
+      for (int t = 0; t < INTERNAL_TERMS; t++) {
+        PetscReal rs = 0.0, rp = 0.0;
+        if (InternalTerms[t]->enabled(p)) InternalTerms[t]->bound_row(p, x, at.i, at.j, pull, &rs, &rp);
+        bad[1] += PetscAbsReal(rs * im - at.part[t]) > 1e-12 * o1; /* a difference of partial sums: to the row's */
+      }
+      bad[1] += PetscAbsReal(p->k_contact * im - at.part[3]) > 1e-12 * o1;
+    }
     for (int k = 0; k < p->xm * p->ym; k++) {
       const PetscInt i = p->xs + k % p->xm, j = p->ys + k / p->xm;
       PetscReal      rs = 0.0, rp = 0.0;
@@ -1229,8 +1241,8 @@ static PetscErrorCode TestIdentity(const char *csv)
   }
   printf("identity: %d cases (2 patches x 3 states x 8 switch settings; 3 boxes, 6 bound settings, every row)\n",
          cases);
-  Check("(c) the window (bits), StableOmega2 and each row as the sum of the terms' bound_row (1e-12) vs the "
-        "reference: differences",
+  Check("(c) the window (bits), StableOmega2, the row that sets it and its terms' parts, and each row as the sum "
+        "of the terms' bound_row (1e-12) vs the reference: differences",
         bad[1],
         0);
   Check("(d) ComputeInternalForces (forces, tension_max) vs the reference pipeline: bit differences", bad[0], 0);
@@ -1359,7 +1371,7 @@ static PetscErrorCode TestDegenerate(const char *csv)
     WindowRange(&p, x, r);
     WindowSet(&p, r, 1.0);
   }
-  o2 = StableOmega2(&p, x, inv_m, 0, &o2p);
+  o2 = StableOmega2(&p, x, inv_m, 0, &o2p, NULL);
   Check("degenerate chord and folded yarn: every force finite (0 = yes)", finite ? 0.0 : 1.0, 0.0);
   Check("degenerate chord and folded yarn: stable-step bound finite and positive (0 = yes)",
         isfinite(o2) && o2 > 0 && isfinite(o2p) ? 0.0 : 1.0, 0.0);
