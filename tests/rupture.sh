@@ -17,7 +17,9 @@
 #     paper scheme on the broken ends: stopped by the energy watch, which says to use fire or damped;
 #  5. a tear's te is -tear_te_safety (0.9, and 0.65 when set; 0.9 also with -te_safety 0.5, which is
 #     the relaxation's) times its stable bound (to 1e-12), and below the limit measured at its start
-#     and end (-te_measure with -info).
+#     and end (-te_measure with -info);
+#  6. -info's line for each stable bound: the row that sets it (its parts add up to the bound's
+#     omega^2, to the 4 digits printed), and the same lines on 1 and 2 ranks.
 set -u
 fabric="$1"; inputs="$2"
 . "$(dirname "$0")/runs.sh" # $py, $work, $fail, run NP ARGS...
@@ -117,4 +119,22 @@ print(("PASS" if ok else "FAIL") + f" the tear's te ({sys.argv[2]}) is {want} of
 sys.exit(0 if ok else 1)
 PY
 done
+for np in 1 2; do # rank 0's -info in a file of its own (on stdout the ranks' long lines could interleave)
+  run "$np" -scene "$scene" -gauge_mm 20 -width_mm 5 -warp_break_cv_pct 0 -weft_break_cv_pct 0 -output_dir none \
+    -info "$work/info_$np:sys"
+done
+"$py" - "$work/info_1.0" "$work/info_2.0" <<'PY' || fail=1
+import re, sys
+def lines(f):
+    return [l.split("BoundInfo(): ", 1)[1] for l in open(f) if l.startswith("[0] <sys> BoundInfo(): ")]
+one, two = lines(sys.argv[1]), lines(sys.argv[2])
+pat = r"omega_max\^2 <= ([0-9.e+-]+) rad\^2/s\^2, set at crossing \((\d+), (\d+)\): traction ([0-9.e+-]+), bending ([0-9.e+-]+), shear ([0-9.e+-]+), contact ([0-9.e+-]+)"
+rows = [re.search(pat, l) for l in one]
+ok = len(one) >= 2 and all(rows)
+worst = max((abs(sum(float(m.group(k)) for k in range(4, 8)) / float(m.group(1)) - 1) for m in rows if m), default=1)
+print(("PASS" if ok and worst <= 1e-3 else "FAIL") + f" -info's stable bound lines: {len(one)}, the parts of each row "
+      f"add up to its omega^2 within {worst:.1e} (tol 1e-3, 4 digits printed)")
+print(("PASS" if one == two else "FAIL") + f" the same lines on 1 and 2 ranks ({len(one)} and {len(two)})")
+sys.exit(0 if ok and worst <= 1e-3 and one == two else 1)
+PY
 exit $fail
