@@ -314,8 +314,8 @@ static void SegmentForceKernel(PetscInt c0, PetscInt c1, const PetscReal *restri
 /* T[i] = ChordTension(y, e[i]) for the live segments (alive: both ends exist, not broken), 0 for
    the others, c0 <= i < c1. Every piece of the law is evaluated on the whole row and the right one
    selected, so that the loops vectorise and a row whose strains straddle a kink (a slack net)
-   costs no mispredicted branches; a tabulated yarn law's tension piece (a table lookup) runs in a
-   scalar pass over the segments past the crimp. Each value is ChordTension's own expression, the
+   costs no mispredicted branches; a tabulated yarn law's tension piece (a table lookup: the cell's
+   nodes gathered) runs on the rows with a segment past the crimp. Each value is ChordTension's own expression, the
    blends taken first (the last pass, from the last blend to the first): bit-identical to it at
    every strain but NaN, which gives NaN here (ChordTension would index a table with it). */
 static void ChordTensionRow(const YarnLaw *y, PetscInt c0, PetscInt c1, const PetscReal *restrict e,
@@ -331,9 +331,24 @@ static void ChordTensionRow(const YarnLaw *y, PetscInt c0, PetscInt c1, const Pe
                     tension = Tcrimp + EA * ((x - c) / c1p);
     T[i] = x <= ec ? contact : x <= 0.0 ? comp : x <= c ? decrimp : tension;
   }
+  int past = 0; /* a segment past the crimp: the table's piece */
   if (y->ntab)
-    for (PetscInt i = c0; i < c1; i++)
-      if (e[i] > c) T[i] = Tcrimp + YarnTension(y, (e[i] - c) / c1p);
+    for (PetscInt i = c0; i < c1; i++) past |= e[i] > c;
+  if (past) { /* YarnTension on the segments past the crimp, as selects (the cells' nodes gathered) */
+    const PetscReal *restrict tT = y->tab_T, *restrict tdT = y->tab_dT;
+    const PetscReal inv_h = y->tab_inv_h, h = y->tab_h, end = y->tab_end, last = (PetscReal) (y->ntab - 1);
+    const PetscReal Tend = tT[y->ntab - 1], dTend = tdT[y->ntab - 1];
+    for (PetscInt i = c0; i < c1; i++) {
+      const PetscReal x = e[i], ey = (x - c) / c1p, s = ey * inv_h;
+      const PetscReal sc = (s >= 0.0) & (s < last) ? s : 0.0; /* a cell of the table, or any (not selected) */
+      const int       k = (int) sc;
+      const PetscReal t = sc - PetscFloorReal(sc), u = 1.0 - t; /* sc - k: floor is k exactly (sc >= 0) */
+      const PetscReal cell = (1.0 + 2.0 * t) * u * u * tT[k] + t * u * u * h * tdT[k] +
+                             t * t * (3.0 - 2.0 * t) * tT[k + 1] - t * t * u * h * tdT[k + 1];
+      const PetscReal ty = s >= last ? Tend + dTend * (ey - end) : cell;
+      T[i]               = x > c ? Tcrimp + ty : T[i];
+    }
+  }
   for (PetscInt k = y->nblend - 1; k >= 0; k--) {
     const PetscReal lo = y->blend[k].lo, hi = y->blend[k].hi, b0 = y->blend[k].c0, b1 = y->blend[k].c1,
                     b2 = y->blend[k].c2, b3 = y->blend[k].c3;
