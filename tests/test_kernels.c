@@ -669,11 +669,13 @@ static double GaussIntegral(const YarnLaw *y, double a, double b)
    differences (h 1e-7, away from the kinks), ChordEnergy(0) = 0 and its increments = Gauss
    integrals of T (a jump of the energy anywhere would show), and the energy with the table of
    cell integrals = the energy summing the cells */
-static void CheckLaw(const char *name, const YarnLaw *y, const PetscReal *integral)
+static PetscErrorCode CheckLaw(const char *name, const YarnLaw *y, const PetscReal *integral)
 {
   const double h = 1e-7, de = 0.6 / 4000;
   double       tbig = 0, kbig = 0, eW = 0, eK = 0, eI = 0, eG = 0, prev = -0.3;
   char         what[256];
+
+  PetscFunctionBeginUser;
   for (int q = 0; q <= 4000; q++) {
     const double e = -0.3 + de * q + 1.234567e-5; /* contact, compression, blends, crimp, table, beyond */
     const double T = ChordTension(y, e), dT = ChordTensionSlope(y, e);
@@ -698,10 +700,15 @@ static void CheckLaw(const char *name, const YarnLaw *y, const PetscReal *integr
   Check(what, eI, 0.0);
   { /* the force rows' vectorised law: the same bits as ChordTension, on the grid above and at each
        break of the law and one ulp either side of it */
-    double ends[10], e[4001 + 30], Trow[4001 + 30];
+    double ends[10], *e, *Trow;
     int    n = 0, nb = LawBreaks(y, ends), differ = 0;
+    PetscCall(PetscMalloc2(4001 + 30 + 3 * y->ntab, &e, 4001 + 30 + 3 * y->ntab, &Trow));
     for (int q = 0; q <= 4000; q++) e[n++] = -0.3 + de * q + 1.234567e-5;
     for (int k = 0; k < nb; k++) e[n++] = ends[k], e[n++] = nextafter(ends[k], -1.0), e[n++] = nextafter(ends[k], 1.0);
+    for (PetscInt k = 0; k < y->ntab; k++) { /* a table's nodes (the cells' ends, the table's end) */
+      const double at = y->crimp + (double) k * y->tab_h * (1.0 + y->crimp);
+      e[n++] = at, e[n++] = nextafter(at, -1.0), e[n++] = nextafter(at, 1.0);
+    }
     ChordTensionLive(y, n, e, Trow);
     for (int q = 0; q < n; q++) {
       const double T = ChordTension(y, e[q]);
@@ -709,7 +716,9 @@ static void CheckLaw(const char *name, const YarnLaw *y, const PetscReal *integr
     }
     snprintf(what, sizeof what, "%s: the force rows' law vs ChordTension at %d strains (values that differ)", name, n);
     Check(what, differ, 0.0);
+    PetscCall(PetscFree2(e, Trow));
   }
+  PetscFunctionReturn(0);
 }
 
 static PetscErrorCode TestLaw(const char *csv)
@@ -724,10 +733,10 @@ static PetscErrorCode TestLaw(const char *csv)
   PetscCall(PatchSetUp(&p)); /* the warp law's integral table */
   printf("laws: warp %s, %" PetscInt_FMT " blends, EA %.4g N; weft linear, %" PetscInt_FMT " blends\n",
          warp.ntab ? "tabulated" : "linear", warp.nblend, (double) warp.EA, weft.nblend);
-  CheckLaw("warp law", &warp, p.yarn_integral[0]);
-  CheckLaw("weft law", &weft, NULL);
+  PetscCall(CheckLaw("warp law", &warp, p.yarn_integral[0]));
+  PetscCall(CheckLaw("weft law", &weft, NULL));
   sharp = weft, sharp.nblend = 0; /* sharp kinks */
-  CheckLaw("linear law with sharp kinks", &sharp, NULL);
+  PetscCall(CheckLaw("linear law with sharp kinks", &sharp, NULL));
   p.exists = NULL;
   PetscCall(PatchDestroy(&p));
   PetscCall(YarnLawDestroy(&warp));
