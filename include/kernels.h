@@ -128,17 +128,19 @@ PetscInt BreakSegments(Patch *p, const PetscReal *x, BreakSite *site);
 void WindowRange(const Patch *p, const PetscReal *x, PetscReal r[5]);
 void WindowSet(Patch *p, const PetscReal r[5], PetscReal margin);
 
+typedef struct {    /* the point whose row sets the bound (the first in the patch's order) */
+  PetscInt  i, j;    /* global crossing; -1 if no point has stiffness */
+  PetscReal omega2;  /* its row times 1/m */
+  PetscReal part[4]; /* of it, traction, bending, shear and contact */
+} BoundRow;
+
 /* Bound on omega_max^2 of M^-1 K over owned points with inv_m > 0 (MODEL.md 7.3), for any
    state within the patch's window: at each point, 2 lambda_max of the sum of its yarn
    segments' 3x3 blocks (yarn tangent maximised over the window, geometric part max(T,0)/L),
    plus the Gershgorin row sums of bending and shear (jamming counted if the window reaches the
    lock), plus the contact penalty. omega2_pull: the same from the current tangent of the yarns
-   along pull_dir (0: x, 1: y) alone: the highest frequency of the chain the damping is tuned to. */
-typedef struct {   /* the point whose row sets the bound (the first in the patch's order) */
-  PetscInt  i, j;   /* global crossing */
-  PetscReal omega2; /* its row times 1/m */
-  PetscReal part[4]; /* of it, traction, bending, shear and contact */
-} BoundRow;
+   along pull_dir (0: x, 1: y) alone: the highest frequency of the chain the damping is tuned to.
+   at (or NULL): the point whose row sets the bound, and its terms' parts there. */
 PetscReal StableOmega2(const Patch *p, const PetscReal *x, const PetscReal *inv_m, int pull_dir,
                        PetscReal *omega2_pull, BoundRow *at);
 /* omega2_pull of StableOmega2 alone */
@@ -211,7 +213,8 @@ void SymPositivePart(PetscInt n, PetscReal *A);
 PetscErrorCode TermBlocksAddToMat(void *ctx, PetscInt n, const PetscInt i[], const PetscInt j[], const PetscReal K[]);
 
 /* The yarn law's derivative and integral (MODEL.md 5.1, 14). */
-/* T[i] = ChordTension(y, e[i]), i < n, by the force rows' vectorised law (bit-identical to it) */
+/* T[i] = ChordTension(y, e[i]), i < n, by the force rows' vectorised law (bit-identical to it), in
+   the same clone as the force rows (FABRIC_WIDE: the widest the CPU runs) */
 void ChordTensionLive(const YarnLaw *y, PetscInt n, const PetscReal *e, PetscReal *T);
 /* dT/de of ChordTension: the blends' cubics, the pieces' slopes, the Hermite table's derivative */
 PetscReal ChordTensionSlope(const YarnLaw *y, PetscReal e);

@@ -99,8 +99,6 @@ PetscErrorCode ComputeForces(Fabric fab, const PetscInt box[4], PetscReal *tensi
   PetscFunctionReturn(0);
 }
 
-/* the window of the state (WindowRange, reduced, widened by -te_strain_window) and the bound on
-   omega_max^2 for every state within it; te from it, or the user's -te checked against it */
 /* -info: where the bound is set (the lowest crossing index among the rows that set it), its
    terms' parts there, and the window it holds for */
 static PetscErrorCode BoundInfo(Fabric fab, const BoundRow *at)
@@ -129,6 +127,8 @@ static PetscErrorCode BoundInfo(Fabric fab, const BoundRow *at)
   PetscFunctionReturn(0);
 }
 
+/* the window of the state (WindowRange, reduced, widened by -te_strain_window) and the bound on
+   omega_max^2 for every state within it; te from it, or the user's -te checked against it */
 static PetscErrorCode StableBound(Fabric fab, PetscReal omega2[2])
 {
   const Scene       *s = &fab->s;

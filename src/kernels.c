@@ -360,7 +360,7 @@ static void ChordTensionRow(const YarnLaw *y, PetscInt c0, PetscInt c1, const Pe
   for (PetscInt i = c0; i < c1; i++) T[i] = (ea[i] != 0) & (eb[i] != 0) & (broken[i] == 0) ? T[i] : 0.0;
 }
 
-void ChordTensionLive(const YarnLaw *y, PetscInt n, const PetscReal *e, PetscReal *T)
+FABRIC_WIDE void ChordTensionLive(const YarnLaw *y, PetscInt n, const PetscReal *e, PetscReal *T)
 {
   unsigned char one[64], none[64];
   memset(one, 1, sizeof one);
