@@ -32,6 +32,7 @@ IN="$ROOT/inputs"
 # name | ranks | options
 cases=(
   "strip_warp|1 2 3|-scene $IN/strip_warp.yaml -checkpoint_every 10"
+  "strip_table|1 3|-scene $IN/strip_warp.yaml -warp_law_csv $IN/yarns/cotton_20tex.csv -weft_law_csv $IN/yarns/cotton_20tex.csv"
   "strip_weft|1|-scene $IN/strip_weft.yaml"
   "strip_paper|1 2|-scene $IN/strip_warp.yaml -integrator paper -load_steps 3 -max_inner_steps 400"
   "strip_kinetic|1 3|-scene $IN/strip_warp.yaml -gauge_mm 20 -width_mm 5 -integrator damped -kinetic_damping -load_steps 3 -early_exit 0 -max_inner_steps 500"
