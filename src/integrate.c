@@ -117,11 +117,13 @@ static PetscErrorCode BoundInfo(Fabric fab, const BoundRow *at)
     for (int q = 0; q < 4; q++) part[q] = at->part[q];
   PetscCall(GlobalMax(fab->comm, part, 4)); /* the parts of the rank that holds the row (all >= 0) */
   PetscCall(PetscInfo(NULL,
-                      "load step %" PetscInt_FMT ", te step %" PetscInt64_FMT ": omega_max^2 <= %.6g rad^2/s^2, set at crossing (%" PetscInt_FMT
-                      ", %" PetscInt_FMT "): traction %.4g, bending %.4g, shear %.4g, contact %.4g; for warp strains in [%.4g, %.4g], weft "
-                      "in [%.4g, %.4g] (yarn stiffness up to %.6g and %.6g N/m a segment), |cos| of the yarns' angle up to %.4g\n",
-                      fab->load.load_step, fab->stats.te_steps, (double) v, index % fab->s.spec.nx, index / fab->s.spec.nx,
-                      (double) part[0], (double) part[1], (double) part[2], (double) part[3], (double) p->win_lo[0],
+                      "load step %" PetscInt_FMT ", te step %" PetscInt64_FMT
+                      ": omega_max^2 <= %.6g rad^2/s^2, set at crossing (%" PetscInt_FMT ", %" PetscInt_FMT
+                      "): traction %.4g, bending %.4g, shear %.4g, contact %.4g; for warp strains in [%.4g, %.4g], "
+                      "weft in [%.4g, %.4g] (yarn stiffness up to %.6g and %.6g N/m a segment), |cos| of the "
+                      "yarns' angle up to %.4g\n",
+                      fab->load.load_step, fab->stats.te_steps, (double) v, index % fab->s.spec.nx,
+                      index / fab->s.spec.nx, (double) part[0], (double) part[1], (double) part[2], (double) part[3], (double) p->win_lo[0],
                       (double) p->win_hi[0], (double) p->win_lo[1], (double) p->win_hi[1], (double) p->win_k[0],
                       (double) p->win_k[1], (double) p->win_s));
   PetscFunctionReturn(0);

@@ -314,10 +314,11 @@ static void SegmentForceKernel(PetscInt c0, PetscInt c1, const PetscReal *restri
 /* T[i] = ChordTension(y, e[i]) for the live segments (alive: both ends exist, not broken), 0 for
    the others, c0 <= i < c1. Every piece of the law is evaluated on the whole row and the right one
    selected, so that the loops vectorise and a row whose strains straddle a kink (a slack net)
-   costs no mispredicted branches; a tabulated yarn law's tension piece (a table lookup: the cell's
-   nodes gathered) runs on the rows with a segment past the crimp. Each value is ChordTension's own expression, the
-   blends taken first (the last pass, from the last blend to the first): bit-identical to it at
-   every strain but NaN, which gives NaN here (ChordTension would index a table with it). */
+   costs no mispredicted branches; a tabulated yarn law's tension piece (a table lookup: the
+   cell's nodes gathered) runs on the rows with a segment past the crimp. Each value is
+   ChordTension's own expression, the blends taken first (the last pass, from the last blend to
+   the first): bit-identical to it at every strain but NaN, which gives NaN here (ChordTension
+   would index a table with it). */
 static void ChordTensionRow(const YarnLaw *y, PetscInt c0, PetscInt c1, const PetscReal *restrict e,
                             const unsigned char *restrict ea, const unsigned char *restrict eb,
                             const unsigned char *restrict broken, PetscReal *restrict T)
@@ -1274,7 +1275,9 @@ PetscReal StableOmega2(const Patch *p, const PetscReal *x, const PetscReal *inv_
       upto[2] = rs;
       rs += p->k_contact; /* a rigid body's penalty spring, whether in contact or not */
       if (rs * im > best.omega2)
-        best = (BoundRow){i, j, rs * im, {upto[0] * im, (upto[1] - upto[0]) * im, (upto[2] - upto[1]) * im, p->k_contact * im}};
+        best = (BoundRow){
+          i, j, rs * im, {upto[0] * im, (upto[1] - upto[0]) * im, (upto[2] - upto[1]) * im, p->k_contact * im}
+        };
       omega2 = PetscMax(omega2, rs * im);
       pull2  = PetscMax(pull2, rp * im);
     }
