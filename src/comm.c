@@ -243,9 +243,8 @@ void ExactSumScales(PetscInt m, const PetscReal *terms, PetscInt n, PetscReal *s
 static unsigned long long QuantisedSum(const PetscReal *t, PetscInt n, PetscReal inv_q)
 {
   const double       shift = 6755399441055744.0, half = 0.5; /* 1.5 2^52 */
-  unsigned long long bshift, bhalf, flag, total = 0;
+  unsigned long long bhalf, flag, total = 0;
 
-  memcpy(&bshift, &shift, sizeof bshift);
   memcpy(&bhalf, &half, sizeof bhalf);
   flag = (1ULL << 62) - bhalf;
   for (PetscInt k0 = 0; k0 < n; k0 += EXACT_SUM_BLOCK) {
@@ -253,11 +252,10 @@ static unsigned long long QuantisedSum(const PetscReal *t, PetscInt n, PetscReal
     const PetscReal   *tb = t + k0;
     unsigned long long s = 0, odd = 0;
     for (PetscInt k = 0; k < nb; k++) {
-      const double       y = tb[k] * inv_q, z = y + shift, ad = fabs(y - (z - shift));
-      unsigned long long b, c;
-      memcpy(&b, &z, sizeof b);
+      const double       y = tb[k] * inv_q, ad = fabs(y - ((y + shift) - shift));
+      unsigned long long c;
       memcpy(&c, &ad, sizeof c);
-      s += b - bshift;
+      s += ExactLagTerm(y); /* comm.h: the integer y + 1.5 2^52 holds in its low bits */
       odd |= c + flag;
     }
     if (odd >> 62) {

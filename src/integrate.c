@@ -123,9 +123,9 @@ static PetscErrorCode BoundInfo(Fabric fab, const BoundRow *at)
                       "weft in [%.4g, %.4g] (yarn stiffness up to %.6g and %.6g N/m a segment), |cos| of the "
                       "yarns' angle up to %.4g\n",
                       fab->load.load_step, fab->stats.te_steps, (double) v, index % fab->s.spec.nx,
-                      index / fab->s.spec.nx, (double) part[0], (double) part[1], (double) part[2], (double) part[3], (double) p->win_lo[0],
-                      (double) p->win_hi[0], (double) p->win_lo[1], (double) p->win_hi[1], (double) p->win_k[0],
-                      (double) p->win_k[1], (double) p->win_s));
+                      index / fab->s.spec.nx, (double) part[0], (double) part[1], (double) part[2], (double) part[3],
+                      (double) p->win_lo[0], (double) p->win_hi[0], (double) p->win_lo[1], (double) p->win_hi[1],
+                      (double) p->win_k[0], (double) p->win_k[1], (double) p->win_s));
   PetscFunctionReturn(0);
 }
 
