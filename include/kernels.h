@@ -58,6 +58,12 @@ typedef struct { /* shear crossings of a row: E'(s) ds/dtw, E'(s) ds/dtf, one-si
   PetscReal *as; /* |s| = |sin(shear angle)| (0 without shear) */
 } ShearRow;
 
+typedef struct {  /* a row of yarn segments as the stable-step bound sees them (StableOmega2) */
+  PetscReal *L;    /* chord length, -1 if the segment is absent or broken */
+  PetscReal *b[6]; /* its share of each end's 3x3 block {xx, yy, zz, xy, xz, yz} (TractionBoundRow) */
+  PetscReal *pull; /* its share of each end's pull-direction row (PullSpringRow) */
+} BoundSegRow;
+
 typedef struct {
   /* grid and patch, global indices */
   PetscInt       nx, ny;
@@ -86,6 +92,11 @@ typedef struct {
   SegmentRow     xs_row, ys_ring[KERNEL_RING];
   BendRow        by_ring[KERNEL_RING], bx_row;
   ShearRow       sh_ring[KERNEL_RING];
+  /* work space of the stable-step bound: the x-segments of a row, the y-segments of rows
+     j-2..j+1 and the shear crossings' rows j-1..j+1 (columns padded by 2 on each side) */
+  BoundSegRow    bx_seg, by_seg[KERNEL_RING];
+  PetscReal     *bsh_ring[KERNEL_RING];
+  PetscReal     *bound_work;
   PetscReal     *zero_row;   /* 3*gxm zeros: positions of rows outside the patch */
   PetscReal     *strain_row; /* gxm: the chord strains of the segment row being computed */
   unsigned char *epad;     /* exists, padded by one absent point on every side */
@@ -140,11 +151,13 @@ typedef struct {    /* the point whose row sets the bound (the first in the patc
    plus the Gershgorin row sums of bending and shear (jamming counted if the window reaches the
    lock), plus the contact penalty. omega2_pull: the same from the current tangent of the yarns
    along pull_dir (0: x, 1: y) alone: the highest frequency of the chain the damping is tuned to.
-   at (or NULL): the point whose row sets the bound, and its terms' parts there. */
-PetscReal StableOmega2(const Patch *p, const PetscReal *x, const PetscReal *inv_m, int pull_dir,
-                       PetscReal *omega2_pull, BoundRow *at);
+   at (or NULL): the point whose row sets the bound, and its terms' parts there.
+   Each segment and crossing is evaluated once (rows in the patch's bound work space); each
+   point's row takes the same values in the same order as the sum of the terms' bound_row. */
+PetscReal StableOmega2(Patch *p, const PetscReal *x, const PetscReal *inv_m, int pull_dir, PetscReal *omega2_pull,
+                       BoundRow *at);
 /* omega2_pull of StableOmega2 alone */
-PetscReal PullOmega2(const Patch *p, const PetscReal *x, const PetscReal *inv_m, int pull_dir);
+PetscReal PullOmega2(Patch *p, const PetscReal *x, const PetscReal *inv_m, int pull_dir);
 
 /* ---------------- force terms as plug-ins (MODEL.md 5.1-5.3, 7.3, 14) ---------------- */
 

@@ -86,12 +86,32 @@ static PetscErrorCode PatchAllocRows(Patch *p)
   PetscFunctionReturn(0);
 }
 
+/* the stable-step bound's rows: 8 arrays a segment row, 1 a shear row, columns -2..gxm+1 */
+static PetscErrorCode PatchAllocBoundRows(Patch *p)
+{
+  const PetscInt per_row = p->gxm + 4;
+  PetscReal     *w;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscCalloc1((size_t) (8 * (1 + KERNEL_RING) + KERNEL_RING) * per_row, &p->bound_work));
+  w = p->bound_work + 2;
+  for (PetscInt r = -1; r < KERNEL_RING; r++) {
+    BoundSegRow *s = r < 0 ? &p->bx_seg : &p->by_seg[r];
+    s->L           = w, w += per_row;
+    for (int q = 0; q < 6; q++) s->b[q] = w, w += per_row;
+    s->pull = w, w += per_row;
+  }
+  for (PetscInt r = 0; r < KERNEL_RING; r++) p->bsh_ring[r] = w, w += per_row;
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode PatchSetUp(Patch *p)
 {
   PetscInt per_row = p->gxm + 2;
 
   PetscFunctionBeginUser;
   PetscCall(PatchAllocRows(p));
+  PetscCall(PatchAllocBoundRows(p));
   for (int d = 0; d < 2; d++) p->win_lo[d] = -PETSC_MAX_REAL, p->win_hi[d] = PETSC_MAX_REAL; /* until a bound */
   p->win_s = PETSC_MAX_REAL;
   PetscCall(PetscCalloc1(3 * (size_t) p->gxm, &p->zero_row));
@@ -108,6 +128,7 @@ PetscErrorCode PatchDestroy(Patch *p)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscFree(p->work));
+  PetscCall(PetscFree(p->bound_work));
   PetscCall(PetscFree(p->zero_row));
   PetscCall(PetscFree(p->strain_row));
   PetscCall(PetscFree(p->epad));
@@ -506,26 +527,67 @@ static void TractionBoundRow(const Patch *p, const PetscReal *x, PetscInt i, Pet
   *rs += 2.0 * SymMaxEig3(B);
 }
 
-PetscReal PullOmega2(const Patch *p, const PetscReal *x, const PetscReal *inv_m, int pull_dir)
+/* The bound's view of the segments from (gxs + li, j) along dir, li in [c0, c1) (-2 <= c0,
+   c1 <= gxm + 2): their length (-1 if absent or broken) and, with traction, their share of each
+   end's block as TractionBoundRow adds it (blocks, L > 0) and of the pull-direction row (dir ==
+   pull_dir) */
+static void BoundSegmentRow(const Patch *p, const PetscReal *x, PetscInt j, int dir, int pull_dir, int blocks,
+                            PetscInt c0, PetscInt c1, const BoundSegRow *s)
 {
-  const YarnLaw  *law   = pull_dir == 0 ? p->warp : p->weft;
-  const PetscReal L0    = pull_dir == 0 ? p->ax : p->ay;
-  PetscReal       pull2 = 0.0;
+  const YarnLaw  *law = dir == 0 ? p->warp : p->weft;
+  const PetscReal L0  = dir == 0 ? p->ax : p->ay;
+  const PetscReal k   = p->win_k[dir];
+
+  for (PetscInt li = c0; li < c1; li++) {
+    const Chord c = ChordAt(p, x, p->gxs + li, j, dir);
+    s->L[li]      = c.alive ? c.L : -1.0;
+    if (!c.alive || !p->traction) continue;
+    const PetscReal *d = c.d;
+    const PetscReal  L = c.L, e = L / L0 - 1.0, T = ChordTension(law, e);
+    if (blocks && L > 0) {
+      const PetscReal g = PetscMax(T, 0.0) / L, kg = (k - g) / (L * L);
+      s->b[0][li] = kg * d[0] * d[0] + g, s->b[1][li] = kg * d[1] * d[1] + g, s->b[2][li] = kg * d[2] * d[2] + g;
+      s->b[3][li] = kg * d[0] * d[1], s->b[4][li] = kg * d[0] * d[2], s->b[5][li] = kg * d[1] * d[2];
+    }
+    if (dir == pull_dir) s->pull[li] = PullSpringRow(law, L0, e, T, L);
+  }
+}
+
+/* adds segment li of row s to the block B (and its pull share to *rp) as TractionBoundRow does */
+static inline void BoundSegmentAdd(const BoundSegRow *s, PetscInt li, PetscReal k, int pull, PetscReal B[6],
+                                   PetscReal *rp)
+{
+  const PetscReal L = s->L[li];
+  if (L < 0) return;
+  if (L > 0)
+    for (int q = 0; q < 6; q++) B[q] += s->b[q][li];
+  else
+    B[0] += k, B[1] += k, B[2] += k;
+  if (pull) *rp += s->pull[li];
+}
+
+PetscReal PullOmega2(Patch *p, const PetscReal *x, const PetscReal *inv_m, int pull_dir)
+{
+  const PetscInt c0 = p->xs - p->gxs, c1 = c0 + p->xm;
+  PetscReal      pull2 = 0.0;
 
   if (!p->traction) return 0.0;
-  for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
-    for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
-      const PetscReal im = inv_m[(j - p->ys) * p->xm + (i - p->xs)];
+  if (pull_dir == 1) BoundSegmentRow(p, x, p->ys - 1, 1, 1, 0, c0, c1, &p->by_seg[SLOT(p->ys - 1)]);
+  for (PetscInt j = p->ys; j < p->ys + p->ym; j++) {
+    const BoundSegRow *a = pull_dir == 0 ? &p->bx_seg : &p->by_seg[SLOT(j - 1)];
+    const BoundSegRow *b = pull_dir == 0 ? &p->bx_seg : &p->by_seg[SLOT(j)];
+    if (pull_dir == 0) BoundSegmentRow(p, x, j, 0, 0, 0, c0 - 1, c1, &p->bx_seg);
+    else BoundSegmentRow(p, x, j, 1, 1, 0, c0, c1, &p->by_seg[SLOT(j)]);
+    for (PetscInt li = c0; li < c1; li++) {
+      const PetscReal im = inv_m[(j - p->ys) * p->xm + (li - c0)];
+      const PetscInt  la = pull_dir == 0 ? li - 1 : li;
       PetscReal       rp = 0.0;
       if (im <= 0.0) continue;
-      for (int side = -1; side <= 0; side++) {
-        const Chord c = ChordAt(p, x, i + (pull_dir == 0 ? side : 0), j + (pull_dir == 1 ? side : 0), pull_dir);
-        if (!c.alive) continue;
-        const PetscReal e = c.L / L0 - 1.0;
-        rp += PullSpringRow(law, L0, e, ChordTension(law, e), c.L);
-      }
+      if (a->L[la] >= 0) rp += a->pull[la];
+      if (b->L[li] >= 0) rp += b->pull[li];
       pull2 = PetscMax(pull2, rp * im);
     }
+  }
   return pull2;
 }
 
@@ -1254,24 +1316,70 @@ void WindowSet(Patch *p, const PetscReal r[5], PetscReal margin)
   p->win_s = PetscMax(r[4], 0.0) + margin;
 }
 
-PetscReal StableOmega2(const Patch *p, const PetscReal *x, const PetscReal *inv_m, int pull_dir, PetscReal *omega2_pull,
+/* the shear crossings' bounds (ShearCrossingBound) of row j, local columns [c0, c1) */
+static void BoundShearRow(const Patch *p, const PetscReal *x, PetscInt j, PetscInt c0, PetscInt c1, PetscReal *sh)
+{
+  for (PetscInt li = c0; li < c1; li++) sh[li] = ShearCrossingBound(p, x, p->gxs + li, j);
+}
+
+/* The rows of StableOmega2, one patch row at a time: the x-segments of row j, the y-segments of
+   rows j-2..j+1 and the shear crossings of rows j-1..j+1 are each evaluated once, and each point
+   adds their shares as TractionBoundRow, BendingBoundRow and ShearBoundRow do (the same values in
+   the same order: unit_kernels (c) checks the bits). */
+PetscReal StableOmega2(Patch *p, const PetscReal *x, const PetscReal *inv_m, int pull_dir, PetscReal *omega2_pull,
                        BoundRow *at)
 {
-  PetscReal omega2 = 0.0, pull2 = 0.0;
-  BoundRow  best   = {-1, -1, 0.0, {0, 0, 0, 0}};
+  const PetscInt c0 = p->xs - p->gxs, c1 = c0 + p->xm; /* owned local columns */
+  const int      segs = p->traction || p->bending;
+  PetscReal      omega2 = 0.0, pull2 = 0.0;
+  BoundRow       best = {-1, -1, 0.0, {0, 0, 0, 0}};
 
+  if (segs)
+    for (PetscInt r = p->ys - 2; r < p->ys + 1; r++) BoundSegmentRow(p, x, r, 1, pull_dir, 1, c0, c1, &p->by_seg[SLOT(r)]);
+  if (p->shear)
+    for (PetscInt r = p->ys - 1; r < p->ys + 1; r++) BoundShearRow(p, x, r, c0 - 1, c1 + 1, p->bsh_ring[SLOT(r)]);
   for (PetscInt j = p->ys; j < p->ys + p->ym; j++) {
-    for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
-      const PetscReal im = inv_m[(j - p->ys) * p->xm + (i - p->xs)];
+    const BoundSegRow *xr = &p->bx_seg, *yd = &p->by_seg[SLOT(j - 1)], *yc = &p->by_seg[SLOT(j)];
+    const PetscReal   *sd = p->bsh_ring[SLOT(j - 1)], *sc = p->bsh_ring[SLOT(j)], *su = p->bsh_ring[SLOT(j + 1)];
+    if (segs) {
+      BoundSegmentRow(p, x, j, 0, pull_dir, 1, c0 - 2, c1 + 2, &p->bx_seg);
+      BoundSegmentRow(p, x, j + 1, 1, pull_dir, 1, c0, c1, &p->by_seg[SLOT(j + 1)]);
+    }
+    if (p->shear) BoundShearRow(p, x, j + 1, c0 - 1, c1 + 1, p->bsh_ring[SLOT(j + 1)]);
+    for (PetscInt li = c0; li < c1; li++) {
+      const PetscInt  i  = p->gxs + li;
+      const PetscReal im = inv_m[(j - p->ys) * p->xm + (li - c0)];
       PetscReal       rs = 0.0, rp = 0.0, upto[3];
       if (im <= 0.0) continue;
-      /* the terms' bound_row in the order of InternalTerms, called directly (inlined: the loop
-         through the descriptors' pointers costs 10 % here) */
-      if (p->traction) TractionBoundRow(p, x, i, j, pull_dir, &rs, &rp);
+      if (p->traction) { /* TractionBoundRow */
+        PetscReal B[6] = {0, 0, 0, 0, 0, 0};
+        BoundSegmentAdd(xr, li - 1, p->win_k[0], pull_dir == 0, B, &rp);
+        BoundSegmentAdd(xr, li, p->win_k[0], pull_dir == 0, B, &rp);
+        BoundSegmentAdd(yd, li, p->win_k[1], pull_dir == 1, B, &rp);
+        BoundSegmentAdd(yc, li, p->win_k[1], pull_dir == 1, B, &rp);
+        rs += 2.0 * SymMaxEig3(B);
+      }
       upto[0] = rs;
-      if (p->bending) BendingBoundRow(p, x, i, j, pull_dir, &rs, &rp);
+      if (p->bending) /* BendingBoundRow: the chords from point q to q + 1 along dir, q = -2..1 */
+        for (int dir = 0; dir < 2; dir++) {
+          const PetscReal kb = dir == 0 ? p->kbx : p->kby;
+          const PetscReal Lc = (1.0 + (dir == 0 ? p->warp : p->weft)->e_contact) * (dir == 0 ? p->ax : p->ay);
+          PetscReal       ch[4];
+          for (int q = -2; q <= 1; q++) ch[q + 2] = dir == 0 ? xr->L[li + q] : p->by_seg[SLOT(j + q)].L[li];
+          for (int k = -1; k <= 1; k++) {
+            const PetscReal L1 = ch[k + 1], L2 = ch[k + 2];
+            if (L1 < 0 || L2 < 0) continue;
+            const PetscReal Lmin = PetscMin(PetscMin(L1, L2), Lc);
+            if (!(Lmin > 0)) continue;
+            rs += kb * (k == 0 ? 24.0 : 12.0) / (Lmin * Lmin);
+          }
+        }
       upto[1] = rs;
-      if (p->shear) ShearBoundRow(p, x, i, j, pull_dir, &rs, &rp);
+      if (p->shear) { /* ShearBoundRow */
+        rs += sc[li - 1] + sc[li + 1] + sd[li] + su[li];
+        if (!ExistsG(p, i - 1, j) || !ExistsG(p, i + 1, j) || !ExistsG(p, i, j - 1) || !ExistsG(p, i, j + 1))
+          rs += sc[li];
+      }
       upto[2] = rs;
       rs += p->k_contact; /* a rigid body's penalty spring, whether in contact or not */
       if (rs * im > best.omega2)

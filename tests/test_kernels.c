@@ -1169,8 +1169,9 @@ static int Close(PetscReal a, PetscReal b)
 
 /* differences between the kernels and the reference at one state and switch setting: bad[0]
    bit differences in the forces (d), bad[1] in the window (bits) and the bound and its rows (to
-   1e-12 relative) (c) */
-static void CompareWithReference(Patch *p, const double *x, const double *inv_m, int bad[2])
+   1e-12 relative) (c), bad[2] bit differences between StableOmega2 (and PullOmega2) and the
+   terms' bound_row summed point by point (c) */
+static void CompareWithReference(Patch *p, const double *x, const double *inv_m, int bad[3])
 {
   const PetscReal windows[3] = {0.0, 0.02, 1.0}, contact[2] = {0.0, 2e3};
   double          f[3 * NP], g[3 * NP], inv1[NP];
@@ -1211,6 +1212,26 @@ static void CompareWithReference(Patch *p, const double *x, const double *inv_m,
       }
       bad[1] += PetscAbsReal(p->k_contact * im - at.part[3]) > 1e-12 * o1;
     }
+    { /* StableOmega2 evaluates each segment and crossing once: the same bits as the largest of the
+         rows summed term by term (bound_row), the bound, the pull row and the row that sets it */
+      PetscReal om = 0.0, pm = 0.0;
+      PetscInt  ki = -1;
+      for (int k = 0; k < p->xm * p->ym; k++) {
+        const PetscInt i = p->xs + k % p->xm, j = p->ys + k / p->xm;
+        PetscReal      rs = 0.0, rp = 0.0;
+        if (inv_m[k] <= 0) continue;
+        for (int t = 0; t < INTERNAL_TERMS; t++)
+          if (InternalTerms[t]->enabled(p)) InternalTerms[t]->bound_row(p, x, i, j, pull, &rs, &rp);
+        rs += p->k_contact;
+        if (rs * inv_m[k] > om) ki = k;
+        om = PetscMax(om, rs * inv_m[k]);
+        pm = PetscMax(pm, rp * inv_m[k]);
+      }
+      bad[2] += memcmp(&om, &o1, sizeof om) != 0 || memcmp(&pm, &p1, sizeof pm) != 0 ||
+                (ki < 0 ? at.i >= 0 : (at.i != p->xs + ki % p->xm || at.j != p->ys + ki / p->xm));
+      pm = PullOmega2(p, x, inv_m, pull);
+      bad[2] += memcmp(&pm, &p1, sizeof pm) != 0;
+    }
     for (int k = 0; k < p->xm * p->ym; k++) {
       const PetscInt i = p->xs + k % p->xm, j = p->ys + k / p->xm;
       PetscReal      rs = 0.0, rp = 0.0;
@@ -1230,7 +1251,7 @@ static PetscErrorCode TestIdentity(const char *csv)
   YarnLaw warp = {0}, weft = {0};
   Patch   p;
   double  x[3 * NP], inv_m[NP];
-  int     bad[2] = {0, 0}, cases = 0;
+  int     bad[3] = {0, 0, 0}, cases = 0;
 
   PetscFunctionBeginUser;
   PetscCall(LawsSetUp(&warp, &weft, csv));
@@ -1254,6 +1275,9 @@ static PetscErrorCode TestIdentity(const char *csv)
         "of the terms' bound_row (1e-12) vs the reference: differences",
         bad[1],
         0);
+  Check("(c) StableOmega2's bound, pull row and the row that sets it, and PullOmega2, vs the terms' bound_row summed "
+        "at each point: bit differences",
+        bad[2], 0);
   Check("(d) ComputeInternalForces (forces, tension_max) vs the reference pipeline: bit differences", bad[0], 0);
   PetscCall(YarnLawDestroy(&warp));
   PetscFunctionReturn(0);
