@@ -116,6 +116,10 @@ PetscErrorCode PatchDestroy(Patch *p);
    x: ghosted positions (3 per point), f: owned forces (3 per point).
    tension_max: largest |T| of a segment at a point of the box (the balance test's force scale). */
 void ComputeInternalForces(Patch *p, const PetscReal *x, const PetscInt box[4], PetscReal *f, PetscReal *tension_max);
+/* The same forces, and mag: at each owned point of box the sum of the magnitudes of the forces
+   its terms put on it (each segment's |T|, each bending centre's and shear crossing's share; 0 at
+   an absent point), the scale of the balance test per crossing (balance.c) */
+void InternalForceMagnitudes(Patch *p, const PetscReal *x, const PetscInt box[4], PetscReal *f, PetscReal *mag);
 
 /* cos of the warp/weft tangent angle at crossing (i,j) (global indices, within the ghosted
    patch) and the shorter tangent's length; 0 if the crossing has no shear */

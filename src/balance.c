@@ -41,28 +41,6 @@ static PetscInt GlobalIndexOf(const Patch *p, PetscInt k)
   return k < 0 ? -1 : (p->ys + k / p->xm) * p->nx + p->xs + k % p->xm;
 }
 
-/* adds |g| of every instance point that is owned to scale and -g to fint (the force): the
-   instances owned by the owned points and by their ghosts within 1 reach every owned point */
-static void TermMagnitudes(const ForceTerm *t, const Patch *p, const PetscReal *xl, PetscReal *scale, PetscReal *fint)
-{
-  TermInstance inst;
-
-  if (!t->enabled(p)) return;
-  for (PetscInt j = PetscMax(p->ys - 1, 0); j < PetscMin(p->ys + p->ym + 1, p->ny); j++)
-    for (PetscInt i = PetscMax(p->xs - 1, 0); i < PetscMin(p->xs + p->xm + 1, p->nx); i++)
-      for (int k = 0; k < t->per_point; k++) {
-        if (!t->instance(p, xl, i, j, k, TERM_GRADIENT, &inst)) continue;
-        for (PetscInt q = 0; q < inst.n; q++) {
-          const PetscInt  iq = inst.i[q], jq = inst.j[q];
-          const PetscReal *g = inst.g + 3 * q;
-          if (iq < p->xs || iq >= p->xs + p->xm || jq < p->ys || jq >= p->ys + p->ym) continue;
-          const PetscInt kq = (jq - p->ys) * p->xm + (iq - p->xs);
-          scale[kq] += PetscSqrtReal(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
-          for (int d = 0; d < 3; d++) fint[3 * kq + d] -= g[d];
-        }
-      }
-}
-
 PetscErrorCode BalanceCrossings(Fabric fab, PetscReal *worst, PetscInt *wi, PetscInt *wj)
 {
   const Patch       *p = &fab->grid.patch;
@@ -70,13 +48,14 @@ PetscErrorCode BalanceCrossings(Fabric fab, PetscReal *worst, PetscInt *wi, Pets
   const PetscScalar *f, *xl;
   PetscReal         *scale, *fint, tmax, best = 0;
   PetscInt           kbest = -1, where;
+  const PetscInt     all[4] = {p->xs, p->xs + p->xm, p->ys, p->ys + p->ym};
 
   PetscFunctionBeginUser;
   PetscCall(ComputeForces(fab, NULL, &tmax)); /* every crossing, at these positions; halo into Xl */
   PetscCall(PetscLogEventBegin(EV_Check, 0, 0, 0, 0));
-  PetscCall(PetscCalloc2(fab->grid.nloc, &scale, 3 * fab->grid.nloc, &fint));
+  PetscCall(PetscMalloc2(fab->grid.nloc, &scale, 3 * fab->grid.nloc, &fint));
   PetscCall(VecGetArrayRead(fab->state.Xl, &xl));
-  for (int t = 0; t < INTERNAL_TERMS; t++) TermMagnitudes(InternalTerms[t], p, xl, scale, fint);
+  InternalForceMagnitudes(&fab->grid.patch, xl, all, fint, scale); /* the internal forces and their terms' magnitudes */
   PetscCall(VecRestoreArrayRead(fab->state.Xl, &xl));
   PetscCall(GlobalMax(fab->comm, &tmax, 1));
   {

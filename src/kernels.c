@@ -1149,8 +1149,47 @@ static void AdvancePipeline(Patch *p, const PetscReal *x, PetscInt j, PetscInt c
                    xs->inv_len + 1, &p->bx_row, 1);
 }
 
-FABRIC_WIDE void ComputeInternalForces(Patch *p, const PetscReal *x, const PetscInt box[4], PetscReal *f,
-                                       PetscReal *tension_max)
+/* |(x, y, z)| */
+static inline PetscReal Norm3(PetscReal x, PetscReal y, PetscReal z)
+{
+  return PetscSqrtReal(x * x + y * y + z * z);
+}
+
+/* the magnitudes of the forces the terms put on the points i0 <= i < i1 of row j, added to sr
+   (rows as the gathers above take them): each segment's |T|, each bending centre's and shear
+   crossing's share at the point (the balance test per crossing, balance.c) */
+static void MagnitudeTraction(const SegmentRow *xs, const SegmentRow *yd, const SegmentRow *yu, PetscInt i0, PetscInt i1,
+                              PetscReal *restrict sr)
+{
+  for (PetscInt i = i0; i < i1; i++)
+    sr[i] += Norm3(xs->fx[i], xs->fy[i], xs->fz[i]) + Norm3(xs->fx[i - 1], xs->fy[i - 1], xs->fz[i - 1]) +
+             Norm3(yu->fx[i], yu->fy[i], yu->fz[i]) + Norm3(yd->fx[i], yd->fy[i], yd->fz[i]);
+}
+
+static void MagnitudeBending(const BendRow *bx, const BendRow *bd, const BendRow *bc, const BendRow *bu, PetscInt i0,
+                             PetscInt i1, PetscReal *restrict sr)
+{
+  for (PetscInt i = i0; i < i1; i++)
+    sr[i] += Norm3(bx->g2x[i - 1], bx->g2y[i - 1], bx->g2z[i - 1]) +
+             Norm3(bx->g1x[i] - bx->g2x[i], bx->g1y[i] - bx->g2y[i], bx->g1z[i] - bx->g2z[i]) +
+             Norm3(bx->g1x[i + 1], bx->g1y[i + 1], bx->g1z[i + 1]) + Norm3(bd->g2x[i], bd->g2y[i], bd->g2z[i]) +
+             Norm3(bc->g1x[i] - bc->g2x[i], bc->g1y[i] - bc->g2y[i], bc->g1z[i] - bc->g2z[i]) +
+             Norm3(bu->g1x[i], bu->g1y[i], bu->g1z[i]);
+}
+
+static void MagnitudeShear(const ShearRow *sd, const ShearRow *sc, const ShearRow *su, PetscInt i0, PetscInt i1,
+                           PetscReal *restrict sr)
+{
+  for (PetscInt i = i0; i < i1; i++)
+    sr[i] += Norm3(sc->hwx[i + 1], sc->hwy[i + 1], sc->hwz[i + 1]) +
+             Norm3(sc->hwx[i - 1], sc->hwy[i - 1], sc->hwz[i - 1]) + Norm3(su->hfx[i], su->hfy[i], su->hfz[i]) +
+             Norm3(sd->hfx[i], sd->hfy[i], sd->hfz[i]) + Norm3(sc->sx[i], sc->sy[i], sc->sz[i]);
+}
+
+/* The row pipeline over box: forces into f and, with mag, the magnitudes of each point's force
+   terms into mag (owned points, written) */
+static inline void InternalPipeline(Patch *p, const PetscReal *x, const PetscInt box[4], PetscReal *f, PetscReal *mag,
+                                    PetscReal *tension_max)
 {
   const PetscInt  n = p->gxm, i0 = box[0] - p->gxs, i1 = box[1] - p->gxs, j0 = box[2], j1 = box[3];
   const PetscInt  c0 = PetscMax(i0 - 2, 0), c1 = PetscMin(i1 + 2, n); /* columns the box's forces need */
@@ -1176,8 +1215,31 @@ FABRIC_WIDE void ComputeInternalForces(Patch *p, const PetscReal *x, const Petsc
     if (bend)
       GatherBending(&p->bx_row, &p->by_ring[SLOT(j - 1)], &p->by_ring[SLOT(j)], &p->by_ring[SLOT(j + 1)], i0, i1, fr);
     if (shear) GatherShear(&p->sh_ring[SLOT(j - 1)], &p->sh_ring[SLOT(j)], &p->sh_ring[SLOT(j + 1)], i0, i1, fr);
+    if (mag) {
+      PetscReal *restrict sr = mag + (j - p->ys) * p->xm - (p->xs - p->gxs);
+      for (PetscInt i = i0; i < i1; i++) sr[i] = 0.0;
+      MagnitudeTraction(&p->xs_row, &p->ys_ring[SLOT(j - 1)], &p->ys_ring[SLOT(j)], i0, i1, sr);
+      if (bend)
+        MagnitudeBending(&p->bx_row, &p->by_ring[SLOT(j - 1)], &p->by_ring[SLOT(j)], &p->by_ring[SLOT(j + 1)], i0, i1,
+                         sr);
+      if (shear) MagnitudeShear(&p->sh_ring[SLOT(j - 1)], &p->sh_ring[SLOT(j)], &p->sh_ring[SLOT(j + 1)], i0, i1, sr);
+      for (PetscInt i = i0; i < i1; i++) /* an absent point has no terms (a crossing's one-sided tangent reaches past it) */
+        if (!Exists(p, i, j - p->gys)) sr[i] = 0.0;
+    }
   }
   *tension_max = tmax;
+}
+
+FABRIC_WIDE void ComputeInternalForces(Patch *p, const PetscReal *x, const PetscInt box[4], PetscReal *f,
+                                       PetscReal *tension_max)
+{
+  InternalPipeline(p, x, box, f, NULL, tension_max);
+}
+
+void InternalForceMagnitudes(Patch *p, const PetscReal *x, const PetscInt box[4], PetscReal *f, PetscReal *mag)
+{
+  PetscReal tmax;
+  InternalPipeline(p, x, box, f, mag, &tmax);
 }
 
 /* ======================= the terms as plug-ins (MODEL.md 14) ======================= */

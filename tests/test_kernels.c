@@ -1160,6 +1160,30 @@ static void RandomMasses(const Patch *p, double *inv_m)
     }
 }
 
+/* the balance test's scale from the terms' instances: at each owned point the sum of |dE/dx| over
+   the instances that contain it (the instances owned by the owned points and by their ghosts
+   within 1 reach every owned point) */
+static void RefMagnitudes(const Patch *p, const PetscReal *x, PetscReal *scale)
+{
+  TermInstance inst;
+
+  for (int k = 0; k < p->xm * p->ym; k++) scale[k] = 0.0;
+  for (int t = 0; t < INTERNAL_TERMS; t++) {
+    if (!InternalTerms[t]->enabled(p)) continue;
+    for (PetscInt j = PetscMax(p->ys - 1, 0); j < PetscMin(p->ys + p->ym + 1, p->ny); j++)
+      for (PetscInt i = PetscMax(p->xs - 1, 0); i < PetscMin(p->xs + p->xm + 1, p->nx); i++)
+        for (int k = 0; k < InternalTerms[t]->per_point; k++) {
+          if (!InternalTerms[t]->instance(p, x, i, j, k, TERM_GRADIENT, &inst)) continue;
+          for (PetscInt q = 0; q < inst.n; q++) {
+            const PetscInt   iq = inst.i[q], jq = inst.j[q];
+            const PetscReal *g  = inst.g + 3 * q;
+            if (iq < p->xs || iq >= p->xs + p->xm || jq < p->ys || jq >= p->ys + p->ym) continue;
+            scale[(jq - p->ys) * p->xm + (iq - p->xs)] += PetscSqrtReal(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+          }
+        }
+  }
+}
+
 /* the bound and the reference agree to rounding: they find lambda_max of the 3x3 blocks by
    different methods (closed form, Jacobi rotations) */
 static int Close(PetscReal a, PetscReal b)
@@ -1170,12 +1194,14 @@ static int Close(PetscReal a, PetscReal b)
 /* differences between the kernels and the reference at one state and switch setting: bad[0]
    bit differences in the forces (d), bad[1] in the window (bits) and the bound and its rows (to
    1e-12 relative) (c), bad[2] bit differences between StableOmega2 (and PullOmega2) and the
-   terms' bound_row summed point by point (c) */
-static void CompareWithReference(Patch *p, const double *x, const double *inv_m, int bad[3])
+   terms' bound_row summed point by point (c), bad[3] differences between InternalForceMagnitudes
+   and the instances' magnitudes (1e-12 of the point's, its forces to the bit) (d) */
+static void CompareWithReference(Patch *p, const double *x, const double *inv_m, int bad[4])
 {
   const PetscReal windows[3] = {0.0, 0.02, 1.0}, contact[2] = {0.0, 2e3};
   double          f[3 * NP], g[3 * NP], inv1[NP];
   PetscInt        own[4], boxes[3][4];
+  PetscReal       t1g;
 
   OwnedBox(p, own);
   for (int k = 0; k < 4; k++) boxes[0][k] = own[k];
@@ -1187,6 +1213,15 @@ static void CompareWithReference(Patch *p, const double *x, const double *inv_m,
     ComputeInternalForces(p, x, boxes[b], f, &t1);
     RefComputeInternalForces(p, x, boxes[b], g, &t2);
     bad[0] += memcmp(f, g, sizeof f) != 0 || memcmp(&t1, &t2, sizeof t1) != 0;
+  }
+  { /* (d) the balance test's scale: the magnitudes of each point's force terms */
+    double m1[NP], m2[NP];
+    for (int k = 0; k < 3 * NP; k++) g[k] = -12345.0;
+    ComputeInternalForces(p, x, own, f, &t1g);
+    InternalForceMagnitudes(p, x, own, g, m1);
+    RefMagnitudes(p, x, m2);
+    bad[3] += memcmp(f, g, sizeof(double) * 3 * p->xm * p->ym) != 0;
+    for (int k = 0; k < p->xm * p->ym; k++) bad[3] += !(PetscAbsReal(m1[k] - m2[k]) <= 1e-12 * m2[k]);
   }
   for (int w = 0; w < 6; w++) { /* (c) the window, the bound, and each row as the sum of the terms' rows */
     const PetscReal margin = windows[w % 3];
@@ -1251,7 +1286,7 @@ static PetscErrorCode TestIdentity(const char *csv)
   YarnLaw warp = {0}, weft = {0};
   Patch   p;
   double  x[3 * NP], inv_m[NP];
-  int     bad[3] = {0, 0, 0}, cases = 0;
+  int     bad[4] = {0, 0, 0, 0}, cases = 0;
 
   PetscFunctionBeginUser;
   PetscCall(LawsSetUp(&warp, &weft, csv));
@@ -1279,6 +1314,9 @@ static PetscErrorCode TestIdentity(const char *csv)
         "at each point: bit differences",
         bad[2], 0);
   Check("(d) ComputeInternalForces (forces, tension_max) vs the reference pipeline: bit differences", bad[0], 0);
+  Check("(d) InternalForceMagnitudes: the forces (bits) and each point's sum of its terms' force magnitudes vs the "
+        "instances' (1e-12): differences",
+        bad[3], 0);
   PetscCall(YarnLawDestroy(&warp));
   PetscFunctionReturn(0);
 }
