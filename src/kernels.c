@@ -1236,7 +1236,8 @@ FABRIC_WIDE void ComputeInternalForces(Patch *p, const PetscReal *x, const Petsc
   InternalPipeline(p, x, box, f, NULL, tension_max);
 }
 
-void InternalForceMagnitudes(Patch *p, const PetscReal *x, const PetscInt box[4], PetscReal *f, PetscReal *mag)
+FABRIC_WIDE void InternalForceMagnitudes(Patch *p, const PetscReal *x, const PetscInt box[4], PetscReal *f,
+                                         PetscReal *mag)
 {
   PetscReal tmax;
   InternalPipeline(p, x, box, f, mag, &tmax);
