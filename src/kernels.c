@@ -1158,8 +1158,8 @@ static inline PetscReal Norm3(PetscReal x, PetscReal y, PetscReal z)
 /* the magnitudes of the forces the terms put on the points i0 <= i < i1 of row j, added to sr
    (rows as the gathers above take them): each segment's |T|, each bending centre's and shear
    crossing's share at the point (the balance test per crossing, balance.c) */
-static void MagnitudeTraction(const SegmentRow *xs, const SegmentRow *yd, const SegmentRow *yu, PetscInt i0, PetscInt i1,
-                              PetscReal *restrict sr)
+static void MagnitudeTraction(const SegmentRow *xs, const SegmentRow *yd, const SegmentRow *yu, PetscInt i0,
+                              PetscInt i1, PetscReal *restrict sr)
 {
   for (PetscInt i = i0; i < i1; i++)
     sr[i] += Norm3(xs->fx[i], xs->fy[i], xs->fz[i]) + Norm3(xs->fx[i - 1], xs->fy[i - 1], xs->fz[i - 1]) +
@@ -1223,7 +1223,7 @@ static inline void InternalPipeline(Patch *p, const PetscReal *x, const PetscInt
         MagnitudeBending(&p->bx_row, &p->by_ring[SLOT(j - 1)], &p->by_ring[SLOT(j)], &p->by_ring[SLOT(j + 1)], i0, i1,
                          sr);
       if (shear) MagnitudeShear(&p->sh_ring[SLOT(j - 1)], &p->sh_ring[SLOT(j)], &p->sh_ring[SLOT(j + 1)], i0, i1, sr);
-      for (PetscInt i = i0; i < i1; i++) /* an absent point has no terms (a crossing's one-sided tangent reaches past it) */
+      for (PetscInt i = i0; i < i1; i++) /* an absent point has no terms (a one-sided tangent reaches past it) */
         if (!Exists(p, i, j - p->gys)) sr[i] = 0.0;
     }
   }
@@ -1398,7 +1398,8 @@ PetscReal StableOmega2(Patch *p, const PetscReal *x, const PetscReal *inv_m, int
   BoundRow       best = {-1, -1, 0.0, {0, 0, 0, 0}};
 
   if (segs)
-    for (PetscInt r = p->ys - 2; r < p->ys + 1; r++) BoundSegmentRow(p, x, r, 1, pull_dir, 1, c0, c1, &p->by_seg[SLOT(r)]);
+    for (PetscInt r = p->ys - 2; r < p->ys + 1; r++)
+      BoundSegmentRow(p, x, r, 1, pull_dir, 1, c0, c1, &p->by_seg[SLOT(r)]);
   if (p->shear)
     for (PetscInt r = p->ys - 1; r < p->ys + 1; r++) BoundShearRow(p, x, r, c0 - 1, c1 + 1, p->bsh_ring[SLOT(r)]);
   for (PetscInt j = p->ys; j < p->ys + p->ym; j++) {
