@@ -99,6 +99,7 @@ typedef struct {
   PetscReal     *bound_work;
   PetscReal     *zero_row;   /* 3*gxm zeros: positions of rows outside the patch */
   PetscReal     *strain_row; /* gxm: the chord strains of the segment row being computed */
+  PetscReal     *break_row;  /* 2 gxm: BreakSegments' strains and a family's breaking strain */
   unsigned char *epad;     /* exists, padded by one absent point on every side */
   PetscReal     *work;
   PetscInt       chk[4]; /* the box being computed: local columns i0, i1 and global rows j0, j1 (window check) */

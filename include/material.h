@@ -55,12 +55,12 @@ typedef struct {
   char        csv[PETSC_MAX_PATH_LEN];
 } YarnLaw;
 
-/* Tyarn(ey), ey >= 0 */
+/* Tyarn(ey), ey >= 0 (NaN: NaN, past the table's end rather than a cell indexed by it) */
 static inline PetscReal YarnTension(const YarnLaw *y, PetscReal ey)
 {
   if (!y->ntab) return y->EA * ey;
   PetscReal s = ey * y->tab_inv_h;
-  if (s >= (PetscReal) (y->ntab - 1)) return y->tab_T[y->ntab - 1] + y->tab_dT[y->ntab - 1] * (ey - y->tab_end);
+  if (!(s < (PetscReal) (y->ntab - 1))) return y->tab_T[y->ntab - 1] + y->tab_dT[y->ntab - 1] * (ey - y->tab_end);
   PetscInt  k = (PetscInt) s;
   PetscReal t = s - (PetscReal) k, u = 1.0 - t, h = y->tab_h;
   return (1.0 + 2.0 * t) * u * u * y->tab_T[k] + t * u * u * h * y->tab_dT[k] +

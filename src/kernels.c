@@ -116,6 +116,7 @@ PetscErrorCode PatchSetUp(Patch *p)
   p->win_s = PETSC_MAX_REAL;
   PetscCall(PetscCalloc1(3 * (size_t) p->gxm, &p->zero_row));
   PetscCall(PetscCalloc1((size_t) p->gxm, &p->strain_row));
+  PetscCall(PetscCalloc1(2 * (size_t) p->gxm, &p->break_row));
   PetscCall(PetscCalloc1((size_t) (p->gym + 2) * per_row, &p->epad));
   for (PetscInt j = 0; j < p->gym; j++)
     for (PetscInt i = 0; i < p->gxm; i++) p->epad[(j + 1) * per_row + i + 1] = p->exists[j * p->gxm + i];
@@ -131,6 +132,7 @@ PetscErrorCode PatchDestroy(Patch *p)
   PetscCall(PetscFree(p->bound_work));
   PetscCall(PetscFree(p->zero_row));
   PetscCall(PetscFree(p->strain_row));
+  PetscCall(PetscFree(p->break_row));
   PetscCall(PetscFree(p->epad));
   PetscCall(PetscFree(p->yarn_integral[0]));
   PetscCall(PetscFree(p->yarn_integral[1]));
@@ -338,8 +340,7 @@ static void SegmentForceKernel(PetscInt c0, PetscInt c1, const PetscReal *restri
    costs no mispredicted branches; a tabulated yarn law's tension piece (a table lookup: the
    cell's nodes gathered) runs on the rows with a segment past the crimp. Each value is
    ChordTension's own expression, the blends taken first (the last pass, from the last blend to
-   the first): bit-identical to it at every strain but NaN, which gives NaN here (ChordTension
-   would index a table with it). */
+   the first): bit-identical to it at every strain (NaN gives NaN in both). */
 static void ChordTensionRow(const YarnLaw *y, PetscInt c0, PetscInt c1, const PetscReal *restrict e,
                             const unsigned char *restrict ea, const unsigned char *restrict eb,
                             const unsigned char *restrict broken, PetscReal *restrict T)
@@ -532,7 +533,7 @@ static void TractionBoundRow(const Patch *p, const PetscReal *x, PetscInt i, Pet
    end's block as TractionBoundRow adds it (blocks, L > 0) and of the pull-direction row (dir ==
    pull_dir) */
 static void BoundSegmentRow(const Patch *p, const PetscReal *x, PetscInt j, int dir, int pull_dir, int blocks,
-                            PetscInt c0, PetscInt c1, const BoundSegRow *s)
+                            PetscInt c0, PetscInt c1, BoundSegRow *s)
 {
   const YarnLaw  *law = dir == 0 ? p->warp : p->weft;
   const PetscReal L0  = dir == 0 ? p->ax : p->ay;
@@ -583,19 +584,50 @@ PetscReal PullOmega2(Patch *p, const PetscReal *x, const PetscReal *inv_m, int p
       const PetscInt  la = pull_dir == 0 ? li - 1 : li;
       PetscReal       rp = 0.0;
       if (im <= 0.0) continue;
-      if (a->L[la] >= 0) rp += a->pull[la];
-      if (b->L[li] >= 0) rp += b->pull[li];
+      if (!(a->L[la] < 0)) rp += a->pull[la]; /* as BoundSegmentAdd: only an absent or broken one is left out */
+      if (!(b->L[li] < 0)) rp += b->pull[li];
       pull2 = PetscMax(pull2, rp * im);
     }
   }
   return pull2;
 }
 
+/* The chord strains e[i] of the segments a[i] -> b[i], i < n, and over the live ones (both ends
+   exist, not broken): the largest ratio to the breaking strain eb[i] (as the bits of a value >= 0,
+   ordered as the value: 0 if none is above 0, a NaN skipped, as PetscMax skips it) and whether one
+   is past its breaking strain or NaN (*past). Each strain is BreakSegments' own expression; in one
+   pass of selects and integer maxima, so that it vectorises. */
+FABRIC_WIDE static int64_t BreakRatioRow(PetscInt n, PetscReal L0, const PetscReal *restrict a,
+                                         const PetscReal *restrict b, const unsigned char *restrict ea,
+                                         const unsigned char *restrict eb_, const unsigned char *restrict broken,
+                                         const PetscReal *restrict eb, PetscReal *restrict e, int *past)
+{
+  int64_t top = 0;
+  int     any = 0;
+
+  for (PetscInt i = 0; i < n; i++) {
+    const PetscReal dx = b[3 * i] - a[3 * i], dy = b[3 * i + 1] - a[3 * i + 1], dz = b[3 * i + 2] - a[3 * i + 2];
+    const PetscReal ei = PetscSqrtReal(dx * dx + dy * dy + dz * dz) / L0 - 1.0, r = ei / eb[i];
+    const int       live = (ea[i] != 0) & (eb_[i] != 0) & (broken[i] == 0);
+    const PetscReal q    = live & (r > 0) ? r : 0.0;
+    const int64_t   bq   = AbsBits(q);
+    top                  = bq > top ? bq : top;
+    any |= live & !(ei <= eb[i]);
+    e[i] = ei;
+  }
+  *past = any;
+  return top;
+}
+
 /* Break every segment of the patch whose yarn strain exceeds its breaking strain
-   (MODEL.md 5.1). Called on a balanced state, or within a tear after every te step. */
+   (MODEL.md 5.1). Called on a balanced state, or within a tear after every te step: each row's
+   strains and largest ratio in a pass that vectorises (BreakRatioRow), the rows with a segment
+   past its breaking strain then segment by segment. */
 PetscInt BreakSegments(Patch *p, const PetscReal *x, BreakSite *site)
 {
-  PetscInt n = 0;
+  PetscReal *e = p->break_row, *ebc = p->break_row + p->gxm; /* the strains; a family's constant breaking strain */
+  PetscInt   n = 0;
+  int64_t    top = 0; /* the largest ratio's bits */
 
   site->ratio = site->load = 0;
   site->dir = site->i = site->j = 0;
@@ -604,25 +636,33 @@ PetscInt BreakSegments(Patch *p, const PetscReal *x, BreakSite *site)
     const PetscReal  L0     = dir == 0 ? p->ax : p->ay;
     unsigned char   *broken = dir == 0 ? p->broken_x : p->broken_y;
     const PetscReal *eb     = dir == 0 ? p->break_x : p->break_y;
+    const PetscInt   step = dir == 0 ? 1 : p->gxm, len = p->gxm - (dir == 0);
     if (!isfinite(law->break_e)) continue;
-    for (PetscInt lj = 0; lj + (dir == 1) < p->gym; lj++)
-      for (PetscInt li = 0; li + (dir == 0) < p->gxm; li++) {
-        const PetscInt k = lj * p->gxm + li, k2 = k + (dir == 0 ? 1 : p->gxm);
-        if (broken[k] || !p->exists[k] || !p->exists[k2]) continue;
-        const PetscReal *a = x + 3 * k, *b = x + 3 * k2;
-        const PetscReal  e_break = eb ? eb[k] : law->break_e;
-        const PetscReal  e = PetscSqrtReal(PetscSqr(b[0] - a[0]) + PetscSqr(b[1] - a[1]) + PetscSqr(b[2] - a[2])) / L0 - 1.0;
-        site->load = PetscMax(site->load, e / e_break);
-        if (e <= e_break) continue;
+    if (!eb)
+      for (PetscInt li = 0; li < len; li++) ebc[li] = law->break_e;
+    for (PetscInt lj = 0; lj + (dir == 1) < p->gym; lj++) {
+      const PetscInt k0 = lj * p->gxm;
+      int            past;
+      const int64_t  t = BreakRatioRow(len, L0, x + 3 * k0, x + 3 * (k0 + step), p->exists + k0, p->exists + k0 + step,
+                                      broken + k0, eb ? eb + k0 : ebc, e, &past);
+      top              = t > top ? t : top;
+      if (!past) continue;
+      for (PetscInt li = 0; li < len; li++) {
+        const PetscInt k = k0 + li;
+        if (broken[k] || !p->exists[k] || !p->exists[k + step]) continue;
+        const PetscReal e_break = eb ? eb[k] : law->break_e;
+        if (e[li] <= e_break) continue;
         broken[k] = 1;
         {
           const PetscInt i = p->gxs + li, j = p->gys + lj;
           if (i < p->xs || i >= p->xs + p->xm || j < p->ys || j >= p->ys + p->ym) continue; /* not owned */
           n++;
-          if (e / e_break > site->ratio) site->ratio = e / e_break, site->dir = dir, site->i = i, site->j = j;
+          if (e[li] / e_break > site->ratio) site->ratio = e[li] / e_break, site->dir = dir, site->i = i, site->j = j;
         }
       }
+    }
   }
+  memcpy(&site->load, &top, sizeof top);
   return n;
 }
 

@@ -702,8 +702,9 @@ static PetscErrorCode CheckLaw(const char *name, const YarnLaw *y, const PetscRe
        break of the law and one ulp either side of it */
     double ends[10], *e, *Trow;
     int    n = 0, nb = LawBreaks(y, ends), differ = 0;
-    PetscCall(PetscMalloc2(4001 + 30 + 3 * y->ntab, &e, 4001 + 30 + 3 * y->ntab, &Trow));
+    PetscCall(PetscMalloc2(4002 + 30 + 3 * y->ntab, &e, 4002 + 30 + 3 * y->ntab, &Trow));
     for (int q = 0; q <= 4000; q++) e[n++] = -0.3 + de * q + 1.234567e-5;
+    e[n++] = NAN; /* NaN in both, whatever its bits */
     for (int k = 0; k < nb; k++) e[n++] = ends[k], e[n++] = nextafter(ends[k], -1.0), e[n++] = nextafter(ends[k], 1.0);
     for (PetscInt k = 0; k < y->ntab; k++) { /* a table's nodes (the cells' ends, the table's end) */
       const double at = y->crimp + (double) k * y->tab_h * (1.0 + y->crimp);
@@ -712,7 +713,7 @@ static PetscErrorCode CheckLaw(const char *name, const YarnLaw *y, const PetscRe
     ChordTensionLive(y, n, e, Trow);
     for (int q = 0; q < n; q++) {
       const double T = ChordTension(y, e[q]);
-      differ += memcmp(&T, &Trow[q], sizeof T) != 0;
+      differ += isnan(e[q]) ? !(isnan(T) && isnan(Trow[q])) : memcmp(&T, &Trow[q], sizeof T) != 0;
     }
     snprintf(what, sizeof what, "%s: the force rows' law vs ChordTension at %d strains (values that differ)", name, n);
     Check(what, differ, 0.0);
@@ -1184,6 +1185,75 @@ static void RefMagnitudes(const Patch *p, const PetscReal *x, PetscReal *scale)
   }
 }
 
+/* BreakSegments as it was, segment by segment (the reference of BreakRatioRow's pass) */
+static PetscInt RefBreakSegments(Patch *p, const PetscReal *x, BreakSite *site)
+{
+  PetscInt n = 0;
+
+  site->ratio = site->load = 0;
+  site->dir = site->i = site->j = 0;
+  for (int dir = 0; dir < 2; dir++) {
+    const YarnLaw   *law    = dir == 0 ? p->warp : p->weft;
+    const PetscReal  L0     = dir == 0 ? p->ax : p->ay;
+    unsigned char   *broken = dir == 0 ? p->broken_x : p->broken_y;
+    const PetscReal *eb     = dir == 0 ? p->break_x : p->break_y;
+    if (!isfinite(law->break_e)) continue;
+    for (PetscInt lj = 0; lj + (dir == 1) < p->gym; lj++)
+      for (PetscInt li = 0; li + (dir == 0) < p->gxm; li++) {
+        const PetscInt k = lj * p->gxm + li, k2 = k + (dir == 0 ? 1 : p->gxm);
+        if (broken[k] || !p->exists[k] || !p->exists[k2]) continue;
+        const PetscReal *a = x + 3 * k, *b = x + 3 * k2;
+        const PetscReal  e_break = eb ? eb[k] : law->break_e;
+        const PetscReal  e = PetscSqrtReal(PetscSqr(b[0] - a[0]) + PetscSqr(b[1] - a[1]) + PetscSqr(b[2] - a[2])) / L0 - 1.0;
+        site->load = PetscMax(site->load, e / e_break);
+        if (e <= e_break) continue;
+        broken[k] = 1;
+        {
+          const PetscInt i = p->gxs + li, j = p->gys + lj;
+          if (i < p->xs || i >= p->xs + p->xm || j < p->ys || j >= p->ys + p->ym) continue; /* not owned */
+          n++;
+          if (e / e_break > site->ratio) site->ratio = e / e_break, site->dir = dir, site->i = i, site->j = j;
+        }
+      }
+  }
+  return n;
+}
+
+/* BreakSegments against the reference on the patch's state x: breaking strains of the laws
+   (ebw, ebf) or per segment (drawn around them); mode 1: one position NaN (its segments break,
+   NaN past any breaking strain), mode 2: the hole's point far away (its segments, absent, must
+   not count in the load); returns 1 if the broken segments, the count or the site differ in a
+   bit, or nothing broke */
+static int CompareBreaks(Patch *p, YarnLaw *warp, YarnLaw *weft, const double *x0, PetscReal ebw, PetscReal ebf,
+                         int per_segment, int mode)
+{
+  double        x[3 * NP], bx[NP], by[NP];
+  unsigned char keep_x[NP], keep_y[NP], ref_x[NP], ref_y[NP];
+  BreakSite     s1, s2;
+  PetscInt      n1, n2;
+  int           bad;
+
+  memcpy(x, x0, sizeof x);
+  if (mode == 1) x[3 * (2 * NX + 5) + 1] = NAN;
+  if (mode == 2) x[3 * (3 * NX + 4)] += 100.0 * p->ax;
+  warp->break_e = ebw, weft->break_e = ebf;
+  for (int k = 0; k < NP; k++) bx[k] = ebw * (0.8 + 0.4 * rand() / RAND_MAX), by[k] = ebf * (0.8 + 0.4 * rand() / RAND_MAX);
+  p->break_x = per_segment ? bx : NULL, p->break_y = per_segment ? by : NULL;
+  memcpy(keep_x, p->broken_x, NP), memcpy(keep_y, p->broken_y, NP);
+  n2 = RefBreakSegments(p, x, &s2);
+  memcpy(ref_x, p->broken_x, NP), memcpy(ref_y, p->broken_y, NP);
+  memcpy(p->broken_x, keep_x, NP), memcpy(p->broken_y, keep_y, NP);
+  n1  = BreakSegments(p, x, &s1);
+  bad = n1 != n2 || memcmp(ref_x, p->broken_x, NP) != 0 || memcmp(ref_y, p->broken_y, NP) != 0 ||
+        memcmp(&s1.ratio, &s2.ratio, sizeof s1.ratio) != 0 || memcmp(&s1.load, &s2.load, sizeof s1.load) != 0 ||
+        s1.dir != s2.dir || s1.i != s2.i || s1.j != s2.j;
+  bad |= n1 == 0; /* the case breaks some */
+  memcpy(p->broken_x, keep_x, NP), memcpy(p->broken_y, keep_y, NP);
+  p->break_x = p->break_y = NULL;
+  warp->break_e = weft->break_e = INFINITY;
+  return bad;
+}
+
 /* the bound and the reference agree to rounding: they find lambda_max of the 3x3 blocks by
    different methods (closed form, Jacobi rotations) */
 static int Close(PetscReal a, PetscReal b)
@@ -1286,7 +1356,7 @@ static PetscErrorCode TestIdentity(const char *csv)
   YarnLaw warp = {0}, weft = {0};
   Patch   p;
   double  x[3 * NP], inv_m[NP];
-  int     bad[4] = {0, 0, 0, 0}, cases = 0;
+  int     bad[4] = {0, 0, 0, 0}, cases = 0, bad_break = 0, breaks = 0;
 
   PetscFunctionBeginUser;
   PetscCall(LawsSetUp(&warp, &weft, csv));
@@ -1295,6 +1365,10 @@ static PetscErrorCode TestIdentity(const char *csv)
     for (unsigned seed = 1; seed <= 3; seed++) {
       DistortedState(&p, x, seed);
       RandomMasses(&p, inv_m);
+      for (int c = 0; c < 6; c++, breaks++) /* strains of the state: about -0.1 to 0.2 */
+        bad_break += CompareBreaks(&p, &warp, &weft, x, c % 3 == 2 ? INFINITY : 0.06, c % 3 == 1 ? INFINITY : 0.02,
+                                   c / 3 == 1, c == 0 ? 2 : 0);
+      bad_break += CompareBreaks(&p, &warp, &weft, x, 10.0, 10.0, 0, 1), breaks++; /* only the NaN's segments break */
       for (int mask = 0; mask < 8; mask++, cases++) { /* every combination of the switches */
         p.traction = mask & 1 ? PETSC_TRUE : PETSC_FALSE;
         p.bending  = mask & 2 ? PETSC_TRUE : PETSC_FALSE;
@@ -1310,6 +1384,12 @@ static PetscErrorCode TestIdentity(const char *csv)
         "of the terms' bound_row (1e-12) vs the reference: differences",
         bad[1],
         0);
+  printf("breaks: %d cases (2 patches x 3 states; both families, warp or weft alone; the laws' or each "
+         "segment's breaking strain; a NaN position; an absent point far away)\n",
+         breaks);
+  Check("BreakSegments vs the reference, segment by segment: the broken segments, the count and the site (bits): "
+        "cases that differ or break nothing",
+        bad_break, 0);
   Check("(c) StableOmega2's bound, pull row and the row that sets it, and PullOmega2, vs the terms' bound_row summed "
         "at each point: bit differences",
         bad[2], 0);
