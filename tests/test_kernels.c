@@ -746,16 +746,21 @@ static PetscErrorCode TestLaw(const char *csv)
 
 /* ================== the terms on a distorted patch: energy, forces, tangent ================== */
 
-/* The test's patch: with offset 0 the whole NX x NY grid on one rank; with offset 1 a rank's
-   patch inside a 20 x 15 grid: ghosted NX x NY from (5,4), owned [7,12) x [6,9). Crimp, a
-   tabulated warp law, smoothing blends, a hole, cut corners and two broken segments. */
+/* The test's patch: with offset 0 the whole NX x NY grid on one rank; else a rank's patch inside
+   a 20 x 15 grid, ghosted NX x NY: offset 1 from (5,4), owned [7,12) x [6,9) (ghosts on every
+   side); offset 2 from (0,0), owned [0,7) x [0,5) (the grid's left and bottom edges); offset 3
+   from (11,8), owned [13,20) x [10,15) (its right and top edges). Crimp, a tabulated warp law,
+   smoothing blends, a hole, cut corners and two broken segments. */
 static PetscErrorCode RichPatch(Patch *p, const YarnLaw *warp, const YarnLaw *weft, int offset)
 {
+  static const PetscInt gxs[4] = {0, 5, 0, 11}, gys[4] = {0, 4, 0, 8}, xs[4] = {0, 7, 0, 13}, ys[4] = {0, 6, 0, 10};
+  static const PetscInt xm[4] = {NX, 5, 7, 7}, ym[4] = {NY, 3, 5, 5};
+
   PetscFunctionBeginUser;
   memset(p, 0, sizeof *p);
   p->nx = offset ? 20 : NX, p->ny = offset ? 15 : NY, p->gxm = NX, p->gym = NY;
-  p->gxs = offset ? 5 : 0, p->gys = offset ? 4 : 0, p->xs = offset ? 7 : 0, p->ys = offset ? 6 : 0;
-  p->xm = offset ? 5 : NX, p->ym = offset ? 3 : NY;
+  p->gxs = gxs[offset], p->gys = gys[offset], p->xs = xs[offset], p->ys = ys[offset];
+  p->xm = xm[offset], p->ym = ym[offset];
   p->ax = 4.2e-4, p->ay = 3.9e-4, p->warp = warp, p->weft = weft;
   p->traction = p->bending = p->shear = PETSC_TRUE;
   p->kbx = 1e-6 / p->ax, p->kby = 2e-6 / p->ay;
@@ -1360,7 +1365,7 @@ static PetscErrorCode TestIdentity(const char *csv)
 
   PetscFunctionBeginUser;
   PetscCall(LawsSetUp(&warp, &weft, csv));
-  for (int offset = 0; offset < 2; offset++) {
+  for (int offset = 0; offset < 4; offset++) {
     PetscCall(RichPatch(&p, &warp, &weft, offset));
     for (unsigned seed = 1; seed <= 3; seed++) {
       DistortedState(&p, x, seed);
@@ -1378,13 +1383,13 @@ static PetscErrorCode TestIdentity(const char *csv)
     }
     PetscCall(PatchFree(&p));
   }
-  printf("identity: %d cases (2 patches x 3 states x 8 switch settings; 3 boxes, 6 bound settings, every row)\n",
+  printf("identity: %d cases (4 patches x 3 states x 8 switch settings; 3 boxes, 6 bound settings, every row)\n",
          cases);
   Check("(c) the window (bits), StableOmega2, the row that sets it and its terms' parts, and each row as the sum "
         "of the terms' bound_row (1e-12) vs the reference: differences",
         bad[1],
         0);
-  printf("breaks: %d cases (2 patches x 3 states; both families, warp or weft alone; the laws' or each "
+  printf("breaks: %d cases (4 patches x 3 states; both families, warp or weft alone; the laws' or each "
          "segment's breaking strain; a NaN position; an absent point far away)\n",
          breaks);
   Check("BreakSegments vs the reference, segment by segment: the broken segments, the count and the site (bits): "
