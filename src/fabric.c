@@ -234,6 +234,18 @@ static PetscErrorCode CreateGrid(Fabric fab)
     PetscCall(DMDACreate2d(comm, DM_BOUNDARY_NONE, DM_BOUNDARY_NONE, DMDA_STENCIL_BOX, s->spec.nx, s->spec.ny, m, n, 3,
                            2, NULL, NULL, &fab->grid.da));
     PetscCall(DMSetFromOptions(fab->grid.da));
+    { /* PETSc's DMDA options may set the rank grid (as checked above), not the grid itself */
+      PetscInt M, N, pm, pn, dof, sw;
+      PetscCall(DMDAGetInfo(fab->grid.da, NULL, &M, &N, NULL, &pm, &pn, NULL, &dof, &sw, NULL, NULL, NULL, NULL));
+      PetscCheck(M == s->spec.nx && N == s->spec.ny && pm == m && pn == n && dof == 3 && sw == 2, comm,
+                 PETSC_ERR_USER_INPUT,
+                 "the grid is the scene's, %" PetscInt_FMT " x %" PetscInt_FMT
+                 " crossings (its size and thread densities) on %" PetscInt_FMT " x %" PetscInt_FMT
+                 " ranks: PETSc's DMDA options (-da_grid_x, -da_grid_y, -da_refine, -da_overlap, ...) made it %" PetscInt_FMT
+                 " x %" PetscInt_FMT " on %" PetscInt_FMT " x %" PetscInt_FMT "; set the scene's -gauge_mm, -width_mm, "
+                 "-ends_per_cm or -picks_per_cm instead",
+                 s->spec.nx, s->spec.ny, m, n, M, N, pm, pn);
+    }
     PetscCall(DMSetUp(fab->grid.da));
   }
   PetscCall(DMDASetFieldName(fab->grid.da, 0, "x"));

@@ -562,8 +562,8 @@ static PetscErrorCode KineticDamping(Fabric fab, PetscReal scale)
   PetscFunctionReturn(0);
 }
 
-/* The velocities became NaN or Inf: name the first crossing (in the grid's natural order) where
-   they did, and stop. */
+/* The velocities became NaN or Inf (or their |v|^2 overflowed): name the first crossing (in the
+   grid's natural order) where they did, and stop. */
 static PetscErrorCode StopNonFinite(Fabric fab)
 {
   const Patch       *p = &fab->grid.patch;
@@ -572,8 +572,8 @@ static PetscErrorCode StopNonFinite(Fabric fab)
 
   PetscFunctionBeginUser;
   PetscCall(VecGetArrayRead(fab->state.V, &v));
-  for (PetscInt k = 0; k < fab->grid.nloc; k++)
-    if (!isfinite(v[3 * k]) || !isfinite(v[3 * k + 1]) || !isfinite(v[3 * k + 2])) {
+  for (PetscInt k = 0; k < fab->grid.nloc; k++) /* RowTally's test: |v|^2 not finite (a finite v can overflow it) */
+    if (!(v[3 * k] * v[3 * k] + v[3 * k + 1] * v[3 * k + 1] + v[3 * k + 2] * v[3 * k + 2] <= PETSC_MAX_REAL)) {
       const PetscInt i = p->xs + k % p->xm, j = p->ys + k / p->xm;
       first = PetscMax(first, -(PetscReal) (j * p->nx + i));
       break;
@@ -582,7 +582,7 @@ static PetscErrorCode StopNonFinite(Fabric fab)
   PetscCall(GlobalMax(fab->comm, &first, 1));
   SETERRQ(fab->comm, PETSC_ERR_FP,
           "numerical instability at load step %" PetscInt_FMT ", te step %" PetscInt64_FMT
-          ": velocities became NaN or Inf, first at crossing (%" PetscInt_FMT ", %" PetscInt_FMT
+          ": velocities became NaN, Inf or too large to square, first at crossing (%" PetscInt_FMT ", %" PetscInt_FMT
           ") (te = %g s, stable bound %g s)",
           fab->load.load_step, fab->stats.te_steps, (PetscInt) (-first) % p->nx, (PetscInt) (-first) / p->nx,
           (double) fab->step.te, (double) fab->step.te_bound);

@@ -16,6 +16,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
+#include <sys/stat.h>
 
 /* The header line p (trimmed) is "strain_pct,force_cN"; else msg says what was found. */
 static void CheckYarnHeader(const YarnLaw *y, PetscInt lineno, char *p, char *msg, size_t len)
@@ -72,6 +73,11 @@ static PetscErrorCode ReadYarnCSV(MPI_Comm comm, const YarnLaw *y, PetscInt *n, 
   double    prev_s = 0, prev_f = 0;
 
   PetscFunctionBeginUser;
+  { /* a device or a pipe (/dev/zero, a FIFO) would be read for ever */
+    struct stat st;
+    PetscCheck(stat(y->csv, &st) != 0 || S_ISREG(st.st_mode), comm, PETSC_ERR_FILE_OPEN,
+               "-%s_law_csv %s: not a regular file (a yarn law is a CSV file)", y->name, y->csv);
+  }
   fp = fopen(y->csv, "r");
   PetscCheck(fp, comm, PETSC_ERR_FILE_OPEN, "-%s_law_csv %s: cannot open the yarn law file", y->name, y->csv);
   PetscCall(PetscMalloc2(cap, strain, cap, force));

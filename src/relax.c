@@ -229,8 +229,9 @@ static PetscErrorCode CheckRupture(Fabric fab, const StepStats *st, PetscInt n, 
 /* A tear: yarns broke on the balanced state of this load step. Follow the unloading with the true
    masses and the yarns' own damping, -tear_damping_ratio (no balance test, no kinetic damping),
    breaking segments after every te step, until none has broken while a stress wave crossed the
-   specimen -tear_wave_crossings times, or -tear_max_ms of test time, or the force has fallen below
-   the break detection's threshold (checked 8 times a quiet window: then the specimen has ruptured). */
+   specimen -tear_wave_crossings times, or -tear_max_ms of test time or -max_inner_steps te steps
+   have passed, or the force has fallen below the break detection's threshold (checked 8 times a
+   quiet window: then the specimen has ruptured). */
 static PetscErrorCode FollowTear(Fabric fab, StepStats *st, CurveRow *row, PetscBool *ruptured)
 {
   const Scene    *s      = &fab->s;
@@ -250,6 +251,7 @@ static PetscErrorCode FollowTear(Fabric fab, StepStats *st, CurveRow *row, Petsc
   fab->step.damp_c = 2.0 * s->rupture.damping * fab->step.omega1;
   quiet            = TearQuietSteps(fab);
   most  = (PetscInt) PetscMax(1.0, PetscMin(PetscFloorReal(s->rupture.max_time / fab->step.te), (PetscReal) PETSC_MAX_INT));
+  most  = PetscMin(most, s->load.max_inner_steps); /* a load step's te steps: a tiny -tear_te_safety ends too */
   check = CanRupture(s) ? PetscMax(1, quiet / 8) : 0;
   while (n < most && n - last < quiet && !*ruptured) {
     PetscInt broke;

@@ -1408,6 +1408,23 @@ PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
                "-snes_mf_operator with -solver static: its multigrid and line search need the assembled tangent as "
                "the operator; leave it out (or use -snes_mf: finite differences, no preconditioner)");
   }
+  { /* the multigrid's levels are the grid's (MultigridHierarchy): PETSc's -pc_mg_levels would set
+       others on top of its interpolations (0 crashed PCSetFromOptions); GAMG takes it as its most */
+    PetscInt  levels = 0;
+    PetscBool set = PETSC_FALSE, ours = PETSC_TRUE;
+    char      pc[64] = "";
+    PetscCall(PetscOptionsGetInt(NULL, NULL, "-pc_mg_levels", &levels, &set));
+    PetscBool mg = PETSC_FALSE;
+    PetscCall(PetscOptionsGetString(NULL, NULL, "-pc_type", pc, sizeof pc, &ours));
+    PetscCall(PetscStrcmp(pc, PCMG, &mg));
+    ours = !ours || mg ? PETSC_TRUE : PETSC_FALSE;
+    PetscCheck(!set || !ours, comm, PETSC_ERR_USER_INPUT,
+               "-pc_mg_levels %" PetscInt_FMT " with -solver static: the multigrid's levels come from the grid "
+               "(coarsened while every rank keeps 4 crossings a side); leave it unset",
+               levels);
+    PetscCheck(!set || levels >= 1, comm, PETSC_ERR_USER_INPUT,
+               "-pc_mg_levels %" PetscInt_FMT ": the most levels -pc_type %s may make, 1 or more", levels, pc);
+  }
   if (o.tao) { /* TAO's type from -tao_type: one with a Newton step (a KSP) */
     Tao tao;
     KSP ksp;

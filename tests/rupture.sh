@@ -19,7 +19,9 @@
 #     the relaxation's) times its stable bound (to 1e-12), and below the limit measured at its start
 #     and end (-te_measure with -info);
 #  6. -info's line for each stable bound: the row that sets it (its parts add up to the bound's
-#     omega^2, to the 4 digits printed), and the same lines on 1 and 2 ranks.
+#     omega^2, to the 4 digits printed), and the same lines on 1 and 2 ranks;
+#  7. a tear takes at most -max_inner_steps te steps: with -tear_te_safety 1e-9 (a tear of about 1e11
+#     te steps by -tear_max_ms) the strip of case 1 still runs to its end, each tear 300 te steps.
 set -u
 fabric="$1"; inputs="$2"
 . "$(dirname "$0")/runs.sh" # $py, $work, $fail, run NP ARGS...
@@ -136,5 +138,16 @@ print(("PASS" if ok and worst <= 1e-3 else "FAIL") + f" -info's stable bound lin
       f"add up to its omega^2 within {worst:.1e} (tol 1e-3, 4 digits printed)")
 print(("PASS" if one == two else "FAIL") + f" the same lines on 1 and 2 ranks ({len(one)} and {len(two)})")
 sys.exit(0 if ok and worst <= 1e-3 and one == two else 1)
+PY
+run 1 -scene "$scene" -gauge_mm 20 -width_mm 5 -warp_break_cv_pct 0 -weft_break_cv_pct 0 -output_dir "$work/tiny" \
+  -output_every 0 -tear_te_safety 1e-9 -max_inner_steps 300
+"$py" - "$work/tiny/summary.json" <<'PY' || fail=1
+import json, sys
+s = json.load(open(sys.argv[1]))
+tears, steps = s["tear_te_steps"], s["te_steps"]
+ok = tears > 0 and tears % 300 == 0 and steps <= s["load_steps_done"] * 300 * 2
+print(("PASS" if ok else "FAIL") + f" -tear_te_safety 1e-9: the run ends ({s['load_steps_done']} load steps, "
+      f"{steps} te steps), its tears {tears} te steps, a multiple of -max_inner_steps 300")
+sys.exit(0 if ok else 1)
 PY
 exit $fail
