@@ -692,49 +692,102 @@ static int FindMalformedLine(const char *file, char *text, size_t len)
   return found ? lineno : 0;
 }
 
-/* A key given twice in a scene file (PETSc's YAML reader keeps the last, silently) or a 'scene'
-   key in one (a scene does not include another): the option, its line and the earlier one.
-   Keys are flattened as PETSc does, a nested map's key joined to its parent's by '_'. 0 if none. */
+/* the key at c, plain or quoted, into key; returns what follows its colon, or NULL if c holds
+   no "key:" */
+static char *SceneKey(char *c, char *key, size_t len)
+{
+  char  *colon;
+  size_t klen;
+  if (*c == '"' || *c == '\'') { /* a quoted key: PETSc's reader takes it as the plain one */
+    char *end = strchr(c + 1, *c);
+    if (!end) return NULL;
+    for (colon = end + 1; *colon == ' ' || *colon == '\t'; colon++) {}
+    if (*colon != ':') return NULL;
+    snprintf(key, len, "%.*s", (int) PetscMin((size_t) (end - c - 1), (size_t) 100), c + 1);
+    return colon + 1;
+  }
+  if (!(colon = strchr(c, ':'))) return NULL;
+  klen = (size_t) (colon - c);
+  while (klen && (c[klen - 1] == ' ' || c[klen - 1] == '\t')) klen--;
+  snprintf(key, len, "%.*s", (int) PetscMin(klen, (size_t) 100), c);
+  return colon + 1;
+}
+
+/* A key given twice in a scene file (PETSc's YAML reader keeps the last, silently), a 'scene'
+   key in one (a scene does not include another), a merge key '<<' or a flow map '{...}' that
+   spans lines or nests (whose keys this reader would not see): the option, its line and the
+   earlier one. Keys are flattened as PETSc does, a nested map's key joined to its parent's by '_'
+   (a quoted key, and each key of a one-line flow map, too). 0 if none. */
 #define SCENE_KEYS_MAX 512
+typedef struct {
+  char seen[SCENE_KEYS_MAX][128];
+  int  at[SCENE_KEYS_MAX], nseen;
+} SceneKeys;
+
+static int SceneKeyOnce(SceneKeys *k, const char *full, const char *value, int lineno, char *msg, size_t len)
+{
+  if (!strcmp(full, "scene")) {
+    snprintf(msg, len, "line %d: 'scene: %.100s': a scene file cannot name another scene", lineno, value);
+    return lineno;
+  }
+  for (int q = 0; q < k->nseen; q++)
+    if (!strcmp(k->seen[q], full)) {
+      snprintf(msg, len, "line %d: -%.100s given twice (first at line %d); give it once", lineno, full, k->at[q]);
+      return lineno;
+    }
+  if (k->nseen < SCENE_KEYS_MAX) snprintf(k->seen[k->nseen], sizeof k->seen[0], "%.120s", full), k->at[k->nseen++] = lineno;
+  return 0;
+}
+
 static int FindBadKey(const char *file, char *msg, size_t len)
 {
-  char  line[1024], seen[SCENE_KEYS_MAX][128], parent[8][128];
-  int   at[SCENE_KEYS_MAX], indent[8], depth = 0, nseen = 0, lineno = 0, bad = 0;
-  FILE *fp = fopen(file, "r");
+  static SceneKeys keys;
+  char             line[1024], parent[8][128];
+  int              indent[8], depth = 0, lineno = 0, bad = 0;
+  FILE            *fp = fopen(file, "r");
 
   if (!fp) return 0;
+  keys.nseen = 0;
   while (!bad && fgets(line, sizeof line, fp)) {
-    char  *c, *colon, *v, key[128], full[128] = "";
-    size_t klen;
-    int    ind;
+    char *c = line, *v, key[128], full[128] = "";
+    int   ind;
     lineno++;
-    if (!(c = KeyLine(line))) continue;
-    ind   = (int) (c - line);
-    colon = strchr(c, ':');
-    if (!colon) continue; /* FindMalformedLine's case */
-    klen = (size_t) (colon - c);
-    while (klen && (c[klen - 1] == ' ' || c[klen - 1] == '\t')) klen--;
-    snprintf(key, sizeof key, "%.*s", (int) (klen < 100 ? klen : 100), c);
-    for (v = colon + 1; *v == ' ' || *v == '\t'; v++) {}
+    line[strcspn(line, "\r\n")] = 0;
+    while (*c == ' ' || *c == '\t') c++;
+    if (!*c || *c == '#' || *c == '-' || *c == '[' || *c == '{') continue; /* no key (or FindMalformedLine's case) */
+    if (!(v = SceneKey(c, key, sizeof key))) continue;
+    ind = (int) (c - line);
+    for (; *v == ' ' || *v == '\t'; v++) {}
     while (depth && indent[depth - 1] >= ind) depth--;
     for (int d = 0; d < depth; d++) snprintf(full + strlen(full), sizeof full - strlen(full), "%.100s_", parent[d]);
     snprintf(full + strlen(full), sizeof full - strlen(full), "%.100s", key);
-    if (!*v || *v == '#') { /* a map: its keys follow, indented */
-      if (depth < 8) snprintf(parent[depth], sizeof parent[depth], "%.100s", key), indent[depth++] = ind;
-      continue;
-    }
-    if (!strcmp(full, "scene")) {
-      snprintf(msg, len, "line %d: 'scene: %.100s': a scene file cannot name another scene", lineno, v);
+    if (!strcmp(key, "<<")) {
+      snprintf(msg, len, "line %d: a merge key '<<': write the keys it would merge", lineno);
       bad = lineno;
-      break;
-    }
-    for (int k = 0; k < nseen; k++)
-      if (!strcmp(seen[k], full)) {
-        snprintf(msg, len, "line %d: -%.100s given twice (first at line %d); give it once", lineno, full, at[k]);
+    } else if (!*v || *v == '#') { /* a map: its keys follow, indented */
+      if (depth < 8) snprintf(parent[depth], sizeof parent[depth], "%.100s", key), indent[depth++] = ind;
+    } else if (*v == '{') { /* a flow map on this line: each of its keys */
+      char *end = strchr(v, '}'), *inner = strpbrk(v + 1, "{["), *item = v + 1;
+      if (!end || (inner && inner < end)) {
+        snprintf(msg, len,
+                 "line %d: '%.60s': a flow map over several lines or with a map or list in it; write its keys on "
+                 "lines of their own",
+                 lineno, v);
         bad = lineno;
-        break;
+      } else
+        *end = 0;
+      while (!bad && item && *item) {
+        char *next = strchr(item, ','), sub[128], subfull[256];
+        if (next) *next = 0;
+        while (*item == ' ' || *item == '\t') item++;
+        if (*item && SceneKey(item, sub, sizeof sub)) {
+          snprintf(subfull, sizeof subfull, "%.120s_%.100s", full, sub);
+          bad = SceneKeyOnce(&keys, subfull, item, lineno, msg, len);
+        }
+        item = next ? next + 1 : NULL;
       }
-    if (!bad && nseen < SCENE_KEYS_MAX) snprintf(seen[nseen], sizeof seen[nseen], "%.120s", full), at[nseen++] = lineno;
+    } else
+      bad = SceneKeyOnce(&keys, full, v, lineno, msg, len);
   }
   fclose(fp);
   return bad;
