@@ -241,7 +241,7 @@ static PetscErrorCode CreateGrid(Fabric fab)
                  PETSC_ERR_USER_INPUT,
                  "the grid is the scene's, %" PetscInt_FMT " x %" PetscInt_FMT
                  " crossings (its size and thread densities) on %" PetscInt_FMT " x %" PetscInt_FMT
-                 " ranks: PETSc's DMDA options (-da_grid_x, -da_grid_y, -da_refine, -da_overlap, ...) made it %" PetscInt_FMT
+                 " ranks: PETSc's DMDA options (-da_grid_x, -da_grid_y, -da_refine, ...) made it %" PetscInt_FMT
                  " x %" PetscInt_FMT " on %" PetscInt_FMT " x %" PetscInt_FMT "; set the scene's -gauge_mm, -width_mm, "
                  "-ends_per_cm or -picks_per_cm instead",
                  s->spec.nx, s->spec.ny, m, n, M, N, pm, pn);

@@ -714,14 +714,18 @@ static char *SceneKey(char *c, char *key, size_t len)
 }
 
 /* A key given twice in a scene file (PETSc's YAML reader keeps the last, silently), a 'scene'
-   key in one (a scene does not include another), a merge key '<<' or a flow map '{...}' that
-   spans lines or nests (whose keys this reader would not see): the option, its line and the
-   earlier one. Keys are flattened as PETSc does, a nested map's key joined to its parent's by '_'
-   (a quoted key, and each key of a one-line flow map, too). 0 if none. */
-#define SCENE_KEYS_MAX 512
+   key in one (a scene does not include another), or what would hide keys from this check: a merge
+   key '<<', an alias of a map, a flow map over lines, nested or at a line's start. The option, its
+   line and the earlier one. Keys are flattened as PETSc does, a nested map's key joined to its
+   parent's by '_' (a quoted key, and each key of a one-line flow map, too; an anchor or a tag
+   before a value is passed over). 0 if none. */
+#define SCENE_KEYS_MAX    512
+#define SCENE_ANCHORS_MAX 64
 typedef struct {
   char seen[SCENE_KEYS_MAX][128];
   int  at[SCENE_KEYS_MAX], nseen;
+  char maps[SCENE_ANCHORS_MAX][64]; /* the anchors of maps: an alias of one hides its keys */
+  int  nmaps;
 } SceneKeys;
 
 static int SceneKeyOnce(SceneKeys *k, const char *full, const char *value, int lineno, char *msg, size_t len)
@@ -739,6 +743,73 @@ static int SceneKeyOnce(SceneKeys *k, const char *full, const char *value, int l
   return 0;
 }
 
+/* v past an anchor (&name, whose name goes to anchor) and a tag (!tag) and the blanks after them */
+static char *SceneValue(char *v, char *anchor, size_t len)
+{
+  anchor[0] = 0;
+  while (*v == '&' || *v == '!') {
+    const size_t n = strcspn(v, " \t");
+    if (*v == '&') snprintf(anchor, len, "%.*s", (int) PetscMin(n - 1, (size_t) 60), v + 1);
+    for (v += n; *v == ' ' || *v == '\t'; v++) {}
+  }
+  return v;
+}
+
+/* a merge key, or an alias of a map, as the value v of key at lineno: 0 if neither */
+static int SceneHidden(const SceneKeys *k, const char *key, const char *v, int lineno, char *msg, size_t len)
+{
+  if (!strcmp(key, "<<")) {
+    snprintf(msg, len, "line %d: a merge key '<<': write the keys it would merge", lineno);
+    return lineno;
+  }
+  if (*v == '*')
+    for (int q = 0; q < k->nmaps; q++) {
+      const size_t n = strlen(k->maps[q]);
+      if (!strncmp(v + 1, k->maps[q], n) && strchr(" \t,}#", v[1 + n])) {
+        snprintf(msg, len, "line %d: '%.60s' stands for a map: write its keys", lineno, v);
+        return lineno;
+      }
+    }
+  return 0;
+}
+
+/* the one-line flow map v ("{...}", quotes respected) under the flattened key full: each item's key */
+static int SceneFlowMap(SceneKeys *k, const char *full, char *v, int lineno, char *msg, size_t len)
+{
+  char *item = v + 1, *c = v + 1, q = 0;
+  int   closed = 0;
+
+  for (; *c && !closed; c++) {
+    if (q) {
+      if (q == '"' && *c == '\\' && c[1]) c++;
+      else if (*c == q) q = 0;
+      continue;
+    }
+    if (*c == '"' || *c == '\'') q = *c;
+    else if (*c == '{' || *c == '[') break; /* a map or list in it */
+    else if (*c == ',' || *c == '}') {
+      char buf[512], sub[128], subfull[256], *iv;
+      closed = *c == '}';
+      snprintf(buf, sizeof buf, "%.*s", (int) PetscMin((size_t) (c - item), sizeof buf - 1), item);
+      item = c + 1;
+      for (iv = buf; *iv == ' ' || *iv == '\t'; iv++) {}
+      if (!*iv || !(iv = SceneKey(iv, sub, sizeof sub))) continue;
+      for (; *iv == ' ' || *iv == '\t'; iv++) {}
+      if (SceneHidden(k, sub, iv, lineno, msg, len)) return lineno;
+      snprintf(subfull, sizeof subfull, "%.120s_%.100s", full, sub);
+      if (SceneKeyOnce(k, subfull, iv, lineno, msg, len)) return lineno;
+    }
+  }
+  if (!closed) {
+    snprintf(msg, len,
+             "line %d: '%.60s': a flow map over several lines or with a map or list in it; write its keys on lines "
+             "of their own",
+             lineno, v);
+    return lineno;
+  }
+  return 0;
+}
+
 static int FindBadKey(const char *file, char *msg, size_t len)
 {
   static SceneKeys keys;
@@ -747,46 +818,34 @@ static int FindBadKey(const char *file, char *msg, size_t len)
   FILE            *fp = fopen(file, "r");
 
   if (!fp) return 0;
-  keys.nseen = 0;
+  keys.nseen = keys.nmaps = 0;
   while (!bad && fgets(line, sizeof line, fp)) {
-    char *c = line, *v, key[128], full[128] = "";
+    char *c = line, *v, key[128], full[128] = "", anchor[64];
     int   ind;
     lineno++;
     line[strcspn(line, "\r\n")] = 0;
     while (*c == ' ' || *c == '\t') c++;
-    if (!*c || *c == '#' || *c == '-' || *c == '[' || *c == '{') continue; /* no key (or FindMalformedLine's case) */
+    if (!*c || *c == '#' || *c == '-' || *c == '[') continue; /* no key (or FindMalformedLine's case) */
+    if (*c == '{') {
+      snprintf(msg, len, "line %d: a flow map at the start of a line: write its keys as lines 'key: value'", lineno);
+      bad = lineno;
+      break;
+    }
     if (!(v = SceneKey(c, key, sizeof key))) continue;
     ind = (int) (c - line);
     for (; *v == ' ' || *v == '\t'; v++) {}
+    v = SceneValue(v, anchor, sizeof anchor);
     while (depth && indent[depth - 1] >= ind) depth--;
     for (int d = 0; d < depth; d++) snprintf(full + strlen(full), sizeof full - strlen(full), "%.100s_", parent[d]);
     snprintf(full + strlen(full), sizeof full - strlen(full), "%.100s", key);
-    if (!strcmp(key, "<<")) {
-      snprintf(msg, len, "line %d: a merge key '<<': write the keys it would merge", lineno);
-      bad = lineno;
-    } else if (!*v || *v == '#') { /* a map: its keys follow, indented */
+    if ((bad = SceneHidden(&keys, key, v, lineno, msg, len))) break;
+    if ((!*v || *v == '#' || *v == '{') && anchor[0] && keys.nmaps < SCENE_ANCHORS_MAX)
+      snprintf(keys.maps[keys.nmaps++], sizeof keys.maps[0], "%s", anchor);
+    if (!*v || *v == '#') { /* a map: its keys follow, indented */
       if (depth < 8) snprintf(parent[depth], sizeof parent[depth], "%.100s", key), indent[depth++] = ind;
-    } else if (*v == '{') { /* a flow map on this line: each of its keys */
-      char *end = strchr(v, '}'), *inner = strpbrk(v + 1, "{["), *item = v + 1;
-      if (!end || (inner && inner < end)) {
-        snprintf(msg, len,
-                 "line %d: '%.60s': a flow map over several lines or with a map or list in it; write its keys on "
-                 "lines of their own",
-                 lineno, v);
-        bad = lineno;
-      } else
-        *end = 0;
-      while (!bad && item && *item) {
-        char *next = strchr(item, ','), sub[128], subfull[256];
-        if (next) *next = 0;
-        while (*item == ' ' || *item == '\t') item++;
-        if (*item && SceneKey(item, sub, sizeof sub)) {
-          snprintf(subfull, sizeof subfull, "%.120s_%.100s", full, sub);
-          bad = SceneKeyOnce(&keys, subfull, item, lineno, msg, len);
-        }
-        item = next ? next + 1 : NULL;
-      }
-    } else
+    } else if (*v == '{') /* a flow map on this line: each of its keys */
+      bad = SceneFlowMap(&keys, full, v, lineno, msg, len);
+    else
       bad = SceneKeyOnce(&keys, full, v, lineno, msg, len);
   }
   fclose(fp);
