@@ -1411,14 +1411,12 @@ PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
   { /* the multigrid's levels are the grid's (MultigridHierarchy): PETSc's -pc_mg_levels would set
        others on top of its interpolations (0 crashed PCSetFromOptions); GAMG takes it as its most */
     PetscInt  levels = 0;
-    PetscBool set = PETSC_FALSE, ours = PETSC_TRUE;
+    PetscBool set = PETSC_FALSE, pc_set = PETSC_FALSE, mg = PETSC_FALSE;
     char      pc[64] = "";
     PetscCall(PetscOptionsGetInt(NULL, NULL, "-pc_mg_levels", &levels, &set));
-    PetscBool mg = PETSC_FALSE;
-    PetscCall(PetscOptionsGetString(NULL, NULL, "-pc_type", pc, sizeof pc, &ours));
+    PetscCall(PetscOptionsGetString(NULL, NULL, "-pc_type", pc, sizeof pc, &pc_set));
     PetscCall(PetscStrcmp(pc, PCMG, &mg));
-    ours = !ours || mg ? PETSC_TRUE : PETSC_FALSE;
-    PetscCheck(!set || !ours, comm, PETSC_ERR_USER_INPUT,
+    PetscCheck(!set || (pc_set && !mg), comm, PETSC_ERR_USER_INPUT,
                "-pc_mg_levels %" PetscInt_FMT " with -solver static: the multigrid's levels come from the grid "
                "(coarsened while every rank keeps 4 crossings a side); leave it unset",
                levels);
