@@ -498,6 +498,15 @@ static inline PetscReal PullSpringRow(const YarnLaw *law, PetscReal L0, PetscRea
   return 2.0 * PetscMax(ChordTangentMax(law, e, e + 0.005) / L0, L > 0 ? PetscAbsReal(T) / L : 0.0);
 }
 
+/* a segment's block A_s = k n n^T + g (I - n n^T), g = max(T,0)/L, as k_g d d^T + g I with
+   k_g = (k - g)/L^2: b = {xx, yy, zz, xy, xz, yz} (L > 0) */
+static inline void SegmentBlock(PetscReal k, PetscReal T, PetscReal L, const PetscReal d[3], PetscReal b[6])
+{
+  const PetscReal g = PetscMax(T, 0.0) / L, kg = (k - g) / (L * L);
+  b[0] = kg * d[0] * d[0] + g, b[1] = kg * d[1] * d[1] + g, b[2] = kg * d[2] * d[2] + g;
+  b[3] = kg * d[0] * d[1], b[4] = kg * d[0] * d[2], b[5] = kg * d[1] * d[2];
+}
+
 /* Traction's share at point p: v^T K v = sum_s (v_a - v_b)^T A_s (v_a - v_b) <= sum_s 2 (v_a^T A_s v_a
    + v_b^T A_s v_b) with A_s = k n n^T + g (I - n n^T) >= the segment's tangent, k the yarn tangent's
    largest value in the family's window over L0, g = max(T,0)/L (a compressed segment's negative
@@ -517,9 +526,9 @@ static void TractionBoundRow(const Patch *p, const PetscReal *x, PetscInt i, Pet
       const PetscReal *d = c.d;
       const PetscReal  L = c.L, e = L / L0 - 1.0, T = ChordTension(law, e);
       if (L > 0) {
-        const PetscReal g = PetscMax(T, 0.0) / L, kg = (k - g) / (L * L);
-        B[0] += kg * d[0] * d[0] + g, B[1] += kg * d[1] * d[1] + g, B[2] += kg * d[2] * d[2] + g;
-        B[3] += kg * d[0] * d[1], B[4] += kg * d[0] * d[2], B[5] += kg * d[1] * d[2];
+        PetscReal b[6];
+        SegmentBlock(k, T, L, d, b);
+        for (int q = 0; q < 6; q++) B[q] += b[q];
       } else /* a zero-length chord: the yarn stiffness in any direction */
         B[0] += k, B[1] += k, B[2] += k;
       if (dir == pull_dir) *rp += PullSpringRow(law, L0, e, T, L);
@@ -546,9 +555,9 @@ static void BoundSegmentRow(const Patch *p, const PetscReal *x, PetscInt j, int 
     const PetscReal *d = c.d;
     const PetscReal  L = c.L, e = L / L0 - 1.0, T = ChordTension(law, e);
     if (blocks && L > 0) {
-      const PetscReal g = PetscMax(T, 0.0) / L, kg = (k - g) / (L * L);
-      s->b[0][li] = kg * d[0] * d[0] + g, s->b[1][li] = kg * d[1] * d[1] + g, s->b[2][li] = kg * d[2] * d[2] + g;
-      s->b[3][li] = kg * d[0] * d[1], s->b[4][li] = kg * d[0] * d[2], s->b[5][li] = kg * d[1] * d[2];
+      PetscReal b[6];
+      SegmentBlock(k, T, L, d, b);
+      for (int q = 0; q < 6; q++) s->b[q][li] = b[q];
     }
     if (dir == pull_dir) s->pull[li] = PullSpringRow(law, L0, e, T, L);
   }
@@ -641,23 +650,22 @@ PetscInt BreakSegments(Patch *p, const PetscReal *x, BreakSite *site)
     if (!eb)
       for (PetscInt li = 0; li < len; li++) ebc[li] = law->break_e;
     for (PetscInt lj = 0; lj + (dir == 1) < p->gym; lj++) {
-      const PetscInt k0 = lj * p->gxm;
-      int            past;
-      const int64_t  t = BreakRatioRow(len, L0, x + 3 * k0, x + 3 * (k0 + step), p->exists + k0, p->exists + k0 + step,
-                                      broken + k0, eb ? eb + k0 : ebc, e, &past);
-      top              = t > top ? t : top;
+      const PetscInt   k0  = lj * p->gxm;
+      const PetscReal *ebr = eb ? eb + k0 : ebc; /* the row's breaking strains */
+      int              past;
+      const int64_t    t = BreakRatioRow(len, L0, x + 3 * k0, x + 3 * (k0 + step), p->exists + k0,
+                                        p->exists + k0 + step, broken + k0, ebr, e, &past);
+      top                = t > top ? t : top;
       if (!past) continue;
       for (PetscInt li = 0; li < len; li++) {
         const PetscInt k = k0 + li;
-        if (broken[k] || !p->exists[k] || !p->exists[k + step]) continue;
-        const PetscReal e_break = eb ? eb[k] : law->break_e;
-        if (e[li] <= e_break) continue;
+        if (broken[k] || !p->exists[k] || !p->exists[k + step] || e[li] <= ebr[li]) continue;
         broken[k] = 1;
         {
           const PetscInt i = p->gxs + li, j = p->gys + lj;
           if (i < p->xs || i >= p->xs + p->xm || j < p->ys || j >= p->ys + p->ym) continue; /* not owned */
           n++;
-          if (e[li] / e_break > site->ratio) site->ratio = e[li] / e_break, site->dir = dir, site->i = i, site->j = j;
+          if (e[li] / ebr[li] > site->ratio) site->ratio = e[li] / ebr[li], site->dir = dir, site->i = i, site->j = j;
         }
       }
     }
@@ -859,21 +867,30 @@ static int BendingInstance(const Patch *p, const PetscReal *x, PetscInt i, Petsc
 
 /* --- stable-step bound: centre c in {p-1, p, p+1}; row sums 12, 24, 12 times kb / Lmin^2, with
    Lmin no longer than the contact length (a chord can be squeezed that far in a step) --- */
+/* adds the rows of the bending centres k = -1, 0, 1 around a point along one yarn, from the lengths
+   L[q] of its chords from point q - 2 to q - 1 (-1: absent or broken) */
+static inline void BendingBoundAdd(PetscReal kb, PetscReal Lc, const PetscReal L[4], PetscReal *rs)
+{
+  for (int k = -1; k <= 1; k++) { /* the bending centre at k: chords k-1 and k */
+    const PetscReal L1 = L[k + 1], L2 = L[k + 2];
+    if (L1 < 0 || L2 < 0) continue;
+    const PetscReal Lmin = PetscMin(PetscMin(L1, L2), Lc);
+    if (!(Lmin > 0)) continue; /* a zero-length chord has no direction: no bending force */
+    *rs += kb * (k == 0 ? 24.0 : 12.0) / (Lmin * Lmin);
+  }
+}
+
 static void BendingBoundRow(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j, int pull_dir, PetscReal *rs,
                             PetscReal *rp)
 {
   for (int dir = 0; dir < 2; dir++) {
-    const PetscReal kb = dir == 0 ? p->kbx : p->kby;
     const PetscReal Lc = (1.0 + (dir == 0 ? p->warp : p->weft)->e_contact) * (dir == 0 ? p->ax : p->ay);
-    Chord           ch[4]; /* the chords from point q to q + 1 along dir, q = -2..1 from (i,j) */
-    for (int q = -2; q <= 1; q++) ch[q + 2] = ChordAt(p, x, i + (dir == 0 ? q : 0), j + (dir == 1 ? q : 0), dir);
-    for (int k = -1; k <= 1; k++) { /* the bending centre at k: chords k-1 and k */
-      const Chord c1 = ch[k + 1], c2 = ch[k + 2];
-      if (!c1.alive || !c2.alive) continue;
-      const PetscReal Lmin = PetscMin(PetscMin(c1.L, c2.L), Lc);
-      if (!(Lmin > 0)) continue; /* a zero-length chord has no direction: no bending force */
-      *rs += kb * (k == 0 ? 24.0 : 12.0) / (Lmin * Lmin);
+    PetscReal       L[4]; /* the chords from point q to q + 1 along dir, q = -2..1 from (i,j) */
+    for (int q = -2; q <= 1; q++) {
+      const Chord c = ChordAt(p, x, i + (dir == 0 ? q : 0), j + (dir == 1 ? q : 0), dir);
+      L[q + 2]      = c.alive ? c.L : -1.0;
     }
+    BendingBoundAdd(dir == 0 ? p->kbx : p->kby, Lc, L, rs);
   }
 }
 
@@ -1134,13 +1151,21 @@ static PetscReal ShearCrossingBound(const Patch *p, const PetscReal *x, PetscInt
 }
 
 /* the crossings that involve point (i,j): its four neighbours', and its own at an edge */
+/* adds the crossings' bounds s = {left, right, below, above, own} to point (i,j)'s row: its own
+   only at an edge */
+static inline void ShearBoundAdd(const Patch *p, PetscInt i, PetscInt j, const PetscReal s[5], PetscReal *rs)
+{
+  *rs += s[0] + s[1] + s[2] + s[3];
+  if (!ExistsG(p, i - 1, j) || !ExistsG(p, i + 1, j) || !ExistsG(p, i, j - 1) || !ExistsG(p, i, j + 1)) *rs += s[4];
+}
+
 static void ShearBoundRow(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j, int pull_dir, PetscReal *rs,
                           PetscReal *rp)
 {
-  *rs += ShearCrossingBound(p, x, i - 1, j) + ShearCrossingBound(p, x, i + 1, j) + ShearCrossingBound(p, x, i, j - 1) +
-         ShearCrossingBound(p, x, i, j + 1);
-  if (!ExistsG(p, i - 1, j) || !ExistsG(p, i + 1, j) || !ExistsG(p, i, j - 1) || !ExistsG(p, i, j + 1))
-    *rs += ShearCrossingBound(p, x, i, j);
+  const PetscReal s[5] = {ShearCrossingBound(p, x, i - 1, j), ShearCrossingBound(p, x, i + 1, j),
+                          ShearCrossingBound(p, x, i, j - 1), ShearCrossingBound(p, x, i, j + 1),
+                          ShearCrossingBound(p, x, i, j)};
+  ShearBoundAdd(p, i, j, s, rs);
 }
 
 /* ============================ the fused row pipeline ============================ */
@@ -1466,23 +1491,15 @@ PetscReal StableOmega2(Patch *p, const PetscReal *x, const PetscReal *inv_m, int
       upto[0] = rs;
       if (p->bending) /* BendingBoundRow: the chords from point q to q + 1 along dir, q = -2..1 */
         for (int dir = 0; dir < 2; dir++) {
-          const PetscReal kb = dir == 0 ? p->kbx : p->kby;
           const PetscReal Lc = (1.0 + (dir == 0 ? p->warp : p->weft)->e_contact) * (dir == 0 ? p->ax : p->ay);
-          PetscReal       ch[4];
-          for (int q = -2; q <= 1; q++) ch[q + 2] = dir == 0 ? xr->L[li + q] : p->by_seg[SLOT(j + q)].L[li];
-          for (int k = -1; k <= 1; k++) {
-            const PetscReal L1 = ch[k + 1], L2 = ch[k + 2];
-            if (L1 < 0 || L2 < 0) continue;
-            const PetscReal Lmin = PetscMin(PetscMin(L1, L2), Lc);
-            if (!(Lmin > 0)) continue;
-            rs += kb * (k == 0 ? 24.0 : 12.0) / (Lmin * Lmin);
-          }
+          PetscReal       L[4];
+          for (int q = -2; q <= 1; q++) L[q + 2] = dir == 0 ? xr->L[li + q] : p->by_seg[SLOT(j + q)].L[li];
+          BendingBoundAdd(dir == 0 ? p->kbx : p->kby, Lc, L, &rs);
         }
       upto[1] = rs;
       if (p->shear) { /* ShearBoundRow */
-        rs += sc[li - 1] + sc[li + 1] + sd[li] + su[li];
-        if (!ExistsG(p, i - 1, j) || !ExistsG(p, i + 1, j) || !ExistsG(p, i, j - 1) || !ExistsG(p, i, j + 1))
-          rs += sc[li];
+        const PetscReal s[5] = {sc[li - 1], sc[li + 1], sd[li], su[li], sc[li]};
+        ShearBoundAdd(p, i, j, s, &rs);
       }
       upto[2] = rs;
       rs += p->k_contact; /* a rigid body's penalty spring, whether in contact or not */
