@@ -13,6 +13,8 @@
 
 #include <signal.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h> /* access */
 
 static const char help[] = "fabric: woven-fabric mechanics at the yarn-crossing scale (explicit, MPI-parallel).\n"
                            "  mpiexec -n P fabric -scene inputs/strip_warp.yaml [-output_dir DIR] [options]\n"
@@ -37,8 +39,22 @@ static void NameTheOption(const char *mess, char *out, size_t len)
   PetscFree(all);
 }
 
+/* An MPI call failed: what the options asked of MPI that it may not offer ("" if nothing) */
+static const char *MpiErrorCause(void)
+{
+  static char cause[320];
+  char        type[256];
+  PetscBool   set = PETSC_FALSE;
+
+  cause[0] = 0;
+  if (!PetscOptionsGetString(NULL, NULL, "-sf_type", type, sizeof type, &set) && set)
+    snprintf(cause, sizeof cause, " (with -sf_type %s: this MPI may not run it; leave -sf_type unset)", type);
+  return cause;
+}
+
 /* One clear line per error. Input errors are seen by every rank alike, so rank 0 says them;
-   other ranks speak only of errors that are theirs alone (memory, numerics, library). */
+   other ranks speak only of errors that are theirs alone (memory, numerics, library, MPI). An
+   MPI error stops every rank, as MPI's own handler did before it was set to return them. */
 static PetscErrorCode OneLineErrorHandler(MPI_Comm comm, int line, const char *fun, const char *file, PetscErrorCode n,
                                           PetscErrorType p, const char *mess, void *ctx)
 {
@@ -49,10 +65,11 @@ static PetscErrorCode OneLineErrorHandler(MPI_Comm comm, int line, const char *f
   if (comm != MPI_COMM_NULL) MPI_Comm_rank(comm, &rank);
   MPI_Comm_rank(PETSC_COMM_WORLD, &world);
   if (world == 0 ||
-      (rank == 0 && (n == PETSC_ERR_MEM || n == PETSC_ERR_PLIB || n == PETSC_ERR_LIB || n == PETSC_ERR_SYS))) {
+      (rank == 0 && (n == PETSC_ERR_MEM || n == PETSC_ERR_PLIB || n == PETSC_ERR_LIB || n == PETSC_ERR_SYS ||
+                     n == PETSC_ERR_MPI))) {
     if (mess && mess[0]) {
       NameTheOption(mess, text, sizeof text);
-      fprintf(stderr, "fabric: error: %s\n", text);
+      fprintf(stderr, "fabric: error: %s%s\n", text, n == PETSC_ERR_MPI ? MpiErrorCause() : "");
     } else {
       const char *text = NULL;
       PetscErrorMessage(n, &text, NULL);
@@ -60,6 +77,7 @@ static PetscErrorCode OneLineErrorHandler(MPI_Comm comm, int line, const char *f
     }
     fflush(stderr);
   }
+  if (n == PETSC_ERR_MPI) MPI_Abort(MPI_COMM_WORLD, 1); /* as MPI would have: no rank is left waiting */
   return n;
 }
 
@@ -157,14 +175,62 @@ static PetscErrorCode Run(int argc, char **argv)
   PetscFunctionReturn(0);
 }
 
+/* The files PETSc opens within PetscInitialize: -options_file and -options_file_yaml (read),
+   -history and -log_trace (written). A missing one stops the run there with PETSc's traceback, or
+   worse (-history: a segmentation fault): look first, every rank alike, rank 0 says it. */
+static int InitFilesUsable(int argc, char **argv)
+{
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  for (int k = 1; k < argc; k++) {
+    const int   read = !strcmp(argv[k], "-options_file") || !strcmp(argv[k], "-options_file_yaml");
+    const int   write = !strcmp(argv[k], "-history") || !strcmp(argv[k], "-log_trace");
+    const char *f     = k + 1 < argc ? argv[k + 1] : "";
+    struct stat st;
+    char        dir[4096];
+    if (!read && !write) continue;
+    if (!f[0] || f[0] == '-') {
+      if (read && !rank) fprintf(stderr, "fabric: error: %s needs a file name\n", argv[k]);
+      if (read) return 0;
+      continue; /* -history and -log_trace without one write to PETSc's default */
+    }
+    if (read && (stat(f, &st) || !S_ISREG(st.st_mode) || access(f, R_OK))) {
+      if (!rank) fprintf(stderr, "fabric: error: %s %s: no such file, or not a readable file\n", argv[k], f);
+      return 0;
+    }
+    snprintf(dir, sizeof dir, "%s", f);
+    if (strrchr(dir, '/')) *strrchr(dir, '/') = 0;
+    else snprintf(dir, sizeof dir, ".");
+    if (write && ((!stat(f, &st) && S_ISDIR(st.st_mode)) || access(dir[0] ? dir : "/", W_OK | X_OK))) {
+      if (!rank) fprintf(stderr, "fabric: error: %s %s: cannot write the file there\n", argv[k], f);
+      return 0;
+    }
+  }
+  return 1;
+}
+
 int main(int argc, char **argv)
 {
   PetscErrorCode ierr;
 
-  PetscCall(PetscInitialize(&argc, &argv, NULL, help));
+  /* MPI before PETSc: the option files are looked at first, and an MPI call that fails (an MPI
+     that cannot run the -sf_type asked for, say) returns its error to PETSc, which then stops
+     the run with one line, instead of MPI aborting it with no word of which option caused it */
+  if (MPI_Init(&argc, &argv) != MPI_SUCCESS) return 1;
+  MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN);
+  MPI_Comm_set_errhandler(MPI_COMM_SELF, MPI_ERRORS_RETURN);
+  if (!InitFilesUsable(argc, argv)) {
+    MPI_Finalize();
+    return 1;
+  }
+  /* an error within PetscInitialize (an option file's content) gets PETSc's own message; rank 0
+     reads an option file alone while the others wait for it, so every rank stops */
+  if (PetscInitialize(&argc, &argv, NULL, help)) MPI_Abort(MPI_COMM_WORLD, 1);
   PetscCall(PetscPushErrorHandler(OneLineErrorHandler, NULL));
   ierr = Run(argc, argv);
+  if (ierr) PetscCall(PetscOptionsClearValue(NULL, "-log_view")); /* no profile of a failed run */
   PetscCall(PetscPopErrorHandler());
   PetscCall(PetscFinalize());
+  MPI_Finalize();
   return ierr ? 1 : CheckpointStopped() ? CHECKPOINT_STOPPED : 0;
 }

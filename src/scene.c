@@ -1456,7 +1456,33 @@ static void PositionsOutClash(const SceneOutput *o, char *msg, size_t len)
   }
 }
 
-/* -output_dir and -positions_out can be written: rank 0 looks, every rank refuses alike */
+/* A PETSc viewer option that names a file ([type]:file[:format], -log_view :log.txt, -snes_monitor
+   :snes.txt, -ksp_view_mat binary:A.bin): PETSc opens it only when it first writes, -log_view's at
+   the very end of a run, and a rank that cannot open it stops alone, so look now. msg: "" or why it cannot be written. */
+static void ProbeViewerFiles(const char *output_dir, char *msg, size_t len)
+{
+  static const char *const types[] = {"", "ascii", "binary", "hdf5", "vtk"};
+  char                    *all = NULL;
+
+  msg[0] = 0;
+  if (PetscOptionsGetAll(NULL, &all) || !all) return;
+  for (char *tok = strtok(all, " "), *prev = NULL; tok && !msg[0]; prev = tok, tok = strtok(NULL, " ")) {
+    const char  *name = prev && prev[0] == '-' ? prev + 1 : NULL, *colon = strchr(tok, ':');
+    const size_t n    = name ? strlen(name) : 0;
+    char         file[PETSC_MAX_PATH_LEN];
+    int          known = 0;
+    if (!name || !colon || tok[0] == '-') continue;
+    if (!strstr(name, "_view") && !strstr(name, "monitor") && !(n > 16 && !strcmp(name + n - 16, "converged_reason")))
+      continue;
+    for (size_t k = 0; k < sizeof types / sizeof types[0]; k++)
+      known |= (size_t) (colon - tok) == strlen(types[k]) && !strncmp(tok, types[k], strlen(types[k]));
+    snprintf(file, sizeof file, "%.*s", (int) strcspn(colon + 1, ":"), colon + 1);
+    if (known && file[0]) ProbeFile(name, file, output_dir, msg, len);
+  }
+  PetscFree(all);
+}
+
+/* -output_dir, -positions_out and the viewers' files can be written: rank 0 looks, every rank refuses alike */
 static PetscErrorCode CheckOutputPlaces(MPI_Comm comm, const SceneOutput *o)
 {
   char        msg[2 * PETSC_MAX_PATH_LEN + 128] = "";
@@ -1471,6 +1497,7 @@ static PetscErrorCode CheckOutputPlaces(MPI_Comm comm, const SceneOutput *o)
   if (!rank && !msg[0] && o->output_dir[0]) ProbeDirectory("output_dir", o->output_dir, msg, sizeof msg);
   if (!rank && !msg[0] && o->positions_out[0])
     ProbeFile("positions_out", o->positions_out, o->output_dir, msg, sizeof msg);
+  if (!rank && !msg[0]) ProbeViewerFiles(o->output_dir, msg, sizeof msg);
   PetscCall(BroadcastFromRoot(comm, msg, (PetscInt) sizeof msg, MPI_CHAR));
   PetscCheck(!msg[0], comm, PETSC_ERR_FILE_OPEN, "%s", msg);
   PetscFunctionReturn(0);

@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# mpi_error.sh FABRIC SCENE: a PETSc option that asks MPI for what it cannot do (-sf_type window:
+# Open MPI 4.1 here has no one-sided window for it) stops the run with one line that names the
+# option, a non-zero exit and no output, not an MPI abort without a word of why. An MPI that runs
+# it passes too (then the run must end normally).
+set -u
+fabric="$1"
+scene="$2"
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+log="$(cd "$work" && timeout 60 mpiexec -n 2 "$fabric" -scene "$scene" -quiet -load_steps 2 -output_dir "$work/out" \
+  -sf_type window 2>&1)"
+rc=$?
+echo "$log" | head -3
+if [[ $rc -eq 0 ]]; then
+  [[ -f "$work/out/summary.json" ]] || { echo "FAIL: exit 0 without summary.json"; exit 1; }
+  echo "PASS: this MPI runs -sf_type window"
+  exit 0
+fi
+fail=0
+((rc == 124)) && { echo "FAIL: timed out (a hang)"; fail=1; }
+grep -Eq '^fabric: error: MPI error .*\(with -sf_type window: this MPI may not run it' <<<"$log" ||
+  { echo "FAIL: no 'fabric: error:' line naming -sf_type window"; fail=1; }
+[[ -e "$work/out" ]] && { echo "FAIL: output directory created"; fail=1; }
+((fail == 0)) && echo "PASS: exit $rc, one line names -sf_type window, no output"
+exit $fail
