@@ -175,6 +175,29 @@ static PetscErrorCode Run(int argc, char **argv)
   PetscFunctionReturn(0);
 }
 
+/* A run stopped on an error on this rank; do the other ranks stop with it? An error every rank
+   sees (bad input, a value that is not finite) meets here at once, on a communicator of its own. An
+   error of this rank alone (a PETSc solver that fails on one rank) leaves the others waiting in the
+   run's next collective for ever: after STOP_WAIT_S seconds this rank stops them all. */
+#define STOP_WAIT_S 10.0
+static MPI_Comm stop_comm = MPI_COMM_NULL;
+
+static void StopTogether(void)
+{
+  MPI_Request req;
+  int         size = 1, done = 0;
+  double      t0 = MPI_Wtime();
+
+  MPI_Comm_size(stop_comm, &size);
+  if (size == 1 || MPI_Ibarrier(stop_comm, &req) != MPI_SUCCESS) return;
+  while (!done && MPI_Wtime() - t0 < STOP_WAIT_S)
+    if (MPI_Test(&req, &done, MPI_STATUS_IGNORE) != MPI_SUCCESS || !done) usleep(1000);
+  if (done) return;
+  fprintf(stderr, "fabric: error: the other ranks did not stop with this one within %g s: stopping them\n",
+          STOP_WAIT_S);
+  MPI_Abort(MPI_COMM_WORLD, 1);
+}
+
 /* The files PETSc opens within PetscInitialize: -options_file and -options_file_yaml (read),
    -history and -log_trace (written). A missing one stops the run there with PETSc's traceback, or
    worse (-history: a segmentation fault): look first, every rank alike, rank 0 says it. */
@@ -219,7 +242,9 @@ int main(int argc, char **argv)
   if (MPI_Init(&argc, &argv) != MPI_SUCCESS) return 1;
   MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN);
   MPI_Comm_set_errhandler(MPI_COMM_SELF, MPI_ERRORS_RETURN);
+  MPI_Comm_dup(MPI_COMM_WORLD, &stop_comm);
   if (!InitFilesUsable(argc, argv)) {
+    MPI_Comm_free(&stop_comm);
     MPI_Finalize();
     return 1;
   }
@@ -228,9 +253,13 @@ int main(int argc, char **argv)
   if (PetscInitialize(&argc, &argv, NULL, help)) MPI_Abort(MPI_COMM_WORLD, 1);
   PetscCall(PetscPushErrorHandler(OneLineErrorHandler, NULL));
   ierr = Run(argc, argv);
-  if (ierr) PetscCall(PetscOptionsClearValue(NULL, "-log_view")); /* no profile of a failed run */
+  if (ierr) {
+    StopTogether();
+    PetscCall(PetscOptionsClearValue(NULL, "-log_view")); /* no profile of a failed run */
+  }
   PetscCall(PetscPopErrorHandler());
   PetscCall(PetscFinalize());
+  MPI_Comm_free(&stop_comm);
   MPI_Finalize();
   return ierr ? 1 : CheckpointStopped() ? CHECKPOINT_STOPPED : 0;
 }

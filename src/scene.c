@@ -910,6 +910,16 @@ PetscErrorCode SceneCheckUnused(MPI_Comm comm, PetscBool solver_options_later)
   char   **names, **values;
 
   PetscFunctionBeginUser;
+  { /* PETSc's own, read at PetscFinalize: -options_left; refused: -fp_trap (the kernels are built with
+       -fno-trapping-math, so both arms of a select run, and a discarded 1/0 would trap; a value
+       that is not finite stops the run by its own checks) */
+    PetscBool set;
+    PetscCall(PetscOptionsHasName(NULL, NULL, "-options_left", &set));
+    PetscCall(PetscOptionsHasName(NULL, NULL, "-fp_trap", &set));
+    PetscCheck(!set, comm, PETSC_ERR_USER_INPUT,
+               "-fp_trap: the force kernels evaluate both arms of their selects, so a trap would fire on a value "
+               "they discard; a value that is not finite stops the run with its own message");
+  }
   PetscCall(PetscOptionsLeftGet(NULL, &n, &names, &values));
   for (PetscInt q = 0; q < n; q++) {
     char name[256];
@@ -928,6 +938,16 @@ PetscErrorCode SceneWarnUnused(MPI_Comm comm)
   char   **names, **values;
 
   PetscFunctionBeginUser;
+  { /* PETSc's own, read at PetscFinalize: -options_left; refused: -fp_trap (the kernels are built with
+       -fno-trapping-math, so both arms of a select run, and a discarded 1/0 would trap; a value
+       that is not finite stops the run by its own checks) */
+    PetscBool set;
+    PetscCall(PetscOptionsHasName(NULL, NULL, "-options_left", &set));
+    PetscCall(PetscOptionsHasName(NULL, NULL, "-fp_trap", &set));
+    PetscCheck(!set, comm, PETSC_ERR_USER_INPUT,
+               "-fp_trap: the force kernels evaluate both arms of their selects, so a trap would fire on a value "
+               "they discard; a value that is not finite stops the run with its own message");
+  }
   PetscCall(PetscOptionsLeftGet(NULL, &n, &names, &values));
   for (PetscInt q = 0; q < n; q++)
     PetscCall(PetscPrintf(comm, "fabric: warning: option -%s was not used (check its spelling: -help lists them)\n",

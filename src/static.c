@@ -1408,6 +1408,18 @@ PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
                "-snes_mf_operator with -solver static: its multigrid and line search need the assembled tangent as "
                "the operator; leave it out (or use -snes_mf: finite differences, no preconditioner)");
   }
+  { /* PETSc's finite-difference Jacobians set the tangent's entries one by one: the tangent by
+       stencil is a shell, which failed on one rank and left the other waiting */
+    const char *fd[] = {"-snes_fd", "-snes_fd_color"};
+    for (int k = 0; k < 2; k++) {
+      PetscBool on = PETSC_FALSE;
+      PetscCall(PetscOptionsGetBool(NULL, NULL, fd[k], &on, NULL));
+      PetscCheck(!on, comm, PETSC_ERR_USER_INPUT,
+                 "%s with -solver static: the quasi-static path assembles its own tangent; leave it out (or use "
+                 "-snes_mf: finite differences, no preconditioner)",
+                 fd[k]);
+    }
+  }
   { /* the multigrid's levels are the grid's (MultigridHierarchy): PETSc's -pc_mg_levels would set
        others on top of its interpolations (0 crashed PCSetFromOptions); GAMG takes it as its most */
     PetscInt  levels = 0;
@@ -1423,16 +1435,16 @@ PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
     PetscCheck(!set || levels >= 1, comm, PETSC_ERR_USER_INPUT,
                "-pc_mg_levels %" PetscInt_FMT ": the most levels -pc_type %s may make, 1 or more", levels, pc);
   }
-  if (o.tao) { /* TAO's type from -tao_type: one with a Newton step (a KSP) */
-    Tao tao;
-    KSP ksp;
-    PetscCall(TaoCreate(comm, &tao));
-    PetscCall(TaoSetType(tao, TAONLS));
-    PetscCall(TaoSetFromOptions(tao));
-    PetscCall(TaoGetKSP(tao, &ksp));
-    PetscCall(TaoDestroy(&tao));
-    PetscCheck(ksp, comm, PETSC_ERR_USER_INPUT,
-               "-static_minimizer tao needs a Newton method of TAO (-tao_type nls, ntr, ntl)");
+  if (o.tao) { /* TAO's Newton line search or trust region, on the unconstrained Pi (the others
+                  crashed or ran out of memory on the pushing test: ntl, ipm, pdipm) */
+    char      type[64] = TAONLS;
+    PetscBool newton;
+    PetscCall(PetscOptionsGetString(NULL, NULL, "-tao_type", type, sizeof type, NULL));
+    PetscCall(PetscStrInList(type, TAONLS "," TAONTR "," TAOBNLS, ',', &newton));
+    PetscCheck(newton, comm, PETSC_ERR_USER_INPUT,
+               "-tao_type %s with -static_minimizer tao: the quasi-static path runs TAO's Newton line search or "
+               "trust region (-tao_type nls, ntr or bnls)",
+               type);
   }
   { /* PETSc reads -matptap_via when the multigrid first forms its Galerkin products, mid-run: a
        product of small matrices of the tangent's type (AIJ on this communicator) reads it now */
