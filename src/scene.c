@@ -938,16 +938,6 @@ PetscErrorCode SceneWarnUnused(MPI_Comm comm)
   char   **names, **values;
 
   PetscFunctionBeginUser;
-  { /* PETSc's own, read at PetscFinalize: -options_left; refused: -fp_trap (the kernels are built with
-       -fno-trapping-math, so both arms of a select run, and a discarded 1/0 would trap; a value
-       that is not finite stops the run by its own checks) */
-    PetscBool set;
-    PetscCall(PetscOptionsHasName(NULL, NULL, "-options_left", &set));
-    PetscCall(PetscOptionsHasName(NULL, NULL, "-fp_trap", &set));
-    PetscCheck(!set, comm, PETSC_ERR_USER_INPUT,
-               "-fp_trap: the force kernels evaluate both arms of their selects, so a trap would fire on a value "
-               "they discard; a value that is not finite stops the run with its own message");
-  }
   PetscCall(PetscOptionsLeftGet(NULL, &n, &names, &values));
   for (PetscInt q = 0; q < n; q++)
     PetscCall(PetscPrintf(comm, "fabric: warning: option -%s was not used (check its spelling: -help lists them)\n",
@@ -1478,7 +1468,8 @@ static void PositionsOutClash(const SceneOutput *o, char *msg, size_t len)
 
 /* A PETSc viewer option that names a file ([type]:file[:format], -log_view :log.txt, -snes_monitor
    :snes.txt, -ksp_view_mat binary:A.bin): PETSc opens it only when it first writes, -log_view's at
-   the very end of a run, and a rank that cannot open it stops alone, so look now. msg: "" or why it cannot be written. */
+   the very end of a run, and a rank that cannot open it stops alone, so look now. msg: "" or why
+   it cannot be written. */
 static void ProbeViewerFiles(const char *output_dir, char *msg, size_t len)
 {
   static const char *const types[] = {"", "ascii", "binary", "hdf5", "vtk"};
