@@ -64,6 +64,7 @@ static PetscErrorCode OneLineErrorHandler(MPI_Comm comm, int line, const char *f
   if (p != PETSC_ERROR_INITIAL) return n;
   if (comm != MPI_COMM_NULL) MPI_Comm_rank(comm, &rank);
   MPI_Comm_rank(PETSC_COMM_WORLD, &world);
+  if (n == PETSC_ERR_MPI && world) sleep(1); /* rank 0 says it and stops every rank, if it has it too */
   if (world == 0 ||
       (rank == 0 && (n == PETSC_ERR_MEM || n == PETSC_ERR_PLIB || n == PETSC_ERR_LIB || n == PETSC_ERR_SYS ||
                      n == PETSC_ERR_MPI))) {
@@ -189,7 +190,8 @@ static void StopTogether(void)
   double      t0 = MPI_Wtime();
 
   MPI_Comm_size(stop_comm, &size);
-  if (size == 1 || MPI_Ibarrier(stop_comm, &req) != MPI_SUCCESS) return;
+  if (size == 1) return;
+  if (MPI_Ibarrier(stop_comm, &req) != MPI_SUCCESS) MPI_Abort(MPI_COMM_WORLD, 1);
   while (!done && MPI_Wtime() - t0 < STOP_WAIT_S)
     if (MPI_Test(&req, &done, MPI_STATUS_IGNORE) != MPI_SUCCESS || !done) usleep(1000);
   if (done) return;
@@ -198,38 +200,37 @@ static void StopTogether(void)
   MPI_Abort(MPI_COMM_WORLD, 1);
 }
 
-/* The files PETSc opens within PetscInitialize: -options_file and -options_file_yaml (read),
-   -history and -log_trace (written). A missing one stops the run there with PETSc's traceback, or
-   worse (-history: a segmentation fault): look first, every rank alike, rank 0 says it. */
-static int InitFilesUsable(int argc, char **argv)
+/* The files PETSc opens within PetscInitialize: -options_file and -options_file_yaml (read, by
+   rank 0), -history and -log_trace (written; -log_trace F writes F.0, F.1, ...). A missing one stops
+   the run there with PETSc's traceback, or worse (-history: a segmentation fault). Rank 0 looks
+   first, says why, and every rank takes its verdict. */
+static int InitFileProblem(int argc, char **argv)
 {
-  int rank = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   for (int k = 1; k < argc; k++) {
     const int   read = !strcmp(argv[k], "-options_file") || !strcmp(argv[k], "-options_file_yaml");
-    const int   write = !strcmp(argv[k], "-history") || !strcmp(argv[k], "-log_trace");
-    const char *f     = k + 1 < argc ? argv[k + 1] : "";
+    const int   history = !strcmp(argv[k], "-history"), write = history || !strcmp(argv[k], "-log_trace");
+    const char *f = k + 1 < argc ? argv[k + 1] : "";
     struct stat st;
     char        dir[4096];
     if (!read && !write) continue;
     if (!f[0] || f[0] == '-') {
-      if (read && !rank) fprintf(stderr, "fabric: error: %s needs a file name\n", argv[k]);
-      if (read) return 0;
-      continue; /* -history and -log_trace without one write to PETSc's default */
+      if (!read) continue; /* -history and -log_trace without one write to PETSc's default */
+      fprintf(stderr, "fabric: error: %s needs a file name\n", argv[k]);
+      return 1;
     }
     if (read && (stat(f, &st) || !S_ISREG(st.st_mode) || access(f, R_OK))) {
-      if (!rank) fprintf(stderr, "fabric: error: %s %s: no such file, or not a readable file\n", argv[k], f);
-      return 0;
+      fprintf(stderr, "fabric: error: %s %s: no such file, or not a readable file\n", argv[k], f);
+      return 1;
     }
     snprintf(dir, sizeof dir, "%s", f);
     if (strrchr(dir, '/')) *strrchr(dir, '/') = 0;
     else snprintf(dir, sizeof dir, ".");
-    if (write && ((!stat(f, &st) && S_ISDIR(st.st_mode)) || access(dir[0] ? dir : "/", W_OK | X_OK))) {
-      if (!rank) fprintf(stderr, "fabric: error: %s %s: cannot write the file there\n", argv[k], f);
-      return 0;
+    if (write && ((history && !stat(f, &st) && S_ISDIR(st.st_mode)) || access(dir[0] ? dir : "/", W_OK | X_OK))) {
+      fprintf(stderr, "fabric: error: %s %s: cannot write the file there\n", argv[k], f);
+      return 1;
     }
   }
-  return 1;
+  return 0;
 }
 
 int main(int argc, char **argv)
@@ -243,10 +244,16 @@ int main(int argc, char **argv)
   MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN);
   MPI_Comm_set_errhandler(MPI_COMM_SELF, MPI_ERRORS_RETURN);
   MPI_Comm_dup(MPI_COMM_WORLD, &stop_comm);
-  if (!InitFilesUsable(argc, argv)) {
-    MPI_Comm_free(&stop_comm);
-    MPI_Finalize();
-    return 1;
+  {
+    int rank = 0, bad = 0;
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    if (!rank) bad = InitFileProblem(argc, argv);
+    MPI_Bcast(&bad, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    if (bad) {
+      MPI_Comm_free(&stop_comm);
+      MPI_Finalize();
+      return 1;
+    }
   }
   /* an error within PetscInitialize (an option file's content) gets PETSc's own message; rank 0
      reads an option file alone while the others wait for it, so every rank stops */

@@ -913,10 +913,10 @@ PetscErrorCode SceneCheckUnused(MPI_Comm comm, PetscBool solver_options_later)
   { /* PETSc's own, read at PetscFinalize: -options_left; refused: -fp_trap (the kernels are built with
        -fno-trapping-math, so both arms of a select run, and a discarded 1/0 would trap; a value
        that is not finite stops the run by its own checks) */
-    PetscBool set;
+    PetscBool set, trap = PETSC_FALSE;
     PetscCall(PetscOptionsHasName(NULL, NULL, "-options_left", &set));
-    PetscCall(PetscOptionsHasName(NULL, NULL, "-fp_trap", &set));
-    PetscCheck(!set, comm, PETSC_ERR_USER_INPUT,
+    PetscCall(PetscOptionsGetBool(NULL, NULL, "-fp_trap", &trap, NULL));
+    PetscCheck(!trap, comm, PETSC_ERR_USER_INPUT,
                "-fp_trap: the force kernels evaluate both arms of their selects, so a trap would fire on a value "
                "they discard; a value that is not finite stops the run with its own message");
   }
@@ -1375,6 +1375,8 @@ static void ProbeDirectory(const char *opt, const char *path, char *msg, size_t 
   }
 }
 
+static void PlaceOf(const char *path, char *out, size_t len);
+
 /* Can the file be written? Its directory must exist (or be the output directory, made at the
    start of the run); an existing file is opened without being truncated, a new one is made and
    removed. msg: "" or why not. */
@@ -1392,9 +1394,10 @@ static void ProbeFile(const char *opt, const char *path, const char *output_dir,
     return;
   }
   if (stat(dir, &st)) {
-    const size_t n = strlen(dir);
-    if (!strncmp(dir, output_dir, n) && (!output_dir[n] || !strcmp(output_dir + n, "/")))
-      return; /* the output directory, made by the run: probed with -output_dir */
+    char a[2 * PETSC_MAX_PATH_LEN], b[2 * PETSC_MAX_PATH_LEN];
+    PlaceOf(dir, a, sizeof a);
+    PlaceOf(output_dir, b, sizeof b);
+    if (output_dir[0] && !strcmp(a, b)) return; /* the output directory, made by the run: probed with -output_dir */
     snprintf(msg, len, "-%s %s: cannot reach the directory %s (%s)", opt, path, dir, strerror(errno));
     return;
   }
@@ -1488,6 +1491,7 @@ static void ProbeViewerFiles(const char *output_dir, char *msg, size_t len)
     for (size_t k = 0; k < sizeof types / sizeof types[0]; k++)
       known |= (size_t) (colon - tok) == strlen(types[k]) && !strncmp(tok, types[k], strlen(types[k]));
     snprintf(file, sizeof file, "%.*s", (int) strcspn(colon + 1, ":"), colon + 1);
+    if (!strcmp(file, "stdout") || !strcmp(file, "stderr")) continue; /* ascii's names of the streams */
     if (known && file[0]) ProbeFile(name, file, output_dir, msg, len);
   }
   PetscFree(all);
