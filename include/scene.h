@@ -234,4 +234,8 @@ PetscInt SceneOptionCapacity(PetscInt k);
 /* every option as JSON members "name": value, one a line after indent (summary.json's "options") */
 void SceneOptionsJson(const Scene *s, FILE *fp, const char *indent);
 
+/* Can the file be written? Its directory must exist (or be output_dir, made at the start of a run);
+   libc alone, so main may call it before PetscInitialize. msg: "" or why not. */
+void ProbeFile(const char *opt, const char *path, const char *output_dir, char *msg, size_t len);
+
 #endif

@@ -10,6 +10,7 @@
 #include "frames.h"
 #include "load.h"
 #include "report.h"
+#include "scene.h"
 
 #include <signal.h>
 #include <string.h>
@@ -211,7 +212,6 @@ static int InitFileProblem(int argc, char **argv)
     const int   history = !strcmp(argv[k], "-history"), write = history || !strcmp(argv[k], "-log_trace");
     const char *f = k + 1 < argc ? argv[k + 1] : "";
     struct stat st;
-    char        dir[4096];
     if (!read && !write) continue;
     if (!f[0] || f[0] == '-') {
       if (!read) continue; /* -history and -log_trace without one write to PETSc's default */
@@ -222,12 +222,14 @@ static int InitFileProblem(int argc, char **argv)
       fprintf(stderr, "fabric: error: %s %s: no such file, or not a readable file\n", argv[k], f);
       return 1;
     }
-    snprintf(dir, sizeof dir, "%s", f);
-    if (strrchr(dir, '/')) *strrchr(dir, '/') = 0;
-    else snprintf(dir, sizeof dir, ".");
-    if (write && ((history && !stat(f, &st) && S_ISDIR(st.st_mode)) || access(dir[0] ? dir : "/", W_OK | X_OK))) {
-      fprintf(stderr, "fabric: error: %s %s: cannot write the file there\n", argv[k], f);
-      return 1;
+    if (write) { /* -log_trace F writes F.0 first */
+      char path[4096], msg[8192];
+      snprintf(path, sizeof path, "%s%s", f, history ? "" : ".0");
+      ProbeFile(argv[k] + 1, path, "", msg, sizeof msg);
+      if (msg[0]) {
+        fprintf(stderr, "fabric: error: %s\n", msg);
+        return 1;
+      }
     }
   }
   return 0;

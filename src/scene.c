@@ -1380,7 +1380,7 @@ static void PlaceOf(const char *path, char *out, size_t len);
 /* Can the file be written? Its directory must exist (or be the output directory, made at the
    start of the run); an existing file is opened without being truncated, a new one is made and
    removed. msg: "" or why not. */
-static void ProbeFile(const char *opt, const char *path, const char *output_dir, char *msg, size_t len)
+void ProbeFile(const char *opt, const char *path, const char *output_dir, char *msg, size_t len)
 {
   char        dir[PETSC_MAX_PATH_LEN];
   const char *slash = strrchr(path, '/');
@@ -1394,11 +1394,12 @@ static void ProbeFile(const char *opt, const char *path, const char *output_dir,
     return;
   }
   if (stat(dir, &st)) {
-    char a[2 * PETSC_MAX_PATH_LEN], b[2 * PETSC_MAX_PATH_LEN];
+    const int why = errno; /* before PlaceOf's realpath */
+    char      a[2 * PETSC_MAX_PATH_LEN], b[2 * PETSC_MAX_PATH_LEN];
     PlaceOf(dir, a, sizeof a);
     PlaceOf(output_dir, b, sizeof b);
     if (output_dir[0] && !strcmp(a, b)) return; /* the output directory, made by the run: probed with -output_dir */
-    snprintf(msg, len, "-%s %s: cannot reach the directory %s (%s)", opt, path, dir, strerror(errno));
+    snprintf(msg, len, "-%s %s: cannot reach the directory %s (%s)", opt, path, dir, strerror(why));
     return;
   }
   if (!S_ISDIR(st.st_mode)) {
