@@ -196,6 +196,9 @@ PetscErrorCode FabricCreate(MPI_Comm comm, Fabric *fab);
    NULL where its crossings would not be every other one of fine's */
 PetscErrorCode FabricCreateCoarse(Fabric fine, Fabric *coarse);
 PetscErrorCode FabricDestroy(Fabric *fab);
+/* the te step is the paper's (-integrator paper): not within a tear nor in the relaxation after one,
+   where the broken pieces fly and its two chains' parasitic mode grows (the damped scheme runs) */
+PetscBool PaperSteps(const Fabric fab);
 /* a bias specimen's coordinates of crossing (i,j): along its length and across it, m, from its centre */
 void BiasCoords(const Scene *s, PetscInt i, PetscInt j, PetscReal *along, PetscReal *across);
 

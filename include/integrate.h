@@ -23,8 +23,5 @@ PetscErrorCode StableStepAgain(Fabric fab);
 #define WINDOW_GROW_MAX 5
 /* one te step: forces, integration, the balance test and the stability watch */
 PetscErrorCode TimeStep(Fabric fab, StepStats *st);
-/* the te step is the paper's (-integrator paper): not within a tear nor in the relaxation after one,
-   where the broken pieces fly and its two chains' parasitic mode grows (the damped scheme runs) */
-PetscBool PaperSteps(const Fabric fab);
 
 #endif

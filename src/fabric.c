@@ -32,6 +32,11 @@ void BiasCoords(const Scene *s, PetscInt i, PetscInt j, PetscReal *along, PetscR
   *across = (y - x) / PetscSqrtReal(2.0);
 }
 
+PetscBool PaperSteps(const Fabric fab)
+{
+  return fab->s.num.integrator == INTEGRATOR_PAPER && !fab->step.tear && !fab->step.torn ? PETSC_TRUE : PETSC_FALSE;
+}
+
 /* Does crossing (i,j) exist? The shape cuts the grid: a point outside it has no mass, no
    segment and no force (the kernels read the ghosted mask patch.exists). */
 static int PointExists(const Scene *s, PetscInt i, PetscInt j)

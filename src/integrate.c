@@ -169,11 +169,6 @@ static PetscErrorCode StableBound(Fabric fab, PetscReal omega2[2])
   PetscFunctionReturn(0);
 }
 
-PetscBool PaperSteps(const Fabric fab)
-{
-  return fab->s.num.integrator == INTEGRATOR_PAPER && !fab->step.tear && !fab->step.torn ? PETSC_TRUE : PETSC_FALSE;
-}
-
 /* damping: the paper's nu per point, plus a mass-proportional part c = 2 zeta omega_1 with
    omega_1 ~ pi omega_pull / (2 n) the slowest mode of the chain of n segments along the
    pull, omega_pull = 2 sqrt(k/m) its highest (from the pull-direction springs alone) */

@@ -22,7 +22,6 @@
 #include "spectrum.h"
 #include "comm.h"
 #include "hash.h"
-#include "integrate.h"
 
 #include <math.h>
 
