@@ -42,9 +42,14 @@
 #include <petscsnes.h>
 #include <petsctao.h>
 
+#include <ctype.h>
+#include <stdlib.h>
+#include <string.h>
+
 #define SHIFT_START  1e-2  /* k_s / k_ref at the first Newton step of the run (-snes_shift_start) */
 #define SHIFT_CARRY  10.0  /* a later load step starts from this times the last one's final shift (-snes_shift_carry) */
 #define SHIFT_FLOOR  1e-12 /* below this k_s / k_ref the shift is dropped */
+#define GMRES_RESTART_MAX 5000 /* -ksp_gmres_restart at most (StaticOptionsCheck) */
 #define MAX_ATTEMPTS 8     /* SNES solves per load step, each after a failed one */
 #define ENERGY_NOISE 1e-10 /* a predicted change of Pi below this fraction of |Pi| is rounding noise */
 
@@ -1434,6 +1439,26 @@ PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
                levels);
     PetscCheck(!set || levels >= 1, comm, PETSC_ERR_USER_INPUT,
                "-pc_mg_levels %" PetscInt_FMT ": the most levels -pc_type %s may make, 1 or more", levels, pc);
+  }
+  { /* GMRES keeps its Hessenberg matrices, 2 (restart + 2)^2 reals, on every rank beside its restart + 1
+       vectors: PETSc's allocation overflowed at 1e8 (a segfault) and failed at 40 000 with a line that named
+       no option; any KSP of the solver (-ksp_, -mg_levels_ksp_, -tao_ksp_ ...) */
+    char *all = NULL, name[256] = "";
+    PetscCall(PetscOptionsGetAll(NULL, &all));
+    for (char *tok = strtok(all, " "), *prev = NULL; tok && !name[0]; prev = tok, tok = strtok(NULL, " ")) {
+      const size_t n = prev ? strlen(prev) : 0;
+      char        *end;
+      long         v;
+      if (!prev || prev[0] != '-' || n < 18 || strcmp(prev + n - 17, "ksp_gmres_restart")) continue;
+      if (tok[0] == '-' && !isdigit((unsigned char) tok[1])) continue; /* no value: PETSc's own error */
+      v = strtol(tok, &end, 10);
+      if (*end || v < 1 || v > GMRES_RESTART_MAX) snprintf(name, sizeof name, "%s %s", prev, tok);
+    }
+    PetscCall(PetscFree(all));
+    PetscCheck(!name[0], comm, PETSC_ERR_USER_INPUT,
+               "%s: GMRES's restart, a whole number from 1 to %d (its Hessenberg matrices take 2 (restart + 2)^2 "
+               "reals on every rank: %d takes %.0f MB, beside restart + 1 vectors)",
+               name, GMRES_RESTART_MAX, GMRES_RESTART_MAX, 16.0 * PetscSqr(GMRES_RESTART_MAX + 2.0) / 1e6);
   }
   if (o.tao) { /* TAO's Newton line search or trust region, on the unconstrained Pi (the others
                   crashed or ran out of memory on the pushing test: ntl, ipm, pdipm) */
