@@ -1460,6 +1460,16 @@ PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
                "reals on every rank: %d takes %.0f MB, beside restart + 1 vectors)",
                name, GMRES_RESTART_MAX, GMRES_RESTART_MAX, 16.0 * PetscSqr(GMRES_RESTART_MAX + 2.0) / 1e6);
   }
+  { /* GAMG's aggregation only: its classical coarsening hung in PETSc's set-up on 2 ranks (on the 25 x 25
+       net), and its geometric one needs the crossings' coordinates, which it is not given */
+    char      type[64] = PCGAMGAGG;
+    PetscBool set;
+    PetscCall(PetscOptionsGetString(NULL, NULL, "-pc_gamg_type", type, sizeof type, &set));
+    PetscCheck(!set || !strcmp(type, PCGAMGAGG), comm, PETSC_ERR_USER_INPUT,
+               "-pc_gamg_type %s with -solver static: GAMG's aggregation (agg) only; classical hung in PETSc's "
+               "set-up on 2 ranks, geo needs coordinates it is not given",
+               type);
+  }
   if (o.tao) { /* TAO's Newton line search or trust region, on the unconstrained Pi (the others
                   crashed or ran out of memory on the pushing test: ntl, ipm, pdipm) */
     char      type[64] = TAONLS;
