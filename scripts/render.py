@@ -1,6 +1,6 @@
 """render.py - PNG images of frames of a fabric run, the fabric coloured by yarn tension.
 
-    xvfb-run -a pvbatch scripts/render.py DIR [--frames 0,5,last | all] [--field warp_tension]
+    xvfb-run -a -s -noreset pvbatch scripts/render.py DIR [--frames 0,5,last | all] [--field warp_tension]
                                               [--out PREFIX] [--size 1600x900] [--range LO,HI]
                                               [--view angle|top|side] [--panel FILE.png]
 
@@ -15,7 +15,7 @@ shear_angle_deg, ...) on one colour scale for all the chosen frames (its range o
 camera (fitted to the last chosen frame) so that the deformation can be compared: the paper's
 figure 11 is three steps of the pushing test,
 
-    xvfb-run -a pvbatch scripts/render.py results/pushing --frames 1,2,last --panel fig11.png
+    xvfb-run -a -s -noreset pvbatch scripts/render.py results/pushing --frames 1,2,last --panel fig11.png
 """
 import argparse
 import os
@@ -32,7 +32,7 @@ TITLES = {
 
 
 def parse():
-    p = argparse.ArgumentParser(description="Render frames of DIR/fabric.xmf to PNG (run with xvfb-run -a pvbatch).")
+    p = argparse.ArgumentParser(description="Render frames of DIR/fabric.xmf to PNG (run with xvfb-run -a -s -noreset pvbatch).")
     p.add_argument("dir", help="the run's -output_dir, holding fabric.xmf and fabric.h5")
     p.add_argument("--frames", default="last", help="comma-separated frame numbers, 'last', or 'all' (default: last)")
     p.add_argument("--field", default="warp_tension", help="point field to colour by (default: warp_tension)")

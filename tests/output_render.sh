@@ -1,42 +1,42 @@
 #!/usr/bin/env bash
-# output_render.sh FABRIC SCENE: scripts/render.py (xvfb-run -a pvbatch) renders frames of a run
+# output_render.sh FABRIC SCENE: scripts/render.py (pvbatch on an Xvfb display) renders frames of a run
 # coloured by warp tension, and three steps of a coarse pushing test side by side (the paper's
 # figure 11, --panel); scripts/plot_curve.py draws force vs elongation of two runs with a
 # measured curve overlaid; tests/check_png.py checks that the images show what they should.
 set -u
-# xvfb-run can fail to start its X server when others start at the same moment ("bad X server
-# connection"), most often on a loaded machine: retry that, and only that, up to 5 times, waiting
-# longer each time. A failure of render.py itself is kept.
-xvfb_pvbatch() {
-  local try out rc
-  for try in 1 2 3 4 5; do
-    out="$(xvfb-run -a pvbatch "$@" 2>&1)"; rc=$?
-    if [[ $rc -eq 0 ]] || ! grep -qiE "X server|xvfb|cannot open display|unable to open display" <<<"$out"; then
-      printf '%s\n' "$out"; return $rc
-    fi
-    sleep $((2 * try))
-  done
-  printf '%s\n' "$out"; return $rc
-}
 fabric="$1"; scene="$2"
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"; root="$(dirname "$here")"
-work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
+work="$(mktemp -d)"; xpid=""
+trap '[[ -n "$xpid" ]] && kill "$xpid" 2>/dev/null && wait "$xpid" 2>/dev/null; rm -rf "$work"' EXIT
+# One X server for the test's renders: Xvfb picks a free display itself and writes its number on
+# fd 3 once it accepts connections (-displayfd: no race with other servers starting), and does not
+# reset when a client leaves (-noreset: pvbatch connecting while it reset failed with "bad X server
+# connection", seen on a loaded machine)
+Xvfb -displayfd 3 -screen 0 1280x1024x24 -nolisten tcp -noreset 3>"$work/display" 2>"$work/xvfb.log" &
+xpid=$!
+for ((n = 0; n < 1200; n++)); do # at most 2 minutes
+  [[ -s "$work/display" ]] && break
+  kill -0 "$xpid" 2>/dev/null || { echo "FAIL Xvfb did not start:"; cat "$work/xvfb.log"; exit 1; }
+  sleep 0.1
+done
+[[ -s "$work/display" ]] || { echo "FAIL Xvfb gave no display within 2 minutes"; exit 1; }
+export DISPLAY=":$(head -n 1 "$work/display")"
 fail=0
 opts=(-scene "$scene" -quiet -gauge_mm 20 -width_mm 5 -load_steps 6)
 mpiexec -n 2 "$fabric" "${opts[@]}" -output_dir "$work/a" >/dev/null || { echo "FAIL the run failed"; exit 1; }
 mpiexec -n 2 "$fabric" "${opts[@]}" -warp_crimp_pct 4 -output_dir "$work/b" -output_every 0 >/dev/null || { echo "FAIL the second run failed"; exit 1; }
 
-xvfb_pvbatch "$root/scripts/render.py" "$work/a" --frames 0,last --size 800x450 --out "$work/img/frame" >"$work/render.log" 2>&1 || { echo "FAIL render.py failed:"; cat "$work/render.log"; fail=1; }
+pvbatch "$root/scripts/render.py" "$work/a" --frames 0,last --size 800x450 --out "$work/img/frame" >"$work/render.log" 2>&1 || { echo "FAIL render.py failed:"; cat "$work/render.log"; fail=1; }
 cat "$work/render.log"
 /usr/bin/python3 "$here/check_png.py" render "$work/img/frame_000000.png" "$work/img/frame_000006.png" 800x450 || fail=1
 # a frame that does not exist: a clear message and a non-zero exit
-if xvfb_pvbatch "$root/scripts/render.py" "$work/a" --frames 7 >"$work/bad.log" 2>&1 || ! grep -q "frame 7 does not exist" "$work/bad.log"; then
+if pvbatch "$root/scripts/render.py" "$work/a" --frames 7 >"$work/bad.log" 2>&1 || ! grep -q "frame 7 does not exist" "$work/bad.log"; then
   echo "FAIL render.py --frames 7 (of 0..6) did not fail with a message"; fail=1
 else echo "PASS render.py --frames 7 refused: $(grep "does not exist" "$work/bad.log")"; fi
 
 # the paper's figure 11: three steps of a coarse pushing test side by side (render.py --panel)
 mpiexec -n 2 "$fabric" -scene "$root/inputs/pushing.yaml" -quiet -ends_per_cm 6 -picks_per_cm 6 -load_steps 6 -output_every 2 -output_dir "$work/p" >/dev/null || { echo "FAIL the pushing run failed"; exit 1; }
-xvfb_pvbatch "$root/scripts/render.py" "$work/p" --frames 1,2,last --size 400x300 --out "$work/pimg/frame" --panel "$work/fig11.png" >"$work/panel.log" 2>&1 || { echo "FAIL render.py --panel failed:"; cat "$work/panel.log"; fail=1; }
+pvbatch "$root/scripts/render.py" "$work/p" --frames 1,2,last --size 400x300 --out "$work/pimg/frame" --panel "$work/fig11.png" >"$work/panel.log" 2>&1 || { echo "FAIL render.py --panel failed:"; cat "$work/panel.log"; fail=1; }
 cat "$work/panel.log"
 /usr/bin/python3 "$here/check_png.py" panel "$work/fig11.png" 3 400x300 || fail=1
 
