@@ -1377,9 +1377,10 @@ static PetscErrorCode ReadOptions(MPI_Comm comm, StaticOptions *o)
              o->order);
   PetscCheck(o->line_lump >= 0 && o->line_lump < PETSC_INFINITY, comm, PETSC_ERR_USER_INPUT,
              "-mg_line_lump %g: must be a finite number, 0 or more", (double) o->line_lump);
-  PetscCheck(o->shift_start >= 0 && o->shift_carry >= 0, comm, PETSC_ERR_USER_INPUT,
-             "-snes_shift_start %g, -snes_shift_carry %g: must not be negative", (double) o->shift_start,
-             (double) o->shift_carry);
+  PetscCheck(o->shift_start >= 0 && o->shift_start < PETSC_INFINITY, comm, PETSC_ERR_USER_INPUT,
+             "-snes_shift_start %.6g: must be a finite number, 0 or more", (double) o->shift_start);
+  PetscCheck(o->shift_carry >= 0 && o->shift_carry < PETSC_INFINITY, comm, PETSC_ERR_USER_INPUT,
+             "-snes_shift_carry %.6g: must be a finite number, 0 or more", (double) o->shift_carry);
   PetscFunctionReturn(0);
 }
 
