@@ -1493,7 +1493,12 @@ static void ProbeViewerFiles(const char *output_dir, char *msg, size_t len)
       known |= (size_t) (colon - tok) == strlen(types[k]) && !strncmp(tok, types[k], strlen(types[k]));
     snprintf(file, sizeof file, "%.*s", (int) strcspn(colon + 1, ":"), colon + 1);
     if (!strcmp(file, "stdout") || !strcmp(file, "stderr")) continue; /* ascii's names of the streams */
-    if (known && file[0]) ProbeFile(name, file, output_dir, msg, len);
+    if (!known || !file[0]) continue;
+    /* PETSc writes -dm_view as the grid is made, before the run makes its output directory */
+    ProbeFile(name, file, strcmp(name, "dm_view") ? output_dir : "", msg, len);
+    if (msg[0] && !strcmp(name, "dm_view") && strstr(msg, "cannot reach"))
+      snprintf(msg + strlen(msg), len - strlen(msg), ": PETSc writes it as the grid is made, before the run makes "
+                                                     "-output_dir");
   }
   PetscFree(all);
 }
