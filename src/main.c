@@ -21,20 +21,29 @@ static const char help[] = "fabric: woven-fabric mechanics at the yarn-crossing 
                            "  mpiexec -n P fabric -scene inputs/strip_warp.yaml [-output_dir DIR] [options]\n"
                            "Any scene key can be overridden on the command line. Units are in the option names.\n\n";
 
-/* PETSc's "Input string abc has no numeric value" does not say which option: find it. */
+/* PETSc's "Input string abc has no numeric value", "Unable to find requested KSP type abc" and
+   "Unknown vector type: abc" do not say which option: find the one given that value. */
 static void NameTheOption(const char *mess, char *out, size_t len)
 {
-  const char *pre = "Input string ", *post = " has no numeric value";
-  char        value[256], *all             = NULL;
-  size_t      lp = strlen(pre);
+  const char *pre = "Input string ", *post = " has no numeric value", *last = strrchr(mess, ' ');
+  const int   number = !strncmp(mess, pre, strlen(pre)) && strstr(mess, post);
+  char        value[256], *all = NULL;
 
   snprintf(out, len, "%s", mess);
-  if (strncmp(mess, pre, lp) || !strstr(mess, post)) return;
-  snprintf(value, sizeof value, "%.*s", (int) (strstr(mess, post) - mess - lp), mess + lp);
+  if (number)
+    snprintf(value, sizeof value, "%.*s", (int) (strstr(mess, post) - mess - strlen(pre)), mess + strlen(pre));
+  else if (last && (!strncmp(mess, "Unable to find requested ", 25) || !strncmp(mess, "Unknown ", 8)) &&
+           strstr(mess, " type"))
+    snprintf(value, sizeof value, "%s", last + 1);
+  else
+    return;
   if (PetscOptionsGetAll(NULL, &all) || !all) return;
   for (char *tok = strtok(all, " "), *prev = NULL; tok; prev = tok, tok = strtok(NULL, " "))
-    if (prev && prev[0] == '-' && !strcmp(tok, value)) {
-      snprintf(out, len, "%s %s: not a number", prev, value);
+    if (prev && prev[0] == '-' && !strcmp(tok, value) && (number || strstr(prev, "_type"))) {
+      if (number)
+        snprintf(out, len, "%s %s: not a number", prev, value);
+      else
+        snprintf(out, len, "%s %s: %s", prev, value, mess);
       break;
     }
   PetscFree(all);
