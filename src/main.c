@@ -21,13 +21,22 @@ static const char help[] = "fabric: woven-fabric mechanics at the yarn-crossing 
                            "  mpiexec -n P fabric -scene inputs/strip_warp.yaml [-output_dir DIR] [options]\n"
                            "Any scene key can be overridden on the command line. Units are in the option names.\n\n";
 
-/* PETSc's "Input string abc has no numeric value", "Unable to find requested KSP type abc" and
-   "Unknown vector type: abc" do not say which option: find the one given that value. */
+/* PETSc's "Input string abc has no numeric value" (or "integer value"), "Unable to find requested
+   KSP type abc" and "Unknown vector type: abc" do not say which option: find the one given that
+   value, of the class the message names where it names one (-ksp_type cg -pc_type cg: the PC's). */
 static void NameTheOption(const char *mess, char *out, size_t len)
 {
-  const char *pre = "Input string ", *post = " has no numeric value", *last = strrchr(mess, ' ');
+  static const char *const classes[][2] = {
+      {"requested KSP type", "ksp_type"},          {"requested PC type", "pc_type"},
+      {"requested SNES type", "snes_type"},        {"requested Line Search type", "linesearch_type"},
+      {"requested PetscSF type", "sf_type"},       {"requested Tao type", "tao_type"},
+      {"Unknown vector type", "vec_type"},         {"requested Mat type", "mat_type"},
+      {"requested KSPGuess type", "ksp_guess_type"}};
+  const char *pre = "Input string ", *last = strrchr(mess, ' ');
+  const char *post = strstr(mess, " has no numeric value") ? " has no numeric value" : " has no integer value";
   const int   number = !strncmp(mess, pre, strlen(pre)) && strstr(mess, post);
-  char        value[256], *all = NULL;
+  const char *want   = "_type";
+  char        value[256], *all = NULL, found[256] = "";
 
   snprintf(out, len, "%s", mess);
   if (number)
@@ -37,16 +46,22 @@ static void NameTheOption(const char *mess, char *out, size_t len)
     snprintf(value, sizeof value, "%s", last + 1);
   else
     return;
+  for (size_t c = 0; c < sizeof classes / sizeof classes[0]; c++)
+    if (strstr(mess, classes[c][0])) want = classes[c][1];
   if (PetscOptionsGetAll(NULL, &all) || !all) return;
-  for (char *tok = strtok(all, " "), *prev = NULL; tok; prev = tok, tok = strtok(NULL, " "))
-    if (prev && prev[0] == '-' && !strcmp(tok, value) && (number || strstr(prev, "_type"))) {
-      if (number)
-        snprintf(out, len, "%s %s: not a number", prev, value);
-      else
-        snprintf(out, len, "%s %s: %s", prev, value, mess);
+  for (char *tok = strtok(all, " "), *prev = NULL; tok; prev = tok, tok = strtok(NULL, " ")) {
+    const size_t n = prev ? strlen(prev) : 0, w = strlen(want);
+    if (!prev || prev[0] != '-' || strcmp(tok, value)) continue;
+    if (number || (n > w && !strcmp(prev + n - w, want))) { /* the class's own option */
+      snprintf(found, sizeof found, "%s", prev);
       break;
     }
+    if (!found[0] && strstr(prev, "_type")) snprintf(found, sizeof found, "%s", prev); /* else any type's */
+  }
   PetscFree(all);
+  if (found[0] && number)
+    snprintf(out, len, "%s %s: %s", found, value, strstr(post, "integer") ? "not an integer" : "not a number");
+  else if (found[0]) snprintf(out, len, "%s %s: %s", found, value, mess);
 }
 
 /* An MPI call failed: what the options asked of MPI that it may not offer ("" if nothing) */

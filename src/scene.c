@@ -1494,11 +1494,16 @@ static void ProbeViewerFiles(const char *output_dir, char *msg, size_t len)
     snprintf(file, sizeof file, "%.*s", (int) strcspn(colon + 1, ":"), colon + 1);
     if (!strcmp(file, "stdout") || !strcmp(file, "stderr")) continue; /* ascii's names of the streams */
     if (!known || !file[0]) continue;
-    /* PETSc writes -dm_view as the grid is made, before the run makes its output directory */
-    ProbeFile(name, file, strcmp(name, "dm_view") ? output_dir : "", msg, len);
-    if (msg[0] && !strcmp(name, "dm_view") && strstr(msg, "cannot reach"))
-      snprintf(msg + strlen(msg), len - strlen(msg), ": PETSc writes it as the grid is made, before the run makes "
-                                                     "-output_dir");
+    /* PETSc opens these files as the grid and the solvers are made, before the run makes its output
+       directory; -log_view's at the end of the run */
+    ProbeFile(name, file, strcmp(name, "log_view") ? "" : output_dir, msg, len);
+    if (msg[0] && strcmp(name, "log_view")) { /* in the output directory the run makes? */
+      char later[8] = "";
+      ProbeFile(name, file, output_dir, later, sizeof later);
+      if (!later[0])
+        snprintf(msg + strlen(msg), len - strlen(msg),
+                 ": PETSc opens it before the run makes -output_dir (only -log_view's file may be in it)");
+    }
   }
   PetscFree(all);
 }

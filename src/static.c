@@ -1396,6 +1396,53 @@ static PetscBool StencilFits(const StaticOptions *o)
   return mg && o->line_smoother ? PETSC_TRUE : PETSC_FALSE;
 }
 
+/* an option's name, not a value (PETSc's rule: "-5" and "-.5" are values) */
+static PetscBool IsOptionName(const char *tok)
+{
+  return tok[0] == '-' && isalpha((unsigned char) tok[1]) ? PETSC_TRUE : PETSC_FALSE;
+}
+
+static PetscBool GmresRestartOk(const char *value)
+{
+  char      *end;
+  const long v = strtol(value, &end, 10);
+  return value[0] && !*end && v >= 1 && v <= GMRES_RESTART_MAX ? PETSC_TRUE : PETSC_FALSE;
+}
+
+static PetscBool GamgTypeOk(const char *value)
+{
+  return !strcmp(value, PCGAMGAGG) ? PETSC_TRUE : PETSC_FALSE;
+}
+
+/* The first option given whose name is suffix under any prefix (-ksp_gmres_restart,
+   -mg_levels_ksp_gmres_restart, -tao_nls_ksp_gmres_restart ...) and whose value ("" if none) ok()
+   refuses: "-name value" into bad, else "". Read from the database's text, which marks nothing used
+   (an option no solver reads is still reported unused). */
+static PetscErrorCode FindBadOption(const char *suffix, PetscBool (*ok)(const char *), char *bad, size_t len)
+{
+  const size_t ls  = strlen(suffix);
+  char        *all = NULL, *tok;
+
+  PetscFunctionBeginUser;
+  bad[0] = 0;
+  PetscCall(PetscOptionsGetAll(NULL, &all));
+  tok = all ? strtok(all, " ") : NULL;
+  while (tok && !bad[0]) {
+    const char  *name = tok, *value = "";
+    const size_t n    = strlen(name);
+    tok               = strtok(NULL, " ");
+    if (!IsOptionName(name)) continue;
+    if (tok && !IsOptionName(tok)) {
+      value = tok;
+      tok   = strtok(NULL, " ");
+    }
+    if (n > ls && !strcmp(name + n - ls, suffix) && (name[n - ls - 1] == '-' || name[n - ls - 1] == '_') && !ok(value))
+      snprintf(bad, len, "%s%s%s", name, value[0] ? " " : "", value);
+  }
+  PetscCall(PetscFree(all));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
 {
   StaticOptions o;
@@ -1443,33 +1490,20 @@ PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
   }
   { /* GMRES keeps its Hessenberg matrices, 2 (restart + 2)^2 reals, on every rank beside its restart + 1
        vectors: PETSc's allocation overflowed at 1e8 (a segfault) and failed at 40 000 with a line that named
-       no option; any KSP of the solver (-ksp_, -mg_levels_ksp_, -tao_ksp_ ...) */
-    char *all = NULL, name[256] = "";
-    PetscCall(PetscOptionsGetAll(NULL, &all));
-    for (char *tok = strtok(all, " "), *prev = NULL; tok && !name[0]; prev = tok, tok = strtok(NULL, " ")) {
-      const size_t n = prev ? strlen(prev) : 0;
-      char        *end;
-      long         v;
-      if (!prev || prev[0] != '-' || n < 18 || strcmp(prev + n - 17, "ksp_gmres_restart")) continue;
-      if (tok[0] == '-' && !isdigit((unsigned char) tok[1])) continue; /* no value: PETSc's own error */
-      v = strtol(tok, &end, 10);
-      if (*end || v < 1 || v > GMRES_RESTART_MAX) snprintf(name, sizeof name, "%s %s", prev, tok);
-    }
-    PetscCall(PetscFree(all));
-    PetscCheck(!name[0], comm, PETSC_ERR_USER_INPUT,
+       no option */
+    char bad[PETSC_MAX_PATH_LEN];
+    PetscCall(FindBadOption("ksp_gmres_restart", GmresRestartOk, bad, sizeof bad));
+    PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT,
                "%s: GMRES's restart, a whole number from 1 to %d (its Hessenberg matrices take 2 (restart + 2)^2 "
                "reals on every rank: %d takes %.0f MB, beside restart + 1 vectors)",
-               name, GMRES_RESTART_MAX, GMRES_RESTART_MAX, 16.0 * PetscSqr(GMRES_RESTART_MAX + 2.0) / 1e6);
-  }
-  { /* GAMG's aggregation only: its classical coarsening hung in PETSc's set-up on 2 ranks (on the 25 x 25
+               bad, GMRES_RESTART_MAX, GMRES_RESTART_MAX, 16.0 * PetscSqr(GMRES_RESTART_MAX + 2.0) / 1e6);
+    /* GAMG's aggregation only: its classical coarsening hung in PETSc's set-up on 2 ranks (on the 25 x 25
        net), and its geometric one needs the crossings' coordinates, which it is not given */
-    char      type[64] = PCGAMGAGG;
-    PetscBool set;
-    PetscCall(PetscOptionsGetString(NULL, NULL, "-pc_gamg_type", type, sizeof type, &set));
-    PetscCheck(!set || !strcmp(type, PCGAMGAGG), comm, PETSC_ERR_USER_INPUT,
-               "-pc_gamg_type %s with -solver static: GAMG's aggregation (agg) only; classical hung in PETSc's "
-               "set-up on 2 ranks, geo needs coordinates it is not given",
-               type);
+    PetscCall(FindBadOption("pc_gamg_type", GamgTypeOk, bad, sizeof bad));
+    PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT,
+               "%s with -solver static: GAMG's aggregation (agg) only; classical hung in PETSc's set-up on 2 ranks, "
+               "geo needs coordinates it is not given",
+               bad);
   }
   if (o.tao) { /* TAO's Newton line search or trust region, on the unconstrained Pi (the others
                   crashed or ran out of memory on the pushing test: ntl, ipm, pdipm) */
