@@ -234,6 +234,19 @@ PetscInt SceneOptionCapacity(PetscInt k);
 /* every option as JSON members "name": value, one a line after indent (summary.json's "options") */
 void SceneOptionsJson(const Scene *s, FILE *fp, const char *indent);
 
+/* The options given, in PETSc's database: each name (with its '-') and value ("" if none), read
+   from the database's text, which marks nothing used. OptionsGivenGet: 0, or non-zero if PETSc
+   could not list them (then nothing to free). */
+typedef struct {
+  PetscInt     n;
+  const char **name, **value;
+  char        *text;
+} OptionsGiven;
+int  OptionsGivenGet(OptionsGiven *g);
+void OptionsGivenFree(OptionsGiven *g);
+/* name is -suffix, or suffix under a prefix (-mg_levels_ksp_type, -tao_nls_ksp_type ...) */
+PetscBool OptionIs(const char *name, const char *suffix);
+
 /* Can the file be written? Its directory must exist (or be output_dir, made at the start of a run);
    libc alone, so main may call it before PetscInitialize. msg: "" or why not. */
 void ProbeFile(const char *opt, const char *path, const char *output_dir, char *msg, size_t len);

@@ -32,11 +32,12 @@ static void NameTheOption(const char *mess, char *out, size_t len)
       {"requested PetscSF type", "sf_type"},       {"requested Tao type", "tao_type"},
       {"Unknown vector type", "vec_type"},         {"requested Mat type", "mat_type"},
       {"requested KSPGuess type", "ksp_guess_type"}};
-  const char *pre = "Input string ", *last = strrchr(mess, ' ');
-  const char *post = strstr(mess, " has no numeric value") ? " has no numeric value" : " has no integer value";
-  const int   number = !strncmp(mess, pre, strlen(pre)) && strstr(mess, post);
-  const char *want   = "_type";
-  char        value[256], *all = NULL, found[256] = "";
+  const char  *pre = "Input string ", *last = strrchr(mess, ' ');
+  const char  *post = strstr(mess, " has no numeric value") ? " has no numeric value" : " has no integer value";
+  const int    number = !strncmp(mess, pre, strlen(pre)) && strstr(mess, post);
+  const char  *want   = "type"; /* any type's option, unless the message names its class */
+  char         value[256], found[256] = "";
+  OptionsGiven g;
 
   snprintf(out, len, "%s", mess);
   if (number)
@@ -48,17 +49,16 @@ static void NameTheOption(const char *mess, char *out, size_t len)
     return;
   for (size_t c = 0; c < sizeof classes / sizeof classes[0]; c++)
     if (strstr(mess, classes[c][0])) want = classes[c][1];
-  if (PetscOptionsGetAll(NULL, &all) || !all) return;
-  for (char *tok = strtok(all, " "), *prev = NULL; tok; prev = tok, tok = strtok(NULL, " ")) {
-    const size_t n = prev ? strlen(prev) : 0, w = strlen(want);
-    if (!prev || prev[0] != '-' || strcmp(tok, value)) continue;
-    if (number || (n > w && !strcmp(prev + n - w, want))) { /* the class's own option */
-      snprintf(found, sizeof found, "%s", prev);
+  if (OptionsGivenGet(&g)) return;
+  for (PetscInt q = 0; q < g.n; q++) {
+    if (strcmp(g.value[q], value)) continue;
+    if (number || OptionIs(g.name[q], want)) { /* the class's own option */
+      snprintf(found, sizeof found, "%s", g.name[q]);
       break;
     }
-    if (!found[0] && strstr(prev, "_type")) snprintf(found, sizeof found, "%s", prev); /* else any type's */
+    if (!found[0] && OptionIs(g.name[q], "type")) snprintf(found, sizeof found, "%s", g.name[q]); /* else any type's */
   }
-  PetscFree(all);
+  OptionsGivenFree(&g);
   if (found[0] && number)
     snprintf(out, len, "%s %s: %s", found, value, strstr(post, "integer") ? "not an integer" : "not a number");
   else if (found[0]) snprintf(out, len, "%s %s: %s", found, value, mess);

@@ -13,6 +13,7 @@
 #include "scene.h"
 #include "comm.h"
 
+#include <ctype.h>
 #include <errno.h>
 #include <limits.h>
 #include <math.h>
@@ -1377,28 +1378,42 @@ static void ProbeDirectory(const char *opt, const char *path, char *msg, size_t 
 
 static void PlaceOf(const char *path, char *out, size_t len);
 
+/* the directory a file's path names ("." for none) */
+static void DirOf(const char *path, char *dir, size_t len)
+{
+  const char *slash = strrchr(path, '/');
+  snprintf(dir, len, "%.*s", slash ? (int) (slash == path ? 1 : slash - path) : 1, slash ? path : ".");
+}
+
+/* Is the file's directory the output directory (compared as places)? */
+static int InOutputDir(const char *path, const char *output_dir)
+{
+  char dir[PETSC_MAX_PATH_LEN], a[2 * PETSC_MAX_PATH_LEN], b[2 * PETSC_MAX_PATH_LEN];
+  if (!output_dir[0]) return 0;
+  DirOf(path, dir, sizeof dir);
+  PlaceOf(dir, a, sizeof a);
+  PlaceOf(output_dir, b, sizeof b);
+  return !strcmp(a, b);
+}
+
 /* Can the file be written? Its directory must exist (or be the output directory, made at the
    start of the run); an existing file is opened without being truncated, a new one is made and
    removed. msg: "" or why not. */
 void ProbeFile(const char *opt, const char *path, const char *output_dir, char *msg, size_t len)
 {
   char        dir[PETSC_MAX_PATH_LEN];
-  const char *slash = strrchr(path, '/');
   struct stat st;
   int         fd;
 
   msg[0] = 0;
-  snprintf(dir, sizeof dir, "%.*s", slash ? (int) (slash == path ? 1 : slash - path) : 1, slash ? path : ".");
+  DirOf(path, dir, sizeof dir);
   if (!stat(path, &st) && S_ISDIR(st.st_mode)) {
     snprintf(msg, len, "-%s %s: is a directory, not a file", opt, path);
     return;
   }
   if (stat(dir, &st)) {
-    const int why = errno; /* before PlaceOf's realpath */
-    char      a[2 * PETSC_MAX_PATH_LEN], b[2 * PETSC_MAX_PATH_LEN];
-    PlaceOf(dir, a, sizeof a);
-    PlaceOf(output_dir, b, sizeof b);
-    if (output_dir[0] && !strcmp(a, b)) return; /* the output directory, made by the run: probed with -output_dir */
+    const int why = errno; /* before InOutputDir's realpath */
+    if (InOutputDir(path, output_dir)) return; /* made by the run: probed with -output_dir */
     snprintf(msg, len, "-%s %s: cannot reach the directory %s (%s)", opt, path, dir, strerror(why));
     return;
   }
@@ -1470,42 +1485,85 @@ static void PositionsOutClash(const SceneOutput *o, char *msg, size_t len)
   }
 }
 
+/* an option's name, not a value (PETSc's rule: "-5" and "-.5" are values) */
+static int IsOptionName(const char *tok)
+{
+  return tok[0] == '-' && isalpha((unsigned char) tok[1]);
+}
+
+int OptionsGivenGet(OptionsGiven *g)
+{
+  PetscInt cap = 1;
+
+  memset(g, 0, sizeof *g);
+  if (PetscOptionsGetAll(NULL, &g->text) || !g->text) return 1;
+  for (const char *c = g->text; *c; c++) cap += *c == ' ';
+  g->name  = malloc(cap * sizeof *g->name);
+  g->value = malloc(cap * sizeof *g->value);
+  if (!g->name || !g->value) {
+    OptionsGivenFree(g);
+    return 1;
+  }
+  for (char *tok = strtok(g->text, " "); tok;) {
+    const char *name = tok;
+    tok              = strtok(NULL, " ");
+    if (!IsOptionName(name)) continue;
+    g->name[g->n]  = name;
+    g->value[g->n] = "";
+    if (tok && !IsOptionName(tok)) {
+      g->value[g->n] = tok;
+      tok            = strtok(NULL, " ");
+    }
+    g->n++;
+  }
+  return 0;
+}
+
+void OptionsGivenFree(OptionsGiven *g)
+{
+  free(g->name);
+  free(g->value);
+  PetscFree(g->text);
+  memset(g, 0, sizeof *g);
+}
+
+PetscBool OptionIs(const char *name, const char *suffix)
+{
+  const size_t n = strlen(name), ls = strlen(suffix);
+  return n > ls && !strcmp(name + n - ls, suffix) && (name[n - ls - 1] == '-' || name[n - ls - 1] == '_')
+             ? PETSC_TRUE
+             : PETSC_FALSE;
+}
+
 /* A PETSc viewer option that names a file ([type]:file[:format], -log_view :log.txt, -snes_monitor
    :snes.txt, -ksp_view_mat binary:A.bin): PETSc opens it only when it first writes, -log_view's at
-   the very end of a run, and a rank that cannot open it stops alone, so look now. msg: "" or why
-   it cannot be written. */
+   the very end of a run, and a rank that cannot open it stops alone, so look now. PETSc opens the
+   others as the grid and the solvers are made, before the run makes its output directory: only
+   -log_view's file may be in it. msg: "" or why a file cannot be written. */
 static void ProbeViewerFiles(const char *output_dir, char *msg, size_t len)
 {
   static const char *const types[] = {"", "ascii", "binary", "hdf5", "vtk"};
-  char                    *all = NULL;
+  OptionsGiven             g;
 
   msg[0] = 0;
-  if (PetscOptionsGetAll(NULL, &all) || !all) return;
-  for (char *tok = strtok(all, " "), *prev = NULL; tok && !msg[0]; prev = tok, tok = strtok(NULL, " ")) {
-    const char  *name = prev && prev[0] == '-' ? prev + 1 : NULL, *colon = strchr(tok, ':');
-    const size_t n    = name ? strlen(name) : 0;
-    char         file[PETSC_MAX_PATH_LEN];
-    int          known = 0;
-    if (!name || !colon || tok[0] == '-') continue;
-    if (!strstr(name, "_view") && !strstr(name, "monitor") && !(n > 16 && !strcmp(name + n - 16, "converged_reason")))
+  if (OptionsGivenGet(&g)) return;
+  for (PetscInt q = 0; q < g.n && !msg[0]; q++) {
+    const char *name = g.name[q] + 1, *value = g.value[q], *colon = strchr(value, ':');
+    const int   log = !strcmp(name, "log_view");
+    char        file[PETSC_MAX_PATH_LEN];
+    int         known = 0;
+    if (!colon || (!strstr(name, "_view") && !strstr(name, "monitor") && !OptionIs(g.name[q], "converged_reason")))
       continue;
     for (size_t k = 0; k < sizeof types / sizeof types[0]; k++)
-      known |= (size_t) (colon - tok) == strlen(types[k]) && !strncmp(tok, types[k], strlen(types[k]));
+      known |= (size_t) (colon - value) == strlen(types[k]) && !strncmp(value, types[k], strlen(types[k]));
     snprintf(file, sizeof file, "%.*s", (int) strcspn(colon + 1, ":"), colon + 1);
-    if (!strcmp(file, "stdout") || !strcmp(file, "stderr")) continue; /* ascii's names of the streams */
-    if (!known || !file[0]) continue;
-    /* PETSc opens these files as the grid and the solvers are made, before the run makes its output
-       directory; -log_view's at the end of the run */
-    ProbeFile(name, file, strcmp(name, "log_view") ? "" : output_dir, msg, len);
-    if (msg[0] && strcmp(name, "log_view")) { /* in the output directory the run makes? */
-      char later[8] = "";
-      ProbeFile(name, file, output_dir, later, sizeof later);
-      if (!later[0])
-        snprintf(msg + strlen(msg), len - strlen(msg),
-                 ": PETSc opens it before the run makes -output_dir (only -log_view's file may be in it)");
-    }
+    if (!known || !file[0] || !strcmp(file, "stdout") || !strcmp(file, "stderr")) continue; /* ascii's streams */
+    ProbeFile(name, file, log ? output_dir : "", msg, len);
+    if (msg[0] && !log && InOutputDir(file, output_dir))
+      snprintf(msg + strlen(msg), len - strlen(msg),
+               ": PETSc opens it before the run makes -output_dir (only -log_view's file may be in it)");
   }
-  PetscFree(all);
+  OptionsGivenFree(&g);
 }
 
 /* -output_dir, -positions_out and the viewers' files can be written: rank 0 looks, every rank refuses alike */

@@ -42,7 +42,6 @@
 #include <petscsnes.h>
 #include <petsctao.h>
 
-#include <ctype.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -1396,12 +1395,6 @@ static PetscBool StencilFits(const StaticOptions *o)
   return mg && o->line_smoother ? PETSC_TRUE : PETSC_FALSE;
 }
 
-/* an option's name, not a value (PETSc's rule: "-5" and "-.5" are values) */
-static PetscBool IsOptionName(const char *tok)
-{
-  return tok[0] == '-' && isalpha((unsigned char) tok[1]) ? PETSC_TRUE : PETSC_FALSE;
-}
-
 static PetscBool GmresRestartOk(const char *value)
 {
   char      *end;
@@ -1416,30 +1409,19 @@ static PetscBool GamgTypeOk(const char *value)
 
 /* The first option given whose name is suffix under any prefix (-ksp_gmres_restart,
    -mg_levels_ksp_gmres_restart, -tao_nls_ksp_gmres_restart ...) and whose value ("" if none) ok()
-   refuses: "-name value" into bad, else "". Read from the database's text, which marks nothing used
-   (an option no solver reads is still reported unused). */
+   refuses: "-name value" into bad, else "". Read without marking any option used (an option no
+   solver reads is still reported unused). */
 static PetscErrorCode FindBadOption(const char *suffix, PetscBool (*ok)(const char *), char *bad, size_t len)
 {
-  const size_t ls  = strlen(suffix);
-  char        *all = NULL, *tok;
+  OptionsGiven g;
 
   PetscFunctionBeginUser;
   bad[0] = 0;
-  PetscCall(PetscOptionsGetAll(NULL, &all));
-  tok = all ? strtok(all, " ") : NULL;
-  while (tok && !bad[0]) {
-    const char  *name = tok, *value = "";
-    const size_t n    = strlen(name);
-    tok               = strtok(NULL, " ");
-    if (!IsOptionName(name)) continue;
-    if (tok && !IsOptionName(tok)) {
-      value = tok;
-      tok   = strtok(NULL, " ");
-    }
-    if (n > ls && !strcmp(name + n - ls, suffix) && (name[n - ls - 1] == '-' || name[n - ls - 1] == '_') && !ok(value))
-      snprintf(bad, len, "%s%s%s", name, value[0] ? " " : "", value);
-  }
-  PetscCall(PetscFree(all));
+  PetscCheck(!OptionsGivenGet(&g), PETSC_COMM_SELF, PETSC_ERR_MEM, "cannot list the options given");
+  for (PetscInt q = 0; q < g.n && !bad[0]; q++)
+    if (OptionIs(g.name[q], suffix) && !ok(g.value[q]))
+      snprintf(bad, len, "%s%s%s", g.name[q], g.value[q][0] ? " " : "", g.value[q]);
+  OptionsGivenFree(&g);
   PetscFunctionReturn(0);
 }
 
