@@ -469,6 +469,58 @@ static void SetUpBodies(Fabric fab)
   }
 }
 
+/* The ball against the fabric at rest: it must not start inside a free crossing's reach (its
+   penalty would fling the crossing out), and its path (start to start + travel along its direction)
+   must not reach a held crossing, which the contact leaves alone (the ball would pass through the
+   clamps). The deepest of each, over all ranks; refused beyond 1e-6 of the reach. */
+static PetscErrorCode CheckSphere(Fabric fab, const DMDALocalInfo *info)
+{
+  const Bodies      *sb = &fab->s.bodies;
+  const Body        *b  = &fab->bodies.body[0];
+  const PetscScalar *x0;
+  PetscReal          deep[2] = {-PETSC_MAX_REAL, -PETSC_MAX_REAL}; /* free at the start, held on the path */
+  PetscInt           at[2]   = {-1, -1};
+
+  PetscFunctionBeginUser;
+  if (!(sb->sphere_radius > 0)) PetscFunctionReturn(0);
+  PetscCall(VecGetArrayRead(fab->grid.X0, &x0));
+  for (PetscInt j = info->ys; j < info->ys + info->ym; j++)
+    for (PetscInt i = info->xs; i < info->xs + info->xm; i++) {
+      const PetscInt k = (j - info->ys) * info->xm + i - info->xs;
+      PetscReal      r[3], along = 0, d2 = 0, d2s = 0;
+      if (!PointExists(&fab->s, i, j)) continue;
+      for (int d = 0; d < 3; d++) r[d] = x0[3 * k + d] - b->ref[d], along += r[d] * b->dir[d];
+      along = PetscMin(PetscMax(along, 0.0), sb->sphere_travel); /* the path's point nearest the crossing */
+      for (int d = 0; d < 3; d++) d2 += PetscSqr(r[d] - along * b->dir[d]), d2s += r[d] * r[d];
+      {
+        const int       held = fab->grid.kind[k] != POINT_FREE;
+        const PetscReal p    = b->reach - PetscSqrtReal(held ? d2 : d2s);
+        if (p > deep[held]) deep[held] = p, at[held] = j * fab->s.spec.nx + i;
+      }
+    }
+  PetscCall(VecRestoreArrayRead(fab->grid.X0, &x0));
+  for (int h = 0; h < 2; h++) {
+    PetscReal best = deep[h];
+    PetscInt  code = at[h];
+    PetscCall(GlobalArgMax(fab->comm, &best, &code));
+    deep[h] = best, at[h] = code;
+  }
+  PetscCheck(!(deep[0] > 1e-6 * b->reach), fab->comm, PETSC_ERR_USER_INPUT,
+             "-sphere_start_mm %g,%g,%g: the ball (-sphere_diameter_mm %g) starts %g mm into the fabric at crossing "
+             "(%" PetscInt_FMT ", %" PetscInt_FMT "); start it clear of the fabric (by default it starts just below the "
+             "grid's centre)",
+             (double) (1e3 * sb->sphere_start[0]), (double) (1e3 * sb->sphere_start[1]),
+             (double) (1e3 * sb->sphere_start[2]), (double) (2e3 * sb->sphere_radius), (double) (1e3 * deep[0]),
+             at[0] % fab->s.spec.nx, at[0] / fab->s.spec.nx);
+  PetscCheck(!(deep[1] > 1e-6 * b->reach), fab->comm, PETSC_ERR_USER_INPUT,
+             "-sphere_diameter_mm %g with -sphere_travel_mm %g: the ball's path reaches the held crossing (%" PetscInt_FMT
+             ", %" PetscInt_FMT ") by %g mm, and contact leaves held crossings alone (it would pass through the clamps): "
+             "a smaller ball, a shorter travel or a wider clamp",
+             (double) (2e3 * sb->sphere_radius), (double) (1e3 * sb->sphere_travel), at[1] % fab->s.spec.nx,
+             at[1] / fab->s.spec.nx, (double) (1e3 * deep[1]));
+  PetscFunctionReturn(0);
+}
+
 /* friction anchors: each crossing's rest position in the frame of each body */
 static PetscErrorCode SetUpAnchors(Fabric fab)
 {
@@ -504,6 +556,7 @@ static PetscErrorCode FabricSetUp(Fabric fab)
   PetscCall(CheckLines(fab, &info));
   PetscCall(SetUpMasses(fab, &info));
   PetscCall(CheckStiffnessAndMass(fab));
+  PetscCall(CheckSphere(fab, &info));
   fab->grid.pull_dir[0] = s->spec.pull == PULL_WARP ? 1.0 : 0.0;
   fab->grid.pull_dir[1] = s->spec.pull == PULL_WARP ? 0.0 : 1.0;
   fab->grid.pull_dir[2] = 0.0;
