@@ -13,6 +13,8 @@
 
 #include <float.h>
 #include <math.h>
+#include <sys/resource.h>
+#include <unistd.h>
 
 /* Position of crossing (i,j) relative to the grid centre at rest, m. (i - (nx-1)/2) is exact,
    so mirrored crossings get mirrored coordinates and the shapes keep the grid's symmetries. */
@@ -216,6 +218,56 @@ static PetscErrorCode UserRankGrid(PetscInt nx, PetscInt ny, PetscMPIInt size, M
              " x %" PetscInt_FMT " crossings leave a rank fewer than 2 crossings along a split direction",
              px, py, nx, ny);
   *m = px, *n = py;
+  PetscFunctionReturn(0);
+}
+
+/* A grid this node cannot hold is refused before anything is allocated: the kernel's out-of-memory
+   killer would stop the run without a word. A crossing takes about BYTES_PER_CROSSING (its state,
+   masses, kinds and the force rows: 262 B between the peak resident sizes of the square test at
+   1001 x 1001 and 3001 x 3001 crossings, one rank; the static path takes more), shared among the
+   ranks; the ranks on
+   this node together need their share of the memory the node has available (Linux's MemAvailable,
+   else its physical memory), and each rank its share within its address-space limit (ulimit -v),
+   if one is set. */
+#define BYTES_PER_CROSSING 256.0
+static double NodeMemory(void)
+{
+  FILE  *fp = fopen("/proc/meminfo", "r");
+  char   line[256];
+  double kb = -1;
+
+  while (fp && fgets(line, sizeof line, fp))
+    if (sscanf(line, "MemAvailable: %lf kB", &kb) == 1) break;
+  if (fp) fclose(fp);
+  return kb > 0 ? 1024 * kb : (double) sysconf(_SC_PHYS_PAGES) * (double) sysconf(_SC_PAGESIZE);
+}
+
+static PetscErrorCode CheckMemory(Fabric fab)
+{
+  const SceneInput *in    = &fab->s.in;
+  const double      share = BYTES_PER_CROSSING * (double) fab->s.spec.nx * (double) fab->s.spec.ny / fab->size;
+  const double      node  = NodeMemory();
+  struct rlimit     as;
+  MPI_Comm          shm;
+  PetscMPIInt       here = 1;
+  double            limit = -1;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_split_type(fab->comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &shm));
+  PetscCallMPI(MPI_Comm_size(shm, &here));
+  PetscCallMPI(MPI_Comm_free(&shm));
+  if (getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY) limit = (double) as.rlim_cur;
+  {
+    PetscReal bad[2] = {node > 0 && here * share > node ? 1.0 : 0.0, limit > 0 && share > limit ? 1.0 : 0.0};
+    PetscCall(GlobalMax(fab->comm, bad, 2)); /* every rank refuses alike */
+    PetscCheck(!bad[0] && !bad[1], fab->comm, PETSC_ERR_USER_INPUT,
+               "-gauge_mm %g -width_mm %g -ends_per_cm %g -picks_per_cm %g: %" PetscInt_FMT " x %" PetscInt_FMT
+               " crossings need about %.3g GB (%.0f B a crossing): %.3g GB for a rank, more than %s %.3g GB",
+               (double) in->gauge_mm, (double) in->width_mm, (double) in->ends_per_cm, (double) in->picks_per_cm,
+               fab->s.spec.nx, fab->s.spec.ny, 1e-9 * share * fab->size, BYTES_PER_CROSSING, 1e-9 * share,
+               bad[0] ? "its share of the node's available memory," : "its address-space limit (ulimit -v),",
+               1e-9 * (bad[0] ? node / here : limit));
+  }
   PetscFunctionReturn(0);
 }
 
@@ -547,6 +599,7 @@ static PetscErrorCode FabricSetUp(Fabric fab)
   DMDALocalInfo info;
 
   PetscFunctionBeginUser;
+  PetscCall(CheckMemory(fab));
   PetscCall(CreateGrid(fab));
   PetscCall(DMDAGetLocalInfo(fab->grid.da, &info));
   fab->grid.nloc = (PetscInt) info.xm * info.ym;
