@@ -224,12 +224,13 @@ static PetscErrorCode UserRankGrid(PetscInt nx, PetscInt ny, PetscMPIInt size, M
 /* A grid this node cannot hold is refused before anything is allocated: the kernel's out-of-memory
    killer would stop the run without a word. A crossing takes about BYTES_PER_CROSSING (its state,
    masses, kinds and the force rows: 262 B between the peak resident sizes of the square test at
-   1001 x 1001 and 3001 x 3001 crossings, one rank; the static path takes more), shared among the
-   ranks; the ranks on
+   1001 x 1001 and 3001 x 3001 crossings, one rank; with -solver static about BYTES_STATIC, the
+   square net's 5 823 MiB at 1601 x 1601 in docs/static.md), shared among the ranks; the ranks on
    this node together need their share of the memory the node has available (Linux's MemAvailable,
    else its physical memory), and each rank its share within its address-space limit (ulimit -v),
    if one is set. */
 #define BYTES_PER_CROSSING 256.0
+#define BYTES_STATIC       2300.0
 static double NodeMemory(void)
 {
   FILE  *fp = fopen("/proc/meminfo", "r");
@@ -245,7 +246,8 @@ static double NodeMemory(void)
 static PetscErrorCode CheckMemory(Fabric fab)
 {
   const SceneInput *in    = &fab->s.in;
-  const double      share = BYTES_PER_CROSSING * (double) fab->s.spec.nx * (double) fab->s.spec.ny / fab->size;
+  const double      bytes = fab->s.num.solver == SOLVER_STATIC ? BYTES_STATIC : BYTES_PER_CROSSING;
+  const double      share = bytes * (double) fab->s.spec.nx * (double) fab->s.spec.ny / fab->size;
   const double      node  = NodeMemory();
   struct rlimit     as;
   MPI_Comm          shm;
@@ -264,7 +266,7 @@ static PetscErrorCode CheckMemory(Fabric fab)
                "-gauge_mm %g -width_mm %g -ends_per_cm %g -picks_per_cm %g: %" PetscInt_FMT " x %" PetscInt_FMT
                " crossings need about %.3g GB (%.0f B a crossing): %.3g GB for a rank, more than %s %.3g GB",
                (double) in->gauge_mm, (double) in->width_mm, (double) in->ends_per_cm, (double) in->picks_per_cm,
-               fab->s.spec.nx, fab->s.spec.ny, 1e-9 * share * fab->size, BYTES_PER_CROSSING, 1e-9 * share,
+               fab->s.spec.nx, fab->s.spec.ny, 1e-9 * share * fab->size, bytes, 1e-9 * share,
                bad[0] ? "its share of the node's available memory," : "its address-space limit (ulimit -v),",
                1e-9 * (bad[0] ? node / here : limit));
   }
