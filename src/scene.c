@@ -1461,7 +1461,7 @@ static void PlaceOf(const char *path, char *out, size_t len)
 }
 
 /* -positions_out must not be the output directory or a file the run writes in it */
-static void PositionsOutClash(const SceneOutput *o, char *msg, size_t len)
+static void PositionsOutDirClash(const SceneOutput *o, char *msg, size_t len)
 {
   static const char *own[] = {"curve.csv", "summary.json", "fabric.h5", "fabric.xmf", "checkpoint.h5", ".checkpoint.h5.tmp",
                               ".summary.json.tmp", ".fabric.xmf.tmp"};
@@ -1483,6 +1483,45 @@ static void PositionsOutClash(const SceneOutput *o, char *msg, size_t len)
       return;
     }
   }
+}
+
+/* path and other are one file: the same device and inode when both exist (any spelling, a link),
+   else the same place (PlaceOf) */
+static int SameFile(const char *path, const char *other)
+{
+  struct stat a, b;
+  char        p[2 * PETSC_MAX_PATH_LEN], q[2 * PETSC_MAX_PATH_LEN];
+
+  if (!path[0] || !other[0]) return 0;
+  if (!stat(path, &a) && !stat(other, &b)) return a.st_dev == b.st_dev && a.st_ino == b.st_ino;
+  PlaceOf(path, p, sizeof p);
+  PlaceOf(other, q, sizeof q);
+  return !strcmp(p, q);
+}
+
+/* -positions_out must not be one of the run's input files (written over at the end), the output
+   directory or a file the run writes in it */
+static void PositionsOutClash(const Scene *s, char *msg, size_t len)
+{
+  const SceneOutput *o = &s->out;
+  const struct {
+    const char *opt, *file;
+  } input[] = {
+    {"scene",        o->file          },
+    {"warp_law_csv", s->yarns.warp.csv},
+    {"weft_law_csv", s->yarns.weft.csv},
+    {"restart",      o->restart       },
+  };
+
+  if (!o->positions_out[0]) return;
+  for (size_t k = 0; k < sizeof input / sizeof input[0]; k++)
+    if (SameFile(o->positions_out, input[k].file)) {
+      snprintf(msg, len,
+               "-positions_out %s: is the run's input file -%s %s: it would be written over; give another file",
+               o->positions_out, input[k].opt, input[k].file);
+      return;
+    }
+  PositionsOutDirClash(o, msg, len);
 }
 
 /* an option's name, not a value (PETSc's rule: "-5" and "-.5" are values) */
@@ -1567,8 +1606,9 @@ static void ProbeViewerFiles(const char *output_dir, char *msg, size_t len)
 }
 
 /* -output_dir, -positions_out and the viewers' files can be written: rank 0 looks, every rank refuses alike */
-static PetscErrorCode CheckOutputPlaces(MPI_Comm comm, const SceneOutput *o)
+static PetscErrorCode CheckOutputPlaces(MPI_Comm comm, const Scene *s)
 {
+  const SceneOutput *o = &s->out;
   char        msg[2 * PETSC_MAX_PATH_LEN + 128] = "";
   PetscMPIInt rank;
   PetscBool   help;
@@ -1577,7 +1617,7 @@ static PetscErrorCode CheckOutputPlaces(MPI_Comm comm, const SceneOutput *o)
   PetscCall(PetscOptionsHasHelp(NULL, &help));
   if (help) PetscFunctionReturn(0); /* -help writes nothing */
   PetscCall(CommRank(comm, &rank));
-  if (!rank) PositionsOutClash(o, msg, sizeof msg);
+  if (!rank) PositionsOutClash(s, msg, sizeof msg);
   if (!rank && !msg[0] && o->output_dir[0]) ProbeDirectory("output_dir", o->output_dir, msg, sizeof msg);
   if (!rank && !msg[0] && o->positions_out[0])
     ProbeFile("positions_out", o->positions_out, o->output_dir, msg, sizeof msg);
@@ -1626,7 +1666,7 @@ static PetscErrorCode SceneDerive(MPI_Comm comm, Scene *s)
   PetscCall(DerivePath(comm, in, &s->load));
   PetscCall(CheckTestOptions(comm, in, s));
   PetscCall(CheckSolverOptions(comm, in));
-  PetscCall(CheckOutputPlaces(comm, &s->out));
+  PetscCall(CheckOutputPlaces(comm, s));
   PetscFunctionReturn(0);
 }
 
