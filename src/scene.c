@@ -644,17 +644,19 @@ int SceneOptionValues(const Scene *s, PetscInt k, char name[64], PetscReal v[], 
 /* a scene file with no option in it would run the default strip without a word: refuse it */
 static PetscErrorCode CheckSceneHasOptions(MPI_Comm comm, const char *file)
 {
-  char  line[1024];
-  int   found = 0;
-  FILE *fp    = fopen(file, "r");
+  char  *line = NULL;
+  size_t cap  = 0;
+  int    found = 0;
+  FILE  *fp    = fopen(file, "r");
 
   PetscFunctionBeginUser;
   PetscCheck(fp, comm, PETSC_ERR_FILE_OPEN, "-scene %s: no such file, or not readable", file);
-  while (!found && fgets(line, sizeof line, fp)) {
+  while (!found && getline(&line, &cap, fp) >= 0) { /* whole lines, of any length */
     const char *c = line;
     while (*c == ' ' || *c == '\t') c++;
     if (*c && *c != '#' && *c != '\n' && *c != '\r' && strchr(c, ':')) found = 1;
   }
+  free(line);
   fclose(fp);
   PetscCheck(found, comm, PETSC_ERR_USER_INPUT,
              "-scene %s: the file holds no option (an empty scene would run the default strip)", file);
@@ -676,12 +678,13 @@ static char *KeyLine(char *line)
    0 if none is found. */
 static int FindMalformedLine(const char *file, char *text, size_t len)
 {
-  char  line[1024];
-  int   lineno = 0, found = 0;
-  FILE *fp = fopen(file, "r");
+  char  *line = NULL;
+  size_t cap  = 0;
+  int    lineno = 0, found = 0;
+  FILE  *fp = fopen(file, "r");
 
   if (!fp) return 0;
-  while (!found && fgets(line, sizeof line, fp)) {
+  while (!found && getline(&line, &cap, fp) >= 0) {
     char *c, *colon;
     lineno++;
     if (!(c = KeyLine(line))) continue;
@@ -689,6 +692,7 @@ static int FindMalformedLine(const char *file, char *text, size_t len)
     found = !colon || (colon[1] && colon[1] != ' ' && colon[1] != '\t');
     if (found) snprintf(text, len, "%.100s", c); /* enough to recognise the line */
   }
+  free(line);
   fclose(fp);
   return found ? lineno : 0;
 }
@@ -814,13 +818,14 @@ static int SceneFlowMap(SceneKeys *k, const char *full, char *v, int lineno, cha
 static int FindBadKey(const char *file, char *msg, size_t len)
 {
   static SceneKeys keys;
-  char             line[1024], parent[8][128];
+  char            *line = NULL, parent[8][128];
+  size_t           cap  = 0;
   int              indent[8], depth = 0, lineno = 0, bad = 0;
   FILE            *fp = fopen(file, "r");
 
   if (!fp) return 0;
   keys.nseen = keys.nmaps = 0;
-  while (!bad && fgets(line, sizeof line, fp)) {
+  while (!bad && getline(&line, &cap, fp) >= 0) { /* whole lines, of any length */
     char *c = line, *v, key[128], full[128] = "", anchor[64];
     int   ind;
     lineno++;
@@ -849,6 +854,7 @@ static int FindBadKey(const char *file, char *msg, size_t len)
     else
       bad = SceneKeyOnce(&keys, full, v, lineno, msg, len);
   }
+  free(line);
   fclose(fp);
   return bad;
 }
