@@ -735,12 +735,12 @@ typedef struct {
 
 static int SceneKeyOnce(SceneKeys *k, const char *full, const char *value, int lineno, char *msg, size_t len)
 {
-  if (!strcmp(full, "scene")) {
+  if (!strcasecmp(full, "scene")) {
     snprintf(msg, len, "line %d: 'scene: %.100s': a scene file cannot name another scene", lineno, value);
     return lineno;
   }
   for (int q = 0; q < k->nseen; q++)
-    if (!strcmp(k->seen[q], full)) {
+    if (!strcasecmp(k->seen[q], full)) { /* PETSc's option names ignore case */
       snprintf(msg, len, "line %d: -%.100s given twice (first at line %d); give it once", lineno, full, k->at[q]);
       return lineno;
     }
