@@ -447,14 +447,21 @@ static PetscErrorCode ParseEnum(MPI_Comm comm, const char *name, const char *tex
 static PetscErrorCode ParseArray(MPI_Comm comm, const OptionDesc *o, const char *name, const char *text, void *v,
                                  PetscInt *n)
 {
-  char buf[4096], *save = NULL;
+  char buf[4096], *next = buf;
 
   PetscFunctionBeginUser;
   PetscCheck(strlen(text) < sizeof buf, comm, PETSC_ERR_USER_INPUT, "-%s: value too long", name);
   PetscCall(PetscStrncpy(buf, text, sizeof buf));
   *n = 0;
-  for (char *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+  while (next) { /* every field between commas: an empty one is refused, not skipped */
+    char *tok = next, *comma = strchr(next, ',');
+    if (comma) *comma = 0;
+    next = comma ? comma + 1 : NULL;
     while (*tok == ' ') tok++;
+    PetscCheck(*tok, comm, PETSC_ERR_USER_INPUT,
+               "-%s %s: empty field %" PetscInt_FMT " (a comma at the start or the end, or two in a row): give a "
+               "number between the commas",
+               name, text, *n + 1);
     if (*n < o->nmax) {
       if (o->type == OPT_INTS)
         PetscCall(ParseInt(comm, name, tok, (PetscInt *) v + *n));
