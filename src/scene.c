@@ -283,8 +283,9 @@ static const OptionDesc Options[] = {
          "integrator: 0.005 with fire, 1 (the whole yarn law) with damped and paper"),
     BOOL("", "early_exit", early_exit, DEF(1),
          "end a load step as soon as the balance test passes (modified multi-sampling)"),
-    REAL("", "balance_tol", balance_tol, DEF(1e-3), POSITIVE, POS_MUST,
-         "balance: max residual force on a free point / largest yarn tension"),
+    RANGED("", "balance_tol", balance_tol, DEF(1e-3), 0, 1, 1, 1,
+           "in (0,1): a fraction of the largest yarn tension (1 or more passes any state)",
+           "balance: max residual force on a free point / largest yarn tension"),
     REAL("", "speed_tol", speed_tol, DEF(0), NONNEG, NONNEG_MUST,
          "balance: max speed of a free point (m/s); 0 = the test speed"),
     INT("", "balance_hold", balance_hold, DEF(3), 1, "at least 1",
@@ -515,6 +516,7 @@ static const PhysicalRange Physical[] = {
     PHYSICAL("sphere_travel_mm", SIZE_MAX_MM, "mm", SIZE_WHY),
     PHYSICAL("pedestal_diameter_mm", SIZE_MAX_MM, "mm", SIZE_WHY),
     PHYSICAL("pedestal_height_mm", SIZE_MAX_MM, "mm", SIZE_WHY),
+    PHYSICAL("break_gauge_mm", SIZE_MAX_MM, "mm", SIZE_WHY),
 };
 
 static PetscErrorCode CheckReal(MPI_Comm comm, const OptionDesc *o, const char *name, PetscReal v)
