@@ -73,6 +73,13 @@ typedef struct {
   {                                                                                       \
     g, n, OPT_INT, IN(f), d, RANGE, lo, PETSC_MAX_INT, 0, 0, must, NULL, 0, 0, NULL, help \
   }
+#define TEXT_(x)       #x
+#define TEXT(x)        TEXT_(x)
+#define MAX_LOAD_STEPS 10000000 /* curve.csv's rows are kept in memory, one per load step */
+#define INT_TO(g, n, f, d, lo, hi, must, help)                                 \
+  {                                                                            \
+    g, n, OPT_INT, IN(f), d, RANGE, lo, hi, 0, 0, must, NULL, 0, 0, NULL, help \
+  }
 #define BOOL(g, n, f, d, help)                                              \
   {                                                                         \
     g, n, OPT_BOOL, IN(f), d, ANY, 0, 0, 0, 0, NULL, NULL, 0, 0, NULL, help \
@@ -258,7 +265,8 @@ static const OptionDesc Options[] = {
         "the grip's path, replacing the straight pull of -elongation_pct: waypoints dx,dy,dz (mm, from the grip's rest "
         "position) joined by straight lines from 0,0,0 and travelled at the test speed; the load steps divide its "
         "length equally; curve.csv's elongation is the displacement along the pull / gauge"),
-    INT("", "load_steps", load_steps, DEF(50), 1, "at least 1", "number of load steps K"),
+    INT_TO("", "load_steps", load_steps, DEF(50), 1, MAX_LOAD_STEPS, "from 1 to " TEXT(MAX_LOAD_STEPS),
+           "number of load steps K (at most " TEXT(MAX_LOAD_STEPS) ": the run keeps a row of the curve per step)"),
     INT("", "max_inner_steps", max_inner_steps, DEF(20000), 1, "at least 1",
         "te steps per load step N (the most if it balances earlier)"),
     ENUM("Numerics", "solver", solver, DEF(SOLVER_EXPLICIT), SolverNames,
@@ -490,8 +498,6 @@ typedef struct {
 
 #define SIZE_MAX_MM 1e5
 #define SIZE_WHY    "100 m, larger than any specimen or test rig"
-#define TEXT_(x)    #x
-#define TEXT(x)     TEXT_(x)
 #define PHYSICAL(name, hi, unit, why) \
   {                                   \
     name, hi, TEXT(hi), unit, why     \
@@ -589,8 +595,8 @@ static PetscErrorCode ReadOption(MPI_Comm comm, const OptionDesc *o, int yarn, c
     break;
   case OPT_INT:
     PetscCall(ParseInt(comm, name, text, (PetscInt *) f));
-    PetscCheck(*(PetscInt *) f >= (PetscInt) o->lo, comm, PETSC_ERR_USER_INPUT, "-%s must be %s, got %" PetscInt_FMT,
-               name, o->must, *(PetscInt *) f);
+    PetscCheck(*(PetscInt *) f >= (PetscInt) o->lo && *(PetscInt *) f <= (PetscInt) o->hi, comm, PETSC_ERR_USER_INPUT,
+               "-%s must be %s, got %" PetscInt_FMT, name, o->must, *(PetscInt *) f);
     break;
   case OPT_BOOL: PetscCall(ParseBool(comm, name, text, (PetscBool *) f)); break;
   case OPT_ENUM: PetscCall(ParseEnum(comm, name, text, o->choices, (PetscInt *) f)); break;
@@ -1246,6 +1252,20 @@ static PetscErrorCode DeriveOutput(MPI_Comm comm, const SceneInput *in, Scene *s
   PetscFunctionReturn(0);
 }
 
+/* The grid's size: PETSc's DMDA holds 3 unknowns (x, y, z) per crossing and indexes them with 32-bit
+   integers, so 3 nx ny must stay below 2^31 - 1 (about 7.16e8 crossings) */
+#define GRID_MAX_CROSSINGS 7e8
+static PetscErrorCode CheckGridSize(MPI_Comm comm, const SceneInput *in, PetscReal nx, PetscReal ny)
+{
+  PetscFunctionBeginUser;
+  PetscCheck(nx * ny <= GRID_MAX_CROSSINGS, comm, PETSC_ERR_USER_INPUT,
+             "grid too large: -gauge_mm %.6g, -width_mm %.6g at -ends_per_cm %.6g, -picks_per_cm %.6g give %.6g x "
+             "%.6g = %.6g crossings, at most %.6g (3 unknowns each, within PETSc's 32-bit indices)",
+             (double) in->gauge_mm, (double) in->width_mm, (double) in->ends_per_cm, (double) in->picks_per_cm,
+             (double) nx, (double) ny, (double) (nx * ny), GRID_MAX_CROSSINGS);
+  PetscFunctionReturn(0);
+}
+
 /* the grid of crossings that the test, shape and size give (nx x ny), with the gauge length,
    width and jaw depth rounded to it */
 static PetscErrorCode DeriveGrid(MPI_Comm comm, const SceneInput *in, Scene *s)
@@ -1285,7 +1305,7 @@ static PetscErrorCode DeriveGrid(MPI_Comm comm, const SceneInput *in, Scene *s)
                "bias specimen too small or too wide: -gauge_mm %g, -width_mm %g at %g threads/cm (the gauge length "
                "must exceed the width by at least one yarn spacing)",
                (double) gauge_mm, (double) width_mm, (double) picks_cm);
-    PetscCheck(n * n < 2.0e9, comm, PETSC_ERR_USER_INPUT, "grid too large: %g x %g crossings", n, n);
+    PetscCall(CheckGridSize(comm, in, n, n));
     s->spec.nx        = (PetscInt) n;
     s->spec.ny        = (PetscInt) n;
     s->spec.gauge     = 2 * J * h; /* free length between the jaws, along the specimen */
@@ -1298,7 +1318,7 @@ static PetscErrorCode DeriveGrid(MPI_Comm comm, const SceneInput *in, Scene *s)
                "bias specimen too small or too wide: -gauge_mm %g, -width_mm %g (the gauge length must exceed the "
                "width) give %g x %g crossings",
                (double) gauge_mm, (double) width_mm, nx, ny);
-    PetscCheck(nx * ny < 2.0e9, comm, PETSC_ERR_USER_INPUT, "grid too large: %g x %g crossings", nx, ny);
+    PetscCall(CheckGridSize(comm, in, nx, ny));
     s->spec.nx        = (PetscInt) nx;
     s->spec.ny        = (PetscInt) ny;
     s->spec.gauge     = gauge_mm * 1e-3; /* free length between the jaws, along the specimen */
@@ -1310,7 +1330,7 @@ static PetscErrorCode DeriveGrid(MPI_Comm comm, const SceneInput *in, Scene *s)
     PetscCheck(nx >= 3 && ny >= 3, comm, PETSC_ERR_USER_INPUT,
                "grid too small: -gauge_mm %g x -width_mm %g gives %g x %g crossings, at least 3 x 3 are needed",
                (double) gauge_mm, (double) width_mm, nx, ny);
-    PetscCheck(nx * ny < 2.0e9, comm, PETSC_ERR_USER_INPUT, "grid too large: %g x %g crossings", nx, ny);
+    PetscCall(CheckGridSize(comm, in, nx, ny));
     s->spec.nx          = (PetscInt) nx;
     s->spec.ny          = (PetscInt) ny;
     s->spec.gauge       = (nx - 1) / s->spec.picks_per_m;
@@ -1327,8 +1347,7 @@ static PetscErrorCode DeriveGrid(MPI_Comm comm, const SceneInput *in, Scene *s)
     PetscCheck(n_across >= 1, comm, PETSC_ERR_USER_INPUT,
                "grid too small: -width_mm %g at %g threads/cm gives no yarn across the strip", (double) width_mm,
                (double) (across_density / 100));
-    PetscCheck(n_along * n_across < 2.0e9, comm, PETSC_ERR_USER_INPUT, "grid too large: %g x %g crossings",
-               (double) n_along, (double) n_across);
+    PetscCall(CheckGridSize(comm, in, n_along, n_across));
     s->spec.nx    = (PetscInt) (s->spec.pull == PULL_WARP ? n_along : n_across);
     s->spec.ny    = (PetscInt) (s->spec.pull == PULL_WARP ? n_across : n_along);
     s->spec.gauge = (n_along - 1) / along_density;
