@@ -115,19 +115,21 @@ static PointKind KindOf(const Scene *s, PetscInt i, PetscInt j)
   return RegionKind(s, i, j);
 }
 
-/* Every clamp or grip line selects crossings of the specimen, and no crossing is on both a
-   clamp line and a grip line (integer counts: exact on any number of ranks). */
+/* Every clamp or grip line, and a clamping ring, selects crossings of the specimen, and no crossing
+   is on both a clamp line and a grip line (integer counts: exact on any number of ranks). */
 static PetscErrorCode CheckLines(Fabric fab, const DMDALocalInfo *info)
 {
-  const Scene *s                                            = &fab->s;
-  PetscInt     count[2 * MAX_LINES + MAX_LINES * MAX_LINES] = {0};
-  PetscInt    *both                                         = count + 2 * MAX_LINES;
+  const Scene *s                                                = &fab->s;
+  const int    ring                                             = s->clamps.clamp == CLAMP_RING;
+  PetscInt     count[2 * MAX_LINES + MAX_LINES * MAX_LINES + 1] = {0};
+  PetscInt    *both = count + 2 * MAX_LINES, *ringed = both + MAX_LINES * MAX_LINES;
 
   PetscFunctionBeginUser;
-  if (!s->clamps.clamp_lines && !s->clamps.grip_lines) PetscFunctionReturn(0);
+  if (!s->clamps.clamp_lines && !s->clamps.grip_lines && !ring) PetscFunctionReturn(0);
   for (PetscInt j = info->ys; j < info->ys + info->ym; j++)
     for (PetscInt i = info->xs; i < info->xs + info->xm; i++) {
       if (!PointExists(s, i, j)) continue;
+      if (ring) *ringed += RegionKind(s, i, j) == POINT_CLAMPED;
       for (PetscInt c = 0; c < s->clamps.clamp_lines; c++) count[c] += OnLine(s, s->clamps.clamp_line[c], i, j);
       for (PetscInt g = 0; g < s->clamps.grip_lines; g++) {
         const int on = OnLine(s, s->clamps.grip_line[g], i, j);
@@ -136,7 +138,10 @@ static PetscErrorCode CheckLines(Fabric fab, const DMDALocalInfo *info)
           both[g * MAX_LINES + c] += on && OnLine(s, s->clamps.clamp_line[c], i, j);
       }
     }
-  PetscCall(GlobalSumInt(fab->comm, count, 2 * MAX_LINES + MAX_LINES * MAX_LINES));
+  PetscCall(GlobalSumInt(fab->comm, count, 2 * MAX_LINES + MAX_LINES * MAX_LINES + 1));
+  PetscCheck(!ring || *ringed > 0, fab->comm, PETSC_ERR_USER_INPUT,
+             "-clamp ring with -clamp_ring_mm %.6g,%.6g (inner, outer diameter) selects no crossing of the specimen",
+             (double) (2e3 * s->clamps.ring[0]), (double) (2e3 * s->clamps.ring[1]));
   for (PetscInt c = 0; c < s->clamps.clamp_lines; c++)
     PetscCheck(count[c] > 0, fab->comm, PETSC_ERR_USER_INPUT,
                "-clamp_line_mm line %" PetscInt_FMT

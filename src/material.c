@@ -63,11 +63,13 @@ static void CheckYarnRow(const YarnLaw *y, PetscInt lineno, char *p, PetscInt co
              at, *f, prev_f);
 }
 
-/* Read the CSV into SI arrays: yarn strain (-) and force (N). */
-static PetscErrorCode ReadYarnCSV(MPI_Comm comm, const YarnLaw *y, PetscInt *n, double **strain, double **force)
+/* Read the CSV into SI arrays: yarn strain (-) and force (N), and each row's line in the file. */
+static PetscErrorCode ReadYarnCSV(MPI_Comm comm, const YarnLaw *y, PetscInt *n, double **strain, double **force,
+                                  PetscInt **at)
 {
   FILE     *fp;
-  char      line[512], msg[PETSC_MAX_PATH_LEN + 256] = "";
+  char     *line = NULL, msg[PETSC_MAX_PATH_LEN + 256] = "";
+  size_t    linecap = 0;
   PetscInt  cap = 64, count = 0, lineno = 0;
   PetscBool header = PETSC_FALSE;
   double    prev_s = 0, prev_f = 0;
@@ -80,8 +82,8 @@ static PetscErrorCode ReadYarnCSV(MPI_Comm comm, const YarnLaw *y, PetscInt *n, 
   }
   fp = fopen(y->csv, "r");
   PetscCheck(fp, comm, PETSC_ERR_FILE_OPEN, "-%s_law_csv %s: cannot open the yarn law file", y->name, y->csv);
-  PetscCall(PetscMalloc2(cap, strain, cap, force));
-  while (!msg[0] && fgets(line, sizeof line, fp)) {
+  PetscCall(PetscMalloc3(cap, strain, cap, force, cap, at));
+  while (!msg[0] && getline(&line, &linecap, fp) >= 0) { /* whole lines, of any length */
     char  *p = line + strspn(line, " \t");
     double s = 0, f = 0;
     lineno++;
@@ -94,23 +96,28 @@ static PetscErrorCode ReadYarnCSV(MPI_Comm comm, const YarnLaw *y, PetscInt *n, 
     CheckYarnRow(y, lineno, p, count, prev_s, prev_f, &s, &f, msg, sizeof msg);
     if (msg[0]) break;
     if (count == cap) {
-      double *s2, *f2;
-      PetscCall(PetscMalloc2(2 * cap, &s2, 2 * cap, &f2));
+      double   *s2, *f2;
+      PetscInt *a2;
+      PetscCall(PetscMalloc3(2 * cap, &s2, 2 * cap, &f2, 2 * cap, &a2));
       PetscCall(PetscArraycpy(s2, *strain, count));
       PetscCall(PetscArraycpy(f2, *force, count));
-      PetscCall(PetscFree2(*strain, *force));
+      PetscCall(PetscArraycpy(a2, *at, count));
+      PetscCall(PetscFree3(*strain, *force, *at));
       *strain = s2;
       *force  = f2;
+      *at     = a2;
       cap *= 2;
     }
+    (*at)[count]     = lineno;
     (*strain)[count] = s / 100.0;
     (*force)[count]  = f / 100.0 * (y->bundle > 1 ? y->bundle : 1.0);
     prev_s           = s; /* as given: the next row is compared with it exactly */
     prev_f           = f;
     count++;
   }
+  free(line);
   fclose(fp);
-  if (msg[0] || !header || count < 3) PetscCall(PetscFree2(*strain, *force));
+  if (msg[0] || !header || count < 3) PetscCall(PetscFree3(*strain, *force, *at));
   PetscCheck(!msg[0], comm, PETSC_ERR_FILE_UNEXPECTED, "%s", msg);
   PetscCheck(header, comm, PETSC_ERR_FILE_UNEXPECTED,
              "-%s_law_csv %s: empty file (expected the header 'strain_pct,force_cN' and rows)", y->name, y->csv);
@@ -130,16 +137,40 @@ static PetscReal HermiteSlope(const YarnLaw *y, PetscInt k, PetscReal t)
          (3.0 * t * t - 2.0 * t) * y->tab_dT[k + 1];
 }
 
+/* The table (YARN_TABLE_NODES uniform nodes over [0, last strain]) must reproduce each of the n data
+   rows (strain es, force fs, at line at): within YARN_TABLE_TOL of the largest force. A last row far
+   beyond the others leaves them between two nodes, and the law they give is lost. */
+#define YARN_TABLE_TOL 0.01
+static PetscErrorCode CheckTableRows(MPI_Comm comm, const YarnLaw *y, PetscInt n, const double *es, const double *fs,
+                                     const PetscInt *at)
+{
+  const double tol = YARN_TABLE_TOL * fs[n - 1]; /* forces never fall: the last is the largest */
+  const double cN  = 100.0 / (y->bundle > 1 ? y->bundle : 1.0); /* N of the table as cN of the file */
+
+  PetscFunctionBeginUser;
+  for (PetscInt i = 0; i < n; i++) {
+    const double T = YarnTension(y, es[i]);
+    PetscCheck(PetscAbsReal(T - fs[i]) <= tol, comm, PETSC_ERR_FILE_UNEXPECTED,
+               "-%s_law_csv %s line %" PetscInt_FMT ": the yarn table gives %.6g cN at %.6g %%, the row %.6g cN, off "
+               "by more than %.6g %% of the largest force: its node spacing (last strain %.6g %% / %d = %.6g %%) is "
+               "too coarse for the data (end the law nearer its other rows, or add rows where it bends)",
+               y->name, y->csv, at[i], T * cN, es[i] * 100.0, fs[i] * cN, 100.0 * YARN_TABLE_TOL,
+               y->tab_end * 100.0, YARN_TABLE_NODES - 1, y->tab_h * 100.0);
+  }
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode BuildTable(MPI_Comm comm, YarnLaw *y)
 {
   PetscInt          n, N = YARN_TABLE_NODES, ncell = N - 1;
   double           *es, *fs;
+  PetscInt         *at;
   gsl_interp       *interp;
   gsl_interp_accel *acc;
   PetscBool         finite = PETSC_TRUE;
 
   PetscFunctionBeginUser;
-  PetscCall(ReadYarnCSV(comm, y, &n, &es, &fs));
+  PetscCall(ReadYarnCSV(comm, y, &n, &es, &fs, &at));
   gsl_set_error_handler_off();
   interp = gsl_interp_alloc(gsl_interp_steffen, (size_t) n);
   acc    = gsl_interp_accel_alloc();
@@ -158,7 +189,6 @@ static PetscErrorCode BuildTable(MPI_Comm comm, YarnLaw *y)
   }
   gsl_interp_accel_free(acc);
   gsl_interp_free(interp);
-  PetscCall(PetscFree2(es, fs));
 
   /* range-max (sparse) table of the slope per cell, for ChordTangentMax */
   y->nlev = 1;
@@ -179,6 +209,8 @@ static PetscErrorCode BuildTable(MPI_Comm comm, YarnLaw *y)
              y->name, y->csv);
   PetscCheck(y->EA > 0, comm, PETSC_ERR_FILE_UNEXPECTED,
              "-%s_law_csv %s: every force is 0: a yarn law needs a positive stiffness", y->name, y->csv);
+  PetscCall(CheckTableRows(comm, y, n, es, fs, at));
+  PetscCall(PetscFree3(es, fs, at));
   for (PetscInt l = 1; l < y->nlev; l++) {
     PetscInt w = 1 << l;
     PetscCall(PetscMalloc1(ncell - w + 1, &y->tab_slope_max[l]));

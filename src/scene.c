@@ -73,6 +73,13 @@ typedef struct {
   {                                                                                       \
     g, n, OPT_INT, IN(f), d, RANGE, lo, PETSC_MAX_INT, 0, 0, must, NULL, 0, 0, NULL, help \
   }
+#define TEXT_(x)       #x
+#define TEXT(x)        TEXT_(x)
+#define MAX_LOAD_STEPS 10000000 /* curve.csv's rows are kept in memory, one per load step */
+#define INT_TO(g, n, f, d, lo, hi, must, help)                                 \
+  {                                                                            \
+    g, n, OPT_INT, IN(f), d, RANGE, lo, hi, 0, 0, must, NULL, 0, 0, NULL, help \
+  }
 #define BOOL(g, n, f, d, help)                                              \
   {                                                                         \
     g, n, OPT_BOOL, IN(f), d, ANY, 0, 0, 0, 0, NULL, NULL, 0, 0, NULL, help \
@@ -258,7 +265,8 @@ static const OptionDesc Options[] = {
         "the grip's path, replacing the straight pull of -elongation_pct: waypoints dx,dy,dz (mm, from the grip's rest "
         "position) joined by straight lines from 0,0,0 and travelled at the test speed; the load steps divide its "
         "length equally; curve.csv's elongation is the displacement along the pull / gauge"),
-    INT("", "load_steps", load_steps, DEF(50), 1, "at least 1", "number of load steps K"),
+    INT_TO("", "load_steps", load_steps, DEF(50), 1, MAX_LOAD_STEPS, "from 1 to " TEXT(MAX_LOAD_STEPS),
+           "number of load steps K (at most " TEXT(MAX_LOAD_STEPS) ": the run keeps a row of the curve per step)"),
     INT("", "max_inner_steps", max_inner_steps, DEF(20000), 1, "at least 1",
         "te steps per load step N (the most if it balances earlier)"),
     ENUM("Numerics", "solver", solver, DEF(SOLVER_EXPLICIT), SolverNames,
@@ -283,8 +291,9 @@ static const OptionDesc Options[] = {
          "integrator: 0.005 with fire, 1 (the whole yarn law) with damped and paper"),
     BOOL("", "early_exit", early_exit, DEF(1),
          "end a load step as soon as the balance test passes (modified multi-sampling)"),
-    REAL("", "balance_tol", balance_tol, DEF(1e-3), POSITIVE, POS_MUST,
-         "balance: max residual force on a free point / largest yarn tension"),
+    RANGED("", "balance_tol", balance_tol, DEF(1e-3), 0, 1, 1, 1,
+           "in (0,1): a fraction of the largest yarn tension (1 or more passes any state)",
+           "balance: max residual force on a free point / largest yarn tension"),
     REAL("", "speed_tol", speed_tol, DEF(0), NONNEG, NONNEG_MUST,
          "balance: max speed of a free point (m/s); 0 = the test speed"),
     INT("", "balance_hold", balance_hold, DEF(3), 1, "at least 1",
@@ -447,14 +456,21 @@ static PetscErrorCode ParseEnum(MPI_Comm comm, const char *name, const char *tex
 static PetscErrorCode ParseArray(MPI_Comm comm, const OptionDesc *o, const char *name, const char *text, void *v,
                                  PetscInt *n)
 {
-  char buf[4096], *save = NULL;
+  char buf[4096], *next = buf;
 
   PetscFunctionBeginUser;
   PetscCheck(strlen(text) < sizeof buf, comm, PETSC_ERR_USER_INPUT, "-%s: value too long", name);
   PetscCall(PetscStrncpy(buf, text, sizeof buf));
   *n = 0;
-  for (char *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+  while (next) { /* every field between commas: an empty one is refused, not skipped */
+    char *tok = next, *comma = strchr(next, ',');
+    if (comma) *comma = 0;
+    next = comma ? comma + 1 : NULL;
     while (*tok == ' ') tok++;
+    PetscCheck(*tok, comm, PETSC_ERR_USER_INPUT,
+               "-%s %s: empty field %" PetscInt_FMT " (a comma at the start or the end, or two in a row): give a "
+               "number between the commas",
+               name, text, *n + 1);
     if (*n < o->nmax) {
       if (o->type == OPT_INTS)
         PetscCall(ParseInt(comm, name, tok, (PetscInt *) v + *n));
@@ -482,8 +498,6 @@ typedef struct {
 
 #define SIZE_MAX_MM 1e5
 #define SIZE_WHY    "100 m, larger than any specimen or test rig"
-#define TEXT_(x)    #x
-#define TEXT(x)     TEXT_(x)
 #define PHYSICAL(name, hi, unit, why) \
   {                                   \
     name, hi, TEXT(hi), unit, why     \
@@ -508,6 +522,7 @@ static const PhysicalRange Physical[] = {
     PHYSICAL("sphere_travel_mm", SIZE_MAX_MM, "mm", SIZE_WHY),
     PHYSICAL("pedestal_diameter_mm", SIZE_MAX_MM, "mm", SIZE_WHY),
     PHYSICAL("pedestal_height_mm", SIZE_MAX_MM, "mm", SIZE_WHY),
+    PHYSICAL("break_gauge_mm", SIZE_MAX_MM, "mm", SIZE_WHY),
 };
 
 static PetscErrorCode CheckReal(MPI_Comm comm, const OptionDesc *o, const char *name, PetscReal v)
@@ -580,8 +595,8 @@ static PetscErrorCode ReadOption(MPI_Comm comm, const OptionDesc *o, int yarn, c
     break;
   case OPT_INT:
     PetscCall(ParseInt(comm, name, text, (PetscInt *) f));
-    PetscCheck(*(PetscInt *) f >= (PetscInt) o->lo, comm, PETSC_ERR_USER_INPUT, "-%s must be %s, got %" PetscInt_FMT,
-               name, o->must, *(PetscInt *) f);
+    PetscCheck(*(PetscInt *) f >= (PetscInt) o->lo && *(PetscInt *) f <= (PetscInt) o->hi, comm, PETSC_ERR_USER_INPUT,
+               "-%s must be %s, got %" PetscInt_FMT, name, o->must, *(PetscInt *) f);
     break;
   case OPT_BOOL: PetscCall(ParseBool(comm, name, text, (PetscBool *) f)); break;
   case OPT_ENUM: PetscCall(ParseEnum(comm, name, text, o->choices, (PetscInt *) f)); break;
@@ -644,17 +659,19 @@ int SceneOptionValues(const Scene *s, PetscInt k, char name[64], PetscReal v[], 
 /* a scene file with no option in it would run the default strip without a word: refuse it */
 static PetscErrorCode CheckSceneHasOptions(MPI_Comm comm, const char *file)
 {
-  char  line[1024];
-  int   found = 0;
-  FILE *fp    = fopen(file, "r");
+  char  *line = NULL;
+  size_t cap  = 0;
+  int    found = 0;
+  FILE  *fp    = fopen(file, "r");
 
   PetscFunctionBeginUser;
   PetscCheck(fp, comm, PETSC_ERR_FILE_OPEN, "-scene %s: no such file, or not readable", file);
-  while (!found && fgets(line, sizeof line, fp)) {
+  while (!found && getline(&line, &cap, fp) >= 0) { /* whole lines, of any length */
     const char *c = line;
     while (*c == ' ' || *c == '\t') c++;
     if (*c && *c != '#' && *c != '\n' && *c != '\r' && strchr(c, ':')) found = 1;
   }
+  free(line);
   fclose(fp);
   PetscCheck(found, comm, PETSC_ERR_USER_INPUT,
              "-scene %s: the file holds no option (an empty scene would run the default strip)", file);
@@ -676,12 +693,13 @@ static char *KeyLine(char *line)
    0 if none is found. */
 static int FindMalformedLine(const char *file, char *text, size_t len)
 {
-  char  line[1024];
-  int   lineno = 0, found = 0;
-  FILE *fp = fopen(file, "r");
+  char  *line = NULL;
+  size_t cap  = 0;
+  int    lineno = 0, found = 0;
+  FILE  *fp = fopen(file, "r");
 
   if (!fp) return 0;
-  while (!found && fgets(line, sizeof line, fp)) {
+  while (!found && getline(&line, &cap, fp) >= 0) {
     char *c, *colon;
     lineno++;
     if (!(c = KeyLine(line))) continue;
@@ -689,6 +707,7 @@ static int FindMalformedLine(const char *file, char *text, size_t len)
     found = !colon || (colon[1] && colon[1] != ' ' && colon[1] != '\t');
     if (found) snprintf(text, len, "%.100s", c); /* enough to recognise the line */
   }
+  free(line);
   fclose(fp);
   return found ? lineno : 0;
 }
@@ -731,12 +750,12 @@ typedef struct {
 
 static int SceneKeyOnce(SceneKeys *k, const char *full, const char *value, int lineno, char *msg, size_t len)
 {
-  if (!strcmp(full, "scene")) {
+  if (!strcasecmp(full, "scene")) {
     snprintf(msg, len, "line %d: 'scene: %.100s': a scene file cannot name another scene", lineno, value);
     return lineno;
   }
   for (int q = 0; q < k->nseen; q++)
-    if (!strcmp(k->seen[q], full)) {
+    if (!strcasecmp(k->seen[q], full)) { /* PETSc's option names ignore case */
       snprintf(msg, len, "line %d: -%.100s given twice (first at line %d); give it once", lineno, full, k->at[q]);
       return lineno;
     }
@@ -814,13 +833,14 @@ static int SceneFlowMap(SceneKeys *k, const char *full, char *v, int lineno, cha
 static int FindBadKey(const char *file, char *msg, size_t len)
 {
   static SceneKeys keys;
-  char             line[1024], parent[8][128];
+  char            *line = NULL, parent[8][128];
+  size_t           cap  = 0;
   int              indent[8], depth = 0, lineno = 0, bad = 0;
   FILE            *fp = fopen(file, "r");
 
   if (!fp) return 0;
   keys.nseen = keys.nmaps = 0;
-  while (!bad && fgets(line, sizeof line, fp)) {
+  while (!bad && getline(&line, &cap, fp) >= 0) { /* whole lines, of any length */
     char *c = line, *v, key[128], full[128] = "", anchor[64];
     int   ind;
     lineno++;
@@ -849,6 +869,7 @@ static int FindBadKey(const char *file, char *msg, size_t len)
     else
       bad = SceneKeyOnce(&keys, full, v, lineno, msg, len);
   }
+  free(line);
   fclose(fp);
   return bad;
 }
@@ -1231,6 +1252,20 @@ static PetscErrorCode DeriveOutput(MPI_Comm comm, const SceneInput *in, Scene *s
   PetscFunctionReturn(0);
 }
 
+/* The grid's size: PETSc's DMDA holds 3 unknowns (x, y, z) per crossing and indexes them with 32-bit
+   integers, so 3 nx ny must stay below 2^31 - 1 (about 7.16e8 crossings) */
+#define GRID_MAX_CROSSINGS 7e8
+static PetscErrorCode CheckGridSize(MPI_Comm comm, const SceneInput *in, PetscReal nx, PetscReal ny)
+{
+  PetscFunctionBeginUser;
+  PetscCheck(nx * ny <= GRID_MAX_CROSSINGS, comm, PETSC_ERR_USER_INPUT,
+             "grid too large: -gauge_mm %.6g, -width_mm %.6g at -ends_per_cm %.6g, -picks_per_cm %.6g give %.6g x "
+             "%.6g = %.6g crossings, at most %.6g (3 unknowns each, within PETSc's 32-bit indices)",
+             (double) in->gauge_mm, (double) in->width_mm, (double) in->ends_per_cm, (double) in->picks_per_cm,
+             (double) nx, (double) ny, (double) (nx * ny), GRID_MAX_CROSSINGS);
+  PetscFunctionReturn(0);
+}
+
 /* the grid of crossings that the test, shape and size give (nx x ny), with the gauge length,
    width and jaw depth rounded to it */
 static PetscErrorCode DeriveGrid(MPI_Comm comm, const SceneInput *in, Scene *s)
@@ -1270,7 +1305,7 @@ static PetscErrorCode DeriveGrid(MPI_Comm comm, const SceneInput *in, Scene *s)
                "bias specimen too small or too wide: -gauge_mm %g, -width_mm %g at %g threads/cm (the gauge length "
                "must exceed the width by at least one yarn spacing)",
                (double) gauge_mm, (double) width_mm, (double) picks_cm);
-    PetscCheck(n * n < 2.0e9, comm, PETSC_ERR_USER_INPUT, "grid too large: %g x %g crossings", n, n);
+    PetscCall(CheckGridSize(comm, in, n, n));
     s->spec.nx        = (PetscInt) n;
     s->spec.ny        = (PetscInt) n;
     s->spec.gauge     = 2 * J * h; /* free length between the jaws, along the specimen */
@@ -1283,7 +1318,7 @@ static PetscErrorCode DeriveGrid(MPI_Comm comm, const SceneInput *in, Scene *s)
                "bias specimen too small or too wide: -gauge_mm %g, -width_mm %g (the gauge length must exceed the "
                "width) give %g x %g crossings",
                (double) gauge_mm, (double) width_mm, nx, ny);
-    PetscCheck(nx * ny < 2.0e9, comm, PETSC_ERR_USER_INPUT, "grid too large: %g x %g crossings", nx, ny);
+    PetscCall(CheckGridSize(comm, in, nx, ny));
     s->spec.nx        = (PetscInt) nx;
     s->spec.ny        = (PetscInt) ny;
     s->spec.gauge     = gauge_mm * 1e-3; /* free length between the jaws, along the specimen */
@@ -1295,7 +1330,7 @@ static PetscErrorCode DeriveGrid(MPI_Comm comm, const SceneInput *in, Scene *s)
     PetscCheck(nx >= 3 && ny >= 3, comm, PETSC_ERR_USER_INPUT,
                "grid too small: -gauge_mm %g x -width_mm %g gives %g x %g crossings, at least 3 x 3 are needed",
                (double) gauge_mm, (double) width_mm, nx, ny);
-    PetscCheck(nx * ny < 2.0e9, comm, PETSC_ERR_USER_INPUT, "grid too large: %g x %g crossings", nx, ny);
+    PetscCall(CheckGridSize(comm, in, nx, ny));
     s->spec.nx          = (PetscInt) nx;
     s->spec.ny          = (PetscInt) ny;
     s->spec.gauge       = (nx - 1) / s->spec.picks_per_m;
@@ -1312,8 +1347,7 @@ static PetscErrorCode DeriveGrid(MPI_Comm comm, const SceneInput *in, Scene *s)
     PetscCheck(n_across >= 1, comm, PETSC_ERR_USER_INPUT,
                "grid too small: -width_mm %g at %g threads/cm gives no yarn across the strip", (double) width_mm,
                (double) (across_density / 100));
-    PetscCheck(n_along * n_across < 2.0e9, comm, PETSC_ERR_USER_INPUT, "grid too large: %g x %g crossings",
-               (double) n_along, (double) n_across);
+    PetscCall(CheckGridSize(comm, in, n_along, n_across));
     s->spec.nx    = (PetscInt) (s->spec.pull == PULL_WARP ? n_along : n_across);
     s->spec.ny    = (PetscInt) (s->spec.pull == PULL_WARP ? n_across : n_along);
     s->spec.gauge = (n_along - 1) / along_density;
@@ -1461,7 +1495,7 @@ static void PlaceOf(const char *path, char *out, size_t len)
 }
 
 /* -positions_out must not be the output directory or a file the run writes in it */
-static void PositionsOutClash(const SceneOutput *o, char *msg, size_t len)
+static void PositionsOutDirClash(const SceneOutput *o, char *msg, size_t len)
 {
   static const char *own[] = {"curve.csv", "summary.json", "fabric.h5", "fabric.xmf", "checkpoint.h5", ".checkpoint.h5.tmp",
                               ".summary.json.tmp", ".fabric.xmf.tmp"};
@@ -1483,6 +1517,45 @@ static void PositionsOutClash(const SceneOutput *o, char *msg, size_t len)
       return;
     }
   }
+}
+
+/* path and other are one file: the same device and inode when both exist (any spelling, a link),
+   else the same place (PlaceOf) */
+static int SameFile(const char *path, const char *other)
+{
+  struct stat a, b;
+  char        p[2 * PETSC_MAX_PATH_LEN], q[2 * PETSC_MAX_PATH_LEN];
+
+  if (!path[0] || !other[0]) return 0;
+  if (!stat(path, &a) && !stat(other, &b)) return a.st_dev == b.st_dev && a.st_ino == b.st_ino;
+  PlaceOf(path, p, sizeof p);
+  PlaceOf(other, q, sizeof q);
+  return !strcmp(p, q);
+}
+
+/* -positions_out must not be one of the run's input files (written over at the end), the output
+   directory or a file the run writes in it */
+static void PositionsOutClash(const Scene *s, char *msg, size_t len)
+{
+  const SceneOutput *o = &s->out;
+  const struct {
+    const char *opt, *file;
+  } input[] = {
+    {"scene",        o->file          },
+    {"warp_law_csv", s->yarns.warp.csv},
+    {"weft_law_csv", s->yarns.weft.csv},
+    {"restart",      o->restart       },
+  };
+
+  if (!o->positions_out[0]) return;
+  for (size_t k = 0; k < sizeof input / sizeof input[0]; k++)
+    if (SameFile(o->positions_out, input[k].file)) {
+      snprintf(msg, len,
+               "-positions_out %s: is the run's input file -%s %s: it would be written over; give another file",
+               o->positions_out, input[k].opt, input[k].file);
+      return;
+    }
+  PositionsOutDirClash(o, msg, len);
 }
 
 /* an option's name, not a value (PETSc's rule: "-5" and "-.5" are values) */
@@ -1567,8 +1640,9 @@ static void ProbeViewerFiles(const char *output_dir, char *msg, size_t len)
 }
 
 /* -output_dir, -positions_out and the viewers' files can be written: rank 0 looks, every rank refuses alike */
-static PetscErrorCode CheckOutputPlaces(MPI_Comm comm, const SceneOutput *o)
+static PetscErrorCode CheckOutputPlaces(MPI_Comm comm, const Scene *s)
 {
+  const SceneOutput *o = &s->out;
   char        msg[2 * PETSC_MAX_PATH_LEN + 128] = "";
   PetscMPIInt rank;
   PetscBool   help;
@@ -1577,7 +1651,7 @@ static PetscErrorCode CheckOutputPlaces(MPI_Comm comm, const SceneOutput *o)
   PetscCall(PetscOptionsHasHelp(NULL, &help));
   if (help) PetscFunctionReturn(0); /* -help writes nothing */
   PetscCall(CommRank(comm, &rank));
-  if (!rank) PositionsOutClash(o, msg, sizeof msg);
+  if (!rank) PositionsOutClash(s, msg, sizeof msg);
   if (!rank && !msg[0] && o->output_dir[0]) ProbeDirectory("output_dir", o->output_dir, msg, sizeof msg);
   if (!rank && !msg[0] && o->positions_out[0])
     ProbeFile("positions_out", o->positions_out, o->output_dir, msg, sizeof msg);
@@ -1626,7 +1700,7 @@ static PetscErrorCode SceneDerive(MPI_Comm comm, Scene *s)
   PetscCall(DerivePath(comm, in, &s->load));
   PetscCall(CheckTestOptions(comm, in, s));
   PetscCall(CheckSolverOptions(comm, in));
-  PetscCall(CheckOutputPlaces(comm, &s->out));
+  PetscCall(CheckOutputPlaces(comm, s));
   PetscFunctionReturn(0);
 }
 
