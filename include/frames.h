@@ -39,6 +39,7 @@ struct _p_FabricIO {
   PetscInt64 te_base;      /* te_steps when that load step began */
   /* restart */
   PetscBool restarted;
+  PetscInt  checkpoints; /* DIR/checkpoint.h5 written by this run, of any kind (-checkpoint_every*, a signal) */
 };
 typedef struct _p_FabricIO *FabricIO;
 

@@ -645,6 +645,7 @@ static PetscErrorCode CheckpointWrite(Fabric fab, const RelaxPoint *at)
   PetscCall(PetscViewerDestroy(&v));
   PetscCall(CommitFile(fab->comm, fab->rank, dir, tmp, file));
   ckpt.last_te = fab->stats.te_steps;
+  fab->io->checkpoints++;
   if (fab->rank == 0) PetscCall(PetscTime(&ckpt.last_wall));
   PetscCall(PetscLogEventEnd(EV_Output, 0, 0, 0, 0));
   if (fab->s.out.quiet) PetscFunctionReturn(0);

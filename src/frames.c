@@ -429,7 +429,7 @@ PetscErrorCode IODescribe(FabricIO io, const char *output_dir, char *buf, size_t
     PetscCall(PetscStrlen(buf, &n));
     PetscCall(PetscSNPrintf(buf + n, len - n, ", fabric.h5 and fabric.xmf (%" PetscInt_FMT " frames)", io->frames));
   }
-  if (io && io->checkpoint_every) {
+  if (io && (io->checkpoint_every || io->checkpoints)) { /* also one only -checkpoint_every_te or _s wrote */
     PetscCall(PetscStrlen(buf, &n));
     PetscCall(PetscSNPrintf(buf + n, len - n, ", checkpoint.h5"));
   }
