@@ -520,7 +520,8 @@ PetscErrorCode FabricRun(Fabric fab)
     PetscCall(OutputCurveRow(fab, row));
     fab->stats.rows_done = k;
     f = (FrameInfo){row->time, row->load_step, row->inner_steps};
-    PetscCall(FramesLoadStep(fab->io, &src, &f, fab->step.te, row->load_step == s->load.load_steps || ruptured));
+    PetscCall(FramesLoadStep(fab->io, &src, &f, fab->step.te, row->load_step == s->load.load_steps || ruptured,
+                             ruptured ? fab->stats.rupture.rupture_time : 0));
     PetscCall(OutputProgress(fab, row));
     PetscCall(CheckpointLoadStep(fab));
     if (ruptured) break; /* the test ends: the specimen has broken */
