@@ -964,7 +964,8 @@ static int ReadCounters(const Scene *s, hid_t g, const char *file, Header *h)
   if (h->load_step < 1 - h->relax.within || h->load_step > K - h->relax.within || h->frames < 0 || h->te_steps < 0)
     return REFUSE("-restart %s: damaged checkpoint: load step %ld of %" PetscInt_FMT, file,
                   (long) h->load_step + h->relax.within, K);
-  if (h->point_updates < 0) return REFUSE("-restart %s: damaged checkpoint: point_updates = %lld", file, h->point_updates);
+  if (h->point_updates < 0)
+    return REFUSE("-restart %s: damaged checkpoint: point_updates = %lld", file, h->point_updates);
   return RuptureInRange(s, file, h);
 }
 
