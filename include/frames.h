@@ -39,6 +39,7 @@ struct _p_FabricIO {
   PetscInt64 te_base;      /* te_steps when that load step began */
   /* restart */
   PetscBool restarted;
+  PetscInt  checkpoints; /* DIR/checkpoint.h5 written by this run, of any kind (-checkpoint_every*, a signal) */
 };
 typedef struct _p_FabricIO *FabricIO;
 
@@ -59,8 +60,10 @@ PetscErrorCode IODestroy(FabricIO *io);
    or after a restart the frames written before the checkpoint */
 PetscErrorCode FramesOpen(FabricIO io, const FrameSource *src, const FrameInfo *start);
 /* end of a load step: a frame every -output_every load steps and at the last one. f: the load step as
-   curve.csv has it (test time, number, its te steps N'); with -output_te_every at time + N' te */
-PetscErrorCode FramesLoadStep(FabricIO io, const FrameSource *src, const FrameInfo *f, PetscReal te, PetscBool last);
+   curve.csv has it (test time, number, its te steps N'); with -output_te_every at time + N' te, or at
+   torn_time if > 0 (a load step that ended in a rupture: its tear's end, summary.json's rupture time) */
+PetscErrorCode FramesLoadStep(FabricIO io, const FrameSource *src, const FrameInfo *f, PetscReal te, PetscBool last,
+                              PetscReal torn_time);
 /* after a te step: a frame every -output_te_every te steps. load: the load step (test time, number,
    te step 0); te_steps: the run's te steps so far */
 PetscErrorCode FramesTeStep(FabricIO io, const FrameSource *src, const FrameInfo *load, PetscInt64 te_steps,

@@ -645,6 +645,7 @@ static PetscErrorCode CheckpointWrite(Fabric fab, const RelaxPoint *at)
   PetscCall(PetscViewerDestroy(&v));
   PetscCall(CommitFile(fab->comm, fab->rank, dir, tmp, file));
   ckpt.last_te = fab->stats.te_steps;
+  fab->io->checkpoints++;
   if (fab->rank == 0) PetscCall(PetscTime(&ckpt.last_wall));
   PetscCall(PetscLogEventEnd(EV_Output, 0, 0, 0, 0));
   if (fab->s.out.quiet) PetscFunctionReturn(0);
@@ -906,6 +907,32 @@ static int ReadRelaxState(const Scene *s, hid_t g, const char *file, Header *h)
   return 1;
 }
 
+/* the rupture state's counts and indices (curve rows, load steps, crossings) within their ranges: a
+   rupture ends its load step, so rupture_step is one of the load steps done; the first break may be
+   in the load step a checkpoint is within */
+static int RuptureInRange(const Scene *s, const char *file, Header *h)
+{
+  const double done = h->load_step, in = done + (double) h->relax.within, nx = (double) s->spec.nx,
+               ny = (double) s->spec.ny;
+  const struct {
+    int    k;
+    double lo, hi;
+    char   what[32];
+  } range[] = {
+      {0, 0, 2 * nx * ny, "segments of the grid"}, {2, 0, 1, "0 warp, 1 weft"},
+      {3, 0, nx - 1, "crossings in x"},            {4, 0, ny - 1, "crossings in y"},
+      {5, 0, in, "load steps"},                    {9, 0, done, "load steps done"},
+      {11, 0, (double) h->te_steps, "te steps"},
+  };
+  for (size_t r = 0; r < sizeof range / sizeof range[0]; r++) {
+    const double v = h->rupture[range[r].k];
+    if (!(v >= range[r].lo && v <= range[r].hi && v == floor(v)))
+      return REFUSE("-restart %s: damaged checkpoint: %s = %.17g (a whole number from %.17g to %.17g, %s)", file,
+                    RuptureAttr[range[r].k], v, range[r].lo, range[r].hi, range[r].what);
+  }
+  return 1;
+}
+
 /* the counters of the run: attributes of the root group g */
 static int ReadCounters(const Scene *s, hid_t g, const char *file, Header *h)
 {
@@ -937,7 +964,9 @@ static int ReadCounters(const Scene *s, hid_t g, const char *file, Header *h)
   if (h->load_step < 1 - h->relax.within || h->load_step > K - h->relax.within || h->frames < 0 || h->te_steps < 0)
     return REFUSE("-restart %s: damaged checkpoint: load step %ld of %" PetscInt_FMT, file,
                   (long) h->load_step + h->relax.within, K);
-  return 1;
+  if (h->point_updates < 0)
+    return REFUSE("-restart %s: damaged checkpoint: point_updates = %lld", file, h->point_updates);
+  return RuptureInRange(s, file, h);
 }
 
 /* the state vectors and the broken segments: there, of this grid, with their checksums (g: the root group) */

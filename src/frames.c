@@ -292,7 +292,8 @@ PetscErrorCode FramesOpen(FabricIO io, const FrameSource *src, const FrameInfo *
 
 /* End of a load step (f: as curve.csv has it): a frame every -output_every load steps and at the last one; with
    te frames, the one of its last te step */
-PetscErrorCode FramesLoadStep(FabricIO io, const FrameSource *src, const FrameInfo *f, PetscReal te, PetscBool last)
+PetscErrorCode FramesLoadStep(FabricIO io, const FrameSource *src, const FrameInfo *f, PetscReal te, PetscBool last,
+                              PetscReal torn_time)
 {
   FrameInfo at = *f;
 
@@ -300,6 +301,7 @@ PetscErrorCode FramesLoadStep(FabricIO io, const FrameSource *src, const FrameIn
   if (!FramesOn(io, src->out->output_dir) || !io->output_every) PetscFunctionReturn(0);
   if (f->load_step % io->output_every && !last) PetscFunctionReturn(0);
   at.time = f->time + (io->output_te_every || io->output_tear_every ? f->te_step * te : 0.0);
+  if (torn_time > 0 && (io->output_te_every || io->output_tear_every)) at.time = torn_time; /* after its tear frames */
   PetscCall(WriteFrame(io, src, &at));
   PetscFunctionReturn(0);
 }
@@ -429,7 +431,7 @@ PetscErrorCode IODescribe(FabricIO io, const char *output_dir, char *buf, size_t
     PetscCall(PetscStrlen(buf, &n));
     PetscCall(PetscSNPrintf(buf + n, len - n, ", fabric.h5 and fabric.xmf (%" PetscInt_FMT " frames)", io->frames));
   }
-  if (io && io->checkpoint_every) {
+  if (io && (io->checkpoint_every || io->checkpoints)) { /* also one only -checkpoint_every_te or _s wrote */
     PetscCall(PetscStrlen(buf, &n));
     PetscCall(PetscSNPrintf(buf + n, len - n, ", checkpoint.h5"));
   }

@@ -490,7 +490,7 @@ PetscErrorCode FabricRun(Fabric fab)
   const FrameSource src = FramesOf(fab); /* the state vectors are the fabric's for the whole run */
   FrameInfo         f;
   StaticSolver      ss       = NULL;
-  PetscBool         ruptured = PETSC_FALSE;
+  PetscBool         ruptured = PETSC_FALSE, stepped = PETSC_FALSE;
 
   PetscFunctionBeginUser;
   PetscCall(PetscTime(&fab->stats.wall_start));
@@ -505,6 +505,7 @@ PetscErrorCode FabricRun(Fabric fab)
   PetscCall(FramesOpen(fab->io, &src, &f)); /* fabric.h5 and fabric.xmf */
   for (PetscInt k = fab->load.load_step + 1; k <= s->load.load_steps && !fab->stats.rupture.rupture_step; k++) {
     CurveRow *row = &fab->stats.curve[k - 1];
+    stepped       = PETSC_TRUE;
     if (!CheckpointWithinLoadStep(fab, k)) PetscCall(ApplyLoadStep(fab, k)); /* else restarted within it */
     if (ss)
       PetscCall(SolveLoadStep(fab, ss, row));
@@ -519,7 +520,8 @@ PetscErrorCode FabricRun(Fabric fab)
     PetscCall(OutputCurveRow(fab, row));
     fab->stats.rows_done = k;
     f = (FrameInfo){row->time, row->load_step, row->inner_steps};
-    PetscCall(FramesLoadStep(fab->io, &src, &f, fab->step.te, row->load_step == s->load.load_steps || ruptured));
+    PetscCall(FramesLoadStep(fab->io, &src, &f, fab->step.te, row->load_step == s->load.load_steps || ruptured,
+                             ruptured ? fab->stats.rupture.rupture_time : 0));
     PetscCall(OutputProgress(fab, row));
     PetscCall(CheckpointLoadStep(fab));
     if (ruptured) break; /* the test ends: the specimen has broken */
@@ -527,6 +529,14 @@ PetscErrorCode FabricRun(Fabric fab)
       PetscCall(CheckpointLoadStepSignal(fab));
       if (CheckpointStopped()) break;
     }
+  }
+  if (!CheckpointStopped()) { /* also when no load step ran (a restart from the last one's checkpoint) */
+    PetscCall(PetscTime(&fab->stats.wall));
+    fab->stats.wall -= fab->stats.wall_start; /* the run before the restart and this one */
+  }
+  if (!stepped && s->test == TEST_DRAPE && fab->load.load_step > 0) { /* drape_pct, folds: the checkpoint's state */
+    CurveRow scratch = fab->stats.curve[fab->load.load_step - 1];  /* its row stays the checkpoint's */
+    PetscCall(DrapeOutline(fab, &scratch));
   }
   if (!CheckpointStopped()) PetscCall(StableStepMeasureLast(fab)); /* with the static path's tangent, as the others */
   PetscCall(StaticDestroy(&ss));

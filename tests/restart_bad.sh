@@ -31,6 +31,14 @@ refuse other_grid "-restart .*checkpoint.h5: the checkpoint is of another grid: 
 refuse other_scene "-restart .*checkpoint.h5: the checkpoint is of another scene: warp_crimp_pct = 8 there .*, 7 here" "${opts[@]}" -warp_crimp_pct 7 -output_dir "$work/run" -restart "$ck"
 refuse other_program "-restart .*checkpoint.h5: the checkpoint is of another scene: load_steps = 6 there .*, 8 here" "${opts[@]}" -load_steps 8 -output_dir "$work/run" -restart "$ck"
 refuse other_integrator "-restart .*checkpoint.h5: the checkpoint is of another scene: integrator = fire there .*, paper here" "${opts[@]}" -integrator paper -output_dir "$work/run" -restart "$ck"
+# a damaged attribute that counts or indexes (rupture_step indexes the curve rows; the checkpoint is of the last
+# of 6 load steps) is refused, naming it, not read past the arrays
+setattr() { /usr/bin/python3 -c "import sys, h5py; f = h5py.File(sys.argv[1], 'r+'); f.attrs[sys.argv[2]] = float(sys.argv[3])" "$@"; }
+for bad in "rupture_step 20 load steps done" "rupture_step 2.5 load steps done" "first_break_step -1 load steps" "first_break_i 1e9 crossings in x" "segments_broken nan segments of the grid"; do
+  read -r attr value what <<<"$bad"
+  cp "$ck" "$work/attr.h5" && setattr "$work/attr.h5" "$attr" "$value" || { echo "FAIL cannot set $attr"; fail=1; continue; }
+  refuse "attr_${attr}_$value" "-restart .*attr.h5: damaged checkpoint: $attr = .* \\(a whole number from 0 to [0-9]+, $what\\)" "${opts[@]}" -output_dir "$work/run" -restart "$work/attr.h5"
+done
 # frames were written before the checkpoint: restarting into a directory without them is refused
 refuse frames_missing "-restart .*checkpoint.h5: .*/elsewhere/fabric.h5, which holds the [0-9]+ frames written before the checkpoint, is missing" "${opts[@]}" -output_dir "$work/elsewhere" -restart "$ck"
 [[ -e "$work/elsewhere" ]] && { echo "FAIL frames_missing: $work/elsewhere was created"; fail=1; }

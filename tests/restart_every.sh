@@ -65,6 +65,8 @@ n=$(grep -c "^checkpoint at load step [0-9]*, te step [0-9]*: " "$work/clock.log
 wall=$(sed -n 's/.*"wall_s": \([0-9.]*\).*/\1/p' "$b/summary.json" 2>/dev/null)
 what="$(same "$a" "$b")"
 check '[[ $rc -eq 0 && $n -ge 1 && -z "$what" ]]' "every_s: $n checkpoints within load steps in ${wall:-?} s, the run ends as without them (exit $rc)${what:+; differ:$what}"
+results="$(grep -m1 "^fabric: results in" "$work/clock.log")"
+check '[[ "$results" == "fabric: results in $b/ (curve.csv, summary.json, fabric.h5 and fabric.xmf ("*" frames), checkpoint.h5)" ]]' "every_s: the end line lists the checkpoint.h5 only -checkpoint_every_s wrote ($results)"
 ck="$b/checkpoint.h5"
 last="$(where "$ck")"
 mv "$b/positions.bin" "$b/positions.first.bin"

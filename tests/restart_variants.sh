@@ -16,6 +16,9 @@
 #              friction anchors of both bodies) and kinetic damping (the last kinetic energy),
 #              2 ranks (the reaction columns of curve.csv are floating-point sums: the same
 #              number of ranks)
+# A checkpoint with nothing left to run (the end of the last load step) restarts into a run that only
+# writes its summary: its wall_s counts the run before the restart (not 0), and the drape's
+# drape_coefficient_pct and folds are those of the uninterrupted run (measured on the checkpoint's state).
 set -u
 fabric="$1"; scene="$2"
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
@@ -59,6 +62,33 @@ variant breaking 2 2 -predict extrapolate -point_load_N 0,0,0.001 -warp_break_pc
 variant te_frames 3 3 -predict extrapolate -elongation_pct 3 -point_load_N 0,0,0.001 -output_te_every 50
 variant bodies 2 2 -predict none -elongation_pct 1 -gravity 2,0,-9.81 -plane -plane_point_mm 0,0,-0.15 -pedestal_diameter_mm 4 -friction_mu 0.3 -integrator damped -kinetic_damping -max_inner_steps 400 -early_exit 0
 variant sleeping 2 2 -predict none -front 1 -sleep_tol 1e-4 -elongation_pct 1 -point_load_N 0,0,0.001 -max_inner_steps 3000
+# nothing left to run: a strip whose checkpoint is the last load step's, and the drape
+nothing() {
+  local name="$1" np="$2"; shift 2
+  local a="$work/$name/whole" b="$work/$name/restarted"
+  mpiexec -n "$np" "$fabric" "$@" -output_dir "$a" -checkpoint_every 2 >/dev/null 2>&1 || { echo "FAIL $name: the checkpointed run failed"; fail=1; return; }
+  mkdir -p "$b" && cp "$a/checkpoint.h5" "$b/ck.h5"
+  mpiexec -n "$np" "$fabric" "$@" -output_dir "$b" -restart "$b/ck.h5" >"$work/$name.log" 2>&1 || { echo "FAIL $name: the restart failed"; fail=1; return; }
+  /usr/bin/python3 - "$a/summary.json" "$b/summary.json" "$(h5dump -a /wall_s "$b/ck.h5" 2>/dev/null | sed -n 's/ *(0): //p')" "$work/$name.log" <<'PY'
+import json, re, sys
+a, b = (json.load(open(f)) for f in sys.argv[1:3])
+ck_wall, log = float(sys.argv[3]), open(sys.argv[4]).read()
+done = re.search(r"done in ([0-9.]+) s: .*, ([0-9.e+-]+) point updates/s", log)
+keys = [k for k in ("te_steps", "point_updates", "load_steps_done", "peak_force_N", "drape_coefficient_pct", "folds") if k in a]
+bad = [f"{k} {a[k]} vs {b.get(k)}" for k in keys if a[k] != b.get(k)]
+if not (b["wall_s"] >= ck_wall - 1e-6 and ck_wall > 0 and b["point_updates_per_s"] > 0):
+    bad.append(f"wall_s {b['wall_s']} (checkpoint's {ck_wall}), point_updates_per_s {b['point_updates_per_s']}")
+if not done or float(done[1]) <= 0 or float(done[2]) <= 0:
+    bad.append("done line: " + (done[0] if done else "missing"))
+what = ", ".join(f"{k} {b[k]}" for k in keys)
+print(("FAIL " if bad else "PASS ") + f"{sys.argv[1].split('/')[-3]}: restart from the last load step's checkpoint (nothing left to run): "
+      + (f"wall_s {b['wall_s']} >= the checkpoint's {ck_wall:.6f}, {what}" if not bad else "; ".join(bad)))
+sys.exit(1 if bad else 0)
+PY
+  [[ $? -eq 0 ]] || fail=1
+}
+nothing nothing_strip 2 "${base[@]}" -predict none -elongation_pct 3 -load_steps 4 -output_every 0
+nothing nothing_drape 2 -scene "$(dirname "$scene")/drape.yaml" -quiet -output_every 0 -load_steps 2 -max_inner_steps 1500
 # the breaking variant must break yarns at load step 4, before the checkpoint: the restarted run
 # only carries nothing after it if it got the broken segments back
 forces="$(awk -F, 'NR > 1 { printf "%s ", $4 }' "$work/breaking/whole/curve.csv")"

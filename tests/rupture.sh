@@ -88,9 +88,24 @@ print(("PASS" if ok else "FAIL") + " a restart from the rupture's checkpoint rep
 sys.exit(0 if ok else 1)
 PY
 
-for np in 1 2 3; do
-  run "$np" -scene "$scene" -gauge_mm 50 -width_mm 20 -output_dir "$work/w$np" -output_every 0 -positions_out "$work/pos$np.bin"
+for np in 1 2 3; do # on 3 ranks with frames of load steps, te steps and the tear (they change no result)
+  frames=(-output_every 0); [[ $np == 3 ]] && frames=(-output_every 10 -output_tear_every 100 -output_te_every 400)
+  run "$np" -scene "$scene" -gauge_mm 50 -width_mm 20 -output_dir "$work/w$np" "${frames[@]}" -positions_out "$work/pos$np.bin"
 done
+# the frames' times strictly increase; the last (the rupture's load step) is at summary.json's rupture time, after
+# the tear's frames, and its te_step counts the tear's te steps as they do
+"$py" - "$work/w3/fabric.h5" "$work/w3/summary.json" <<'PY' || fail=1
+import h5py, json, sys
+with h5py.File(sys.argv[1], "r") as f:
+    t = [tuple(f["frames"][k].attrs[a].item() for a in ("time_s", "load_step", "te_step")) for k in sorted(f["frames"])]
+r = json.load(open(sys.argv[2]))["rupture"]
+tear = [x for x in t[:-1] if x[1] == r["load_step"]]
+ok = all(b[0] > a[0] for a, b in zip(t, t[1:])) and float(f"{t[-1][0]:.9g}") == r["time_s"] and len(tear) >= 2
+ok = ok and t[-1][1] == r["load_step"] and all(b[2] > a[2] for a, b in zip(tear, tear[1:] + [t[-1]]))
+print(("PASS" if ok else "FAIL") + f" {len(t)} frames, times strictly increasing; the rupture's load step: {len(tear)} tear frames "
+      f"{[(round(x[0], 9), x[2]) for x in tear]}, then its own at {t[-1][0]:.9g} s (te step {t[-1][2]}), rupture {r['time_s']} s")
+sys.exit(0 if ok else 1)
+PY
 cmp -s "$work/pos1.bin" "$work/pos2.bin" && cmp -s "$work/pos1.bin" "$work/pos3.bin" \
   && echo "PASS rupture positions bit-identical on 1, 2 and 3 ranks" || { echo "FAIL rupture positions differ between ranks"; fail=1; }
 "$py" - "$work"/w1/summary.json "$work"/w2/summary.json "$work"/w3/summary.json <<'PY' || fail=1
