@@ -138,26 +138,16 @@ static PetscReal HermiteSlope(const YarnLaw *y, PetscInt k, PetscReal t)
 }
 
 /* The table (YARN_TABLE_NODES uniform nodes over [0, last strain]) must reproduce each of the n data
-   rows (strain es, force fs, at line at): within YARN_TABLE_TOL of the largest force. A last row far
-   beyond the others leaves them between two nodes, and the law they give is lost. */
+   rows (strain es, force fs): within YARN_TABLE_TOL of the largest force. A last row far beyond the
+   others leaves them between two nodes, and the law they give is lost. The first row it misses, or -1. */
 #define YARN_TABLE_TOL 0.01
-static PetscErrorCode CheckTableRows(MPI_Comm comm, const YarnLaw *y, PetscInt n, const double *es, const double *fs,
-                                     const PetscInt *at)
+static PetscInt TableMissesRow(const YarnLaw *y, PetscInt n, const double *es, const double *fs)
 {
   const double tol = YARN_TABLE_TOL * fs[n - 1]; /* forces never fall: the last is the largest */
-  const double cN  = 100.0 / (y->bundle > 1 ? y->bundle : 1.0); /* N of the table as cN of the file */
 
-  PetscFunctionBeginUser;
-  for (PetscInt i = 0; i < n; i++) {
-    const double T = YarnTension(y, es[i]);
-    PetscCheck(PetscAbsReal(T - fs[i]) <= tol, comm, PETSC_ERR_FILE_UNEXPECTED,
-               "-%s_law_csv %s line %" PetscInt_FMT ": the yarn table gives %.6g cN at %.6g %%, the row %.6g cN, off "
-               "by more than %.6g %% of the largest force: its node spacing (last strain %.6g %% / %d = %.6g %%) is "
-               "too coarse for the data (end the law nearer its other rows, or add rows where it bends)",
-               y->name, y->csv, at[i], T * cN, es[i] * 100.0, fs[i] * cN, 100.0 * YARN_TABLE_TOL,
-               y->tab_end * 100.0, YARN_TABLE_NODES - 1, y->tab_h * 100.0);
-  }
-  PetscFunctionReturn(0);
+  for (PetscInt i = 0; i < n; i++)
+    if (!(PetscAbsReal(YarnTension(y, es[i]) - fs[i]) <= tol)) return i;
+  return -1;
 }
 
 static PetscErrorCode BuildTable(MPI_Comm comm, YarnLaw *y)
@@ -203,14 +193,25 @@ static PetscErrorCode BuildTable(MPI_Comm comm, YarnLaw *y)
     y->EA                  = PetscMax(y->EA, m);
     finite                 = finite && isfinite(m) && isfinite(y->tab_T[k + 1]);
   }
+  {
+    const PetscInt miss = finite ? TableMissesRow(y, n, es, fs) : -1;
+    const double   cN   = 100.0 / (y->bundle > 1 ? y->bundle : 1.0); /* N of the table as cN of the file */
+    double         row[4] = {0, 0, 0, 0};                            /* its line, strain, force, table's force */
+    if (miss >= 0) row[0] = at[miss], row[1] = es[miss], row[2] = fs[miss], row[3] = YarnTension(y, es[miss]);
+    PetscCall(PetscFree3(es, fs, at)); /* before any refusal */
+    PetscCheck(miss < 0, comm, PETSC_ERR_FILE_UNEXPECTED,
+               "-%s_law_csv %s line %.0f: the yarn table gives %.6g cN at %.6g %%, the row %.6g cN, off by more "
+               "than %.6g %% of the largest force: its node spacing (last strain %.6g %% / %d = %.6g %%) is too "
+               "coarse for the data (end the law nearer its other rows, or add rows where it bends)",
+               y->name, y->csv, row[0], row[3] * cN, row[1] * 100.0, row[2] * cN, 100.0 * YARN_TABLE_TOL,
+               y->tab_end * 100.0, YARN_TABLE_NODES - 1, y->tab_h * 100.0);
+  }
   PetscCheck(finite, comm, PETSC_ERR_FILE_UNEXPECTED,
              "-%s_law_csv %s: the law's slope overflows (not a finite number of N per unit yarn strain): forces are "
              "in cN, strains in %%",
              y->name, y->csv);
   PetscCheck(y->EA > 0, comm, PETSC_ERR_FILE_UNEXPECTED,
              "-%s_law_csv %s: every force is 0: a yarn law needs a positive stiffness", y->name, y->csv);
-  PetscCall(CheckTableRows(comm, y, n, es, fs, at));
-  PetscCall(PetscFree3(es, fs, at));
   for (PetscInt l = 1; l < y->nlev; l++) {
     PetscInt w = 1 << l;
     PetscCall(PetscMalloc1(ncell - w + 1, &y->tab_slope_max[l]));
