@@ -264,16 +264,20 @@ static PetscErrorCode CheckMemory(Fabric fab)
   PetscCallMPI(MPI_Comm_size(shm, &here));
   PetscCallMPI(MPI_Comm_free(&shm));
   if (getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY) limit = (double) as.rlim_cur;
-  {
-    PetscReal bad[2] = {node > 0 && here * share > node ? 1.0 : 0.0, limit > 0 && share > limit ? 1.0 : 0.0};
-    PetscCall(GlobalMax(fab->comm, bad, 2)); /* every rank refuses alike */
-    PetscCheck(!bad[0] && !bad[1], fab->comm, PETSC_ERR_USER_INPUT,
+  { /* the least room of any rank, as a share of its node and within its limit (negated: a max) */
+    PetscReal      room[2] = {-(node > 0 ? node / here : PETSC_MAX_REAL), -(limit > 0 ? limit : PETSC_MAX_REAL)};
+    PetscBool      bad;
+    int            w;
+    PetscCall(GlobalMax(fab->comm, room, 2)); /* every rank refuses alike, and says the same */
+    w   = -room[0] <= -room[1] ? 0 : 1;
+    bad = share > -room[w] ? PETSC_TRUE : PETSC_FALSE;
+    PetscCheck(!bad, fab->comm, PETSC_ERR_USER_INPUT,
                "-gauge_mm %g -width_mm %g -ends_per_cm %g -picks_per_cm %g: %" PetscInt_FMT " x %" PetscInt_FMT
                " crossings need about %.3g GB (%.0f B a crossing): %.3g GB for a rank, more than %s %.3g GB",
                (double) in->gauge_mm, (double) in->width_mm, (double) in->ends_per_cm, (double) in->picks_per_cm,
                fab->s.spec.nx, fab->s.spec.ny, 1e-9 * share * fab->size, bytes, 1e-9 * share,
-               bad[0] ? "its share of the node's available memory," : "its address-space limit (ulimit -v),",
-               1e-9 * (bad[0] ? node / here : limit));
+               w == 0 ? "its share of the node's available memory," : "its address-space limit (ulimit -v),",
+               1e-9 * -room[w]);
   }
   PetscFunctionReturn(0);
 }
