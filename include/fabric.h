@@ -83,6 +83,7 @@ typedef struct { /* where the load program is */
   PetscReal travel_from;           /* m: where the ramp started */
   PetscInt  ramp_steps, ramp_done; /* the ramp of this load step, te steps */
   PetscReal gravity_now[3];        /* m/s^2: gravity of the current load step */
+  PetscReal elapsed;               /* s: time since the load step began, the te of its te steps summed */
 } LoadState;
 
 typedef struct {       /* te against the measured stable limit at one state (-te_measure, spectrum.c) */

@@ -19,7 +19,7 @@
 #include "fabric.h"
 
 typedef struct {       /* one frame of fabric.h5 */
-  PetscReal time;      /* s: the load step's test time, plus n te for a frame n te steps into it */
+  PetscReal time;      /* s: the load step's test time, plus the te of the te steps before the frame */
   PetscInt  load_step; /* 0: the rest state */
   PetscInt  te_step;   /* te steps into the load step when the frame was taken */
 } FrameInfo;
@@ -60,17 +60,16 @@ PetscErrorCode IODestroy(FabricIO *io);
    or after a restart the frames written before the checkpoint */
 PetscErrorCode FramesOpen(FabricIO io, const FrameSource *src, const FrameInfo *start);
 /* end of a load step: a frame every -output_every load steps and at the last one. f: the load step as
-   curve.csv has it (test time, number, its te steps N'); with -output_te_every at time + N' te, or at
-   torn_time if > 0 (a load step that ended in a rupture: its tear's end, summary.json's rupture time) */
-PetscErrorCode FramesLoadStep(FabricIO io, const FrameSource *src, const FrameInfo *f, PetscReal te, PetscBool last,
-                              PetscReal torn_time);
-/* after a te step: a frame every -output_te_every te steps. load: the load step (test time, number,
-   te step 0); te_steps: the run's te steps so far */
-PetscErrorCode FramesTeStep(FabricIO io, const FrameSource *src, const FrameInfo *load, PetscInt64 te_steps,
-                            PetscReal te);
-/* within a tear (relax.c): a frame every -output_tear_every te steps. load: the load step (test time,
-   number); n: te steps into the load step */
-PetscErrorCode FramesTearStep(FabricIO io, const FrameSource *src, const FrameInfo *load, PetscInt n, PetscReal te);
+   curve.csv has it (test time, number, its te steps N'); with te or tear frames at time + elapsed, the
+   time its te steps took (a load step that ended in a rupture: summary.json's rupture time) */
+PetscErrorCode FramesLoadStep(FabricIO io, const FrameSource *src, const FrameInfo *f, PetscReal elapsed,
+                              PetscBool last);
+/* after a te step: a frame every -output_te_every te steps. now: the test time (the load step's and
+   its te steps'), the load step; te_steps: the run's te steps so far */
+PetscErrorCode FramesTeStep(FabricIO io, const FrameSource *src, const FrameInfo *now, PetscInt64 te_steps);
+/* within a tear (relax.c): a frame every -output_tear_every te steps, of now (test time, load step,
+   te steps into the load step) */
+PetscErrorCode FramesTearStep(FabricIO io, const FrameSource *src, const FrameInfo *now);
 /* frames are asked for: at load steps, te steps or in tears */
 static inline PetscBool IOWritesFrames(FabricIO io)
 {

@@ -237,6 +237,7 @@ typedef struct {
   double fire_dt, fire_alpha, fire_scale[3], watch_h0, watch_hmin, watch_kmax;
   long   static_nhist, nonlinear_iterations, linear_iterations; /* -solver static */
   double static_lh[3], static_shift;
+  double elapsed;
 } RelaxState;
 
 typedef struct {
@@ -275,7 +276,7 @@ static int RelaxAttrs(RelaxState *r, Attr *a)
   ATTR_L("static_balanced_count", static_nhist), ATTR_D("static_load_factor_1", static_lh[0]);
   ATTR_D("static_load_factor_2", static_lh[1]), ATTR_D("static_load_factor_3", static_lh[2]);
   ATTR_D("static_shift", static_shift), ATTR_L("nonlinear_iterations", nonlinear_iterations);
-  ATTR_L("linear_iterations", linear_iterations);
+  ATTR_L("linear_iterations", linear_iterations), ATTR_D("load_step_elapsed_s", elapsed);
 #undef ATTR_L
 #undef ATTR_D
   return n;
@@ -296,6 +297,7 @@ static void RelaxStatePack(Fabric fab, const RelaxPoint *at, RelaxState *r)
   r->last_balanced = (long) fab->step.last.balanced;
   r->travel_from   = fab->load.travel_from;
   r->travel_now    = fab->load.travel_now;
+  r->elapsed       = fab->load.elapsed;
   r->te            = fab->step.te;
   r->te_bound      = fab->step.te_bound;
   r->omega_max     = fab->step.omega_max;
@@ -340,6 +342,7 @@ static void RelaxStateUnpack(const RelaxState *r, Fabric fab)
   fab->step.last.balanced  = r->last_balanced ? PETSC_TRUE : PETSC_FALSE;
   fab->load.travel_from    = r->travel_from;
   fab->load.travel_now     = r->travel_now;
+  fab->load.elapsed        = r->elapsed;
   fab->step.te             = r->te;
   fab->step.te_bound       = r->te_bound;
   fab->step.omega_max      = r->omega_max;

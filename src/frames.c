@@ -9,8 +9,9 @@
  * Frames: the state at the start (rest, load step 0), then every -output_every K load steps and
  * the last load step, at the load step's test time time_s = grip travel / test speed (as in
  * curve.csv). With -output_te_every M (dynamic scenes) also every M te steps within each load
- * step, at time_s + n te for the n-th te step of the load step; a load step's own frame is then
- * the one at its last te step, time_s + N' te, so that the times of the series increase.
+ * step, at time_s + the te of its te steps so far (te changes within a load step: after the
+ * grips' jump, in a tear); a load step's own frame is then the one at its last te step, so that
+ * the times of a load step's frames increase.
  *
  * The module never sees the Fabric: the driver lends what frames are taken of (FrameSource: the
  * communicator, the grid, the state vectors, the output options) and says where the run is
@@ -291,51 +292,46 @@ PetscErrorCode FramesOpen(FabricIO io, const FrameSource *src, const FrameInfo *
 }
 
 /* End of a load step (f: as curve.csv has it): a frame every -output_every load steps and at the last one; with
-   te frames, the one of its last te step */
-PetscErrorCode FramesLoadStep(FabricIO io, const FrameSource *src, const FrameInfo *f, PetscReal te, PetscBool last,
-                              PetscReal torn_time)
+   te frames, the one of its last te step (elapsed: the time its te steps took) */
+PetscErrorCode FramesLoadStep(FabricIO io, const FrameSource *src, const FrameInfo *f, PetscReal elapsed,
+                              PetscBool last)
 {
   FrameInfo at = *f;
 
   PetscFunctionBeginUser;
   if (!FramesOn(io, src->out->output_dir) || !io->output_every) PetscFunctionReturn(0);
   if (f->load_step % io->output_every && !last) PetscFunctionReturn(0);
-  at.time = f->time + (io->output_te_every || io->output_tear_every ? f->te_step * te : 0.0);
-  if (torn_time > 0 && (io->output_te_every || io->output_tear_every)) at.time = torn_time; /* after its tear frames */
+  if (io->output_te_every || io->output_tear_every) at.time += elapsed; /* after its te and tear frames */
   PetscCall(WriteFrame(io, src, &at));
   PetscFunctionReturn(0);
 }
 
-/* After each te step (RelaxLoadStep; load: the load step, te_steps: the run's te steps so far): a frame every
-   -output_te_every te steps of the load step */
-PetscErrorCode FramesTeStep(FabricIO io, const FrameSource *src, const FrameInfo *load, PetscInt64 te_steps,
-                            PetscReal te)
+/* After each te step (RelaxLoadStep; now: the test time and load step, te_steps: the run's te steps so far): a
+   frame every -output_te_every te steps of the load step */
+PetscErrorCode FramesTeStep(FabricIO io, const FrameSource *src, const FrameInfo *now, PetscInt64 te_steps)
 {
   FrameInfo f;
   PetscInt  n;
 
   PetscFunctionBeginUser;
   if (!io || !io->output_te_every || !FramesOn(io, src->out->output_dir)) PetscFunctionReturn(0);
-  if (load->load_step != io->te_load_step) { /* the first te step of a load step */
-    io->te_load_step = load->load_step;
+  if (now->load_step != io->te_load_step) { /* the first te step of a load step */
+    io->te_load_step = now->load_step;
     io->te_base      = te_steps - 1;
   }
   n = (PetscInt) (te_steps - io->te_base);
   if (n % io->output_te_every) PetscFunctionReturn(0);
-  f.load_step = load->load_step;
-  f.te_step   = n;
-  f.time      = load->time + n * te;
+  f         = *now;
+  f.te_step = n;
   PetscCall(WriteFrame(io, src, &f));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FramesTearStep(FabricIO io, const FrameSource *src, const FrameInfo *load, PetscInt n, PetscReal te)
+PetscErrorCode FramesTearStep(FabricIO io, const FrameSource *src, const FrameInfo *now)
 {
-  const FrameInfo f = {load->time + n * te, load->load_step, n};
-
   PetscFunctionBeginUser;
   if (!FramesOn(io, src->out->output_dir)) PetscFunctionReturn(0);
-  PetscCall(WriteFrame(io, src, &f));
+  PetscCall(WriteFrame(io, src, now));
   PetscFunctionReturn(0);
 }
 

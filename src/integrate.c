@@ -667,6 +667,7 @@ PetscErrorCode TimeStep(Fabric fab, StepStats *out)
     fab->front.awake_box[2] = (PetscInt) -red[6], fab->front.awake_box[3] = (PetscInt) red[7];
   }
   fab->stats.te_steps++;
+  fab->load.elapsed += fab->step.te; /* the te of this step (a rebound below sets the next one's) */
   if (red[3] == 2.0) PetscCall(StopNonFinite(fab));
   out->speed       = PetscSqrtReal(red[1]);
   out->tension_max = red[2];

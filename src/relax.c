@@ -72,21 +72,22 @@ static FrameSource FramesOf(Fabric fab)
   return src;
 }
 
-/* the current load step for its frames: its test time and number, at te step 0 */
-static FrameInfo LoadStepFrame(Fabric fab)
+/* the current state for its frames: the load step's test time and the time its te steps have taken, the load
+   step's number (te step: the caller's) */
+static FrameInfo NowFrame(Fabric fab)
 {
-  const FrameInfo f = {TestTime(&fab->s, &fab->load), fab->load.load_step, 0};
+  const FrameInfo f = {TestTime(&fab->s, &fab->load) + fab->load.elapsed, fab->load.load_step, 0};
   return f;
 }
 
 /* -output_te_every: a frame after this te step, if due */
 static PetscErrorCode TeStepFrame(Fabric fab)
 {
-  const FrameSource src  = FramesOf(fab);
-  const FrameInfo   load = LoadStepFrame(fab);
+  const FrameSource src = FramesOf(fab);
+  const FrameInfo   now = NowFrame(fab);
 
   PetscFunctionBeginUser;
-  PetscCall(FramesTeStep(fab->io, &src, &load, fab->stats.te_steps, fab->step.te));
+  PetscCall(FramesTeStep(fab->io, &src, &now, fab->stats.te_steps));
   PetscFunctionReturn(0);
 }
 
@@ -100,6 +101,7 @@ PetscErrorCode ApplyLoadStep(Fabric fab, PetscInt k)
 
   PetscFunctionBeginUser;
   fab->load.load_step   = k;
+  fab->load.elapsed     = 0;
   fab->load.load_factor = lambda;
   if (s->test == TEST_DRAPE) /* the specimen is lowered onto its support: gravity grows with the load steps */
     for (int d = 0; d < 3; d++) fab->load.gravity_now[d] = lambda * s->terms.gravity[d];
@@ -210,9 +212,9 @@ static PetscInt TearQuietSteps(Fabric fab)
   return (PetscInt) PetscMin(PetscCeilReal(s->rupture.crossings * span / (c * fab->step.te)), (PetscReal) PETSC_MAX_INT);
 }
 
-/* the specimen has ruptured: after a yarn broke, the force fell below (1 - drop) of its maximum.
-   n: te steps into the load step (the rupture's time) */
-static PetscErrorCode CheckRupture(Fabric fab, const StepStats *st, PetscInt n, CurveRow *row, PetscBool *ruptured)
+/* the specimen has ruptured: after a yarn broke, the force fell below (1 - drop) of its maximum (then, at the
+   time the load step's te steps have reached) */
+static PetscErrorCode CheckRupture(Fabric fab, const StepStats *st, CurveRow *row, PetscBool *ruptured)
 {
   RuptureState *r = &fab->stats.rupture;
 
@@ -221,7 +223,7 @@ static PetscErrorCode CheckRupture(Fabric fab, const StepStats *st, PetscInt n, 
   *ruptured = row->force < (1.0 - fab->s.rupture.drop) * r->peak_force ? PETSC_TRUE : PETSC_FALSE;
   if (*ruptured) {
     r->rupture_step = fab->load.load_step;
-    r->rupture_time = row->time + n * fab->step.te;
+    r->rupture_time = row->time + fab->load.elapsed;
   }
   PetscFunctionReturn(0);
 }
@@ -236,7 +238,6 @@ static PetscErrorCode FollowTear(Fabric fab, StepStats *st, CurveRow *row, Petsc
 {
   const Scene    *s      = &fab->s;
   const PetscInt  before = row->inner_steps, every = s->out.output_tear_every;
-  const FrameInfo load   = LoadStepFrame(fab);
   const PetscReal damp_c = fab->step.damp_c; /* the relaxation's */
   PetscInt        last = 0, n = 0, quiet, most, check;
 
@@ -261,11 +262,13 @@ static PetscErrorCode FollowTear(Fabric fab, StepStats *st, CurveRow *row, Petsc
     if (broke) last = n;
     if (fab->io && every && n % every == 0) {
       const FrameSource src = FramesOf(fab);
-      PetscCall(FramesTearStep(fab->io, &src, &load, before + n, fab->step.te));
+      FrameInfo         now = NowFrame(fab);
+      now.te_step           = before + n;
+      PetscCall(FramesTearStep(fab->io, &src, &now));
     }
-    if (check && n % check == 0) PetscCall(CheckRupture(fab, st, before + n, row, ruptured));
+    if (check && n % check == 0) PetscCall(CheckRupture(fab, st, row, ruptured));
   }
-  if (check && n % check) PetscCall(CheckRupture(fab, st, before + n, row, ruptured));
+  if (check && n % check) PetscCall(CheckRupture(fab, st, row, ruptured));
   PetscCall(StableStepMeasureTear(fab, "end"));
   fab->step.tear   = PETSC_FALSE;
   fab->step.torn   = PETSC_TRUE; /* PaperSteps: the damped scheme relaxes the broken pieces */
@@ -501,7 +504,7 @@ PetscErrorCode FabricRun(Fabric fab)
   if (s->num.solver == SOLVER_STATIC) PetscCall(StaticCreate(fab, &ss));
   PetscCall(RestartLoad(fab)); /* -restart: state, counters and curve rows of the checkpoint */
   PetscCall(OutputOpen(fab));
-  f = LoadStepFrame(fab);                   /* the state the run starts from */
+  f = NowFrame(fab);                        /* the state the run starts from */
   PetscCall(FramesOpen(fab->io, &src, &f)); /* fabric.h5 and fabric.xmf */
   for (PetscInt k = fab->load.load_step + 1; k <= s->load.load_steps && !fab->stats.rupture.rupture_step; k++) {
     CurveRow *row = &fab->stats.curve[k - 1];
@@ -520,8 +523,7 @@ PetscErrorCode FabricRun(Fabric fab)
     PetscCall(OutputCurveRow(fab, row));
     fab->stats.rows_done = k;
     f = (FrameInfo){row->time, row->load_step, row->inner_steps};
-    PetscCall(FramesLoadStep(fab->io, &src, &f, fab->step.te, row->load_step == s->load.load_steps || ruptured,
-                             ruptured ? fab->stats.rupture.rupture_time : 0));
+    PetscCall(FramesLoadStep(fab->io, &src, &f, fab->load.elapsed, row->load_step == s->load.load_steps || ruptured));
     PetscCall(OutputProgress(fab, row));
     PetscCall(CheckpointLoadStep(fab));
     if (ruptured) break; /* the test ends: the specimen has broken */

@@ -1129,6 +1129,45 @@ static PetscErrorCode CheckTestOptions(MPI_Comm comm, const SceneInput *in, cons
   PetscFunctionReturn(0);
 }
 
+/* An option given (on the command line or in the scene) that this test, shape or clamping does not read is
+   refused: a run that ignored it would answer another question than the one asked */
+static PetscErrorCode CheckOptionsApply(MPI_Comm comm, const Scene *s)
+{
+  const PetscBool bodies =
+      s->bodies.sphere_radius > 0 || s->bodies.plane || s->bodies.pedestal_radius > 0 ? PETSC_TRUE : PETSC_FALSE;
+  const PetscBool moves = JawTest(s) || s->test == TEST_PUSHING ? PETSC_TRUE : PETSC_FALSE;
+  const struct {
+    const char *name;
+    PetscBool   applies;
+    const char *why;
+  } opts[] = {
+      {"yarns", s->test == TEST_STRIP, "only the strip's width is given in yarns, the others take -width_mm"},
+      {"jaw_depth_mm", s->test == TEST_BIAS, "only the bias test's jaws have a depth"},
+      {"sphere_direction", s->test == TEST_PUSHING, "only the pushing test moves a ball"},
+      {"sphere_start_mm", s->test == TEST_PUSHING, "only the pushing test moves a ball"},
+      {"sphere_travel_mm", s->test == TEST_PUSHING, "only the pushing test moves a ball"},
+      {"disc_diameter_mm", s->spec.shape == SHAPE_DISC, "only a disc specimen (-shape disc) has a diameter"},
+      {"clamp_ring_mm", s->clamps.clamp == CLAMP_RING, "only a ring clamp (-clamp ring) has diameters"},
+      {"grip_ramp_steps", moves, "it moves no grips and no ball"},
+      {"rupture_drop_pct", ReactionTest(s), "it measures no force for a break detection to watch"},
+      {"friction_mu", bodies, "there is no sphere, plane or pedestal for the fabric to rub on"},
+      {"contact_stiffness_N_m", bodies, "there is no sphere, plane or pedestal to touch"},
+  };
+
+  PetscFunctionBeginUser;
+  for (size_t k = 0; k < sizeof opts / sizeof opts[0]; k++) {
+    char      opt[64], value[256] = "";
+    PetscBool set;
+    if (opts[k].applies) continue;
+    PetscCall(PetscSNPrintf(opt, sizeof opt, "-%s", opts[k].name));
+    PetscCall(PetscOptionsGetString(NULL, NULL, opt, value, sizeof value, &set));
+    PetscCheck(!set, comm, PETSC_ERR_USER_INPUT,
+               "%s %s is not used with -test %s: %s; remove it from the command line or the scene", opt, value,
+               TestNames[s->test], opts[k].why);
+  }
+  PetscFunctionReturn(0);
+}
+
 /* what the quasi-static solver cannot do is refused, naming the option */
 static PetscErrorCode CheckSolverOptions(MPI_Comm comm, const SceneInput *in)
 {
@@ -1707,6 +1746,7 @@ static PetscErrorCode SceneDerive(MPI_Comm comm, Scene *s)
                         s->clamps.grip_line));
   PetscCall(DerivePath(comm, in, &s->load));
   PetscCall(CheckTestOptions(comm, in, s));
+  PetscCall(CheckOptionsApply(comm, s));
   PetscCall(CheckSolverOptions(comm, in));
   PetscCall(CheckOutputPlaces(comm, s));
   PetscFunctionReturn(0);

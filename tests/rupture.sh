@@ -21,7 +21,10 @@
 #  6. -info's line for each stable bound: the row that sets it (its parts add up to the bound's
 #     omega^2, to the 4 digits printed), and the same lines on 1 and 2 ranks;
 #  7. a tear takes at most -max_inner_steps te steps: with -tear_te_safety 1e-9 (a tear of about 1e11
-#     te steps by -tear_max_ms) the strip of case 1 still runs to its end, each tear 300 te steps.
+#     te steps by -tear_max_ms) the strip of case 1 still runs to its end, each tear 300 te steps;
+#  8. frame times strictly increase when te changes within a load step: a 30 x 20 mm strip (CV 25 %)
+#     whose load step 27 relaxes 300 te steps, then tears at a quarter of that te (-tear_te_safety 0.2),
+#     frames every 200 te steps (a frame at n te steps of the tear's te came before the relaxation's).
 set -u
 fabric="$1"; inputs="$2"
 . "$(dirname "$0")/runs.sh" # $py, $work, $fail, run NP ARGS...
@@ -163,6 +166,18 @@ tears, steps = s["tear_te_steps"], s["te_steps"]
 ok = tears > 0 and tears % 300 == 0 and steps <= s["load_steps_done"] * 300 * 2
 print(("PASS" if ok else "FAIL") + f" -tear_te_safety 1e-9: the run ends ({s['load_steps_done']} load steps, "
       f"{steps} te steps), its tears {tears} te steps, a multiple of -max_inner_steps 300")
+sys.exit(0 if ok else 1)
+PY
+run 1 -scene "$scene" -gauge_mm 30 -width_mm 20 -load_steps 30 -warp_break_cv_pct 25 -tear_te_safety 0.2 \
+  -output_dir "$work/te_frames" -output_te_every 200 -output_tear_every 200
+"$py" - "$work/te_frames/fabric.h5" <<'PY' || fail=1
+import h5py, sys
+with h5py.File(sys.argv[1], "r") as f:
+    t = [tuple(f["frames"][k].attrs[a].item() for a in ("time_s", "load_step", "te_step")) for k in sorted(f["frames"])]
+back = [(a, b) for a, b in zip(t, t[1:]) if b[0] <= a[0]]
+ok = not back and len(t) > 100
+print(("PASS" if ok else "FAIL") + f" te changing within load steps: {len(t)} frames, times strictly increasing"
+      + ("" if ok else f": not after {back[:3]}"))
 sys.exit(0 if ok else 1)
 PY
 exit $fail
