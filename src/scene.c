@@ -874,7 +874,30 @@ static int FindBadKey(const char *file, char *msg, size_t len)
   return bad;
 }
 
-/* -scene FILE: insert the YAML option file, then the command line again so that it wins */
+/* PETSC_OPTIONS as rank 0 has it (as PETSc reads it: other ranks may not see the launcher's environment) */
+static PetscErrorCode InsertEnvOptions(MPI_Comm comm)
+{
+  const char *env = NULL;
+  char       *text;
+  PetscInt    len = 0;
+  PetscMPIInt rank;
+
+  PetscFunctionBeginUser;
+  PetscCall(CommRank(comm, &rank));
+  if (!rank && (env = getenv("PETSC_OPTIONS"))) len = (PetscInt) strlen(env);
+  PetscCall(BroadcastFromRoot(comm, &len, 1, MPIU_INT));
+  if (!len) PetscFunctionReturn(0);
+  PetscCall(PetscMalloc1(len + 1, &text));
+  if (!rank) PetscCall(PetscArraycpy(text, env, len));
+  text[len] = 0;
+  PetscCall(BroadcastFromRoot(comm, text, len, MPI_CHAR));
+  PetscCall(PetscOptionsInsertString(NULL, text));
+  PetscCall(PetscFree(text));
+  PetscFunctionReturn(0);
+}
+
+/* -scene FILE: insert the YAML option file, then PETSC_OPTIONS and the command line again so that they win
+   (PETSc's order: option files, the environment, the command line) */
 PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv)
 {
   char           file[PETSC_MAX_PATH_LEN];
@@ -912,6 +935,7 @@ PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv)
     SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED, "-scene %s: not a valid YAML option file: %s", file,
             specific && specific[0] ? specific : text);
   }
+  PetscCall(InsertEnvOptions(comm));
   PetscCall(PetscOptionsInsertArgs(NULL, argc - 1, argv + 1));
   PetscFunctionReturn(0);
 }
