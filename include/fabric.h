@@ -69,6 +69,7 @@ typedef struct {         /* the dynamic state */
   Vec X, V, F, Xl;       /* positions, velocities, forces, ghosted positions */
   Vec Xold, Vold;        /* paper scheme: x(n-1), V(n-1) */
   Vec Xconv, Xconv_prev; /* converged positions of the last two load steps (extrapolation) */
+  PetscInt64 conv_segments; /* yarn segments broken when Xconv was kept */
   Vec anchor[3];         /* friction anchors of the sphere, plane, pedestal (bodies.h), NULL = none */
   Vec watch_x, watch_v;  /* energy watch: x and v before a watched te step (balance.c), NULL until one */
   StaticHistory hist;    /* -solver static */

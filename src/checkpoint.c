@@ -238,6 +238,7 @@ typedef struct {
   long   static_nhist, nonlinear_iterations, linear_iterations; /* -solver static */
   double static_lh[3], static_shift;
   double elapsed;
+  long   coarse_nonlinear_iterations, conv_segments;
 } RelaxState;
 
 typedef struct {
@@ -246,7 +247,7 @@ typedef struct {
   void       *value;
 } Attr;
 
-#define MAX_RELAX_ATTRS 56
+#define MAX_RELAX_ATTRS 64
 
 static int RelaxAttrs(RelaxState *r, Attr *a)
 {
@@ -277,6 +278,7 @@ static int RelaxAttrs(RelaxState *r, Attr *a)
   ATTR_D("static_load_factor_2", static_lh[1]), ATTR_D("static_load_factor_3", static_lh[2]);
   ATTR_D("static_shift", static_shift), ATTR_L("nonlinear_iterations", nonlinear_iterations);
   ATTR_L("linear_iterations", linear_iterations), ATTR_D("load_step_elapsed_s", elapsed);
+  ATTR_L("coarse_nonlinear_iterations", coarse_nonlinear_iterations), ATTR_L("converged_positions_segments", conv_segments);
 #undef ATTR_L
 #undef ATTR_D
   return n;
@@ -298,6 +300,8 @@ static void RelaxStatePack(Fabric fab, const RelaxPoint *at, RelaxState *r)
   r->travel_from   = fab->load.travel_from;
   r->travel_now    = fab->load.travel_now;
   r->elapsed       = fab->load.elapsed;
+  r->coarse_nonlinear_iterations = (long) fab->stats.coarse_nonlinear_iterations;
+  r->conv_segments               = (long) fab->state.conv_segments;
   r->te            = fab->step.te;
   r->te_bound      = fab->step.te_bound;
   r->omega_max     = fab->step.omega_max;
@@ -343,6 +347,8 @@ static void RelaxStateUnpack(const RelaxState *r, Fabric fab)
   fab->load.travel_from    = r->travel_from;
   fab->load.travel_now     = r->travel_now;
   fab->load.elapsed        = r->elapsed;
+  fab->stats.coarse_nonlinear_iterations = (PetscInt64) r->coarse_nonlinear_iterations;
+  fab->state.conv_segments               = (PetscInt64) r->conv_segments;
   fab->step.te             = r->te;
   fab->step.te_bound       = r->te_bound;
   fab->step.omega_max      = r->omega_max;

@@ -468,7 +468,9 @@ static PetscErrorCode SolveLoadStep(Fabric fab, StaticSolver ss, CurveRow *row)
   PetscFunctionReturn(0);
 }
 
-/* remember the converged state of the last two load steps (extrapolating prediction) */
+/* remember the converged state of the last two load steps (extrapolating prediction); if yarns broke since the
+   last, it is forgotten: the fabric is another, and the tear's motion extrapolated would be predicted again (the
+   next load step then takes the linear prediction) */
 static PetscErrorCode KeepConverged(Fabric fab)
 {
   Vec t;
@@ -484,6 +486,8 @@ static PetscErrorCode KeepConverged(Fabric fab)
   fab->state.Xconv_prev = fab->state.Xconv;
   fab->state.Xconv      = t;
   PetscCall(VecCopy(fab->state.X, fab->state.Xconv));
+  if (fab->stats.rupture.segments != fab->state.conv_segments) PetscCall(VecDestroy(&fab->state.Xconv_prev));
+  fab->state.conv_segments = fab->stats.rupture.segments;
   PetscFunctionReturn(0);
 }
 

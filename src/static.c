@@ -49,6 +49,7 @@
 #define SHIFT_CARRY  10.0  /* a later load step starts from this times the last one's final shift (-snes_shift_carry) */
 #define SHIFT_FLOOR  1e-12 /* below this k_s / k_ref the shift is dropped */
 #define GMRES_RESTART_MAX 5000 /* -ksp_gmres_restart at most (StaticOptionsCheck) */
+#define SNES_TYPES_RUN "newtonls,newtontr,ksponly,qn,ncg,ngmres,anderson,nrichardson,ngs,ms"
 #define MAX_ATTEMPTS 8     /* SNES solves per load step, each after a failed one */
 #define ENERGY_NOISE 1e-10 /* a predicted change of Pi below this fraction of |Pi| is rounding noise */
 
@@ -80,6 +81,7 @@ struct _p_StaticSolver {
   DM             dm; /* the grid's layout with the tangent's stencil (the SNES's and multigrid's DM) */
   Mat            J;
   Vec            Xbc;    /* positions of the held crossings this load step */
+  Vec            Xstart; /* the first guess of this load step (a solve that reached a state not finite restarts there) */
   unsigned char *free_g; /* ghosted: the crossing is free (inv_m > 0) */
   PetscReal      k_ref;  /* N/m: stiffness scale (a yarn segment's), for k_bc and the shift */
   PetscReal      tmax;   /* largest yarn tension of the last evaluation (the balance test's scale) */
@@ -1455,6 +1457,19 @@ PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
                  fd[k]);
     }
   }
+  { /* PETSc's nonlinear solvers that run on this problem (Newton's line search and trust region converge; the
+       others end unbalanced or stop on the numerical failure check); the rest failed mid-run, after the output
+       was opened, with PETSc's words (vinewton*: a shell tangent or an unset product; fas, nasm: their own
+       matrices; composite, patch, shell, ksptransposeonly, aspin: what this problem does not give them) */
+    char      type[64] = SNESNEWTONLS;
+    PetscBool runs;
+    PetscCall(PetscOptionsGetString(NULL, NULL, "-snes_type", type, sizeof type, NULL));
+    PetscCall(PetscStrInList(type, SNES_TYPES_RUN, ',', &runs));
+    PetscCheck(runs, comm, PETSC_ERR_USER_INPUT,
+               "-snes_type %s with -solver static: the quasi-static path runs one of " SNES_TYPES_RUN
+               " (Newton: newtonls, the default, or newtontr)",
+               type);
+  }
   { /* the multigrid's levels are the grid's (MultigridHierarchy): PETSc's -pc_mg_levels would set
        others on top of its interpolations (0 crashed PCSetFromOptions); GAMG takes it as its most */
     PetscInt  levels = 0;
@@ -1618,6 +1633,7 @@ static PetscErrorCode StaticCreateLevel(Fabric fab, PetscInt sequence, StaticSol
   PetscCall(CreateTangent(ss));
   PetscCall(MatSetOption(ss->J, MAT_SYMMETRIC, PETSC_TRUE));
   PetscCall(VecDuplicate(fab->state.X, &ss->Xbc));
+  PetscCall(VecDuplicate(fab->state.X, &ss->Xstart));
   ss->h = &fab->state.hist; /* restored by a restart, else empty */
   for (int q = 0; q < 3; q++)
     if (!ss->h->Xh[q]) PetscCall(VecDuplicate(fab->state.X, &ss->h->Xh[q]));
@@ -1825,6 +1841,7 @@ PetscErrorCode StaticDestroy(StaticSolver *pss)
   }
   PetscCall(DMDestroy(&ss->dm));
   PetscCall(VecDestroy(&ss->Xbc));
+  PetscCall(VecDestroy(&ss->Xstart));
   PetscCall(StaticDestroy(&ss->coarse));
   PetscCall(FabricDestroy(&ss->cfab));
   PetscCall(VecDestroy(&ss->cnat));
@@ -1908,7 +1925,9 @@ static PetscErrorCode LeaveSphere(StaticSolver ss)
   PetscFunctionReturn(0);
 }
 
-/* remember a balanced state (a re-solve at the same load factor, after yarns broke, replaces it) */
+/* remember a balanced state. A re-solve at the same load factor, after yarns broke, replaces it and forgets the
+   states before: a fabric with broken yarns is another fabric, and a polynomial through states on both sides of
+   the tear threw the next load step's first guess far off (a strip's force ran to 14 times its maximum). */
 static PetscErrorCode KeepBalanced(StaticSolver ss)
 {
   Fabric fab = ss->fab;
@@ -1920,9 +1939,32 @@ static PetscErrorCode KeepBalanced(StaticSolver ss)
     ss->h->Xh[1] = ss->h->Xh[0], ss->h->lh[1] = ss->h->lh[0];
     ss->h->Xh[0] = t;
     ss->h->nhist = PetscMin(ss->h->nhist + 1, 3);
-  }
+  } else
+    ss->h->nhist = 1;
   ss->h->lh[0] = fab->load.load_factor;
   PetscCall(VecCopy(fab->state.X, ss->h->Xh[0]));
+  PetscFunctionReturn(0);
+}
+
+/* the largest move of a free crossing from the first guess, m (infinite if a position is NaN or Inf) */
+static PetscErrorCode SolveMove(StaticSolver ss, PetscReal *move)
+{
+  Fabric             fab = ss->fab;
+  const PetscScalar *x, *x0;
+  PetscReal          m = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecGetArrayRead(fab->state.X, &x));
+  PetscCall(VecGetArrayRead(ss->Xstart, &x0));
+  for (PetscInt k = 0; k < 3 * fab->grid.nloc; k++) {
+    const PetscReal d = PetscAbsReal(x[k] - x0[k]);
+    if (!(fab->grid.inv_m[k / 3] > 0)) continue;
+    m = d <= PETSC_MAX_REAL ? PetscMax(m, d) : PETSC_INFINITY;
+  }
+  PetscCall(VecRestoreArrayRead(ss->Xstart, &x0));
+  PetscCall(VecRestoreArrayRead(fab->state.X, &x));
+  PetscCall(GlobalMax(fab->comm, &m, 1));
+  *move = m;
   PetscFunctionReturn(0);
 }
 
@@ -1961,18 +2003,38 @@ PetscErrorCode StaticSolve(StaticSolver ss, StaticResult *r)
     r->nonlinear_iterations = its;
     PetscCall(PetscStrncpy(r->reason, TaoConvergedReasons[treason], sizeof r->reason));
   }
+  PetscCall(VecCopy(fab->state.X, ss->Xstart));
   for (int attempt = 0; attempt < MAX_ATTEMPTS && !ss->tao; attempt++) { /* a failed solve is retried, stiffer */
-    PetscInt lits;
+    PetscInt  lits;
+    PetscReal move;
     PetscCall(SNESSolve(ss->snes, NULL, fab->state.X));
     PetscCall(SNESGetConvergedReason(ss->snes, &reason));
     PetscCall(SNESGetIterationNumber(ss->snes, &its));
     PetscCall(SNESGetLinearSolveIterations(ss->snes, &lits));
     r->nonlinear_iterations += its;
     r->linear_iterations += lits;
-    if (reason != SNES_DIVERGED_LINE_SEARCH && reason != SNES_DIVERGED_LINEAR_SOLVE) break;
+    PetscCall(SolveMove(ss, &move));
+    if (!(move <= fab->grid.extent)) { /* NaN, Inf or runaway: again from the first guess, stiffer */
+      PetscCall(PetscInfo(NULL, "load step %" PetscInt_FMT ": the solve moved a crossing %g m, the fabric is %g m (%s)\n",
+                          fab->load.load_step, (double) move, (double) fab->grid.extent, SNESConvergedReasons[reason]));
+      PetscCall(VecCopy(ss->Xstart, fab->state.X));
+      reason = SNES_DIVERGED_FNORM_NAN;
+    } else if (reason != SNES_DIVERGED_LINE_SEARCH && reason != SNES_DIVERGED_LINEAR_SOLVE &&
+               reason != SNES_DIVERGED_LOCAL_MIN) /* newtonls says a failed line search also so */
+      break;
     ss->h->shift = PetscMax(100.0 * ss->h->shift, 1e-6); /* start again from where it stopped, stiffer */
   }
   if (!ss->tao) PetscCall(PetscStrncpy(r->reason, SNESConvergedReasons[reason], sizeof r->reason));
+  {
+    PetscReal move = 0;
+    if (ss->tao) PetscCall(SolveMove(ss, &move));
+    PetscCheck(move <= fab->grid.extent && reason != SNES_DIVERGED_FNORM_NAN, fab->comm, PETSC_ERR_FP,
+               "numerical failure at load step %" PetscInt_FMT ": the quasi-static solve moved a crossing farther than "
+               "the fabric's size %g m, or to NaN or Inf%s; PETSc's solver options given (-snes_linesearch_type, "
+               "-ksp_type, -pc_type, -snes_shift_start, ...) may not suit this fabric",
+               fab->load.load_step, (double) fab->grid.extent,
+               ss->tao ? "" : ", each time from the first guess again with a stiffer shift");
+  }
   /* the state's forces at the solution (the measurements read them) give the balance test */
   {
     const PetscScalar *f;

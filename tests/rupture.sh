@@ -24,7 +24,13 @@
 #     te steps by -tear_max_ms) the strip of case 1 still runs to its end, each tear 300 te steps;
 #  8. frame times strictly increase when te changes within a load step: a 30 x 20 mm strip (CV 25 %)
 #     whose load step 27 relaxes 300 te steps, then tears at a quarter of that te (-tear_te_safety 0.2),
-#     frames every 200 te steps (a frame at n te steps of the tear's te came before the relaxation's).
+#     frames every 200 te steps (a frame at n te steps of the tear's te came before the relaxation's);
+#  9. the static path after a tear that left the strip whole (that strip, -predict none: Newton's first
+#     guess is its own extrapolation of the balanced states): the same maximum force (within 1e-3
+#     relative, the explicit run's balance tolerance) and rupture load step as the explicit path (a
+#     parabola through states from both sides of the tear took the force to 14 times the maximum);
+#     and the explicit path with -predict extrapolate: the same, in at most the te steps of the linear
+#     prediction (the tear's motion extrapolated again took 18 905 against 3 889).
 set -u
 fabric="$1"; inputs="$2"
 . "$(dirname "$0")/runs.sh" # $py, $work, $fail, run NP ARGS...
@@ -179,5 +185,27 @@ ok = not back and len(t) > 100
 print(("PASS" if ok else "FAIL") + f" te changing within load steps: {len(t)} frames, times strictly increasing"
       + ("" if ok else f": not after {back[:3]}"))
 sys.exit(0 if ok else 1)
+PY
+for case in "explicit none" "static none" "explicit extrapolate" "explicit linear"; do
+  set -- $case
+  run 1 -scene "$scene" -gauge_mm 30 -width_mm 20 -load_steps 30 -warp_break_cv_pct 25 -solver $1 -predict $2 \
+    -output_every 0 -output_dir "$work/after_tear_$1_$2"
+done
+"$py" - "$work" <<'PY' || fail=1
+import json, sys
+r = {k: json.load(open(f"{sys.argv[1]}/after_tear_{k}/summary.json")) for k in
+     ("explicit_none", "static_none", "explicit_extrapolate", "explicit_linear")}
+e = r["explicit_none"]
+step = lambda s: (s["rupture"] or {}).get("load_step")
+bad = 0
+for k in ("static_none", "explicit_extrapolate"):
+    s = r[k]
+    ok = step(e) is not None and step(e) == step(s) and abs(s["max_force_N"] / e["max_force_N"] - 1) <= 1e-3 and s["converged"]
+    print(("PASS" if ok else "FAIL") + f" after a tear, {k}: {s['max_force_N']:.6g} N, rupture at load step {step(s)}, "
+          f"converged {s['converged']}; explicit, -predict none: {e['max_force_N']:.6g} N, load step {step(e)} (tol 1e-3)")
+    bad |= not ok
+x, l = r["explicit_extrapolate"]["te_steps"], r["explicit_linear"]["te_steps"]
+print(("PASS" if x <= l else "FAIL") + f" -predict extrapolate after tears: {x} te steps, the linear prediction's {l}")
+sys.exit(1 if bad or x > l else 0)
 PY
 exit $fail

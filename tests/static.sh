@@ -31,7 +31,13 @@
 #     the yarns of twice the tex, and at 6 threads/cm before it where the ranks leave that net
 #     multigrid levels): the 49 x 49 net balanced to 1e-10 (1e-11 is below its rounding) on 1, 2 and 3 ranks, the coarse nets
 #     take Newton steps, and the positions are those without sequencing within 1e-10 relative; the
-#     same on 2 ranks with a tabulated yarn law (inputs/yarns/cotton_20tex.csv).
+#     same on 2 ranks with a tabulated yarn law (inputs/yarns/cotton_20tex.csv);
+#  9. a failed solve is retried, stiffer, also when newtonls names its failed line search
+#     DIVERGED_LOCAL_MIN: from -snes_shift_start 0 the square net's load steps balance (each one ended
+#     after 0 Newton steps); a full Newton step with no line search and no shift (-snes_linesearch_type
+#     basic) throws crossings metres away: each attempt starts again from the first guess, and after the
+#     last the run stops with an error naming the load step (it went on with NaN or metre-wide
+#     positions, exit 0).
 set -u
 fabric="$1"; inputs="$2"
 . "$(dirname "$0")/runs.sh" # $py, $work, $fail, run NP ARGS...
@@ -181,4 +187,16 @@ sys.exit(0 if ok else 1)
 PY
 cmp -s "$work/rfull.bin" "$work/rpart.bin" && echo "PASS static restart: positions bit-identical to the uninterrupted run" \
   || { echo "FAIL static restart: positions differ from the uninterrupted run"; fail=1; }
+
+run 1 -scene "$inputs/square_net.yaml" -solver static -snes_shift_start 0 -output_dir "$work/shift0"
+grep -q '"converged": true' "$work/shift0/summary.json" && echo "PASS -snes_shift_start 0: every load step balanced" \
+  || { echo "FAIL -snes_shift_start 0: not every load step balanced"; fail=1; }
+if mpiexec -n 1 "$fabric" -scene "$inputs/square_net.yaml" -solver static -snes_shift_start 0 -snes_linesearch_type basic \
+  -ksp_type preonly -pc_type lu -output_dir none >"$work/log" 2>&1; then
+  echo "FAIL a full Newton step without a shift: the run exited 0"; fail=1
+elif grep -q "error: numerical failure at load step [0-9]*: the quasi-static solve moved a crossing farther than" "$work/log"; then
+  echo "PASS a full Newton step without a shift: $(grep -o 'numerical failure at load step [0-9]*' "$work/log")"
+else
+  cat "$work/log"; echo "FAIL a full Newton step without a shift: not the numerical failure's message"; fail=1
+fi
 exit $fail
