@@ -140,8 +140,8 @@ static PetscErrorCode Run(int argc, char **argv)
     PetscCall(FabricDestroy(&fab));
     PetscFunctionReturn(0);
   }
+  if (fab->s.num.solver == SOLVER_STATIC) PetscCall(StaticOptionsCheck(PETSC_COMM_WORLD)); /* reads -static_* */
   PetscCall(SceneCheckUnused(PETSC_COMM_WORLD, fab->s.num.solver == SOLVER_STATIC));
-  if (fab->s.num.solver == SOLVER_STATIC) PetscCall(StaticOptionsCheck(PETSC_COMM_WORLD));
   if (!fab->s.out.quiet)
     PetscCall(PetscPrintf(
         PETSC_COMM_WORLD,

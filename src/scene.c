@@ -941,10 +941,11 @@ PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv)
 }
 
 /* A misspelt option would otherwise be ignored silently: refuse it. */
-/* the options of PETSc's solvers, read when the quasi-static solver sets itself up and solves */
+/* the options of PETSc's solvers, read when the quasi-static solver sets itself up and solves (its own, -static_*,
+   have been read before: one left is misspelt) */
 static PetscBool SolverOption(const char *name)
 {
-  static const char *const prefix[] = {"snes_", "ksp_", "pc_", "mg_", "mat_", "matptap_", "tao_", "static_"};
+  static const char *const prefix[] = {"snes_", "ksp_", "pc_", "mg_", "mat_", "matptap_", "tao_"};
   for (size_t q = 0; q < sizeof prefix / sizeof prefix[0]; q++)
     if (!strncmp(name, prefix[q], strlen(prefix[q]))) return PETSC_TRUE;
   return PETSC_FALSE;
@@ -969,9 +970,14 @@ PetscErrorCode SceneCheckUnused(MPI_Comm comm, PetscBool solver_options_later)
   PetscCall(PetscOptionsLeftGet(NULL, &n, &names, &values));
   for (PetscInt q = 0; q < n; q++) {
     char name[256];
-    if (solver_options_later && SolverOption(names[q])) continue;
+    PetscBool solver = SolverOption(names[q]);
+    if (solver_options_later && solver) continue;
+    solver = solver || !strncmp(names[q], "static_", 7) ? PETSC_TRUE : PETSC_FALSE;
     PetscCall(PetscStrncpy(name, names[q], sizeof name));
     PetscCall(PetscOptionsLeftRestore(NULL, &n, &names, &values));
+    PetscCheck(solver_options_later || !solver, comm, PETSC_ERR_USER_INPUT,
+               "-%s: an option of the quasi-static solver, read with -solver static only (this run is -solver explicit)",
+               name);
     SETERRQ(comm, PETSC_ERR_USER_INPUT, "unknown option -%s (run with -help for the list)", name);
   }
   PetscCall(PetscOptionsLeftRestore(NULL, &n, &names, &values));
