@@ -1386,15 +1386,20 @@ static PetscErrorCode ReadOptions(MPI_Comm comm, StaticOptions *o)
 }
 
 /* the tangent by stencil serves the multigrid with the line smoother (its products, its levels'
-   Galerkin operators and line blocks): not another -pc_type, nor PETSc's smoothers (SOR) */
+   Galerkin operators and line blocks): not another -pc_type (SNES's, or TAO's Newton's under its prefix), nor
+   PETSc's smoothers (SOR) */
 static PetscBool StencilFits(const StaticOptions *o)
 {
-  char      pc[64] = "";
-  PetscBool set    = PETSC_FALSE, mg = PETSC_TRUE;
+  const char *names[] = {"-pc_type", "-tao_nls_pc_type", "-tao_ntr_pc_type", "-tao_bnls_pc_type"};
 
-  if (PetscOptionsGetString(NULL, NULL, "-pc_type", pc, sizeof pc, &set)) return PETSC_FALSE;
-  if (set && PetscStrcmp(pc, PCMG, &mg)) return PETSC_FALSE;
-  return mg && o->line_smoother ? PETSC_TRUE : PETSC_FALSE;
+  for (size_t k = 0; k < sizeof names / sizeof names[0]; k++) {
+    char      pc[64] = "";
+    PetscBool set    = PETSC_FALSE, mg = PETSC_TRUE;
+    if (k > 0 && !o->tao) break;
+    if (PetscOptionsGetString(NULL, NULL, names[k], pc, sizeof pc, &set)) return PETSC_FALSE;
+    if (set && (PetscStrcmp(pc, PCMG, &mg) || !mg)) return PETSC_FALSE;
+  }
+  return o->line_smoother ? PETSC_TRUE : PETSC_FALSE;
 }
 
 static PetscBool GmresRestartOk(const char *value)
