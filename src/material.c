@@ -164,9 +164,14 @@ static PetscErrorCode BuildTable(MPI_Comm comm, YarnLaw *y)
   gsl_set_error_handler_off();
   interp = gsl_interp_alloc(gsl_interp_steffen, (size_t) n);
   acc    = gsl_interp_accel_alloc();
-  PetscCheck(interp && acc, comm, PETSC_ERR_MEM, "GSL could not allocate the spline of %s", y->csv);
-  PetscCheck(!gsl_interp_init(interp, es, fs, (size_t) n), comm, PETSC_ERR_FILE_UNEXPECTED,
-             "-%s_law_csv %s: GSL could not build the Steffen spline", y->name, y->csv);
+  if (!interp || !acc || gsl_interp_init(interp, es, fs, (size_t) n)) { /* freed before the refusal */
+    const PetscBool built = interp && acc ? PETSC_TRUE : PETSC_FALSE;
+    if (acc) gsl_interp_accel_free(acc);
+    if (interp) gsl_interp_free(interp);
+    PetscCall(PetscFree3(es, fs, at));
+    SETERRQ(comm, built ? PETSC_ERR_FILE_UNEXPECTED : PETSC_ERR_MEM, "-%s_law_csv %s: GSL could not %s the Steffen spline",
+            y->name, y->csv, built ? "build" : "allocate");
+  }
   y->ntab      = N;
   y->tab_end   = es[n - 1];
   y->tab_h     = y->tab_end / (PetscReal) ncell;

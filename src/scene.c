@@ -1413,6 +1413,15 @@ static PetscErrorCode DeriveGrid(MPI_Comm comm, const SceneInput *in, Scene *s)
     s->spec.gauge       = (nx - 1) / s->spec.picks_per_m;
     s->spec.width       = (ny - 1) / s->spec.ends_per_m;
     s->spec.disc_radius = disc_mm > 0 ? 0.5e-3 * disc_mm : 0.5 * PetscMin(s->spec.gauge, s->spec.width);
+    /* a disc wider than the grid (by more than the rounding of the grid to its crossings) would be cut square */
+    PetscCheck(s->spec.shape != SHAPE_DISC ||
+                   2 * s->spec.disc_radius <= PetscMin(s->spec.gauge, s->spec.width) +
+                                                  1 / PetscMin(s->spec.picks_per_m, s->spec.ends_per_m),
+               comm, PETSC_ERR_USER_INPUT,
+               "-disc_diameter_mm %g is wider than the grid, %g x %g mm (-gauge_mm %g, -width_mm %g): the disc would "
+               "be cut square; make the grid at least as large as the disc",
+               (double) disc_mm, 1e3 * (double) s->spec.gauge, 1e3 * (double) s->spec.width, (double) gauge_mm,
+               (double) width_mm);
   } else {
     const PetscReal along_density  = s->spec.pull == PULL_WARP ? s->spec.picks_per_m : s->spec.ends_per_m;
     const PetscReal across_density = s->spec.pull == PULL_WARP ? s->spec.ends_per_m : s->spec.picks_per_m;
