@@ -1144,6 +1144,18 @@ static PetscErrorCode CheckTestOptions(MPI_Comm comm, const SceneInput *in, cons
              "-elongation_pct %g: -test %s has no jaws to pull", (double) in->elongation_pct, TestNames[s->test]);
   PetscCheck(s->load.waypoints == 0 || JawTest(s), comm, PETSC_ERR_USER_INPUT,
              "-grip_path_mm with -test %s: only the strip and bias tests move grips", TestNames[s->test]);
+  { /* vectors beyond any test (a run met them as NaN velocities at its first te step) */
+    const PetscReal g = PetscSqrtReal(PetscSqr(in->gravity[0]) + PetscSqr(in->gravity[1]) + PetscSqr(in->gravity[2]));
+    const PetscReal P = PetscSqrtReal(PetscSqr(in->point_load_N[0]) + PetscSqr(in->point_load_N[1]) +
+                                      PetscSqr(in->point_load_N[2]));
+    PetscCheck(g <= 1e4, comm, PETSC_ERR_USER_INPUT,
+               "-gravity %g,%g,%g is beyond the physical range (at most 1e4 m/s^2, a thousand g, in magnitude)",
+               (double) in->gravity[0], (double) in->gravity[1], (double) in->gravity[2]);
+    PetscCheck(P <= 1e6, comm, PETSC_ERR_USER_INPUT,
+               "-point_load_N %g,%g,%g is beyond the physical range (at most 1e6 N in magnitude: woven fabrics tear "
+               "below 1e4 N)",
+               (double) in->point_load_N[0], (double) in->point_load_N[1], (double) in->point_load_N[2]);
+  }
   PetscCheck(!s->num.kinetic_damping || s->num.integrator == INTEGRATOR_DAMPED, comm, PETSC_ERR_USER_INPUT,
              "-kinetic_damping needs -integrator damped (the paper's integrator keeps two velocity chains), got "
              "-integrator %s",
