@@ -238,7 +238,7 @@ typedef struct {
   long   static_nhist, nonlinear_iterations, linear_iterations; /* -solver static */
   double static_lh[3], static_shift;
   double elapsed;
-  long   coarse_nonlinear_iterations, conv_segments;
+  long   coarse_nonlinear_iterations, conv_segments, static_segments;
 } RelaxState;
 
 typedef struct {
@@ -279,6 +279,7 @@ static int RelaxAttrs(RelaxState *r, Attr *a)
   ATTR_D("static_shift", static_shift), ATTR_L("nonlinear_iterations", nonlinear_iterations);
   ATTR_L("linear_iterations", linear_iterations), ATTR_D("load_step_elapsed_s", elapsed);
   ATTR_L("coarse_nonlinear_iterations", coarse_nonlinear_iterations), ATTR_L("converged_positions_segments", conv_segments);
+  ATTR_L("static_balanced_segments", static_segments);
 #undef ATTR_L
 #undef ATTR_D
   return n;
@@ -302,6 +303,7 @@ static void RelaxStatePack(Fabric fab, const RelaxPoint *at, RelaxState *r)
   r->elapsed       = fab->load.elapsed;
   r->coarse_nonlinear_iterations = (long) fab->stats.coarse_nonlinear_iterations;
   r->conv_segments               = (long) fab->state.conv_segments;
+  r->static_segments             = (long) fab->state.hist.segments;
   r->te            = fab->step.te;
   r->te_bound      = fab->step.te_bound;
   r->omega_max     = fab->step.omega_max;
@@ -349,6 +351,7 @@ static void RelaxStateUnpack(const RelaxState *r, Fabric fab)
   fab->load.elapsed        = r->elapsed;
   fab->stats.coarse_nonlinear_iterations = (PetscInt64) r->coarse_nonlinear_iterations;
   fab->state.conv_segments               = (PetscInt64) r->conv_segments;
+  fab->state.hist.segments               = (PetscInt64) r->static_segments;
   fab->step.te             = r->te;
   fab->step.te_bound       = r->te_bound;
   fab->step.omega_max      = r->omega_max;

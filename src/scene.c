@@ -1171,41 +1171,77 @@ static PetscErrorCode CheckTestOptions(MPI_Comm comm, const SceneInput *in, cons
   PetscFunctionReturn(0);
 }
 
-/* An option given (on the command line or in the scene) that this test, shape or clamping does not read is
-   refused: a run that ignored it would answer another question than the one asked */
+/* the option (-name) was typed by the user: on the command line or in PETSC_OPTIONS (as rank 0 has them), not
+   only set by the scene file */
+static PetscErrorCode GivenByUser(MPI_Comm comm, const char *opt, PetscBool *user)
+{
+  PetscMPIInt rank;
+  PetscInt    found = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(CommRank(comm, &rank));
+  if (!rank) {
+    int         argc;
+    char      **args;
+    const char *env = getenv("PETSC_OPTIONS");
+    PetscCall(PetscGetArgs(&argc, &args));
+    for (int a = 1; a < argc && !found; a++) found = !strcasecmp(args[a], opt);
+    if (env && !found) {
+      char *copy, *save = NULL;
+      PetscCall(PetscStrallocpy(env, &copy));
+      for (char *t = strtok_r(copy, " \t\n", &save); t && !found; t = strtok_r(NULL, " \t\n", &save))
+        found = !strcasecmp(t, opt);
+      PetscCall(PetscFree(copy));
+    }
+  }
+  PetscCall(BroadcastFromRoot(comm, &found, 1, MPIU_INT));
+  *user = found ? PETSC_TRUE : PETSC_FALSE;
+  PetscFunctionReturn(0);
+}
+
+/* An option that this test, shape or clamping does not read: typed by the user, it is refused (a run that
+   ignored it would answer another question than the one asked); from the scene file only (a shipped scene run
+   as another test: its keys cannot be unset on the command line), a warning says it is not used */
 static PetscErrorCode CheckOptionsApply(MPI_Comm comm, const Scene *s)
 {
   const PetscBool bodies =
       s->bodies.sphere_radius > 0 || s->bodies.plane || s->bodies.pedestal_radius > 0 ? PETSC_TRUE : PETSC_FALSE;
   const PetscBool moves = JawTest(s) || s->test == TEST_PUSHING ? PETSC_TRUE : PETSC_FALSE;
-  const struct {
+  char test[64], shape[64], clamp[64];
+  struct {
     const char *name;
     PetscBool   applies;
-    const char *why;
+    const char *with, *why;
   } opts[] = {
-      {"yarns", s->test == TEST_STRIP, "only the strip's width is given in yarns, the others take -width_mm"},
-      {"jaw_depth_mm", s->test == TEST_BIAS, "only the bias test's jaws have a depth"},
-      {"sphere_direction", s->test == TEST_PUSHING, "only the pushing test moves a ball"},
-      {"sphere_start_mm", s->test == TEST_PUSHING, "only the pushing test moves a ball"},
-      {"sphere_travel_mm", s->test == TEST_PUSHING, "only the pushing test moves a ball"},
-      {"disc_diameter_mm", s->spec.shape == SHAPE_DISC, "only a disc specimen (-shape disc) has a diameter"},
-      {"clamp_ring_mm", s->clamps.clamp == CLAMP_RING, "only a ring clamp (-clamp ring) has diameters"},
-      {"grip_ramp_steps", moves, "it moves no grips and no ball"},
-      {"rupture_drop_pct", ReactionTest(s), "it measures no force for a break detection to watch"},
-      {"friction_mu", bodies, "there is no sphere, plane or pedestal for the fabric to rub on"},
-      {"contact_stiffness_N_m", bodies, "there is no sphere, plane or pedestal to touch"},
+      {"yarns", s->test == TEST_STRIP, test, "only the strip's width is given in yarns, the others take -width_mm"},
+      {"jaw_depth_mm", s->test == TEST_BIAS, test, "only the bias test's jaws have a depth"},
+      {"sphere_direction", s->test == TEST_PUSHING, test, "only the pushing test moves a ball"},
+      {"sphere_start_mm", s->test == TEST_PUSHING, test, "only the pushing test moves a ball"},
+      {"sphere_travel_mm", s->test == TEST_PUSHING, test, "only the pushing test moves a ball"},
+      {"disc_diameter_mm", s->spec.shape == SHAPE_DISC, shape, "only a disc specimen (-shape disc) has a diameter"},
+      {"clamp_ring_mm", s->clamps.clamp == CLAMP_RING, clamp, "only a ring clamp (-clamp ring) has diameters"},
+      {"grip_ramp_steps", moves, test, "it moves no grips and no ball"},
+      {"rupture_drop_pct", ReactionTest(s), test, "it measures no force for a break detection to watch"},
+      {"friction_mu", bodies, test, "there is no sphere, plane or pedestal for the fabric to rub on"},
+      {"contact_stiffness_N_m", bodies, test, "there is no sphere, plane or pedestal to touch"},
   };
 
   PetscFunctionBeginUser;
+  PetscCall(PetscSNPrintf(test, sizeof test, "-test %s", TestNames[s->test]));
+  PetscCall(PetscSNPrintf(shape, sizeof shape, "-shape %s", ShapeNames[s->spec.shape]));
+  PetscCall(PetscSNPrintf(clamp, sizeof clamp, "-clamp %s", ClampNames[s->clamps.clamp]));
   for (size_t k = 0; k < sizeof opts / sizeof opts[0]; k++) {
     char      opt[64], value[256] = "";
-    PetscBool set;
+    PetscBool set, user;
     if (opts[k].applies) continue;
     PetscCall(PetscSNPrintf(opt, sizeof opt, "-%s", opts[k].name));
     PetscCall(PetscOptionsGetString(NULL, NULL, opt, value, sizeof value, &set));
-    PetscCheck(!set, comm, PETSC_ERR_USER_INPUT,
-               "%s %s is not used with -test %s: %s; remove it from the command line or the scene", opt, value,
-               TestNames[s->test], opts[k].why);
+    if (!set) continue;
+    PetscCall(GivenByUser(comm, opt, &user));
+    PetscCheck(!user, comm, PETSC_ERR_USER_INPUT, "%s %s is not used with %s: %s; leave it out", opt, value,
+               opts[k].with, opts[k].why);
+    PetscCall(PetscPrintf(comm, "fabric: warning: %s %s (from the scene) is not used with %s: %s\n", opt, value,
+                          opts[k].with, opts[k].why));
   }
   PetscFunctionReturn(0);
 }

@@ -1390,15 +1390,15 @@ static PetscErrorCode ReadOptions(MPI_Comm comm, StaticOptions *o)
    PETSc's smoothers (SOR) */
 static PetscBool StencilFits(const StaticOptions *o)
 {
-  const char *names[] = {"-pc_type", "-tao_nls_pc_type", "-tao_ntr_pc_type", "-tao_bnls_pc_type"};
+  char      name[64] = "-pc_type", pc[64] = "", type[64] = TAONLS;
+  PetscBool set = PETSC_FALSE, mg = PETSC_TRUE;
 
-  for (size_t k = 0; k < sizeof names / sizeof names[0]; k++) {
-    char      pc[64] = "";
-    PetscBool set    = PETSC_FALSE, mg = PETSC_TRUE;
-    if (k > 0 && !o->tao) break;
-    if (PetscOptionsGetString(NULL, NULL, names[k], pc, sizeof pc, &set)) return PETSC_FALSE;
-    if (set && (PetscStrcmp(pc, PCMG, &mg) || !mg)) return PETSC_FALSE;
+  if (o->tao) { /* TAO's Newton's KSP: under its type's prefix (bnls: PETSc's bnk) */
+    if (PetscOptionsGetString(NULL, NULL, "-tao_type", type, sizeof type, NULL)) return PETSC_FALSE;
+    snprintf(name, sizeof name, "-tao_%s_pc_type", strcmp(type, TAOBNLS) ? type : "bnk");
   }
+  if (PetscOptionsGetString(NULL, NULL, name, pc, sizeof pc, &set)) return PETSC_FALSE;
+  if (set && (PetscStrcmp(pc, PCMG, &mg) || !mg)) return PETSC_FALSE;
   return o->line_smoother ? PETSC_TRUE : PETSC_FALSE;
 }
 
@@ -1879,7 +1879,8 @@ static PetscErrorCode Extrapolate(StaticSolver ss)
   const PetscScalar *h[3];
 
   PetscFunctionBeginUser;
-  if (np < 2 || !(l > ss->h->lh[0])) PetscFunctionReturn(0);
+  if (np < 2 || !(l > ss->h->lh[0]) || fab->stats.rupture.segments != ss->h->segments)
+    PetscFunctionReturn(0); /* yarns broke since: the states are of another fabric */
   for (PetscInt a = 0; a < np; a++) { /* Lagrange weights at l */
     w[a] = 1;
     for (PetscInt b = 0; b < np; b++)
@@ -1930,22 +1931,23 @@ static PetscErrorCode LeaveSphere(StaticSolver ss)
   PetscFunctionReturn(0);
 }
 
-/* remember a balanced state. A re-solve at the same load factor, after yarns broke, replaces it and forgets the
-   states before: a fabric with broken yarns is another fabric, and a polynomial through states on both sides of
-   the tear threw the next load step's first guess far off (a strip's force ran to 14 times its maximum). */
+/* remember a balanced state. If yarns broke since the last, the states before are forgotten: a fabric with broken
+   yarns is another fabric, and a polynomial through states on both sides of a tear threw the next load step's
+   first guess far off (a strip's force ran to 14 times its maximum). */
 static PetscErrorCode KeepBalanced(StaticSolver ss)
 {
   Fabric fab = ss->fab;
 
   PetscFunctionBeginUser;
+  if (fab->stats.rupture.segments != ss->h->segments) ss->h->nhist = 0;
   if (!(ss->h->nhist > 0 && fab->load.load_factor == ss->h->lh[0])) {
     Vec t = ss->h->Xh[2];
     ss->h->Xh[2] = ss->h->Xh[1], ss->h->lh[2] = ss->h->lh[1];
     ss->h->Xh[1] = ss->h->Xh[0], ss->h->lh[1] = ss->h->lh[0];
     ss->h->Xh[0] = t;
     ss->h->nhist = PetscMin(ss->h->nhist + 1, 3);
-  } else
-    ss->h->nhist = 1;
+  }
+  ss->h->segments = fab->stats.rupture.segments;
   ss->h->lh[0] = fab->load.load_factor;
   PetscCall(VecCopy(fab->state.X, ss->h->Xh[0]));
   PetscFunctionReturn(0);
@@ -1999,6 +2001,7 @@ PetscErrorCode StaticSolve(StaticSolver ss, StaticResult *r)
   ss->h->shift = ss->h->nhist ? PetscMin(ss->opt.shift_start, ss->opt.shift_carry * ss->h->shift) : ss->opt.shift_start;
   if (ss->corrected_at == fab->load.load_step) /* from the coarse solution: from where its shift ended */
     ss->h->shift = PetscMin(ss->opt.shift_start, ss->opt.shift_carry * ss->coarse->h->shift);
+  PetscCall(VecCopy(fab->state.X, ss->Xstart));
   if (ss->tao) { /* TAO's Newton: one solve */
     TaoConvergedReason treason;
     PetscCall(TaoSolve(ss->tao));
@@ -2008,7 +2011,6 @@ PetscErrorCode StaticSolve(StaticSolver ss, StaticResult *r)
     r->nonlinear_iterations = its;
     PetscCall(PetscStrncpy(r->reason, TaoConvergedReasons[treason], sizeof r->reason));
   }
-  PetscCall(VecCopy(fab->state.X, ss->Xstart));
   for (int attempt = 0; attempt < MAX_ATTEMPTS && !ss->tao; attempt++) { /* a failed solve is retried, stiffer */
     PetscInt  lits;
     PetscReal move;
@@ -2019,7 +2021,8 @@ PetscErrorCode StaticSolve(StaticSolver ss, StaticResult *r)
     r->nonlinear_iterations += its;
     r->linear_iterations += lits;
     PetscCall(SolveMove(ss, &move));
-    if (!(move <= fab->grid.extent)) { /* NaN, Inf or runaway: again from the first guess, stiffer */
+    if (!(move <= fab->grid.extent) || reason == SNES_DIVERGED_FNORM_NAN) { /* NaN, Inf or runaway: again from the
+                                                                             first guess, stiffer */
       PetscCall(PetscInfo(NULL, "load step %" PetscInt_FMT ": the solve moved a crossing %g m, the fabric is %g m (%s)\n",
                           fab->load.load_step, (double) move, (double) fab->grid.extent, SNESConvergedReasons[reason]));
       PetscCall(VecCopy(ss->Xstart, fab->state.X));
