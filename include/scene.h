@@ -213,6 +213,13 @@ static inline PetscBool ReactionTest(const Scene *s)
   return (JawTest(s) || s->test == TEST_PUSHING) ? PETSC_TRUE : PETSC_FALSE;
 }
 
+/* m: the drape's support disc, A_disc of the drape coefficient: the pedestal if there is one, else the clamping
+   ring's outer radius */
+static inline PetscReal DrapeSupportRadius(const Scene *s)
+{
+  return s->bodies.pedestal_radius > 0 ? s->bodies.pedestal_radius : s->clamps.ring[1];
+}
+
 PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv);
 /* an unknown option is an error; with solver_options_later, PETSc's solver options (-snes_*, -ksp_*,
    -pc_*, -mg_*, -mat_*) are left to the quasi-static solver, and SceneWarnUnused names those it never read */

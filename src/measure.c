@@ -193,7 +193,7 @@ PetscErrorCode DrapeOutline(Fabric fab, CurveRow *row)
   if (fab->meas.drape_flat_area <= 0)
     PetscCall(Outline(fab->comm, &fab->grid, fab->grid.X0, r, &fab->meas.drape_flat_area, &drop));
   PetscCall(Outline(fab->comm, &fab->grid, fab->state.X, r, &area, &drop));
-  a_disc = PETSC_PI * PetscSqr(s->bodies.pedestal_radius > 0 ? s->bodies.pedestal_radius : s->clamps.ring[1]);
+  a_disc = PETSC_PI * PetscSqr(DrapeSupportRadius(s));
   fab->meas.drape_pct =
       100.0 * ((area - a_disc) / (fab->meas.drape_flat_area - a_disc)); /* the flat specimen: 100 * 1 exactly */
   { /* folds: the outline as its largest radius over each 5-degree sector (DRAPE_SECTOR rays) */

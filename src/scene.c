@@ -1103,12 +1103,11 @@ static PetscErrorCode DeriveBodies(MPI_Comm comm, const SceneInput *in, Scene *s
              "-sphere_diameter_mm %g: the sphere is the pushing test's punch (-test pushing)",
              (double) in->sphere_diameter_mm);
   if (s->test == TEST_DRAPE && s->spec.shape == SHAPE_DISC) { /* the drape coefficient's support disc */
-    const PetscBool ped = b->pedestal_radius > 0 ? PETSC_TRUE : PETSC_FALSE;
-    PetscCheck((ped ? b->pedestal_radius : s->clamps.ring[1]) < s->spec.disc_radius, comm, PETSC_ERR_USER_INPUT,
+    PetscCheck(DrapeSupportRadius(s) < s->spec.disc_radius, comm, PETSC_ERR_USER_INPUT,
                "%s %g mm is not smaller than the specimen's %g mm (-disc_diameter_mm): nothing hangs over the "
                "support, and the drape coefficient (A_shadow - A_disc)/(A_specimen - A_disc) has no meaning",
-               ped ? "-pedestal_diameter_mm" : "-clamp_ring_mm: the support's outer diameter",
-               2e3 * (double) (ped ? b->pedestal_radius : s->clamps.ring[1]), 2e3 * (double) s->spec.disc_radius);
+               b->pedestal_radius > 0 ? "-pedestal_diameter_mm" : "-clamp_ring_mm: the support's outer diameter",
+               2e3 * (double) DrapeSupportRadius(s), 2e3 * (double) s->spec.disc_radius);
   }
   PetscFunctionReturn(0);
 }
