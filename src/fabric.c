@@ -595,24 +595,22 @@ static PetscErrorCode CheckBodiesAtRest(Fabric fab, const DMDALocalInfo *info)
   PetscFunctionBeginUser;
   PetscCall(VecGetArrayRead(fab->grid.X0, &x0));
   for (PetscInt q = 0; q < fab->bodies.n; q++) {
-    Body      unit = fab->bodies.body[q]; /* the push with unit stiffness and no friction is the penetration */
-    PetscReal c[3], deep = -PETSC_MAX_REAL, one = 1.0;
-    PetscInt  at = -1;
-    if (unit.kind == BODY_SPHERE) continue; /* CheckSphere */
-    unit.k = 1.0, unit.mu = 0.0;
-    BodyPosition(&unit, 0.0, c);
+    const Body *b = &fab->bodies.body[q];
+    PetscReal   c[3], deep = -PETSC_MAX_REAL;
+    PetscInt    at = -1;
+    if (b->kind == BODY_SPHERE) continue; /* CheckSphere */
+    BodyPosition(b, 0.0, c);
     for (PetscInt j = info->ys; j < info->ys + info->ym; j++)
       for (PetscInt i = info->xs; i < info->xs + info->xm; i++) {
         const PetscInt k = (j - info->ys) * info->xm + i - info->xs;
-        PetscReal      f[3] = {0, 0, 0}, sum[3] = {0, 0, 0}, p;
+        PetscReal      g[3], K[9], p;
         if (!PointExists(&fab->s, i, j) || fab->grid.kind[k] != POINT_FREE) continue;
-        BodyContact(&unit, c, 1, x0 + 3 * k, &one, NULL, f, sum);
-        p = PetscSqrtReal(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+        p = PetscSqrtReal(2.0 * BodyEnergy(b, c, x0 + 3 * k, g, K) / b->k); /* the penalty k p^2 / 2 */
         if (p > deep) deep = p, at = j * fab->s.spec.nx + i;
       }
     PetscCall(GlobalArgMax(fab->comm, &deep, &at));
-    if (unit.kind == BODY_PLANE)
-      PetscCheck(!(deep > 1e-6 * unit.reach), fab->comm, PETSC_ERR_USER_INPUT,
+    if (b->kind == BODY_PLANE)
+      PetscCheck(!(deep > 1e-6 * b->reach), fab->comm, PETSC_ERR_USER_INPUT,
                  "-plane_point_mm %g,%g,%g with -plane_normal %g,%g,%g: the plane starts %g mm into the fabric at "
                  "crossing (%" PetscInt_FMT ", %" PetscInt_FMT "), within half the thickness (-thickness_mm %g) of it or "
                  "behind it; put it clear of the fabric, which stays on the side the normal points to",
@@ -621,7 +619,7 @@ static PetscErrorCode CheckBodiesAtRest(Fabric fab, const DMDALocalInfo *info)
                  (double) sb->plane_normal[2], (double) (1e3 * deep), at % fab->s.spec.nx, at / fab->s.spec.nx,
                  (double) (1e3 * sb->thickness));
     else
-      PetscCheck(!(deep > 1e-6 * unit.reach), fab->comm, PETSC_ERR_USER_INPUT,
+      PetscCheck(!(deep > 1e-6 * b->reach), fab->comm, PETSC_ERR_USER_INPUT,
                  "-pedestal_top_mm %g,%g,%g (-pedestal_diameter_mm %g): the pedestal starts %g mm into the fabric at "
                  "crossing (%" PetscInt_FMT ", %" PetscInt_FMT "), within half the thickness (-thickness_mm %g) of it; "
                  "put its top at or below z = -thickness/2 (the default)",
