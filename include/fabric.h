@@ -143,6 +143,7 @@ typedef struct {               /* yarn breaking and rupture (relax.c) */
   PetscReal  first_time;       /* s: its test time */
   PetscReal  peak_force;       /* N: the largest force so far (a row's, or interpolated at a first break) */
   PetscReal  at_peak;          /* its elongation (jaw tests) or travel (m) */
+  PetscBool  peak_balanced;    /* the largest force comes from balanced states (not a load step that did not balance) */
   PetscReal  load_now;         /* the last break check's largest strain / breaking strain of a segment */
   PetscReal  last_load, last_force, last_at; /* the same, the force and where, of the last balanced state
                                                   with no segment past its breaking strain */

@@ -527,11 +527,11 @@ static PetscErrorCode WriteScene(const Scene *s, PetscViewer v)
 }
 
 /* the rupture state (fabric.h RuptureState) as attributes of / */
-#define RUPTURE_ATTRS 16
+#define RUPTURE_ATTRS 17
 static const char *const RuptureAttr[RUPTURE_ATTRS] = {
     "segments_broken", "first_break_ratio", "first_break_dir", "first_break_i", "first_break_j", "first_break_step",
     "first_break_time_s", "peak_force_N", "at_peak_force", "rupture_step", "rupture_time_s", "tear_te_steps",
-    "break_load", "last_break_load", "last_force_N", "last_at"};
+    "break_load", "last_break_load", "last_force_N", "last_at", "peak_force_balanced"};
 
 static void RupturePack(const RuptureState *r, PetscReal a[RUPTURE_ATTRS])
 {
@@ -540,6 +540,7 @@ static void RupturePack(const RuptureState *r, PetscReal a[RUPTURE_ATTRS])
   a[6] = r->first_time, a[7] = r->peak_force, a[8] = r->at_peak, a[9] = (PetscReal) r->rupture_step;
   a[10] = r->rupture_time, a[11] = (PetscReal) r->tear_te_steps;
   a[12] = r->load_now, a[13] = r->last_load, a[14] = r->last_force, a[15] = r->last_at;
+  a[16] = (PetscReal) r->peak_balanced;
 }
 
 static void RuptureUnpack(const double a[RUPTURE_ATTRS], RuptureState *r)
@@ -549,6 +550,7 @@ static void RuptureUnpack(const double a[RUPTURE_ATTRS], RuptureState *r)
   r->first_time = a[6], r->peak_force = a[7], r->at_peak = a[8], r->rupture_step = (PetscInt) a[9];
   r->rupture_time = a[10], r->tear_te_steps = (PetscInt64) a[11];
   r->load_now = a[12], r->last_load = a[13], r->last_force = a[14], r->last_at = a[15];
+  r->peak_balanced = a[16] != 0 ? PETSC_TRUE : PETSC_FALSE;
 }
 
 /* the counters of the run, as attributes of /; done: the load steps done */

@@ -686,6 +686,7 @@ static PetscErrorCode FabricSetUp(Fabric fab)
   PetscCall(PredictSetUp(fab));
   PetscCall(FrontSetUp(fab));
   fab->stats.converged = PETSC_TRUE;
+  fab->stats.rupture.peak_balanced = PETSC_TRUE; /* no unbalanced state has given the largest force */
   PetscCall(PetscCalloc1(s->load.load_steps, &fab->stats.curve));
   PetscCall(IOSetUp(&s->out, &fab->io)); /* the output state of frames and checkpoints */
   PetscFunctionReturn(0);

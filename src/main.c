@@ -189,8 +189,9 @@ static PetscErrorCode Run(int argc, char **argv)
       PetscCall(PetscSNPrintf(work, sizeof work, "%" PetscInt64_FMT " te steps, %.3e point updates/s",
                               fab->stats.te_steps,
                               fab->stats.wall > 0 ? (double) fab->stats.point_updates / fab->stats.wall : 0.0));
-    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fabric: done in %.2f s: %s; peak force %.4g N, %s; %s\n",
-                          (double) fab->stats.wall, work, (double) peak, where,
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fabric: done in %.2f s: %s; peak force %.4g N%s, %s; %s\n",
+                          (double) fab->stats.wall, work, (double) peak,
+                          r->peak_balanced ? "" : " (from a load step that did not balance)", where,
                           fab->stats.converged ? "every load step balanced"
                                                : "some load steps did NOT balance (see curve.csv residual)"));
     char files[256];

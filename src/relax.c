@@ -153,10 +153,11 @@ static PetscErrorCode MeasureRow(Fabric fab, PetscReal residual, PetscBool balan
   PetscFunctionReturn(0);
 }
 
-/* a force and where it was (elongation or travel) as a candidate for the maximum force */
-static void KeepPeak(RuptureState *r, PetscReal force, PetscReal at)
+/* a force and where it was (elongation or travel) as a candidate for the maximum force; balanced:
+   it comes from balanced states */
+static void KeepPeak(RuptureState *r, PetscReal force, PetscReal at, PetscBool balanced)
 {
-  if (force > r->peak_force) r->peak_force = force, r->at_peak = at;
+  if (force > r->peak_force) r->peak_force = force, r->at_peak = at, r->peak_balanced = balanced;
 }
 
 /* the curve row of a load step that has ended (measured: row already holds this state), and the
@@ -168,7 +169,7 @@ static PetscErrorCode FinishRow(Fabric fab, PetscReal residual, PetscBool balanc
 
   PetscFunctionBeginUser;
   if (!measured) PetscCall(MeasureRow(fab, residual, balanced, row)); /* else: this state, measured before CheckBreaks */
-  KeepPeak(r, row->force, RowAt(&fab->s, row));
+  KeepPeak(r, row->force, RowAt(&fab->s, row), balanced);
   if (balanced && r->load_now <= 1.0) {
     r->last_load  = r->load_now;
     r->last_force = row->force;
@@ -187,8 +188,8 @@ static void PeakAtBreak(Fabric fab, const CurveRow *row)
   const PetscReal r0 = r->last_load, r1 = r->load_now;
   const PetscReal w  = r1 > r0 ? PetscMin(1.0, PetscMax(0.0, (1.0 - r0) / (r1 - r0))) : 1.0;
 
-  KeepPeak(r, r->last_force + w * (row->force - r->last_force),
-           r->last_at + w * (RowAt(&fab->s, row) - r->last_at));
+  KeepPeak(r, r->last_force + w * (row->force - r->last_force), r->last_at + w * (RowAt(&fab->s, row) - r->last_at),
+           PETSC_TRUE);
 }
 
 /* break detection is on for the tests with a reaction (-rupture_drop_pct 0: never) */

@@ -31,6 +31,9 @@
 #     parabola through states from both sides of the tear took the force to 14 times the maximum);
 #     and the explicit path with -predict extrapolate: the same, in at most the te steps of the linear
 #     prediction (the tear's motion extrapolated again took 18 905 against 3 889).
+# 10. where the maximum force comes from: balanced states (max_force_balanced true in case 1), or a
+#     load step that did not balance (5 te steps a load step, no prediction): false, and the done line
+#     says so.
 set -u
 fabric="$1"; inputs="$2"
 . "$(dirname "$0")/runs.sh" # $py, $work, $fail, run NP ARGS...
@@ -53,6 +56,7 @@ check(r is not None and r["load_step"] == 61 and r["elongation_pct"] == 15.25, f
 check(r is not None and r["force_N"] < 0.1 * s["max_force_N"], "the force after the tear is below a tenth of the maximum")
 check(s["load_steps_done"] == 61 and s["converged"], f"the test ends at the rupture: {s['load_steps_done']} load steps, converged {s['converged']}")
 check(s["segments_broken"] == 12 * 48, f"every warp segment broke: {s['segments_broken']} of 576")
+check(s["max_force_balanced"] is True, f"the maximum force comes from balanced states: max_force_balanced {s['max_force_balanced']}")
 sys.exit(bad)
 PY
 run 1 -scene "$scene" -gauge_mm 20 -width_mm 5 -warp_break_cv_pct 0 -weft_break_cv_pct 0 -output_dir "$work/cv0s" \
@@ -90,7 +94,8 @@ run 2 -scene "$scene" -gauge_mm 20 -width_mm 5 -warp_break_cv_pct 0 -weft_break_
 "$py" - "$work/cv0.json" "$work/cv0r/summary.json" <<'PY' || fail=1
 import json, sys
 a, b = (json.load(open(f)) for f in sys.argv[1:3])
-keys = ("max_force_N", "elongation_at_max_force_pct", "rupture", "first_break", "segments_broken", "load_steps_done", "te_steps")
+keys = ("max_force_N", "max_force_balanced", "elongation_at_max_force_pct", "rupture", "first_break", "segments_broken",
+        "load_steps_done", "te_steps")
 ok = all(a[k] == b[k] for k in keys)
 print(("PASS" if ok else "FAIL") + " a restart from the rupture's checkpoint reports the same rupture and runs nothing more: "
       + ", ".join(f"{k} {b[k]}" for k in keys if a[k] != b[k]))
@@ -207,5 +212,16 @@ for k in ("static_none", "explicit_extrapolate"):
 x, l = r["explicit_extrapolate"]["te_steps"], r["explicit_linear"]["te_steps"]
 print(("PASS" if x <= l else "FAIL") + f" -predict extrapolate after tears: {x} te steps, the linear prediction's {l}")
 sys.exit(1 if bad or x > l else 0)
+PY
+mpiexec -n 1 "$fabric" -scene "$inputs/strip_warp.yaml" -gauge_mm 20 -width_mm 5 -load_steps 2 -predict none \
+  -max_inner_steps 5 -output_dir "$work/unbalanced" >"$work/log" 2>&1
+"$py" - "$work/unbalanced/summary.json" "$work/log" <<'PY' || fail=1
+import json, sys
+s = json.load(open(sys.argv[1])); done = [l for l in open(sys.argv[2]) if l.startswith("fabric: done")]
+ok = s["max_force_balanced"] is False and not s["converged"] and len(done) == 1 \
+    and "(from a load step that did not balance)" in done[0]
+print(("PASS" if ok else "FAIL") + f" a maximum force from a load step that did not balance: max_force_balanced "
+      f"{s['max_force_balanced']}, done line: {done}")
+sys.exit(0 if ok else 1)
 PY
 exit $fail
