@@ -222,9 +222,10 @@ static inline PetscReal DrapeSupportRadius(const Scene *s)
 
 PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv);
 /* an unknown option is an error; with solver_options_later, PETSc's solver options (-snes_*, -ksp_*,
-   -pc_*, -mg_*, -mat_*) are left to the quasi-static solver, and SceneWarnUnused names those it never read */
+   -pc_*, -mg_*, -mat_*) are left to the quasi-static solver, and SceneWarnUnused names those it has not read
+   (when: by when, "by the first load step"), once: a name warned about is marked used */
 PetscErrorCode SceneCheckUnused(MPI_Comm comm, PetscBool solver_options_later);
-PetscErrorCode SceneWarnUnused(MPI_Comm comm);
+PetscErrorCode SceneWarnUnused(MPI_Comm comm, const char *when);
 PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s);
 /* the same fabric at half the thread density (-solver static's grid sequencing): each coarse yarn
    stands for two (twice the tex and the bending stiffness: the same stiffness and weight per width

@@ -162,7 +162,7 @@ static PetscErrorCode Run(int argc, char **argv)
     FabricDestroy(&fab);
     return ierr;
   }
-  if (fab->s.num.solver == SOLVER_STATIC) PetscCall(SceneWarnUnused(PETSC_COMM_WORLD)); /* misspelt -snes_* */
+  if (fab->s.num.solver == SOLVER_STATIC) PetscCall(SceneWarnUnused(PETSC_COMM_WORLD, "")); /* misspelt -snes_* */
   if (CheckpointStopped()) { /* stopped by a signal after its checkpoint: no results yet */
     PetscCall(FabricDestroy(&fab));
     PetscFunctionReturn(0);

@@ -511,7 +511,7 @@ PetscErrorCode FabricRun(Fabric fab)
   PetscCall(OutputOpen(fab));
   f = NowFrame(fab);                        /* the state the run starts from */
   PetscCall(FramesOpen(fab->io, &src, &f)); /* fabric.h5 and fabric.xmf */
-  for (PetscInt k = fab->load.load_step + 1; k <= s->load.load_steps && !fab->stats.rupture.rupture_step; k++) {
+  for (PetscInt k = fab->load.load_step + 1, first = k; k <= s->load.load_steps && !fab->stats.rupture.rupture_step; k++) {
     CurveRow *row = &fab->stats.curve[k - 1];
     stepped       = PETSC_TRUE;
     if (!CheckpointWithinLoadStep(fab, k)) PetscCall(ApplyLoadStep(fab, k)); /* else restarted within it */
@@ -530,6 +530,7 @@ PetscErrorCode FabricRun(Fabric fab)
     f = (FrameInfo){row->time, row->load_step, row->inner_steps};
     PetscCall(FramesLoadStep(fab->io, &src, &f, fab->load.elapsed, row->load_step == s->load.load_steps || ruptured));
     PetscCall(OutputProgress(fab, row));
+    if (ss && k == first) PetscCall(SceneWarnUnused(fab->comm, "by the first load step's solve")); /* misspelt -snes_* */
     PetscCall(CheckpointLoadStep(fab));
     if (ruptured) break; /* the test ends: the specimen has broken */
     if (ss && k < s->load.load_steps) { /* a signal: the load step's checkpoint, then stop (the explicit path looks within load steps) */

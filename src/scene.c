@@ -984,16 +984,21 @@ PetscErrorCode SceneCheckUnused(MPI_Comm comm, PetscBool solver_options_later)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SceneWarnUnused(MPI_Comm comm)
+PetscErrorCode SceneWarnUnused(MPI_Comm comm, const char *when)
 {
   PetscInt n;
   char   **names, **values;
 
   PetscFunctionBeginUser;
   PetscCall(PetscOptionsLeftGet(NULL, &n, &names, &values));
-  for (PetscInt q = 0; q < n; q++)
-    PetscCall(PetscPrintf(comm, "fabric: warning: option -%s was not used (check its spelling: -help lists them)\n",
-                          names[q]));
+  for (PetscInt q = 0; q < n; q++) {
+    char      name[256];
+    PetscBool set;
+    PetscCall(PetscPrintf(comm, "fabric: warning: option -%s was not used%s%s (check its spelling: -help lists them)\n",
+                          names[q], when[0] ? " " : "", when));
+    PetscCall(PetscSNPrintf(name, sizeof name, "-%s", names[q]));
+    PetscCall(PetscOptionsHasName(NULL, NULL, name, &set)); /* marks it used: warned once */
+  }
   PetscCall(PetscOptionsLeftRestore(NULL, &n, &names, &values));
   PetscFunctionReturn(0);
 }

@@ -39,6 +39,8 @@
 #     basic) throws crossings metres away: each attempt starts again from the first guess, and after the
 #     last the run stops with an error naming the load step (it went on with NaN or metre-wide
 #     positions, exit 0).
+# 10. a misspelt PETSc option (-ksp_rtoll) is named after the first load step's solve, once (it was
+#     named after the whole run only).
 set -u
 fabric="$1"; inputs="$2"
 . "$(dirname "$0")/runs.sh" # $py, $work, $fail, run NP ARGS...
@@ -203,4 +205,16 @@ elif grep -q "error: numerical failure at load step [0-9]*: the quasi-static sol
 else
   cat "$work/log"; echo "FAIL a full Newton step without a shift: not the numerical failure's message"; fail=1
 fi
+mpiexec -n 2 "$fabric" -scene "$inputs/square_net.yaml" -solver static -load_steps 3 -ksp_rtoll 1e-3 -output_dir none \
+  >"$work/log" 2>&1 || { cat "$work/log"; echo "FAIL a misspelt PETSc option: the run failed"; fail=1; }
+"$py" - "$work/log" <<'PY' || fail=1
+import sys
+lines = open(sys.argv[1]).read().splitlines()
+warn = [k for k, l in enumerate(lines) if "warning: option -ksp_rtoll was not used by the first load step's solve" in l]
+step = [k for k, l in enumerate(lines) if l.startswith("load step ")]
+ok = len(warn) == 1 and len(step) == 3 and step[0] < warn[0] < step[1] and sum("-ksp_rtoll" in l for l in lines) == 1
+print(("PASS" if ok else "FAIL") + " a misspelt PETSc option named once, after the first load step: "
+      + (lines[warn[0]] if warn else "no warning"))
+sys.exit(0 if ok else 1)
+PY
 exit $fail
