@@ -1635,6 +1635,12 @@ static PetscErrorCode StaticCreateLevel(Fabric fab, PetscInt sequence, StaticSol
   PetscCall(MultigridHierarchy(ss->dm, &ss->levels, ss->dms, ss->Ps));
   ss->stencil = ss->opt.tangent == TANGENT_STENCIL && StencilFits(&ss->opt) && ss->levels > 1 ? PETSC_TRUE
                                                                                                 : PETSC_FALSE;
+  if (sequence < 0 && ss->opt.tangent_set && ss->opt.tangent == TANGENT_STENCIL && ss->levels < 2 && !fab->s.out.quiet)
+    PetscCall(PetscPrintf(fab->comm,
+                          "fabric: -static_tangent stencil: %" PetscInt_FMT " x %" PetscInt_FMT " crossings on %d ranks are too "
+                          "few for multigrid on the grid's layout (4 crossings a rank a side); the tangent is stored in AIJ "
+                          "for GAMG\n",
+                          fab->s.spec.nx, fab->s.spec.ny, fab->size));
   PetscCall(CreateTangent(ss));
   PetscCall(MatSetOption(ss->J, MAT_SYMMETRIC, PETSC_TRUE));
   PetscCall(VecDuplicate(fab->state.X, &ss->Xbc));

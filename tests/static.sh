@@ -41,6 +41,8 @@
 #     positions, exit 0).
 # 10. a misspelt PETSc option (-ksp_rtoll) is named after the first load step's solve, once (it was
 #     named after the whole run only).
+# 11. -static_tangent stencil on a grid too small for multigrid on its layout (6 x 6): the run says the
+#     tangent is stored in AIJ for GAMG (it did so silently).
 set -u
 fabric="$1"; inputs="$2"
 . "$(dirname "$0")/runs.sh" # $py, $work, $fail, run NP ARGS...
@@ -217,4 +219,9 @@ print(("PASS" if ok else "FAIL") + " a misspelt PETSc option named once, after t
       + (lines[warn[0]] if warn else "no warning"))
 sys.exit(0 if ok else 1)
 PY
+mpiexec -n 1 "$fabric" -scene "$inputs/square_net.yaml" -solver static -gauge_mm 2 -width_mm 2 -load_steps 1 \
+  -static_tangent stencil -output_dir none >"$work/log" 2>&1
+grep -q "^fabric: -static_tangent stencil: 6 x 6 crossings on 1 ranks are too few for multigrid .* stored in AIJ for GAMG" \
+  "$work/log" && echo "PASS -static_tangent stencil on a 6 x 6 net: the run says it stores the tangent in AIJ" \
+  || { cat "$work/log"; echo "FAIL -static_tangent stencil on a 6 x 6 net: no notice of the AIJ tangent"; fail=1; }
 exit $fail
