@@ -213,11 +213,11 @@ static inline PetscBool ReactionTest(const Scene *s)
   return (JawTest(s) || s->test == TEST_PUSHING) ? PETSC_TRUE : PETSC_FALSE;
 }
 
-/* m: the drape's support disc, A_disc of the drape coefficient: the pedestal if there is one, else the clamping
-   ring's outer radius */
+/* m: the drape's support disc, A_disc of the drape coefficient: the fabric is held flat out to the larger of
+   the pedestal and the clamping ring's outer radius */
 static inline PetscReal DrapeSupportRadius(const Scene *s)
 {
-  return s->bodies.pedestal_radius > 0 ? s->bodies.pedestal_radius : s->clamps.ring[1];
+  return PetscMax(s->bodies.pedestal_radius, s->clamps.clamp == CLAMP_RING ? s->clamps.ring[1] : 0.0);
 }
 
 PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv);

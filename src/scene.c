@@ -1107,11 +1107,16 @@ static PetscErrorCode DeriveBodies(MPI_Comm comm, const SceneInput *in, Scene *s
   PetscCheck(s->test == TEST_PUSHING || b->sphere_radius == 0, comm, PETSC_ERR_USER_INPUT,
              "-sphere_diameter_mm %g: the sphere is the pushing test's punch (-test pushing)",
              (double) in->sphere_diameter_mm);
-  if (s->test == TEST_DRAPE && s->spec.shape == SHAPE_DISC) { /* the drape coefficient's support disc */
+  if (s->test == TEST_DRAPE) { /* the drape coefficient's support disc */
+    PetscCheck(s->spec.shape == SHAPE_DISC, comm, PETSC_ERR_USER_INPUT,
+               "-shape %s with -test drape: the drape coefficient (BS 5058, ISO 9073-9) is that of a disc specimen; "
+               "use -shape disc",
+               ShapeNames[s->spec.shape]);
     PetscCheck(DrapeSupportRadius(s) < s->spec.disc_radius, comm, PETSC_ERR_USER_INPUT,
                "%s %g mm is not smaller than the specimen's %g mm (-disc_diameter_mm): nothing hangs over the "
                "support, and the drape coefficient (A_shadow - A_disc)/(A_specimen - A_disc) has no meaning",
-               b->pedestal_radius > 0 ? "-pedestal_diameter_mm" : "-clamp_ring_mm: the support's outer diameter",
+               DrapeSupportRadius(s) > b->pedestal_radius ? "-clamp_ring_mm: the support's outer diameter"
+                                                          : "-pedestal_diameter_mm",
                2e3 * (double) DrapeSupportRadius(s), 2e3 * (double) s->spec.disc_radius);
   }
   PetscFunctionReturn(0);

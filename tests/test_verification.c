@@ -816,6 +816,18 @@ static PetscErrorCode DrapeMeasure(void)
     CheckTrue(what, fab->meas.folds == n, (double) fab->meas.folds);
   }
   PetscCall(FabricDestroy(&fab));
+  /* a pedestal narrower than the clamping ring: the fabric is held flat out to the ring's 90 mm, which is A_disc */
+  PetscCall(NewFabric("-output_dir none -quiet -test drape -shape disc -disc_diameter_mm 300 -gauge_mm 300 -width_mm "
+                      "300 -clamp ring -clamp_ring_mm 0,180 -ends_per_cm 2 -picks_per_cm 2 -pedestal_diameter_mm 60",
+                      &fab));
+  a_disc = PETSC_PI * PetscSqr(0.09);
+  PetscCall(VecCopy(fab->grid.X0, fab->state.X));
+  PetscCall(DrapeOutline(fab, &row));
+  PetscCall(SetShape(fab, s, 0, 0, 0));
+  PetscCall(DrapeOutline(fab, &row));
+  CheckRel("pedestal 60 mm inside the 180 mm ring, shrunk by 0.8: DC with A_disc the ring's", fab->meas.drape_pct,
+           100.0 * (s * s * fab->meas.drape_flat_area - a_disc) / (fab->meas.drape_flat_area - a_disc), 1e-12);
+  PetscCall(FabricDestroy(&fab));
   PetscFunctionReturn(0);
 }
 
