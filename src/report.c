@@ -131,6 +131,13 @@ static PetscErrorCode CheckRoom(Fabric fab)
 }
 
 /* curve.csv: the header, and after a restart the rows before the checkpoint */
+/* DIR/name, if there: an earlier run's result that this run does not write again */
+static void RemoveStale(const char *dir, const char *name)
+{
+  char file[PETSC_MAX_PATH_LEN];
+  if (snprintf(file, sizeof file, "%s/%s", dir, name) < (int) sizeof file) (void) unlink(file);
+}
+
 PetscErrorCode OutputOpen(Fabric fab)
 {
   const char *dir                        = fab->s.out.output_dir;
@@ -142,6 +149,11 @@ PetscErrorCode OutputOpen(Fabric fab)
   if (fab->rank == 0) {
     char file[PETSC_MAX_PATH_LEN];
     if (MakeDirs(dir, failed, sizeof failed)) status[0] = 1, status[1] = errno;
+    if (!status[0]) { /* an earlier run's summary, checkpoint and frames would stand beside this run's results */
+      RemoveStale(dir, "summary.json");
+      if (!fab->s.out.restart[0]) RemoveStale(dir, "checkpoint.h5");
+      if (!fab->s.out.restart[0] && !IOWritesFrames(fab->io)) RemoveStale(dir, "fabric.h5"), RemoveStale(dir, "fabric.xmf");
+    }
     if (!status[0]) {
       PetscCall(PetscSNPrintf(file, sizeof file, "%s/curve.csv", dir));
       fab->stats.curve_fp = fopen(file, "w");
@@ -246,16 +258,18 @@ PetscErrorCode OutputProgress(Fabric fab, const CurveRow *r)
   PetscFunctionReturn(0);
 }
 
+/* a JSON string: quote and backslash escaped, every control character as \u00XX */
 static void JsonString(FILE *fp, const char *s)
 {
   fputc('"', fp);
   for (; *s; s++) {
-    if (*s == '"' || *s == '\\') fputc('\\', fp);
-    if (*s == '\n') {
-      fputs("\\n", fp);
+    const unsigned char c = (unsigned char) *s;
+    if (c < 0x20) {
+      fprintf(fp, "\\u%04x", (unsigned) c);
       continue;
     }
-    fputc(*s, fp);
+    if (c == '"' || c == '\\') fputc('\\', fp);
+    fputc(c, fp);
   }
   fputc('"', fp);
 }

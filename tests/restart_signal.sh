@@ -11,6 +11,7 @@
 #   2 -> 2   SIGUSR1 to mpiexec, which Open MPI forwards to the ranks at once (SIGTERM to mpiexec
 #            reaches the ranks only after -mca odls_base_sigkill_timeout seconds, 1 by default, and
 #            is followed by SIGKILL as long after: docs/checkpoints.md)
+# DIR holds an earlier run's summary.json: the stopped run leaves none (it read as finished).
 # The jaw's force in curve.csv is a sum over ranks, exact here: the jaw's crossings all lie on one
 # rank on 1, 2 and 3 ranks.
 set -u
@@ -34,6 +35,7 @@ mpiexec -n 1 "$fabric" "${opts[@]}" -output_dir "$ref" -positions_out "$ref/posi
 # after load step 2 is done (so that the signal comes at various te steps of load step 3 or later)
 case_() {
   local name="$1" np="$2" np2="$3" sig="$4" target="$5" delay="$6" d="$work/$1"
+  mkdir -p "$d" && echo '{"converged": true}' >"$d/summary.json" # an earlier run's: removed at the start
   mpiexec -n "$np" "$fabric" "${opts[@]}" -output_dir "$d" -positions_out "$d/positions.bin" >"$work/$name.log" 2>&1 &
   local pid=$! i
   for ((i = 0; i < 3000; i++)); do

@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# output_dir.sh FABRIC SCENE: what a run leaves in -output_dir (docs/output.md)
+#  1. a fresh run into a directory that holds an earlier run's results (checkpoint.h5, frames): with
+#     no frames and no checkpoints of its own it leaves neither behind, and its summary.json is its own;
+#  2. summary.json is valid JSON when the scene's name holds a tab and a newline (the tab was written raw);
+#  3. a restart that turns frames on, from a run that wrote none: frame 0 is the checkpoint's state at
+#     the time_s of its load step in curve.csv (it was that plus the te steps' time).
+set -u
+fabric="$1"; scene="$2"
+. "$(dirname "$0")/runs.sh" # $py, $work, $fail, run NP ARGS...
+small=(-scene "$scene" -gauge_mm 20 -width_mm 5 -load_steps 4)
+
+d="$work/reused"
+run 1 "${small[@]}" -output_dir "$d" -checkpoint_every 1 -output_every 1
+[[ -e $d/checkpoint.h5 && -e $d/fabric.h5 && -e $d/fabric.xmf ]] || { echo "FAIL the first run wrote no checkpoint or frames"; fail=1; }
+run 2 "${small[@]}" -output_dir "$d" -output_every 0 -balance_tol 1e-4
+if [[ -e $d/checkpoint.h5 || -e $d/fabric.h5 || -e $d/fabric.xmf ]]; then
+  echo "FAIL a fresh run with no frames or checkpoints left the earlier run's: $(ls "$d")"; fail=1
+elif "$py" -c "import json, sys; sys.exit(json.load(open('$d/summary.json'))['options']['balance_tol'] != 1e-4)"; then
+  echo "PASS a fresh run replaced the earlier run's results: $(ls "$d" | tr '\n' ' ')"
+else
+  echo "FAIL summary.json is not the fresh run's"; fail=1
+fi
+
+name="$work/$(printf 'tab\there\nline')"
+cp "$scene" "$name.yaml"
+run 1 -scene "$name.yaml" -gauge_mm 20 -width_mm 5 -load_steps 2 -output_dir "$work/tab"
+"$py" - "$work/tab/summary.json" <<'PY' || fail=1
+import json, sys
+try:
+    s = json.load(open(sys.argv[1])); ok = s["scene"] == "tab\there\nline"
+except ValueError as e:
+    s, ok = str(e), False
+print(("PASS" if ok else "FAIL") + f" summary.json with control characters in the scene's name: {s['scene'] if ok else s!r}")
+sys.exit(0 if ok else 1)
+PY
+
+d="$work/late"
+run 1 "${small[@]}" -output_dir "$d" -output_every 0 -checkpoint_every 3
+run 1 "${small[@]}" -output_dir "$d" -output_every 1 -restart "$d/checkpoint.h5"
+"$py" - "$d/fabric.h5" "$d/curve.csv" <<'PY' || fail=1
+import csv, sys, h5py
+rows = list(csv.DictReader(open(sys.argv[2])))
+with h5py.File(sys.argv[1], "r") as f:
+    t = [(f["frames"][k].attrs["load_step"].item(), f["frames"][k].attrs["time_s"].item()) for k in sorted(f["frames"])]
+want = [(int(r["load_step"]), float(r["time_s"])) for r in rows[2:]]
+ok = [(a, round(b, 9)) for a, b in t] == [(a, round(b, 9)) for a, b in want]
+print(("PASS" if ok else "FAIL") + f" frames turned on at a restart from load step 3: (load step, time) {t}, curve.csv {want}")
+sys.exit(0 if ok else 1)
+PY
+exit $fail
