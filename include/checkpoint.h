@@ -18,7 +18,8 @@ PetscErrorCode CheckpointLoadStep(Fabric fab);
 PetscErrorCode CheckpointTeStep(Fabric fab, const RelaxPoint *at);
 PetscErrorCode CheckpointLoadStepSignal(Fabric fab);
 PetscErrorCode RestartLoad(Fabric fab);
-PetscBool      CheckpointWithinLoadStep(Fabric fab, PetscInt k);
+PetscBool      CheckpointWithinLoadStep(Fabric fab, PetscInt k); /* restarted within load step k: the load step set */
+PetscBool      CheckpointResumesLoadStep(void);                    /* restarted within a load step (no side effect) */
 void           CheckpointRelaxStart(RelaxPoint *at);
 PetscBool      CheckpointStopped(void);
 void           CheckpointSignal(int sig); /* the handler of SIGTERM and SIGUSR1: sets a flag, nothing else */

@@ -1059,7 +1059,7 @@ static PetscErrorCode ReadHeader(Fabric fab, const char *file, Header *h, double
 }
 
 /* Rank 0: does DIR/fabric.h5 hold the frames written before the checkpoint? */
-static void CheckFramesFile(const Scene *s, const char *restart, Header *h)
+static void CheckFramesFile(const Scene *s, const char *restart, const double *frames, Header *h)
 {
   char        file[PETSC_MAX_PATH_LEN], path[64];
   H5E_auto2_t efunc;
@@ -1089,6 +1089,7 @@ static void CheckFramesFile(const Scene *s, const char *restart, Header *h)
                restart, file, nx, ny, s->spec.nx, s->spec.ny);
     }
     for (int k = 0; k < h->frames && !h->status; k++) {
+      double at[3] = {0, -1, -1}; /* time_s, load_step, te_step: as the checkpoint lists the frame */
       snprintf(path, sizeof path, "/frames/%06d", k);
       if (H5Lexists(fid, "/frames", H5P_DEFAULT) <= 0 || H5Lexists(fid, path, H5P_DEFAULT) <= 0) {
         h->status = 1;
@@ -1096,7 +1097,19 @@ static void CheckFramesFile(const Scene *s, const char *restart, Header *h)
             h->msg, sizeof h->msg,
             "-restart %s: %s lacks frame %d of the %d written before the checkpoint: it is not the file of this run",
             restart, file, k, h->frames);
+        break;
       }
+      hid_t fg = H5Gopen2(fid, path, H5P_DEFAULT);
+      if (fg < 0 || !ReadAttr(fg, "time_s", H5T_NATIVE_DOUBLE, &at[0]) ||
+          !ReadAttr(fg, "load_step", H5T_NATIVE_DOUBLE, &at[1]) || !ReadAttr(fg, "te_step", H5T_NATIVE_DOUBLE, &at[2]) ||
+          at[0] != frames[3 * k] || at[1] != frames[3 * k + 1] || at[2] != frames[3 * k + 2]) {
+        h->status = 1;
+        snprintf(h->msg, sizeof h->msg,
+                 "-restart %s: %s's frame %d (load step %g, te step %g, %.9g s) is not the one written before the "
+                 "checkpoint (load step %g, te step %g, %.9g s): it is not the file of this run",
+                 restart, file, k, at[1], at[2], at[0], frames[3 * k + 1], frames[3 * k + 2], frames[3 * k]);
+      }
+      if (fg >= 0) H5Gclose(fg);
     }
     H5Gclose(g);
     H5Fclose(fid);
@@ -1175,7 +1188,7 @@ static PetscErrorCode ReadHistory(Fabric fab, Header *h, double **rows, double *
   if (fab->rank == 0) {
     PetscCall(ReadHeader(fab, io->restart, h, rows, frames));
     if (!h->status && h->frames > 0 && fab->s.out.output_dir[0] && IOWritesFrames(io))
-      CheckFramesFile(&fab->s, io->restart, h);
+      CheckFramesFile(&fab->s, io->restart, *frames, h);
   }
   PetscCall(BroadcastFromRoot(fab->comm, h, (PetscInt) sizeof *h, MPI_BYTE));
   if (h->status) {
@@ -1240,6 +1253,11 @@ PetscErrorCode RestartLoad(Fabric fab)
 
 /* FabricRun, before load step k: restarted within it? Then it is not applied again (its grips, prediction
    and stable step are in the checkpoint): it becomes the current load step. */
+PetscBool CheckpointResumesLoadStep(void)
+{
+  return ckpt.resume;
+}
+
 PetscBool CheckpointWithinLoadStep(Fabric fab, PetscInt k)
 {
   if (!ckpt.resume) return PETSC_FALSE;

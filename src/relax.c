@@ -510,7 +510,7 @@ PetscErrorCode FabricRun(Fabric fab)
   PetscCall(RestartLoad(fab)); /* -restart: state, counters and curve rows of the checkpoint */
   PetscCall(OutputOpen(fab));
   f = NowFrame(fab); /* the state the run starts from */
-  if (fab->load.load_step > 0 && !CheckpointWithinLoadStep(fab, fab->load.load_step + 1) && !s->out.output_te_every &&
+  if (fab->load.load_step > 0 && !CheckpointResumesLoadStep() && !s->out.output_te_every &&
       !s->out.output_tear_every) /* a restart at a load step's end: frame 0 (if frames were off) at its time_s */
     f.time = fab->stats.curve[fab->load.load_step - 1].time;
   PetscCall(FramesOpen(fab->io, &src, &f)); /* fabric.h5 and fabric.xmf */

@@ -4,7 +4,9 @@
 #     no frames and no checkpoints of its own it leaves neither behind, and its summary.json is its own;
 #  2. summary.json is valid JSON when the scene's name holds a tab and a newline (the tab was written raw);
 #  3. a restart that turns frames on, from a run that wrote none: frame 0 is the checkpoint's state at
-#     the time_s of its load step in curve.csv (it was that plus the te steps' time).
+#     the time_s of its load step in curve.csv (it was that plus the te steps' time);
+#  4. a restart whose fabric.h5 is another run's of the same grid (frames at other times: another
+#     -speed_mm_min) is refused, naming the frame that differs (its frames were mixed in).
 set -u
 fabric="$1"; scene="$2"
 . "$(dirname "$0")/runs.sh" # $py, $work, $fail, run NP ARGS...
@@ -48,4 +50,15 @@ ok = [(a, round(b, 9)) for a, b in t] == [(a, round(b, 9)) for a, b in want]
 print(("PASS" if ok else "FAIL") + f" frames turned on at a restart from load step 3: (load step, time) {t}, curve.csv {want}")
 sys.exit(0 if ok else 1)
 PY
+run 1 "${small[@]}" -output_dir "$work/mixA" -output_every 1 -checkpoint_every 3
+run 1 "${small[@]}" -output_dir "$work/mixB" -output_every 1 -speed_mm_min 50
+cp "$work/mixB/fabric.h5" "$work/mixA/fabric.h5"
+if mpiexec -n 1 "$fabric" "${small[@]}" -output_dir "$work/mixA" -output_every 1 -restart "$work/mixA/checkpoint.h5" \
+  >"$work/log" 2>&1; then
+  echo "FAIL a restart into another run's fabric.h5 was accepted"; fail=1
+elif grep -q "fabric.h5's frame 1 (load step 1, te step .*) is not the one written before the checkpoint" "$work/log"; then
+  echo "PASS a restart into another run's fabric.h5 is refused: $(grep -o "frame 1 (.*checkpoint ([^)]*)" "$work/log")"
+else
+  cat "$work/log"; echo "FAIL a restart into another run's fabric.h5: not the expected message"; fail=1
+fi
 exit $fail
