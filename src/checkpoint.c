@@ -59,7 +59,7 @@ typedef struct {
 
 #define KEY(nm, v) (PetscStrncpy(key[n].name, nm, sizeof key[n].name), key[n].value = (PetscReal) (v), n++)
 
-/* what the run computes with: the grid, what a yarn table file holds, and every numeric option
+/* what the run computes with: the grid, what a yarn table file holds (its table's size, last force and checksum), and every numeric option
    of the option table (scene.h SceneOptionValues) apart from those that only say what is written
    and when; an array as its count and every slot (unused ones 0), so that the keys are the same
    set for any options */
@@ -71,6 +71,8 @@ static PetscBool OutputOnlyOption(const char *name)
     if (!strcmp(name, out[q])) return PETSC_TRUE;
   return PETSC_FALSE;
 }
+
+static double TableChecksum(const YarnLaw *l);
 
 static PetscInt SceneKeys(const Scene *s, SceneKey *key)
 {
@@ -86,6 +88,8 @@ static PetscInt SceneKeys(const Scene *s, SceneKey *key)
     KEY(nm, l->ntab);
     PetscSNPrintf(nm, sizeof nm, "%s_table_end_N", l->name);
     KEY(nm, l->ntab ? l->tab_T[l->ntab - 1] : 0.0);
+    PetscSNPrintf(nm, sizeof nm, "%s_law_csv_checksum", l->name);
+    KEY(nm, TableChecksum(l));
   }
   for (PetscInt k = 0; SceneOptionValues(s, k, name, v, &nv); k++) {
     if (OutputOnlyOption(name)) continue;
@@ -144,6 +148,14 @@ static uint64_t ArrayChecksum(const double *a, size_t n)
   uint64_t sum = 0;
   for (size_t k = 0; k < n; k++) sum += EntryHash(k, a[k]);
   return sum;
+}
+
+/* a tabulated law's fast table (tensions and slopes at every node): 52 bits of their checksum, exact as a
+   double (a scene key); 0 for a law with no table */
+static double TableChecksum(const YarnLaw *l)
+{
+  if (!l->ntab) return 0.0;
+  return (double) ((ArrayChecksum(l->tab_T, (size_t) l->ntab) ^ Mix64(ArrayChecksum(l->tab_dT, (size_t) l->ntab))) >> 12);
 }
 
 /* a vector of the grid (dof values per point) in the natural order of its dataset (ny, nx, dof):

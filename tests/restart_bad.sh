@@ -30,6 +30,14 @@ refuse not_a_checkpoint "-restart .*results.h5: not a fabric checkpoint" "${opts
 refuse other_grid "-restart .*checkpoint.h5: the checkpoint is of another grid: 49 x 12 crossings there .*, 49 x 14 here" "${opts[@]}" -width_mm 6 -output_dir "$work/run" -restart "$ck"
 refuse other_scene "-restart .*checkpoint.h5: the checkpoint is of another scene: warp_crimp_pct = 8 there .*, 7 here" "${opts[@]}" -warp_crimp_pct 7 -output_dir "$work/run" -restart "$ck"
 refuse other_program "-restart .*checkpoint.h5: the checkpoint is of another scene: load_steps = 6 there .*, 8 here" "${opts[@]}" -load_steps 8 -output_dir "$work/run" -restart "$ck"
+# a yarn table with the same last force and another row (its node count and last force were all that was compared)
+law="$(dirname "$scene")/yarns/cotton_20tex.csv"
+sed 's/^3.0000,190.621$/3.0000,170.000/' "$law" >"$work/law2.csv"
+mpiexec -n 2 "$fabric" "${opts[@]}" -warp_law_csv "$law" -output_dir "$work/lawrun" -checkpoint_every 3 >/dev/null \
+  || { echo "FAIL the run with a yarn table failed"; fail=1; }
+refuse other_table "-restart .*checkpoint.h5: the checkpoint is of another scene: warp_law_csv_checksum = .* there .*, .* here" \
+  "${opts[@]}" -warp_law_csv "$work/law2.csv" -output_dir "$work/lawrun" -restart "$work/lawrun/checkpoint.h5"
+cmp -s "$law" "$work/law2.csv" && { echo "FAIL the changed table is the same file"; fail=1; }
 refuse other_integrator "-restart .*checkpoint.h5: the checkpoint is of another scene: integrator = fire there .*, paper here" "${opts[@]}" -integrator paper -output_dir "$work/run" -restart "$ck"
 # a damaged attribute that counts or indexes (rupture_step indexes the curve rows; the checkpoint is of the last
 # of 6 load steps) is refused, naming it, not read past the arrays
