@@ -50,15 +50,19 @@ static PetscErrorCode CheckBreaks(Fabric fab, PetscInt *broke)
   *broke = n;
   fab->stats.broken_any = PETSC_TRUE;
   r->segments += n;
-  if (r->first.ratio == 0) { /* the first break: the most overstrained segment */
+  { /* the most overstrained segment that broke (the lowest index on a tie) */
     const PetscInt nx = fab->s.spec.nx, ny = fab->s.spec.ny;
     PetscReal      best = site.ratio;
     PetscInt       code = site.ratio > 0 ? site.dir * nx * ny + site.j * nx + site.i : -1; /* -1: none broke here */
     PetscCall(GlobalArgMax(fab->comm, &best, &code));
-    r->first.ratio = best;
-    r->first.dir   = code / (nx * ny);
-    r->first.j     = (code % (nx * ny)) / nx;
-    r->first.i     = code % nx;
+    r->last_break.ratio = best;
+    r->last_break.dir   = code / (nx * ny);
+    r->last_break.j     = (code % (nx * ny)) / nx;
+    r->last_break.i     = code % nx;
+    r->last_break.load  = r->load_now;
+  }
+  if (r->first.ratio == 0) { /* the first break */
+    r->first       = r->last_break;
     r->first_step  = fab->load.load_step;
     r->first_time  = TestTime(&fab->s, &fab->load);
   }
@@ -179,16 +183,24 @@ static PetscErrorCode FinishRow(Fabric fab, PetscReal residual, PetscBool balanc
 }
 
 /* Yarns broke on this balanced state (row: measured before they broke): the load step overshot the
-   first break. The force at the break, interpolated between the last balanced state below every
-   breaking strain (largest strain ratio r0) and this one (r1 > 1) at the fraction
-   (1 - r0)/(r1 - r0), is a candidate for the maximum. */
+   first break. Between the last balanced state below every breaking strain (largest strain ratio r0)
+   and this one (r1 > 1), the break comes at the fraction w = (1 - r0)/(r1 - r0) of the strain: the
+   elongation or travel there is interpolated at w; the force at the fraction of the tension that the
+   segment that broke (breaking chord strain eb) gains by its yarn law from r0 eb to eb of what it gains
+   up to r1 eb. (The force at w overstated it where the law's stiffness changes within the load step: past
+   the crimp, 20 times the de-crimping stiffness.) The force is a candidate for the maximum. */
 static void PeakAtBreak(Fabric fab, const CurveRow *row)
 {
-  RuptureState   *r  = &fab->stats.rupture;
-  const PetscReal r0 = r->last_load, r1 = r->load_now;
-  const PetscReal w  = r1 > r0 ? PetscMin(1.0, PetscMax(0.0, (1.0 - r0) / (r1 - r0))) : 1.0;
+  RuptureState    *r  = &fab->stats.rupture;
+  const BreakSite *b  = &r->last_break;
+  const YarnLaw   *y  = b->dir == 0 ? fab->grid.patch.warp : fab->grid.patch.weft;
+  const PetscReal  r0 = r->last_load, r1 = r->load_now;
+  const PetscReal  w  = r1 > r0 ? PetscMin(1.0, PetscMax(0.0, (1.0 - r0) / (r1 - r0))) : 1.0;
+  const PetscReal  eb = SegmentBreakStrain(y, fab->s.rupture.seed, (int) b->dir, b->i, b->j);
+  const PetscReal  t0 = ChordTension(y, r0 * eb), gain = ChordTension(y, r1 * eb) - t0;
+  const PetscReal  wt = gain > 0 && isfinite(gain) ? PetscMin(1.0, PetscMax(0.0, (ChordTension(y, eb) - t0) / gain)) : w;
 
-  KeepPeak(r, r->last_force + w * (row->force - r->last_force), r->last_at + w * (RowAt(&fab->s, row) - r->last_at),
+  KeepPeak(r, r->last_force + wt * (row->force - r->last_force), r->last_at + w * (RowAt(&fab->s, row) - r->last_at),
            PETSC_TRUE);
 }
 
