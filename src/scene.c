@@ -1107,6 +1107,15 @@ static PetscErrorCode DeriveBodies(MPI_Comm comm, const SceneInput *in, Scene *s
   PetscCheck(s->test == TEST_PUSHING || b->sphere_radius == 0, comm, PETSC_ERR_USER_INPUT,
              "-sphere_diameter_mm %g: the sphere is the pushing test's punch (-test pushing)",
              (double) in->sphere_diameter_mm);
+  { /* the ball touches the crossings only: one narrower than two yarn spacings passes between them */
+    const PetscReal spacing = PetscMax(1.0 / s->spec.ends_per_m, 1.0 / s->spec.picks_per_m);
+    PetscCheck(b->sphere_radius == 0 || b->sphere_radius >= spacing, comm, PETSC_ERR_USER_INPUT,
+               "-sphere_diameter_mm %g is less than two yarn spacings (%g mm at %g ends x %g picks per cm): the ball "
+               "touches the fabric at its crossings only and would pass between them; use a ball of at least %g mm or "
+               "a denser grid",
+               (double) in->sphere_diameter_mm, 2e3 * (double) spacing, 1e-2 * (double) s->spec.ends_per_m,
+               1e-2 * (double) s->spec.picks_per_m, 2e3 * (double) spacing);
+  }
   if (s->test == TEST_DRAPE) { /* the drape coefficient's support disc */
     PetscCheck(s->spec.shape == SHAPE_DISC, comm, PETSC_ERR_USER_INPUT,
                "-shape %s with -test drape: the drape coefficient (BS 5058, ISO 9073-9) is that of a disc specimen; "
