@@ -907,6 +907,14 @@ PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv)
   PetscFunctionBeginUser;
   PetscCall(PetscOptionsGetString(NULL, NULL, "-scene", file, sizeof file, &set));
   if (!set) PetscFunctionReturn(0);
+  { /* one scene: a second one would replace the first as a whole, not add to it */
+    int given = 0;
+    for (int k = 1; k < argc; k++) given += !strcmp(argv[k], "-scene");
+    PetscCheck(given <= 1, comm, PETSC_ERR_USER_INPUT,
+               "-scene given %d times on the command line (the last, %s, would be the only one read); give one scene "
+               "file and the options that change it",
+               given, file);
+  }
   PetscCheck(file[0], comm, PETSC_ERR_USER_INPUT, "-scene needs a file name");
   PetscCall(PetscTestFile(file, 'r', &exists));
   PetscCheck(exists, comm, PETSC_ERR_FILE_OPEN, "-scene %s: no such file, or not readable", file);
