@@ -1896,6 +1896,11 @@ PetscErrorCode SceneCoarsen(MPI_Comm comm, const Scene *fine, Scene *coarse, Pet
     in->yarn[y].break_pct    = 0; /* a first guess: nothing breaks */
     in->yarn[y].break_cv_pct = 0;
   }
+  if (0.5e-3 * in->sphere_diameter_mm > 0 &&
+      0.5e-3 * in->sphere_diameter_mm < 1e-2 / PetscMin(in->ends_per_cm, in->picks_per_cm)) { /* DeriveBodies' check */
+    PetscCall(PetscMemzero(coarse, sizeof *coarse));
+    PetscFunctionReturn(0); /* the ball would pass between the coarse crossings: no coarser fabric */
+  }
   if (in->n_point_load_at) { /* on a coarse crossing when loaded (checked above) */
     in->point_load_at[0] /= 2;
     in->point_load_at[1] /= 2;

@@ -1713,7 +1713,8 @@ PetscErrorCode StaticCreate(Fabric fab, StaticSolver *out)
   if ((*out)->opt.sequence > used && !fab->s.out.quiet) /* say so: the option asked for more */
     PetscCall(PetscPrintf(fab->comm,
                           "fabric: -static_sequence %" PetscInt_FMT ": %" PetscInt_FMT " coarser fabric%s%s%s%s (a coarser one "
-                          "needs an odd number of crossings a side, and multigrid levels on %d ranks; not the strip or bias test)\n",
+                          "needs an odd number of crossings a side, multigrid levels on %d ranks and a ball at least two of its yarn spacings "
+                          "wide; not the strip or bias test)\n",
                           (*out)->opt.sequence, used, used == 1 ? "" : "s", used ? " (" : "", list, used ? ")" : "",
                           fab->size));
   PetscFunctionReturn(0);

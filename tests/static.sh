@@ -43,6 +43,9 @@
 #     named after the whole run only).
 # 11. -static_tangent stencil on a grid too small for multigrid on its layout (6 x 6): the run says the
 #     tangent is stored in AIJ for GAMG (it did so silently).
+# 12. -static_sequence on a pushing test whose 12 mm ball is two yarn spacings wide at 2 threads/cm: no
+#     coarser fabric (its ball would pass between the coarse crossings), and the run goes on (the coarse
+#     scene was refused as if the user had given its density).
 set -u
 fabric="$1"; inputs="$2"
 . "$(dirname "$0")/runs.sh" # $py, $work, $fail, run NP ARGS...
@@ -224,4 +227,11 @@ mpiexec -n 1 "$fabric" -scene "$inputs/square_net.yaml" -solver static -gauge_mm
 grep -q "^fabric: -static_tangent stencil: 6 x 6 crossings on 1 ranks are too few for multigrid .* stored in AIJ for GAMG" \
   "$work/log" && echo "PASS -static_tangent stencil on a 6 x 6 net: the run says it stores the tangent in AIJ" \
   || { cat "$work/log"; echo "FAIL -static_tangent stencil on a 6 x 6 net: no notice of the AIJ tangent"; fail=1; }
+if mpiexec -n 1 "$fabric" -scene "$inputs/pushing.yaml" -solver static -ends_per_cm 2 -picks_per_cm 2 \
+  -sphere_diameter_mm 12 -sphere_travel_mm 2 -load_steps 1 -static_sequence 1 -output_dir none >"$work/log" 2>&1 \
+  && grep -q "^fabric: -static_sequence 1: 0 coarser fabrics" "$work/log"; then
+  echo "PASS -static_sequence with a ball two yarn spacings wide: no coarser fabric, the run goes on"
+else
+  cat "$work/log"; echo "FAIL -static_sequence with a ball two yarn spacings wide"; fail=1
+fi
 exit $fail
