@@ -774,14 +774,17 @@ typedef struct {     /* what rank 0 reads alone, then broadcasts */
   RelaxState relax;
 } Header;
 
+/* a scalar attribute (one value: a damaged file's array would be read past value) */
 static int ReadAttr(hid_t obj, const char *name, hid_t type, void *value)
 {
-  hid_t a;
+  hid_t a, sp;
   int   ok;
   if (H5Aexists(obj, name) <= 0) return 0;
   a = H5Aopen(obj, name, H5P_DEFAULT);
   if (a < 0) return 0;
-  ok = H5Aread(a, type, value) >= 0;
+  sp = H5Aget_space(a);
+  ok = sp >= 0 && H5Sget_simple_extent_npoints(sp) == 1 && H5Aread(a, type, value) >= 0;
+  if (sp >= 0) H5Sclose(sp);
   H5Aclose(a);
   return ok;
 }
@@ -1265,6 +1268,28 @@ PetscErrorCode RestartLoad(Fabric fab)
 
 /* FabricRun, before load step k: restarted within it? Then it is not applied again (its grips, prediction
    and stable step are in the checkpoint): it becomes the current load step. */
+PetscBool FabricHDF5File(const char *file, const char *attr)
+{
+  H5E_auto2_t efunc;
+  void       *edata;
+  hid_t       fid, g;
+  PetscBool   ok = PETSC_FALSE;
+
+  H5Eget_auto2(H5E_DEFAULT, &efunc, &edata);
+  H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
+  fid = H5Fis_hdf5(file) > 0 ? H5Fopen(file, H5F_ACC_RDONLY, H5P_DEFAULT) : -1;
+  if (fid >= 0) {
+    g = H5Gopen2(fid, "/", H5P_DEFAULT);
+    if (g >= 0) {
+      ok = H5Aexists(g, attr) > 0 ? PETSC_TRUE : PETSC_FALSE;
+      H5Gclose(g);
+    }
+    H5Fclose(fid);
+  }
+  H5Eset_auto2(H5E_DEFAULT, efunc, edata);
+  return ok;
+}
+
 PetscBool CheckpointResumesLoadStep(void)
 {
   return ckpt.resume;

@@ -526,7 +526,8 @@ PetscErrorCode FabricRun(Fabric fab)
       !s->out.output_tear_every) /* a restart at a load step's end: frame 0 (if frames were off) at its time_s */
     f.time = fab->stats.curve[fab->load.load_step - 1].time;
   PetscCall(FramesOpen(fab->io, &src, &f)); /* fabric.h5 and fabric.xmf */
-  for (PetscInt k = fab->load.load_step + 1, first = k; k <= s->load.load_steps && !fab->stats.rupture.rupture_step; k++) {
+  PetscBool         warned = PETSC_FALSE; /* -solver static: options not used by the solves so far named */
+  for (PetscInt k = fab->load.load_step + 1; k <= s->load.load_steps && !fab->stats.rupture.rupture_step; k++) {
     CurveRow *row = &fab->stats.curve[k - 1];
     stepped       = PETSC_TRUE;
     if (!CheckpointWithinLoadStep(fab, k)) PetscCall(ApplyLoadStep(fab, k)); /* else restarted within it */
@@ -545,7 +546,12 @@ PetscErrorCode FabricRun(Fabric fab)
     f = (FrameInfo){row->time, row->load_step, row->inner_steps};
     PetscCall(FramesLoadStep(fab->io, &src, &f, fab->load.elapsed, row->load_step == s->load.load_steps || ruptured));
     PetscCall(OutputProgress(fab, row));
-    if (ss && k == first) PetscCall(SceneWarnUnused(fab->comm, "by the first load step's solve")); /* misspelt -snes_* */
+    if (ss && !warned && fab->stats.linear_iterations > 0) { /* misspelt -snes_*, once a linear solve has set up the PC */
+      char when[64];
+      PetscCall(PetscSNPrintf(when, sizeof when, "by the solves up to load step %" PetscInt_FMT, k));
+      PetscCall(SceneWarnUnused(fab->comm, when));
+      warned = PETSC_TRUE;
+    }
     PetscCall(CheckpointLoadStep(fab));
     if (ruptured) break; /* the test ends: the specimen has broken */
     if (ss && k < s->load.load_steps) { /* a signal: the load step's checkpoint, then stop (the explicit path looks within load steps) */

@@ -5,6 +5,7 @@
  * has been read and checked, so bad input leaves no output behind.
  */
 #include "report.h"
+#include "checkpoint.h"
 #include "comm.h"
 #include "events.h"
 #include "frames.h"
@@ -130,14 +131,26 @@ static PetscErrorCode CheckRoom(Fabric fab)
   PetscFunctionReturn(0);
 }
 
-/* curve.csv: the header, and after a restart the rows before the checkpoint */
-/* DIR/name, if there: an earlier run's result that this run does not write again */
-static void RemoveStale(const char *dir, const char *name)
+/* DIR/name, if there and (attr) an HDF5 file of this program's with that attribute at its root: an earlier
+   run's result that this run does not write again, removed and named (rank 0) */
+static void RemoveStale(const char *dir, const char *name, const char *attr, PetscBool quiet)
 {
   char file[PETSC_MAX_PATH_LEN];
-  if (snprintf(file, sizeof file, "%s/%s", dir, name) < (int) sizeof file) (void) unlink(file);
+  if (snprintf(file, sizeof file, "%s/%s", dir, name) >= (int) sizeof file || access(file, F_OK)) return;
+  if (attr && !FabricHDF5File(file, attr)) return;
+  if (!unlink(file) && !quiet) printf("fabric: removed %s, an earlier run's\n", file);
 }
 
+/* DIR/checkpoint.h5 is the -restart file itself (the same file on the same device) */
+static PetscBool RestartsFrom(const char *dir, const char *restart)
+{
+  char        file[PETSC_MAX_PATH_LEN];
+  struct stat a, b;
+  if (!restart[0] || snprintf(file, sizeof file, "%s/checkpoint.h5", dir) >= (int) sizeof file) return PETSC_FALSE;
+  return !stat(file, &a) && !stat(restart, &b) && a.st_dev == b.st_dev && a.st_ino == b.st_ino ? PETSC_TRUE : PETSC_FALSE;
+}
+
+/* curve.csv: the header, and after a restart the rows before the checkpoint */
 PetscErrorCode OutputOpen(Fabric fab)
 {
   const char *dir                        = fab->s.out.output_dir;
@@ -150,9 +163,16 @@ PetscErrorCode OutputOpen(Fabric fab)
     char file[PETSC_MAX_PATH_LEN];
     if (MakeDirs(dir, failed, sizeof failed)) status[0] = 1, status[1] = errno;
     if (!status[0]) { /* an earlier run's summary, checkpoint and frames would stand beside this run's results */
-      RemoveStale(dir, "summary.json");
-      if (!fab->s.out.restart[0]) RemoveStale(dir, "checkpoint.h5");
-      if (!fab->s.out.restart[0] && !IOWritesFrames(fab->io)) RemoveStale(dir, "fabric.h5"), RemoveStale(dir, "fabric.xmf");
+      const PetscBool quiet = fab->s.out.quiet;
+      RemoveStale(dir, "summary.json", NULL, quiet);
+      if (!RestartsFrom(dir, fab->s.out.restart)) RemoveStale(dir, "checkpoint.h5", "fabric_checkpoint", quiet);
+      if (!fab->s.out.restart[0] && !IOWritesFrames(fab->io)) {
+        char h5[PETSC_MAX_PATH_LEN];
+        if (snprintf(h5, sizeof h5, "%s/fabric.h5", dir) < (int) sizeof h5 && FabricHDF5File(h5, "frames")) {
+          RemoveStale(dir, "fabric.h5", "frames", quiet);
+          RemoveStale(dir, "fabric.xmf", NULL, quiet);
+        }
+      }
     }
     if (!status[0]) {
       PetscCall(PetscSNPrintf(file, sizeof file, "%s/curve.csv", dir));

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # output_dir.sh FABRIC SCENE: what a run leaves in -output_dir (docs/output.md)
 #  1. a fresh run into a directory that holds an earlier run's results (checkpoint.h5, frames): with
-#     no frames and no checkpoints of its own it leaves neither behind, and its summary.json is its own;
+#     no frames and no checkpoints of its own it leaves neither behind, says so, and its summary.json is its
+#     own; a checkpoint.h5 that is not this program's (a text file) stays;
 #  2. summary.json is valid JSON when the scene's name holds a tab and a newline (the tab was written raw);
 #  3. a restart that turns frames on, from a run that wrote none: frame 0 is the checkpoint's state at
 #     the time_s of its load step in curve.csv (it was that plus the te steps' time);
@@ -15,7 +16,10 @@ small=(-scene "$scene" -gauge_mm 20 -width_mm 5 -load_steps 4)
 d="$work/reused"
 run 1 "${small[@]}" -output_dir "$d" -checkpoint_every 1 -output_every 1
 [[ -e $d/checkpoint.h5 && -e $d/fabric.h5 && -e $d/fabric.xmf ]] || { echo "FAIL the first run wrote no checkpoint or frames"; fail=1; }
-run 2 "${small[@]}" -output_dir "$d" -output_every 0 -balance_tol 1e-4
+mpiexec -n 2 "$fabric" "${small[@]}" -output_dir "$d" -output_every 0 -balance_tol 1e-4 >"$work/log" 2>&1 \
+  || { cat "$work/log"; echo "FAIL the fresh run failed"; fail=1; }
+grep -q "^fabric: removed $d/checkpoint.h5, an earlier run's" "$work/log" && grep -q "^fabric: removed $d/fabric.h5" "$work/log" \
+  || { cat "$work/log"; echo "FAIL the fresh run did not name the files it removed"; fail=1; }
 if [[ -e $d/checkpoint.h5 || -e $d/fabric.h5 || -e $d/fabric.xmf ]]; then
   echo "FAIL a fresh run with no frames or checkpoints left the earlier run's: $(ls "$d")"; fail=1
 elif "$py" -c "import json, sys; sys.exit(json.load(open('$d/summary.json'))['options']['balance_tol'] != 1e-4)"; then
@@ -23,6 +27,11 @@ elif "$py" -c "import json, sys; sys.exit(json.load(open('$d/summary.json'))['op
 else
   echo "FAIL summary.json is not the fresh run's"; fail=1
 fi
+
+echo "not a checkpoint" >"$d/checkpoint.h5"
+run 1 "${small[@]}" -output_dir "$d" -output_every 0
+[[ $(cat "$d/checkpoint.h5") == "not a checkpoint" ]] && echo "PASS a checkpoint.h5 that is not this program's stays" \
+  || { echo "FAIL a checkpoint.h5 that is not this program's was removed"; fail=1; }
 
 name="$work/$(printf 'tab\there\nline')"
 cp "$scene" "$name.yaml"
