@@ -241,6 +241,7 @@ int SceneOptionValues(const Scene *s, PetscInt k, char name[64], PetscReal v[], 
 PetscInt SceneOptionCapacity(PetscInt k);
 /* every option as JSON members "name": value, one a line after indent (summary.json's "options") */
 void SceneOptionsJson(const Scene *s, FILE *fp, const char *indent);
+void JsonString(FILE *fp, const char *str); /* a JSON string literal of str (escaped, valid UTF-8) */
 
 /* The options given, in PETSc's database: each name (with its '-') and value ("" if none), read
    from the database's text, which marks nothing used. OptionsGivenGet: 0, or non-zero if PETSc

@@ -278,21 +278,6 @@ PetscErrorCode OutputProgress(Fabric fab, const CurveRow *r)
   PetscFunctionReturn(0);
 }
 
-/* a JSON string: quote and backslash escaped, every control character as \u00XX */
-static void JsonString(FILE *fp, const char *s)
-{
-  fputc('"', fp);
-  for (; *s; s++) {
-    const unsigned char c = (unsigned char) *s;
-    if (c < 0x20) {
-      fprintf(fp, "\\u%04x", (unsigned) c);
-      continue;
-    }
-    if (c == '"' || c == '\\') fputc('\\', fp);
-    fputc(c, fp);
-  }
-  fputc('"', fp);
-}
 
 /* summary.json's rupture members (ISO 13934-1, ASTM D3787): the maximum force and where it was,
    the bursting force of a ball burst, the segments broken and the rupture (null: none) */

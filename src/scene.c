@@ -1929,6 +1929,39 @@ PetscErrorCode SceneDestroy(Scene *s)
   PetscFunctionReturn(0);
 }
 
+/* the length of the well-formed UTF-8 sequence at s (lead byte >= 0x80), 0 if it is not one */
+static int Utf8Length(const unsigned char *s)
+{
+  const int n = s[0] >= 0xc2 && s[0] <= 0xdf ? 2 : s[0] >= 0xe0 && s[0] <= 0xef ? 3 : s[0] >= 0xf0 && s[0] <= 0xf4 ? 4 : 0;
+  for (int k = 1; k < n; k++)
+    if ((s[k] & 0xc0) != 0x80) return 0;
+  if ((n == 3 && s[0] == 0xe0 && s[1] < 0xa0) || (n == 3 && s[0] == 0xed && s[1] >= 0xa0) ||
+      (n == 4 && s[0] == 0xf0 && s[1] < 0x90) || (n == 4 && s[0] == 0xf4 && s[1] >= 0x90))
+    return 0; /* overlong, a surrogate, or beyond U+10FFFF */
+  return n;
+}
+
+/* a JSON string: quote and backslash escaped, every control character as \u00XX, a byte that is not
+   well-formed UTF-8 (a Latin-1 file name) as U+FFFD */
+void JsonString(FILE *fp, const char *str)
+{
+  const unsigned char *s = (const unsigned char *) str;
+  fputc('"', fp);
+  while (*s) {
+    const unsigned char c = *s;
+    if (c < 0x20) fprintf(fp, "\\u%04x", (unsigned) c), s++;
+    else if (c < 0x80) {
+      if (c == '"' || c == '\\') fputc('\\', fp);
+      fputc(c, fp), s++;
+    } else {
+      const int n = Utf8Length(s);
+      if (n) fwrite(s, 1, (size_t) n, fp), s += n;
+      else fputs("\\ufffd", fp), s++;
+    }
+  }
+  fputc('"', fp);
+}
+
 /* every option of the table as JSON members "name": value, one per line after indent (summary.json) */
 void SceneOptionsJson(const Scene *s, FILE *fp, const char *indent)
 {
@@ -1948,14 +1981,7 @@ void SceneOptionsJson(const Scene *s, FILE *fp, const char *indent)
       case OPT_INT: fprintf(fp, "%" PetscInt_FMT, *(const PetscInt *) f); break;
       case OPT_BOOL: fprintf(fp, "%s", *(const PetscBool *) f ? "true" : "false"); break;
       case OPT_ENUM: fprintf(fp, "\"%s\"", o->choices[*(const PetscInt *) f]); break;
-      case OPT_STRING: {
-        fputc('"', fp);
-        for (const char *c = (const char *) f; *c; c++) {
-          if (*c == '"' || *c == '\\') fputc('\\', fp);
-          if ((unsigned char) *c >= 0x20) fputc(*c, fp);
-        }
-        fputc('"', fp);
-      } break;
+      case OPT_STRING: JsonString(fp, (const char *) f); break;
       default: {
         const PetscInt n = *(const PetscInt *) ((const char *) base + o->at_n);
         fputc('[', fp);

@@ -3,7 +3,8 @@
 #  1. a fresh run into a directory that holds an earlier run's results (checkpoint.h5, frames): with
 #     no frames and no checkpoints of its own it leaves neither behind, says so, and its summary.json is its
 #     own; a checkpoint.h5 that is not this program's (a text file) stays;
-#  2. summary.json is valid JSON when the scene's name holds a tab and a newline (the tab was written raw);
+#  2. summary.json is valid JSON when the scene's name holds a tab, a newline (the tab was written raw), a
+#     Latin-1 byte (as U+FFFD) and UTF-8;
 #  3. a restart that turns frames on, from a run that wrote none: frame 0 is the checkpoint's state at
 #     the time_s of its load step in curve.csv (it was that plus the te steps' time);
 #  4. a restart whose fabric.h5 is another run's of the same grid (frames at other times: another
@@ -33,13 +34,13 @@ run 1 "${small[@]}" -output_dir "$d" -output_every 0
 [[ $(cat "$d/checkpoint.h5") == "not a checkpoint" ]] && echo "PASS a checkpoint.h5 that is not this program's stays" \
   || { echo "FAIL a checkpoint.h5 that is not this program's was removed"; fail=1; }
 
-name="$work/$(printf 'tab\there\nline')"
+name="$work/$(printf 'tab\there\nline\351-\303\251')"
 cp "$scene" "$name.yaml"
 run 1 -scene "$name.yaml" -gauge_mm 20 -width_mm 5 -load_steps 2 -output_dir "$work/tab"
 "$py" - "$work/tab/summary.json" <<'PY' || fail=1
 import json, sys
 try:
-    s = json.load(open(sys.argv[1])); ok = s["scene"] == "tab\there\nline"
+    s = json.load(open(sys.argv[1], encoding="utf-8")); ok = s["scene"] == "tab\there\nline\ufffd-\u00e9"
 except ValueError as e:
     s, ok = str(e), False
 print(("PASS" if ok else "FAIL") + f" summary.json with control characters in the scene's name: {s['scene'] if ok else s!r}")
