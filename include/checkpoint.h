@@ -19,8 +19,8 @@ PetscErrorCode CheckpointTeStep(Fabric fab, const RelaxPoint *at);
 PetscErrorCode CheckpointLoadStepSignal(Fabric fab);
 PetscErrorCode RestartLoad(Fabric fab);
 PetscBool      CheckpointWithinLoadStep(Fabric fab, PetscInt k); /* restarted within load step k: the load step set */
-PetscBool      CheckpointResumesLoadStep(void);
-PetscBool      FabricHDF5File(const char *file, const char *attr); /* an HDF5 file whose root has attr (this rank) */                    /* restarted within a load step (no side effect) */
+PetscBool      CheckpointResumesLoadStep(void);                    /* restarted within a load step (no side effect) */
+PetscBool      FabricHDF5File(const char *file, const char *attr); /* an HDF5 file whose root has attr (this rank) */
 void           CheckpointRelaxStart(RelaxPoint *at);
 PetscBool      CheckpointStopped(void);
 void           CheckpointSignal(int sig); /* the handler of SIGTERM and SIGUSR1: sets a flag, nothing else */

@@ -223,7 +223,7 @@ static inline PetscReal DrapeSupportRadius(const Scene *s)
 PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv);
 /* an unknown option is an error; with solver_options_later, PETSc's solver options (-snes_*, -ksp_*,
    -pc_*, -mg_*, -mat_*) are left to the quasi-static solver, and SceneWarnUnused names those it has not read
-   (when: by when, "by the first load step"), once: a name warned about is marked used */
+   (when: by when, e.g. "by the solves up to load step 1"), once: a name warned about is marked used */
 PetscErrorCode SceneCheckUnused(MPI_Comm comm, PetscBool solver_options_later);
 PetscErrorCode SceneWarnUnused(MPI_Comm comm, const char *when);
 PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s);

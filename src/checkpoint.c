@@ -1266,8 +1266,7 @@ PetscErrorCode RestartLoad(Fabric fab)
   PetscFunctionReturn(0);
 }
 
-/* FabricRun, before load step k: restarted within it? Then it is not applied again (its grips, prediction
-   and stable step are in the checkpoint): it becomes the current load step. */
+/* FILE is an HDF5 file whose root group has the attribute attr (rank-local: an earlier run's result to remove) */
 PetscBool FabricHDF5File(const char *file, const char *attr)
 {
   H5E_auto2_t efunc;
@@ -1295,6 +1294,8 @@ PetscBool CheckpointResumesLoadStep(void)
   return ckpt.resume;
 }
 
+/* FabricRun, before load step k: restarted within it? Then it is not applied again (its grips, prediction
+   and stable step are in the checkpoint): it becomes the current load step. */
 PetscBool CheckpointWithinLoadStep(Fabric fab, PetscInt k)
 {
   if (!ckpt.resume) return PETSC_FALSE;

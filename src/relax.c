@@ -511,6 +511,7 @@ PetscErrorCode FabricRun(Fabric fab)
   FrameInfo         f;
   StaticSolver      ss       = NULL;
   PetscBool         ruptured = PETSC_FALSE, stepped = PETSC_FALSE;
+  PetscBool         warned   = PETSC_FALSE; /* -solver static: the options its solves have not read, named */
 
   PetscFunctionBeginUser;
   PetscCall(PetscTime(&fab->stats.wall_start));
@@ -526,7 +527,6 @@ PetscErrorCode FabricRun(Fabric fab)
       !s->out.output_tear_every) /* a restart at a load step's end: frame 0 (if frames were off) at its time_s */
     f.time = fab->stats.curve[fab->load.load_step - 1].time;
   PetscCall(FramesOpen(fab->io, &src, &f)); /* fabric.h5 and fabric.xmf */
-  PetscBool         warned = PETSC_FALSE; /* -solver static: options not used by the solves so far named */
   for (PetscInt k = fab->load.load_step + 1; k <= s->load.load_steps && !fab->stats.rupture.rupture_step; k++) {
     CurveRow *row = &fab->stats.curve[k - 1];
     stepped       = PETSC_TRUE;

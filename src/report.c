@@ -278,7 +278,6 @@ PetscErrorCode OutputProgress(Fabric fab, const CurveRow *r)
   PetscFunctionReturn(0);
 }
 
-
 /* summary.json's rupture members (ISO 13934-1, ASTM D3787): the maximum force and where it was,
    the bursting force of a ball burst, the segments broken and the rupture (null: none) */
 static void SummaryRupture(Fabric fab, FILE *fp)
