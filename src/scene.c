@@ -1087,6 +1087,19 @@ static PetscErrorCode UnitVector(MPI_Comm comm, const char *opt, const PetscReal
   PetscFunctionReturn(0);
 }
 
+/* the largest yarn spacing (m) at these thread densities (per m) */
+static PetscReal LargestSpacing(PetscReal ends_per_m, PetscReal picks_per_m)
+{
+  return PetscMax(1.0 / ends_per_m, 1.0 / picks_per_m);
+}
+
+/* a ball (radius in m; 0: none) touches the fabric at its crossings only: one narrower than two yarn spacings
+   passes between them (DeriveBodies refuses it; SceneCoarsen builds no coarser fabric for it) */
+static PetscBool BallPassesBetween(PetscReal radius, PetscReal ends_per_m, PetscReal picks_per_m)
+{
+  return radius > 0 && radius < LargestSpacing(ends_per_m, picks_per_m) ? PETSC_TRUE : PETSC_FALSE;
+}
+
 static PetscErrorCode DeriveBodies(MPI_Comm comm, const SceneInput *in, Scene *s)
 {
   Bodies *b = &s->bodies;
@@ -1115,9 +1128,9 @@ static PetscErrorCode DeriveBodies(MPI_Comm comm, const SceneInput *in, Scene *s
   PetscCheck(s->test == TEST_PUSHING || b->sphere_radius == 0, comm, PETSC_ERR_USER_INPUT,
              "-sphere_diameter_mm %g: the sphere is the pushing test's punch (-test pushing)",
              (double) in->sphere_diameter_mm);
-  { /* the ball touches the crossings only: one narrower than two yarn spacings passes between them */
-    const PetscReal spacing = PetscMax(1.0 / s->spec.ends_per_m, 1.0 / s->spec.picks_per_m);
-    PetscCheck(b->sphere_radius == 0 || b->sphere_radius >= spacing, comm, PETSC_ERR_USER_INPUT,
+  {
+    const PetscReal spacing = LargestSpacing(s->spec.ends_per_m, s->spec.picks_per_m);
+    PetscCheck(!BallPassesBetween(b->sphere_radius, s->spec.ends_per_m, s->spec.picks_per_m), comm, PETSC_ERR_USER_INPUT,
                "-sphere_diameter_mm %g is less than two yarn spacings (%g mm at %g ends x %g picks per cm): the ball "
                "touches the fabric at its crossings only and would pass between them; use a ball of at least %g mm or "
                "a denser grid",
@@ -1896,8 +1909,7 @@ PetscErrorCode SceneCoarsen(MPI_Comm comm, const Scene *fine, Scene *coarse, Pet
     in->yarn[y].break_pct    = 0; /* a first guess: nothing breaks */
     in->yarn[y].break_cv_pct = 0;
   }
-  if (0.5e-3 * in->sphere_diameter_mm > 0 &&
-      0.5e-3 * in->sphere_diameter_mm < 1e-2 / PetscMin(in->ends_per_cm, in->picks_per_cm)) { /* DeriveBodies' check */
+  if (BallPassesBetween(0.5e-3 * in->sphere_diameter_mm, 100.0 * in->ends_per_cm, 100.0 * in->picks_per_cm)) {
     PetscCall(PetscMemzero(coarse, sizeof *coarse));
     PetscFunctionReturn(0); /* the ball would pass between the coarse crossings: no coarser fabric */
   }
