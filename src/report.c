@@ -132,13 +132,14 @@ static PetscErrorCode CheckRoom(Fabric fab)
 }
 
 /* DIR/name, if there and (attr) an HDF5 file of this program's with that attribute at its root: an earlier
-   run's result that this run does not write again, removed and named (rank 0) */
-static void RemoveStale(const char *dir, const char *name, const char *attr, PetscBool quiet)
+   run's result that this run does not write again, removed and named (rank 0); returns whether it was */
+static PetscBool RemoveStale(const char *dir, const char *name, const char *attr, PetscBool quiet)
 {
   char file[PETSC_MAX_PATH_LEN];
-  if (snprintf(file, sizeof file, "%s/%s", dir, name) >= (int) sizeof file || access(file, F_OK)) return;
-  if (attr && !FabricHDF5File(file, attr)) return;
-  if (!unlink(file) && !quiet) printf("fabric: removed %s, an earlier run's\n", file);
+  if (snprintf(file, sizeof file, "%s/%s", dir, name) >= (int) sizeof file || access(file, F_OK)) return PETSC_FALSE;
+  if ((attr && !FabricHDF5File(file, attr)) || unlink(file)) return PETSC_FALSE;
+  if (!quiet) printf("fabric: removed %s, an earlier run's\n", file);
+  return PETSC_TRUE;
 }
 
 /* DIR/checkpoint.h5 is the -restart file itself (the same file on the same device) */
@@ -166,13 +167,8 @@ PetscErrorCode OutputOpen(Fabric fab)
       const PetscBool quiet = fab->s.out.quiet;
       RemoveStale(dir, "summary.json", NULL, quiet);
       if (!RestartsFrom(dir, fab->s.out.restart)) RemoveStale(dir, "checkpoint.h5", "fabric_checkpoint", quiet);
-      if (!fab->s.out.restart[0] && !IOWritesFrames(fab->io)) {
-        char h5[PETSC_MAX_PATH_LEN];
-        if (snprintf(h5, sizeof h5, "%s/fabric.h5", dir) < (int) sizeof h5 && FabricHDF5File(h5, "frames")) {
-          RemoveStale(dir, "fabric.h5", "frames", quiet);
-          RemoveStale(dir, "fabric.xmf", NULL, quiet);
-        }
-      }
+      if (!fab->s.out.restart[0] && !IOWritesFrames(fab->io) && RemoveStale(dir, "fabric.h5", "frames", quiet))
+        RemoveStale(dir, "fabric.xmf", NULL, quiet); /* its index */
     }
     if (!status[0]) {
       PetscCall(PetscSNPrintf(file, sizeof file, "%s/curve.csv", dir));
