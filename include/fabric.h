@@ -139,8 +139,8 @@ typedef struct {           /* rank propagation and sleeping (front.c) */
 typedef struct {               /* yarn breaking and rupture (relax.c) */
   PetscInt64 segments;         /* yarn segments broken so far */
   BreakSite  first;            /* where the first segment broke (kernels.h); first.ratio 0: none yet */
-  BreakSite  last_break;       /* the most overstrained segment of the last break check that broke one (read at
-                                  once by PeakAtBreak: not checkpointed) */
+  BreakSite  last_break;       /* the most overstrained segment that broke at the last break check of a balanced
+                                  state (read at once by PeakAtBreak: not checkpointed) */
   PetscInt   first_step;       /* its load step */
   PetscReal  first_time;       /* s: its test time */
   PetscReal  peak_force;       /* N: the largest force so far (a row's, or interpolated at a first break) */

@@ -129,13 +129,13 @@ int CrossingShear(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j, Pe
 typedef struct {      /* the segment a break check found the most strained past its breaking strain */
   PetscReal ratio;     /* its chord strain over its breaking strain (0: none broke) */
   PetscInt  dir, i, j; /* family (0 warp: to (i+1,j), 1 weft: to (i,j+1)) and global first crossing */
-  PetscReal load;      /* the largest chord strain over breaking strain of any segment checked, broken or not */
 } BreakSite;
 
 /* Break the segments strained past their breaking strain (break_x/_y, else the law's): every
    segment of the ghosted patch, so that neighbouring ranks agree without messages. Returns the
-   segments broken whose first crossing is owned; *site: the most overstrained of those. */
-PetscInt BreakSegments(Patch *p, const PetscReal *x, BreakSite *site);
+   segments broken whose first crossing is owned; *site: the most overstrained of those; *load: the
+   largest chord strain over breaking strain of any segment checked, broken or not. */
+PetscInt BreakSegments(Patch *p, const PetscReal *x, BreakSite *site, PetscReal *load);
 
 /* The range of the state a stable-step bound covers (MODEL.md 7.3): over the owned points'
    segments and crossings, r = {-min e_warp, max e_warp, -min e_weft, max e_weft, max |s|}

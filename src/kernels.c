@@ -632,13 +632,13 @@ FABRIC_WIDE static int64_t BreakRatioRow(PetscInt n, PetscReal L0, const PetscRe
    (MODEL.md 5.1). Called on a balanced state, or within a tear after every te step: each row's
    strains and largest ratio in a pass that vectorises (BreakRatioRow), the rows with a segment
    past its breaking strain then segment by segment. */
-PetscInt BreakSegments(Patch *p, const PetscReal *x, BreakSite *site)
+PetscInt BreakSegments(Patch *p, const PetscReal *x, BreakSite *site, PetscReal *load)
 {
   PetscReal *e = p->break_row, *ebc = p->break_row + p->gxm; /* the strains; a family's constant breaking strain */
   PetscInt   n = 0;
   int64_t    top = 0; /* the largest ratio's bits */
 
-  site->ratio = site->load = 0;
+  site->ratio = 0;
   site->dir = site->i = site->j = 0;
   for (int dir = 0; dir < 2; dir++) {
     const YarnLaw   *law    = dir == 0 ? p->warp : p->weft;
@@ -670,7 +670,7 @@ PetscInt BreakSegments(Patch *p, const PetscReal *x, BreakSite *site)
       }
     }
   }
-  memcpy(&site->load, &top, sizeof top);
+  memcpy(load, &top, sizeof top);
   return n;
 }
 

@@ -25,12 +25,14 @@
 #define BALANCE_NEED_MAX 512  /* te steps in a row, at most, between two checks per crossing */
 
 /* Break the yarn segments strained past their breaking strain (all ranks agree); *broke: how many
-   broke. The first break's place is kept: the most overstrained segment, the lowest index on a tie. */
-static PetscErrorCode CheckBreaks(Fabric fab, PetscInt *broke)
+   broke. Where (where, and at the first break, whose place is kept): the most overstrained segment
+   that broke, the lowest index on a tie, in r->last_break (one more reduction). */
+static PetscErrorCode CheckBreaks(Fabric fab, PetscBool where, PetscInt *broke)
 {
   RuptureState      *r = &fab->stats.rupture;
   const PetscScalar *xl;
   BreakSite          site;
+  PetscReal          load;
   PetscInt           n;
 
   PetscFunctionBeginUser;
@@ -38,10 +40,10 @@ static PetscErrorCode CheckBreaks(Fabric fab, PetscInt *broke)
   if (!isfinite(fab->s.yarns.warp.break_e) && !isfinite(fab->s.yarns.weft.break_e)) PetscFunctionReturn(0);
   PetscCall(HaloExchange(fab->grid.da, fab->state.X, fab->state.Xl));
   PetscCall(VecGetArrayRead(fab->state.Xl, &xl));
-  n = BreakSegments(&fab->grid.patch, xl, &site);
+  n = BreakSegments(&fab->grid.patch, xl, &site, &load);
   PetscCall(VecRestoreArrayRead(fab->state.Xl, &xl));
   { /* one reduction when nothing broke (a tear's every te step): the largest load and whether any broke */
-    PetscReal red[2] = {site.load, (PetscReal) n};
+    PetscReal red[2] = {load, (PetscReal) n};
     PetscCall(GlobalMax(fab->comm, red, 2));
     r->load_now = red[0];
     if (red[1] == 0) PetscFunctionReturn(0);
@@ -50,7 +52,7 @@ static PetscErrorCode CheckBreaks(Fabric fab, PetscInt *broke)
   *broke = n;
   fab->stats.broken_any = PETSC_TRUE;
   r->segments += n;
-  { /* the most overstrained segment that broke (the lowest index on a tie) */
+  if (where || r->first.ratio == 0) { /* the most overstrained segment that broke (the lowest index on a tie) */
     const PetscInt nx = fab->s.spec.nx, ny = fab->s.spec.ny;
     PetscReal      best = site.ratio;
     PetscInt       code = site.ratio > 0 ? site.dir * nx * ny + site.j * nx + site.i : -1; /* -1: none broke here */
@@ -59,7 +61,6 @@ static PetscErrorCode CheckBreaks(Fabric fab, PetscInt *broke)
     r->last_break.dir   = code / (nx * ny);
     r->last_break.j     = (code % (nx * ny)) / nx;
     r->last_break.i     = code % nx;
-    r->last_break.load  = r->load_now;
   }
   if (r->first.ratio == 0) { /* the first break */
     r->first       = r->last_break;
@@ -271,7 +272,7 @@ static PetscErrorCode FollowTear(Fabric fab, StepStats *st, CurveRow *row, Petsc
     PetscInt broke;
     PetscCall(TimeStep(fab, st));
     n++;
-    PetscCall(CheckBreaks(fab, &broke));
+    PetscCall(CheckBreaks(fab, PETSC_FALSE, &broke));
     if (broke) last = n;
     if (fab->io && every && n % every == 0) {
       const FrameSource src = FramesOf(fab);
@@ -306,7 +307,7 @@ static PetscErrorCode BreakAndTear(Fabric fab, StepStats *st, PetscBool at_rest,
   *ruptured = PETSC_FALSE;
   *measured = ReactionTest(&fab->s);
   if (*measured) PetscCall(MeasureRow(fab, st->residual, st->balanced, row));
-  PetscCall(CheckBreaks(fab, broke));
+  PetscCall(CheckBreaks(fab, *measured, broke));
   if (!*broke) PetscFunctionReturn(0);
   if (*measured) PeakAtBreak(fab, row);
   *measured = PETSC_FALSE; /* the row is no longer this state */

@@ -1191,11 +1191,11 @@ static void RefMagnitudes(const Patch *p, const PetscReal *x, PetscReal *scale)
 }
 
 /* BreakSegments as it was, segment by segment (the reference of BreakRatioRow's pass) */
-static PetscInt RefBreakSegments(Patch *p, const PetscReal *x, BreakSite *site)
+static PetscInt RefBreakSegments(Patch *p, const PetscReal *x, BreakSite *site, PetscReal *load)
 {
   PetscInt n = 0;
 
-  site->ratio = site->load = 0;
+  site->ratio = *load = 0;
   site->dir = site->i = site->j = 0;
   for (int dir = 0; dir < 2; dir++) {
     const YarnLaw   *law    = dir == 0 ? p->warp : p->weft;
@@ -1210,7 +1210,7 @@ static PetscInt RefBreakSegments(Patch *p, const PetscReal *x, BreakSite *site)
         const PetscReal *a = x + 3 * k, *b = x + 3 * k2;
         const PetscReal  e_break = eb ? eb[k] : law->break_e;
         const PetscReal  e = PetscSqrtReal(PetscSqr(b[0] - a[0]) + PetscSqr(b[1] - a[1]) + PetscSqr(b[2] - a[2])) / L0 - 1.0;
-        site->load = PetscMax(site->load, e / e_break);
+        *load = PetscMax(*load, e / e_break);
         if (e <= e_break) continue;
         broken[k] = 1;
         {
@@ -1235,6 +1235,7 @@ static int CompareBreaks(Patch *p, YarnLaw *warp, YarnLaw *weft, const double *x
   double        x[3 * NP], bx[NP], by[NP];
   unsigned char keep_x[NP], keep_y[NP], ref_x[NP], ref_y[NP];
   BreakSite     s1, s2;
+  PetscReal     load1, load2;
   PetscInt      n1, n2;
   int           bad;
 
@@ -1245,12 +1246,12 @@ static int CompareBreaks(Patch *p, YarnLaw *warp, YarnLaw *weft, const double *x
   for (int k = 0; k < NP; k++) bx[k] = ebw * (0.8 + 0.4 * rand() / RAND_MAX), by[k] = ebf * (0.8 + 0.4 * rand() / RAND_MAX);
   p->break_x = per_segment ? bx : NULL, p->break_y = per_segment ? by : NULL;
   memcpy(keep_x, p->broken_x, NP), memcpy(keep_y, p->broken_y, NP);
-  n2 = RefBreakSegments(p, x, &s2);
+  n2 = RefBreakSegments(p, x, &s2, &load2);
   memcpy(ref_x, p->broken_x, NP), memcpy(ref_y, p->broken_y, NP);
   memcpy(p->broken_x, keep_x, NP), memcpy(p->broken_y, keep_y, NP);
-  n1  = BreakSegments(p, x, &s1);
+  n1  = BreakSegments(p, x, &s1, &load1);
   bad = n1 != n2 || memcmp(ref_x, p->broken_x, NP) != 0 || memcmp(ref_y, p->broken_y, NP) != 0 ||
-        memcmp(&s1.ratio, &s2.ratio, sizeof s1.ratio) != 0 || memcmp(&s1.load, &s2.load, sizeof s1.load) != 0 ||
+        memcmp(&s1.ratio, &s2.ratio, sizeof s1.ratio) != 0 || memcmp(&load1, &load2, sizeof load1) != 0 ||
         s1.dir != s2.dir || s1.i != s2.i || s1.j != s2.j;
   bad |= n1 == 0; /* the case breaks some */
   memcpy(p->broken_x, keep_x, NP), memcpy(p->broken_y, keep_y, NP);
