@@ -1075,15 +1075,18 @@ static PetscErrorCode DerivePath(MPI_Comm comm, const SceneInput *in, LoadProgra
   PetscFunctionReturn(0);
 }
 
-/* a direction option as a unit vector */
+/* a direction option as a unit vector (scaled by its largest component first: 1e-200,0,0 and 1e200,0,0 are
+   directions too, their squares are not numbers) */
 static PetscErrorCode UnitVector(MPI_Comm comm, const char *opt, const PetscReal v[3], PetscReal u[3])
 {
-  const PetscReal norm = PetscSqrtReal(PetscSqr(v[0]) + PetscSqr(v[1]) + PetscSqr(v[2]));
+  const PetscReal big = PetscMax(PetscAbsReal(v[0]), PetscMax(PetscAbsReal(v[1]), PetscAbsReal(v[2])));
+  PetscReal       norm;
 
   PetscFunctionBeginUser;
-  PetscCheck(isfinite(norm) && norm > 0, comm, PETSC_ERR_USER_INPUT,
+  PetscCheck(isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]) && big > 0, comm, PETSC_ERR_USER_INPUT,
              "-%s must be a finite non-zero vector, got %g,%g,%g", opt, (double) v[0], (double) v[1], (double) v[2]);
-  for (int d = 0; d < 3; d++) u[d] = v[d] / norm;
+  norm = PetscSqrtReal(PetscSqr(v[0] / big) + PetscSqr(v[1] / big) + PetscSqr(v[2] / big));
+  for (int d = 0; d < 3; d++) u[d] = v[d] / big / norm;
   PetscFunctionReturn(0);
 }
 
