@@ -51,8 +51,11 @@ def main():
         sys.exit(f"render.py: {xmf}: no such file (run fabric with -output_every K first)")
     reader = XDMFReader(FileNames=[xmf])
     reader.UpdatePipelineInformation()
-    times = list(reader.TimestepValues) if len(reader.TimestepValues) > 1 else [reader.TimestepValues]
-    times = [float(t) for t in times]
+    try:  # a property of the frames' times (one frame: a property of length 1)
+        times = [float(t) for t in reader.TimestepValues]
+    except TypeError:  # some ParaView versions give one time as a number
+        times = [float(reader.TimestepValues)]
+    times = times or [0.0]  # a file without times: its one grid
     n = len(times)
     if a.frames == "all":
         frames = list(range(n))
@@ -76,10 +79,12 @@ def main():
         lo, hi = float("inf"), float("-inf")
         for k in frames:
             reader.UpdatePipeline(times[k])
-            r = reader.PointData[a.field].GetRange()
+            arr = reader.PointData[a.field]
+            r = arr.GetRange(-1 if arr.GetNumberOfComponents() > 1 else 0)  # a vector is coloured by its magnitude
             lo, hi = min(lo, r[0]), max(hi, r[1])
         if hi <= lo:
             hi = lo + 1e-12
+    print(f"render.py: colour scale of {a.field}: {lo:.9g} to {hi:.9g}")
 
     view = CreateView("RenderView")
     view.ViewSize = [w, h]

@@ -142,15 +142,18 @@ static PetscErrorCode Run(int argc, char **argv)
   }
   if (fab->s.num.solver == SOLVER_STATIC) PetscCall(StaticOptionsCheck(PETSC_COMM_WORLD)); /* reads -static_* */
   PetscCall(SceneCheckUnused(PETSC_COMM_WORLD, fab->s.num.solver == SOLVER_STATIC));
-  if (!fab->s.out.quiet)
-    PetscCall(PetscPrintf(
-        PETSC_COMM_WORLD,
-        "fabric: scene %s, %" PetscInt_FMT " x %" PetscInt_FMT " crossings (%" PetscInt_FMT
-        " points) on %d ranks, %s %s, prediction %s, %" PetscInt_FMT " load steps, test %s, %.3g mm of travel\n",
-        fab->s.out.name, fab->s.spec.nx, fab->s.spec.ny, fab->grid.points, fab->size,
-        fab->s.num.solver == SOLVER_STATIC ? "static" : IntegratorNames[fab->s.num.integrator],
-        fab->s.num.solver == SOLVER_STATIC ? "solver" : "integrator", PredictNames[fab->s.num.predict],
-        fab->s.load.load_steps, TestNames[fab->s.test], (double) (1e3 * LoadTravel(&fab->s))));
+  if (!fab->s.out.quiet) {
+    char travel[48] = ""; /* the drape moves nothing: gravity alone */
+    if (fab->s.test != TEST_DRAPE)
+      PetscCall(PetscSNPrintf(travel, sizeof travel, ", %.3g mm of travel", (double) (1e3 * LoadTravel(&fab->s))));
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD,
+                          "fabric: scene %s, %" PetscInt_FMT " x %" PetscInt_FMT " crossings (%" PetscInt_FMT
+                          " points) on %d ranks, %s %s, prediction %s, %" PetscInt_FMT " load steps, test %s%s\n",
+                          fab->s.out.name, fab->s.spec.nx, fab->s.spec.ny, fab->grid.points, fab->size,
+                          fab->s.num.solver == SOLVER_STATIC ? "static" : IntegratorNames[fab->s.num.integrator],
+                          fab->s.num.solver == SOLVER_STATIC ? "solver" : "integrator", PredictNames[fab->s.num.predict],
+                          fab->s.load.load_steps, TestNames[fab->s.test], travel));
+  }
   PetscCall(CatchStopSignals(fab));
   ierr = FabricRun(fab);
   if (ierr) { /* a run that stops on an error still says so in summary.json */
@@ -167,7 +170,7 @@ static PetscErrorCode Run(int argc, char **argv)
     PetscCall(FabricDestroy(&fab));
     PetscFunctionReturn(0);
   }
-  if (fab->s.out.output_dir[0]) {
+  { /* the end line, with or without an output directory */
     const RuptureState *r    = &fab->stats.rupture;
     const PetscReal     peak = r->peak_force;
     const PetscInt      K    = r->rupture_step ? r->rupture_step : fab->s.load.load_steps;
@@ -178,9 +181,9 @@ static PetscErrorCode Run(int argc, char **argv)
       PetscCall(PetscSNPrintf(where, sizeof where, "%s at %.4g %% elongation (maximum force at %.4g %%)",
                               r->rupture_step ? "ruptured" : "last load step", (double) (100 * last->elongation),
                               (double) (100 * r->at_peak)));
-    else
-      PetscCall(PetscSNPrintf(where, sizeof where, "%s at %.4g mm travel", r->rupture_step ? "burst" : "last load step",
-                              (double) (1e3 * last->travel)));
+    else /* the drape's travel is its largest drop (curve.csv drop_mm) */
+      PetscCall(PetscSNPrintf(where, sizeof where, "%s at %.4g mm %s", r->rupture_step ? "burst" : "last load step",
+                              (double) (1e3 * last->travel), fab->s.test == TEST_DRAPE ? "drop" : "travel"));
     if (fab->s.num.solver == SOLVER_STATIC)
       PetscCall(PetscSNPrintf(work, sizeof work,
                               "%" PetscInt64_FMT " Newton steps, %" PetscInt64_FMT " Krylov iterations",
@@ -194,6 +197,8 @@ static PetscErrorCode Run(int argc, char **argv)
                           r->peak_balanced ? "" : " (from a load step that did not balance)", where,
                           fab->stats.converged ? "every load step balanced"
                                                : "some load steps did NOT balance (see curve.csv residual)"));
+  }
+  if (fab->s.out.output_dir[0]) {
     char files[256];
     PetscCall(IODescribe(fab->io, fab->s.out.output_dir, files, sizeof files));
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fabric: results in %s/ (%s)\n", fab->s.out.output_dir, files));

@@ -132,13 +132,14 @@ static PetscErrorCode CheckRoom(Fabric fab)
 }
 
 /* DIR/name, if there and (attr) an HDF5 file of this program's with that attribute at its root: an earlier
-   run's result that this run does not write again, removed and named (rank 0); returns whether it was */
-static PetscBool RemoveStale(const char *dir, const char *name, const char *attr, PetscBool quiet)
+   run's result that this run does not write again, removed and named (rank 0; also with -quiet, which leaves out
+   the progress lines only); returns whether it was */
+static PetscBool RemoveStale(const char *dir, const char *name, const char *attr)
 {
   char file[PETSC_MAX_PATH_LEN];
   if (snprintf(file, sizeof file, "%s/%s", dir, name) >= (int) sizeof file || access(file, F_OK)) return PETSC_FALSE;
   if ((attr && !FabricHDF5File(file, attr)) || unlink(file)) return PETSC_FALSE;
-  if (!quiet) printf("fabric: removed %s, an earlier run's\n", file);
+  printf("fabric: removed %s, an earlier run's\n", file);
   return PETSC_TRUE;
 }
 
@@ -164,11 +165,10 @@ PetscErrorCode OutputOpen(Fabric fab)
     char file[PETSC_MAX_PATH_LEN];
     if (MakeDirs(dir, failed, sizeof failed)) status[0] = 1, status[1] = errno;
     if (!status[0]) { /* an earlier run's summary, checkpoint and frames would stand beside this run's results */
-      const PetscBool quiet = fab->s.out.quiet;
-      RemoveStale(dir, "summary.json", NULL, quiet);
-      if (!RestartsFrom(dir, fab->s.out.restart)) RemoveStale(dir, "checkpoint.h5", "fabric_checkpoint", quiet);
-      if (!fab->s.out.restart[0] && !IOWritesFrames(fab->io) && RemoveStale(dir, "fabric.h5", "frames", quiet))
-        RemoveStale(dir, "fabric.xmf", NULL, quiet); /* its index */
+      RemoveStale(dir, "summary.json", NULL);
+      if (!RestartsFrom(dir, fab->s.out.restart)) RemoveStale(dir, "checkpoint.h5", "fabric_checkpoint");
+      if (!fab->s.out.restart[0] && !IOWritesFrames(fab->io) && RemoveStale(dir, "fabric.h5", "frames"))
+        RemoveStale(dir, "fabric.xmf", NULL); /* its index */
     }
     if (!status[0]) {
       PetscCall(PetscSNPrintf(file, sizeof file, "%s/curve.csv", dir));
@@ -263,7 +263,8 @@ PetscErrorCode OutputProgress(Fabric fab, const CurveRow *r)
   if (JawTest(&fab->s))
     PetscCall(PetscSNPrintf(where, sizeof where, "elongation %7.3f %%", (double) (100.0 * r->elongation)));
   else /* no jaws: the load point's or the ball's travel, the drape's drop */
-    PetscCall(PetscSNPrintf(where, sizeof where, "travel %8.3f mm", (double) (1e3 * r->travel)));
+    PetscCall(PetscSNPrintf(where, sizeof where, "%s %8.3f mm", fab->s.test == TEST_DRAPE ? "drop  " : "travel",
+                            (double) (1e3 * r->travel)));
   if (fab->s.num.solver != SOLVER_STATIC) PetscCall(PetscSNPrintf(te, sizeof te, "  te %.3g s", (double) fab->step.te));
   PetscCall(PetscPrintf(fab->comm,
                         "load step %4" PetscInt_FMT "/%" PetscInt_FMT "  %s  force %10.4f N  N' %6" PetscInt_FMT

@@ -44,7 +44,7 @@ typedef struct {
   size_t             at_n;    /* arrays: offsetof the count (0 = none) */
   PetscReal          def[3];  /* default (option units); yarn options: warp, weft; arrays: the values */
   PetscInt           ndef;    /* arrays: default count */
-  const PetscReal   *by_test; /* defaults by test (TEST_COUNT values), NULL = def */
+  const PetscReal   *by_test; /* defaults by test (TEST_COUNT values; arrays: the default count), NULL = def */
   OptCheck           check;
   PetscReal          lo, hi;
   int                lo_open, hi_open;
@@ -115,6 +115,7 @@ static const PetscReal SphereByTest[TEST_COUNT]   = {0, 0, 25.4, 0, 0}; /* ASTM 
 static const PetscReal TravelByTest[TEST_COUNT]   = {0, 0, 20, 0, 0};
 static const PetscReal PedestalByTest[TEST_COUNT] = {0, 0, 0, 0, 180}; /* Cusick: the 18 cm support disc */
 static const PetscReal ElongByTest[TEST_COUNT]    = {13, 0, 0, 13, 0}; /* only the jaw tests pull */
+static const PetscReal RingByTest[TEST_COUNT] = {0, 0, 0, 0, 2}; /* values of -clamp_ring_mm's default (0,180) */
 
 static const OptionDesc Options[] = {
     /* the test first: the defaults of the options below depend on it */
@@ -150,7 +151,7 @@ static const OptionDesc Options[] = {
      IN(n_clamp_ring_mm),
      {0, 180, 0},
      0,
-     NULL,
+     RingByTest,
      ANY,
      0,
      0,
@@ -552,7 +553,7 @@ static void DefaultText(const OptionDesc *o, const void *field, PetscReal def, c
   case OPT_ENUM: snprintf(out, len, "%s", o->choices[(int) def]); break;
   case OPT_STRING: snprintf(out, len, "%s", (const char *) field); break;
   default: {
-    const PetscInt nd = o->ndef;
+    const PetscInt nd = o->by_test ? (PetscInt) def : o->ndef;
     out[0]            = 0;
     if (!nd) snprintf(out, len, "unset");
     for (PetscInt k = 0; k < nd; k++) {
@@ -578,9 +579,12 @@ static PetscErrorCode ReadOption(MPI_Comm comm, const OptionDesc *o, int yarn, c
   if (o->type == OPT_REAL) *(PetscReal *) f = def;
   if (o->type == OPT_INT || o->type == OPT_ENUM) *(PetscInt *) f = (PetscInt) def;
   if (o->type == OPT_BOOL) *(PetscBool *) f = def != 0 ? PETSC_TRUE : PETSC_FALSE;
-  if (o->type == OPT_REALS)
-    for (PetscInt k = 0; k < o->ndef; k++) ((PetscReal *) f)[k] = o->def[k];
-  if (o->at_n) *(PetscInt *) Field(base, &(OptionDesc){.at = o->at_n}) = o->ndef;
+  if (o->at_n) { /* an array: its default values (by_test: how many of them) */
+    const PetscInt nd = o->by_test ? (PetscInt) def : o->ndef;
+    if (o->type == OPT_REALS)
+      for (PetscInt k = 0; k < nd; k++) ((PetscReal *) f)[k] = o->def[k];
+    *(PetscInt *) Field(base, &(OptionDesc){.at = o->at_n}) = nd;
+  }
   DefaultText(o, f, def, deftext, sizeof deftext);
   if (help) PetscCall(PetscPrintf(comm, "  -%s <%s>: %s\n", name, deftext, o->help));
   snprintf(opt, sizeof opt, "-%s", name);
@@ -1441,8 +1445,8 @@ static PetscErrorCode DeriveGrid(MPI_Comm comm, const SceneInput *in, Scene *s)
                   width_mm = in->width_mm;
   const PetscReal jaw_mm = in->jaw_depth_mm, disc_mm = in->disc_diameter_mm;
   const PetscBool ring_set   = in->n_clamp_ring_mm > 0 ? PETSC_TRUE : PETSC_FALSE;
-  const PetscReal ring_mm[2] = {ring_set ? in->clamp_ring_mm[0] : 0.0, /* drape: Cusick's 18 cm discs */
-                                ring_set ? in->clamp_ring_mm[1] : (s->test == TEST_DRAPE ? 180.0 : 0.0)};
+  const PetscReal ring_mm[2] = {ring_set ? in->clamp_ring_mm[0] : 0.0, /* drape's default: Cusick's 18 cm discs */
+                                ring_set ? in->clamp_ring_mm[1] : 0.0};
 
   PetscFunctionBeginUser;
   s->spec.ends_per_m  = ends_cm * 100.0;

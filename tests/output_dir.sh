@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # output_dir.sh FABRIC SCENE: what a run leaves in -output_dir (docs/output.md)
 #  1. a fresh run into a directory that holds an earlier run's results (checkpoint.h5, frames): with
-#     no frames and no checkpoints of its own it leaves neither behind, says so, and its summary.json is its
+#     no frames and no checkpoints of its own it leaves neither behind, says so (also with -quiet), and its summary.json is its
 #     own; a checkpoint.h5 that is not this program's (a text file) stays;
 #  2. summary.json is valid JSON when the scene's name holds a tab, a newline (the tab was written raw), a
 #     Latin-1 byte (as U+FFFD) and UTF-8;
@@ -17,7 +17,7 @@ small=(-scene "$scene" -gauge_mm 20 -width_mm 5 -load_steps 4)
 d="$work/reused"
 run 1 "${small[@]}" -output_dir "$d" -checkpoint_every 1 -output_every 1
 [[ -e $d/checkpoint.h5 && -e $d/fabric.h5 && -e $d/fabric.xmf ]] || { echo "FAIL the first run wrote no checkpoint or frames"; fail=1; }
-mpiexec -n 2 "$fabric" "${small[@]}" -output_dir "$d" -output_every 0 -balance_tol 1e-4 >"$work/log" 2>&1 \
+mpiexec -n 2 "$fabric" "${small[@]}" -quiet -output_dir "$d" -output_every 0 -balance_tol 1e-4 >"$work/log" 2>&1 \
   || { cat "$work/log"; echo "FAIL the fresh run failed"; fail=1; }
 grep -q "^fabric: removed $d/checkpoint.h5, an earlier run's" "$work/log" && grep -q "^fabric: removed $d/fabric.h5" "$work/log" \
   || { cat "$work/log"; echo "FAIL the fresh run did not name the files it removed"; fail=1; }

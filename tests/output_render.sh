@@ -40,6 +40,25 @@ pvbatch "$root/scripts/render.py" "$work/p" --frames 1,2,last --size 400x300 --o
 cat "$work/panel.log"
 /usr/bin/python3 "$here/check_png.py" panel "$work/fig11.png" 3 400x300 || fail=1
 
+# a vector field is coloured by its magnitude: the scale reaches the largest |displacement| of the frame
+pvbatch "$root/scripts/render.py" "$work/p" --frames last --field displacement --size 400x300 --out "$work/pdisp/frame" >"$work/disp.log" 2>&1 || { echo "FAIL render.py --field displacement failed:"; cat "$work/disp.log"; fail=1; }
+hi="$(sed -n 's/^render.py: colour scale of displacement: .* to //p' "$work/disp.log")"
+/usr/bin/python3 - "$work/p/fabric.h5" "${hi:-nan}" <<'PY' || fail=1
+import sys, h5py, numpy as np
+with h5py.File(sys.argv[1], "r") as f:
+    last = sorted(f["frames"].keys())[-1]
+    u = np.linalg.norm(f["frames"][last]["displacement"][...], axis=-1).max()
+hi = float(sys.argv[2])
+ok = abs(hi - u) <= 1e-6 * u
+print(("PASS" if ok else "FAIL") + f" the displacement's colour scale ends at {hi:.9g} m, its largest magnitude is {u:.9g} m")
+sys.exit(0 if ok else 1)
+PY
+# a run with one frame (it stopped with an error after frame 0): render.py draws it
+mpiexec -n 2 "$fabric" "${opts[@]}" -integrator damped -te_check false -te 1e-5 -output_every 1 -output_dir "$work/one" >/dev/null 2>&1
+if pvbatch "$root/scripts/render.py" "$work/one" --size 400x300 --out "$work/oneimg/frame" >"$work/one.log" 2>&1 && [[ -s "$work/oneimg/frame_000000.png" ]]; then
+  echo "PASS render.py drew the one frame of a run that stopped after it"
+else echo "FAIL render.py on a one-frame run:"; cat "$work/one.log"; fail=1; fi
+
 printf "elongation_pct,force_N\n2,0.5\n6,2.3\n9,9.5\n12,24\n" >"$work/measured.csv"
 /usr/bin/python3 "$root/scripts/plot_curve.py" "$work/a/curve.csv" "$work/b/curve.csv" --labels "crimp 8 %,crimp 4 %" --measured "$work/measured.csv" -o "$work/curve.png" || fail=1
 /usr/bin/python3 "$here/check_png.py" plot "$work/curve.png" || fail=1

@@ -787,6 +787,13 @@ static PetscErrorCode TestDrapeDefaults(void)
     PetscCall(ExpectReal("drape: clamp ring outer radius 90 mm (m)", s.clamps.ring[1], 0.09, 1e-17));
     PetscCall(ExpectReal("drape: pedestal radius 90 mm (m)", s.bodies.pedestal_radius, 0.09, 1e-17));
     PetscCall(ExpectReal("drape: disc radius 150 mm (m)", s.spec.disc_radius, 0.15, 1e-16));
+    { /* the ring's default is an option value, as -help and summary.json give it (it was unset there) */
+      PetscReal v[96];
+      PetscInt  n;
+      ValueOf(&s, "clamp_ring_mm", v, &n);
+      PetscCall(ExpectReal("drape: -clamp_ring_mm's default has two values", n, 2, 0));
+      PetscCall(ExpectReal("drape: -clamp_ring_mm's default 0,180: inner and outer (mm) matched", n == 2 && v[0] == 0 && v[1] == 180, 1, 0));
+    }
     PetscCall(SceneDestroy(&s));
   }
   PetscFunctionReturn(0);
