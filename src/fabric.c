@@ -10,6 +10,7 @@
 #include "front.h"
 #include "predict.h"
 #include "frames.h"
+#include "stencil.h"
 
 #include <float.h>
 #include <math.h>
@@ -170,26 +171,41 @@ static inline PetscBool SplitFits(PetscInt nx, PetscInt ny, PetscInt a, PetscInt
   return (a == 1 || nx / a >= 2) && (b == 1 || ny / b >= 2) ? PETSC_TRUE : PETSC_FALSE;
 }
 
+/* how well the quasi-static path's multigrid fits an a x b split of an nx x ny grid (MultigridCoarsens), the
+   smaller the better: 2^40 with no coarser level (its preconditioner is then GAMG, which does not balance the
+   slack nets: a 25 x 25 net on 4 ranks in rows), else the coarsest level's points (solved directly) but at
+   least CoarsestEnough */
+#define CoarsestEnough 4096
+static PetscReal MultigridFit(PetscInt nx, PetscInt ny, PetscInt a, PetscInt b)
+{
+  PetscInt levels = 0;
+  for (; levels < 11 && MultigridCoarsens(nx, ny, a, b); levels++) nx = nx / 2 + 1, ny = ny / 2 + 1;
+  return levels == 0 ? 1099511627776.0 : PetscMax((PetscReal) nx * ny, CoarsestEnough);
+}
+
 /* m x n = size ranks with at least 2 crossings per rank along each split direction (the
    stencil width), the split whose halo exchange moves the fewest points; m = 0 if there is none.
    A patch of 2 ghost rows or columns on each inner side sends and receives its ghost points (each
    counted twice: packed and unpacked), and a patch with ghost columns also copies its owned
    points (comm.c: only a patch that spans its rows keeps its positions in their ghosted home), so
-   a split in rows alone is taken while it leaves each rank about 8 rows or more. */
-static PetscErrorCode RankGrid(PetscInt nx, PetscInt ny, PetscMPIInt size, PetscInt *m, PetscInt *n)
+   a split in rows alone is taken while it leaves each rank about 8 rows or more. levels (the
+   quasi-static path): among the splits its multigrid fits best (MultigridFit) */
+static PetscErrorCode RankGrid(PetscInt nx, PetscInt ny, PetscMPIInt size, PetscBool levels, PetscInt *m, PetscInt *n)
 {
-  PetscReal best = PETSC_MAX_REAL;
+  PetscReal best = PETSC_MAX_REAL, fit_best = PETSC_MAX_REAL;
 
   PetscFunctionBeginUser;
   *m = *n = 0;
   for (PetscInt a = 1; a <= size; a++) {
     const PetscInt b = size / a;
     if (size % a || !SplitFits(nx, ny, a, b)) continue;
+    const PetscReal fit = levels ? MultigridFit(nx, ny, a, b) : 0;
     const PetscReal w = (PetscReal) nx / a, h = (PetscReal) ny / b;
     const PetscReal ghosts = (a > 1 ? 4 * h : 0) + (b > 1 ? 4 * w : 0) + (a > 1 && b > 1 ? 16 : 0);
     const PetscReal moved  = 2 * ghosts + (a > 1 ? w * h : 0);
-    if (moved < best) {
-      best = moved;
+    if (fit < fit_best || (fit == fit_best && moved < best)) {
+      best     = moved;
+      fit_best = fit;
       *m   = a;
       *n   = b;
     }
@@ -292,7 +308,7 @@ static PetscErrorCode CreateGrid(Fabric fab)
   PetscFunctionBeginUser;
   {
     PetscInt m = 0, n = 0;
-    PetscCall(RankGrid(s->spec.nx, s->spec.ny, fab->size, &m, &n));
+    PetscCall(RankGrid(s->spec.nx, s->spec.ny, fab->size, s->num.solver == SOLVER_STATIC, &m, &n));
     PetscCheck(m > 0, comm, PETSC_ERR_USER_INPUT,
                "grid too small: %" PetscInt_FMT " x %" PetscInt_FMT
                " crossings cannot be split over %d ranks (each rank needs at least 2 crossings along each direction "

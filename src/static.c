@@ -1090,13 +1090,10 @@ static PetscErrorCode CreateInterpolation(DM coarse, DM fine, Mat *P)
   PetscFunctionReturn(0);
 }
 
-/* The geometric multigrid hierarchy: the grid's layout coarsened (CoarsenLayout) while both
-   sides keep at least 4 points a rank and every rank at least 2 points of each side, at most 12
-   levels. A grid whose side has an odd number of spacings is coarsened only while it has more than
-   MG_COARSEST points: such coarse spaces are poorer, and on the 201 x 201 net two more of them
-   below 26 x 26 took 496 Krylov iterations against 321 (docs/static.md); dms[levels - 1] is the grid's own layout, Ps[l] interpolates from level l - 1 to l
+/* The geometric multigrid hierarchy: the grid's layout coarsened (CoarsenLayout) while
+   MultigridCoarsens (stencil.h) lets it and every rank keeps at least 2 points of each side, at most
+   12 levels; dms[levels - 1] is the grid's own layout, Ps[l] interpolates from level l - 1 to l
    (both new references but the finest layout). */
-#define MG_COARSEST   1024 /* points: a grid this small is coarsened only where its sides halve exactly */
 static PetscErrorCode MultigridHierarchy(DM da, PetscInt *levels, DM dms[MG_MAX_LEVELS], Mat Ps[MG_MAX_LEVELS])
 {
   DM       top[MG_MAX_LEVELS];
@@ -1109,9 +1106,7 @@ static PetscErrorCode MultigridHierarchy(DM da, PetscInt *levels, DM dms[MG_MAX_
     PetscInt M, N, m, n, fewest = 0;
     DM       c;
     PetscCall(DMDAGetInfo(top[L - 1], NULL, &M, &N, NULL, &m, &n, NULL, NULL, NULL, NULL, NULL, NULL, NULL));
-    if ((((M - 1) % 2 || (N - 1) % 2) && M * N <= MG_COARSEST) || M / 2 + 1 < 4 * m || N / 2 + 1 < 4 * n || M < 3 ||
-        N < 3)
-      break;
+    if (!MultigridCoarsens(M, N, m, n)) break;
     PetscCall(CoarsenLayout(top[L - 1], &c, &fewest));
     if (fewest < 2) {
       PetscCall(DMDestroy(&c));
@@ -1409,6 +1404,13 @@ static PetscBool GmresRestartOk(const char *value)
   return value[0] && !*end && v >= 1 && v <= GMRES_RESTART_MAX ? PETSC_TRUE : PETSC_FALSE;
 }
 
+static PetscBool CountOk(const char *value)
+{
+  char      *end;
+  const long v = strtol(value, &end, 10);
+  return value[0] && !*end && v >= 0 && v <= PETSC_MAX_INT ? PETSC_TRUE : PETSC_FALSE;
+}
+
 static PetscBool GamgTypeOk(const char *value)
 {
   return !strcmp(value, PCGAMGAGG) ? PETSC_TRUE : PETSC_FALSE;
@@ -1475,20 +1477,31 @@ PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
                " (Newton: newtonls, the default, or newtontr)",
                type);
   }
-  { /* the multigrid's levels are the grid's (MultigridHierarchy): PETSc's -pc_mg_levels would set
-       others on top of its interpolations (0 crashed PCSetFromOptions); GAMG takes it as its most */
-    PetscInt  levels = 0;
-    PetscBool set = PETSC_FALSE, pc_set = PETSC_FALSE, mg = PETSC_FALSE;
-    char      pc[64] = "";
-    PetscCall(PetscOptionsGetInt(NULL, NULL, "-pc_mg_levels", &levels, &set));
-    PetscCall(PetscOptionsGetString(NULL, NULL, "-pc_type", pc, sizeof pc, &pc_set));
-    PetscCall(PetscStrcmp(pc, PCMG, &mg));
-    PetscCheck(!set || (pc_set && !mg), comm, PETSC_ERR_USER_INPUT,
-               "-pc_mg_levels %" PetscInt_FMT " with -solver static: the multigrid's levels come from the grid "
-               "(coarsened while every rank keeps 4 crossings a side); leave it unset",
-               levels);
-    PetscCheck(!set || levels >= 1, comm, PETSC_ERR_USER_INPUT,
-               "-pc_mg_levels %" PetscInt_FMT ": the most levels -pc_type %s may make, 1 or more", levels, pc);
+  { /* the multigrid's levels are the grid's (MultigridHierarchy): PETSc's -pc_mg_levels, under any prefix
+       (-tao_nls_pc_mg_levels), would set others on top of its interpolations (0 crashed PCSetFromOptions,
+       also under TAO's prefix); GAMG (its -pc_type given under the same prefix) takes it as its most */
+    OptionsGiven g;
+    char         msg[512] = "";
+    PetscCheck(!OptionsGivenGet(&g), PETSC_COMM_SELF, PETSC_ERR_MEM, "cannot list the options given");
+    for (PetscInt q = 0; q < g.n && !msg[0]; q++) {
+      const char *name = g.name[q], *value = g.value[q], *pc = NULL;
+      char        pc_opt[256], *end;
+      const long  levels = strtol(value, &end, 10);
+      if (!OptionIs(name, "pc_mg_levels")) continue;
+      snprintf(pc_opt, sizeof pc_opt, "%.*spc_type", (int) (strlen(name) - strlen("pc_mg_levels")), name);
+      for (PetscInt r = 0; r < g.n; r++)
+        if (!strcmp(g.name[r], pc_opt)) pc = g.value[r]; /* the last given */
+      if (!pc || !strcmp(pc, PCMG))
+        snprintf(msg, sizeof msg,
+                 "%s %s with -solver static: the multigrid's levels come from the grid (coarsened while every rank "
+                 "keeps 4 crossings a side); leave it unset",
+                 name, value);
+      else if (!value[0] || *end || levels < 1)
+        snprintf(msg, sizeof msg, "%s %s: the most levels %s %s may make, a whole number, 1 or more", name, value,
+                 pc_opt, pc);
+    }
+    OptionsGivenFree(&g);
+    PetscCheck(!msg[0], comm, PETSC_ERR_USER_INPUT, "%s", msg);
   }
   { /* GMRES keeps its Hessenberg matrices, 2 (restart + 2)^2 reals, on every rank beside its restart + 1
        vectors: PETSc's allocation overflowed at 1e8 (a segfault) and failed at 40 000 with a line that named
@@ -1499,6 +1512,14 @@ PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
                "%s: GMRES's restart, a whole number from 1 to %d (its Hessenberg matrices take 2 (restart + 2)^2 "
                "reals on every rank: %d takes %.0f MB, beside restart + 1 vectors)",
                bad, GMRES_RESTART_MAX, GMRES_RESTART_MAX, 16.0 * PetscSqr(GMRES_RESTART_MAX + 2.0) / 1e6);
+    /* the solvers' iteration limits, a count (-snes_max_it -1 stopped the first solve with "Internal error,
+       solver returned without setting converged reason"; 0 runs, and the load step does not balance) */
+    {
+      const char *const limits[] = {"snes_max_it", "tao_max_it", "ksp_max_it"};
+      for (int k = 0; k < 3 && !bad[0]; k++) PetscCall(FindBadOption(limits[k], CountOk, bad, sizeof bad));
+      PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT, "%s with -solver static: an iteration limit, a whole number, 0 or more",
+                 bad);
+    }
     /* GAMG's aggregation only: its classical coarsening hung in PETSc's set-up on 2 ranks (on the 25 x 25
        net), and its geometric one needs the crossings' coordinates, which it is not given */
     PetscCall(FindBadOption("pc_gamg_type", GamgTypeOk, bad, sizeof bad));

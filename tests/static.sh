@@ -46,6 +46,9 @@
 # 12. -static_sequence on a pushing test whose 12 mm ball is two yarn spacings wide at 2 threads/cm: no
 #     coarser fabric (its ball would pass between the coarse crossings), and the run goes on (the coarse
 #     scene was refused as if the user had given its density).
+# 13. the 25 x 25 square net on 4 ranks: every load step balanced in the 32 Newton steps of 1 to 3 ranks
+#     (the rank grid favoured rows, 1 x 4, which left the multigrid no coarser level: GAMG then ran 2400
+#     Newton steps and balanced none).
 set -u
 fabric="$1"; inputs="$2"
 . "$(dirname "$0")/runs.sh" # $py, $work, $fail, run NP ARGS...
@@ -234,4 +237,13 @@ if mpiexec -n 1 "$fabric" -scene "$inputs/pushing.yaml" -solver static -ends_per
 else
   cat "$work/log"; echo "FAIL -static_sequence with a ball two yarn spacings wide"; fail=1
 fi
+mpiexec -n 4 "$fabric" -scene "$inputs/square_net.yaml" -solver static -output_every 0 -quiet -output_dir "$work/net4" \
+  >"$work/log" 2>&1 || { cat "$work/log"; echo "FAIL the square net on 4 ranks: the run failed"; fail=1; }
+"$py" - "$work/net4/summary.json" <<'PY' || fail=1
+import json, sys
+s = json.load(open(sys.argv[1]))
+ok = s["converged"] is True and s["nonlinear_iterations"] == 32
+print(("PASS" if ok else "FAIL") + f" the square net on 4 ranks: converged {s['converged']}, {s['nonlinear_iterations']} Newton steps (32 on 1-3 ranks)")
+sys.exit(0 if ok else 1)
+PY
 exit $fail
