@@ -25,10 +25,15 @@ import matplotlib.pyplot as plt  # noqa: E402
 def read_run(path):
     """x values, forces and the x column's name: elongation_pct (jaw tests) or travel_mm"""
     with open(path, newline="") as f:
-        rows = list(csv.DictReader(f))
-    col = "elongation_pct" if rows and "elongation_pct" in rows[0] else "travel_mm"
-    if not rows or col not in rows[0] or "force_N" not in rows[0]:
+        reader = csv.DictReader(f)
+        rows, names = list(reader), reader.fieldnames or []
+    if "drop_mm" in names:
+        sys.exit(f"plot_curve.py: {path}: a drape run's curve: its response is drop_mm, it has no force to plot")
+    col = "elongation_pct" if "elongation_pct" in names else "travel_mm"
+    if col not in names or "force_N" not in names:
         sys.exit(f"plot_curve.py: {path}: not a fabric curve.csv (expected the columns elongation_pct or travel_mm, and force_N)")
+    if not rows:
+        sys.exit(f"plot_curve.py: {path}: no load step in it (the run ended before its first load step)")
     # the curve starts at rest: 0, 0 N
     return [0.0] + [float(r[col]) for r in rows], [0.0] + [float(r["force_N"]) for r in rows], col
 
@@ -80,9 +85,12 @@ def main():
     if len(labels) != len(a.curves):
         sys.exit(f"plot_curve.py: --labels gives {len(labels)} labels for {len(a.curves)} curves")
     fig, ax = plt.subplots(figsize=(8, 5.5), dpi=120)
-    col = "elongation_pct"
-    for path, label in zip(a.curves, labels):
-        x, y, col = read_run(path)
+    runs = [read_run(path) for path in a.curves]
+    cols = {run[2] for run in runs}
+    if len(cols) > 1:
+        sys.exit(f"plot_curve.py: the curves mix {' and '.join(sorted(cols))} (jaw tests against the others): plot them apart")
+    col = cols.pop()
+    for path, label, (x, y, _) in zip(a.curves, labels, runs):
         line = ax.plot(x, y, "-", marker=".", label=label)[0]
         peak = read_maximum(path)
         if peak:

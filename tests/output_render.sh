@@ -62,4 +62,15 @@ else echo "FAIL render.py on a one-frame run:"; cat "$work/one.log"; fail=1; fi
 printf "elongation_pct,force_N\n2,0.5\n6,2.3\n9,9.5\n12,24\n" >"$work/measured.csv"
 /usr/bin/python3 "$root/scripts/plot_curve.py" "$work/a/curve.csv" "$work/b/curve.csv" --labels "crimp 8 %,crimp 4 %" --measured "$work/measured.csv" -o "$work/curve.png" || fail=1
 /usr/bin/python3 "$here/check_png.py" plot "$work/curve.png" || fail=1
+# curves that cannot share axes, a curve without rows, a drape's curve: refused, saying why
+printf "load_step,time_s,elongation_pct,force_N,inner_steps,residual\n" >"$work/empty.csv"
+printf "load_step,time_s,drop_mm,force_N,inner_steps,residual\n1,0,50,0,10,1e-7\n" >"$work/drape.csv"
+for c in "$work/a/curve.csv $work/p/curve.csv|mix elongation_pct and travel_mm" "$work/empty.csv|no load step in it" \
+         "$work/drape.csv|a drape run's curve"; do
+  files="${c%%|*}"; want="${c#*|}"
+  # shellcheck disable=SC2086
+  if /usr/bin/python3 "$root/scripts/plot_curve.py" $files -o "$work/bad.png" >"$work/plot.log" 2>&1 || ! grep -q "$want" "$work/plot.log"; then
+    echo "FAIL plot_curve.py on $files: not refused with '$want':"; cat "$work/plot.log"; fail=1
+  else echo "PASS plot_curve.py refused: $(cat "$work/plot.log")"; fi
+done
 exit $fail
