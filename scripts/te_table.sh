@@ -4,8 +4,8 @@
 #   scripts/te_table.sh [SCENE ...] [-- extra fabric options]
 #
 # Runs each scene (default: strip_warp strip_weft square_net bias drape pushing) on NP ranks (2) with
-# -te_measure set to its number of load steps (load step 1's start and end and the last load step's
-# start are measured), then prints a markdown table from summary.json: the
+# -te_measure set to its number of load steps (the start and end of load step 1 and of the last load
+# step are measured), then prints a markdown table from summary.json: the
 # te used, the stable bound, the measured limit 2/omega_max and te / limit at the first
 # state (load step 1 after its grips moved), the last, the tightest (smallest limit) and the worst
 # (largest te / limit), each once.
