@@ -195,8 +195,9 @@ static PetscErrorCode Run(int argc, char **argv)
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fabric: done in %.2f s: %s; peak force %.4g N%s, %s; %s\n",
                           (double) fab->stats.wall, work, (double) peak,
                           r->peak_balanced ? "" : " (from a load step that did not balance)", where,
-                          fab->stats.converged ? "every load step balanced"
-                                               : "some load steps did NOT balance (see curve.csv residual)"));
+                          fab->stats.converged         ? "every load step balanced"
+                          : fab->s.out.output_dir[0] ? "some load steps did NOT balance (see curve.csv residual)"
+                                                     : "some load steps did NOT balance"));
   }
   if (fab->s.out.output_dir[0]) {
     char files[256];

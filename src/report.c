@@ -132,8 +132,8 @@ static PetscErrorCode CheckRoom(Fabric fab)
 }
 
 /* DIR/name, if there and (attr) an HDF5 file of this program's with that attribute at its root: an earlier
-   run's result that this run does not write again, removed and named (rank 0; also with -quiet, which leaves out
-   the progress lines only); returns whether it was */
+   run's result that this run does not write again, removed and named (rank 0; also with -quiet: a user's file
+   is not deleted without a word); returns whether it was */
 static PetscBool RemoveStale(const char *dir, const char *name, const char *attr)
 {
   char file[PETSC_MAX_PATH_LEN];

@@ -1404,11 +1404,12 @@ static PetscBool GmresRestartOk(const char *value)
   return value[0] && !*end && v >= 1 && v <= GMRES_RESTART_MAX ? PETSC_TRUE : PETSC_FALSE;
 }
 
+/* an iteration limit: not a negative whole number (PETSc's words, default or DECIDE, are PETSc's to read) */
 static PetscBool CountOk(const char *value)
 {
   char      *end;
   const long v = strtol(value, &end, 10);
-  return value[0] && !*end && v >= 0 && v <= PETSC_MAX_INT ? PETSC_TRUE : PETSC_FALSE;
+  return end != value && !*end && v < 0 ? PETSC_FALSE : PETSC_TRUE;
 }
 
 static PetscBool GamgTypeOk(const char *value)
@@ -1517,8 +1518,7 @@ PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
     {
       const char *const limits[] = {"snes_max_it", "tao_max_it", "ksp_max_it"};
       for (int k = 0; k < 3 && !bad[0]; k++) PetscCall(FindBadOption(limits[k], CountOk, bad, sizeof bad));
-      PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT, "%s with -solver static: an iteration limit, a whole number, 0 or more",
-                 bad);
+      PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT, "%s with -solver static: an iteration limit, 0 or more", bad);
     }
     /* GAMG's aggregation only: its classical coarsening hung in PETSc's set-up on 2 ranks (on the 25 x 25
        net), and its geometric one needs the crossings' coordinates, which it is not given */
@@ -2056,7 +2056,8 @@ PetscErrorCode StaticSolve(StaticSolver ss, StaticResult *r)
       PetscCall(VecCopy(ss->Xstart, fab->state.X));
       reason = SNES_DIVERGED_FNORM_NAN;
     } else if (reason != SNES_DIVERGED_LINE_SEARCH && reason != SNES_DIVERGED_LINEAR_SOLVE &&
-               reason != SNES_DIVERGED_LOCAL_MIN) /* newtonls says a failed line search also so */
+               reason != SNES_DIVERGED_LOCAL_MIN && /* newtonls says a failed line search also so */
+               reason != SNES_DIVERGED_TR_DELTA)    /* newtontr's: its trust region shrank to nothing */
       break;
     ss->h->shift = PetscMax(100.0 * ss->h->shift, 1e-6); /* start again from where it stopped, stiffer */
   }
