@@ -64,6 +64,33 @@ static void NameTheOption(const char *mess, char *out, size_t len)
   else if (found[0]) snprintf(out, len, "%s %s: %s", found, value, mess);
 }
 
+/* An error raised inside PETSc's solvers (KSP, PC, SNES, TAO, Mat: their sources' paths) names no option of
+   the run: " (in PETSc's solvers; the solver options given: -ksp_type minres ...)", or "" if none was
+   given or the error is not theirs */
+static const char *SolverErrorCause(const char *file)
+{
+  static char  cause[512];
+  OptionsGiven g;
+  size_t       at = 0;
+
+  cause[0] = 0;
+  if (!file ||
+      !(strstr(file, "src/ksp/") || strstr(file, "src/snes/") || strstr(file, "src/tao/") || strstr(file, "src/mat/")))
+    return cause;
+  if (OptionsGivenGet(&g)) return cause;
+  for (PetscInt q = 0; q < g.n && at < sizeof cause - 64; q++) {
+    const char *nm = g.name[q];
+    if (!(strstr(nm, "ksp_") || strstr(nm, "pc_") || strstr(nm, "snes_") || strstr(nm, "tao_"))) continue;
+    at += (size_t) snprintf(cause + at, sizeof cause - at, "%s%s%s%s",
+                            at ? " " : " (in PETSc's solvers; the solver options given: ", nm, g.value[q][0] ? " " : "",
+                            g.value[q]);
+  }
+  OptionsGivenFree(&g);
+  if (at >= sizeof cause - 64) snprintf(cause + sizeof cause - 64, 64, " ...");
+  if (at) snprintf(cause + strlen(cause), sizeof cause - strlen(cause), ")");
+  return cause;
+}
+
 /* An MPI call failed: what the options asked of MPI that it may not offer ("" if nothing) */
 static const char *MpiErrorCause(void)
 {
@@ -95,7 +122,7 @@ static PetscErrorCode OneLineErrorHandler(MPI_Comm comm, int line, const char *f
                      n == PETSC_ERR_MPI))) {
     if (mess && mess[0]) {
       NameTheOption(mess, text, sizeof text);
-      fprintf(stderr, "fabric: error: %s%s\n", text, n == PETSC_ERR_MPI ? MpiErrorCause() : "");
+      fprintf(stderr, "fabric: error: %s%s\n", text, n == PETSC_ERR_MPI ? MpiErrorCause() : SolverErrorCause(file));
     } else {
       const char *text = NULL;
       PetscErrorMessage(n, &text, NULL);
