@@ -158,6 +158,12 @@ static PetscErrorCode MeasureRow(Fabric fab, PetscReal residual, PetscBool balan
   PetscFunctionReturn(0);
 }
 
+/* break detection is on for the tests with a reaction (-rupture_drop_pct 0: never) */
+static PetscBool CanRupture(const Scene *s)
+{
+  return ReactionTest(s) && s->rupture.drop > 0 ? PETSC_TRUE : PETSC_FALSE;
+}
+
 /* a force and where it was (elongation or travel) as a candidate for the maximum force; balanced:
    it comes from balanced states */
 static void KeepPeak(RuptureState *r, PetscReal force, PetscReal at, PetscBool balanced)
@@ -167,7 +173,9 @@ static void KeepPeak(RuptureState *r, PetscReal force, PetscReal at, PetscBool b
 
 /* the curve row of a load step that has ended (measured: row already holds this state), and the
    largest force so far. A balanced state with every segment below its breaking strain is the
-   reference of the next first break's force. */
+   reference of the next first break's force. After a yarn broke, a force below the break detection's
+   threshold ends the test here (as within a tear: CheckRupture), also where the tear ended before the
+   unloading reached the grips. */
 static PetscErrorCode FinishRow(Fabric fab, PetscReal residual, PetscBool balanced, PetscBool measured, CurveRow *row)
 {
   RuptureState *r = &fab->stats.rupture;
@@ -175,6 +183,11 @@ static PetscErrorCode FinishRow(Fabric fab, PetscReal residual, PetscBool balanc
   PetscFunctionBeginUser;
   if (!measured) PetscCall(MeasureRow(fab, residual, balanced, row)); /* else: this state, measured before CheckBreaks */
   KeepPeak(r, row->force, RowAt(&fab->s, row), balanced);
+  if (CanRupture(&fab->s) && fab->stats.broken_any && !r->rupture_step &&
+      row->force < (1.0 - fab->s.rupture.drop) * r->peak_force) {
+    r->rupture_step = fab->load.load_step;
+    r->rupture_time = row->time + fab->load.elapsed;
+  }
   if (balanced && r->load_now <= 1.0) {
     r->last_load  = r->load_now;
     r->last_force = row->force;
@@ -203,12 +216,6 @@ static void PeakAtBreak(Fabric fab, const CurveRow *row)
 
   KeepPeak(r, r->last_force + wt * (row->force - r->last_force), r->last_at + w * (RowAt(&fab->s, row) - r->last_at),
            PETSC_TRUE);
-}
-
-/* break detection is on for the tests with a reaction (-rupture_drop_pct 0: never) */
-static PetscBool CanRupture(const Scene *s)
-{
-  return ReactionTest(s) && s->rupture.drop > 0 ? PETSC_TRUE : PETSC_FALSE;
 }
 
 /* te steps in which a yarn's stress wave crosses the specimen -tear_wave_crossings times: a chain in
