@@ -117,29 +117,38 @@ static PointKind KindOf(const Scene *s, PetscInt i, PetscInt j)
 }
 
 /* Every clamp or grip line, and a clamping ring, selects crossings of the specimen, and no crossing
-   is on both a clamp line and a grip line (integer counts: exact on any number of ranks). */
+   is on both a clamp line and a grip line, nor on a line of the other kind than its clamp region's
+   (a clamp line in the moving jaw, a grip line in the fixed jaw or a clamped edge: the line took them
+   over without a word) (integer counts: exact on any number of ranks). */
+#define LINE_COUNTS (4 * MAX_LINES + MAX_LINES * MAX_LINES + 1)
 static PetscErrorCode CheckLines(Fabric fab, const DMDALocalInfo *info)
 {
-  const Scene *s                                                = &fab->s;
-  const int    ring                                             = s->clamps.clamp == CLAMP_RING;
-  PetscInt     count[2 * MAX_LINES + MAX_LINES * MAX_LINES + 1] = {0};
-  PetscInt    *both = count + 2 * MAX_LINES, *ringed = both + MAX_LINES * MAX_LINES;
+  const Scene *s                  = &fab->s;
+  const int    ring               = s->clamps.clamp == CLAMP_RING;
+  PetscInt     count[LINE_COUNTS] = {0};
+  PetscInt    *both = count + 2 * MAX_LINES, *ringed = both + MAX_LINES * MAX_LINES, *clash = ringed + 1;
 
   PetscFunctionBeginUser;
   if (!s->clamps.clamp_lines && !s->clamps.grip_lines && !ring) PetscFunctionReturn(0);
   for (PetscInt j = info->ys; j < info->ys + info->ym; j++)
     for (PetscInt i = info->xs; i < info->xs + info->xm; i++) {
       if (!PointExists(s, i, j)) continue;
-      if (ring) *ringed += RegionKind(s, i, j) == POINT_CLAMPED;
-      for (PetscInt c = 0; c < s->clamps.clamp_lines; c++) count[c] += OnLine(s, s->clamps.clamp_line[c], i, j);
+      const PointKind region = RegionKind(s, i, j);
+      if (ring) *ringed += region == POINT_CLAMPED;
+      for (PetscInt c = 0; c < s->clamps.clamp_lines; c++) {
+        const int on = OnLine(s, s->clamps.clamp_line[c], i, j);
+        count[c] += on;
+        clash[c] += on && region == POINT_GRIP;
+      }
       for (PetscInt g = 0; g < s->clamps.grip_lines; g++) {
         const int on = OnLine(s, s->clamps.grip_line[g], i, j);
         count[MAX_LINES + g] += on;
+        clash[MAX_LINES + g] += on && region == POINT_CLAMPED;
         for (PetscInt c = 0; c < s->clamps.clamp_lines; c++)
           both[g * MAX_LINES + c] += on && OnLine(s, s->clamps.clamp_line[c], i, j);
       }
     }
-  PetscCall(GlobalSumInt(fab->comm, count, 2 * MAX_LINES + MAX_LINES * MAX_LINES + 1));
+  PetscCall(GlobalSumInt(fab->comm, count, LINE_COUNTS));
   PetscCheck(!ring || *ringed > 0, fab->comm, PETSC_ERR_USER_INPUT,
              "-clamp ring with -clamp_ring_mm %.6g,%.6g (inner, outer diameter) selects no crossing of the specimen",
              (double) (2e3 * s->clamps.ring[0]), (double) (2e3 * s->clamps.ring[1]));
@@ -149,6 +158,16 @@ static PetscErrorCode CheckLines(Fabric fab, const DMDALocalInfo *info)
                " (%g,%g mm at %g deg, half-width %g mm) selects no crossing of the specimen",
                c + 1, (double) (1e3 * s->clamps.clamp_line[c][0]), (double) (1e3 * s->clamps.clamp_line[c][1]),
                (double) (s->clamps.clamp_line[c][2] * 180.0 / PETSC_PI), (double) (1e3 * s->clamps.clamp_line[c][3]));
+  for (PetscInt c = 0; c < s->clamps.clamp_lines; c++)
+    PetscCheck(clash[c] == 0, fab->comm, PETSC_ERR_USER_INPUT,
+               "-clamp_line_mm line %" PetscInt_FMT " takes %" PetscInt_FMT
+               " crossings of the moving jaw: a crossing cannot be clamped and gripped; keep the line off the jaw",
+               c + 1, clash[c]);
+  for (PetscInt g = 0; g < s->clamps.grip_lines; g++)
+    PetscCheck(clash[MAX_LINES + g] == 0, fab->comm, PETSC_ERR_USER_INPUT,
+               "-grip_line_mm line %" PetscInt_FMT " takes %" PetscInt_FMT
+               " clamped crossings (-clamp %s): a crossing cannot be clamped and gripped; keep the line off them",
+               g + 1, clash[MAX_LINES + g], ClampNames[s->clamps.clamp]);
   for (PetscInt g = 0; g < s->clamps.grip_lines; g++) {
     PetscCheck(count[MAX_LINES + g] > 0, fab->comm, PETSC_ERR_USER_INPUT,
                "-grip_line_mm line %" PetscInt_FMT
