@@ -206,9 +206,14 @@ static PetscErrorCode BuildTable(MPI_Comm comm, YarnLaw *y)
   PetscCall(PetscMalloc1(y->nlev, &y->tab_slope_max));
   PetscCall(PetscMalloc1(ncell, &y->tab_slope_max[0]));
   y->EA = 0.0;
+  finite = finite && isfinite(y->tab_T[0]);
   for (PetscInt k = 0; k < ncell; k++) {
     PetscReal m = 0.0;
-    for (int q = 0; q <= 4; q++) m = PetscMax(m, PetscAbsReal(HermiteSlope(y, k, 0.25 * q)));
+    for (int q = 0; q <= 4; q++) {
+      const PetscReal slope = PetscAbsReal(HermiteSlope(y, k, 0.25 * q));
+      finite                = finite && isfinite(slope); /* PetscMax would pass over a NaN */
+      m                     = PetscMax(m, slope);
+    }
     y->tab_slope_max[0][k] = m;
     y->EA                  = PetscMax(y->EA, m);
     finite                 = finite && isfinite(m) && isfinite(y->tab_T[k + 1]);
