@@ -1049,7 +1049,7 @@ static PetscErrorCode DeriveLines(MPI_Comm comm, const char *opt, const PetscRea
                (double) l[3]);
     line[k][0] = 1e-3 * l[0];
     line[k][1] = 1e-3 * l[1];
-    line[k][2] = l[2] * PETSC_PI / 180.0;
+    line[k][2] = fmod(l[2], 360.0) * PETSC_PI / 180.0; /* exact: 1e308 degrees overflowed to an infinite angle */
     line[k][3] = 1e-3 * l[3];
   }
   PetscFunctionReturn(0);
