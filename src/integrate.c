@@ -158,11 +158,13 @@ static PetscErrorCode StableBound(Fabric fab, PetscReal omega2[2])
   fab->step.omega_max = PetscSqrtReal(omega2[0]);
   fab->step.te_bound  = (PaperSteps(fab) ? 1.0 : 2.0) / fab->step.omega_max;
   if (s->num.te_user > 0) {
+    char scheme[64] = "a tear's damped scheme over the whole yarn law"; /* a tear's te: -te too */
+    if (!fab->step.tear) PetscCall(PetscSNPrintf(scheme, sizeof scheme, "%s integrator", IntegratorNames[s->num.integrator]));
     PetscCheck(!s->num.te_check || s->num.te_user <= fab->step.te_bound, fab->comm, PETSC_ERR_USER_INPUT,
                "-te %g s is above the stable bound %g s at load step %" PetscInt_FMT
-               " (%s integrator, omega_max = %g rad/s): use -te %g or less, or leave -te unset",
-               (double) s->num.te_user, (double) fab->step.te_bound, fab->load.load_step,
-               IntegratorNames[s->num.integrator], (double) fab->step.omega_max, (double) fab->step.te_bound);
+               " (%s, omega_max = %g rad/s): use -te %g or less, or leave -te unset",
+               (double) s->num.te_user, (double) fab->step.te_bound, fab->load.load_step, scheme,
+               (double) fab->step.omega_max, (double) fab->step.te_bound);
     fab->step.te = s->num.te_user;
   } else
     fab->step.te = (fab->step.tear ? s->num.te_safety_tear : s->num.te_safety) * fab->step.te_bound;
