@@ -164,6 +164,17 @@ static PetscBool CanRupture(const Scene *s)
   return ReactionTest(s) && s->rupture.drop > 0 ? PETSC_TRUE : PETSC_FALSE;
 }
 
+/* the break detection on a measured row: a force below (1 - drop) of the maximum marks the rupture here (then,
+   at the time the load step's te steps have reached) */
+static PetscBool MarkRupture(Fabric fab, const CurveRow *row)
+{
+  RuptureState *r = &fab->stats.rupture;
+  if (!(row->force < (1.0 - fab->s.rupture.drop) * r->peak_force)) return PETSC_FALSE;
+  r->rupture_step = fab->load.load_step;
+  r->rupture_time = row->time + fab->load.elapsed;
+  return PETSC_TRUE;
+}
+
 /* a force and where it was (elongation or travel) as a candidate for the maximum force; balanced:
    it comes from balanced states */
 static void KeepPeak(RuptureState *r, PetscReal force, PetscReal at, PetscBool balanced)
@@ -183,11 +194,7 @@ static PetscErrorCode FinishRow(Fabric fab, PetscReal residual, PetscBool balanc
   PetscFunctionBeginUser;
   if (!measured) PetscCall(MeasureRow(fab, residual, balanced, row)); /* else: this state, measured before CheckBreaks */
   KeepPeak(r, row->force, RowAt(&fab->s, row), balanced);
-  if (CanRupture(&fab->s) && fab->stats.broken_any && !r->rupture_step &&
-      row->force < (1.0 - fab->s.rupture.drop) * r->peak_force) {
-    r->rupture_step = fab->load.load_step;
-    r->rupture_time = row->time + fab->load.elapsed;
-  }
+  if (CanRupture(&fab->s) && fab->stats.broken_any && !r->rupture_step) (void) MarkRupture(fab, row);
   if (balanced && r->load_now <= 1.0) {
     r->last_load  = r->load_now;
     r->last_force = row->force;
@@ -233,19 +240,12 @@ static PetscInt TearQuietSteps(Fabric fab)
   return (PetscInt) PetscMin(PetscCeilReal(s->rupture.crossings * span / (c * fab->step.te)), (PetscReal) PETSC_MAX_INT);
 }
 
-/* the specimen has ruptured: after a yarn broke, the force fell below (1 - drop) of its maximum (then, at the
-   time the load step's te steps have reached) */
+/* within a tear: the state now measured, and the break detection on it (MarkRupture) */
 static PetscErrorCode CheckRupture(Fabric fab, const StepStats *st, CurveRow *row, PetscBool *ruptured)
 {
-  RuptureState *r = &fab->stats.rupture;
-
   PetscFunctionBeginUser;
   PetscCall(MeasureRow(fab, st->residual, PETSC_FALSE, row));
-  *ruptured = row->force < (1.0 - fab->s.rupture.drop) * r->peak_force ? PETSC_TRUE : PETSC_FALSE;
-  if (*ruptured) {
-    r->rupture_step = fab->load.load_step;
-    r->rupture_time = row->time + fab->load.elapsed;
-  }
+  *ruptured = MarkRupture(fab, row);
   PetscFunctionReturn(0);
 }
 
