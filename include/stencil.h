@@ -28,7 +28,8 @@ static inline int StencilUnder(PetscInt i, PetscInt M, PetscInt c[2], PetscReal 
    grid whose side has an odd number of spacings is coarsened only while it has more than
    MG_COARSEST points: such coarse spaces are poorer, and on the 201 x 201 net two more of them below
    26 x 26 took 496 Krylov iterations against 321 (docs/static.md). */
-#define MG_COARSEST 1024
+#define MG_COARSEST   1024
+#define MG_MAX_LEVELS 12 /* the finest grid's included */
 static inline int MultigridCoarsens(PetscInt M, PetscInt N, PetscInt m, PetscInt n)
 {
   return !((((M - 1) % 2 || (N - 1) % 2) && M * N <= MG_COARSEST) || M / 2 + 1 < 4 * m || N / 2 + 1 < 4 * n ||

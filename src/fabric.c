@@ -198,7 +198,7 @@ static inline PetscBool SplitFits(PetscInt nx, PetscInt ny, PetscInt a, PetscInt
 static PetscReal MultigridFit(PetscInt nx, PetscInt ny, PetscInt a, PetscInt b)
 {
   PetscInt levels = 0;
-  for (; levels < 11 && MultigridCoarsens(nx, ny, a, b); levels++) nx = nx / 2 + 1, ny = ny / 2 + 1;
+  for (; levels < MG_MAX_LEVELS - 1 && MultigridCoarsens(nx, ny, a, b); levels++) nx = nx / 2 + 1, ny = ny / 2 + 1;
   return levels == 0 ? 1099511627776.0 : PetscMax((PetscReal) nx * ny, CoarsestEnough);
 }
 

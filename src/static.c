@@ -66,7 +66,6 @@ typedef struct {                          /* the solver's own options (ReadOptio
 } StaticOptions;
 
 enum { TANGENT_STENCIL, TANGENT_AIJ };
-#define MG_MAX_LEVELS 12
 
 typedef struct {   /* three grid rows of block rows, the ghost points either side included */
   PetscReal *buf[3]; /* grid row j in buf[(j - ys + 1) % 3]: per point (xs - 1 ... xs + xm) ROW_SLOTS 3x3 blocks */
