@@ -1253,7 +1253,7 @@ static PetscErrorCode CheckOptionsApply(MPI_Comm comm, const Scene *s)
   const PetscBool bodies =
       s->bodies.sphere_radius > 0 || s->bodies.plane || s->bodies.pedestal_radius > 0 ? PETSC_TRUE : PETSC_FALSE;
   const PetscBool moves = JawTest(s) || s->test == TEST_PUSHING ? PETSC_TRUE : PETSC_FALSE;
-  char test[64], shape[64], clamp[64];
+  char test[64], shape[64], clamp[64], law[2][PETSC_MAX_PATH_LEN + 16];
   struct {
     const char *name;
     PetscBool   applies;
@@ -1270,12 +1270,16 @@ static PetscErrorCode CheckOptionsApply(MPI_Comm comm, const Scene *s)
       {"rupture_drop_pct", ReactionTest(s), test, "it measures no force for a break detection to watch"},
       {"friction_mu", bodies, test, "there is no sphere, plane or pedestal for the fabric to rub on"},
       {"contact_stiffness_N_m", bodies, test, "there is no sphere, plane or pedestal to touch"},
+      {"warp_modulus_cN_tex", !s->yarns.warp.csv[0], law[0], "the table sets the yarn's stiffness"},
+      {"weft_modulus_cN_tex", !s->yarns.weft.csv[0], law[1], "the table sets the yarn's stiffness"},
   };
 
   PetscFunctionBeginUser;
   PetscCall(PetscSNPrintf(test, sizeof test, "-test %s", TestNames[s->test]));
   PetscCall(PetscSNPrintf(shape, sizeof shape, "-shape %s", ShapeNames[s->spec.shape]));
   PetscCall(PetscSNPrintf(clamp, sizeof clamp, "-clamp %s", ClampNames[s->clamps.clamp]));
+  PetscCall(PetscSNPrintf(law[0], sizeof law[0], "-warp_law_csv %s", s->yarns.warp.csv));
+  PetscCall(PetscSNPrintf(law[1], sizeof law[1], "-weft_law_csv %s", s->yarns.weft.csv));
   for (size_t k = 0; k < sizeof opts / sizeof opts[0]; k++) {
     char      opt[64], value[256] = "";
     PetscBool set, user;
