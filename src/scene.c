@@ -1312,6 +1312,24 @@ static PetscErrorCode CheckSolverOptions(MPI_Comm comm, const SceneInput *in)
              "-checkpoint_every_te %" PetscInt_FMT " / -checkpoint_every_s %g with -solver static: it checkpoints "
              "between load steps only; use -checkpoint_every",
              in->checkpoint_every_te, (double) in->checkpoint_every_s);
+  { /* the explicit relaxation's knobs: Newton reads none of them (a tear runs the damped scheme with the tear_*
+       options). Typed by the user, refused; from a scene file (large.yaml's -front), left to the explicit path */
+    static const char *const relaxation[] = {"integrator",   "front",        "sleep_tol",     "kinetic_damping",
+                                             "damping_ratio", "balance_hold", "balance_floor", "speed_tol",
+                                             "energy_watch", "early_exit",   "te_safety"};
+    for (size_t k = 0; k < sizeof relaxation / sizeof relaxation[0]; k++) {
+      char      opt[64], value[256] = "";
+      PetscBool set, user;
+      PetscCall(PetscSNPrintf(opt, sizeof opt, "-%s", relaxation[k]));
+      PetscCall(PetscOptionsGetString(NULL, NULL, opt, value, sizeof value, &set));
+      if (!set) continue;
+      PetscCall(GivenByUser(comm, opt, &user));
+      PetscCheck(!user, comm, PETSC_ERR_USER_INPUT,
+                 "%s%s%s with -solver static: an option of the explicit relaxation, which the quasi-static solver "
+                 "does not read; leave it out, or use -solver explicit",
+                 opt, value[0] ? " " : "", value);
+    }
+  }
   PetscFunctionReturn(0);
 }
 
