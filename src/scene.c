@@ -1467,8 +1467,8 @@ static PetscErrorCode DeriveGrid(MPI_Comm comm, const SceneInput *in, Scene *s)
                   width_mm = in->width_mm;
   const PetscReal jaw_mm = in->jaw_depth_mm, disc_mm = in->disc_diameter_mm;
   const PetscBool ring_set   = in->n_clamp_ring_mm > 0 ? PETSC_TRUE : PETSC_FALSE;
-  const PetscReal ring_mm[2] = {ring_set ? in->clamp_ring_mm[0] : 0.0, /* drape's default: Cusick's 18 cm discs */
-                                ring_set ? in->clamp_ring_mm[1] : 0.0};
+  /* no ring unless set: the drape's 0,180 (Cusick's 18 cm disc) is the option's default by test, RingByTest */
+  const PetscReal ring_mm[2] = {ring_set ? in->clamp_ring_mm[0] : 0.0, ring_set ? in->clamp_ring_mm[1] : 0.0};
 
   PetscFunctionBeginUser;
   s->spec.ends_per_m  = ends_cm * 100.0;
