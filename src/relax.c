@@ -126,7 +126,8 @@ PetscErrorCode ApplyLoadStep(Fabric fab, PetscInt k)
   fab->load.ramp_steps  = step == 0               ? 0
                           : s->num.grip_ramp >= 0 ? s->num.grip_ramp
                                                   : ((s->num.predict == PREDICT_NONE || s->bodies.sphere_radius > 0)
-                                                         ? (PetscInt) PetscCeilReal(PETSC_PI / (omega1 * fab->step.te))
+                                                         ? (PetscInt) PetscMin(PetscCeilReal(PETSC_PI / (omega1 * fab->step.te)),
+                                                                               (PetscReal) PETSC_MAX_INT)
                                                          : 0);
   fab->load.ramp_done   = 0;
   GripPathMove(s, fab->grid.pull_dir, fab->load.travel, disp, move);
@@ -350,7 +351,7 @@ static PetscErrorCode Balanced(Fabric fab, StepStats *st, PetscBool final, Petsc
   PetscCall(PetscInfo(NULL, "load step %" PetscInt_FMT ": balanced by the largest force, not at crossing (%" PetscInt_FMT ", %" PetscInt_FMT "): residual %g of its own forces\n",
                       fab->load.load_step, i, j, (double) worst));
   st->balanced    = PETSC_FALSE;
-  c->balance_need = PetscMin(2 * c->balance_need, BALANCE_NEED_MAX);
+  if (c->balance_need < BALANCE_NEED_MAX) c->balance_need = PetscMin(2 * c->balance_need, BALANCE_NEED_MAX); /* never fewer */
   FrontWakeAll(fab);
   PetscFunctionReturn(0);
 }

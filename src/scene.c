@@ -535,7 +535,7 @@ static PetscErrorCode CheckReal(MPI_Comm comm, const OptionDesc *o, const char *
   if (o->check == NONNEG) ok = v >= 0 ? PETSC_TRUE : PETSC_FALSE;
   if (o->check == RANGE)
     ok = ((o->lo_open ? v > o->lo : v >= o->lo) && (o->hi_open ? v < o->hi : v <= o->hi)) ? PETSC_TRUE : PETSC_FALSE;
-  PetscCheck(ok, comm, PETSC_ERR_USER_INPUT, "-%s must be %s, got %g", name, o->must, (double) v);
+  PetscCheck(ok, comm, PETSC_ERR_USER_INPUT, "-%s must be %s, got %.15g", name, o->must, (double) v);
   for (size_t k = 0; k < sizeof Physical / sizeof Physical[0]; k++)
     PetscCheck(strcmp(o->name, Physical[k].name) || v <= Physical[k].hi, comm, PETSC_ERR_USER_INPUT,
                "-%s %g is beyond the physical range (at most %s%s%s: %s)", name, (double) v, Physical[k].hi_text,
