@@ -9,9 +9,14 @@
    reached included), at the current positions: each free crossing's residual force against the sum
    of the magnitudes of its own force terms (every yarn segment, bending centre and shear crossing
    acting on it, its weight, the point load, the bodies' contact), never below -balance_floor of the
-   largest yarn tension nor below the force floor. *worst: the largest ratio; (i, j): where (the
-   lowest global index on a tie). The same on any number of ranks (max-reductions). */
-PetscErrorCode BalanceCrossings(Fabric fab, PetscReal *worst, PetscInt *i, PetscInt *j);
+   largest yarn tension nor below the force floor. The same on any number of ranks (max-reductions). */
+typedef struct {
+  PetscReal worst;   /* the largest ratio */
+  PetscInt  i, j;    /* where (the lowest global index on a tie) */
+  PetscReal largest; /* the test of every te step, on every crossing: the largest free force over the largest tension */
+  PetscInt  box[4];  /* global bounding box of the crossings that fail either test (empty: none) */
+} BalanceCheck;
+PetscErrorCode BalanceCrossings(Fabric fab, BalanceCheck *c);
 
 /* The energy watch (damped and paper integrators): every ENERGY_WATCH_EVERY te steps of a
    relaxation with nothing doing work on the fabric, the mechanical energy H (below) is taken

@@ -133,6 +133,7 @@ typedef struct {           /* rank propagation and sleeping (front.c) */
   PetscInt  front_step;    /* te steps since the last load change */
   PetscBool front_covered; /* the front has reached every point */
   PetscInt  awake_box[4];  /* global bounding box of the awake points */
+  PetscInt  keep_box[4];   /* kept awake for the rest of the round: the crossings a balance check found unbalanced */
   PetscInt  grip_box[4];   /* global bounding box of the grip points */
 } FrontState;
 

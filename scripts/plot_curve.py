@@ -7,8 +7,7 @@ Each curve.csv is one line (elongation_pct, force_N; a pushing run's travel_mm, 
 labelled with its run directory's name (or --labels). Where the run's summary.json (next to its
 curve.csv) reports a maximum force and a rupture, the maximum is marked and the legend says it. --measured overlays a measured curve: a CSV whose first two columns are
 elongation (%) and force (N), with or without a header line; it is drawn as points. Load steps
-that did not balance (curve.csv residual above -balance_tol) are not marked: check the residual
-column. Default output: curve.png next to the first curve.csv. Prints the file it wrote.
+that did not balance (curve.csv's balanced column 0) are not marked: check that column. Default output: curve.png next to the first curve.csv. Prints the file it wrote.
 """
 import argparse
 import csv

@@ -41,13 +41,14 @@ static PetscInt GlobalIndexOf(const Patch *p, PetscInt k)
   return k < 0 ? -1 : (p->ys + k / p->xm) * p->nx + p->xs + k % p->xm;
 }
 
-PetscErrorCode BalanceCrossings(Fabric fab, PetscReal *worst, PetscInt *wi, PetscInt *wj)
+PetscErrorCode BalanceCrossings(Fabric fab, BalanceCheck *c)
 {
   const Patch       *p = &fab->grid.patch;
-  const PetscReal   *g = fab->load.gravity_now;
+  const PetscReal   *g = fab->load.gravity_now, tol = fab->s.num.balance_tol;
   const PetscScalar *f, *xl;
-  PetscReal         *scale, *fint, tmax, best = 0;
-  PetscInt           kbest = -1, where;
+  PetscReal         *scale, *fint, tmax, best = 0, red[5];
+  PetscInt           kbest = -1, where, lo = PETSC_MAX_INT, hi = -1, jlo = PETSC_MAX_INT, jhi = -1;
+  PetscReal          r2max = 0;
   const PetscInt     all[4] = {p->xs, p->xs + p->xm, p->ys, p->ys + p->ym};
 
   PetscFunctionBeginUser;
@@ -60,6 +61,7 @@ PetscErrorCode BalanceCrossings(Fabric fab, PetscReal *worst, PetscInt *wi, Pets
   PetscCall(GlobalMax(fab->comm, &tmax, 1));
   {
     const PetscReal floor = PetscMax(fab->step.force_floor, fab->s.num.balance_floor * tmax);
+    const PetscReal big2  = PetscSqr(tol * PetscMax(tmax, fab->step.force_floor)); /* fails the test of every te step */
     PetscCall(VecGetArrayRead(fab->state.F, &f));
     for (PetscInt k = 0; k < fab->grid.nloc; k++) {
       const PetscReal m = fab->grid.mass[k];
@@ -74,15 +76,25 @@ PetscErrorCode BalanceCrossings(Fabric fab, PetscReal *worst, PetscInt *wi, Pets
       ratio = PetscSqrtReal(R2) /
               PetscMax(scale[k] + PetscSqrtReal(C2) + PetscSqrtReal(L2) + PetscSqrtReal(W2), floor);
       if (ratio > best) best = ratio, kbest = k; /* the first in the patch's order on a tie */
+      r2max = PetscMax(r2max, R2);
+      if (ratio > tol || R2 > big2) {
+        const PetscInt i = p->xs + k % p->xm, j = p->ys + k / p->xm;
+        lo = PetscMin(lo, i), hi = PetscMax(hi, i + 1), jlo = PetscMin(jlo, j), jhi = PetscMax(jhi, j + 1);
+      }
     }
     PetscCall(VecRestoreArrayRead(fab->state.F, &f));
   }
   PetscCall(PetscFree2(scale, fint));
   where = GlobalIndexOf(p, kbest);
   PetscCall(GlobalArgMax(fab->comm, &best, &where)); /* the lowest global index among the worst */
-  *worst = best;
-  *wi    = where >= 0 ? where % p->nx : -1;
-  *wj    = where >= 0 ? where / p->nx : -1;
+  red[0] = -(PetscReal) lo, red[1] = (PetscReal) hi, red[2] = -(PetscReal) jlo, red[3] = (PetscReal) jhi, red[4] = r2max;
+  PetscCall(GlobalMax(fab->comm, red, 5));
+  c->worst   = best;
+  c->i       = where >= 0 ? where % p->nx : -1;
+  c->j       = where >= 0 ? where / p->nx : -1;
+  c->largest = PetscSqrtReal(red[4]) / PetscMax(tmax, fab->step.force_floor);
+  c->box[0] = (PetscInt) -red[0], c->box[1] = (PetscInt) red[1], c->box[2] = (PetscInt) -red[2],
+  c->box[3] = (PetscInt) red[3];
   PetscCall(PetscLogEventEnd(EV_Check, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }

@@ -595,6 +595,9 @@ static PetscErrorCode WriteCounters(Fabric fab, PetscViewer v, PetscInt done)
     int  b = (int) fab->front.awake_box[c];
     PetscCall(PetscSNPrintf(nm, sizeof nm, "awake_box_%d", c));
     PetscCall(PetscViewerHDF5WriteAttribute(v, "/", nm, PETSC_INT, &b));
+    b = (int) fab->front.keep_box[c];
+    PetscCall(PetscSNPrintf(nm, sizeof nm, "keep_box_%d", c));
+    PetscCall(PetscViewerHDF5WriteAttribute(v, "/", nm, PETSC_INT, &b));
   }
   PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "last_tension_max_N", PETSC_REAL, &fab->step.last.tension_max));
   /* kinetic damping: the kinetic energy after the last te step (a reset is decided on it) */
@@ -766,7 +769,7 @@ typedef struct {     /* what rank 0 reads alone, then broadcasts */
   long long  te_steps, point_updates;
   double     grip_disp, grip_step_prev, wall;
   uint64_t   sum[MAX_STATE + 1]; /* checksums of the state vectors, then of the broken segments */
-  int        awake_box[4];
+  int        awake_box[4], keep_box[4];
   double     last_tension_max;
   double     ke_prev;
   long long  ke_resets;
@@ -980,6 +983,10 @@ static int ReadCounters(const Scene *s, hid_t g, const char *file, Header *h)
       !ReadAttr(g, "awake_box_1", H5T_NATIVE_INT, &h->awake_box[1]) ||
       !ReadAttr(g, "awake_box_2", H5T_NATIVE_INT, &h->awake_box[2]) ||
       !ReadAttr(g, "awake_box_3", H5T_NATIVE_INT, &h->awake_box[3]) ||
+      !ReadAttr(g, "keep_box_0", H5T_NATIVE_INT, &h->keep_box[0]) ||
+      !ReadAttr(g, "keep_box_1", H5T_NATIVE_INT, &h->keep_box[1]) ||
+      !ReadAttr(g, "keep_box_2", H5T_NATIVE_INT, &h->keep_box[2]) ||
+      !ReadAttr(g, "keep_box_3", H5T_NATIVE_INT, &h->keep_box[3]) ||
       !ReadAttr(g, "last_tension_max_N", H5T_NATIVE_DOUBLE, &h->last_tension_max))
     return REFUSE("-restart %s: damaged checkpoint: the sleeping state is missing", file);
   if (!ReadAttr(g, "kinetic_energy_J", H5T_NATIVE_DOUBLE, &h->ke_prev) ||
@@ -1141,7 +1148,7 @@ static void RestoreCounters(Fabric fab, const Header *hp)
   fab->load.load_factor      = (PetscReal) h.load_step / (PetscReal) fab->s.load.load_steps;
   fab->load.travel           = h.grip_disp;
   fab->load.travel_step_prev = h.grip_step_prev;
-  for (int c = 0; c < 4; c++) fab->front.awake_box[c] = h.awake_box[c];
+  for (int c = 0; c < 4; c++) fab->front.awake_box[c] = h.awake_box[c], fab->front.keep_box[c] = h.keep_box[c];
   fab->step.last.tension_max = h.last_tension_max;
   fab->step.ke_prev          = h.ke_prev;
   fab->step.ke_resets        = (PetscInt64) h.ke_resets;

@@ -14,7 +14,9 @@
  * Sleeping. A point is awake if its residual force or speed exceeds -sleep_tol (relative,
  * like -balance_tol). Each te step computes the bounding box of the awake points grown by
  * the stencil reach (2), so a point next to an awake one is woken. The awake box rides on
- * the balance test's max-reduction: no extra message.
+ * the balance test's max-reduction: no extra message. The crossings a balance check per
+ * crossing finds unbalanced (their forces small beside the largest tension, so they fell
+ * asleep) stay awake, with the stencil's reach, until the relaxation round ends.
  */
 #include "front.h"
 #include "comm.h"
@@ -130,6 +132,19 @@ void FrontWakeAll(Fabric fab)
   fab->front.awake_box[3] = fab->s.spec.ny;
 }
 
+void FrontKeepAwake(Fabric fab, const PetscInt box[4])
+{
+  PetscInt *k = fab->front.keep_box;
+  if (BoxEmpty(box)) return;
+  if (BoxEmpty(k)) k[0] = box[0], k[1] = box[1], k[2] = box[2], k[3] = box[3];
+  else k[0] = PetscMin(k[0], box[0]), k[1] = PetscMax(k[1], box[1]), k[2] = PetscMin(k[2], box[2]), k[3] = PetscMax(k[3], box[3]);
+}
+
+void FrontKeepReset(Fabric fab)
+{
+  fab->front.keep_box[0] = fab->front.keep_box[1] = fab->front.keep_box[2] = fab->front.keep_box[3] = 0;
+}
+
 /* The box of points the next te step computes: global (same on every rank), and the
    owned part of it. Returns the number of crossings it updates: those that exist when it is
    the whole grid (a disc or bias specimen has holes), its area otherwise. */
@@ -156,6 +171,11 @@ PetscInt64 FrontStepBox(Fabric fab, PetscInt global[4], PetscInt local[4])
       grown[1] = PetscMax(grown[1], fab->front.grip_box[1] + 2);
       grown[2] = PetscMin(grown[2], fab->front.grip_box[2] - 2),
       grown[3] = PetscMax(grown[3], fab->front.grip_box[3] + 2);
+    }
+    if (!BoxEmpty(fab->front.keep_box)) {
+      const PetscInt *k = fab->front.keep_box;
+      grown[0] = PetscMin(grown[0], k[0] - 2), grown[1] = PetscMax(grown[1], k[1] + 2);
+      grown[2] = PetscMin(grown[2], k[2] - 2), grown[3] = PetscMax(grown[3], k[3] + 2);
     }
     BoxIntersect(global, grown);
   }

@@ -45,11 +45,11 @@ static int MakeDirs(const char *path, char *failed, size_t len)
    the largest drop of a crossing (drop_mm) */
 static const char *CurveHeader(const Scene *s)
 {
-  if (s->test == TEST_DRAPE) return "load_step,time_s,drop_mm,force_N,inner_steps,residual";
-  if (s->test == TEST_STRIP) return "load_step,time_s,elongation_pct,force_N,inner_steps,residual";
+  if (s->test == TEST_DRAPE) return "load_step,time_s,drop_mm,force_N,inner_steps,residual,balanced";
+  if (s->test == TEST_STRIP) return "load_step,time_s,elongation_pct,force_N,inner_steps,residual,balanced";
   if (s->test == TEST_BIAS)
-    return "load_step,time_s,elongation_pct,force_N,inner_steps,residual,travel_mm,center_shear_deg";
-  return "load_step,time_s,travel_mm,force_N,inner_steps,residual";
+    return "load_step,time_s,elongation_pct,force_N,inner_steps,residual,balanced,travel_mm,center_shear_deg";
+  return "load_step,time_s,travel_mm,force_N,inner_steps,residual,balanced";
 }
 
 /* supports (a plane or a pedestal present): after the test's own columns, the force of the
@@ -82,15 +82,15 @@ static void WriteSupports(const Scene *s, FILE *fp, const CurveRow *r)
 static void WriteCurveRow(const Scene *s, FILE *fp, const CurveRow *r)
 {
   if (s->test == TEST_BIAS)
-    fprintf(fp, "%" PetscInt_FMT ",%.9g,%.9g,%.9g,%" PetscInt_FMT ",%.6e,%.9g,%.9g", r->load_step, (double) r->time,
-            (double) (100.0 * r->elongation), (double) r->force, r->inner_steps, (double) r->residual,
+    fprintf(fp, "%" PetscInt_FMT ",%.9g,%.9g,%.9g,%" PetscInt_FMT ",%.6e,%d,%.9g,%.9g", r->load_step, (double) r->time,
+            (double) (100.0 * r->elongation), (double) r->force, r->inner_steps, (double) r->residual, r->balanced ? 1 : 0,
             (double) (1e3 * r->elongation * s->spec.gauge), (double) r->center_shear);
   else if (s->test != TEST_STRIP)
-    fprintf(fp, "%" PetscInt_FMT ",%.9g,%.9g,%.9g,%" PetscInt_FMT ",%.6e", r->load_step, (double) r->time,
-            (double) (1e3 * r->travel), (double) r->force, r->inner_steps, (double) r->residual);
+    fprintf(fp, "%" PetscInt_FMT ",%.9g,%.9g,%.9g,%" PetscInt_FMT ",%.6e,%d", r->load_step, (double) r->time,
+            (double) (1e3 * r->travel), (double) r->force, r->inner_steps, (double) r->residual, r->balanced ? 1 : 0);
   else
-    fprintf(fp, "%" PetscInt_FMT ",%.9g,%.9g,%.9g,%" PetscInt_FMT ",%.6e", r->load_step, (double) r->time,
-            (double) (100.0 * r->elongation), (double) r->force, r->inner_steps, (double) r->residual);
+    fprintf(fp, "%" PetscInt_FMT ",%.9g,%.9g,%.9g,%" PetscInt_FMT ",%.6e,%d", r->load_step, (double) r->time,
+            (double) (100.0 * r->elongation), (double) r->force, r->inner_steps, (double) r->residual, r->balanced ? 1 : 0);
   WriteSupports(s, fp, r);
   fputc('\n', fp);
 }

@@ -846,6 +846,7 @@ static PetscErrorCode BalanceCrossingsCase(void)
   Fabric    fab;
   PetscReal m = 0, worst, g = 1000; /* m g above the force floor of 1e-6 N */
   PetscInt  wi, wj;
+  BalanceCheck chk;
   char      opts[512];
 
   PetscFunctionBeginUser;
@@ -859,7 +860,8 @@ static PetscErrorCode BalanceCrossingsCase(void)
   PetscCall(PetscSNPrintf(opts, sizeof opts, BASE NET3 "-gravity 0,0,%.17g -point_load_N %.17g,0,0", -g, m * g));
   PetscCall(NewFabric(opts, &fab));
   fab->load.load_factor = 1.0; /* the whole point load, as at the end of the load program */
-  PetscCall(BalanceCrossings(fab, &worst, &wi, &wj));
+  PetscCall(BalanceCrossings(fab, &chk));
+  worst = chk.worst, wi = chk.i, wj = chk.j;
   CheckRel("flat net, P = m|g| horizontal: residual / sum of the force magnitudes at the free crossing", worst,
            1.0 / PetscSqrtReal(2.0), 1e-12);
   CheckTrue("... found at crossing (1, 1)", wi == 1 && wj == 1, (double) (10 * wi + wj));
@@ -867,7 +869,8 @@ static PetscErrorCode BalanceCrossingsCase(void)
 
   PetscCall(NewFabric(BASE NET3 "-point_load_N 0,0,0.05", &fab));
   fab->load.load_factor = 1.0;
-  PetscCall(BalanceCrossings(fab, &worst, &wi, &wj));
+  PetscCall(BalanceCrossings(fab, &chk));
+  worst = chk.worst, wi = chk.i, wj = chk.j;
   CheckRel("flat net, P = 0.05 N vertical, no gravity: ratio", worst, 1.0, 1e-12);
   PetscCall(FabricDestroy(&fab));
 
@@ -885,7 +888,8 @@ static PetscErrorCode BalanceCrossingsCase(void)
       else lo = d;
     }
     CheckTrue("every load step balanced", fab->stats.converged, r->residual);
-    PetscCall(BalanceCrossings(fab, &worst, &wi, &wj));
+    PetscCall(BalanceCrossings(fab, &chk));
+  worst = chk.worst, wi = chk.i, wj = chk.j;
     CheckTrue("after the run, every free crossing's residual / its force magnitudes <= -balance_tol 1e-8",
               worst <= 1e-8, worst);
     CheckRel("deflection at 0.05 N (exact balance of traction and bending)", r->travel, 0.5 * (lo + hi), 1e-6);
