@@ -5,7 +5,8 @@
 #include "fabric.h"
 
 PetscErrorCode FrontSetUp(Fabric fab);
-void           FrontLoadChange(Fabric fab);
+/* a load changed; predicted: the prediction moved every reachable point */
+void FrontLoadChange(Fabric fab, PetscBool predicted);
 void           FrontWakeAll(Fabric fab);
 /* sleeping: the crossings in box (global) stay awake until FrontKeepReset (a new relaxation round). A
    crossing whose forces are small beside the largest tension falls asleep while its own balance still

@@ -8,6 +8,6 @@
 /* graph distance of every owned point to the points marked in source (one flag per owned point) */
 PetscErrorCode GraphDistance(MPI_Comm comm, DM da, const Patch *p, const char *source, PetscReal *dist);
 PetscErrorCode PredictSetUp(Fabric fab);
-PetscErrorCode PredictLoadStep(Fabric fab, PetscReal grip_step, const PetscReal grip_move[3]);
+PetscErrorCode PredictLoadStep(Fabric fab, PetscReal grip_step, const PetscReal grip_move[3], PetscBool *moved);
 
 #endif

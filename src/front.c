@@ -102,18 +102,19 @@ PetscErrorCode FrontSetUp(Fabric fab)
   PetscFunctionReturn(0);
 }
 
-/* A load changed: the front starts again from the disturbed points. Prediction moves every
-   reachable point, and gravity at the first step disturbs every point: then it is covered. */
-void FrontLoadChange(Fabric fab)
+/* A load changed: the front starts again from the disturbed points. A prediction that moved the
+   points moves every reachable one, and gravity at the first step disturbs every point: then it
+   is covered (a prediction with nothing to follow, -predict linear under a point load, moves none). */
+void FrontLoadChange(Fabric fab, PetscBool predicted)
 {
   const Scene *s           = &fab->s;
   const int    gravity     = s->terms.gravity[0] != 0 || s->terms.gravity[1] != 0 || s->terms.gravity[2] != 0;
   fab->front.front_step    = 0;
-  fab->front.front_covered = (!s->num.front || s->num.predict != PREDICT_NONE || (gravity && fab->load.load_step == 1))
+  fab->front.front_covered = (!s->num.front || predicted || (gravity && fab->load.load_step == 1))
                                  ? PETSC_TRUE
                                  : PETSC_FALSE;
   if (s->num.sleep_tol > 0) {
-    if (s->num.predict != PREDICT_NONE || fab->load.load_step == 1 || !fab->front.front_box)
+    if (predicted || fab->load.load_step == 1 || !fab->front.front_box)
       FrontWakeAll(fab);
     else { /* wake the disturbed points too */
       const PetscInt *src     = fab->front.front_box;

@@ -137,13 +137,19 @@ static PetscErrorCode SphereWeights(Fabric fab, PetscReal disp)
 }
 
 /* Move the free points at the start of a load step whose grips move by grip_step (m) along
-   their path, that is by grip_move (m, a vector). */
-PetscErrorCode PredictLoadStep(Fabric fab, PetscReal grip_step, const PetscReal grip_move[3])
+   their path, that is by grip_move (m, a vector); *moved: the prediction moved them. A point load
+   or the drape's gravity (no grips, no ball) grows by the same share each load step: the
+   extrapolating prediction repeats the last converged increment; the linear one has nothing to
+   follow. (The static path extrapolates its own balanced states there, static.c.) */
+PetscErrorCode PredictLoadStep(Fabric fab, PetscReal grip_step, const PetscReal grip_move[3], PetscBool *moved)
 {
   const Scene       *s = &fab->s;
   PetscScalar       *x, *xold = NULL;
   const PetscScalar *a = NULL, *b = NULL;
-  const PetscBool    have_history = fab->state.Xconv_prev && fab->load.travel_step_prev != 0 ? PETSC_TRUE : PETSC_FALSE;
+  const PetscBool    by_load = (s->test == TEST_SQUARE || s->test == TEST_DRAPE) && s->num.solver != SOLVER_STATIC
+                                   ? PETSC_TRUE
+                                   : PETSC_FALSE;
+  const PetscBool    have_history = fab->state.Xconv_prev && (fab->load.travel_step_prev != 0 || by_load) ? PETSC_TRUE : PETSC_FALSE;
   /* the static path puts the ball straight at its new place: it starts from the ball's linear
      prediction, which moves the crossings the ball would penetrate with it, never from an
      extrapolation that leaves some inside it (Newton did not recover from that penalty force:
@@ -152,7 +158,9 @@ PetscErrorCode PredictLoadStep(Fabric fab, PetscReal grip_step, const PetscReal 
   PetscBool       extrapolate = s->num.predict == PREDICT_EXTRAPOLATE && have_history && !ball_static ? PETSC_TRUE : PETSC_FALSE;
 
   PetscFunctionBeginUser;
-  if (s->num.predict == PREDICT_NONE || grip_step == 0) PetscFunctionReturn(0);
+  *moved = PETSC_FALSE;
+  if (s->num.predict == PREDICT_NONE || (grip_step == 0 && !(by_load && extrapolate))) PetscFunctionReturn(0);
+  *moved = PETSC_TRUE;
   if (s->bodies.sphere_radius > 0 && !extrapolate) PetscCall(SphereWeights(fab, fab->load.travel + grip_step));
   PetscCall(PetscLogEventBegin(EV_Predict, 0, 0, 0, 0));
   PetscCall(VecGetArray(fab->state.X, &x));
@@ -162,7 +170,7 @@ PetscErrorCode PredictLoadStep(Fabric fab, PetscReal grip_step, const PetscReal 
     PetscCall(VecGetArrayRead(fab->state.Xconv_prev, &b));
   }
   {
-    const PetscReal ratio = extrapolate ? grip_step / fab->load.travel_step_prev : 0.0;
+    const PetscReal ratio = !extrapolate ? 0.0 : by_load ? 1.0 : grip_step / fab->load.travel_step_prev; /* equal load steps */
     for (PetscInt k = 0; k < fab->grid.nloc; k++) {
       if (fab->grid.kind[k] != POINT_FREE) continue;
       for (int d = 0; d < 3; d++) {

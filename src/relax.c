@@ -103,6 +103,7 @@ PetscErrorCode ApplyLoadStep(Fabric fab, PetscInt k)
   const PetscReal lambda = (PetscReal) k / (PetscReal) s->load.load_steps;
   const PetscReal disp = lambda * LoadTravel(s), step = disp - fab->load.travel;
   PetscReal       damp_c, omega1, move[3];
+  PetscBool       predicted;
 
   PetscFunctionBeginUser;
   fab->load.load_step   = k;
@@ -134,10 +135,10 @@ PetscErrorCode ApplyLoadStep(Fabric fab, PetscInt k)
   if (s->bodies.sphere_radius > 0) /* the sphere's move: what its linear prediction follows */
     for (int d = 0; d < 3; d++) move[d] = step * s->bodies.sphere_dir[d];
   if (!fab->load.ramp_steps) PetscCall(PlaceGrips(fab, disp, PETSC_TRUE));
-  PetscCall(PredictLoadStep(fab, step, move));
+  PetscCall(PredictLoadStep(fab, step, move, &predicted));
   fab->load.travel           = disp;
   fab->load.travel_step_prev = step;
-  FrontLoadChange(fab);
+  FrontLoadChange(fab, predicted);
   PetscCall(StableStep(fab));
   fab->step.damp_c      = damp_c;
   fab->step.bound_fresh = PETSC_FALSE;
