@@ -1098,7 +1098,8 @@ static void CheckFramesFile(const Scene *s, const char *restart, const double *f
     snprintf(
         h->msg, sizeof h->msg,
         "-restart %s: %s, which holds the %d frames written before the checkpoint, is missing or cannot be opened "
-        "(damaged); restart into the -output_dir of the checkpointed run, or with -output_every 0 -output_te_every 0",
+        "(damaged); restart into the -output_dir of the checkpointed run, or with -output_every 0 -output_te_every 0 "
+        "-output_tear_every 0",
         restart, file, h->frames);
   } else {
     hid_t g = H5Gopen2(fid, "/", H5P_DEFAULT);

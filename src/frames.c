@@ -262,27 +262,40 @@ static PetscErrorCode DropFramesFrom(MPI_Comm comm, const char *restart, const c
   PetscFunctionReturn(0);
 }
 
+/* a restart: fabric.h5 and fabric.xmf keep the frames written before the checkpoint, no later one */
+static PetscErrorCode DropFramesAfterCheckpoint(FabricIO io, const FrameSource *src, const char *file)
+{
+  PetscInt kept;
+
+  PetscFunctionBeginUser;
+  PetscCall(DropFramesFrom(src->comm, io->restart, file, io->frames, &kept));
+  PetscCheck(kept == io->frames, src->comm, PETSC_ERR_FILE_UNEXPECTED,
+             "-restart %s: %s holds %" PetscInt_FMT " of the %" PetscInt_FMT
+             " frames written before the checkpoint: it is not the file of this run",
+             io->restart, file, kept, io->frames);
+  PetscCall(FramesWriteXdmf(io, src->comm, src->out->output_dir, src->grid->patch.nx, src->grid->patch.ny));
+  PetscFunctionReturn(0);
+}
+
 /* Start of the run: a new fabric.h5 with the state at the start as frame 0, or, after a
-   restart, the frames written before the checkpoint. */
+   restart, the frames written before the checkpoint (also when this run writes none). */
 PetscErrorCode FramesOpen(FabricIO io, const FrameSource *src, const FrameInfo *start)
 {
   const char *dir = src->out->output_dir;
   char        file[PETSC_MAX_PATH_LEN];
 
   PetscFunctionBeginUser;
-  if (!FramesOn(io, dir)) PetscFunctionReturn(0);
+  if (dir[0]) PetscCall(PetscSNPrintf(file, sizeof file, "%s/fabric.h5", dir));
+  if (!FramesOn(io, dir)) { /* a restart that writes no frames: those the stopped run wrote after its checkpoint go */
+    PetscBool exists = PETSC_FALSE;
+    if (dir[0] && io->restarted && io->frames > 0) PetscCall(PetscTestFile(file, 'r', &exists));
+    if (exists) PetscCall(DropFramesAfterCheckpoint(io, src, file));
+    PetscFunctionReturn(0);
+  }
   PetscCall(PetscLogEventBegin(EV_Output, 0, 0, 0, 0));
-  PetscCall(PetscSNPrintf(file, sizeof file, "%s/fabric.h5", dir));
   if (!io->da1) PetscCall(DMDACreateCompatibleDMDA(src->grid->da, 1, &io->da1));
-  if (io->restarted && io->frames > 0) {
-    PetscInt kept;
-    PetscCall(DropFramesFrom(src->comm, io->restart, file, io->frames, &kept));
-    PetscCheck(kept == io->frames, src->comm, PETSC_ERR_FILE_UNEXPECTED,
-               "-restart %s: %s holds %" PetscInt_FMT " of the %" PetscInt_FMT
-               " frames written before the checkpoint: it is not the file of this run",
-               io->restart, file, kept, io->frames);
-    PetscCall(FramesWriteXdmf(io, src->comm, dir, src->grid->patch.nx, src->grid->patch.ny));
-  } else {
+  if (io->restarted && io->frames > 0) PetscCall(DropFramesAfterCheckpoint(io, src, file));
+  else {
     io->frames = 0;
     PetscCall(CreateFile(io, src, file));
     PetscCall(WriteFrame(io, src, start));
@@ -314,11 +327,13 @@ PetscErrorCode FramesTeStep(FabricIO io, const FrameSource *src, const FrameInfo
   PetscInt  n;
 
   PetscFunctionBeginUser;
-  if (!io || !io->output_te_every || !FramesOn(io, src->out->output_dir)) PetscFunctionReturn(0);
-  if (now->load_step != io->te_load_step) { /* the first te step of a load step */
+  if (!io) PetscFunctionReturn(0);
+  if (now->load_step != io->te_load_step) { /* the first te step of a load step; counted with the frames off
+                                               too, so that a restart within it that turns them on counts right */
     io->te_load_step = now->load_step;
     io->te_base      = te_steps - 1;
   }
+  if (!io->output_te_every || !FramesOn(io, src->out->output_dir)) PetscFunctionReturn(0);
   n = (PetscInt) (te_steps - io->te_base);
   if (n % io->output_te_every) PetscFunctionReturn(0);
   f         = *now;

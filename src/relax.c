@@ -538,8 +538,13 @@ PetscErrorCode FabricRun(Fabric fab)
   PetscCall(RestartLoad(fab)); /* -restart: state, counters and curve rows of the checkpoint */
   PetscCall(OutputOpen(fab));
   f = NowFrame(fab); /* the state the run starts from */
-  if (fab->load.load_step > 0 && !CheckpointResumesLoadStep() && !s->out.output_te_every &&
-      !s->out.output_tear_every) /* a restart at a load step's end: frame 0 (if frames were off) at its time_s */
+  if (CheckpointResumesLoadStep()) { /* a restart within load step k: frame 0 (if frames were off) is a state of it */
+    f.load_step = fab->load.load_step + 1;
+    if (fab->io && fab->io->te_load_step == f.load_step) f.te_step = (PetscInt) (fab->stats.te_steps - fab->io->te_base);
+    if (!s->out.output_te_every && !s->out.output_tear_every) /* load step frames at their time_s: before k's */
+      f.time = fab->load.load_step > 0 ? fab->stats.curve[fab->load.load_step - 1].time : 0;
+  } else if (fab->load.load_step > 0 && !s->out.output_te_every &&
+             !s->out.output_tear_every) /* a restart at a load step's end: frame 0 (if frames were off) at its time_s */
     f.time = fab->stats.curve[fab->load.load_step - 1].time;
   PetscCall(FramesOpen(fab->io, &src, &f)); /* fabric.h5 and fabric.xmf */
   for (PetscInt k = fab->load.load_step + 1; k <= s->load.load_steps && !fab->stats.rupture.rupture_step; k++) {

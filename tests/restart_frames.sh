@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# Frames when a restart changes the frame options (the 20 x 5 mm strip, 1 rank; the checkpoint within
+# load step 4 of 4, -checkpoint_every_te 1500 at its te step 351):
+#  1. te frames turned on at the restart: each te frame has the te step and time of the uninterrupted
+#     run's frame at that te step (they were counted from the restart);
+#  2. frames turned on at the restart: frame 0, the restart's state, is labelled load step 4 and its te
+#     step, before load step 4's own frame in time (it was labelled 3, after it);
+#  3. a restart that writes no frames: fabric.h5 and fabric.xmf keep the frames written before the
+#     checkpoint and no later one (the stopped run's later frames stayed).
+set -u
+fabric="$1"; strip="$2"; rupture="$3"
+work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
+opts=(-scene "$strip" -gauge_mm 20 -width_mm 5 -predict none -load_steps 4 -quiet)
+fail=0
+frames() { # fabric.xmf: one line per frame, "time load_step te_step"
+  /usr/bin/python3 -c '
+import re, sys
+for g in re.findall(r"<Grid Name=\"frame_\d+\".*?</Grid>", open(sys.argv[1]).read(), re.S):
+    v = [re.search(p, g).group(1) for p in (r"<Time [^>]*Value=\"([^\"]*)\"", r"\"load_step\" Value=\"([^\"]*)\"", r"\"te_step\" Value=\"([^\"]*)\"")]
+    print("%.12g %s %s" % (float(v[0]), v[1], v[2]))' "$1"
+}
+check() { if eval "$1"; then echo "PASS $2"; else echo "FAIL $2"; fail=1; fi; }
+
+"$fabric" "${opts[@]}" -output_every 0 -output_te_every 100 -output_dir "$work/ref" || fail=1
+"$fabric" "${opts[@]}" -output_every 0 -checkpoint_every_te 1500 -output_dir "$work/te" || fail=1
+"$fabric" "${opts[@]}" -output_every 0 -output_te_every 100 -restart "$work/te/checkpoint.h5" -output_dir "$work/te" || fail=1
+frames "$work/ref/fabric.xmf" >"$work/ref.txt"; frames "$work/te/fabric.xmf" >"$work/te.txt"
+check 'tail -n +2 "$work/te.txt" | grep -qv "^.* 4 0$" && [[ -z "$(tail -n +2 "$work/te.txt" | grep -vxFf "$work/ref.txt")" ]]' \
+  "te frames after the restart = the uninterrupted run's: $(tail -n +2 "$work/te.txt" | tr '\n' ';')"
+
+"$fabric" "${opts[@]}" -output_every 0 -checkpoint_every_te 1500 -output_dir "$work/on" || fail=1
+"$fabric" "${opts[@]}" -output_every 1 -restart "$work/on/checkpoint.h5" -output_dir "$work/on" || fail=1
+frames "$work/on/fabric.xmf" >"$work/on.txt"
+check 'awk "NR == 1 { t = \$1; ok = \$2 == 4 && \$3 > 0 } NR == 2 { ok = ok && \$2 == 4 && \$1 > t } END { exit !ok }" "$work/on.txt"' \
+  "frame 0 of the restart within load step 4: $(head -1 "$work/on.txt"), then $(sed -n 2p "$work/on.txt") (time, load step, te step)"
+
+ropts=(-scene "$rupture" -gauge_mm 20 -width_mm 5 -quiet -checkpoint_every 30)
+"$fabric" "${ropts[@]}" -output_te_every 20 -output_tear_every 10 -output_dir "$work/full" || fail=1
+ck_frames=$(h5dump -a /frames "$work/full/checkpoint.h5" 2>/dev/null | sed -n 's/^ *(0): \([0-9]*\)$/\1/p')
+cp -r "$work/full" "$work/off" # the run stopped after its last checkpoint, at load step 60, with its later frames
+"$fabric" "${ropts[@]}" -output_every 0 -output_te_every 0 -output_tear_every 0 -restart "$work/off/checkpoint.h5" \
+  -output_dir "$work/off" || fail=1
+kept=$(h5ls "$work/off/fabric.h5/frames" | wc -l); listed=$(grep -c '<Grid Name="frame' "$work/off/fabric.xmf")
+all=$(h5ls "$work/full/fabric.h5/frames" | wc -l)
+check '[[ -n "$ck_frames" && $kept == "$ck_frames" && $listed == "$ck_frames" && $all -gt $ck_frames ]]' \
+  "a restart without frames: fabric.h5 keeps $kept and fabric.xmf lists $listed frames, the checkpoint's $ck_frames (the stopped run wrote $all)"
+exit $fail
