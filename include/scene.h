@@ -142,6 +142,7 @@ typedef struct { /* rigid bodies with penalty contact (MODEL.md 5.5) */
   /* sphere (punch): centre = start + d * dir, d = 0 .. travel over the load steps */
   PetscReal sphere_radius;   /* m, 0 = no sphere */
   PetscReal sphere_start[3]; /* m, from the grid centre at rest */
+  PetscBool sphere_start_set; /* given (-sphere_start_mm), else the default: touching the fabric's plane */
   PetscReal sphere_dir[3];   /* unit */
   PetscReal sphere_travel;   /* m */
   PetscReal thickness;       /* m: fabric thickness, contact at R + h/2 */

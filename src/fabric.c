@@ -604,12 +604,12 @@ static PetscErrorCode CheckSphere(Fabric fab, const DMDALocalInfo *info)
     deep[h] = best, at[h] = code;
   }
   PetscCheck(!(deep[0] > 1e-6 * b->reach), fab->comm, PETSC_ERR_USER_INPUT,
-             "-sphere_start_mm %g,%g,%g: the ball (-sphere_diameter_mm %g) starts %g mm into the fabric at crossing "
-             "(%" PetscInt_FMT ", %" PetscInt_FMT "); start it clear of the fabric (by default it starts just below the "
-             "grid's centre)",
+             "-sphere_start_mm %g,%g,%g%s: the ball (-sphere_diameter_mm %g) starts %g mm into the fabric at crossing "
+             "(%" PetscInt_FMT ", %" PetscInt_FMT "); start it clear of the fabric",
              (double) (1e3 * sb->sphere_start[0]), (double) (1e3 * sb->sphere_start[1]),
-             (double) (1e3 * sb->sphere_start[2]), (double) (2e3 * sb->sphere_radius), (double) (1e3 * deep[0]),
-             at[0] % fab->s.spec.nx, at[0] / fab->s.spec.nx);
+             (double) (1e3 * sb->sphere_start[2]),
+             sb->sphere_start_set ? "" : " (the default: touching the fabric's plane from behind along -sphere_direction)",
+             (double) (2e3 * sb->sphere_radius), (double) (1e3 * deep[0]), at[0] % fab->s.spec.nx, at[0] / fab->s.spec.nx);
   PetscCheck(!(deep[1] > 1e-6 * b->reach), fab->comm, PETSC_ERR_USER_INPUT,
              "-sphere_diameter_mm %g with -sphere_travel_mm %g: the ball's path reaches the held crossing (%" PetscInt_FMT
              ", %" PetscInt_FMT ") by %g mm, and contact leaves held crossings alone (it would pass through the clamps): "

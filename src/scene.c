@@ -178,8 +178,8 @@ static const OptionDesc Options[] = {
     REALS("", "sphere_direction", sphere_direction, 3, 0, 0, 1, 3, 3, XYZ,
           "direction of the sphere's straight path x,y,z (normalised)"),
     REALS("", "sphere_start_mm", sphere_start_mm, 0, 0, 0, 0, 3, 3, XYZ,
-          "sphere centre at the start, x,y,z from the grid centre (mm); default: touching the fabric from behind along "
-          "-sphere_direction"),
+          "sphere centre at the start, x,y,z from the grid centre (mm); default: on the path's line through the grid "
+          "centre, touching the fabric's plane from behind"),
     REAL("", "sphere_travel_mm", sphere_travel_mm, TDEF(TravelByTest), NONNEG, NONNEG_MUST,
          "sphere travel along its path over the load steps (mm)"),
     REAL("", "contact_stiffness_N_m", contact_stiffness_N_m, DEF(0), NONNEG, NONNEG_MUST,
@@ -1116,9 +1116,18 @@ static PetscErrorCode DeriveBodies(MPI_Comm comm, const SceneInput *in, Scene *s
   b->thickness     = 1e-3 * in->thickness_mm;
   b->sphere_travel = 1e-3 * in->sphere_travel_mm;
   PetscCall(UnitVector(comm, "sphere_direction", in->sphere_direction, b->sphere_dir));
+  /* the default start: the ball touches the fabric's plane from behind, its centre on the path's line through
+     the grid's centre, (R + h/2)/|dz| back along the path (a tilted path starts farther back) */
+  b->sphere_start_set = in->n_sphere_start_mm ? PETSC_TRUE : PETSC_FALSE;
+  PetscCheck(b->sphere_start_set || b->sphere_radius == 0 || b->sphere_dir[2] != 0, comm, PETSC_ERR_USER_INPUT,
+             "-sphere_direction %g,%g,%g lies in the fabric's plane: the ball has no default start (touching the "
+             "fabric from behind along the path); give -sphere_start_mm, or a direction with a z component",
+             (double) in->sphere_direction[0], (double) in->sphere_direction[1], (double) in->sphere_direction[2]);
   for (int d = 0; d < 3; d++)
-    b->sphere_start[d] = in->n_sphere_start_mm ? 1e-3 * in->sphere_start_mm[d]
-                                               : -(b->sphere_radius + 0.5 * b->thickness) * b->sphere_dir[d];
+    b->sphere_start[d] = b->sphere_start_set ? 1e-3 * in->sphere_start_mm[d]
+                         : b->sphere_radius > 0
+                             ? -(b->sphere_radius + 0.5 * b->thickness) / PetscAbsReal(b->sphere_dir[2]) * b->sphere_dir[d]
+                             : 0.0;
   b->plane = in->plane;
   for (int d = 0; d < 3; d++) b->plane_point[d] = 1e-3 * in->plane_point_mm[d];
   PetscCall(UnitVector(comm, "plane_normal", in->plane_normal, b->plane_normal));
