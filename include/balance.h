@@ -18,6 +18,13 @@ typedef struct {
 } BalanceCheck;
 PetscErrorCode BalanceCrossings(Fabric fab, BalanceCheck *c);
 
+/* The pushing test, before a load step's row is written: a free crossing within the ball's silhouette (closer
+   to the axis of its path than its radius) and behind its centre along the path has been passed through.
+   Contact acts on the crossings alone: yarns strained far past any real yarn's strength (no breaking strain)
+   let the ball slip between them. Stops the run naming the crossing; not once a yarn has broken (the ball may
+   go through the hole). */
+PetscErrorCode BallPassedCheck(Fabric fab);
+
 /* The energy watch (damped and paper integrators): every ENERGY_WATCH_EVERY te steps of a
    relaxation with nothing doing work on the fabric, the mechanical energy H (below) is taken
    across one te step. EnergyWatchBefore, before te step n of the relaxation round, says whether

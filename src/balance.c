@@ -23,6 +23,7 @@
  * FIRE needs no watch: it stops all motion at the first te step whose power F.v is negative.
  */
 #include "balance.h"
+#include "bodies.h"
 #include "comm.h"
 #include "events.h"
 #include "integrate.h"
@@ -96,6 +97,40 @@ PetscErrorCode BalanceCrossings(Fabric fab, BalanceCheck *c)
   c->box[0] = (PetscInt) -red[0], c->box[1] = (PetscInt) red[1], c->box[2] = (PetscInt) -red[2],
   c->box[3] = (PetscInt) red[3];
   PetscCall(PetscLogEventEnd(EV_Check, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode BallPassedCheck(Fabric fab)
+{
+  const Patch       *p = &fab->grid.patch;
+  const PetscScalar *x;
+  PetscReal          behind = 0, c[3];
+  PetscInt           where  = -1;
+  const Body        *b      = NULL;
+
+  PetscFunctionBeginUser;
+  for (PetscInt q = 0; q < fab->bodies.n; q++)
+    if (fab->bodies.body[q].kind == BODY_SPHERE) b = &fab->bodies.body[q];
+  if (!b || fab->stats.broken_any) PetscFunctionReturn(0);
+  BodyPosition(b, fab->load.travel_now, c);
+  PetscCall(VecGetArrayRead(fab->state.X, &x));
+  for (PetscInt k = 0; k < fab->grid.nloc; k++) {
+    PetscReal r[3], along = 0, r2 = 0;
+    if (!(fab->grid.inv_m[k] > 0)) continue;
+    for (int d = 0; d < 3; d++) r[d] = x[3 * k + d] - c[d], along += r[d] * b->dir[d], r2 += r[d] * r[d];
+    if (-along > behind && r2 - along * along < b->radius * b->radius) behind = -along, where = GlobalIndexOf(p, k);
+  }
+  PetscCall(VecRestoreArrayRead(fab->state.X, &x));
+  PetscCall(GlobalArgMax(fab->comm, &behind, &where));
+  PetscCheck(where < 0, fab->comm, PETSC_ERR_NOT_CONVERGED,
+             "the ball has passed through the fabric at load step %" PetscInt_FMT " (travel %g mm): crossing (%" PetscInt_FMT
+             ", %" PetscInt_FMT ") lies %g mm behind its centre, within its silhouette. Contact acts on the crossings "
+             "alone, and yarns that do not break (-warp_break_pct %g, -weft_break_pct %g) let the ball slip between "
+             "them once strained far past a real yarn's strength: give the yarns a breaking strain, a shorter "
+             "-sphere_travel_mm or a stiffer -contact_stiffness_N_m (now %g N/m)",
+             fab->load.load_step, (double) (1e3 * fab->load.travel_now), where % p->nx, where / p->nx,
+             (double) (1e3 * behind), (double) (100 * fab->s.yarns.warp.break_ey),
+             (double) (100 * fab->s.yarns.weft.break_ey), (double) b->k);
   PetscFunctionReturn(0);
 }
 

@@ -557,6 +557,7 @@ PetscErrorCode FabricRun(Fabric fab)
       PetscCall(RelaxLoadStep(fab, row));
     if (CheckpointStopped()) break; /* SIGTERM or SIGUSR1: its checkpoint is written */
     ruptured = fab->stats.rupture.rupture_step == k;
+    if (!ruptured) PetscCall(BallPassedCheck(fab)); /* the pushing test: the fabric still before the ball */
     if (!row->balanced && !ruptured) fab->stats.converged = PETSC_FALSE; /* a tear is not meant to balance */
     PetscCall(KeepConverged(fab));
     PetscCall(PetscTime(&fab->stats.wall));
