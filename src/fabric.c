@@ -743,21 +743,39 @@ PetscErrorCode FabricCreate(MPI_Comm comm, Fabric *out)
   PetscFunctionReturn(0);
 }
 
+/* The coarse fabric takes the fine one's clamps, bodies and load at half the density: where they do not fit it (a
+   clamping ring between its crossings, a point load on its outline), its set-up refuses it as user input; then
+   the fine fabric is solved without it, with a notice (the indices of the refusal are the coarse grid's) */
 PetscErrorCode FabricCreateCoarse(Fabric fine, Fabric *out)
 {
-  Fabric    fab;
-  PetscBool fits;
+  Fabric         fab;
+  PetscBool      fits = PETSC_FALSE;
+  PetscErrorCode ierr;
 
   PetscFunctionBeginUser;
   *out = NULL;
   PetscCall(PetscNew(&fab));
   fab->comm = fine->comm, fab->rank = fine->rank, fab->size = fine->size;
-  PetscCall(SceneCoarsen(fine->comm, &fine->s, &fab->s, &fits));
+  PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
+  ierr = SceneCoarsen(fine->comm, &fine->s, &fab->s, &fits);
+  if (!ierr && fits) ierr = FabricSetUp(fab);
+  PetscCall(PetscPopErrorHandler());
+  if (ierr == PETSC_ERR_USER_INPUT) {
+    const char *text;
+    char       *specific = NULL;
+    PetscCall(PetscErrorMessage(ierr, &text, &specific));
+    if (!fine->s.out.quiet)
+      PetscCall(PetscPrintf(fine->comm,
+                            "fabric: -static_sequence: no coarser fabric below %" PetscInt_FMT " x %" PetscInt_FMT
+                            ": at half the density this scene does not fit (%s); solved without it\n",
+                            fine->s.spec.nx, fine->s.spec.ny, specific && specific[0] ? specific : text));
+    fits = PETSC_FALSE;
+  } else
+    PetscCall(ierr);
   if (!fits) {
-    PetscCall(PetscFree(fab));
+    PetscCall(FabricDestroy(&fab));
     PetscFunctionReturn(0);
   }
-  PetscCall(FabricSetUp(fab));
   *out = fab;
   PetscFunctionReturn(0);
 }
