@@ -527,8 +527,11 @@ static PetscErrorCode SetUpMasses(Fabric fab, const DMDALocalInfo *info_)
       PetscCall(GlobalMax(comm, &bad, 1));
       PetscCheck(bad == 0 || (s->load.point_load[0] == 0 && s->load.point_load[1] == 0 && s->load.point_load[2] == 0), comm,
                  PETSC_ERR_USER_INPUT,
-                 "-point_load_at %" PetscInt_FMT ",%" PetscInt_FMT ": the point load acts on a crossing that %s; give a free crossing",
-                 s->load.load_at[0], s->load.load_at[1], bad == 1 ? "is not in the specimen" : "is held (clamped or in a grip)");
+                 "-point_load_at %" PetscInt_FMT ",%" PetscInt_FMT "%s: the point load (-point_load_N %g,%g,%g) acts on a "
+                 "crossing that %s; give a free crossing",
+                 s->load.load_at[0], s->load.load_at[1], s->in.n_point_load_at ? "" : " (the default: the grid's centre)",
+                 (double) s->load.point_load[0], (double) s->load.point_load[1], (double) s->load.point_load[2],
+                 bad == 1 ? "is not in the specimen" : "is held (clamped or in a grip)");
     }
     fab->grid.points = count;
     PetscCall(GlobalSumInt(comm, &fab->grid.points, 1));

@@ -1317,10 +1317,13 @@ static PetscErrorCode CheckSolverOptions(MPI_Comm comm, const SceneInput *in)
   PetscCheck(in->output_te_every == 0, comm, PETSC_ERR_USER_INPUT,
              "-output_te_every %" PetscInt_FMT " with -solver static: it takes no te steps; use -output_every",
              in->output_te_every);
-  PetscCheck(in->checkpoint_every_te == 0 && in->checkpoint_every_s == 0, comm, PETSC_ERR_USER_INPUT,
-             "-checkpoint_every_te %" PetscInt_FMT " / -checkpoint_every_s %g with -solver static: it checkpoints "
-             "between load steps only; use -checkpoint_every",
-             in->checkpoint_every_te, (double) in->checkpoint_every_s);
+  PetscCheck(in->checkpoint_every_te == 0, comm, PETSC_ERR_USER_INPUT,
+             "-checkpoint_every_te %" PetscInt_FMT " with -solver static: it checkpoints between load steps only; use "
+             "-checkpoint_every",
+             in->checkpoint_every_te);
+  PetscCheck(in->checkpoint_every_s == 0, comm, PETSC_ERR_USER_INPUT,
+             "-checkpoint_every_s %g with -solver static: it checkpoints between load steps only; use -checkpoint_every",
+             (double) in->checkpoint_every_s);
   { /* the explicit relaxation's knobs: Newton reads none of them (a tear runs the damped scheme with the tear_*
        options). Typed by the user, refused; from a scene file (large.yaml's -front), left to the explicit path */
     static const char *const relaxation[] = {"integrator",   "front",        "sleep_tol",     "kinetic_damping",
