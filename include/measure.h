@@ -11,6 +11,10 @@ PetscErrorCode MeasureLoadStep(Fabric fab, CurveRow *row);
 #define CURVE_COLS 21
 void CurveRowPack(const CurveRow *r, PetscReal a[CURVE_COLS]);
 void CurveRowUnpack(const PetscReal a[CURVE_COLS], CurveRow *r);
+/* drape test, at set-up: the flat specimen's area, measured as the drape's outlines are; the support must leave
+   some of it hanging (the nominal disc is wider than the grid's outline: a support between the two gave a drape
+   coefficient above 100 %) */
+PetscErrorCode DrapeSetUp(Fabric fab);
 /* drape test: drape_pct and folds of the current positions, the largest drop into row->travel */
 PetscErrorCode DrapeOutline(Fabric fab, CurveRow *row);
 

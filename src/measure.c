@@ -180,6 +180,24 @@ static PetscErrorCode Outline(MPI_Comm comm, const FabricGrid *g, Vec X, PetscRe
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode DrapeSetUp(Fabric fab)
+{
+  const Scene *s = &fab->s;
+  PetscReal    r[DRAPE_RAYS], drop, a_disc = PETSC_PI * PetscSqr(DrapeSupportRadius(s));
+
+  PetscFunctionBeginUser;
+  PetscCall(Outline(fab->comm, &fab->grid, fab->grid.X0, r, &fab->meas.drape_flat_area, &drop));
+  PetscCheck(a_disc < fab->meas.drape_flat_area, fab->comm, PETSC_ERR_USER_INPUT,
+             "%s %g mm: the support covers the specimen's flat outline on this grid (the area of a %g mm disc; the grid's "
+             "edge lies inside the nominal %g mm disc): nothing hangs over it, and the drape coefficient (A_shadow - "
+             "A_disc)/(A_flat - A_disc) has no meaning; use a smaller support or a denser grid",
+             DrapeSupportRadius(s) > s->bodies.pedestal_radius ? "-clamp_ring_mm: the support's outer diameter"
+                                                               : "-pedestal_diameter_mm",
+             2e3 * (double) DrapeSupportRadius(s), 2e3 * (double) PetscSqrtReal(fab->meas.drape_flat_area / PETSC_PI),
+             2e3 * (double) s->spec.disc_radius);
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode DrapeOutline(Fabric fab, CurveRow *row)
 {
   const Scene *s = &fab->s;

@@ -1158,6 +1158,10 @@ static PetscErrorCode DeriveBodies(MPI_Comm comm, const SceneInput *in, Scene *s
                "-shape %s with -test drape: the drape coefficient (BS 5058, ISO 9073-9) is that of a disc specimen; "
                "use -shape disc",
                ShapeNames[s->spec.shape]);
+    PetscCheck(DrapeSupportRadius(s) > 0, comm, PETSC_ERR_USER_INPUT,
+               "-pedestal_diameter_mm %g with -clamp %s: the drape has no support (a pedestal, or a clamping ring with "
+               "-clamp ring): the specimen would fall freely",
+               2e3 * (double) b->pedestal_radius, ClampNames[s->clamps.clamp]);
     PetscCheck(DrapeSupportRadius(s) < s->spec.disc_radius, comm, PETSC_ERR_USER_INPUT,
                "%s %g mm is not smaller than the specimen's %g mm (-disc_diameter_mm): nothing hangs over the "
                "support, and the drape coefficient (A_shadow - A_disc)/(A_specimen - A_disc) has no meaning",
