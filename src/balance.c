@@ -211,7 +211,7 @@ static PetscErrorCode StopPumping(Fabric fab, PetscInt n, PetscReal h0, PetscRea
   PetscReal          best = -1, info[4] = {-PETSC_MAX_REAL, -PETSC_MAX_REAL, -PETSC_MAX_REAL, -PETSC_MAX_REAL};
   PetscInt           kb = -1, where;
   const char        *seg[4] = {"warp to (i-1,j)", "warp to (i+1,j)", "weft to (i,j-1)", "weft to (i,j+1)"};
-  char               strains[256] = "", kink[128] = "", how[96] = "";
+  char               strains[256] = "", kink[128] = "", how[96] = "", advice[320] = "";
 
   PetscFunctionBeginUser;
   if (held)
@@ -259,22 +259,25 @@ static PetscErrorCode StopPumping(Fabric fab, PetscInt n, PetscReal h0, PetscRea
           }
       }
     }
+    if (fab->s.num.integrator != INTEGRATOR_PAPER)
+      PetscCall(PetscSNPrintf(advice, sizeof advice, "Use -integrator fire, a larger -damping_ratio (now %g) or a smaller -te_safety (now %g)",
+                              (double) fab->s.num.damping_ratio, (double) fab->s.num.te_safety));
+    else /* its parasitic mode grows with any damping, and no te safety measured stops it (docs/stability.md) */
+      PetscCall(PetscSNPrintf(advice, sizeof advice,
+                              "%s the paper integrator does not relax at any damping or te safety measured (its "
+                              "parasitic mode grows with damping: docs/stability.md); use -integrator fire or damped",
+                              fab->stats.broken_any ? "Yarns have broken: their loose ends cross the kinks over and over, and"
+                                                    : "A relaxation to balance is beyond it:"));
     SETERRQ(fab->comm, PETSC_ERR_NOT_CONVERGED,
             "energy watch: at load step %" PetscInt_FMT ", te step %" PetscInt_FMT
             " of its relaxation, the mechanical energy has grown by %g J since its lowest %g J (the relaxation had "
             "released %g J)%s while nothing did work on the fabric: the %s integrator pumps energy. It moves most at "
             "crossing (%" PetscInt_FMT ", %" PetscInt_FMT "), chord strains %s, nearest to %s: a segment crossing a kink "
-            "of the yarn law within a te step gains energy that a low damping does not take out. %s a larger "
-            "-damping_ratio (now %g) or a smaller -te_safety (now %g); -energy_watch 0 switches the watch off",
+            "of the yarn law within a te step gains energy that a low damping does not take out. %s; -energy_watch 0 "
+            "switches the watch off",
             fab->load.load_step, n, (double) (h - hmin), (double) hmin, (double) (h0 - hmin),
             how, IntegratorNames[fab->s.num.integrator], gi, gj, strains[0] ? strains : "(none)",
-            kink[0] ? kink : "(no segment)",
-            fab->s.num.integrator == INTEGRATOR_PAPER && fab->stats.broken_any
-                ? "Yarns have broken: their loose ends cross the kinks over and over, which the paper integrator "
-                  "does not relax at any damping or te safety measured (docs/rupture.md); use -integrator fire or "
-                  "damped. Else"
-                : "Use -integrator fire,",
-            (double) fab->s.num.damping_ratio, (double) fab->s.num.te_safety);
+            kink[0] ? kink : "(no segment)", advice);
   }
 }
 

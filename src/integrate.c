@@ -568,14 +568,15 @@ static PetscErrorCode InstabilityCause(Fabric fab, char *cause, size_t len)
 
   PetscFunctionBeginUser;
   cause[0] = 0;
-  if (!PaperSteps(fab) || fab->s.num.nu == 0) PetscFunctionReturn(0);
+  if (!PaperSteps(fab) || (fab->s.num.nu == 0 && fab->step.damp_c == 0)) PetscFunctionReturn(0);
   for (PetscInt k = 0; k < fab->grid.nloc; k++) inv_m = PetscMax(inv_m, fab->grid.inv_m[k]);
   PetscCall(GlobalMax(fab->comm, &inv_m, 1));
   PetscCall(PetscSNPrintf(cause, len,
                           "; -integrator paper steps the damping by a central difference whose spurious mode grows by a "
-                          "factor of about 1 + c te per te step: with -nu %g N s/m, c te = %g at the lightest crossing; "
-                          "use -integrator damped or a smaller -nu",
-                          (double) fab->s.num.nu, (double) ((fab->step.damp_c + fab->s.num.nu * inv_m) * fab->step.te)));
+                          "factor of about 1 + c te per te step: with -damping_ratio %g and -nu %g N s/m, c te = %g at the "
+                          "lightest crossing; use -integrator fire or damped (more damping makes it grow faster)",
+                          (double) fab->s.num.damping_ratio, (double) fab->s.num.nu,
+                          (double) ((fab->step.damp_c + fab->s.num.nu * inv_m) * fab->step.te)));
   PetscFunctionReturn(0);
 }
 
