@@ -502,21 +502,24 @@ static PetscErrorCode FirePower(Fabric fab, const PetscInt box[4], PetscScalar *
    three states puts the peak at x - 1.5 te v + 0.5 te^2 F/m (Barnes). Resetting the velocities
    where the points are instead, half a step past the peak, feeds the chain energy at every reset;
    near the stable step that runs away (docs/stability.md). */
-static PetscErrorCode StepBackToPeak(Fabric fab, const PetscScalar *v)
+static PetscErrorCode StepBackToPeak(Fabric fab, const PetscInt box[4], const PetscScalar *v)
 {
   const PetscReal    te = fab->step.te, *g = fab->load.gravity_now;
+  const Patch       *p  = &fab->grid.patch;
   const PetscScalar *f;
   PetscScalar       *x;
 
   PetscFunctionBeginUser;
   PetscCall(VecGetArray(fab->state.X, &x));
   PetscCall(VecGetArrayRead(fab->state.F, &f));
-  for (PetscInt k = 0; k < fab->grid.nloc; k++) {
-    const PetscReal im = fab->grid.inv_m[k], m = fab->grid.mass[k];
-    if (!(im > 0)) continue;
-    for (int d = 0; d < 3; d++)
-      x[3 * k + d] -= 1.5 * te * v[3 * k + d] - 0.5 * te * te * (f[3 * k + d] + m * g[d]) * im;
-  }
+  for (PetscInt j = box[2]; j < box[3]; j++) /* the points this te step moved: the front's and sleeping's box */
+    for (PetscInt i = box[0]; i < box[1]; i++) {
+      const PetscInt  k  = (j - p->ys) * p->xm + (i - p->xs);
+      const PetscReal im = fab->grid.inv_m[k], m = fab->grid.mass[k];
+      if (!(im > 0)) continue;
+      for (int d = 0; d < 3; d++)
+        x[3 * k + d] -= 1.5 * te * v[3 * k + d] - 0.5 * te * te * (f[3 * k + d] + m * g[d]) * im;
+    }
   PetscCall(VecRestoreArrayRead(fab->state.F, &f));
   PetscCall(VecRestoreArray(fab->state.X, &x));
   PetscFunctionReturn(0);
@@ -540,7 +543,7 @@ static void KineticTerms(Fabric fab, const PetscScalar *v, PetscReal *scale)
   ExactSumScales(1, fab->step.ke_terms, fab->grid.nloc, scale);
 }
 
-static PetscErrorCode KineticDamping(Fabric fab, PetscReal scale)
+static PetscErrorCode KineticDamping(Fabric fab, const PetscInt box[4], PetscReal scale)
 {
   PetscScalar *v;
   PetscReal    ke;
@@ -549,7 +552,7 @@ static PetscErrorCode KineticDamping(Fabric fab, PetscReal scale)
   PetscCall(GlobalSumsExactScaled(fab->comm, 1, fab->step.ke_terms, fab->grid.nloc, &scale, &ke));
   PetscCall(VecGetArray(fab->state.V, &v));
   if (ke < fab->step.ke_prev) { /* past the peak: back to it (MODEL.md 15), and start again from rest there */
-    PetscCall(StepBackToPeak(fab, v));
+    PetscCall(StepBackToPeak(fab, box, v));
     for (PetscInt k = 0; k < 3 * fab->grid.nloc; k++) v[k] = 0;
     fab->step.ke_prev = 0;
     fab->step.ke_resets++;
@@ -707,7 +710,7 @@ PetscErrorCode TimeStep(Fabric fab, StepStats *out)
             fab->load.load_step, fab->stats.te_steps, (double) (out->speed * fab->step.te), (double) fab->grid.extent,
             (double) fab->step.te, (double) fab->step.te_bound, cause);
   }
-  if (kinetic) PetscCall(KineticDamping(fab, red[nred - 1]));
+  if (kinetic) PetscCall(KineticDamping(fab, box, red[nred - 1]));
   out->balanced  = (out->residual <= s->num.balance_tol && out->speed <= s->num.speed_tol &&
                    fab->load.ramp_done >= fab->load.ramp_steps)
                        ? PETSC_TRUE
