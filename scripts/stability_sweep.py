@@ -38,7 +38,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 # Base cases, each with an exact answer (MODEL.md 12). Output options are added per run.
 # ---------------------------------------------------------------------------------------------
 # no frames; the progress line of each load step stays on: it marks the load steps that did not
-# balance with a '*', which the sweep reads (curve.csv has no such column)
+# balance with a '*', which the sweep reads (curve.csv's balanced column says the same)
 QUIET = "-output_every 0"
 
 # L: linear strip. 10 uncrimped yarns, 20 mm gauge (49 crossings along the pull), no gravity, no

@@ -69,7 +69,7 @@ else
 fi
 # the reference takes the options given except the explicit relaxation's knobs, which -solver static
 # refuses (src/scene.c, CheckSolverOptions)
-relaxation=" -integrator -front -sleep_tol -kinetic_damping -damping_ratio -balance_hold -balance_floor -speed_tol -energy_watch -early_exit -te_safety "
+relaxation=" -integrator -front -sleep_tol -kinetic_damping -damping_ratio -balance_hold -balance_floor -speed_tol -energy_watch -early_exit -te_safety -grip_ramp_steps "
 all=("${base[@]}") static_base=()
 for ((k = 0; k < ${#all[@]}; k++)); do
   if [[ "$relaxation" == *" ${all[k]} "* ]]; then # the knob, and its value if one follows

@@ -122,15 +122,19 @@ PetscErrorCode BallPassedCheck(Fabric fab)
   }
   PetscCall(VecRestoreArrayRead(fab->state.X, &x));
   PetscCall(GlobalArgMax(fab->comm, &behind, &where));
-  PetscCheck(where < 0, fab->comm, PETSC_ERR_NOT_CONVERGED,
-             "the ball has passed through the fabric at load step %" PetscInt_FMT " (travel %g mm): crossing (%" PetscInt_FMT
-             ", %" PetscInt_FMT ") lies %g mm behind its centre, within its silhouette. Contact acts on the crossings "
-             "alone, and yarns that do not break (-warp_break_pct %g, -weft_break_pct %g) let the ball slip between "
-             "them once strained far past a real yarn's strength: give the yarns a breaking strain, a shorter "
-             "-sphere_travel_mm or a stiffer -contact_stiffness_N_m (now %g N/m)",
-             fab->load.load_step, (double) (1e3 * fab->load.travel_now), where % p->nx, where / p->nx,
-             (double) (1e3 * behind), (double) (100 * fab->s.yarns.warp.break_ey),
-             (double) (100 * fab->s.yarns.weft.break_ey), (double) b->k);
+  {
+    const PetscBool breaks = fab->s.yarns.warp.break_ey > 0 || fab->s.yarns.weft.break_ey > 0 ? PETSC_TRUE : PETSC_FALSE;
+    PetscCheck(where < 0, fab->comm, PETSC_ERR_NOT_CONVERGED,
+               "the ball has passed through the fabric at load step %" PetscInt_FMT " (travel %g mm): crossing (%" PetscInt_FMT
+               ", %" PetscInt_FMT ") lies %g mm behind its centre, within its silhouette. Contact acts on the crossings "
+               "alone, and yarns that %s (-warp_break_pct %g, -weft_break_pct %g) let the ball slip between them once "
+               "strained far past a real yarn's strength: %sa shorter -sphere_travel_mm or a stiffer "
+               "-contact_stiffness_N_m (now %g N/m)",
+               fab->load.load_step, (double) (1e3 * fab->load.travel_now), where % p->nx, where / p->nx,
+               (double) (1e3 * behind), breaks ? "have not broken" : "do not break",
+               (double) (100 * fab->s.yarns.warp.break_ey), (double) (100 * fab->s.yarns.weft.break_ey),
+               breaks ? "" : "give the yarns a breaking strain, ", (double) b->k);
+  }
   PetscFunctionReturn(0);
 }
 

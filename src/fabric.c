@@ -648,6 +648,7 @@ static PetscErrorCode CheckBodiesAtRest(Fabric fab, const DMDALocalInfo *info)
         if (p > deep) deep = p, at = j * fab->s.spec.nx + i;
       }
     PetscCall(GlobalArgMax(fab->comm, &deep, &at));
+    if (deep > 1e-6 * b->reach) PetscCall(VecRestoreArrayRead(fab->grid.X0, &x0)); /* refused below: X0 unlocked */
     if (b->kind == BODY_PLANE)
       PetscCheck(!(deep > 1e-6 * b->reach), fab->comm, PETSC_ERR_USER_INPUT,
                  "-plane_point_mm %g,%g,%g with -plane_normal %g,%g,%g: the plane starts %g mm into the fabric at "
@@ -765,18 +766,19 @@ PetscErrorCode FabricCreateCoarse(Fabric fine, Fabric *out)
   ierr = SceneCoarsen(fine->comm, &fine->s, &fab->s, &fits);
   if (!ierr && fits) ierr = FabricSetUp(fab);
   PetscCall(PetscPopErrorHandler());
-  if (ierr == PETSC_ERR_USER_INPUT) {
+  if (ierr) {
     const char *text;
     char       *specific = NULL;
     PetscCall(PetscErrorMessage(ierr, &text, &specific));
+    PetscCheck(ierr == PETSC_ERR_USER_INPUT, fine->comm, ierr, "the coarser fabric of -static_sequence: %s",
+               specific && specific[0] ? specific : text); /* the handler above printed nothing */
     if (!fine->s.out.quiet)
       PetscCall(PetscPrintf(fine->comm,
                             "fabric: -static_sequence: no coarser fabric below %" PetscInt_FMT " x %" PetscInt_FMT
                             ": at half the density this scene does not fit (%s); solved without it\n",
                             fine->s.spec.nx, fine->s.spec.ny, specific && specific[0] ? specific : text));
     fits = PETSC_FALSE;
-  } else
-    PetscCall(ierr);
+  }
   if (!fits) {
     PetscCall(FabricDestroy(&fab));
     PetscFunctionReturn(0);

@@ -262,6 +262,36 @@ static PetscErrorCode DropFramesFrom(MPI_Comm comm, const char *restart, const c
   PetscFunctionReturn(0);
 }
 
+/* rank 0: file is HDF5 and its /frames holds frames 0 .. first-1 (a run's own file, perhaps with later ones) */
+static int FramesFileHolds(const char *file, PetscInt first)
+{
+  H5E_auto2_t efunc;
+  void       *edata;
+  hid_t       fid, g;
+  H5G_info_t  info;
+  int         kept = 0;
+
+  H5Eget_auto2(H5E_DEFAULT, &efunc, &edata);
+  H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
+  fid = H5Fis_hdf5(file) > 0 ? H5Fopen(file, H5F_ACC_RDONLY, H5P_DEFAULT) : -1;
+  if (fid >= 0) {
+    if (H5Lexists(fid, "/frames", H5P_DEFAULT) > 0 && (g = H5Gopen2(fid, "/frames", H5P_DEFAULT)) >= 0) {
+      if (H5Gget_info(g, &info) >= 0)
+        for (hsize_t l = 0; l < info.nlinks; l++) {
+          char  name[64], *end;
+          long  index;
+          if (H5Lget_name_by_idx(g, ".", H5_INDEX_NAME, H5_ITER_INC, l, name, sizeof name, H5P_DEFAULT) < 0) continue;
+          index = strtol(name, &end, 10);
+          if (!*end && index >= 0 && index < first) kept++;
+        }
+      H5Gclose(g);
+    }
+    H5Fclose(fid);
+  }
+  H5Eset_auto2(H5E_DEFAULT, efunc, edata);
+  return kept == first;
+}
+
 /* a restart: fabric.h5 and fabric.xmf keep the frames written before the checkpoint, no later one */
 static PetscErrorCode DropFramesAfterCheckpoint(FabricIO io, const FrameSource *src, const char *file)
 {
@@ -286,10 +316,16 @@ PetscErrorCode FramesOpen(FabricIO io, const FrameSource *src, const FrameInfo *
 
   PetscFunctionBeginUser;
   if (dir[0]) PetscCall(PetscSNPrintf(file, sizeof file, "%s/fabric.h5", dir));
-  if (!FramesOn(io, dir)) { /* a restart that writes no frames: those the stopped run wrote after its checkpoint go */
-    PetscBool exists = PETSC_FALSE;
-    if (dir[0] && io->restarted && io->frames > 0) PetscCall(PetscTestFile(file, 'r', &exists));
-    if (exists) PetscCall(DropFramesAfterCheckpoint(io, src, file));
+  if (!FramesOn(io, dir)) { /* a restart that writes no frames: those the stopped run wrote after its checkpoint go,
+                               from its own file only (one that is damaged or another run's is left alone) */
+    int ours = 0;
+    if (dir[0] && io->restarted && io->frames > 0) {
+      PetscMPIInt rank;
+      PetscCall(CommRank(src->comm, &rank));
+      if (!rank) ours = FramesFileHolds(file, io->frames);
+      PetscCall(BroadcastFromRoot(src->comm, &ours, 1, MPI_INT));
+    }
+    if (ours) PetscCall(DropFramesAfterCheckpoint(io, src, file));
     PetscFunctionReturn(0);
   }
   PetscCall(PetscLogEventBegin(EV_Output, 0, 0, 0, 0));

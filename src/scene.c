@@ -538,7 +538,7 @@ static PetscErrorCode CheckReal(MPI_Comm comm, const OptionDesc *o, const char *
   PetscCheck(ok, comm, PETSC_ERR_USER_INPUT, "-%s must be %s, got %.15g", name, o->must, (double) v);
   for (size_t k = 0; k < sizeof Physical / sizeof Physical[0]; k++)
     PetscCheck(strcmp(o->name, Physical[k].name) || v <= Physical[k].hi, comm, PETSC_ERR_USER_INPUT,
-               "-%s %g is beyond the physical range (at most %s%s%s: %s)", name, (double) v, Physical[k].hi_text,
+               "-%s %.15g is beyond the physical range (at most %s%s%s: %s)", name, (double) v, Physical[k].hi_text,
                Physical[k].unit[0] ? " " : "", Physical[k].unit, Physical[k].why);
   PetscFunctionReturn(0);
 }
@@ -1332,7 +1332,7 @@ static PetscErrorCode CheckSolverOptions(MPI_Comm comm, const SceneInput *in)
        options). Typed by the user, refused; from a scene file (large.yaml's -front), left to the explicit path */
     static const char *const relaxation[] = {"integrator",   "front",        "sleep_tol",     "kinetic_damping",
                                              "damping_ratio", "balance_hold", "balance_floor", "speed_tol",
-                                             "energy_watch", "early_exit",   "te_safety"};
+                                             "energy_watch", "early_exit",   "te_safety",     "grip_ramp_steps"};
     for (size_t k = 0; k < sizeof relaxation / sizeof relaxation[0]; k++) {
       char      opt[64], value[256] = "";
       PetscBool set, user;
@@ -1916,9 +1916,9 @@ static PetscErrorCode SceneDerive(MPI_Comm comm, Scene *s)
   PetscCall(DeriveLines(comm, "grip_line_mm", in->grip_line_mm, in->n_grip_line_mm, &s->clamps.grip_lines,
                         s->clamps.grip_line));
   PetscCall(DerivePath(comm, in, &s->load));
+  PetscCall(CheckSolverOptions(comm, in)); /* first: the explicit knobs' own checks would name the wrong cure */
   PetscCall(CheckTestOptions(comm, in, s));
   PetscCall(CheckOptionsApply(comm, s));
-  PetscCall(CheckSolverOptions(comm, in));
   PetscCall(CheckOutputPlaces(comm, s));
   PetscFunctionReturn(0);
 }

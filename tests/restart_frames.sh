@@ -44,4 +44,10 @@ kept=$(h5ls "$work/off/fabric.h5/frames" | wc -l); listed=$(grep -c '<Grid Name=
 all=$(h5ls "$work/full/fabric.h5/frames" | wc -l)
 check '[[ -n "$ck_frames" && $kept == "$ck_frames" && $listed == "$ck_frames" && $all -gt $ck_frames ]]' \
   "a restart without frames: fabric.h5 keeps $kept and fabric.xmf lists $listed frames, the checkpoint's $ck_frames (the stopped run wrote $all)"
+# 4. the same with fabric.h5 damaged (the advice of a restart with frames, which refuses it): this run writes
+#    no frames and leaves the file alone (it stopped on it)
+cp -r "$work/full" "$work/bad"; echo "not HDF5" >"$work/bad/fabric.h5"
+"$fabric" "${ropts[@]}" -output_every 0 -output_te_every 0 -output_tear_every 0 -restart "$work/bad/checkpoint.h5" \
+  -output_dir "$work/bad" >"$work/bad.log" 2>&1; rc=$?
+check '[[ $rc == 0 && "$(cat "$work/bad/fabric.h5")" == "not HDF5" ]]' "a restart without frames beside a damaged fabric.h5 runs and leaves it alone: $(tail -1 "$work/bad.log")"
 exit $fail
