@@ -1128,6 +1128,17 @@ static PetscErrorCode DeriveBodies(MPI_Comm comm, const SceneInput *in, Scene *s
                          : b->sphere_radius > 0
                              ? -(b->sphere_radius + 0.5 * b->thickness) / PetscAbsReal(b->sphere_dir[2]) * b->sphere_dir[d]
                              : 0.0;
+  { /* a path nearly in the plane: the default start touches the plane beyond the specimen, and the ball never
+       reaches it */
+    const PetscReal off = PetscSqrtReal(PetscSqr(b->sphere_start[0]) + PetscSqr(b->sphere_start[1])),
+                    half = 0.5 * PetscSqrtReal(PetscSqr(s->spec.gauge) + PetscSqr(s->spec.width));
+    PetscCheck(b->sphere_start_set || b->sphere_radius == 0 || off <= half, comm, PETSC_ERR_USER_INPUT,
+               "-sphere_direction %g,%g,%g: the default start (touching the fabric's plane from behind along the path) "
+               "is %g mm from the grid's centre, beyond the specimen (%g mm to its corners); give -sphere_start_mm, or "
+               "a direction closer to the fabric's normal",
+               (double) in->sphere_direction[0], (double) in->sphere_direction[1], (double) in->sphere_direction[2],
+               1e3 * (double) off, 1e3 * (double) half);
+  }
   b->plane = in->plane;
   for (int d = 0; d < 3; d++) b->plane_point[d] = 1e-3 * in->plane_point_mm[d];
   PetscCall(UnitVector(comm, "plane_normal", in->plane_normal, b->plane_normal));
