@@ -77,7 +77,7 @@ static inline PetscBool IOWritesFrames(FabricIO io)
                                                                                                 : PETSC_FALSE;
 }
 /* the files of the run, for the closing message */
-PetscErrorCode IODescribe(FabricIO io, const char *output_dir, char *buf, size_t len);
+PetscErrorCode IODescribe(FabricIO io, const char *output_dir, PetscBool kept_checkpoint, char *buf, size_t len);
 /* warp and weft tension and shear angle of each owned point (Xl: ghosted work vector of X) */
 PetscErrorCode ComputePointFields(const FabricGrid *g, Vec X, Vec Xl, Vec warp_tension, Vec weft_tension,
                                   Vec shear_deg);

@@ -5,6 +5,7 @@
 #include "fabric.h"
 
 PetscErrorCode OutputOpen(Fabric fab);
+PetscBool      RestartsFrom(const char *dir, const char *restart);
 PetscErrorCode OutputCurveRow(Fabric fab, const CurveRow *row);
 PetscErrorCode OutputProgress(Fabric fab, const CurveRow *row);
 PetscErrorCode OutputSummary(Fabric fab, const char *error);

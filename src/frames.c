@@ -468,7 +468,7 @@ PetscErrorCode FramesWriteXdmf(FabricIO io, MPI_Comm comm, const char *dir, Pets
 }
 
 /* the files of the run, for the closing message */
-PetscErrorCode IODescribe(FabricIO io, const char *output_dir, char *buf, size_t len)
+PetscErrorCode IODescribe(FabricIO io, const char *output_dir, PetscBool kept_checkpoint, char *buf, size_t len)
 {
   size_t n;
 
@@ -478,7 +478,8 @@ PetscErrorCode IODescribe(FabricIO io, const char *output_dir, char *buf, size_t
     PetscCall(PetscStrlen(buf, &n));
     PetscCall(PetscSNPrintf(buf + n, len - n, ", fabric.h5 and fabric.xmf (%" PetscInt_FMT " frames)", io->frames));
   }
-  if (io && (io->checkpoint_every || io->checkpoints)) { /* also one only -checkpoint_every_te or _s wrote */
+  if (kept_checkpoint || (io && (io->checkpoint_every || io->checkpoints))) { /* also one only -checkpoint_every_te or _s
+                                                                               wrote, or the restart's own */
     PetscCall(PetscStrlen(buf, &n));
     PetscCall(PetscSNPrintf(buf + n, len - n, ", checkpoint.h5"));
   }

@@ -228,7 +228,8 @@ static PetscErrorCode Run(int argc, char **argv)
   }
   if (fab->s.out.output_dir[0]) {
     char files[256];
-    PetscCall(IODescribe(fab->io, fab->s.out.output_dir, files, sizeof files));
+    PetscCall(IODescribe(fab->io, fab->s.out.output_dir, RestartsFrom(fab->s.out.output_dir, fab->s.out.restart), files,
+                         sizeof files));
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fabric: results in %s/ (%s)\n", fab->s.out.output_dir, files));
   }
   PetscCall(FabricDestroy(&fab));

@@ -143,8 +143,8 @@ static PetscBool RemoveStale(const char *dir, const char *name, const char *attr
   return PETSC_TRUE;
 }
 
-/* DIR/checkpoint.h5 is the -restart file itself (the same file on the same device) */
-static PetscBool RestartsFrom(const char *dir, const char *restart)
+/* DIR/checkpoint.h5 is the -restart file itself (the same file on the same device): the run keeps it */
+PetscBool RestartsFrom(const char *dir, const char *restart)
 {
   char        file[PETSC_MAX_PATH_LEN];
   struct stat a, b;

@@ -7,7 +7,7 @@
 #             there, restarted on 3 ranks from 2: bit-identical to the uninterrupted run.
 #   every_s   -checkpoint_every_s 0.05 on 1 rank (the run takes about 0.25 s): checkpoints within load
 #             steps while the run goes on, which then ends as the run without them; restarted on 2
-#             ranks from its last one, it ends bit-identical too.
+#             ranks from its last one, it ends bit-identical too, and its end line lists the checkpoint.h5 it kept.
 #   killed while writing: -checkpoint_every_te 20 on 2 ranks, SIGKILL amid its writes: checkpoint.h5,
 #             written aside and renamed, is the last complete one and restarts bit-identically.
 # Compared: final positions, curve.csv, fabric.h5 (h5diff), fabric.xmf, summary.json's counters.
@@ -70,10 +70,12 @@ check '[[ "$results" == "fabric: results in $b/ (curve.csv, summary.json, fabric
 ck="$b/checkpoint.h5"
 last="$(where "$ck")"
 mv "$b/positions.bin" "$b/positions.first.bin"
-mpiexec -n 2 "$fabric" "${opts[@]}" -quiet -output_dir "$b" -positions_out "$b/positions.bin" -restart "$ck" >/dev/null 2>&1
+mpiexec -n 2 "$fabric" "${opts[@]}" -quiet -output_dir "$b" -positions_out "$b/positions.bin" -restart "$ck" >"$work/again.log" 2>&1
 rc=$?
 what="$(same "$a" "$b")"
 check '[[ $rc -eq 0 && -z "$what" ]]' "every_s: restarted on 2 ranks from its last checkpoint ($last) == uninterrupted, bit for bit${what:+; differ:$what}"
+results="$(grep -m1 "^fabric: results in" "$work/again.log")"
+check '[[ -e "$ck" && "$results" == *", checkpoint.h5)" ]]' "every_s: the restart writes no checkpoint, keeps the one it restarted from and lists it ($results)"
 
 # ---- killed while writing: a checkpoint every 20 te steps keeps the run writing most of the time; SIGKILL
 # then mostly finds .checkpoint.h5.tmp half written, and checkpoint.h5 is still the last complete one
