@@ -88,6 +88,13 @@ typedef struct { /* where the load program is */
   PetscReal elapsed;               /* s: time since the load step began, the te of its te steps summed */
 } LoadState;
 
+/* where the grips or the sphere are for a curve row: the load step's travel, or, while a ramp towards it is
+   unfinished (a load step that ran out of te steps), where the ramp has got to */
+static inline PetscReal LoadTravelReached(const LoadState *ls)
+{
+  return ls->ramp_done < ls->ramp_steps ? ls->travel_now : ls->travel;
+}
+
 typedef struct {       /* te against the measured stable limit at one state (-te_measure, spectrum.c) */
   PetscInt  load_step; /* the load step the state belongs to */
   PetscBool end;       /* its balanced end (else its start, after the grips moved and the prediction) */
@@ -208,5 +215,7 @@ PetscErrorCode FabricDestroy(Fabric *fab);
 PetscBool PaperSteps(const Fabric fab);
 /* a bias specimen's coordinates of crossing (i,j): along its length and across it, m, from its centre */
 void BiasCoords(const Scene *s, PetscInt i, PetscInt j, PetscReal *along, PetscReal *across);
+/* is crossing (i,j) in the bias specimen's central zone (curve.csv center_shear_deg) */
+PetscBool BiasCentreZone(const Scene *s, PetscInt i, PetscInt j);
 
 #endif

@@ -36,6 +36,17 @@ void BiasCoords(const Scene *s, PetscInt i, PetscInt j, PetscReal *along, PetscR
   *across = (y - x) / PetscSqrtReal(2.0);
 }
 
+/* Is crossing (i,j) in the bias specimen's central zone, where curve.csv's center_shear_deg is measured: within
+   min(W, D)/4 of its centre along and across it, D = gauge - width (a square inside the pure-shear zone) */
+PetscBool BiasCentreZone(const Scene *s, PetscInt i, PetscInt j)
+{
+  const PetscReal half = 0.25 * PetscMin(s->spec.width, s->spec.gauge - s->spec.width) +
+                         1e-9 * s->spec.gauge; /* crossings on its edge count */
+  PetscReal       along, across;
+  BiasCoords(s, i, j, &along, &across);
+  return PetscAbsReal(along) <= half && PetscAbsReal(across) <= half ? PETSC_TRUE : PETSC_FALSE;
+}
+
 PetscBool PaperSteps(const Fabric fab)
 {
   return fab->s.num.integrator == INTEGRATOR_PAPER && !fab->step.tear && !fab->step.torn ? PETSC_TRUE : PETSC_FALSE;
@@ -181,6 +192,44 @@ static PetscErrorCode CheckLines(Fabric fab, const DMDALocalInfo *info)
                  " crossings: a crossing cannot be clamped and gripped",
                  g + 1, c + 1, both[g * MAX_LINES + c]);
   }
+  PetscFunctionReturn(0);
+}
+
+/* A bias specimen's jaws each hold crossings, and its central zone holds one with a yarn neighbour along each
+   family (its shear angle is defined): with unequal densities the grid's diagonals are not the specimen's, and
+   a shallow jaw or a narrow specimen can fall between the crossings (integer counts: exact on any number of
+   ranks) */
+static PetscErrorCode CheckBias(Fabric fab, const DMDALocalInfo *info)
+{
+  const Scene *s        = &fab->s;
+  PetscInt     count[3] = {0, 0, 0}; /* the fixed jaw's crossings, the moving jaw's, the central zone's */
+
+  PetscFunctionBeginUser;
+  if (s->test != TEST_BIAS) PetscFunctionReturn(0);
+  for (PetscInt j = info->ys; j < info->ys + info->ym; j++)
+    for (PetscInt i = info->xs; i < info->xs + info->xm; i++) {
+      if (!PointExists(s, i, j)) continue;
+      if (s->clamps.clamp == CLAMP_JAW) {
+        const PointKind region = RegionKind(s, i, j);
+        count[0] += region == POINT_CLAMPED;
+        count[1] += region == POINT_GRIP;
+      }
+      count[2] += BiasCentreZone(s, i, j) && (PointExists(s, i - 1, j) || PointExists(s, i + 1, j)) &&
+                  (PointExists(s, i, j - 1) || PointExists(s, i, j + 1));
+    }
+  PetscCall(GlobalSumInt(fab->comm, count, 3));
+  PetscCheck(s->clamps.clamp != CLAMP_JAW || (count[0] > 0 && count[1] > 0), fab->comm, PETSC_ERR_USER_INPUT,
+             "-jaw_depth_mm %.6g at -ends_per_cm %.6g, -picks_per_cm %.6g: the bias specimen's %s jaw holds no crossing "
+             "(with unequal densities the jaws are not rounded to the grid); make the jaws deeper than a yarn spacing",
+             (double) (1e3 * s->spec.jaw_depth), (double) (1e-2 * s->spec.ends_per_m),
+             (double) (1e-2 * s->spec.picks_per_m), count[0] > 0 ? "moving" : "fixed");
+  PetscCheck(count[2] > 0, fab->comm, PETSC_ERR_USER_INPUT,
+             "-width_mm %.6g, -gauge_mm %.6g at -ends_per_cm %.6g, -picks_per_cm %.6g: the bias specimen's central zone "
+             "(within %.6g mm of its centre, where curve.csv's center_shear_deg is measured) holds no crossing; make the "
+             "specimen wider or the thread densities higher",
+             (double) (1e3 * s->spec.width), (double) (1e3 * s->spec.gauge), (double) (1e-2 * s->spec.ends_per_m),
+             (double) (1e-2 * s->spec.picks_per_m),
+             (double) (250 * PetscMin(s->spec.width, s->spec.gauge - s->spec.width)));
   PetscFunctionReturn(0);
 }
 
@@ -705,6 +754,7 @@ static PetscErrorCode FabricSetUp(Fabric fab)
   SetUpBodies(fab);
   PetscCall(SetUpPatch(fab, &info));
   PetscCall(CheckLines(fab, &info));
+  PetscCall(CheckBias(fab, &info));
   PetscCall(SetUpMasses(fab, &info));
   PetscCall(CheckStiffnessAndMass(fab));
   PetscCall(CheckSphere(fab, &info));

@@ -83,20 +83,17 @@ static PetscErrorCode SupportReactions(MPI_Comm comm, const FabricGrid *g, const
    pure-shear zone C, the diamond |along| + |across| < D/2 cut by the long edges (for
    length/width 2 it touches the diamond at the middle of its sides). The angle
    at a crossing is asin(cos(angle(tw, tf))) (CrossingShear), as the shear_angle_deg field of
-   fabric.h5; the zone's crossings all have four neighbours.
+   fabric.h5 (FabricCreate checks that the zone holds a crossing).
    Xl: halo-exchanged by GripReaction. A sum over crossings: reported, never fed back. */
 static PetscErrorCode CenterShear(MPI_Comm comm, const Scene *s, const Patch *p, const PetscScalar *xl, CurveRow *row)
 {
-  const PetscReal half = 0.25 * PetscMin(s->spec.width, s->spec.gauge - s->spec.width) +
-                         1e-9 * s->spec.gauge; /* crossings on its edge count */
   PetscReal acc[2] = {0, 0};
 
   PetscFunctionBeginUser;
   for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
     for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
-      PetscReal along, across, c, tmin;
-      BiasCoords(s, i, j, &along, &across);
-      if (PetscAbsReal(along) > half || PetscAbsReal(across) > half) continue;
+      PetscReal c, tmin;
+      if (!BiasCentreZone(s, i, j)) continue;
       if (!CrossingShear(p, xl, i, j, &c, &tmin)) continue;
       acc[0] += PetscAsinReal(c) * 180.0 / PETSC_PI;
       acc[1] += 1;
@@ -277,7 +274,8 @@ PetscErrorCode MeasureLoadStep(Fabric fab, CurveRow *row)
   if (s->test == TEST_SQUARE)
     PetscCall(LoadPointTravel(fab->comm, &fab->grid, x, x0, s->load.point_load, fab->load.load_factor, row));
   if (s->test == TEST_PUSHING)
-    PetscCall(SphereReaction(fab->comm, fab->meas.body_sum[BODY_SPHERE], s->bodies.sphere_dir, fab->load.travel, row));
+    PetscCall(SphereReaction(fab->comm, fab->meas.body_sum[BODY_SPHERE], s->bodies.sphere_dir,
+                             LoadTravelReached(&fab->load), row));
   if (s->test == TEST_BIAS) PetscCall(CenterShear(fab->comm, s, &fab->grid.patch, xl, row));
   if (s->bodies.plane || s->bodies.pedestal_radius > 0)
     PetscCall(SupportReactions(fab->comm, &fab->grid, f, fab->load.gravity_now, fab->meas.body_sum, row));

@@ -154,7 +154,7 @@ static PetscErrorCode MeasureRow(Fabric fab, PetscReal residual, PetscBool balan
   row->load_step  = fab->load.load_step;
   row->residual   = residual;
   row->balanced   = balanced;
-  row->elongation = JawTest(s) ? GripElongation(s, fab->grid.pull_dir, fab->load.travel) : 0.0;
+  row->elongation = JawTest(s) ? GripElongation(s, fab->grid.pull_dir, LoadTravelReached(&fab->load)) : 0.0;
   row->time       = TestTime(s, &fab->load);
   PetscCall(MeasureLoadStep(fab, row));
   PetscFunctionReturn(0);

@@ -1073,6 +1073,13 @@ static PetscErrorCode DerivePath(MPI_Comm comm, const SceneInput *in, LoadProgra
                "-grip_path_mm waypoint %" PetscInt_FMT
                " (%g,%g,%g mm) repeats the point before it: a path segment of zero length",
                k + 1, (double) v[0], (double) v[1], (double) v[2]);
+    /* as -elongation_pct at most 100: the grip no farther from rest than the gauge length */
+    PetscCheck(PetscSqr(v[0]) + PetscSqr(v[1]) + PetscSqr(v[2]) <= PetscSqr(in->gauge_mm) * (1 + 1e-12), comm,
+               PETSC_ERR_USER_INPUT,
+               "-grip_path_mm waypoint %" PetscInt_FMT
+               " (%.15g,%.15g,%.15g mm) is farther from rest than the gauge length, -gauge_mm %.15g (as -elongation_pct "
+               "is at most 100 %%): a grip travel the yarn model is not meant for",
+               k + 1, (double) v[0], (double) v[1], (double) v[2], (double) in->gauge_mm);
     at += PetscSqrtReal(len2);
     lp->path_at[k] = at;
   }
@@ -1285,6 +1292,7 @@ static PetscErrorCode CheckOptionsApply(MPI_Comm comm, const Scene *s)
   } opts[] = {
       {"yarns", s->test == TEST_STRIP, test, "only the strip's width is given in yarns, the others take -width_mm"},
       {"jaw_depth_mm", s->test == TEST_BIAS, test, "only the bias test's jaws have a depth"},
+      {"elongation_pct", !s->load.waypoints, "-grip_path_mm", "the path's waypoints set the grip's travel"},
       {"sphere_direction", s->test == TEST_PUSHING, test, "only the pushing test moves a ball"},
       {"sphere_start_mm", s->test == TEST_PUSHING, test, "only the pushing test moves a ball"},
       {"sphere_travel_mm", s->test == TEST_PUSHING, test, "only the pushing test moves a ball"},
@@ -1538,6 +1546,11 @@ static PetscErrorCode DeriveGrid(MPI_Comm comm, const SceneInput *in, Scene *s)
                "bias specimen too small or too wide: -gauge_mm %g, -width_mm %g (the gauge length must exceed the "
                "width) give %g x %g crossings",
                (double) gauge_mm, (double) width_mm, nx, ny);
+    PetscCheck(1e-3 * width_mm >= LargestSpacing(s->spec.ends_per_m, s->spec.picks_per_m), comm, PETSC_ERR_USER_INPUT,
+               "bias specimen too narrow: -width_mm %g at -ends_per_cm %g, -picks_per_cm %g is less than a yarn spacing "
+               "(%g mm)",
+               (double) width_mm, (double) ends_cm, (double) picks_cm,
+               1e3 * (double) LargestSpacing(s->spec.ends_per_m, s->spec.picks_per_m));
     PetscCall(CheckGridSize(comm, in, nx, ny));
     s->spec.nx        = (PetscInt) nx;
     s->spec.ny        = (PetscInt) ny;
