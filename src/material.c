@@ -84,9 +84,20 @@ static PetscErrorCode ReadYarnCSV(MPI_Comm comm, const YarnLaw *y, PetscInt *n, 
   PetscCheck(fp, comm, PETSC_ERR_FILE_OPEN, "-%s_law_csv %s: cannot open the yarn law file", y->name, y->csv);
   PetscCall(PetscMalloc3(cap, strain, cap, force, cap, at));
   while (!msg[0] && getline(&line, &linecap, fp) >= 0) { /* whole lines, of any length */
-    char  *p = line + strspn(line, " \t");
-    double s = 0, f = 0;
+    char       *p = line + strspn(line, " \t");
+    const char *cr;
+    double      s = 0, f = 0;
     lineno++;
+    if (lineno == 1 && !strncmp(p, "\xEF\xBB\xBF", 3)) p += 3 + strspn(p + 3, " \t"); /* a spreadsheet's UTF-8 BOM */
+    cr = strchr(p, '\r');
+    if (cr && cr[1] && cr[1] != '\n') { /* CR LF ends a line as LF does; a CR alone would hide every line after it */
+      PetscCall(PetscSNPrintf(msg, sizeof msg,
+                              "-%s_law_csv %s line %" PetscInt_FMT
+                              ": a carriage return within the line (old Mac line ends, CR alone): save the file with "
+                              "LF or CR LF line ends",
+                              y->name, y->csv, lineno));
+      break;
+    }
     if (*p == '#' || *p == '\n' || *p == '\r' || *p == 0) continue;
     if (!header) {
       CheckYarnHeader(y, lineno, p, msg, sizeof msg);
@@ -237,6 +248,12 @@ static PetscErrorCode BuildTable(MPI_Comm comm, YarnLaw *y)
              y->name, y->csv);
   PetscCheck(y->EA > 0, comm, PETSC_ERR_FILE_UNEXPECTED,
              "-%s_law_csv %s: every force is 0: a yarn law needs a positive stiffness", y->name, y->csv);
+  /* as -warp_modulus_cN_tex (EA / tex is the same for a coarse fabric's bundle of yarns) */
+  PetscCheck(y->EA * 100.0 / y->tex <= 1e6, comm, PETSC_ERR_FILE_UNEXPECTED,
+             "-%s_law_csv %s: the law's largest slope, %.6g cN/tex at -%s_tex %.6g, is beyond the physical range (at "
+             "most 1e6 cN/tex, as -%s_modulus_cN_tex: the stiffest fibres, high-modulus carbon, reach about 3e4 "
+             "cN/tex): forces are in cN, strains in %%",
+             y->name, y->csv, (double) (y->EA * 100.0 / y->tex), y->name, (double) (y->tex / PetscMax(1.0, (double) y->bundle)), y->name);
   for (PetscInt l = 1; l < y->nlev; l++) {
     PetscInt w = 1 << l;
     PetscCall(PetscMalloc1(ncell - w + 1, &y->tab_slope_max[l]));
