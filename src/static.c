@@ -27,7 +27,7 @@
  * RefreshLevels), smoothed by
  * alternating block-line relaxation (LineSmoother: a yarn is 1/strain times stiffer along itself
  * than across, which point smoothers cannot smooth; every line solved whole, across ranks too);
- * GAMG with the rigid-body modes on a grid too small to coarsen.
+ * on a grid too small to coarsen, a direct solve (MUMPS's LU; GAMG with the rigid-body modes without it).
  * All are overridden by -snes_*, -ksp_*, -pc_*, -mg_* (the options prefix is none).
  * Convergence: the explicit path's balance test (the largest free force over the larger of the
  * largest yarn tension and the force floor) at -balance_tol.
@@ -1153,7 +1153,8 @@ static PetscErrorCode RefreshLevels(void *ctx)
 
 /* The preconditioner of the tangent's linear solves: geometric multigrid on the grid's hierarchy
    with the line smoother (its coarse operators PETSc's Galerkin products of an AIJ tangent, or
-   ours of a stencil one), or GAMG with the rigid-body modes on a grid too small to coarsen */
+   ours of a stencil one), or on a grid too small to coarsen MUMPS's LU (GAMG with the rigid-body modes without
+   it) */
 static PetscErrorCode SetPreconditioner(StaticSolver ss, KSP ksp)
 {
   Fabric       fab    = ss->fab;
@@ -1203,8 +1204,16 @@ static PetscErrorCode SetPreconditioner(StaticSolver ss, KSP ksp)
       PetscCall(PCMGGetSmootherUp(pc, l, &smoother));
       PetscCall(SetLineSmoother(smoother, up, lines));
     }
-  } else
-    PetscCall(PCSetType(pc, PCGAMG));
+  } else { /* a grid too small for multigrid on its layout (a small one, or a strip a few yarns wide): a direct
+              solve by MUMPS, which PETSc's Debian build has; GAMG, which balances no slack net, only without it */
+    PetscBool mumps;
+    PetscCall(PetscHasExternalPackage("mumps", &mumps));
+    if (mumps) {
+      PetscCall(PCSetType(pc, PCLU));
+      PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
+    } else
+      PetscCall(PCSetType(pc, PCGAMG));
+  }
   if (!ss->stencil) {
     PetscCall(MatNullSpaceCreateRigidBody(fab->grid.X0, &rigid)); /* GAMG's near-null space */
     PetscCall(MatSetNearNullSpace(ss->J, rigid));
@@ -1659,7 +1668,7 @@ static PetscErrorCode StaticCreateLevel(Fabric fab, PetscInt sequence, StaticSol
     PetscCall(PetscPrintf(fab->comm,
                           "fabric: -static_tangent stencil: %" PetscInt_FMT " x %" PetscInt_FMT " crossings on %d ranks are too "
                           "few for multigrid on the grid's layout (4 crossings a rank a side); the tangent is stored in AIJ "
-                          "for GAMG\n",
+                          "for a direct solve\n",
                           fab->s.spec.nx, fab->s.spec.ny, fab->size));
   PetscCall(CreateTangent(ss));
   PetscCall(MatSetOption(ss->J, MAT_SYMMETRIC, PETSC_TRUE));
@@ -1776,7 +1785,7 @@ static PetscErrorCode SequenceSetUp(StaticSolver ss)
   cf->step.bound_fresh = PETSC_TRUE;
   ss->cfab             = cf;
   PetscCall(StaticCreateLevel(cf, ss->opt.sequence - 1, &ss->coarse));
-  if (ss->coarse->levels < 2) { /* too small for its own multigrid: GAMG does not solve a slack net (docs/static.md) */
+  if (ss->coarse->levels < 2) { /* too small for its own multigrid: it would cost more than it saves */
     PetscCall(StaticDestroy(&ss->coarse));
     PetscCall(FabricDestroy(&ss->cfab));
     PetscFunctionReturn(0);
