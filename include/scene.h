@@ -254,6 +254,9 @@ typedef struct {
 } OptionsGiven;
 int  OptionsGivenGet(OptionsGiven *g);
 void OptionsGivenFree(OptionsGiven *g);
+/* the solvers' options given (the names with ksp_, pc_, snes_ or tao_ in them, and their values), "" if none:
+   into buf, cut with " ..." if longer */
+void SolverOptionsGiven(char *buf, size_t len);
 /* name is -suffix, or suffix under a prefix (-mg_levels_ksp_type, -tao_nls_ksp_type ...) */
 PetscBool OptionIs(const char *name, const char *suffix);
 

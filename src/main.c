@@ -69,25 +69,15 @@ static void NameTheOption(const char *mess, char *out, size_t len)
    given or the error is not theirs */
 static const char *SolverErrorCause(const char *file)
 {
-  static char  cause[512];
-  OptionsGiven g;
-  size_t       at = 0;
+  static char cause[512];
+  char        given[448];
 
   cause[0] = 0;
   if (!file ||
       !(strstr(file, "src/ksp/") || strstr(file, "src/snes/") || strstr(file, "src/tao/") || strstr(file, "src/mat/")))
     return cause;
-  if (OptionsGivenGet(&g)) return cause;
-  for (PetscInt q = 0; q < g.n && at < sizeof cause - 64; q++) {
-    const char *nm = g.name[q];
-    if (!(strstr(nm, "ksp_") || strstr(nm, "pc_") || strstr(nm, "snes_") || strstr(nm, "tao_"))) continue;
-    at += (size_t) snprintf(cause + at, sizeof cause - at, "%s%s%s%s",
-                            at ? " " : " (in PETSc's solvers; the solver options given: ", nm, g.value[q][0] ? " " : "",
-                            g.value[q]);
-  }
-  OptionsGivenFree(&g);
-  if (at >= sizeof cause - 64) snprintf(cause + sizeof cause - 64, 64, " ...");
-  if (at) snprintf(cause + strlen(cause), sizeof cause - strlen(cause), ")");
+  SolverOptionsGiven(given, sizeof given);
+  if (given[0]) snprintf(cause, sizeof cause, " (in PETSc's solvers; the solver options given: %s)", given);
   return cause;
 }
 

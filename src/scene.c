@@ -1846,6 +1846,22 @@ void OptionsGivenFree(OptionsGiven *g)
   memset(g, 0, sizeof *g);
 }
 
+void SolverOptionsGiven(char *buf, size_t len)
+{
+  OptionsGiven g;
+  size_t       at = 0;
+
+  buf[0] = 0;
+  if (len < 64 || OptionsGivenGet(&g)) return;
+  for (PetscInt q = 0; q < g.n && at < len - 32; q++) {
+    const char *nm = g.name[q];
+    if (!(strstr(nm, "ksp_") || strstr(nm, "pc_") || strstr(nm, "snes_") || strstr(nm, "tao_"))) continue;
+    at += (size_t) snprintf(buf + at, len - at, "%s%s%s%s", at ? " " : "", nm, g.value[q][0] ? " " : "", g.value[q]);
+  }
+  OptionsGivenFree(&g);
+  if (at >= len - 32) snprintf(buf + len - 32, 32, " ...");
+}
+
 PetscBool OptionIs(const char *name, const char *suffix)
 {
   const size_t n = strlen(name), ls = strlen(suffix);

@@ -1443,12 +1443,57 @@ static PetscErrorCode FindBadOption(const char *suffix, PetscBool (*ok)(const ch
   PetscFunctionReturn(0);
 }
 
+static PetscBool NeverOk(const char *value)
+{
+  (void) value;
+  return PETSC_FALSE;
+}
+
+/* With -static_minimizer tao, the options of the SNES path, which its solves never read (TAO's Newton reads
+   its own linear solver's under its prefix): the first given, "" if none, into bad */
+static PetscErrorCode FindSnesPathOption(char *bad, size_t len)
+{
+  static const char *const path[]   = {"-snes_", "-ksp_", "-pc_", "-mg_levels_", "-mg_coarse_"};
+  static const char *const shared[] = {"-snes_extrapolate", "-snes_convex_tangent"}; /* the first guess, the tangent */
+  OptionsGiven             g;
+
+  PetscFunctionBeginUser;
+  bad[0] = 0;
+  PetscCheck(!OptionsGivenGet(&g), PETSC_COMM_SELF, PETSC_ERR_MEM, "cannot list the options given");
+  for (PetscInt q = 0; q < g.n && !bad[0]; q++) {
+    PetscBool on = PETSC_FALSE;
+    for (size_t k = 0; k < sizeof path / sizeof path[0]; k++) on = on || !strncmp(g.name[q], path[k], strlen(path[k]));
+    for (size_t k = 0; k < sizeof shared / sizeof shared[0]; k++) on = on && strcmp(g.name[q], shared[k]);
+    if (on) snprintf(bad, len, "%s%s%s", g.name[q], g.value[q][0] ? " " : "", g.value[q]);
+  }
+  OptionsGivenFree(&g);
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
 {
   StaticOptions o;
 
   PetscFunctionBeginUser;
   PetscCall(ReadOptions(comm, &o));
+  { /* a load step converges on the balance test alone: Converged and TaoBalanced take over every other reason */
+    const char *const tols[] = {"snes_rtol", "snes_atol", "snes_stol", "tao_gatol", "tao_grtol", "tao_gttol", "tao_fmin"};
+    char              bad[PETSC_MAX_PATH_LEN] = "";
+    for (size_t k = 0; k < sizeof tols / sizeof tols[0] && !bad[0]; k++)
+      PetscCall(FindBadOption(tols[k], NeverOk, bad, sizeof bad));
+    PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT,
+               "%s with -solver static: a load step converges on the balance test alone, as the explicit path's; set "
+               "-balance_tol",
+               bad);
+  }
+  if (o.tao) {
+    char bad[PETSC_MAX_PATH_LEN];
+    PetscCall(FindSnesPathOption(bad, sizeof bad));
+    PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT,
+               "%s with -static_minimizer tao: an option of the SNES path, which TAO's Newton does not read; give its "
+               "linear solver's options under its prefix (-tao_nls_ksp_type, -tao_nls_pc_type ... for -tao_type nls)",
+               bad);
+  }
   PetscCheck(!(o.tangent_set && o.tangent == TANGENT_STENCIL && !StencilFits(&o)), comm, PETSC_ERR_USER_INPUT,
              "-static_tangent stencil: the tangent by stencil needs the multigrid preconditioner with the line "
              "smoother (-pc_type mg, -mg_line_smoother 1); use -static_tangent aij with another");
@@ -1707,8 +1752,8 @@ static PetscErrorCode StaticCreateLevel(Fabric fab, PetscInt sequence, StaticSol
   PetscCall(SNESSetUpdate(ss->snes, AdaptShift));
   PetscCall(SNESSetConvergenceTest(ss->snes, Converged, ss, NULL));
   PetscCall(SetDefaults(ss));
-  PetscCall(SNESSetFromOptions(ss->snes));
-  if (ss->opt.tao) PetscCall(CreateTao(ss));
+  if (ss->opt.tao) PetscCall(CreateTao(ss)); /* its own options; the SNES path's are refused (StaticOptionsCheck) */
+  else PetscCall(SNESSetFromOptions(ss->snes));
   if (ss->stencil) { /* a preconditioner chosen under an options prefix (TAO's KSP) */
     KSP       ksp;
     PC        pc;
@@ -2057,8 +2102,9 @@ PetscErrorCode StaticSolve(StaticSolver ss, StaticResult *r)
     r->nonlinear_iterations += its;
     r->linear_iterations += lits;
     PetscCall(SolveMove(ss, &move));
-    if (!(move <= fab->grid.extent) || reason == SNES_DIVERGED_FNORM_NAN) { /* NaN, Inf or runaway: again from the
-                                                                             first guess, stiffer */
+    if (!(move <= fab->grid.extent) || reason == SNES_DIVERGED_FNORM_NAN ||
+        reason == SNES_DIVERGED_DTOL) { /* NaN, Inf, runaway or a residual grown 1e4-fold: again from the first
+                                           guess, stiffer */
       PetscCall(PetscInfo(NULL, "load step %" PetscInt_FMT ": the solve moved a crossing %g m, the fabric is %g m (%s)\n",
                           fab->load.load_step, (double) move, (double) fab->grid.extent, SNESConvergedReasons[reason]));
       PetscCall(VecCopy(ss->Xstart, fab->state.X));
@@ -2072,13 +2118,16 @@ PetscErrorCode StaticSolve(StaticSolver ss, StaticResult *r)
   if (!ss->tao) PetscCall(PetscStrncpy(r->reason, SNESConvergedReasons[reason], sizeof r->reason));
   {
     PetscReal move = 0;
+    char      given[448];
     if (ss->tao) PetscCall(SolveMove(ss, &move));
+    SolverOptionsGiven(given, sizeof given);
     PetscCheck(move <= fab->grid.extent && reason != SNES_DIVERGED_FNORM_NAN, fab->comm, PETSC_ERR_FP,
                "numerical failure at load step %" PetscInt_FMT ": the quasi-static solve moved a crossing farther than "
-               "the fabric's size %g m, or to NaN or Inf%s; PETSc's solver options given (-snes_linesearch_type, "
-               "-ksp_type, -pc_type, -snes_shift_start, ...) may not suit this fabric",
+               "the fabric's size %g m, or to NaN or Inf, or its residual grew 1e4-fold%s; %s%s%s",
                fab->load.load_step, (double) fab->grid.extent,
-               ss->tao ? "" : ", each time from the first guess again with a stiffer shift");
+               ss->tao ? "" : ", each time from the first guess again with a stiffer shift",
+               given[0] ? "the solver options given (" : "the solver's defaults fail on this fabric",
+               given, given[0] ? ") may not suit this fabric" : "");
   }
   /* the state's forces at the solution (the measurements read them) give the balance test */
   {

@@ -38,7 +38,9 @@
 #     after 0 Newton steps); a full Newton step with no line search and no shift (-snes_linesearch_type
 #     basic) throws crossings metres away: each attempt starts again from the first guess, and after the
 #     last the run stops with an error naming the load step (it went on with NaN or metre-wide
-#     positions, exit 0).
+#     positions, exit 0); a solve whose residual grew 1e4-fold (DIVERGED_DTOL) is such a failure too (its
+#     state was kept, checkpointed, and the next load step started from it), and the message lists the solver
+#     options given (it named -snes_linesearch_type, -ksp_type ... whatever was given).
 # 10. a misspelt PETSc option (-ksp_rtoll) is named after the first load step that ran a linear solve
 #     (the preconditioner's options are read at its set-up), once (it was named after the whole run only).
 # 11. -static_tangent stencil on a grid too small for multigrid on its layout (6 x 6): the run says the
@@ -213,10 +215,11 @@ run 1 -scene "$inputs/square_net.yaml" -solver static -snes_shift_start 0 -outpu
 grep -q '"converged": true' "$work/shift0/summary.json" && echo "PASS -snes_shift_start 0: every load step balanced" \
   || { echo "FAIL -snes_shift_start 0: not every load step balanced"; fail=1; }
 if mpiexec -n 1 "$fabric" -scene "$inputs/square_net.yaml" -solver static -snes_shift_start 0 -snes_linesearch_type basic \
-  -ksp_type preonly -pc_type lu -output_dir none >"$work/log" 2>&1; then
+  -ksp_type preonly -pc_type lu -checkpoint_every 1 -output_dir "$work/full_step" >"$work/log" 2>&1; then
   echo "FAIL a full Newton step without a shift: the run exited 0"; fail=1
-elif grep -q "error: numerical failure at load step [0-9]*: the quasi-static solve moved a crossing farther than" "$work/log"; then
-  echo "PASS a full Newton step without a shift: $(grep -o 'numerical failure at load step [0-9]*' "$work/log")"
+elif grep -q "error: numerical failure at load step 1: the quasi-static solve moved a crossing farther than .*; the solver options given (-ksp_type preonly -pc_type lu -snes_linesearch_type basic -snes_shift_start 0) may not suit" "$work/log" \
+  && [[ ! -e "$work/full_step/checkpoint.h5" ]]; then
+  echo "PASS a full Newton step without a shift: $(grep -o 'numerical failure at load step [0-9]*' "$work/log"), no checkpoint of a diverged state"
 else
   cat "$work/log"; echo "FAIL a full Newton step without a shift: not the numerical failure's message"; fail=1
 fi
