@@ -360,8 +360,12 @@ PetscErrorCode OutputSummary(Fabric fab, const char *error)
             "  \"nonlinear_iterations\": %" PetscInt64_FMT ",\n  \"linear_iterations\": %" PetscInt64_FMT
             ",\n  \"coarse_nonlinear_iterations\": %" PetscInt64_FMT ",\n",
             fab->stats.nonlinear_iterations, fab->stats.linear_iterations, fab->stats.coarse_nonlinear_iterations);
-  fprintf(fp, "  \"integrator\": \"%s\",\n  \"predict\": \"%s\",\n  \"early_exit\": %s,\n",
-          IntegratorNames[s->num.integrator], PredictNames[s->num.predict], s->num.early_exit ? "true" : "false");
+  if (s->num.solver == SOLVER_STATIC) /* Newton relaxes no load step (a tear runs the damped scheme) */
+    fprintf(fp, "  \"integrator\": null,\n");
+  else
+    fprintf(fp, "  \"integrator\": \"%s\",\n", IntegratorNames[s->num.integrator]);
+  fprintf(fp, "  \"predict\": \"%s\",\n  \"early_exit\": %s,\n", PredictNames[s->num.predict],
+          s->num.early_exit ? "true" : "false");
   fprintf(fp,
           "  \"te_s\": %.6e,\n  \"te_bound_s\": %.6e,\n  \"load_steps\": %" PetscInt_FMT
           ",\n  \"load_steps_done\": %" PetscInt_FMT ",\n",
