@@ -655,8 +655,18 @@ def main():
     ap.add_argument("--nice", type=int, default=10, help="nice level of the runs (0: none)")
     ap.add_argument("--list", action="store_true", help="list the cases and exit")
     a = ap.parse_args()
+    # the runs' working directory is ROOT: paths given relative to the caller's one are made absolute
+    a.fabric = os.path.abspath(a.fabric)
+    if a.keep:
+        a.keep = os.path.abspath(a.keep)
+    try:
+        only = re.compile(a.only)
+    except re.error as e:
+        ap.error("argument --only: invalid regular expression %r: %s" % (a.only, e))
 
-    todo = [c for c in cases() if (c["fast"] or not a.fast) and re.search(a.only, c["name"])]
+    todo = [c for c in cases() if (c["fast"] or not a.fast) and only.search(c["name"])]
+    if not todo:
+        ap.error("argument --only: no%s case matches %r (--list shows them)" % (" fast" if a.fast else "", a.only))
     if a.list:
         for c in todo:
             print("%-50s %s %s %s" % (c["name"], c["base"], c["np"], c["extra"]))
