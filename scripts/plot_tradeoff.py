@@ -12,7 +12,11 @@ ap.add_argument("table")
 ap.add_argument("-o", "--output", required=True)
 ap.add_argument("--title", default="")
 a = ap.parse_args()
-rows = list(csv.DictReader(open(a.table)))
+try:
+    with open(a.table, newline="") as f:
+        rows = list(csv.DictReader(f))
+except (OSError, UnicodeDecodeError) as e:
+    sys.exit(f"plot_tradeoff.py: {a.table}: {e.strerror if isinstance(e, OSError) else e}")
 # the error drawn: the force's (pushing, bias) or the drape coefficient's (drape)
 col = next((c for c in ("force_err_pct", "dc_err_pts") if rows and c in rows[0]), None)
 if col is None:
@@ -31,7 +35,7 @@ for knob in dict.fromkeys(r["knob"] for r in rows if r["knob"] != "reference"):
         if r["value"] != "-":
             ax.annotate(r["value"], (float(r["wall_s"]), max(float(r[col]), floor)), fontsize=7,
                         xytext=(3, 3), textcoords="offset points")
-ref = [r for r in rows if r["knob"] == "reference"]
+ref = [r for r in rows if r["knob"] == "reference" and r["wall_s"] != "-"]
 if ref:
     ax.axvline(float(ref[0]["wall_s"]), color="gray", ls="--", lw=1, label=f"{ref[0]['value']} (reference)")
 ax.set_xscale("log"); ax.set_yscale("log")

@@ -84,6 +84,15 @@ for r in "${runs[@]}"; do
   if ((i == 0)); then base=("${static_base[@]}"); else base=("${all[@]}"); fi
   # shellcheck disable=SC2086
   run "r$i" $opts
+  # the rows are measured against the reference: it must have balanced every load step
+  if ((i == 0)); then
+    why=""
+    if [[ -s "$work/r0.error" ]]; then why="stopped: $(cat "$work/r0.error")"
+    elif [[ ! -f "$work/r0/summary.json" ]]; then why="left no summary.json"
+    elif ! grep -q '"converged": true' "$work/r0/summary.json"; then why="did not balance every load step (summary.json: converged false)"
+    fi
+    if [[ -n $why ]]; then echo "scripts/tradeoff.sh: the reference run ($opts ${base[*]}) $why; nothing to measure against" >&2; exit 1; fi
+  fi
   i=$((i + 1))
 done
 
@@ -111,7 +120,11 @@ for i, r in enumerate(runs):
         print(" ".join(f"{c:>13}" for c in row) + "   " + err.strip()[:60] + "...")
         continue
     s, rows = load(i)
-    assert len(rows) == len(ref), f"{knob} {value}: {len(rows)} load steps, the reference has {len(ref)}"
+    if len(rows) != len(ref):  # ended early (a rupture, say): its rows are not the reference's
+        row = [knob, value, "stopped"] + ["-"] * (len(head) - 3)
+        table.append(row)
+        print(" ".join(f"{c:>13}" for c in row) + f"   {len(rows)} load steps, the reference has {len(ref)}")
+        continue
     pairs = [(a, b) for a, b in zip(rows, ref) if keep(b)]
     row = [knob, value, str(s["converged"]).lower(), f"{s['wall_s']:.2f}", str(s.get("te_steps") or "-")]
     if scene == "drape":
