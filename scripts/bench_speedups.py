@@ -14,13 +14,39 @@ Table 3: a local load in a 2000 x 2000 fabric (inputs/local_2000.yaml): point up
          the front and sleeping vs the fraction of the fabric that actually moves.
 Options: --quick (smaller sweeps), --np N (ranks, default 1), --tables 1,2,3 (which to run).
 """
-import csv, itertools, json, os, struct, subprocess, sys, tempfile, time
+import argparse, csv, itertools, json, os, shutil, struct, subprocess, sys, tempfile, time
+
+
+def tables(text):
+    """--tables: a comma-separated list of 1, 2, 3"""
+    t = text.split(",")
+    if not t or any(x not in ("1", "2", "3") for x in t):
+        raise argparse.ArgumentTypeError("%r: a comma-separated list of 1, 2, 3" % text)
+    return t
+
+
+def ranks(text):
+    try:
+        n = int(text)
+    except ValueError:
+        n = 0
+    if n < 1:
+        raise argparse.ArgumentTypeError("%r: a positive number of ranks" % text)
+    return n
+
+
+ap = argparse.ArgumentParser(prog="scripts/bench_speedups.sh", description="The measured trade of the speed-ups (MODEL.md 8-10): "
+                             "prints three tables and writes results/bench/speedups_trade.png (about 15-25 minutes on 2 cores).")
+ap.add_argument("--quick", action="store_true", help="smaller sweeps")
+ap.add_argument("--np", type=ranks, default=1, help="ranks of each run (default 1)")
+ap.add_argument("--tables", type=tables, default=["1", "2", "3"], help="which tables to run, e.g. 1,3 (default 1,2,3)")
+ARGS = ap.parse_args()
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 FABRIC = os.path.join(ROOT, "build", "fabric")
-NP = int(sys.argv[sys.argv.index("--np") + 1]) if "--np" in sys.argv else 1
-QUICK = "--quick" in sys.argv
-TABLES = sys.argv[sys.argv.index("--tables") + 1].split(",") if "--tables" in sys.argv else ["1", "2", "3"]
+NP = ARGS.np
+QUICK = ARGS.quick
+TABLES = ARGS.tables
 WORK = tempfile.mkdtemp(prefix="bench_speedups_")
 OUT = os.path.join(ROOT, "results", "bench")
 os.makedirs(OUT, exist_ok=True)
@@ -161,9 +187,12 @@ def table3():
     table("local_2000 (point load at the centre, %s te steps): fraction of the point updates vs fraction of the fabric that moves (|u| above 1e-3 / 1e-6 of the largest); position error vs all points, relative to the largest |u|" % steps,
           ["configuration", "wall_s", "te_steps", "point_updates", "updates/(steps*points)", "moved>1e-3", "moved>1e-6", "max_err"], lines)
 
-if "1" in TABLES:
-    table1()
-if "2" in TABLES:
-    table2()
-if "3" in TABLES:
-    table3()
+try:
+    if "1" in TABLES:
+        table1()
+    if "2" in TABLES:
+        table2()
+    if "3" in TABLES:
+        table3()
+finally:
+    shutil.rmtree(WORK, ignore_errors=True)
