@@ -3,21 +3,33 @@
 #
 #   scripts/te_table.sh [SCENE ...] [-- extra fabric options]
 #
+# A scene is named as in inputs/ (bias, bias.yaml or inputs/bias.yaml).
 # Runs each scene (default: strip_warp strip_weft square_net bias drape pushing) on NP ranks (2) with
 # -te_measure set to its number of load steps (the start and end of load step 1 and of the last load
 # step are measured), then prints a markdown table from summary.json: the
 # te used, the stable bound, the measured limit 2/omega_max and te / limit at the first
 # state (load step 1 after its grips moved), the last, the tightest (smallest limit) and the worst
-# (largest te / limit), each once.
+# (largest te / limit), each once. A run that stops gets a "(stopped)" row and the table goes on.
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 fabric=${FABRIC:-$here/build/fabric}
 np=${NP:-2}
 scenes=()
-while [[ $# -gt 0 && $1 != -- ]]; do scenes+=("$1"); shift; done
+while [[ $# -gt 0 && $1 != -- ]]; do
+  case $1 in
+    -h | --help) sed -n '2,/^set /{/^set /d;s/^# \{0,1\}//;p}' "$0"; exit 0 ;;
+    -*) echo "te_table.sh: unknown option '$1' (fabric options go after --)" >&2; exit 2 ;;
+  esac
+  sc=$(basename "$1" .yaml)
+  [[ -f $here/inputs/$sc.yaml ]] || { echo "te_table.sh: scene '$1': no inputs/$sc.yaml" >&2; exit 2; }
+  scenes+=("$sc"); shift
+done
 [[ ${1:-} == -- ]] && shift
 extra=("$@")
 [[ ${#scenes[@]} -gt 0 ]] || scenes=(strip_warp strip_weft square_net bias drape pushing)
+# -load_steps among the extra options replaces the scene's (the last one given counts)
+steps_opt=""
+for ((k = 0; k + 1 < ${#extra[@]}; k++)); do [[ ${extra[k]} == -load_steps ]] && steps_opt=${extra[k + 1]}; done
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
@@ -26,10 +38,15 @@ echo "|---|---|---:|---:|---:|---:|---:|"
 for sc in "${scenes[@]}"; do
   yaml=$here/inputs/${sc%.yaml}.yaml
   steps=$(sed -n 's/^load_steps: *\([0-9]*\).*/\1/p' "$yaml")
-  steps=${steps:-50}
+  steps=${steps_opt:-${steps:-50}}
   echo "te_table.sh: $sc ($steps load steps, $np ranks)" >&2
-  mpiexec -n "$np" "$fabric" -scene "$yaml" -te_measure "$steps" -output_dir "$tmp/$sc" -output_every 0 -quiet \
-    "${extra[@]}" > "$tmp/$sc.log" 2>&1 || echo "te_table.sh: $sc stopped: $(grep -m1 'error' "$tmp/$sc.log" || true)" >&2
+  if ! mpiexec -n "$np" "$fabric" -scene "$yaml" -te_measure "$steps" -output_dir "$tmp/$sc" -output_every 0 -quiet \
+    "${extra[@]}" > "$tmp/$sc.log" 2>&1; then
+    why=$(grep -m1 'error' "$tmp/$sc.log" || tail -1 "$tmp/$sc.log")
+    echo "te_table.sh: $sc stopped: $why" >&2
+    echo "| $sc | (stopped) | | | | | |"
+    continue
+  fi
   /usr/bin/python3 - "$tmp/$sc/summary.json" "$sc" <<'EOF'
 import json, sys
 s = json.load(open(sys.argv[1])).get("te_measure")
