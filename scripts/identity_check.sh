@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Same results as a reference revision, bit for bit: scripts/identity_check.sh [REV] [-quick]
+# Same results as a reference revision, bit for bit: scripts/identity_check.sh [REV] [-quick] [-h]
 #
 # Builds REV (default: HEAD, the last commit) into build-ref/REV/ beside the working tree's build/,
 # runs the shipped scenes (shortened where a full run takes minutes) with both binaries on 1, 2
@@ -8,9 +8,17 @@
 # changes no physics must print PASS for every case; the exit status is the number of failures.
 set -uo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-rev="${1:-HEAD}"
-quick=0; [[ "${2:-}" == "-quick" || "${1:-}" == "-quick" ]] && quick=1
-[[ "$rev" == "-quick" ]] && rev=HEAD
+rev="" quick=0
+for a in "$@"; do
+  case "$a" in
+    -h | --help) sed -n '2,/^set /{/^set /d;s/^# \{0,1\}//;p}' "$0"; exit 0 ;;
+    -quick) quick=1 ;;
+    -*) echo "identity_check: unknown option '$a' (usage: scripts/identity_check.sh [REV] [-quick])" >&2; exit 2 ;;
+    *) [[ -z "$rev" ]] || { echo "identity_check: revision '$a': one revision only (already $rev)" >&2; exit 2; }
+       rev="$a" ;;
+  esac
+done
+rev="${rev:-HEAD}"
 source "$ROOT/scripts/setup.sh"
 
 # one source and build folder per revision (git archive keeps the commit's file times, so a
@@ -29,23 +37,24 @@ cp "$ref_build/fabric" "$work/fabric.ref"; cp "$ROOT/build/fabric" "$work/fabric
 ref="$work/fabric.ref"; new="$work/fabric.new"
 IN="$ROOT/inputs"
 
-# name | ranks | options
+# name | ranks | options; @IN@ stands for $IN, put in after the options are split into words
+# (the checkout's path may hold spaces)
 cases=(
-  "strip_warp|1 2 3|-scene $IN/strip_warp.yaml -checkpoint_every 10"
-  "strip_table|1 3|-scene $IN/strip_warp.yaml -warp_law_csv $IN/yarns/cotton_20tex.csv -weft_law_csv $IN/yarns/cotton_20tex.csv"
-  "strip_weft|1|-scene $IN/strip_weft.yaml"
-  "strip_paper|1 2|-scene $IN/strip_warp.yaml -integrator paper -load_steps 3 -max_inner_steps 400"
-  "strip_kinetic|1 3|-scene $IN/strip_warp.yaml -gauge_mm 20 -width_mm 5 -integrator damped -kinetic_damping -load_steps 3 -early_exit 0 -max_inner_steps 500"
-  "strip_fixed|1 2 3|-scene $IN/strip_warp.yaml -predict none -load_steps 2 -early_exit 0 -max_inner_steps 300 -point_load_N 0,0,0.02"
-  "strip_path|1 2|-scene $IN/strip_warp.yaml -gauge_mm 40 -width_mm 10 -grip_path_mm 2,0,0,2,1,0.5 -load_steps 4"
-  "strip_break|1 2|-scene $IN/strip_warp.yaml -gauge_mm 20 -width_mm 5 -elongation_pct 20 -load_steps 20 -max_inner_steps 2000"
-  "bias|1 2|-scene $IN/bias.yaml -load_steps 2 -max_inner_steps 3000"
-  "square_net|1 2 3|-scene $IN/square_net.yaml -max_inner_steps 3000"
-  "pushing|1 2|-scene $IN/pushing.yaml -load_steps 2 -max_inner_steps 3000 -output_te_every 1000"
-  "pushing_friction|1 2|-scene $IN/pushing.yaml -load_steps 2 -max_inner_steps 2000 -friction_mu 0.3"
-  "drape|1 2|-scene $IN/drape.yaml -max_inner_steps 3000 -checkpoint_every 1"
-  "large|2|-scene $IN/large.yaml -gauge_mm 100 -width_mm 100 -max_inner_steps 200"
-  "local|1|-scene $IN/local_2000.yaml -yarns 200 -gauge_mm 83 -max_inner_steps 100"
+  "strip_warp|1 2 3|-scene @IN@/strip_warp.yaml -checkpoint_every 10"
+  "strip_table|1 3|-scene @IN@/strip_warp.yaml -warp_law_csv @IN@/yarns/cotton_20tex.csv -weft_law_csv @IN@/yarns/cotton_20tex.csv"
+  "strip_weft|1|-scene @IN@/strip_weft.yaml"
+  "strip_paper|1 2|-scene @IN@/strip_warp.yaml -integrator paper -load_steps 3 -max_inner_steps 400"
+  "strip_kinetic|1 3|-scene @IN@/strip_warp.yaml -gauge_mm 20 -width_mm 5 -integrator damped -kinetic_damping -load_steps 3 -early_exit 0 -max_inner_steps 500"
+  "strip_fixed|1 2 3|-scene @IN@/strip_warp.yaml -predict none -load_steps 2 -early_exit 0 -max_inner_steps 300 -point_load_N 0,0,0.02"
+  "strip_path|1 2|-scene @IN@/strip_warp.yaml -gauge_mm 40 -width_mm 10 -grip_path_mm 2,0,0,2,1,0.5 -load_steps 4"
+  "strip_break|1 2|-scene @IN@/strip_warp.yaml -gauge_mm 20 -width_mm 5 -elongation_pct 20 -load_steps 20 -max_inner_steps 2000"
+  "bias|1 2|-scene @IN@/bias.yaml -load_steps 2 -max_inner_steps 3000"
+  "square_net|1 2 3|-scene @IN@/square_net.yaml -max_inner_steps 3000"
+  "pushing|1 2|-scene @IN@/pushing.yaml -load_steps 2 -max_inner_steps 3000 -output_te_every 1000"
+  "pushing_friction|1 2|-scene @IN@/pushing.yaml -load_steps 2 -max_inner_steps 2000 -friction_mu 0.3"
+  "drape|1 2|-scene @IN@/drape.yaml -max_inner_steps 3000 -checkpoint_every 1"
+  "large|2|-scene @IN@/large.yaml -gauge_mm 100 -width_mm 100 -max_inner_steps 200"
+  "local|1|-scene @IN@/local_2000.yaml -yarns 200 -gauge_mm 83 -max_inner_steps 100"
 )
 ((quick)) && cases=("${cases[@]:0:5}")
 
@@ -80,12 +89,13 @@ compare() { # name dir_ref dir_new
 }
 for c in "${cases[@]}"; do
   IFS='|' read -r name ranks opts <<<"$c"
+  read -ra args <<<"$opts"
+  args=("${args[@]//@IN@/"$IN"}")
   for np in $ranks; do
     for which in ref new; do
       bin="$ref"; [[ $which == new ]] && bin="$new"
       d="$work/$name.$np.$which"; mkdir -p "$d"
-      # shellcheck disable=SC2086
-      mpiexec -n "$np" "$bin" $opts -quiet -output_dir "$d/out" -positions_out "$d/pos.bin" >"$d/log" 2>&1 ||
+      mpiexec -n "$np" "$bin" "${args[@]}" -quiet -output_dir "$d/out" -positions_out "$d/pos.bin" >"$d/log" 2>&1 ||
         echo "note: $name on $np ranks ($which) exited non-zero: $(tail -n 1 "$d/log")"
     done
     compare "$name on $np ranks" "$work/$name.$np.ref" "$work/$name.$np.new"
