@@ -1,11 +1,13 @@
 #!/usr/bin/env bash
 # Run a scene on 2 ranks (NP=... to change): scripts/run.sh [scene.yaml] [extra options]
+# Without a scene (no argument, or the first one an option) runs inputs/strip_warp.yaml.
 # Installs and builds what is missing first. Results go to results/<scene name>/.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+case "${1:-}" in -h | --help) sed -n '2,/^set /{/^set /d;s/^# \{0,1\}//;p}' "$0"; exit 0 ;; esac
 source "$ROOT/scripts/setup.sh"
-scene="${1:-$ROOT/inputs/strip_warp.yaml}"
-[[ $# -gt 0 ]] && shift
+scene="$ROOT/inputs/strip_warp.yaml"
+if [[ $# -gt 0 && $1 != -* ]]; then scene="$1"; shift; fi
 name="$(basename "$scene")"; name="${name%.*}"
 out="$ROOT/results/$name"
 mpiexec -n "${NP:-2}" "$ROOT/build/fabric" -scene "$scene" -output_dir "$out" "$@"
