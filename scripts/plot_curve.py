@@ -6,7 +6,7 @@
 Each curve.csv is one line (elongation_pct, force_N; a pushing run's travel_mm, force_N),
 labelled with its run directory's name (or --labels). Where the run's summary.json (next to its
 curve.csv) reports a maximum force and a rupture, the maximum is marked and the legend says it. --measured overlays a measured curve: a CSV whose first two columns are
-elongation (%) and force (N), with or without a header line; it is drawn as points. Load steps
+the curves' x (elongation %, or travel mm) and force (N), with or without a header line; it is drawn as points. Load steps
 that did not balance (curve.csv's balanced column 0) are not marked: check that column. Default output: curve.png next to the first curve.csv. Prints the file it wrote.
 """
 import argparse
@@ -23,9 +23,12 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 def read_run(path):
     """x values, forces and the x column's name: elongation_pct (jaw tests) or travel_mm"""
-    with open(path, newline="") as f:
-        reader = csv.DictReader(f)
-        rows, names = list(reader), reader.fieldnames or []
+    try:
+        with open(path, newline="") as f:
+            reader = csv.DictReader(f)
+            rows, names = list(reader), reader.fieldnames or []
+    except (OSError, UnicodeDecodeError) as e:
+        sys.exit(f"plot_curve.py: {path}: {e.strerror if isinstance(e, OSError) else e}")
     if "drop_mm" in names:
         sys.exit(f"plot_curve.py: {path}: a drape run's curve: its response is drop_mm, it has no force to plot")
     col = "elongation_pct" if "elongation_pct" in names else "travel_mm"
@@ -34,7 +37,10 @@ def read_run(path):
     if not rows:
         sys.exit(f"plot_curve.py: {path}: no load step in it (the run ended before its first load step)")
     # the curve starts at rest: 0, 0 N
-    return [0.0] + [float(r[col]) for r in rows], [0.0] + [float(r["force_N"]) for r in rows], col
+    try:
+        return [0.0] + [float(r[col]) for r in rows], [0.0] + [float(r["force_N"]) for r in rows], col
+    except (TypeError, ValueError):
+        sys.exit(f"plot_curve.py: {path}: a row whose {col} or force_N is not a number")
 
 
 def read_maximum(path):
@@ -55,35 +61,41 @@ def read_maximum(path):
 
 def read_measured(path):
     x, y = [], []
-    with open(path, newline="") as f:
-        for n, row in enumerate(csv.reader(f), 1):
-            if not row or row[0].lstrip().startswith("#"):
-                continue
-            try:
-                x.append(float(row[0]))
-                y.append(float(row[1]))
-            except (ValueError, IndexError):
-                if n == 1 or not x:  # a header line
+    try:
+        with open(path, newline="") as f:
+            for n, row in enumerate(csv.reader(f), 1):
+                if not row or row[0].lstrip().startswith("#"):
                     continue
-                sys.exit(f"plot_curve.py: --measured {path} line {n}: expected two numbers (elongation %, force N), got {row}")
+                try:
+                    x.append(float(row[0]))
+                    y.append(float(row[1]))
+                except (ValueError, IndexError):
+                    if n == 1 or not x:  # a header line
+                        continue
+                    sys.exit(f"plot_curve.py: --measured {path} line {n}: expected two numbers (the curves' x, force N), got {row}")
+    except (OSError, UnicodeDecodeError) as e:
+        sys.exit(f"plot_curve.py: --measured {path}: {e.strerror if isinstance(e, OSError) else e}")
     if not x:
         sys.exit(f"plot_curve.py: --measured {path}: no data")
     return x, y
 
 
 def main():
-    p = argparse.ArgumentParser(description="Force vs elongation from fabric curve.csv files, as a PNG.")
+    p = argparse.ArgumentParser(description="Force vs elongation (or travel) from fabric curve.csv files, as a PNG.")
     p.add_argument("curves", nargs="+", help="curve.csv files of fabric runs")
     p.add_argument("-o", "--out", help="PNG file (default: curve.png next to the first curve.csv)")
     p.add_argument("--labels", help="comma-separated legend labels, one per curve.csv")
-    p.add_argument("--measured", help="measured curve, CSV: elongation (%%), force (N)")
+    p.add_argument("--measured", help="measured curve, CSV: the curves' x (elongation %%, or travel mm), force (N)")
     p.add_argument("--measured_label", default="measured", help="legend label of the measured curve")
-    p.add_argument("--title", default="Strip tensile test: force vs elongation")
+    p.add_argument("--title", help="title (default: force vs elongation, or force vs travel, as the curves' x)")
     a = p.parse_args()
     labels = a.labels.split(",") if a.labels else [os.path.basename(os.path.dirname(os.path.abspath(c))) for c in a.curves]
     if len(labels) != len(a.curves):
         sys.exit(f"plot_curve.py: --labels gives {len(labels)} labels for {len(a.curves)} curves")
     fig, ax = plt.subplots(figsize=(8, 5.5), dpi=120)
+    ext = os.path.splitext(a.out or "")[1][1:].lower()
+    if ext and ext not in fig.canvas.get_supported_filetypes():
+        p.error(f"argument -o/--out: {a.out}: unknown image format '.{ext}' (png, pdf, svg, ...)")
     runs = [read_run(path) for path in a.curves]
     cols = {run[2] for run in runs}
     if len(cols) > 1:
@@ -99,12 +111,16 @@ def main():
         ax.plot(x, y, "o", mfc="none", color="k", label=a.measured_label)
     ax.set_xlabel("elongation (%)" if col == "elongation_pct" else "travel (mm)")
     ax.set_ylabel("force (N)")
-    ax.set_title(a.title)
+    ax.set_title(a.title if a.title is not None else
+                 "Force vs elongation" if col == "elongation_pct" else "Force vs travel")
     ax.grid(True, alpha=0.3)
     ax.legend()
     out = a.out or os.path.join(os.path.dirname(os.path.abspath(a.curves[0])), "curve.png")
     fig.tight_layout()
-    fig.savefig(out)
+    try:
+        fig.savefig(out)
+    except (OSError, ValueError) as e:  # a folder that cannot be written, a format matplotlib has not
+        sys.exit(f"plot_curve.py: -o {out}: {e.strerror if isinstance(e, OSError) else e}")
     print(out)
 
 
