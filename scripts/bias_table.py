@@ -24,11 +24,16 @@ def main():
     a = ap.parse_args()
     try:
         summary = json.load(open(os.path.join(a.run, "summary.json")))
-        rows = list(csv.DictReader(open(os.path.join(a.run, "curve.csv"), newline="")))
+        with open(os.path.join(a.run, "curve.csv"), newline="") as f:
+            reader = csv.DictReader(f)
+            rows, names = list(reader), reader.fieldnames or []
     except (OSError, ValueError) as e:
         sys.exit(f"bias_table.py: {a.run}: {e}")
-    if not rows or "center_shear_deg" not in rows[0]:
+    if "center_shear_deg" not in names:
         sys.exit(f"bias_table.py: {a.run}/curve.csv: not a bias run (no center_shear_deg column)")
+    if not rows:  # stopped before its first load step ended: summary.json says why
+        why = f": {summary['error']}" if summary.get("error") else ""
+        sys.exit(f"bias_table.py: {a.run}/curve.csv: no load step (the run stopped before its first){why}")
     D = summary["gauge_mm"] - summary["width_mm"]
     head = ["travel_mm", "formula_deg", "centre_deg", "diff_deg", "force_N", "N'"]
     if a.markdown:
