@@ -18,6 +18,7 @@ figure 11 is three steps of the pushing test,
     xvfb-run -a -s -noreset pvbatch scripts/render.py results/pushing --frames 1,2,last --panel fig11.png
 """
 import argparse
+import math
 import os
 import sys
 
@@ -41,7 +42,24 @@ def parse():
     p.add_argument("--view", default="angle", choices=["angle", "top", "side"], help="camera: above at an angle (default), straight from above, or from the side (along -y)")
     p.add_argument("--range", default=None, help="colour scale LO,HI (default: the field's range over the chosen frames)")
     p.add_argument("--panel", default=None, help="also join the chosen frames side by side into this PNG, seen with one camera")
-    return p.parse_args()
+    a = p.parse_args()
+    if a.frames != "all" and not all(f.strip() == "last" or f.strip().isdigit() for f in a.frames.split(",")):
+        p.error(f"argument --frames: {a.frames!r}: comma-separated frame numbers and 'last', or 'all'")
+    size = a.size.lower().split("x")
+    if len(size) != 2 or not all(v.strip().isdigit() and int(v) > 0 for v in size):
+        p.error(f"argument --size: {a.size!r}: WxH in pixels, e.g. 1600x900")
+    a.size = [int(v) for v in size]
+    if a.range is not None:
+        text = a.range
+        try:
+            a.range = [float(v) for v in text.split(",")]
+        except ValueError:
+            a.range = []
+        if len(a.range) != 2 or not all(math.isfinite(v) for v in a.range):
+            p.error(f"argument --range: {text!r}: LO,HI, two numbers")
+        if a.range[0] >= a.range[1]:
+            p.error(f"argument --range: {text!r}: LO must be below HI")
+    return a
 
 
 def main():
@@ -49,6 +67,9 @@ def main():
     xmf = os.path.join(os.path.abspath(a.dir), "fabric.xmf")
     if not os.path.isfile(xmf):
         sys.exit(f"render.py: {xmf}: no such file (run fabric with -output_every K first)")
+    h5 = os.path.join(os.path.abspath(a.dir), "fabric.h5")
+    if not os.path.isfile(h5):
+        sys.exit(f"render.py: {h5}: no such file (fabric.xmf describes the frames, fabric.h5 holds them)")
     reader = XDMFReader(FileNames=[xmf])
     reader.UpdatePipelineInformation()
     try:  # a property of the frames' times (one frame: a property of length 1)
@@ -66,7 +87,7 @@ def main():
             if not 0 <= k < n:
                 sys.exit(f"render.py: --frames {a.frames}: frame {k} does not exist ({xmf} has frames 0 to {n - 1})")
             frames.append(k)
-    w, h = (int(v) for v in a.size.lower().split("x"))
+    w, h = a.size
     prefix = a.out or os.path.join(os.path.abspath(a.dir), "render", "frame")
     os.makedirs(os.path.dirname(os.path.abspath(prefix)), exist_ok=True)
 
@@ -74,7 +95,7 @@ def main():
     if a.field not in names:
         sys.exit(f"render.py: --field {a.field}: not a field of {xmf} (it has {', '.join(names)})")
     if a.range:
-        lo, hi = (float(v) for v in a.range.split(","))
+        lo, hi = a.range
     else:
         lo, hi = float("inf"), float("-inf")
         for k in frames:
@@ -147,7 +168,7 @@ def main():
     info = {}
     try:  # load step of each frame, from fabric.h5
         import h5py
-        with h5py.File(os.path.join(os.path.abspath(a.dir), "fabric.h5"), "r") as f:
+        with h5py.File(h5, "r") as f:
             for i, name in enumerate(sorted(f["frames"].keys())):
                 info[i] = int(f["frames"][name].attrs["load_step"])
     except Exception:
