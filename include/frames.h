@@ -60,10 +60,11 @@ PetscErrorCode IODestroy(FabricIO *io);
    or after a restart the frames written before the checkpoint */
 PetscErrorCode FramesOpen(FabricIO io, const FrameSource *src, const FrameInfo *start);
 /* end of a load step: a frame every -output_every load steps and at the last one. f: the load step as
-   curve.csv has it (test time, number, its te steps N'); with te or tear frames at time + elapsed, the
-   time its te steps took (a load step that ended in a rupture: summary.json's rupture time) */
+   curve.csv has it (test time, number, its te steps N'); with te or tear frames, or when it ended in a
+   rupture (ruptured), at time + elapsed, the time its te steps took (a rupture's: summary.json's rupture
+   time) */
 PetscErrorCode FramesLoadStep(FabricIO io, const FrameSource *src, const FrameInfo *f, PetscReal elapsed,
-                              PetscBool last);
+                              PetscBool last, PetscBool ruptured);
 /* after a te step: a frame every -output_te_every te steps. now: the test time (the load step's and
    its te steps'), the load step; te_steps: the run's te steps so far */
 PetscErrorCode FramesTeStep(FabricIO io, const FrameSource *src, const FrameInfo *now, PetscInt64 te_steps);

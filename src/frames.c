@@ -341,16 +341,17 @@ PetscErrorCode FramesOpen(FabricIO io, const FrameSource *src, const FrameInfo *
 }
 
 /* End of a load step (f: as curve.csv has it): a frame every -output_every load steps and at the last one; with
-   te frames, the one of its last te step (elapsed: the time its te steps took) */
+   te frames, the one of its last te step (elapsed: the time its te steps took); a rupture's at the time the
+   test ended, its tear's end */
 PetscErrorCode FramesLoadStep(FabricIO io, const FrameSource *src, const FrameInfo *f, PetscReal elapsed,
-                              PetscBool last)
+                              PetscBool last, PetscBool ruptured)
 {
   FrameInfo at = *f;
 
   PetscFunctionBeginUser;
   if (!FramesOn(io, src->out->output_dir) || !io->output_every) PetscFunctionReturn(0);
-  if (f->load_step % io->output_every && !last) PetscFunctionReturn(0);
-  if (io->output_te_every || io->output_tear_every) at.time += elapsed; /* after its te and tear frames */
+  if (f->load_step % io->output_every && !last && !ruptured) PetscFunctionReturn(0);
+  if (io->output_te_every || io->output_tear_every || ruptured) at.time += elapsed; /* after its te and tear frames */
   PetscCall(WriteFrame(io, src, &at));
   PetscFunctionReturn(0);
 }

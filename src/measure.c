@@ -41,8 +41,8 @@ static PetscErrorCode SphereReaction(MPI_Comm comm, const PetscReal contact_sum[
 
 /* Supports (a plane or a pedestal): the force of the fabric on each body, minus the sum of
    the contact forces on the fabric (from GripReaction's ComputeForces at the balanced state);
-   on the clamps, the internal forces on the clamped crossings plus their weight (the clamps
-   hold them too); and the specimen's weight. At rest the free crossings balance, and the
+   on the clamps and the grips, the internal forces on the crossings they hold plus their weight
+   (they hold it too); and the specimen's weight. At rest the free crossings balance, and the
    internal forces sum to zero over the fabric, so plane + pedestal + clamp = weight, up to
    the residual forces of the balance test. Sums over points: reported, never fed back. */
 static PetscErrorCode SupportReactions(MPI_Comm comm, const FabricGrid *g, const PetscScalar *f,
@@ -64,7 +64,7 @@ static PetscErrorCode SupportReactions(MPI_Comm comm, const FabricGrid *g, const
       if (!p->exists[(j - p->gys) * p->gxm + (i - p->gxs)]) continue;
       for (int d = 0; d < 3; d++) {
         const PetscReal w = g->mass[k] * gravity[d];
-        if (g->kind[k] == POINT_CLAMPED) acc[6 + d] += f[3 * k + d] + w;
+        if (g->kind[k] == POINT_CLAMPED || g->kind[k] == POINT_GRIP) acc[6 + d] += f[3 * k + d] + w;
         acc[9 + d] += w;
       }
     }

@@ -155,7 +155,7 @@ static PetscErrorCode MeasureRow(Fabric fab, PetscReal residual, PetscBool balan
   row->residual   = residual;
   row->balanced   = balanced;
   row->elongation = JawTest(s) ? GripElongation(s, fab->grid.pull_dir, LoadTravelReached(&fab->load)) : 0.0;
-  row->time       = TestTime(s, &fab->load);
+  row->time       = LoadTravel(s) > 0 ? LoadTravelReached(&fab->load) / s->load.speed : TestTime(s, &fab->load);
   PetscCall(MeasureLoadStep(fab, row));
   PetscFunctionReturn(0);
 }
@@ -565,7 +565,7 @@ PetscErrorCode FabricRun(Fabric fab)
     PetscCall(OutputCurveRow(fab, row));
     fab->stats.rows_done = k;
     f = (FrameInfo){row->time, row->load_step, row->inner_steps};
-    PetscCall(FramesLoadStep(fab->io, &src, &f, fab->load.elapsed, row->load_step == s->load.load_steps || ruptured));
+    PetscCall(FramesLoadStep(fab->io, &src, &f, fab->load.elapsed, row->load_step == s->load.load_steps, ruptured));
     PetscCall(OutputProgress(fab, row));
     if (ss && !warned && fab->stats.linear_iterations > 0) { /* misspelt -snes_*, once a linear solve has set up the PC */
       char when[64];
