@@ -13,7 +13,7 @@ for a in "$@"; do
   case "$a" in
     -h | --help) sed -n '2,/^set /{/^set /d;s/^# \{0,1\}//;p}' "$0"; exit 0 ;;
     -quick) quick=1 ;;
-    -*) echo "identity_check: unknown option '$a' (usage: scripts/identity_check.sh [REV] [-quick])" >&2; exit 2 ;;
+    -*) echo "identity_check: unknown option '$a' (usage: scripts/identity_check.sh [REV] [-quick] [-h])" >&2; exit 2 ;;
     *) [[ -z "$rev" ]] || { echo "identity_check: revision '$a': one revision only (already $rev)" >&2; exit 2; }
        rev="$a" ;;
   esac

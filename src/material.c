@@ -90,7 +90,8 @@ static PetscErrorCode ReadYarnCSV(MPI_Comm comm, const YarnLaw *y, PetscInt *n, 
     lineno++;
     if (lineno == 1 && !strncmp(p, "\xEF\xBB\xBF", 3)) p += 3 + strspn(p + 3, " \t"); /* a spreadsheet's UTF-8 BOM */
     cr = strchr(p, '\r');
-    if (cr && cr[1] && cr[1] != '\n') { /* CR LF ends a line as LF does; a CR alone would hide every line after it */
+    if (cr) cr += strspn(cr, "\r");
+    if (cr && *cr && *cr != '\n') { /* CRs before LF end a line as LF does; a CR alone would hide every line after it */
       PetscCall(PetscSNPrintf(msg, sizeof msg,
                               "-%s_law_csv %s line %" PetscInt_FMT
                               ": a carriage return within the line (old Mac line ends, CR alone): save the file with "

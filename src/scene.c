@@ -1060,7 +1060,7 @@ static PetscErrorCode DeriveLines(MPI_Comm comm, const char *opt, const PetscRea
 }
 
 /* -grip_path_mm: the waypoints in SI and the length along the path to each */
-static PetscErrorCode DerivePath(MPI_Comm comm, const SceneInput *in, LoadProgram *lp)
+static PetscErrorCode DerivePath(MPI_Comm comm, const SceneInput *in, PetscReal gauge, LoadProgram *lp)
 {
   PetscReal at = 0;
 
@@ -1077,13 +1077,14 @@ static PetscErrorCode DerivePath(MPI_Comm comm, const SceneInput *in, LoadProgra
                "-grip_path_mm waypoint %" PetscInt_FMT
                " (%g,%g,%g mm) repeats the point before it: a path segment of zero length",
                k + 1, (double) v[0], (double) v[1], (double) v[2]);
-    /* as -elongation_pct at most 100: the grip no farther from rest than the gauge length */
-    PetscCheck(PetscSqr(v[0]) + PetscSqr(v[1]) + PetscSqr(v[2]) <= PetscSqr(in->gauge_mm) * (1 + 1e-12), comm,
+    /* as -elongation_pct at most 100: the grip no farther from rest than the gauge length (the specimen's, rounded
+       to the grid: DeriveGrid) */
+    PetscCheck(PetscSqr(v[0]) + PetscSqr(v[1]) + PetscSqr(v[2]) <= PetscSqr(1e3 * gauge) * (1 + 1e-12), comm,
                PETSC_ERR_USER_INPUT,
                "-grip_path_mm waypoint %" PetscInt_FMT
-               " (%.15g,%.15g,%.15g mm) is farther from rest than the gauge length, -gauge_mm %.15g (as -elongation_pct "
-               "is at most 100 %%): a grip travel the yarn model is not meant for",
-               k + 1, (double) v[0], (double) v[1], (double) v[2], (double) in->gauge_mm);
+               " (%.15g,%.15g,%.15g mm) is farther from rest than the gauge length, %.15g mm (-gauge_mm %.15g on the "
+               "grid; as -elongation_pct is at most 100 %%): a grip travel the yarn model is not meant for",
+               k + 1, (double) v[0], (double) v[1], (double) v[2], 1e3 * (double) gauge, (double) in->gauge_mm);
     at += PetscSqrtReal(len2);
     lp->path_at[k] = at;
   }
@@ -1959,7 +1960,7 @@ static PetscErrorCode SceneDerive(MPI_Comm comm, Scene *s)
                         s->clamps.clamp_line));
   PetscCall(DeriveLines(comm, "grip_line_mm", in->grip_line_mm, in->n_grip_line_mm, &s->clamps.grip_lines,
                         s->clamps.grip_line));
-  PetscCall(DerivePath(comm, in, &s->load));
+  PetscCall(DerivePath(comm, in, s->spec.gauge, &s->load));
   PetscCall(CheckSolverOptions(comm, in)); /* first: the explicit knobs' own checks would name the wrong cure */
   PetscCall(CheckTestOptions(comm, in, s));
   PetscCall(CheckOptionsApply(comm, s));

@@ -27,7 +27,7 @@
  * RefreshLevels), smoothed by
  * alternating block-line relaxation (LineSmoother: a yarn is 1/strain times stiffer along itself
  * than across, which point smoothers cannot smooth; every line solved whole, across ranks too);
- * on a grid too small to coarsen, a direct solve (MUMPS's LU; GAMG with the rigid-body modes without it).
+ * on a grid too small to coarsen, CG on LU factors (MUMPS; GAMG with the rigid-body modes without it).
  * All are overridden by -snes_*, -ksp_*, -pc_*, -mg_* (the options prefix is none).
  * Convergence: the explicit path's balance test (the largest free force over the larger of the
  * largest yarn tension and the force floor) at -balance_tol.
@@ -1482,8 +1482,8 @@ PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
     for (size_t k = 0; k < sizeof tols / sizeof tols[0] && !bad[0]; k++)
       PetscCall(FindBadOption(tols[k], NeverOk, bad, sizeof bad));
     PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT,
-               "%s with -solver static: a load step converges on the balance test alone, as the explicit path's; set "
-               "-balance_tol",
+               "%s: the quasi-static solver converges a load step on the balance test alone, as the explicit path does; "
+               "set -balance_tol",
                bad);
   }
   if (o.tao) {
@@ -1709,12 +1709,15 @@ static PetscErrorCode StaticCreateLevel(Fabric fab, PetscInt sequence, StaticSol
   PetscCall(MultigridHierarchy(ss->dm, &ss->levels, ss->dms, ss->Ps));
   ss->stencil = ss->opt.tangent == TANGENT_STENCIL && StencilFits(&ss->opt) && ss->levels > 1 ? PETSC_TRUE
                                                                                                 : PETSC_FALSE;
-  if (sequence < 0 && ss->opt.tangent_set && ss->opt.tangent == TANGENT_STENCIL && ss->levels < 2 && !fab->s.out.quiet)
+  if (sequence < 0 && ss->opt.tangent_set && ss->opt.tangent == TANGENT_STENCIL && ss->levels < 2 && !fab->s.out.quiet) {
+    PetscBool mumps;
+    PetscCall(PetscHasExternalPackage("mumps", &mumps));
     PetscCall(PetscPrintf(fab->comm,
                           "fabric: -static_tangent stencil: %" PetscInt_FMT " x %" PetscInt_FMT " crossings on %d ranks are too "
                           "few for multigrid on the grid's layout (4 crossings a rank a side); the tangent is stored in AIJ "
-                          "for a direct solve\n",
-                          fab->s.spec.nx, fab->s.spec.ny, fab->size));
+                          "for %s\n",
+                          fab->s.spec.nx, fab->s.spec.ny, fab->size, mumps ? "a direct solve" : "GAMG"));
+  }
   PetscCall(CreateTangent(ss));
   PetscCall(MatSetOption(ss->J, MAT_SYMMETRIC, PETSC_TRUE));
   PetscCall(VecDuplicate(fab->state.X, &ss->Xbc));
@@ -2123,7 +2126,7 @@ PetscErrorCode StaticSolve(StaticSolver ss, StaticResult *r)
     SolverOptionsGiven(given, sizeof given);
     PetscCheck(move <= fab->grid.extent && reason != SNES_DIVERGED_FNORM_NAN, fab->comm, PETSC_ERR_FP,
                "numerical failure at load step %" PetscInt_FMT ": the quasi-static solve moved a crossing farther than "
-               "the fabric's size %g m, or to NaN or Inf, or its residual grew 1e4-fold%s; %s%s%s",
+               "the fabric's size %g m, or to NaN or Inf, or its residual diverged (DIVERGED_DTOL)%s; %s%s%s",
                fab->load.load_step, (double) fab->grid.extent,
                ss->tao ? "" : ", each time from the first guess again with a stiffer shift",
                given[0] ? "the solver options given (" : "the solver's defaults fail on this fabric",

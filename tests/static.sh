@@ -55,7 +55,7 @@
 #     shrank to nothing, DIVERGED_TR_DELTA, was not retried as a failed line search is: load step 6
 #     ended at residual 4.4e-2).
 # 15. a bias specimen too small for multigrid on 2 ranks (20 x 10 mm at 8 threads/cm, a 30 x 30 grid):
-#     its linear solves are direct (MUMPS's LU), every load step balances at -balance_tol 1e-8, and
+#     its linear solves run on LU factors (MUMPS), every load step balances at -balance_tol 1e-8, and
 #     the forces are the explicit path's (FIRE at 1e-7) within 1e-5 relative (GAMG, used before, took
 #     800 Newton steps, balanced none, and reported 81.0 N against 74.97 N).
 set -u
@@ -275,7 +275,7 @@ e = [r for r in csv.DictReader(open(sys.argv[2] + "/curve.csv"))]
 conv = json.load(open(sys.argv[1] + "/summary.json"))["converged"]
 d = max(abs(float(a["force_N"]) - float(b["force_N"])) / abs(float(b["force_N"])) for a, b in zip(s, e))
 ok = conv is True and len(s) == len(e) == 4 and d < 1e-5
-print(("PASS" if ok else "FAIL") + f" a bias specimen too small for multigrid (30 x 30, 2 ranks), direct solves: converged {conv}, "
+print(("PASS" if ok else "FAIL") + f" a bias specimen too small for multigrid (30 x 30, 2 ranks), LU factors: converged {conv}, "
       f"forces vs explicit: largest relative difference {d:.2e} (tol 1e-5), last {s[-1]['force_N']} N")
 sys.exit(0 if ok else 1)
 PY
