@@ -13,6 +13,7 @@
 #include "scene.h"
 
 #include <signal.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h> /* access */
@@ -97,6 +98,8 @@ static const char *MpiErrorCause(void)
 /* One clear line per error. Input errors are seen by every rank alike, so rank 0 says them;
    other ranks speak only of errors that are theirs alone (memory, numerics, library, MPI). An
    MPI error stops every rank, as MPI's own handler did before it was set to return them. */
+static char unsaid[1024]; /* this rank's error, when rank 0 was to say it (StopTogether: if rank 0 did not have it) */
+
 static PetscErrorCode OneLineErrorHandler(MPI_Comm comm, int line, const char *fun, const char *file, PetscErrorCode n,
                                           PetscErrorType p, const char *mess, void *ctx)
 {
@@ -107,6 +110,13 @@ static PetscErrorCode OneLineErrorHandler(MPI_Comm comm, int line, const char *f
   if (comm != MPI_COMM_NULL) MPI_Comm_rank(comm, &rank);
   MPI_Comm_rank(PETSC_COMM_WORLD, &world);
   if (n == PETSC_ERR_MPI && world) sleep(1); /* rank 0 says it and stops every rank, if it has it too */
+  if (!(world == 0 ||
+        (rank == 0 && (n == PETSC_ERR_MEM || n == PETSC_ERR_PLIB || n == PETSC_ERR_LIB || n == PETSC_ERR_SYS ||
+                       n == PETSC_ERR_MPI))) &&
+      mess && mess[0] && !unsaid[0]) {
+    NameTheOption(mess, text, sizeof text);
+    snprintf(unsaid, sizeof unsaid, "%s", text);
+  }
   if (world == 0 ||
       (rank == 0 && (n == PETSC_ERR_MEM || n == PETSC_ERR_PLIB || n == PETSC_ERR_LIB || n == PETSC_ERR_SYS ||
                      n == PETSC_ERR_MPI))) {
@@ -245,43 +255,64 @@ static void StopTogether(void)
   while (!done && MPI_Wtime() - t0 < STOP_WAIT_S)
     if (MPI_Test(&req, &done, MPI_STATUS_IGNORE) != MPI_SUCCESS || !done) usleep(1000);
   if (done) return;
+  if (unsaid[0]) { /* an error of this rank alone (a file only rank 0 sees, say), which rank 0 was to say */
+    int world = 0;
+    MPI_Comm_rank(MPI_COMM_WORLD, &world);
+    fprintf(stderr, "fabric: error on rank %d: %s\n", world, unsaid);
+  }
   fprintf(stderr, "fabric: error: the other ranks did not stop with this one within %g s: stopping them\n",
           STOP_WAIT_S);
   MPI_Abort(MPI_COMM_WORLD, 1);
 }
 
 /* The files PETSc opens within PetscInitialize: -options_file and -options_file_yaml (read, by
-   rank 0), -history and -log_trace (written; -log_trace F writes F.0, F.1, ...). A missing one stops
+   rank 0), -history, -info and -log_trace (written; -log_trace F writes F.0, F.1, ...). A missing one stops
    the run there with PETSc's traceback, or worse (-history: a segmentation fault). Rank 0 looks
    first, says why, and every rank takes its verdict. */
-static int InitFileProblem(int argc, char **argv)
+static int FileOptionProblem(int n, char **tok, const char *where)
 {
-  for (int k = 1; k < argc; k++) {
-    const int   read = !strcmp(argv[k], "-options_file") || !strcmp(argv[k], "-options_file_yaml");
-    const int   history = !strcmp(argv[k], "-history"), write = history || !strcmp(argv[k], "-log_trace");
-    const char *f = k + 1 < argc ? argv[k + 1] : "";
+  for (int k = 0; k < n; k++) {
+    const int   read = !strcmp(tok[k], "-options_file") || !strcmp(tok[k], "-options_file_yaml");
+    const int   history = !strcmp(tok[k], "-history"), info = !strcmp(tok[k], "-info");
+    const int   write = history || info || !strcmp(tok[k], "-log_trace");
+    const char *f = k + 1 < n ? tok[k + 1] : "";
     struct stat st;
     if (!read && !write) continue;
-    if (!f[0] || f[0] == '-') {
-      if (!read) continue; /* -history and -log_trace without one write to PETSc's default */
-      fprintf(stderr, "fabric: error: %s needs a file name\n", argv[k]);
+    if (!f[0] || f[0] == '-' || (info && f[0] == ':')) { /* -info :sys: classes, no file */
+      if (!read) continue; /* -history, -info and -log_trace without one write to PETSc's default */
+      fprintf(stderr, "fabric: error: %s needs a file name%s\n", tok[k], where);
       return 1;
     }
     if (read && (stat(f, &st) || !S_ISREG(st.st_mode) || access(f, R_OK))) {
-      fprintf(stderr, "fabric: error: %s %s: no such file, or not a readable file\n", argv[k], f);
+      fprintf(stderr, "fabric: error: %s %s%s: no such file, or not a readable file\n", tok[k], f, where);
       return 1;
     }
-    if (write) { /* -log_trace F writes F.0 first */
+    if (write) { /* -log_trace F and -info F write F.0 first (-info F:classes: the file is F) */
       char path[4096], msg[8192];
-      snprintf(path, sizeof path, "%s%s", f, history ? "" : ".0");
-      ProbeFile(argv[k] + 1, path, "", msg, sizeof msg);
+      snprintf(path, sizeof path, "%.*s%s", (int) (info ? strcspn(f, ":") : strlen(f)), f, history ? "" : ".0");
+      ProbeFile(tok[k] + 1, path, "", msg, sizeof msg);
       if (msg[0]) {
-        fprintf(stderr, "fabric: error: %s\n", msg);
+        fprintf(stderr, "fabric: error: %s%s\n", msg, where);
         return 1;
       }
     }
   }
   return 0;
+}
+
+/* ... on the command line and in PETSC_OPTIONS */
+static int InitFileProblem(int argc, char **argv)
+{
+  const char *env = getenv("PETSC_OPTIONS");
+  char       *copy, *tok[1024];
+  int         n = 0, bad;
+
+  if (FileOptionProblem(argc - 1, argv + 1, "")) return 1;
+  if (!env || !(copy = strdup(env))) return 0;
+  for (char *t = strtok(copy, " \t\n"); t && n < 1024; t = strtok(NULL, " \t\n")) tok[n++] = t;
+  bad = FileOptionProblem(n, tok, " (in PETSC_OPTIONS)");
+  free(copy);
+  return bad;
 }
 
 int main(int argc, char **argv)

@@ -961,7 +961,8 @@ PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv)
    have been read before: one left is misspelt) */
 static PetscBool SolverOption(const char *name)
 {
-  static const char *const prefix[] = {"snes_", "ksp_", "pc_", "mg_", "mat_", "matptap_", "tao_"};
+  static const char *const prefix[] = {"snes_",       "ksp_",      "pc_",       "mg_", "mat_", "matptap_", "tao_",
+                                       "fieldsplit_", "redundant_", "telescope_", "sub_"}; /* and the inner solvers' */
   for (size_t q = 0; q < sizeof prefix / sizeof prefix[0]; q++)
     if (!strncmp(name, prefix[q], strlen(prefix[q]))) return PETSC_TRUE;
   return PETSC_FALSE;
@@ -1619,15 +1620,25 @@ static PetscErrorCode DeriveGrid(MPI_Comm comm, const SceneInput *in, Scene *s)
    file is written and removed, then what was made is removed again: nothing is left behind,
    and a path under a file, on a read-only or a pseudo file system (/proc, where even root
    cannot write) is refused before any computation. msg: "" or why not. */
-static void ProbeDirectory(const char *opt, const char *path, char *msg, size_t len)
+/* what ProbeDirectory made: the directories (their lengths in path) and the probe file, for ProbeUndo */
+typedef struct {
+  char   path[PETSC_MAX_PATH_LEN], probe[PETSC_MAX_PATH_LEN + 32];
+  size_t made[64];
+  int    nmade;
+} ProbeMade;
+
+/* Makes the directory path (mkdir -p) and writes a probe file in it, both left for the other ranks to see
+   (ProbeUndo removes them); msg: "" or why not */
+static void ProbeDirectory(const char *opt, const char *path, ProbeMade *pm, char *msg, size_t len)
 {
-  char        buf[PETSC_MAX_PATH_LEN], probe[PETSC_MAX_PATH_LEN + 32];
-  size_t      made[64], n = strlen(path);
-  int         nmade = 0, fd;
-  struct stat st;
+  char        *buf = pm->path;
+  size_t       n   = strlen(path);
+  int          fd;
+  struct stat  st;
 
   msg[0] = 0;
-  if (n >= sizeof buf) {
+  pm->nmade = 0, pm->probe[0] = 0;
+  if (n >= sizeof pm->path) {
     snprintf(msg, len, "-%s %s: path too long", opt, path);
     return;
   }
@@ -1639,22 +1650,67 @@ static void ProbeDirectory(const char *opt, const char *path, char *msg, size_t 
       if (!S_ISDIR(st.st_mode)) snprintf(msg, len, "-%s %s: %s is not a directory", opt, path, buf);
     } else if (errno != ENOENT || mkdir(buf, 0755))
       snprintf(msg, len, "-%s %s: cannot create the directory %s (%s)", opt, path, buf, strerror(errno));
-    else if (nmade < 64)
-      made[nmade++] = at;
+    else if (pm->nmade < 64)
+      pm->made[pm->nmade++] = at;
     buf[at] = at < n ? '/' : 0;
   }
   if (!msg[0]) {
-    snprintf(probe, sizeof probe, "%s/.fabric_probe_%d", path, (int) getpid());
-    fd = open(probe, O_WRONLY | O_CREAT | O_EXCL, 0644);
+    snprintf(pm->probe, sizeof pm->probe, "%s/.fabric_probe_%d", path, (int) getpid());
+    fd = open(pm->probe, O_WRONLY | O_CREAT | O_EXCL, 0644);
     if (fd < 0 || write(fd, "\n", 1) != 1)
       snprintf(msg, len, "-%s %s: cannot write in the directory (%s)", opt, path, strerror(errno));
     if (fd >= 0) close(fd);
-    if (fd >= 0) unlink(probe);
+    if (fd < 0) pm->probe[0] = 0;
   }
-  for (int k = nmade - 1; k >= 0; k--) { /* the directories made, deepest first */
-    buf[made[k]] = 0;
-    (void) rmdir(buf);
+}
+
+/* removes what ProbeDirectory made: the probe file, then the directories, deepest first */
+static void ProbeUndo(ProbeMade *pm)
+{
+  if (pm->probe[0]) unlink(pm->probe);
+  for (int k = pm->nmade - 1; k >= 0; k--) {
+    pm->path[pm->made[k]] = 0;
+    (void) rmdir(pm->path);
   }
+  pm->nmade = 0, pm->probe[0] = 0;
+}
+
+/* Every rank sees rank 0's probe file in -output_dir and can write beside it: parallel HDF5 writes one
+   file from every rank (a directory on a node's own disk, or a relative path from another working
+   directory, left the ranks waiting in MPI_File_open for ever). Rank 0 keeps its probe until all have
+   looked; a look is tried for a second (a network file system may show a new file late). */
+static PetscErrorCode ProbeShared(MPI_Comm comm, const char *dir, const ProbeMade *pm, char *msg, size_t len)
+{
+  char        probe[sizeof pm->probe];
+  PetscMPIInt rank;
+  int         mine = INT_MAX, first; /* (rank * 2 + what) * 4096 + errno; what: 0 not seen, 1 not writable */
+
+  PetscFunctionBeginUser;
+  PetscCall(CommRank(comm, &rank));
+  if (!rank) memcpy(probe, pm->probe, sizeof probe);
+  PetscCall(BroadcastFromRoot(comm, probe, (PetscInt) sizeof probe, MPI_CHAR));
+  if (rank) {
+    struct stat st;
+    int         seen = 0;
+    for (int t = 0; t < 20 && !(seen = !stat(probe, &st)); t++) usleep(50000);
+    if (!seen) mine = (rank * 2 + 0) * 4096 + (errno & 4095);
+    else {
+      char own[sizeof probe + 32];
+      int  fd;
+      snprintf(own, sizeof own, "%s/.fabric_probe_%d_%d", dir, (int) getpid(), (int) rank);
+      fd = open(own, O_WRONLY | O_CREAT | O_EXCL, 0644);
+      if (fd < 0) mine = (rank * 2 + 1) * 4096 + (errno & 4095);
+      else close(fd), unlink(own);
+    }
+  }
+  PetscCallMPI(MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, comm));
+  if (first != INT_MAX)
+    snprintf(msg, len,
+             "-output_dir %s: rank %d %s (%s): parallel HDF5 writes fabric.h5 from every rank, so the directory must be "
+             "one all ranks share (a relative path is taken from each rank's working directory)",
+             dir, first / 8192, (first / 4096) % 2 ? "cannot write in it" : "does not see the files rank 0 writes there",
+             strerror(first % 4096));
+  PetscFunctionReturn(0);
 }
 
 static void PlaceOf(const char *path, char *out, size_t len);
@@ -1892,6 +1948,11 @@ static void ProbeViewerFiles(const char *output_dir, char *msg, size_t len)
       continue;
     for (size_t k = 0; k < sizeof types / sizeof types[0]; k++)
       known |= (size_t) (colon - value) == strlen(types[k]) && !strncmp(value, types[k], strlen(types[k]));
+    if (log && colon != value && strncmp(value, "ascii:", 6)) { /* PETSc's profile is text: it failed at the end */
+      snprintf(msg, len, "-log_view %s: the profile is written as text only (ascii, the default: -log_view :FILE)",
+               value);
+      break;
+    }
     snprintf(file, sizeof file, "%.*s", (int) strcspn(colon + 1, ":"), colon + 1);
     if (!known || !file[0] || !strcmp(file, "stdout") || !strcmp(file, "stderr")) continue; /* ascii's streams */
     ProbeFile(name, file, log ? output_dir : "", msg, len);
@@ -1906,6 +1967,7 @@ static void ProbeViewerFiles(const char *output_dir, char *msg, size_t len)
 static PetscErrorCode CheckOutputPlaces(MPI_Comm comm, const Scene *s)
 {
   const SceneOutput *o = &s->out;
+  ProbeMade   pm = {.nmade = 0};
   char        msg[2 * PETSC_MAX_PATH_LEN + 128] = "";
   PetscMPIInt rank;
   PetscBool   help;
@@ -1915,7 +1977,10 @@ static PetscErrorCode CheckOutputPlaces(MPI_Comm comm, const Scene *s)
   if (help) PetscFunctionReturn(0); /* -help writes nothing */
   PetscCall(CommRank(comm, &rank));
   if (!rank) PositionsOutClash(s, msg, sizeof msg);
-  if (!rank && !msg[0] && o->output_dir[0]) ProbeDirectory("output_dir", o->output_dir, msg, sizeof msg);
+  if (!rank && !msg[0] && o->output_dir[0]) ProbeDirectory("output_dir", o->output_dir, &pm, msg, sizeof msg);
+  PetscCall(BroadcastFromRoot(comm, msg, (PetscInt) sizeof msg, MPI_CHAR));
+  if (!msg[0] && o->output_dir[0]) PetscCall(ProbeShared(comm, o->output_dir, &pm, msg, sizeof msg));
+  if (!rank) ProbeUndo(&pm);
   if (!rank && !msg[0] && o->positions_out[0])
     ProbeFile("positions_out", o->positions_out, o->output_dir, msg, sizeof msg);
   if (!rank && !msg[0]) ProbeViewerFiles(o->output_dir, msg, sizeof msg);

@@ -9,6 +9,9 @@
 #     the time_s of its load step in curve.csv (it was that plus the te steps' time);
 #  4. a restart whose fabric.h5 is another run's of the same grid (frames at other times: another
 #     -speed_mm_min) is refused, naming the frame that differs (its frames were mixed in).
+#  5. ranks that do not share -output_dir (rank 1 started in another working directory, a relative
+#     -output_dir: as a directory on each node's own disk): refused at once, naming the rank, and nothing
+#     left in either place (the ranks waited in MPI_File_open for ever).
 set -u
 fabric="$1"; scene="$2"
 . "$(dirname "$0")/runs.sh" # $py, $work, $fail, run NP ARGS...
@@ -70,5 +73,16 @@ elif grep -q "fabric.h5's frame 1 (load step 1, te step .*) is not the one writt
   echo "PASS a restart into another run's fabric.h5 is refused: $(grep -o "frame 1 (.*checkpoint ([^)]*)" "$work/log")"
 else
   cat "$work/log"; echo "FAIL a restart into another run's fabric.h5: not the expected message"; fail=1
+fi
+mkdir -p "$work/wd0" "$work/wd1"
+scene_abs="$(cd "$(dirname "$scene")" && pwd)/$(basename "$scene")"
+timeout 120 mpiexec -n 1 -wdir "$work/wd0" "$fabric" -scene "$scene_abs" -gauge_mm 20 -width_mm 5 -load_steps 4 -output_dir out \
+  : -n 1 -wdir "$work/wd1" "$fabric" -scene "$scene_abs" -gauge_mm 20 -width_mm 5 -load_steps 4 -output_dir out >"$work/log" 2>&1
+rc=$?
+left="$(ls -A "$work/wd0" "$work/wd1" | grep -v '^$\|:$' | tr '\n' ' ')"
+if [[ $rc -ne 0 && $rc -ne 124 && -z $left ]] && grep -q "error: -output_dir out: rank 1 does not see the files rank 0 writes there" "$work/log"; then
+  echo "PASS ranks that do not share -output_dir: refused (exit $rc), nothing left"
+else
+  cat "$work/log"; echo "FAIL ranks that do not share -output_dir: exit $rc (124: hung), left: $left"; fail=1
 fi
 exit $fail
