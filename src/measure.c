@@ -9,17 +9,20 @@
 #include <math.h>
 
 /* Reaction on the moving jaw: minus the sum of the internal forces on the grip points,
-   projected on the pull direction (positive in tension). */
+   projected on the pull direction (positive in tension). An exact sum (GlobalSumsExact): the same
+   on any number of ranks and any split, as the break detection that reads it must be. */
 static PetscErrorCode GripReaction(MPI_Comm comm, const FabricGrid *g, const PetscScalar *f, PetscReal *force)
 {
-  PetscReal sum = 0;
+  PetscReal *t;
 
   PetscFunctionBeginUser;
+  PetscCall(PetscMalloc1(g->nloc, &t));
   for (PetscInt k = 0; k < g->nloc; k++)
-    if (g->kind[k] == POINT_GRIP)
-      sum -= f[3 * k] * g->pull_dir[0] + f[3 * k + 1] * g->pull_dir[1] + f[3 * k + 2] * g->pull_dir[2];
-  PetscCall(GlobalSum(comm, &sum, 1));
-  *force = sum;
+    t[k] = g->kind[k] == POINT_GRIP
+             ? -(f[3 * k] * g->pull_dir[0] + f[3 * k + 1] * g->pull_dir[1] + f[3 * k + 2] * g->pull_dir[2])
+             : 0.0;
+  PetscCall(GlobalSumsExact(comm, 1, t, g->nloc, force));
+  PetscCall(PetscFree(t));
   PetscFunctionReturn(0);
 }
 
@@ -44,31 +47,35 @@ static PetscErrorCode SphereReaction(MPI_Comm comm, const PetscReal contact_sum[
    on the clamps and the grips, the internal forces on the crossings they hold plus their weight
    (they hold it too); and the specimen's weight. At rest the free crossings balance, and the
    internal forces sum to zero over the fabric, so plane + pedestal + clamp = weight, up to
-   the residual forces of the balance test. Sums over points: reported, never fed back. */
+   the residual forces of the balance test. Sums over points: reported, never fed back; the
+   clamps' and the weight exact (the same on any split), the bodies' the force kernel's sums. */
 static PetscErrorCode SupportReactions(MPI_Comm comm, const FabricGrid *g, const PetscScalar *f,
                                        const PetscReal gravity[3], const PetscReal body_sum[BODY_KINDS][3],
                                        CurveRow *row)
 {
   const Patch *p = &g->patch;
-  PetscReal    acc[12];
+  PetscReal    acc[12], *t;
 
   PetscFunctionBeginUser;
   for (int d = 0; d < 3; d++) {
     acc[d]     = -body_sum[BODY_PLANE][d];
     acc[3 + d] = -body_sum[BODY_PEDESTAL][d];
-    acc[6 + d] = acc[9 + d] = 0;
   }
+  PetscCall(GlobalSum(comm, acc, 6)); /* the bodies' contact sums, the force kernel's (to rounding on other ranks) */
+  PetscCall(PetscCalloc1(6 * g->nloc, &t)); /* held crossings' forces and every crossing's weight: exact sums */
   for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
     for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
       const PetscInt k = (j - p->ys) * p->xm + (i - p->xs);
       if (!p->exists[(j - p->gys) * p->gxm + (i - p->gxs)]) continue;
       for (int d = 0; d < 3; d++) {
         const PetscReal w = g->mass[k] * gravity[d];
-        if (g->kind[k] == POINT_CLAMPED || g->kind[k] == POINT_GRIP) acc[6 + d] += f[3 * k + d] + w;
-        acc[9 + d] += w;
+        if (g->kind[k] == POINT_CLAMPED || g->kind[k] == POINT_GRIP) t[d * g->nloc + k] = f[3 * k + d] + w;
+        t[(3 + d) * g->nloc + k] = w;
       }
     }
-  PetscCall(GlobalSum(comm, acc, 12));
+  PetscCall(GlobalSumsExact(comm, 3, t, g->nloc, acc + 6));
+  PetscCall(GlobalSumsExact(comm, 3, t + 3 * g->nloc, g->nloc, acc + 9));
+  PetscCall(PetscFree(t));
   for (int d = 0; d < 3; d++) {
     row->plane_force[d]    = acc[d];
     row->pedestal_force[d] = acc[3 + d];
@@ -84,21 +91,25 @@ static PetscErrorCode SupportReactions(MPI_Comm comm, const FabricGrid *g, const
    length/width 2 it touches the diamond at the middle of its sides). The angle
    at a crossing is asin(cos(angle(tw, tf))) (CrossingShear), as the shear_angle_deg field of
    fabric.h5 (FabricCreate checks that the zone holds a crossing).
-   Xl: halo-exchanged by GripReaction. A sum over crossings: reported, never fed back. */
+   Xl: halo-exchanged by GripReaction. An exact sum over crossings: reported, never fed back. */
 static PetscErrorCode CenterShear(MPI_Comm comm, const Scene *s, const Patch *p, const PetscScalar *xl, CurveRow *row)
 {
-  PetscReal acc[2] = {0, 0};
+  const PetscInt n = p->xm * p->ym;
+  PetscReal      acc[2], *t;
 
   PetscFunctionBeginUser;
+  PetscCall(PetscCalloc1(2 * n, &t)); /* each crossing's angle and 1 if it counts: exact sums */
   for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
     for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
-      PetscReal c, tmin;
+      const PetscInt k = (j - p->ys) * p->xm + (i - p->xs);
+      PetscReal      c, tmin;
       if (!BiasCentreZone(s, i, j)) continue;
       if (!CrossingShear(p, xl, i, j, &c, &tmin)) continue;
-      acc[0] += PetscAsinReal(c) * 180.0 / PETSC_PI;
-      acc[1] += 1;
+      t[k]     = PetscAsinReal(c) * 180.0 / PETSC_PI;
+      t[n + k] = 1;
     }
-  PetscCall(GlobalSum(comm, acc, 2));
+  PetscCall(GlobalSumsExact(comm, 2, t, n, acc));
+  PetscCall(PetscFree(t));
   row->center_shear = acc[1] > 0 ? acc[0] / acc[1] : 0.0;
   PetscFunctionReturn(0);
 }
