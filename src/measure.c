@@ -8,8 +8,27 @@
 
 #include <math.h>
 
+/* Sums over every rank's points of m quantities, quantity c's n local terms at t[c n ...]: exact and
+   rank-independent (GlobalSumsExact); if one is not finite, the plain sums, Inf or NaN as they are
+   (the exact sums quantise the terms on the largest) */
+static PetscErrorCode PointSums(MPI_Comm comm, PetscInt m, const PetscReal *t, PetscInt n, PetscReal *sums)
+{
+  PetscReal plain[EXACT_SUMS_MAX] = {0};
+  PetscBool finite = PETSC_TRUE;
+
+  PetscFunctionBeginUser;
+  for (PetscInt c = 0; c < m; c++)
+    for (PetscInt k = 0; k < n; k++) plain[c] += t[c * n + k];
+  PetscCall(GlobalSum(comm, plain, m)); /* the same on every rank: all take the same branch */
+  for (PetscInt c = 0; c < m; c++) finite = finite && isfinite(plain[c]);
+  if (finite) PetscCall(GlobalSumsExact(comm, m, t, n, sums));
+  else
+    for (PetscInt c = 0; c < m; c++) sums[c] = plain[c];
+  PetscFunctionReturn(0);
+}
+
 /* Reaction on the moving jaw: minus the sum of the internal forces on the grip points,
-   projected on the pull direction (positive in tension). An exact sum (GlobalSumsExact): the same
+   projected on the pull direction (positive in tension). An exact sum (PointSums): the same
    on any number of ranks and any split, as the break detection that reads it must be. */
 static PetscErrorCode GripReaction(MPI_Comm comm, const FabricGrid *g, const PetscScalar *f, PetscReal *force)
 {
@@ -21,7 +40,7 @@ static PetscErrorCode GripReaction(MPI_Comm comm, const FabricGrid *g, const Pet
     t[k] = g->kind[k] == POINT_GRIP
              ? -(f[3 * k] * g->pull_dir[0] + f[3 * k + 1] * g->pull_dir[1] + f[3 * k + 2] * g->pull_dir[2])
              : 0.0;
-  PetscCall(GlobalSumsExact(comm, 1, t, g->nloc, force));
+  PetscCall(PointSums(comm, 1, t, g->nloc, force));
   PetscCall(PetscFree(t));
   PetscFunctionReturn(0);
 }
@@ -73,8 +92,8 @@ static PetscErrorCode SupportReactions(MPI_Comm comm, const FabricGrid *g, const
         t[(3 + d) * g->nloc + k] = w;
       }
     }
-  PetscCall(GlobalSumsExact(comm, 3, t, g->nloc, acc + 6));
-  PetscCall(GlobalSumsExact(comm, 3, t + 3 * g->nloc, g->nloc, acc + 9));
+  PetscCall(PointSums(comm, 3, t, g->nloc, acc + 6));
+  PetscCall(PointSums(comm, 3, t + 3 * g->nloc, g->nloc, acc + 9));
   PetscCall(PetscFree(t));
   for (int d = 0; d < 3; d++) {
     row->plane_force[d]    = acc[d];
@@ -108,7 +127,7 @@ static PetscErrorCode CenterShear(MPI_Comm comm, const Scene *s, const Patch *p,
       t[k]     = PetscAsinReal(c) * 180.0 / PETSC_PI;
       t[n + k] = 1;
     }
-  PetscCall(GlobalSumsExact(comm, 2, t, n, acc));
+  PetscCall(PointSums(comm, 2, t, n, acc));
   PetscCall(PetscFree(t));
   row->center_shear = acc[1] > 0 ? acc[0] / acc[1] : 0.0;
   PetscFunctionReturn(0);
