@@ -14,6 +14,7 @@ void GripPathMove(const Scene *s, const PetscReal pull_dir[3], PetscReal from, P
 PetscReal GripElongation(const Scene *s, const PetscReal pull_dir[3], PetscReal disp);
 /* the test time of the load state, s */
 PetscReal TestTime(const Scene *s, const LoadState *ls);
+PetscReal TestTimeAt(const Scene *s, const LoadState *ls, PetscReal travel);
 /* put the grips at length disp along their path (shift_history: also the paper scheme's x(n-1)) */
 PetscErrorCode PlaceGrips(Fabric fab, PetscReal disp, PetscBool shift_history);
 /* one te step of the grips' cosine ramp towards this load step's travel (no-op when done) */

@@ -52,9 +52,12 @@ PetscReal GripElongation(const Scene *s, const PetscReal pull_dir[3], PetscReal 
 /* Time of the current load step (time_s, frame times), s: the travel at the test speed; for
    the tests that move nothing (square net, drape), the load step number, so that frames have
    distinct times. */
-PetscReal TestTime(const Scene *s, const LoadState *ls)
+PetscReal TestTime(const Scene *s, const LoadState *ls) { return TestTimeAt(s, ls, ls->travel); }
+
+/* ... with the grips or the sphere at travel (m) */
+PetscReal TestTimeAt(const Scene *s, const LoadState *ls, PetscReal travel)
 {
-  return LoadTravel(s) > 0 ? ls->travel / s->load.speed : (PetscReal) ls->load_step;
+  return LoadTravel(s) > 0 ? travel / s->load.speed : (PetscReal) ls->load_step;
 }
 
 /* Put the grips at length disp along their path (the pull, or -grip_path_mm). A jump

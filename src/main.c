@@ -104,22 +104,20 @@ static PetscErrorCode OneLineErrorHandler(MPI_Comm comm, int line, const char *f
                                           PetscErrorType p, const char *mess, void *ctx)
 {
   PetscMPIInt rank = 0, world = 0;
+  int         says; /* this rank says the error */
   char        text[1024];
   (void) ctx;
   if (p != PETSC_ERROR_INITIAL) return n;
   if (comm != MPI_COMM_NULL) MPI_Comm_rank(comm, &rank);
   MPI_Comm_rank(PETSC_COMM_WORLD, &world);
   if (n == PETSC_ERR_MPI && world) sleep(1); /* rank 0 says it and stops every rank, if it has it too */
-  if (!(world == 0 ||
-        (rank == 0 && (n == PETSC_ERR_MEM || n == PETSC_ERR_PLIB || n == PETSC_ERR_LIB || n == PETSC_ERR_SYS ||
-                       n == PETSC_ERR_MPI))) &&
-      mess && mess[0] && !unsaid[0]) {
+  says = world == 0 || (rank == 0 && (n == PETSC_ERR_MEM || n == PETSC_ERR_PLIB || n == PETSC_ERR_LIB ||
+                                      n == PETSC_ERR_SYS || n == PETSC_ERR_MPI));
+  if (!says && mess && mess[0] && !unsaid[0]) {
     NameTheOption(mess, text, sizeof text);
     snprintf(unsaid, sizeof unsaid, "%s", text);
   }
-  if (world == 0 ||
-      (rank == 0 && (n == PETSC_ERR_MEM || n == PETSC_ERR_PLIB || n == PETSC_ERR_LIB || n == PETSC_ERR_SYS ||
-                     n == PETSC_ERR_MPI))) {
+  if (says) {
     if (mess && mess[0]) {
       NameTheOption(mess, text, sizeof text);
       fprintf(stderr, "fabric: error: %s%s\n", text, n == PETSC_ERR_MPI ? MpiErrorCause() : SolverErrorCause(file));

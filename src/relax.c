@@ -155,7 +155,7 @@ static PetscErrorCode MeasureRow(Fabric fab, PetscReal residual, PetscBool balan
   row->residual   = residual;
   row->balanced   = balanced;
   row->elongation = JawTest(s) ? GripElongation(s, fab->grid.pull_dir, LoadTravelReached(&fab->load)) : 0.0;
-  row->time       = LoadTravel(s) > 0 ? LoadTravelReached(&fab->load) / s->load.speed : TestTime(s, &fab->load);
+  row->time       = TestTimeAt(s, &fab->load, LoadTravelReached(&fab->load));
   PetscCall(MeasureLoadStep(fab, row));
   PetscFunctionReturn(0);
 }
