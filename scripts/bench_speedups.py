@@ -61,7 +61,10 @@ def run(scene, opts):
     # the paper's speed-ups on the damped scheme, the paper's kind of relaxation (FIRE, the default: docs/relaxation.md)
     cmd = ["mpiexec", "-n", str(NP), FABRIC, "-scene", os.path.join(ROOT, "inputs", scene), "-output_dir", out, "-quiet", "-output_every", "0",
            "-integrator", "damped"] + opts
-    subprocess.run(cmd, check=True, env=ENV, stdout=subprocess.DEVNULL)
+    r = subprocess.run(cmd, env=ENV, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    if r.returncode != 0:
+        sys.stderr.write(r.stderr)
+        sys.exit("bench_speedups: this run stopped (exit %d), no table: %s" % (r.returncode, " ".join(cmd)))
     rows = list(csv.DictReader(open(os.path.join(out, "curve.csv"))))
     return rows, json.load(open(os.path.join(out, "summary.json")))
 

@@ -42,7 +42,13 @@ def parse():
     p.add_argument("--view", default="angle", choices=["angle", "top", "side"], help="camera: above at an angle (default), straight from above, or from the side (along -y)")
     p.add_argument("--range", default=None, help="colour scale LO,HI (default: the field's range over the chosen frames)")
     p.add_argument("--panel", default=None, help="also join the chosen frames side by side into this PNG, seen with one camera")
-    a = p.parse_args()
+    # "--range -5,5": argparse takes a value that starts with '-' for an option; join it to its flag
+    argv = sys.argv[1:]
+    for k in range(len(argv) - 1):
+        if argv[k] == "--range" and argv[k + 1].startswith("-"):
+            argv[k:k + 2] = ["--range=" + argv[k + 1]]
+            break
+    a = p.parse_args(argv)
     if a.frames != "all" and not all(f.strip() == "last" or f.strip().isdigit() for f in a.frames.split(",")):
         p.error(f"argument --frames: {a.frames!r}: comma-separated frame numbers and 'last', or 'all'")
     size = a.size.lower().split("x")

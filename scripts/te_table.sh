@@ -9,7 +9,8 @@
 # step are measured), then prints a markdown table from summary.json: the
 # te used, the stable bound, the measured limit 2/omega_max and te / limit at the first
 # state (load step 1 after its grips moved), the last, the tightest (smallest limit) and the worst
-# (largest te / limit), each once. A run that stops gets a "(stopped)" row and the table goes on.
+# (largest te / limit), each once. A run that stops gets a "(stopped)" row and the table goes on;
+# the script then exits 1.
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 fabric=${FABRIC:-$here/build/fabric}
@@ -35,6 +36,7 @@ steps_opt=""
 for ((k = 0; k + 1 < ${#extra[@]}; k++)); do [[ ${extra[k]} == -load_steps ]] && steps_opt=${extra[k + 1]}; done
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
 tmp=$(mktemp -d)
+stopped=()
 trap 'rm -rf "$tmp"' EXIT
 echo "| scene | state | te s | stable bound s | measured limit s | te / limit | bound / limit |"
 echo "|---|---|---:|---:|---:|---:|---:|"
@@ -48,6 +50,7 @@ for sc in "${scenes[@]}"; do
     why=$(grep -m1 'error' "$tmp/$sc.log" || tail -1 "$tmp/$sc.log")
     echo "te_table.sh: $sc stopped: $why" >&2
     echo "| $sc | (stopped) | | | | | |"
+    stopped+=("$sc")
     continue
   fi
   /usr/bin/python3 - "$tmp/$sc/summary.json" "$sc" <<'EOF'
@@ -64,3 +67,6 @@ for name, r in rows:
           f"| {r['limit_s']:.3e} | {r['te_over_limit']:.3f} | {r['bound_over_limit']:.3f} |")
 EOF
 done
+if ((${#stopped[@]})); then
+  echo "te_table.sh: stopped: ${stopped[*]}" >&2; exit 1
+fi

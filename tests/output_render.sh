@@ -53,6 +53,11 @@ ok = abs(hi - u) <= 1e-6 * u
 print(("PASS" if ok else "FAIL") + f" the displacement's colour scale ends at {hi:.9g} m, its largest magnitude is {u:.9g} m")
 sys.exit(0 if ok else 1)
 PY
+# a colour scale with a negative end, given as "--range LO,HI" (not only "--range=LO,HI")
+if pvbatch "$root/scripts/render.py" "$work/p" --frames last --range -5,5 --size 400x300 --out "$work/prange/frame" >"$work/range.log" 2>&1 &&
+  grep -q "^render.py: colour scale of warp_tension: -5 to 5$" "$work/range.log"; then
+  echo "PASS render.py --range -5,5: $(grep colour "$work/range.log")"
+else echo "FAIL render.py --range -5,5:"; cat "$work/range.log"; fail=1; fi
 # a run with one frame (it stopped with an error after frame 0): render.py draws it
 mpiexec -n 2 "$fabric" "${opts[@]}" -integrator damped -te_check false -te 1e-5 -output_every 1 -output_dir "$work/one" >/dev/null 2>&1
 if pvbatch "$root/scripts/render.py" "$work/one" --size 400x300 --out "$work/oneimg/frame" >"$work/one.log" 2>&1 && [[ -s "$work/oneimg/frame_000000.png" ]]; then
