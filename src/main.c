@@ -163,6 +163,7 @@ static PetscErrorCode Run(int argc, char **argv)
   if (help) {
     PetscCall(StaticOptionsCheck(PETSC_COMM_WORLD)); /* the quasi-static solver's own options */
     PetscCall(FabricDestroy(&fab));
+    PetscCall(SceneCheckUnused(PETSC_COMM_WORLD, PETSC_TRUE)); /* a misspelt option beside -help: after the list */
     PetscFunctionReturn(0);
   }
   if (fab->s.num.solver == SOLVER_STATIC) PetscCall(StaticOptionsCheck(PETSC_COMM_WORLD)); /* reads -static_* */
