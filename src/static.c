@@ -1208,7 +1208,20 @@ static PetscErrorCode SetPreconditioner(StaticSolver ss, KSP ksp)
               solve by MUMPS, which PETSc's Debian build has; GAMG, which balances no slack net, only without it */
     PetscBool mumps;
     PetscCall(PetscHasExternalPackage("mumps", &mumps));
-    if (mumps) {
+    PetscMPIInt size;
+    PetscCallMPI(MPI_Comm_size(PetscObjectComm((PetscObject) pc), &size));
+    if (mumps && size > 1) { /* MUMPS's parallel factors sum the fronts' contributions in the order its messages
+                                arrive: they differ in the last bits from run to run, and so did Newton's path (a
+                                restart on the same ranks was not the uninterrupted run). Each rank factors the whole
+                                (small) tangent by MUMPS itself, -pc_type redundant: the same from run to run */
+      KSP inner;
+      PC  lu;
+      PetscCall(PCSetType(pc, PCREDUNDANT));
+      PetscCall(PCRedundantGetKSP(pc, &inner));
+      PetscCall(KSPGetPC(inner, &lu));
+      PetscCall(PCSetType(lu, PCLU));
+      PetscCall(PCFactorSetMatSolverType(lu, MATSOLVERMUMPS));
+    } else if (mumps) {
       PetscCall(PCSetType(pc, PCLU));
       PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
     } else
