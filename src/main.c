@@ -41,6 +41,22 @@ static void NameTheOption(const char *mess, char *out, size_t len)
   OptionsGiven g;
 
   snprintf(out, len, "%s", mess);
+  if (!strncmp(mess, "Unknown logical value: ", 23)) { /* PETSc's yes/no options (-mg_line_smoother 2): as the fabric's say it */
+    snprintf(value, sizeof value, "%s", mess + 23);
+    if (OptionsGivenGet(&g)) return;
+    for (int pass = 0; pass < 2 && !found[0]; pass++) /* a solver's option first: the fabric's own say their errors */
+      for (PetscInt q = 0; q < g.n && !found[0]; q++) {
+        const char *nm = g.name[q];
+        if (strcmp(g.value[q], value)) continue;
+        if (!pass && !(strstr(nm, "snes_") || strstr(nm, "ksp_") || strstr(nm, "pc_") || strstr(nm, "mg_") ||
+                       strstr(nm, "tao_") || strstr(nm, "mat_")))
+          continue;
+        snprintf(found, sizeof found, "%s", nm);
+      }
+    OptionsGivenFree(&g);
+    if (found[0]) snprintf(out, len, "%s %s: not a yes/no value (use 1 or 0, true or false)", found, value);
+    return;
+  }
   if (number)
     snprintf(value, sizeof value, "%.*s", (int) (strstr(mess, post) - mess - strlen(pre)), mess + strlen(pre));
   else if (last && (!strncmp(mess, "Unable to find requested ", 25) || !strncmp(mess, "Unknown ", 8)) &&
