@@ -1048,6 +1048,18 @@ static int ReadHistoryArray(hid_t fid, const char *file, const char *path, const
   return 1;
 }
 
+/* /history/frames holds the frames counted (none: no list), checked before the list is allocated: a damaged count
+   (2^31 - 1) failed in the allocation on rank 0 alone, and a count of 0 beside a list dropped the frames of fabric.h5 */
+static int FrameListLength(hid_t fid, const char *file, Header *h)
+{
+  const hsize_t n = 3 * (hsize_t) h->frames;
+  const int     there = H5Lexists(fid, "/history", H5P_DEFAULT) > 0 && H5Lexists(fid, "/history/frames", H5P_DEFAULT) > 0;
+  if (!h->frames && there) return REFUSE("-restart %s: damaged checkpoint: frames = 0, yet /history/frames is there", file);
+  if (h->frames && !CheckDataset(fid, "/history/frames", 1, &n, NULL))
+    return REFUSE("-restart %s: damaged checkpoint: /history/frames does not hold %d frames", file, h->frames);
+  return 1;
+}
+
 /* Rank 0, alone (serial HDF5): is FILE a complete, undamaged checkpoint of this scene? Fills h and, on
    success, the curve rows (*rows, CURVE_COLS per load step done) and the frame list (*frames). */
 static PetscErrorCode ReadHeader(Fabric fab, const char *file, Header *h, double **rows, double **frames)
@@ -1063,7 +1075,8 @@ static PetscErrorCode ReadHeader(Fabric fab, const char *file, Header *h, double
   H5Eset_auto2(H5E_DEFAULT, NULL, NULL); /* failures become one message, not an HDF5 error stack */
   if (OpenCheckpoint(&fab->s, file, h, &fid)) {
     g = H5Gopen2(fid, "/", H5P_DEFAULT);
-    if (ReadCounters(&fab->s, g, file, h) && CheckStateDatasets(&fab->s, &fab->state, fid, g, file, h)) {
+    if (ReadCounters(&fab->s, g, file, h) && CheckStateDatasets(&fab->s, &fab->state, fid, g, file, h) &&
+        FrameListLength(fid, file, h)) {
       PetscCall(PetscMalloc1(CURVE_COLS * h->load_step, rows));
       PetscCall(PetscMalloc1(3 * h->frames, frames));
       snprintf(what, sizeof what, "%d load steps", h->load_step);

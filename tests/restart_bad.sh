@@ -47,6 +47,13 @@ for bad in "rupture_step 20 load steps done" "rupture_step 2.5 load steps done" 
   cp "$ck" "$work/attr.h5" && setattr "$work/attr.h5" "$attr" "$value" || { echo "FAIL cannot set $attr"; fail=1; continue; }
   refuse "attr_${attr}_$value" "-restart .*attr.h5: damaged checkpoint: $attr = .* \\(a whole number from 0 to [0-9]+, $what\\)" "${opts[@]}" -output_dir "$work/run" -restart "$work/attr.h5"
 done
+# a damaged frame count: 2^31 - 1 was allocated on rank 0 alone before the list's length was looked at ("fabric: error:
+# ReadHeader", the other rank waiting 10 s), and 0 beside the list restarted and dropped the earlier frames of fabric.h5
+for bad in "2147483647 /history/frames does not hold 2147483647 frames" "0 frames = 0, yet /history/frames is there"; do
+  read -r value what <<<"$bad"
+  cp "$ck" "$work/attr.h5" && setattr "$work/attr.h5" frames "$value" || { echo "FAIL cannot set frames"; fail=1; continue; }
+  refuse "attr_frames_$value" "-restart .*attr.h5: damaged checkpoint: $what" "${opts[@]}" -output_dir "$work/run" -restart "$work/attr.h5"
+done
 # frames were written before the checkpoint: restarting into a directory without them is refused
 refuse frames_missing "-restart .*checkpoint.h5: .*/elsewhere/fabric.h5, which holds the [0-9]+ frames written before the checkpoint, is missing" "${opts[@]}" -output_dir "$work/elsewhere" -restart "$ck"
 [[ -e "$work/elsewhere" ]] && { echo "FAIL frames_missing: $work/elsewhere was created"; fail=1; }
