@@ -924,6 +924,9 @@ static int ReadRelaxState(const Scene *s, hid_t g, const char *file, Header *h)
   for (int k = 0; k < n; k++)
     if (!ReadAttr(g, a[k].name, a[k].real ? H5T_NATIVE_DOUBLE : H5T_NATIVE_LONG, a[k].value))
       return REFUSE("-restart %s: damaged checkpoint: the relaxation's state (%s) is missing", file, a[k].name);
+    else if (a[k].real && !isfinite(*(double *) a[k].value)) /* a NaN te or travel failed later, naming no cause */
+      return REFUSE("-restart %s: damaged checkpoint: %s = %g is not a finite number", file, a[k].name,
+                    *(double *) a[k].value);
   if (r->within != 0 && r->within != 1)
     return REFUSE("-restart %s: damaged checkpoint: within_load_step = %ld", file, r->within);
   if (r->static_nhist < 0 || r->static_nhist > 3)
@@ -995,6 +998,17 @@ static int ReadCounters(const Scene *s, hid_t g, const char *file, Header *h)
   for (int k = 0; k < RUPTURE_ATTRS; k++)
     if (!ReadAttr(g, RuptureAttr[k], H5T_NATIVE_DOUBLE, &h->rupture[k]))
       return REFUSE("-restart %s: damaged checkpoint: the rupture state (%s) is missing", file, RuptureAttr[k]);
+  { /* the real counters finite: a NaN grip travel ran into "numerical instability", a NaN wall time ended "done in nan s" */
+    const struct {
+      const char *name;
+      double      v;
+    } real[] = {{"grip_disp_m", h->grip_disp},           {"grip_step_prev_m", h->grip_step_prev},
+                {"wall_s", h->wall},                     {"last_tension_max_N", h->last_tension_max},
+                {"kinetic_energy_J", h->ke_prev}};
+    for (size_t k = 0; k < sizeof real / sizeof real[0]; k++)
+      if (!isfinite(real[k].v))
+        return REFUSE("-restart %s: damaged checkpoint: %s = %g is not a finite number", file, real[k].name, real[k].v);
+  }
   if (!ReadRelaxState(s, g, file, h)) return 0;
   /* at the end of load step 1..K, or within load step 1..K (load steps done: 0..K-1) */
   if (h->load_step < 1 - h->relax.within || h->load_step > K - h->relax.within || h->frames < 0 || h->te_steps < 0)
@@ -1002,7 +1016,12 @@ static int ReadCounters(const Scene *s, hid_t g, const char *file, Header *h)
                   (long) h->load_step + h->relax.within, K);
   if (h->point_updates < 0)
     return REFUSE("-restart %s: damaged checkpoint: point_updates = %lld", file, h->point_updates);
-  return RuptureInRange(s, file, h);
+  if (!RuptureInRange(s, file, h)) return 0;
+  for (int k = 0; k < RUPTURE_ATTRS; k++) /* the forces, travels and times besides the counts checked above */
+    if (!isfinite(h->rupture[k]))
+      return REFUSE("-restart %s: damaged checkpoint: %s = %g is not a finite number", file, RuptureAttr[k],
+                    h->rupture[k]);
+  return 1;
 }
 
 /* the state vectors and the broken segments: there, of this grid, with their checksums (g: the root group) */

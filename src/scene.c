@@ -665,6 +665,19 @@ int SceneOptionValues(const Scene *s, PetscInt k, char name[64], PetscReal v[], 
 /* ---------------- the scene file and unused options ---------------- */
 
 /* a scene file with no option in it would run the default strip without a word: refuse it */
+/* FILE (of option OPT) is a readable file: a directory said "no such file" */
+static PetscErrorCode CheckReadable(MPI_Comm comm, const char *opt, const char *file)
+{
+  PetscBool exists, dir;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscTestDirectory(file, 'r', &dir));
+  PetscCheck(!dir, comm, PETSC_ERR_FILE_OPEN, "%s %s: a directory, not a file", opt, file);
+  PetscCall(PetscTestFile(file, 'r', &exists));
+  PetscCheck(exists, comm, PETSC_ERR_FILE_OPEN, "%s %s: no such file, or not readable", opt, file);
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode CheckSceneHasOptions(MPI_Comm comm, const char *file)
 {
   char  *line = NULL;
@@ -909,7 +922,7 @@ static PetscErrorCode InsertEnvOptions(MPI_Comm comm)
 PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv)
 {
   char           file[PETSC_MAX_PATH_LEN];
-  PetscBool      set, exists;
+  PetscBool      set;
   PetscErrorCode ierr;
 
   PetscFunctionBeginUser;
@@ -924,8 +937,7 @@ PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv)
                given, file);
   }
   PetscCheck(file[0], comm, PETSC_ERR_USER_INPUT, "-scene needs a file name");
-  PetscCall(PetscTestFile(file, 'r', &exists));
-  PetscCheck(exists, comm, PETSC_ERR_FILE_OPEN, "-scene %s: no such file, or not readable", file);
+  PetscCall(CheckReadable(comm, "-scene", file));
   PetscCall(CheckSceneHasOptions(comm, file));
   {
     char        msg[512] = "";
@@ -1478,11 +1490,7 @@ static PetscErrorCode DeriveOutput(MPI_Comm comm, const SceneInput *in, Scene *s
              o->checkpoint_every_te);
   PetscCheck(o->checkpoint_every_s == 0 || o->output_dir[0], comm, PETSC_ERR_USER_INPUT,
              "-checkpoint_every_s %g needs an output directory: -output_dir is none", (double) o->checkpoint_every_s);
-  if (o->restart[0]) {
-    PetscBool exists;
-    PetscCall(PetscTestFile(o->restart, 'r', &exists));
-    PetscCheck(exists, comm, PETSC_ERR_FILE_OPEN, "-restart %s: no such file, or not readable", o->restart);
-  }
+  if (o->restart[0]) PetscCall(CheckReadable(comm, "-restart", o->restart));
   PetscFunctionReturn(0);
 }
 

@@ -54,6 +54,13 @@ for bad in "2147483647 /history/frames does not hold 2147483647 frames" "0 frame
   cp "$ck" "$work/attr.h5" && setattr "$work/attr.h5" frames "$value" || { echo "FAIL cannot set frames"; fail=1; continue; }
   refuse "attr_frames_$value" "-restart .*attr.h5: damaged checkpoint: $what" "${opts[@]}" -output_dir "$work/run" -restart "$work/attr.h5"
 done
+# a real counter that is not a finite number: a NaN grip travel ran and ended in "numerical instability" after removing
+# the earlier summary.json, a NaN wall time ended "done in nan s" with exit 0
+for bad in "grip_disp_m nan" "wall_s inf" "te_now_s nan" "peak_force_N -inf"; do
+  read -r attr value <<<"$bad"
+  cp "$ck" "$work/attr.h5" && setattr "$work/attr.h5" "$attr" "$value" || { echo "FAIL cannot set $attr"; fail=1; continue; }
+  refuse "attr_${attr}_$value" "-restart .*attr.h5: damaged checkpoint: $attr = -?(nan|inf) is not a finite number" "${opts[@]}" -output_dir "$work/run" -restart "$work/attr.h5"
+done
 # frames were written before the checkpoint: restarting into a directory without them is refused
 refuse frames_missing "-restart .*checkpoint.h5: .*/elsewhere/fabric.h5, which holds the [0-9]+ frames written before the checkpoint, is missing" "${opts[@]}" -output_dir "$work/elsewhere" -restart "$ck"
 [[ -e "$work/elsewhere" ]] && { echo "FAIL frames_missing: $work/elsewhere was created"; fail=1; }
