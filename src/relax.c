@@ -473,12 +473,13 @@ static PetscErrorCode SolveLoadStep(Fabric fab, StaticSolver ss, CurveRow *row)
   row->inner_steps    = 0;
   PetscCall(SolveCoarser(ss, fab->load.load_step, &fab->stats.coarse_nonlinear_iterations));
   for (PetscInt round = 0;; round++) {
-    PetscInt  broke;
-    PetscBool ruptured;
-    PetscCall(StaticSolve(ss, &r));
+    PetscInt       broke;
+    PetscBool      ruptured;
+    PetscErrorCode ierr = StaticSolve(ss, &r); /* counted also when it stops the run: summary.json's counts */
     row->inner_steps += r.nonlinear_iterations;
     fab->stats.nonlinear_iterations += r.nonlinear_iterations;
     fab->stats.linear_iterations += r.linear_iterations;
+    PetscCall(ierr);
     if (!r.balanced) {
       PetscCall(PetscInfo(NULL, "load step %" PetscInt_FMT ": not balanced (%s), residual %g\n", fab->load.load_step,
                           r.reason, (double) r.residual));
