@@ -134,6 +134,7 @@ static PetscErrorCode OneLineErrorHandler(MPI_Comm comm, int line, const char *f
     snprintf(unsaid, sizeof unsaid, "%s", text);
   }
   if (says) {
+    fflush(stdout); /* what it printed (-help's list) first: the error line starts a line of its own */
     if (mess && mess[0]) {
       NameTheOption(mess, text, sizeof text);
       fprintf(stderr, "fabric: error: %s%s\n", text, n == PETSC_ERR_MPI ? MpiErrorCause() : SolverErrorCause(file));
