@@ -5,7 +5,7 @@
 # 1e-5 m/s); the drape coefficient of the default fabric lies in the handbooks' range for woven
 # fabrics (30-80 %); summary.json's drape_coefficient_pct and folds, and the final positions,
 # are identical on 1 and 2 ranks; at rest the forces on the supports add up to the specimen's
-# weight, pedestal_fz + clamp_fz = weight_fz (curve.csv), to 1e-5 of the weight (it gives 1.7e-7).
+# weight, pedestal_fz + clamp_fz = weight_fz (curve.csv), to 1e-5 of the weight (it gives 1.5e-7).
 set -u
 fabric="$1"; scene="$2"
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
