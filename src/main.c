@@ -41,7 +41,8 @@ static void NameTheOption(const char *mess, char *out, size_t len)
   OptionsGiven g;
 
   snprintf(out, len, "%s", mess);
-  if (!strncmp(mess, "Unknown logical value: ", 23)) { /* PETSc's yes/no options (-mg_line_smoother 2): as the fabric's say it */
+  if (!strncmp(mess, "Unknown logical value: ", 23)) { /* PETSc's yes/no options (-mg_line_smoother 2): said as the
+                                                           fabric's own are */
     snprintf(value, sizeof value, "%s", mess + 23);
     if (OptionsGivenGet(&g)) return;
     for (int pass = 0; pass < 2 && !found[0]; pass++) /* a solver's option first: the fabric's own say their errors */

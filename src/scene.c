@@ -664,7 +664,6 @@ int SceneOptionValues(const Scene *s, PetscInt k, char name[64], PetscReal v[], 
 
 /* ---------------- the scene file and unused options ---------------- */
 
-/* a scene file with no option in it would run the default strip without a word: refuse it */
 /* FILE (of option OPT) is a readable file: a directory said "no such file" */
 static PetscErrorCode CheckReadable(MPI_Comm comm, const char *opt, const char *file)
 {
@@ -678,6 +677,7 @@ static PetscErrorCode CheckReadable(MPI_Comm comm, const char *opt, const char *
   PetscFunctionReturn(0);
 }
 
+/* a scene file with no option in it would run the default strip without a word: refuse it */
 static PetscErrorCode CheckSceneHasOptions(MPI_Comm comm, const char *file)
 {
   char  *line = NULL;
