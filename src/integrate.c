@@ -152,6 +152,14 @@ static PetscErrorCode StableBound(Fabric fab, PetscReal omega2[2])
   PetscCall(PetscLogEventEnd(EV_Bound, 0, 0, 0, 0));
   PetscCall(GlobalMax(fab->comm, omega2, 2));
   PetscCall(BoundInfo(fab, &at));
+  if (!(omega2[0] > 0) && fab->stats.rupture.segments > 0 && fab->step.omega_max > 0) {
+    /* every segment that held a free crossing has broken (a strip one yarn wide): its pieces move free of any
+       spring, and any te is stable for them; the te of the bound before goes on */
+    PetscCall(PetscInfo(NULL, "load step %" PetscInt_FMT ": no stiffness left after %" PetscInt64_FMT
+                              " segments broke: te %g s kept\n",
+                        fab->load.load_step, (PetscInt64) fab->stats.rupture.segments, (double) fab->step.te));
+    PetscFunctionReturn(0);
+  }
   PetscCheck(omega2[0] > 0, fab->comm, PETSC_ERR_USER_INPUT,
              "no free crossing point has any stiffness: nothing to integrate (check -traction, -bending, -shear and "
              "the clamps)");
