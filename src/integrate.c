@@ -579,9 +579,20 @@ static PetscErrorCode InstabilityCause(Fabric fab, char *cause, size_t len)
 
   PetscFunctionBeginUser;
   cause[0] = 0;
-  if (!PaperSteps(fab) || (fab->s.num.nu == 0 && fab->step.damp_c == 0)) PetscFunctionReturn(0);
   for (PetscInt k = 0; k < fab->grid.nloc; k++) inv_m = PetscMax(inv_m, fab->grid.inv_m[k]);
   PetscCall(GlobalMax(fab->comm, &inv_m, 1));
+  { /* a point load that alone moves a crossing farther than the fabric's size in one te step */
+    const PetscReal *P = fab->s.load.point_load, f = fab->load.load_factor,
+                    load = f * PetscSqrtReal(P[0] * P[0] + P[1] * P[1] + P[2] * P[2]);
+    if (load * inv_m * fab->step.te * fab->step.te > fab->grid.extent) {
+      PetscCall(PetscSNPrintf(cause, len,
+                              "; the point load (-point_load_N, %g N at this load step) alone moves the lightest crossing "
+                              "%g m in one te step, more than the fabric's size: lower -point_load_N",
+                              (double) load, (double) (load * inv_m * fab->step.te * fab->step.te)));
+      PetscFunctionReturn(0);
+    }
+  }
+  if (!PaperSteps(fab) || (fab->s.num.nu == 0 && fab->step.damp_c == 0)) PetscFunctionReturn(0);
   PetscCall(PetscSNPrintf(cause, len,
                           "; -integrator paper steps the damping by a central difference whose spurious mode grows by a "
                           "factor of about 1 + c te per te step: with -damping_ratio %g and -nu %g N s/m, c te = %g at the "
