@@ -19,6 +19,7 @@ figure 11 is three steps of the pushing test,
 """
 import argparse
 import math
+import re
 import os
 import sys
 
@@ -42,10 +43,10 @@ def parse():
     p.add_argument("--view", default="angle", choices=["angle", "top", "side"], help="camera: above at an angle (default), straight from above, or from the side (along -y)")
     p.add_argument("--range", default=None, help="colour scale LO,HI (default: the field's range over the chosen frames)")
     p.add_argument("--panel", default=None, help="also join the chosen frames side by side into this PNG, seen with one camera")
-    # "--range -5,5": argparse takes a value that starts with '-' for an option; join it to its flag
+    # "--range -5,5": argparse takes a value that starts with '-' for an option; join a number range to its flag
     argv = sys.argv[1:]
     for k in range(len(argv) - 1):
-        if argv[k] == "--range" and argv[k + 1].startswith("-"):
+        if argv[k] == "--range" and re.fullmatch(r"-[0-9.eE+-]*,[-0-9.eE+]*", argv[k + 1]):
             argv[k:k + 2] = ["--range=" + argv[k + 1]]
             break
     a = p.parse_args(argv)

@@ -998,7 +998,8 @@ static int ReadCounters(const Scene *s, hid_t g, const char *file, Header *h)
   for (int k = 0; k < RUPTURE_ATTRS; k++)
     if (!ReadAttr(g, RuptureAttr[k], H5T_NATIVE_DOUBLE, &h->rupture[k]))
       return REFUSE("-restart %s: damaged checkpoint: the rupture state (%s) is missing", file, RuptureAttr[k]);
-  { /* the real counters finite: a NaN grip travel ran into "numerical instability", a NaN wall time ended "done in nan s" */
+  { /* the real counters finite: a NaN grip travel ran into "numerical instability", a NaN wall time ended
+       "done in nan s" */
     const struct {
       const char *name;
       double      v;
@@ -1067,13 +1068,16 @@ static int ReadHistoryArray(hid_t fid, const char *file, const char *path, const
   return 1;
 }
 
-/* /history/frames holds the frames counted (none: no list), checked before the list is allocated: a damaged count
-   (2^31 - 1) failed in the allocation on rank 0 alone, and a count of 0 beside a list dropped the frames of fabric.h5 */
+/* /history/frames holds the frames counted (none: no list), checked before the list is allocated: a damaged
+   count (2^31 - 1) failed in the allocation on rank 0 alone, and a count of 0 beside a list dropped the frames
+   of fabric.h5 */
 static int FrameListLength(hid_t fid, const char *file, Header *h)
 {
   const hsize_t n = 3 * (hsize_t) h->frames;
-  const int     there = H5Lexists(fid, "/history", H5P_DEFAULT) > 0 && H5Lexists(fid, "/history/frames", H5P_DEFAULT) > 0;
-  if (!h->frames && there) return REFUSE("-restart %s: damaged checkpoint: frames = 0, yet /history/frames is there", file);
+  const int     there =
+      H5Lexists(fid, "/history", H5P_DEFAULT) > 0 && H5Lexists(fid, "/history/frames", H5P_DEFAULT) > 0;
+  if (!h->frames && there)
+    return REFUSE("-restart %s: damaged checkpoint: frames = 0, yet /history/frames is there", file);
   if (h->frames && !CheckDataset(fid, "/history/frames", 1, &n, NULL))
     return REFUSE("-restart %s: damaged checkpoint: /history/frames does not hold %d frames", file, h->frames);
   return 1;

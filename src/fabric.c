@@ -318,16 +318,16 @@ static PetscErrorCode UserRankGrid(PetscInt nx, PetscInt ny, PetscMPIInt size, M
    square net's 5 823 MiB at 1601 x 1601 in docs/static.md), shared among the ranks; the ranks on
    this node together need their share of the memory the node has available (Linux's MemAvailable,
    else its physical memory), and each rank its share within its address-space limit (ulimit -v),
-   if one is set. Vectors that options add are counted too (peak resident sizes of the strip at 3000 and 13000 mm,
-   one rank: 271 B a crossing with -output_dir none, 309 with frames, 337 with -integrator paper; the address space
-   each of 2 ranks maps grows by 306 B a crossing, 256 B let a rank within its ulimit -v fail in its allocations), and
-   the address space a rank has mapped already (its libraries, MPI's segments: about 0.3 GB) is not free under its
-   limit. */
-#define BYTES_PER_CROSSING 310.0 /* the address space a rank maps, 2 ranks (306 B), above the resident size */
-#define BYTES_STATIC       2300.0
-#define BYTES_FRAMES       40.0 /* fabric.h5's frames: the displacement and the three point fields */
-#define BYTES_PAPER        72.0 /* -integrator paper's x(n-1) and V(n-1) */
-#define BYTES_EXTRAPOLATE  48.0 /* -predict extrapolate's converged states of the last two load steps */
+   if one is set. What options add is counted too, from the peak resident sizes of the strip at 3000 and
+   13000 mm on one rank (B a crossing: 271 with -output_dir none; 309 with frames, 38 more; 337 with -integrator
+   paper, 66 more; the vectors alone are 48 B each, the rest their scatters and work arrays); the address space
+   each of 2 ranks maps grows by 306 B a crossing (256 B let a rank within its ulimit -v fail in its allocations),
+   and what a rank has mapped already (its libraries, MPI's segments: about 0.3 GB) is not free under its limit. */
+#define BYTES_PER_CROSSING 310.0  /* the address space a rank maps, 2 ranks (306 B), above the resident size */
+#define BYTES_STATIC       2300.0 /* (on a grid too small for multigrid each rank holds the whole LU: small ones) */
+#define BYTES_FRAMES       40.0   /* fabric.h5's frames: the displacement and the point fields (38 B measured) */
+#define BYTES_PAPER        72.0   /* -integrator paper's x(n-1) and V(n-1) (66 B measured) */
+#define BYTES_EXTRAPOLATE  48.0   /* -predict extrapolate's converged states of the last two load steps */
 static double NodeMemory(void)
 {
   FILE  *fp = fopen("/proc/meminfo", "r");
@@ -342,27 +342,26 @@ static double NodeMemory(void)
 
 static PetscErrorCode CheckMemory(Fabric fab)
 {
-  const SceneInput *in    = &fab->s.in;
-  const SceneOutput *o     = &fab->s.out;
-  const PetscBool    paper = fab->s.num.solver != SOLVER_STATIC && fab->s.num.integrator == INTEGRATOR_PAPER;
-  const double       bytes = (fab->s.num.solver == SOLVER_STATIC ? BYTES_STATIC : BYTES_PER_CROSSING) +
-                       (o->output_dir[0] && (o->output_every > 0 || o->output_te_every > 0 || o->output_tear_every > 0)
-                            ? BYTES_FRAMES
-                            : 0.0) +
-                       (paper ? BYTES_PAPER : 0.0) + (fab->s.num.predict == PREDICT_EXTRAPOLATE ? BYTES_EXTRAPOLATE : 0.0);
-  const double      share = bytes * (double) fab->s.spec.nx * (double) fab->s.spec.ny / fab->size;
-  const double      node  = NodeMemory();
-  struct rlimit     as;
-  MPI_Comm          shm;
-  PetscMPIInt       here = 1;
-  double            limit = -1;
+  const SceneInput  *in     = &fab->s.in;
+  const SceneOutput *o      = &fab->s.out;
+  const PetscBool    frames = o->output_dir[0] && (o->output_every > 0 || o->output_te_every > 0 ||
+                                                 o->output_tear_every > 0);
+  const double       bytes  = (fab->s.num.solver == SOLVER_STATIC ? BYTES_STATIC : BYTES_PER_CROSSING) +
+                       (frames ? BYTES_FRAMES : 0.0) + (fab->s.num.integrator == INTEGRATOR_PAPER ? BYTES_PAPER : 0.0) +
+                       (fab->s.num.predict == PREDICT_EXTRAPOLATE ? BYTES_EXTRAPOLATE : 0.0);
+  const double       share  = bytes * (double) fab->s.spec.nx * (double) fab->s.spec.ny / fab->size;
+  const double       node   = NodeMemory();
+  struct rlimit      as;
+  MPI_Comm           shm;
+  PetscMPIInt        here  = 1;
+  double             limit = -1;
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_split_type(fab->comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &shm));
   PetscCallMPI(MPI_Comm_size(shm, &here));
   PetscCallMPI(MPI_Comm_free(&shm));
-  if (getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY) { /* less what the rank maps already (its */
-    FILE  *fp    = fopen("/proc/self/statm", "r");                      /* libraries, MPI's segments: ~0.3 GB) */
+  if (getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY) { /* less what the rank maps already */
+    FILE  *fp    = fopen("/proc/self/statm", "r"); /* (its libraries, MPI's segments: ~0.3 GB) */
     double pages = 0;
     limit        = (double) as.rlim_cur;
     if (fp && fscanf(fp, "%lf", &pages) == 1) limit = PetscMax(limit - pages * (double) sysconf(_SC_PAGESIZE), 1.0);
@@ -380,7 +379,8 @@ static PetscErrorCode CheckMemory(Fabric fab)
                " crossings need about %.3g GB (%.0f B a crossing): %.3g GB for a rank, more than %s %.3g GB",
                (double) in->gauge_mm, (double) in->width_mm, (double) in->ends_per_cm, (double) in->picks_per_cm,
                fab->s.spec.nx, fab->s.spec.ny, 1e-9 * share * fab->size, bytes, 1e-9 * share,
-               w == 0 ? "its share of the node's available memory," : "what its address-space limit (ulimit -v) leaves it,",
+               w == 0 ? "its share of the node's available memory,"
+                      : "what its address-space limit (ulimit -v) leaves it,",
                1e-9 * -room[w]);
   }
   PetscFunctionReturn(0);

@@ -152,7 +152,7 @@ static PetscErrorCode StableBound(Fabric fab, PetscReal omega2[2])
   PetscCall(PetscLogEventEnd(EV_Bound, 0, 0, 0, 0));
   PetscCall(GlobalMax(fab->comm, omega2, 2));
   PetscCall(BoundInfo(fab, &at));
-  if (!(omega2[0] > 0) && fab->stats.rupture.segments > 0 && fab->step.omega_max > 0) {
+  if (omega2[0] == 0 && fab->stats.rupture.segments > 0 && fab->step.omega_max > 0) {
     /* every segment that held a free crossing has broken (a strip one yarn wide): its pieces move free of any
        spring, and any te is stable for them; the te of the bound before goes on */
     PetscCall(PetscInfo(NULL, "load step %" PetscInt_FMT ": no stiffness left after %" PetscInt64_FMT
@@ -570,25 +570,28 @@ static PetscErrorCode KineticDamping(Fabric fab, const PetscInt box[4], PetscRea
   PetscFunctionReturn(0);
 }
 
-/* An instability's likely cause, for its message (collective; "" if none is known): the paper's scheme
-   (MODEL.md eq. 10) steps the damping c = 2 zeta omega_1 + nu/m by a central difference over 2 te, whose
-   spurious root grows by a factor of about 1 + c te per te step (c te > 1: a runaway within te steps) */
+/* An instability's likely cause, for its message (collective; "" if none is known): a point load that by
+   itself moves its crossing farther than the fabric's size in one te step (no yarn holds that); or the
+   paper's scheme (MODEL.md eq. 10), which steps the damping c = 2 zeta omega_1 + nu/m by a central
+   difference over 2 te, whose spurious root grows by a factor of about 1 + c te per te step (c te > 1:
+   a runaway within te steps) */
 static PetscErrorCode InstabilityCause(Fabric fab, char *cause, size_t len)
 {
-  PetscReal inv_m = 0;
+  PetscReal inv_m = 0, inv_m_load = fab->grid.load_index >= 0 ? fab->grid.inv_m[fab->grid.load_index] : 0;
 
   PetscFunctionBeginUser;
   cause[0] = 0;
   for (PetscInt k = 0; k < fab->grid.nloc; k++) inv_m = PetscMax(inv_m, fab->grid.inv_m[k]);
   PetscCall(GlobalMax(fab->comm, &inv_m, 1));
-  { /* a point load that alone moves a crossing farther than the fabric's size in one te step */
-    const PetscReal *P = fab->s.load.point_load, f = fab->load.load_factor,
-                    load = f * PetscSqrtReal(P[0] * P[0] + P[1] * P[1] + P[2] * P[2]);
-    if (load * inv_m * fab->step.te * fab->step.te > fab->grid.extent) {
+  PetscCall(GlobalMax(fab->comm, &inv_m_load, 1)); /* the rank that holds the loaded crossing's */
+  {
+    const PetscReal *P = fab->s.load.point_load, te2 = fab->step.te * fab->step.te,
+                    load = fab->load.load_factor * PetscSqrtReal(P[0] * P[0] + P[1] * P[1] + P[2] * P[2]);
+    if (load * inv_m_load * te2 > fab->grid.extent) {
       PetscCall(PetscSNPrintf(cause, len,
-                              "; the point load (-point_load_N, %g N at this load step) alone moves the lightest crossing "
-                              "%g m in one te step, more than the fabric's size: lower -point_load_N",
-                              (double) load, (double) (load * inv_m * fab->step.te * fab->step.te)));
+                              "; the point load (-point_load_N, %g N at this load step) alone moves its crossing %g m "
+                              "in one te step, more than the fabric's size: lower -point_load_N",
+                              (double) load, (double) (load * inv_m_load * te2)));
       PetscFunctionReturn(0);
     }
   }

@@ -23,8 +23,10 @@ static const char help[] = "fabric: woven-fabric mechanics at the yarn-crossing 
                            "Any scene key can be overridden on the command line. Units are in the option names.\n\n";
 
 /* PETSc's "Input string abc has no numeric value" (or "integer value"), "Unable to find requested
-   KSP type abc" and "Unknown vector type: abc" do not say which option: find the one given that
-   value, of the class the message names where it names one (-ksp_type cg -pc_type cg: the PC's). */
+   KSP type abc", "Unknown vector type: abc" and "Unknown logical value: 2" do not say which option:
+   find the one given that value, of the class the message names where it names one (-ksp_type cg
+   -pc_type cg: the PC's); a yes/no value, a solver's option first (a name holding snes_, ksp_, pc_,
+   ... anywhere: -sub_pc_ too), since the fabric's own yes/no options say their errors themselves. */
 static void NameTheOption(const char *mess, char *out, size_t len)
 {
   static const char *const classes[][2] = {

@@ -1049,8 +1049,8 @@ static PetscErrorCode DeriveYarn(MPI_Comm comm, const YarnInput *in, const char 
   y->decrimp_ratio = in->decrimp_ratio;
   y->bundle        = in->bundle;
   PetscCall(PetscStrncpy(y->csv, in->law_csv, sizeof y->csv));
-  if (y->csv[0] && y->csv[0] != '/' && access(y->csv, F_OK)) { /* a relative path not found from here: from the
-                                                                    scene file's directory (a scene run from anywhere) */
+  if (y->csv[0] && y->csv[0] != '/' && access(y->csv, F_OK)) { /* a relative path not found from here: from */
+    /* the scene file's directory (a scene's table, the scene run from anywhere) */
     char      scene[PETSC_MAX_PATH_LEN], there[PETSC_MAX_PATH_LEN];
     PetscBool set;
     PetscCall(PetscOptionsGetString(NULL, NULL, "-scene", scene, sizeof scene, &set));

@@ -1206,9 +1206,9 @@ static PetscErrorCode SetPreconditioner(StaticSolver ss, KSP ksp)
     }
   } else { /* a grid too small for multigrid on its layout (a small one, or a strip a few yarns wide): a direct
               solve by MUMPS, which PETSc's Debian build has; GAMG, which balances no slack net, only without it */
-    PetscBool mumps;
-    PetscCall(PetscHasExternalPackage("mumps", &mumps));
+    PetscBool   mumps;
     PetscMPIInt size;
+    PetscCall(PetscHasExternalPackage("mumps", &mumps));
     PetscCallMPI(MPI_Comm_size(PetscObjectComm((PetscObject) pc), &size));
     if (mumps && size > 1) { /* MUMPS's parallel factors sum the fronts' contributions in the order its messages
                                 arrive: they differ in the last bits from run to run, and so did Newton's path (a

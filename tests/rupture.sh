@@ -46,7 +46,7 @@
 #     to a later tear's load step, or to the end with no rupture).
 # 13. a strip one yarn wide (-yarns 1, strip_warp.yaml: no breaking-strain scatter) to 20 %: every segment
 #     breaks at once and no free crossing keeps any stiffness; the run ends ruptured at load step 2 with
-#     the one yarn's maximum Ec c + EA eb = 3.588 N at 15.02 % (both within 1e-5), the same on 1 and 2
+#     the one yarn's maximum Ec c + EA eb = 3.588 N at 15.02 % (both within 1e-5), the same on 1, 2 and 3
 #     ranks, bit for bit (it stopped with "no free crossing point has any stiffness ... check -traction").
 set -u
 fabric="$1"; inputs="$2"
@@ -279,13 +279,14 @@ print(("PASS" if ok else "FAIL") + f" a tear that ends early: rupture at load st
       f"the first below 0.4 x {s['max_force_N']} N after the maximum: {below[:1]}, the last row: {rows[-1]['load_step']}")
 sys.exit(0 if ok else 1)
 PY
-for np in 1 2; do
+for np in 1 2 3; do
   run $np -scene "$inputs/strip_warp.yaml" -yarns 1 -elongation_pct 20 -load_steps 2 -output_every 0 \
     -output_dir "$work/one_yarn$np" -positions_out "$work/one_yarn$np.bin"
 done
-cmp -s "$work/one_yarn1.bin" "$work/one_yarn2.bin" && echo "PASS the one-yarn strip's rupture: positions bit-identical on 1 and 2 ranks" \
-  || { echo "FAIL the one-yarn strip's positions differ on 1 and 2 ranks"; fail=1; }
-"$py" - "$work/one_yarn1/summary.json" "$work/one_yarn2/summary.json" <<'PY' || fail=1
+cmp -s "$work/one_yarn1.bin" "$work/one_yarn2.bin" && cmp -s "$work/one_yarn1.bin" "$work/one_yarn3.bin" \
+  && echo "PASS the one-yarn strip's rupture: positions bit-identical on 1, 2 and 3 ranks" \
+  || { echo "FAIL the one-yarn strip's positions differ on 1, 2 and 3 ranks"; fail=1; }
+"$py" - "$work"/one_yarn{1,2,3}/summary.json <<'PY' || fail=1
 import json, sys
 Ec, c, EA, eb = 0.05 * 52, 0.08, 52.0, 0.065
 exact, at = Ec * c + EA * eb, 100 * (c + eb * (1 + c))
