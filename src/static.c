@@ -1250,7 +1250,7 @@ static PetscErrorCode SetDefaults(StaticSolver ss)
      search takes it, and AdaptShift stiffens the next tangent */
   PetscCall(SNESSetMaxLinearSolveFailures(ss->snes, PETSC_MAX_INT));
   /* the multigrid hierarchy (Galerkin products, line factors) of every second tangent: the
-     Krylov count hardly grows, and the set-up is a third of a Newton step (docs/static.md) */
+     Krylov count grows a little, the time falls a little (3 % on the pushing test; docs/static.md) */
   PetscCall(SNESSetLagPreconditioner(ss->snes, 2));
   PetscCall(SNESGetKSP(ss->snes, &ksp));
   PetscCall(KSPSetType(ksp, KSPCG));
