@@ -1034,7 +1034,10 @@ PetscErrorCode SceneWarnUnused(MPI_Comm comm, const char *when)
 
 /* ---------------- from the options to the SI scene ---------------- */
 
-static PetscErrorCode DeriveYarn(MPI_Comm comm, const YarnInput *in, const char *name, YarnLaw *y)
+static void DirOf(const char *path, char *dir, size_t len);
+
+/* scene: the scene file's path, where a relative yarn table not found from the working directory is looked for */
+static PetscErrorCode DeriveYarn(MPI_Comm comm, const YarnInput *in, const char *name, const char *scene, YarnLaw *y)
 {
   PetscFunctionBeginUser;
   y->name          = name;
@@ -1050,14 +1053,10 @@ static PetscErrorCode DeriveYarn(MPI_Comm comm, const YarnInput *in, const char 
   y->bundle        = in->bundle;
   PetscCall(PetscStrncpy(y->csv, in->law_csv, sizeof y->csv));
   if (y->csv[0] && y->csv[0] != '/' && access(y->csv, F_OK)) { /* a relative path not found from here: from */
-    /* the scene file's directory (a scene's table, the scene run from anywhere) */
-    char      scene[PETSC_MAX_PATH_LEN], there[PETSC_MAX_PATH_LEN];
-    PetscBool set;
-    PetscCall(PetscOptionsGetString(NULL, NULL, "-scene", scene, sizeof scene, &set));
-    if (set && strrchr(scene, '/')) {
-      PetscCall(PetscSNPrintf(there, sizeof there, "%.*s/%s", (int) (strrchr(scene, '/') - scene), scene, y->csv));
-      if (!access(there, F_OK)) PetscCall(PetscStrncpy(y->csv, there, sizeof y->csv));
-    }
+    char dir[PETSC_MAX_PATH_LEN], there[PETSC_MAX_PATH_LEN]; /* the scene file's directory (a scene's table) */
+    DirOf(scene, dir, sizeof dir);
+    PetscCall(PetscSNPrintf(there, sizeof there, "%s/%s", dir, y->csv));
+    if (!access(there, F_OK)) PetscCall(PetscStrncpy(y->csv, there, sizeof y->csv));
   }
   PetscCall(YarnLawSetUp(y, comm));
   PetscFunctionReturn(0);
@@ -2031,8 +2030,8 @@ static PetscErrorCode SceneDerive(MPI_Comm comm, Scene *s)
   PetscFunctionBeginUser;
   s->test = (TestType) in->test;
   PetscCall(DeriveOutput(comm, in, s));
-  PetscCall(DeriveYarn(comm, &in->yarn[0], "warp", &s->yarns.warp));
-  PetscCall(DeriveYarn(comm, &in->yarn[1], "weft", &s->yarns.weft));
+  PetscCall(DeriveYarn(comm, &in->yarn[0], "warp", in->scene, &s->yarns.warp));
+  PetscCall(DeriveYarn(comm, &in->yarn[1], "weft", in->scene, &s->yarns.weft));
   DeriveNumerics(in, s);
   DeriveTermsAndLoad(in, s);
   PetscCall(DeriveGrid(comm, in, s));
