@@ -24,6 +24,20 @@ export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_
 scene="${1:?usage: scripts/tradeoff.sh pushing|bias|drape [table.csv]}"
 case "$scene" in pushing | bias | drape) ;; *) echo "scripts/tradeoff.sh: scene '$scene': one of pushing, bias, drape" >&2; exit 2 ;; esac
 csv="${2:-}"
+# the table's file is checked before the runs (it was written after them: a traceback then), and an
+# option in its place (the file forgotten) is not taken for it
+if [[ $csv == -* ]]; then
+  echo "scripts/tradeoff.sh: table.csv '$csv': an option, not a file name (give the table's file first, or \"\" for none)" >&2; exit 2
+fi
+if [[ -n $csv ]]; then
+  why=""
+  if [[ -d $csv ]]; then why="a directory"
+  elif [[ ! -d "$(dirname -- "$csv")" ]]; then why="no directory $(dirname -- "$csv")"
+  elif [[ -e $csv ]]; then : 2>/dev/null >>"$csv" || why="cannot be written"
+  else { : 2>/dev/null >"$csv" && rm -f -- "$csv"; } || why="cannot be written"
+  fi
+  [[ -z $why ]] || { echo "scripts/tradeoff.sh: table.csv '$csv': $why" >&2; exit 2; }
+fi
 base=("${@:3}")
 ranks="${RANKS:-2}"
 limit="${LIMIT_S:-300}" # seconds a run may take
@@ -90,6 +104,8 @@ for r in "${runs[@]}"; do
     if [[ -s "$work/r0.error" ]]; then why="stopped: $(cat "$work/r0.error")"
     elif [[ ! -f "$work/r0/summary.json" ]]; then why="left no summary.json"
     elif ! grep -q '"converged": true' "$work/r0/summary.json"; then why="did not balance every load step (summary.json: converged false)"
+    elif [[ $scene == pushing ]] && ! awk -F, 'NR > 1 && $3 >= 5 - 1e-9 {ok = 1} END {exit !ok}' "$work/r0/curve.csv"; then
+      why="reaches no load step at 5 mm of travel or more (the force error is taken from 5 mm on)"
     fi
     if [[ -n $why ]]; then echo "scripts/tradeoff.sh: the reference run ($opts ${base[*]}) $why; nothing to measure against" >&2; exit 1; fi
   fi

@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# scripts_args.sh CASE FABRIC: a script of scripts/ given bad arguments, or whose runs cannot give
+# its table, stops with one clear message on stderr and the exit status it documents (2: a bad
+# argument, before any run; 1: the runs cannot give the table), checked exactly: never a Python
+# traceback, a silent success, or a table that the runs do not support. The scripts run FABRIC
+# (FABRIC=...), from a directory other than the repository's root.
+set -u
+case_="$1"; export FABRIC="$2"
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
+cd "$work" || exit 1
+fail=0
+expect() { # RC MESSAGE COMMAND...: exit status RC, and MESSAGE the whole of stderr
+  local want_rc="$1" want="$2" rc; shift 2
+  "$@" >"$work/out" 2>"$work/err"; rc=$?
+  if [[ $rc -eq $want_rc && "$(cat "$work/err")" == "$want" ]]; then
+    echo "PASS ${*#"$root/"}: exit $rc, $want"
+  else
+    echo "FAIL ${*#"$root/"}: exit $rc (expected $want_rc); stdout:"; cat "$work/out"; echo "stderr:"; cat "$work/err"
+    echo "expected stderr: $want"; fail=1
+  fi
+}
+small_pushing=(-ends_per_cm 4 -picks_per_cm 4 -load_steps 2 -sphere_travel_mm 3)
+case "$case_" in
+  tradeoff)
+    t="$root/scripts/tradeoff.sh"
+    # the table's file forgotten: the first option was taken for it (and its value passed on alone)
+    expect 2 "scripts/tradeoff.sh: table.csv '-predict': an option, not a file name (give the table's file first, or \"\" for none)" \
+      "$t" pushing -predict linear
+    # a table that cannot be written: a traceback once every run had ended
+    expect 2 "scripts/tradeoff.sh: table.csv 'no/t.csv': no directory no" "$t" bias no/t.csv
+    expect 2 "scripts/tradeoff.sh: table.csv '$work': a directory" "$t" bias "$work"
+    # a pushing test that stops before 5 mm: max() of no row, a traceback after every run
+    expect 1 "scripts/tradeoff.sh: the reference run (-solver static -balance_tol 1e-8 ${small_pushing[*]}) reaches no load step at 5 mm of travel or more (the force error is taken from 5 mm on); nothing to measure against" \
+      "$t" pushing "" "${small_pushing[@]}"
+    ;;
+  *) echo "scripts_args.sh: unknown case $case_"; exit 2 ;;
+esac
+exit $fail
