@@ -34,6 +34,10 @@ case "$case_" in
     expect 1 "scripts/tradeoff.sh: the reference run (-solver static -balance_tol 1e-8 ${small_pushing[*]}) reaches no load step at 5 mm of travel or more (the force error is taken from 5 mm on); nothing to measure against" \
       "$t" pushing "" "${small_pushing[@]}"
     ;;
+  bench_pushing)
+    expect 1 "bench_pushing.sh: the reference run reaches no load step at 5 mm of travel or more: no force error from 5 mm on" \
+      "$root/scripts/bench_pushing.sh" "${small_pushing[@]}"
+    ;;
   *) echo "scripts_args.sh: unknown case $case_"; exit 2 ;;
 esac
 exit $fail
