@@ -41,4 +41,8 @@ if ref:
 ax.set_xscale("log"); ax.set_yscale("log")
 ax.set_xlabel("wall time on 2 ranks [s]"); ax.set_ylabel(ylabel)
 ax.set_title(a.title, fontsize=10); ax.grid(True, which="both", lw=0.3); ax.legend(fontsize=7)
-fig.tight_layout(); fig.savefig(a.output, dpi=110)
+fig.tight_layout()
+try:
+    fig.savefig(a.output, dpi=110)
+except (OSError, ValueError) as e:  # a folder that cannot be written, a format matplotlib has not
+    sys.exit(f"plot_tradeoff.py: -o {a.output}: {e.strerror if isinstance(e, OSError) else e}")

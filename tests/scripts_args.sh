@@ -38,6 +38,15 @@ case "$case_" in
     expect 1 "bench_pushing.sh: the reference run reaches no load step at 5 mm of travel or more: no force error from 5 mm on" \
       "$root/scripts/bench_pushing.sh" "${small_pushing[@]}"
     ;;
+  plot_tradeoff)
+    printf 'knob,value,balanced,wall_s,te_steps,force_err_pct\nreference,static 1e-8,true,1.98,-,0.0000\nbase,-,true,0.41,973,0.0001\n' >t.csv
+    # an image that cannot be written: matplotlib's traceback
+    expect 1 "plot_tradeoff.py: -o no/f.png: No such file or directory" /usr/bin/python3 "$root/scripts/plot_tradeoff.py" t.csv -o no/f.png
+    expect 1 "plot_tradeoff.py: -o f.xyz: Format 'xyz' is not supported (supported formats: eps, jpeg, jpg, pdf, pgf, png, ps, raw, rgba, svg, svgz, tif, tiff, webp)" \
+      /usr/bin/python3 "$root/scripts/plot_tradeoff.py" t.csv -o f.xyz
+    expect 0 "" /usr/bin/python3 "$root/scripts/plot_tradeoff.py" t.csv -o "f g.png"
+    [[ -s "f g.png" ]] || { echo "FAIL plot_tradeoff.py wrote no f g.png"; fail=1; }
+    ;;
   *) echo "scripts_args.sh: unknown case $case_"; exit 2 ;;
 esac
 exit $fail
