@@ -13,8 +13,14 @@ fabric="${FABRIC:-$here/build/fabric}"
 [[ -x "$fabric" ]] || bash "$here/scripts/setup.sh" >/dev/null
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
 opts=()
-while (($#)) && [[ $1 == -* ]]; do opts+=("$1" "$2"); shift 2; done
+while (($#)) && [[ $1 == -* ]]; do
+  (($# >= 2)) || { echo "bench_static.sh: option $1 without its value (options before the sizes are -option value pairs)" >&2; exit 2; }
+  opts+=("$1" "$2"); shift 2
+done
 sizes=("$@"); ((${#sizes[@]})) || sizes=(101 201 401)
+for n in "${sizes[@]}"; do
+  [[ $n =~ ^[0-9]+$ ]] && ((10#$n >= 3)) || { echo "bench_static.sh: size '$n': the crossings along a side, a whole number from 3" >&2; exit 2; }
+done
 ranks="${RANKS:-2}"; steps="${LOAD_STEPS:-12}"
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
 ((${#opts[@]})) && echo "options: ${opts[*]}"
@@ -23,7 +29,8 @@ prev_t=""; prev_n=""
 for n in "${sizes[@]}"; do
   mm="$(awk -v n="$n" 'BEGIN{printf "%.10g", (n - 1) * 10 / 24}')" # 24 threads/cm: (n-1) spacings
   mpiexec -n "$ranks" "$fabric" -scene "$here/inputs/square_net.yaml" -solver static -gauge_mm "$mm" -width_mm "$mm" \
-    -balance_tol 1e-8 -load_steps "$steps" -output_every 0 -quiet -output_dir "$work/n$n" -memory_view ${opts[@]+"${opts[@]}"} >"$work/log$n" 2>&1
+    -balance_tol 1e-8 -load_steps "$steps" -output_every 0 -quiet -output_dir "$work/n$n" -memory_view ${opts[@]+"${opts[@]}"} >"$work/log$n" 2>&1 ||
+    { echo "bench_static.sh: the run of ${n}x${n} crossings failed: $(grep -m1 '^fabric: error' "$work/log$n" || tail -3 "$work/log$n")" >&2; exit 1; }
   t="$(sed -n 's/.*"wall_s": \([0-9.e+-]*\).*/\1/p' "$work/n$n/summary.json")"
   nl="$(sed -n 's/.*"nonlinear_iterations": \([0-9]*\).*/\1/p' "$work/n$n/summary.json")"
   li="$(sed -n 's/.*"linear_iterations": \([0-9]*\).*/\1/p' "$work/n$n/summary.json")"

@@ -47,6 +47,16 @@ case "$case_" in
     expect 0 "" /usr/bin/python3 "$root/scripts/plot_tradeoff.py" t.csv -o "f g.png"
     [[ -s "f g.png" ]] || { echo "FAIL plot_tradeoff.py wrote no f g.png"; fail=1; }
     ;;
+  bench_static)
+    b="$root/scripts/bench_static.sh"
+    # an option without its value: bash's "$2: unbound variable"; a size that is no grid: fabric's
+    # message in a log the script removed, and exit 1 without a word
+    expect 2 "bench_static.sh: option -static_sequence without its value (options before the sizes are -option value pairs)" "$b" -static_sequence
+    expect 2 "bench_static.sh: size 'abc': the crossings along a side, a whole number from 3" "$b" 11 abc
+    # a run that fails: it was left without a word as well
+    LOAD_STEPS=2 expect 1 "bench_static.sh: the run of 11x11 crossings failed: fabric: error: -pc_type cg: Unable to find requested PC type cg (in PETSc's solvers; the solver options given: -pc_type cg)" \
+      "$b" -pc_type cg 11
+    ;;
   *) echo "scripts_args.sh: unknown case $case_"; exit 2 ;;
 esac
 exit $fail
