@@ -15,8 +15,11 @@ export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_
 tables="1 2"; np=2
 while (($#)); do
   case "$1" in
-    --table) tables="$2"; shift 2 ;;
-    --np) np="$2"; shift 2 ;;
+    --table | --np) (($# >= 2)) || { echo "bench_relax.sh: $1 without its value (--table 1|2, --np N)" >&2; exit 2; } ;;&
+    --table) [[ $2 == [12] ]] || { echo "bench_relax.sh: --table '$2': 1 or 2" >&2; exit 2; }
+             tables="$2"; shift 2 ;;
+    --np) [[ $2 =~ ^[1-9][0-9]*$ ]] || { echo "bench_relax.sh: --np '$2': a positive number of ranks" >&2; exit 2; }
+          np="$2"; shift 2 ;;
     *) echo "bench_relax.sh: unknown argument '$1' (--table 1|2, --np N)" >&2; exit 2 ;;
   esac
 done

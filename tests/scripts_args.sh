@@ -57,6 +57,13 @@ case "$case_" in
     LOAD_STEPS=2 expect 1 "bench_static.sh: the run of 11x11 crossings failed: fabric: error: -pc_type cg: Unable to find requested PC type cg (in PETSc's solvers; the solver options given: -pc_type cg)" \
       "$b" -pc_type cg 11
     ;;
+  bench_relax)
+    b="$root/scripts/bench_relax.sh"
+    # --table 3 printed nothing and exited 0; a flag at the end: bash's "$2: unbound variable"
+    expect 2 "bench_relax.sh: --table '3': 1 or 2" "$b" --table 3
+    expect 2 "bench_relax.sh: --table without its value (--table 1|2, --np N)" "$b" --np 1 --table
+    expect 2 "bench_relax.sh: --np 'x': a positive number of ranks" "$b" --np x
+    ;;
   *) echo "scripts_args.sh: unknown case $case_"; exit 2 ;;
 esac
 exit $fail
