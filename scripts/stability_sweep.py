@@ -671,6 +671,11 @@ def main():
         for c in todo:
             print("%-50s %s %s %s" % (c["name"], c["base"], c["np"], c["extra"]))
         return 0
+    if a.keep:  # a file there, or a folder that cannot be made: the first case's traceback
+        try:
+            os.makedirs(a.keep, exist_ok=True)
+        except OSError as e:
+            ap.error("argument --keep: %s: %s" % (a.keep, "not a directory" if os.path.exists(a.keep) else e.strerror))
     if not os.access(a.fabric, os.X_OK):
         sys.exit("stability_sweep: %s is not an executable: build first (bash scripts/setup.sh)" % a.fabric)
     self_check()

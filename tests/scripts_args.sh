@@ -64,6 +64,13 @@ case "$case_" in
     expect 2 "bench_relax.sh: --table without its value (--table 1|2, --np N)" "$b" --np 1 --table
     expect 2 "bench_relax.sh: --np 'x': a positive number of ranks" "$b" --np x
     ;;
+  stability_sweep)
+    # --keep naming a file: a traceback from the first case (FileExistsError)
+    echo text >file
+    COLUMNS=80 expect 2 "usage: stability_sweep.py [-h] [-fast] [--fabric FABRIC] [--only ONLY]
+                          [--keep KEEP] [--nice NICE] [--list]
+stability_sweep.py: error: argument --keep: $work/file: not a directory" "$root/scripts/stability_sweep.sh" -fast --keep file --fabric "$FABRIC"
+    ;;
   *) echo "scripts_args.sh: unknown case $case_"; exit 2 ;;
 esac
 exit $fail
