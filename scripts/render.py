@@ -96,7 +96,9 @@ def main():
             frames.append(k)
     w, h = a.size
     prefix = a.out or os.path.join(os.path.abspath(a.dir), "render", "frame")
-    os.makedirs(os.path.dirname(os.path.abspath(prefix)), exist_ok=True)
+    make_folder("--out", prefix)
+    if a.panel:
+        make_folder("--panel", a.panel)
 
     names = [reader.PointData.GetArray(i).Name for i in range(len(reader.PointData))]
     if a.field not in names:
@@ -191,12 +193,34 @@ def main():
             view.GetActiveCamera().Dolly(1.3)  # ResetCamera fits the bounding sphere: fill more of the image
         Render(view)
         out = f"{prefix}_{k:06d}.png"
+        try:  # an image that cannot be written: VTK logs why, SaveScreenshot still says it was written
+            os.remove(out)
+        except OSError:
+            pass
         SaveScreenshot(out, view, ImageResolution=[w, h])
+        if not os.path.isfile(out):
+            stop(f"render.py: {out}: the image could not be written")
         written.append(out)
         print(out)
     if a.panel:
         join(written, a.panel)
         print(a.panel)
+
+
+def make_folder(flag, path):
+    """the folder of an output file, before the view exists (a file there: a traceback)"""
+    folder = os.path.dirname(os.path.abspath(path))
+    try:
+        os.makedirs(folder, exist_ok=True)
+    except OSError as e:
+        sys.exit(f"render.py: {flag} {path}: {folder}: {'not a directory' if os.path.exists(folder) else e.strerror}")
+
+
+def stop(message):
+    """exit 1 with the message once the view exists (sys.exit there: X's GLXBadContext error besides)"""
+    print(message, file=sys.stderr, flush=True)
+    sys.stdout.flush()
+    os._exit(1)
 
 
 def join(files, out):
@@ -213,11 +237,12 @@ def join(files, out):
         r.Update()
         readers.append(r)
         append.AddInputConnection(r.GetOutputPort())
-    os.makedirs(os.path.dirname(os.path.abspath(out)), exist_ok=True)
     writer = vtkPNGWriter()
     writer.SetFileName(out)
     writer.SetInputConnection(append.GetOutputPort())
     writer.Write()
+    if writer.GetErrorCode():
+        stop(f"render.py: --panel {out}: the image could not be written")
 
 
 if __name__ == "__main__":

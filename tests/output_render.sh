@@ -33,6 +33,17 @@ cat "$work/render.log"
 if pvbatch "$root/scripts/render.py" "$work/a" --frames 7 >"$work/bad.log" 2>&1 || ! grep -q "frame 7 does not exist" "$work/bad.log"; then
   echo "FAIL render.py --frames 7 (of 0..6) did not fail with a message"; fail=1
 else echo "PASS render.py --frames 7 refused: $(grep "does not exist" "$work/bad.log")"; fi
+# an image that cannot be written (/proc takes no new file): exit 1 naming it (VTK logged why, and
+# render.py printed the file and exited 0); a file where the folder should be: refused before rendering
+for c in "--out /proc/frame|1|render.py: /proc/frame_000006.png: the image could not be written" \
+         "--out $work/bad/frame --panel /proc/panel.png|1|render.py: --panel /proc/panel.png: the image could not be written" \
+         "--out $work/a/curve.csv/frame|1|render.py: --out $work/a/curve.csv/frame: $work/a/curve.csv: not a directory"; do
+  IFS="|" read -r ropts want_rc want <<<"$c"
+  # shellcheck disable=SC2086
+  pvbatch "$root/scripts/render.py" "$work/a" --frames last --size 200x150 $ropts >"$work/bad.log" 2>"$work/bad.err"; rc=$?
+  if [[ $rc -eq $want_rc && "$(tail -n 1 "$work/bad.err")" == "$want" ]]; then echo "PASS render.py $ropts: exit $rc, $want"
+  else echo "FAIL render.py $ropts: exit $rc (expected $want_rc), expected '$want' last:"; cat "$work/bad.log" "$work/bad.err"; fail=1; fi
+done
 
 # the paper's figure 11: three steps of a coarse pushing test side by side (render.py --panel)
 mpiexec -n 2 "$fabric" -scene "$root/inputs/pushing.yaml" -quiet -ends_per_cm 6 -picks_per_cm 6 -load_steps 6 -output_every 2 -output_dir "$work/p" >/dev/null || { echo "FAIL the pushing run failed"; exit 1; }
