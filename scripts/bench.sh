@@ -42,7 +42,7 @@ echo
 step_s=$(awk '/^Fabric(Force|Integrate|Halo|Reduce) / {t += $4} END {print t}' "$work/log1.txt")
 events=$(awk '/^Fabric(Force|Integrate|Halo|Reduce) / {printf "%s=%s ", $1, $4}' "$work/log1.txt")
 events2=$(awk '/^Fabric(Force|Integrate|Halo|Reduce) / {printf "%s=%s ", $1, $4}' "$work/log2.txt")
-line=$(mpiexec -n 1 build/bench_sweep -scene inputs/square_1000.yaml -bench_sweeps 20 | tail -n 1)
+line=$(mpiexec -n 1 build/bench_sweep -scene inputs/square_1000.yaml "$@" -bench_sweeps 20 | tail -n 1)
 /usr/bin/python3 - "$updates1" "$step_s" "$line" $BYTES $FLOPS $SPRING_BYTES "$events" "$events2" <<'EOF'
 import sys
 updates, step_s, line = float(sys.argv[1]), float(sys.argv[2]), sys.argv[3]
