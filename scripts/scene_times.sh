@@ -18,6 +18,10 @@ names=() ranks=()
 for entry in "${scenes[@]}"; do
   sc=${entry%@*} np=2
   [[ $entry == *@* ]] && np=${entry##*@}
+  # a scene elsewhere (a user's own bias.yaml) is not timed as the shipped one of that name
+  if [[ $sc == */* && $(dirname "$sc") != inputs && "$(cd "$(dirname "$sc")" 2>/dev/null && pwd -P)" != "$(cd "$ROOT/inputs" && pwd -P)" ]]; then
+    echo "scene_times.sh: scene '$entry': only the scenes of inputs/ (strip_warp, strip_warp.yaml or inputs/strip_warp.yaml)" >&2; exit 2
+  fi
   sc=${sc##*/} sc=${sc%.yaml}
   [[ -f $ROOT/inputs/$sc.yaml ]] || { echo "scene_times.sh: scene '$entry': no inputs/$sc.yaml" >&2; exit 2; }
   [[ $np =~ ^[1-9][0-9]*$ ]] || { echo "scene_times.sh: ranks '$np' in '$entry' is not a positive integer" >&2; exit 2; }

@@ -71,6 +71,12 @@ case "$case_" in
                           [--keep KEEP] [--nice NICE] [--list]
 stability_sweep.py: error: argument --keep: $work/file: not a directory" "$root/scripts/stability_sweep.sh" -fast --keep file --fabric "$FABRIC"
     ;;
+  scene_times)
+    # a scene file of one's own named like a shipped one: the shipped one was timed (its directory dropped)
+    mkdir own && cp "$root/inputs/bias.yaml" own/
+    expect 2 "scene_times.sh: scene 'own/bias.yaml@1': only the scenes of inputs/ (strip_warp, strip_warp.yaml or inputs/strip_warp.yaml)" \
+      "$root/scripts/scene_times.sh" strip_warp own/bias.yaml@1
+    ;;
   *) echo "scripts_args.sh: unknown case $case_"; exit 2 ;;
 esac
 exit $fail
