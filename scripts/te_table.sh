@@ -21,7 +21,8 @@ while [[ $# -gt 0 && $1 != -- ]]; do
     -h | --help) sed -n '2,/^set /{/^set /d;s/^# \{0,1\}//;p}' "$0"; exit 0 ;;
     -*) echo "te_table.sh: unknown option '$1' (fabric options go after --)" >&2; exit 2 ;;
   esac
-  if [[ $1 == */* && "$(cd "$(dirname "$1")" 2>/dev/null && pwd)" != "$here/inputs" ]]; then
+  # inputs/bias.yaml from any directory (from another it was refused as not a scene of inputs/)
+  if [[ $1 == */* && $(dirname "$1") != inputs && "$(cd "$(dirname "$1")" 2>/dev/null && pwd)" != "$here/inputs" ]]; then
     echo "te_table.sh: scene '$1': only the scenes of inputs/ (bias, bias.yaml or inputs/bias.yaml)" >&2; exit 2
   fi
   sc=$(basename "$1" .yaml)

@@ -77,6 +77,13 @@ stability_sweep.py: error: argument --keep: $work/file: not a directory" "$root/
     expect 2 "scene_times.sh: scene 'own/bias.yaml@1': only the scenes of inputs/ (strip_warp, strip_warp.yaml or inputs/strip_warp.yaml)" \
       "$root/scripts/scene_times.sh" strip_warp own/bias.yaml@1
     ;;
+  te_table)
+    # inputs/NAME.yaml from a directory other than the root: refused as not a scene of inputs/
+    expect 2 "te_table.sh: scene 'inputs/nothere.yaml': no inputs/nothere.yaml" "$root/scripts/te_table.sh" inputs/nothere.yaml
+    mkdir own && cp "$root/inputs/bias.yaml" own/
+    expect 2 "te_table.sh: scene 'own/bias.yaml': only the scenes of inputs/ (bias, bias.yaml or inputs/bias.yaml)" \
+      "$root/scripts/te_table.sh" own/bias.yaml
+    ;;
   *) echo "scripts_args.sh: unknown case $case_"; exit 2 ;;
 esac
 exit $fail
