@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # scripts_args.sh CASE FABRIC: a script of scripts/ given bad arguments, or whose runs cannot give
-# its table, stops with one clear message on stderr and the exit status it documents (2: a bad
-# argument, before any run; 1: the runs cannot give the table), checked exactly: never a Python
+# its table, stops with one clear message on stderr and a non-zero exit status (the shell scripts: 2
+# for a bad argument, before any run; 1 when the runs cannot give the table), checked exactly: never a Python
 # traceback, a silent success, or a table that the runs do not support. The scripts run FABRIC
 # (FABRIC=...), from a directory other than the repository's root.
 set -u
