@@ -84,6 +84,14 @@ stability_sweep.py: error: argument --keep: $work/file: not a directory" "$root/
     expect 2 "te_table.sh: scene 'own/bias.yaml': only the scenes of inputs/ (bias, bias.yaml or inputs/bias.yaml)" \
       "$root/scripts/te_table.sh" own/bias.yaml
     ;;
+  plot_curve)
+    # -o without an extension: matplotlib wrote curve.png, the script printed "curve"
+    mkdir plot && cd plot || exit 1
+    printf "load_step,time_s,elongation_pct,force_N,inner_steps,residual,balanced\n1,1,1,1,1,0,1\n" >c.csv
+    expect 0 "" /usr/bin/python3 "$root/scripts/plot_curve.py" c.csv -o curve
+    if [[ "$(cat "$work/out")" == curve.png && -s curve.png && ! -e curve ]]; then echo "PASS plot_curve.py -o curve printed curve.png, the file it wrote"
+    else echo "FAIL plot_curve.py -o curve printed '$(cat "$work/out")', wrote: $(ls)"; fail=1; fi
+    ;;
   *) echo "scripts_args.sh: unknown case $case_"; exit 2 ;;
 esac
 exit $fail
