@@ -678,17 +678,23 @@ static PetscErrorCode CheckReadable(MPI_Comm comm, const char *opt, const char *
 }
 
 /* a scene file with no option in it would run the default strip without a word: refuse it */
+/* a scene line past a UTF-8 byte order mark, on the file's first line (an editor's; the YAML parser skips it) */
+static char *SkipBOM(char *line, int lineno)
+{
+  return lineno == 1 && !strncmp(line, "\xEF\xBB\xBF", 3) ? line + 3 : line;
+}
+
 static PetscErrorCode CheckSceneHasOptions(MPI_Comm comm, const char *file)
 {
   char  *line = NULL;
   size_t cap  = 0;
-  int    found = 0;
+  int    found = 0, lineno = 0;
   FILE  *fp    = fopen(file, "r");
 
   PetscFunctionBeginUser;
   PetscCheck(fp, comm, PETSC_ERR_FILE_OPEN, "-scene %s: no such file, or not readable", file);
   while (!found && getline(&line, &cap, fp) >= 0) { /* whole lines, of any length */
-    const char *c = line;
+    const char *c = SkipBOM(line, ++lineno);
     while (*c == ' ' || *c == '\t') c++;
     if (*c && *c != '#' && *c != '\n' && *c != '\r' && strchr(c, ':')) found = 1;
   }
@@ -723,7 +729,7 @@ static int FindMalformedLine(const char *file, char *text, size_t len)
   while (!found && getline(&line, &cap, fp) >= 0) {
     char *c, *colon;
     lineno++;
-    if (!(c = KeyLine(line))) continue;
+    if (!(c = KeyLine(SkipBOM(line, lineno)))) continue;
     colon = strchr(c, ':');
     found = !colon || (colon[1] && colon[1] != ' ' && colon[1] != '\t');
     if (found) snprintf(text, len, "%.100s", c); /* enough to recognise the line */
@@ -862,9 +868,11 @@ static int FindBadKey(const char *file, char *msg, size_t len)
   if (!fp) return 0;
   keys.nseen = keys.nmaps = 0;
   while (!bad && getline(&line, &cap, fp) >= 0) { /* whole lines, of any length */
-    char *c = line, *v, key[128], full[128] = "", anchor[64];
+    char *c, *v, key[128], full[128] = "", anchor[64];
     int   ind;
     lineno++;
+    if (SkipBOM(line, lineno) != line) memmove(line, line + 3, strlen(line + 3) + 1); /* indents count after it */
+    c = line;
     line[strcspn(line, "\r\n")] = 0;
     while (*c == ' ' || *c == '\t') c++;
     if (!*c || *c == '#' || *c == '-' || *c == '[') continue; /* no key (or FindMalformedLine's case) */
