@@ -1252,6 +1252,12 @@ static PetscErrorCode CheckTestOptions(MPI_Comm comm, const SceneInput *in, cons
       "-test strip is a rectangle between jaws: -shape %s and -clamp %s are for the other tests (a strip without jaws: "
       "-clamp none and -grip_line_mm)",
       ShapeNames[s->spec.shape], ClampNames[c->clamp]);
+  PetscCheck(c->clamp != CLAMP_NONE || c->clamp_lines > 0 || c->grip_lines > 0 || s->bodies.plane ||
+                 s->bodies.pedestal_radius > 0 || s->test == TEST_DRAPE, /* the drape's support: its own check */
+             comm, PETSC_ERR_USER_INPUT,
+             "-clamp none with -test %s: nothing holds the fabric (no clamp, no -clamp_line_mm, no plane or pedestal "
+             "to rest on): the %s moves it freely and no load step can balance; use -clamp %s or add -clamp_line_mm",
+             TestNames[s->test], s->test == TEST_PUSHING ? "ball" : "point load", s->test == TEST_PUSHING ? "ring" : "edge");
   PetscCheck(JawTest(s) || in->elongation_pct == 0, comm, PETSC_ERR_USER_INPUT,
              "-elongation_pct %g: -test %s has no jaws to pull", (double) in->elongation_pct, TestNames[s->test]);
   PetscCheck(s->load.waypoints == 0 || JawTest(s), comm, PETSC_ERR_USER_INPUT,
