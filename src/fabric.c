@@ -132,13 +132,14 @@ static PointKind KindOf(const Scene *s, PetscInt i, PetscInt j)
    is on both a clamp line and a grip line, nor on a line of the other kind than its clamp region's
    (a clamp line in the moving jaw, a grip line in the fixed jaw or a clamped edge: the line took them
    over without a word) (integer counts: exact on any number of ranks). */
-#define LINE_COUNTS (4 * MAX_LINES + MAX_LINES * MAX_LINES + 1)
+#define LINE_COUNTS (4 * MAX_LINES + MAX_LINES * MAX_LINES + 2)
 static PetscErrorCode CheckLines(Fabric fab, const DMDALocalInfo *info)
 {
   const Scene *s                  = &fab->s;
   const int    ring               = s->clamps.clamp == CLAMP_RING;
   PetscInt     count[LINE_COUNTS] = {0};
   PetscInt    *both = count + 2 * MAX_LINES, *ringed = both + MAX_LINES * MAX_LINES, *clash = ringed + 1;
+  PetscInt    *freed = clash + 2 * MAX_LINES; /* the crossings left free */
 
   PetscFunctionBeginUser;
   if (!s->clamps.clamp_lines && !s->clamps.grip_lines && !ring) PetscFunctionReturn(0);
@@ -147,6 +148,7 @@ static PetscErrorCode CheckLines(Fabric fab, const DMDALocalInfo *info)
       if (!PointExists(s, i, j)) continue;
       const PointKind region = RegionKind(s, i, j);
       if (ring) *ringed += region == POINT_CLAMPED;
+      *freed += KindOf(s, i, j) == POINT_FREE;
       for (PetscInt c = 0; c < s->clamps.clamp_lines; c++) {
         const int on = OnLine(s, s->clamps.clamp_line[c], i, j);
         count[c] += on;
@@ -191,6 +193,15 @@ static PetscErrorCode CheckLines(Fabric fab, const DMDALocalInfo *info)
                  "-grip_line_mm line %" PetscInt_FMT " and -clamp_line_mm line %" PetscInt_FMT " share %" PetscInt_FMT
                  " crossings: a crossing cannot be clamped and gripped",
                  g + 1, c + 1, both[g * MAX_LINES + c]);
+  }
+  if (!*freed) {
+    char ringmm[64] = "";
+    if (ring) PetscCall(PetscSNPrintf(ringmm, sizeof ringmm, " -clamp_ring_mm %g,%g", (double) (2e3 * s->clamps.ring[0]), (double) (2e3 * s->clamps.ring[1])));
+    SETERRQ(fab->comm, PETSC_ERR_USER_INPUT,
+            "-clamp %s%s with %" PetscInt_FMT " -clamp_line_mm and %" PetscInt_FMT
+            " -grip_line_mm lines holds every crossing of the specimen: none is left free to move; narrow the "
+            "clamping ring or the lines",
+            ClampNames[s->clamps.clamp], ringmm, s->clamps.clamp_lines, s->clamps.grip_lines);
   }
   PetscFunctionReturn(0);
 }
