@@ -228,6 +228,7 @@ PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv);
 PetscErrorCode SceneCheckUnused(MPI_Comm comm, PetscBool solver_options_later);
 PetscErrorCode SceneWarnUnused(MPI_Comm comm, const char *when);
 PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s);
+PetscErrorCode SceneWidthText(const SceneInput *in, const char *real_fmt, char *text, size_t len);
 /* the same fabric at half the thread density (-solver static's grid sequencing): each coarse yarn
    stands for two (twice the tex and the bending stiffness: the same stiffness and weight per width
    and area), no yarn breaks, no output. fits: its crossings are every other one of the fine grid's

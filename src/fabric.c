@@ -385,10 +385,12 @@ static PetscErrorCode CheckMemory(Fabric fab)
     PetscCall(GlobalMax(fab->comm, room, 2)); /* every rank refuses alike, and says the same */
     w   = -room[0] <= -room[1] ? 0 : 1;
     bad = share > -room[w] ? PETSC_TRUE : PETSC_FALSE;
+    char           width[64];
+    PetscCall(SceneWidthText(in, "%g", width, sizeof width));
     PetscCheck(!bad, fab->comm, PETSC_ERR_USER_INPUT,
-               "-gauge_mm %g -width_mm %g -ends_per_cm %g -picks_per_cm %g: %" PetscInt_FMT " x %" PetscInt_FMT
+               "-gauge_mm %g %s -ends_per_cm %g -picks_per_cm %g: %" PetscInt_FMT " x %" PetscInt_FMT
                " crossings need about %.3g GB (%.0f B a crossing): %.3g GB for a rank, more than %s %.3g GB",
-               (double) in->gauge_mm, (double) in->width_mm, (double) in->ends_per_cm, (double) in->picks_per_cm,
+               (double) in->gauge_mm, width, (double) in->ends_per_cm, (double) in->picks_per_cm,
                fab->s.spec.nx, fab->s.spec.ny, 1e-9 * share * fab->size, bytes, 1e-9 * share,
                w == 0 ? "its share of the node's available memory,"
                       : "what its address-space limit (ulimit -v) leaves it,",

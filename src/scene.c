@@ -1517,16 +1517,31 @@ static PetscErrorCode DeriveOutput(MPI_Comm comm, const SceneInput *in, Scene *s
   PetscFunctionReturn(0);
 }
 
+/* the option that sets the grid's width, and its value: -yarns (the strip's, when given) or -width_mm */
+PetscErrorCode SceneWidthText(const SceneInput *in, const char *real_fmt, char *text, size_t len)
+{
+  char fmt[32];
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscSNPrintf(fmt, sizeof fmt, "-width_mm %s", real_fmt));
+  if (in->yarns > 0) PetscCall(PetscSNPrintf(text, len, "-yarns %" PetscInt_FMT, in->yarns));
+  else PetscCall(PetscSNPrintf(text, len, fmt, (double) in->width_mm));
+  PetscFunctionReturn(0);
+}
+
 /* The grid's size: PETSc's DMDA holds 3 unknowns (x, y, z) per crossing and indexes them with 32-bit
    integers, so 3 nx ny must stay below 2^31 - 1 (about 7.16e8 crossings) */
 #define GRID_MAX_CROSSINGS 7e8
 static PetscErrorCode CheckGridSize(MPI_Comm comm, const SceneInput *in, PetscReal nx, PetscReal ny)
 {
+  char width[64];
+
   PetscFunctionBeginUser;
+  PetscCall(SceneWidthText(in, "%.6g", width, sizeof width));
   PetscCheck(nx * ny <= GRID_MAX_CROSSINGS, comm, PETSC_ERR_USER_INPUT,
-             "grid too large: -gauge_mm %.6g, -width_mm %.6g at -ends_per_cm %.6g, -picks_per_cm %.6g give %.6g x "
+             "grid too large: -gauge_mm %.6g, %s at -ends_per_cm %.6g, -picks_per_cm %.6g give %.6g x "
              "%.6g = %.6g crossings, at most %.6g (3 unknowns each, within PETSc's 32-bit indices)",
-             (double) in->gauge_mm, (double) in->width_mm, (double) in->ends_per_cm, (double) in->picks_per_cm,
+             (double) in->gauge_mm, width, (double) in->ends_per_cm, (double) in->picks_per_cm,
              (double) nx, (double) ny, (double) (nx * ny), GRID_MAX_CROSSINGS);
   PetscFunctionReturn(0);
 }
