@@ -677,12 +677,13 @@ static PetscErrorCode CheckReadable(MPI_Comm comm, const char *opt, const char *
   PetscFunctionReturn(0);
 }
 
-/* a scene file with no option in it would run the default strip without a word: refuse it */
 /* a scene line past a UTF-8 byte order mark, on the file's first line (an editor's; the YAML parser skips it) */
 static char *SkipBOM(char *line, int lineno)
 {
   return lineno == 1 && !strncmp(line, "\xEF\xBB\xBF", 3) ? line + 3 : line;
 }
+
+/* a scene file with no option in it would run the default strip without a word: refuse it */
 
 static PetscErrorCode CheckSceneHasOptions(MPI_Comm comm, const char *file)
 {
@@ -925,11 +926,34 @@ static PetscErrorCode InsertEnvOptions(MPI_Comm comm)
   PetscFunctionReturn(0);
 }
 
+/* the scene file's text, as rank 0 reads it, on every rank */
+static PetscErrorCode ReadSceneText(MPI_Comm comm, const char *file, char **text)
+{
+  PetscInt    len = 0;
+  PetscMPIInt rank;
+  FILE       *fp = NULL;
+
+  PetscFunctionBeginUser;
+  PetscCall(CommRank(comm, &rank));
+  if (!rank && (fp = fopen(file, "r")) && !fseek(fp, 0, SEEK_END)) len = (PetscInt) PetscMax(ftell(fp), 0L);
+  PetscCall(BroadcastFromRoot(comm, &len, 1, MPIU_INT));
+  PetscCall(PetscMalloc1(len + 1, text));
+  if (!rank && fp) {
+    rewind(fp);
+    len = (PetscInt) fread(*text, 1, (size_t) len, fp);
+  }
+  if (fp) fclose(fp);
+  PetscCall(BroadcastFromRoot(comm, &len, 1, MPIU_INT));
+  PetscCall(BroadcastFromRoot(comm, *text, len, MPI_CHAR));
+  (*text)[len] = 0;
+  PetscFunctionReturn(0);
+}
+
 /* -scene FILE: insert the YAML option file, then PETSC_OPTIONS and the command line again so that they win
    (PETSc's order: option files, the environment, the command line) */
 PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv)
 {
-  char           file[PETSC_MAX_PATH_LEN];
+  char           file[PETSC_MAX_PATH_LEN], *text;
   PetscBool      set;
   PetscErrorCode ierr;
 
@@ -955,9 +979,12 @@ PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv)
     PetscCall(BroadcastFromRoot(comm, msg, (PetscInt) sizeof msg, MPI_CHAR));
     PetscCheck(!msg[0], comm, PETSC_ERR_USER_INPUT, "-scene %s: %s", file, msg);
   }
+  PetscCall(ReadSceneText(comm, file, &text));
   PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
-  ierr = PetscOptionsInsertFileYAML(comm, NULL, file, PETSC_TRUE);
+  ierr = PetscOptionsInsertStringYAML(NULL, text); /* the text as read: PetscOptionsInsertFileYAML would open the
+                                                      file by another name ('\\' made '/', ${VAR} expanded) */
   PetscCall(PetscPopErrorHandler());
+  PetscCall(PetscFree(text));
   if (ierr) {
     const char *text;
     char       *specific = NULL;

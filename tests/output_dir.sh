@@ -12,6 +12,9 @@
 #  5. ranks that do not share -output_dir (rank 1 started in another working directory, a relative
 #     -output_dir: as a directory on each node's own disk): refused at once, naming the rank, and nothing
 #     left in either place (the ranks waited in MPI_File_open for ever).
+#  6. a scene file whose name holds a backslash and ${...} is read under that name (PETSc's YAML file reader
+#     made the backslash a '/' and expanded ${...}: "not a valid YAML option file: Unable to open" or
+#     "Substitution string ... not found").
 set -u
 fabric="$1"; scene="$2"
 . "$(dirname "$0")/runs.sh" # $py, $work, $fail, run NP ARGS...
@@ -47,6 +50,19 @@ try:
 except ValueError as e:
     s, ok = str(e), False
 print(("PASS" if ok else "FAIL") + f" summary.json with control characters in the scene's name: {s['scene'] if ok else s!r}")
+sys.exit(0 if ok else 1)
+PY
+
+name="$work/"'back\slash${NO_SUCH_VAR}'
+cp "$scene" "$name.yaml"
+run 2 -scene "$name.yaml" -gauge_mm 20 -width_mm 5 -load_steps 2 -output_dir "$work/odd"
+"$py" - "$work/odd/summary.json" <<'PY' || fail=1
+import json, sys
+try:
+    s = json.load(open(sys.argv[1])); ok = s["scene"] == "back\\slash${NO_SUCH_VAR}" and s["grid"] == [49, 12]
+except (OSError, ValueError) as e:
+    s, ok = str(e), False
+print(("PASS" if ok else "FAIL") + f" a scene file named with a backslash and ${{...}} is read as named: {s['scene'] if ok else s!r}")
 sys.exit(0 if ok else 1)
 PY
 
