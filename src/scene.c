@@ -719,7 +719,7 @@ static char *KeyLine(char *line)
 /* The first line of a scene file that cannot be a YAML "key: value" line (no colon, or no space
    after the first one), as a hint when the YAML parser refuses the file without saying where.
    0 if none is found. */
-static int FindMalformedLine(const char *file, char *text, size_t len)
+static int FindMalformedLine(const char *file, char *text, size_t len, const char **why)
 {
   char  *line = NULL;
   size_t cap  = 0;
@@ -728,11 +728,12 @@ static int FindMalformedLine(const char *file, char *text, size_t len)
 
   if (!fp) return 0;
   while (!found && getline(&line, &cap, fp) >= 0) {
-    char *c, *colon;
-    lineno++;
-    if (!(c = KeyLine(SkipBOM(line, lineno)))) continue;
+    char *c, *colon, *start = SkipBOM(line, ++lineno);
+    int   tab = memchr(start, '\t', strspn(start, " \t")) != NULL; /* libyaml refuses it, saying nowhere where */
+    if (!(c = KeyLine(start))) continue;
     colon = strchr(c, ':');
-    found = !colon || (colon[1] && colon[1] != ' ' && colon[1] != '\t');
+    found = tab || !colon || (colon[1] && colon[1] != ' ' && colon[1] != '\t');
+    *why  = tab ? "a tab in its indentation: YAML indents with spaces only" : "expected 'key: value'";
     if (found) snprintf(text, len, "%.100s", c); /* enough to recognise the line */
   }
   free(line);
@@ -989,12 +990,12 @@ PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv)
     const char *text;
     char       *specific = NULL;
     char        bad[256];
+    const char *why = NULL;
     int         lineno;
     PetscCall(PetscErrorMessage(ierr, &text, &specific));
-    lineno = FindMalformedLine(file, bad, sizeof bad);
-    PetscCheck(!lineno, comm, PETSC_ERR_FILE_UNEXPECTED,
-               "-scene %s: not a valid YAML option file: %s (line %d, '%s': expected 'key: value')", file,
-               specific && specific[0] ? specific : text, lineno, bad);
+    lineno = FindMalformedLine(file, bad, sizeof bad, &why);
+    PetscCheck(!lineno, comm, PETSC_ERR_FILE_UNEXPECTED, "-scene %s: not a valid YAML option file: %s (line %d, '%s': %s)",
+               file, specific && specific[0] ? specific : text, lineno, bad, why);
     SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED, "-scene %s: not a valid YAML option file: %s", file,
             specific && specific[0] ? specific : text);
   }
