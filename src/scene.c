@@ -1871,11 +1871,14 @@ static void PlaceOf(const char *path, char *out, size_t len)
   snprintf(out, len, "%s", abs);
 }
 
+/* the files a run writes in -output_dir */
+static const char *const OwnFiles[] = {"curve.csv",     "summary.json",       "fabric.h5",         "fabric.xmf",
+                                       "checkpoint.h5", ".checkpoint.h5.tmp", ".summary.json.tmp", ".fabric.xmf.tmp"};
+
 /* -positions_out must not be the output directory or a file the run writes in it */
 static void PositionsOutDirClash(const SceneOutput *o, char *msg, size_t len)
 {
-  static const char *own[] = {"curve.csv", "summary.json", "fabric.h5", "fabric.xmf", "checkpoint.h5", ".checkpoint.h5.tmp",
-                              ".summary.json.tmp", ".fabric.xmf.tmp"};
+  const char *const *own = OwnFiles;
   char               p[2 * PETSC_MAX_PATH_LEN], d[2 * PETSC_MAX_PATH_LEN], f[3 * PETSC_MAX_PATH_LEN];
 
   if (!o->output_dir[0] || !o->positions_out[0]) return;
@@ -1886,7 +1889,7 @@ static void PositionsOutDirClash(const SceneOutput *o, char *msg, size_t len)
              o->output_dir);
     return;
   }
-  for (size_t k = 0; k < sizeof own / sizeof own[0]; k++) {
+  for (size_t k = 0; k < sizeof OwnFiles / sizeof OwnFiles[0]; k++) {
     snprintf(f, sizeof f, "%s/%s", d, own[k]);
     if (!strcmp(p, f)) {
       snprintf(msg, len, "-positions_out %s: the run writes its %s there (-output_dir %s); give another file",
@@ -1908,6 +1911,34 @@ static int SameFile(const char *path, const char *other)
   PlaceOf(path, p, sizeof p);
   PlaceOf(other, q, sizeof q);
   return !strcmp(p, q);
+}
+
+/* no input file may be one the run writes in -output_dir: it would be removed at the start (summary.json,
+   fabric.h5, ...) or written over (curve.csv) */
+static void InputOutputClash(const Scene *s, char *msg, size_t len)
+{
+  const SceneOutput *o = &s->out;
+  const struct {
+    const char *opt, *file;
+  } input[] = {
+    {"scene",        o->file          },
+    {"warp_law_csv", s->yarns.warp.csv},
+    {"weft_law_csv", s->yarns.weft.csv},
+  };
+  char f[3 * PETSC_MAX_PATH_LEN];
+
+  if (!o->output_dir[0]) return;
+  for (size_t k = 0; k < sizeof input / sizeof input[0]; k++)
+    for (size_t q = 0; input[k].file[0] && q < sizeof OwnFiles / sizeof OwnFiles[0]; q++) {
+      snprintf(f, sizeof f, "%s/%s", o->output_dir, OwnFiles[q]);
+      if (SameFile(input[k].file, f)) {
+        snprintf(msg, len,
+                 "-%s %.1024s: the run writes its %s there (-output_dir %.1024s): the input file would be removed "
+                 "or written over; give another -output_dir, or rename the file",
+                 input[k].opt, input[k].file, OwnFiles[q], o->output_dir);
+        return;
+      }
+    }
 }
 
 /* -positions_out must not be one of the run's input files (written over at the end), the output
@@ -2051,6 +2082,7 @@ static PetscErrorCode CheckOutputPlaces(MPI_Comm comm, const Scene *s)
   if (help) PetscFunctionReturn(0); /* -help writes nothing */
   PetscCall(CommRank(comm, &rank));
   if (!rank) PositionsOutClash(s, msg, sizeof msg);
+  if (!rank && !msg[0]) InputOutputClash(s, msg, sizeof msg);
   if (!rank && !msg[0] && o->output_dir[0]) ProbeDirectory("output_dir", o->output_dir, &pm, msg, sizeof msg);
   PetscCall(BroadcastFromRoot(comm, msg, (PetscInt) sizeof msg, MPI_CHAR));
   if (!msg[0] && o->output_dir[0]) PetscCall(ProbeShared(comm, o->output_dir, &pm, msg, sizeof msg));
