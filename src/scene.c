@@ -1016,6 +1016,20 @@ static PetscBool SolverOption(const char *name)
   return PETSC_FALSE;
 }
 
+/* PETSc's options read by PetscInitialize, before the scene file is inserted: from a scene, they are left unused */
+static PetscBool StartupOption(const char *name)
+{
+  static const char *const startup[] = {"log_view",         "log_all",           "log_trace",       "log_exclude",
+                                        "log_sync",         "info",              "info_exclude",    "history",
+                                        "malloc_debug",     "malloc_dump",       "malloc_view",     "malloc_test",
+                                        "memory_view",      "options_file",      "options_file_yaml", "options_monitor",
+                                        "on_error_abort",   "on_error_attach_debugger", "start_in_debugger",
+                                        "stop_for_debugger", "no_signal_handler", "skip_petscrc",   "objects_dump"};
+  for (size_t q = 0; q < sizeof startup / sizeof startup[0]; q++)
+    if (!strcasecmp(name, startup[q])) return PETSC_TRUE;
+  return PETSC_FALSE;
+}
+
 PetscErrorCode SceneCheckUnused(MPI_Comm comm, PetscBool solver_options_later)
 {
   PetscInt n;
@@ -1042,6 +1056,10 @@ PetscErrorCode SceneCheckUnused(MPI_Comm comm, PetscBool solver_options_later)
     PetscCall(PetscOptionsLeftRestore(NULL, &n, &names, &values));
     PetscCheck(solver_options_later || !solver, comm, PETSC_ERR_USER_INPUT,
                "-%s: an option of the quasi-static solver, read with -solver static only (this run is -solver explicit)",
+               name);
+    PetscCheck(!StartupOption(name), comm, PETSC_ERR_USER_INPUT,
+               "-%s in the scene file: PETSc reads it as it starts, before the scene; give it on the command line or in "
+               "PETSC_OPTIONS",
                name);
     SETERRQ(comm, PETSC_ERR_USER_INPUT, "unknown option -%s (run with -help for the list)", name);
   }
