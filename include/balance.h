@@ -19,7 +19,8 @@ typedef struct {
 PetscErrorCode BalanceCrossings(Fabric fab, BalanceCheck *c);
 
 /* The pushing test, before a load step's row is written: a free crossing within the ball's silhouette (closer
-   to the axis of its path than its radius) and behind its centre along the path has been passed through.
+   to the axis of its path than its radius) and behind its centre along the path, ahead of the ball's start at rest,
+   has been passed through (a ball that starts beyond the fabric and moves away from it passes nothing).
    Contact acts on the crossings alone: yarns strained far past any real yarn's strength (no breaking strain)
    let the ball slip between them. Stops the run naming the crossing; not once a yarn has broken (the ball may
    go through the hole). */

@@ -103,8 +103,8 @@ PetscErrorCode BalanceCrossings(Fabric fab, BalanceCheck *c)
 PetscErrorCode BallPassedCheck(Fabric fab)
 {
   const Patch       *p = &fab->grid.patch;
-  const PetscScalar *x;
-  PetscReal          behind = 0, c[3];
+  const PetscScalar *x, *x0;
+  PetscReal          behind = 0, c[3], c0[3];
   PetscInt           where  = -1;
   const Body        *b      = NULL;
 
@@ -113,13 +113,18 @@ PetscErrorCode BallPassedCheck(Fabric fab)
     if (fab->bodies.body[q].kind == BODY_SPHERE) b = &fab->bodies.body[q];
   if (!b || fab->stats.broken_any) PetscFunctionReturn(0);
   BodyPosition(b, fab->load.travel_now, c);
+  BodyPosition(b, 0, c0);
   PetscCall(VecGetArrayRead(fab->state.X, &x));
+  PetscCall(VecGetArrayRead(fab->grid.X0, &x0));
   for (PetscInt k = 0; k < fab->grid.nloc; k++) {
-    PetscReal r[3], along = 0, r2 = 0;
+    PetscReal r[3], along = 0, along0 = 0, r2 = 0;
     if (!(fab->grid.inv_m[k] > 0)) continue;
     for (int d = 0; d < 3; d++) r[d] = x[3 * k + d] - c[d], along += r[d] * b->dir[d], r2 += r[d] * r[d];
-    if (-along > behind && r2 - along * along < b->radius * b->radius) behind = -along, where = GlobalIndexOf(p, k);
+    for (int d = 0; d < 3; d++) along0 += (x0[3 * k + d] - c0[d]) * b->dir[d];
+    if (along0 > 0 && -along > behind && r2 - along * along < b->radius * b->radius) /* ahead at rest, now behind */
+      behind = -along, where = GlobalIndexOf(p, k);
   }
+  PetscCall(VecRestoreArrayRead(fab->grid.X0, &x0));
   PetscCall(VecRestoreArrayRead(fab->state.X, &x));
   PetscCall(GlobalArgMax(fab->comm, &behind, &where));
   {
