@@ -936,8 +936,10 @@ static PetscErrorCode ReadSceneText(MPI_Comm comm, const char *file, char **text
 
   PetscFunctionBeginUser;
   PetscCall(CommRank(comm, &rank));
-  if (!rank && (fp = fopen(file, "r")) && !fseek(fp, 0, SEEK_END)) len = (PetscInt) PetscMax(ftell(fp), 0L);
+  if (!rank) len = (fp = fopen(file, "r")) && !fseek(fp, 0, SEEK_END) ? (PetscInt) ftell(fp) : -1;
   PetscCall(BroadcastFromRoot(comm, &len, 1, MPIU_INT));
+  if (len < 0 && fp) fclose(fp);
+  PetscCheck(len >= 0, comm, PETSC_ERR_FILE_OPEN, "-scene %s: cannot read the file", file);
   PetscCall(PetscMalloc1(len + 1, text));
   if (!rank && fp) {
     rewind(fp);
