@@ -2088,6 +2088,28 @@ static void ProbeViewerFiles(const char *output_dir, char *msg, size_t len)
   OptionsGivenFree(&g);
 }
 
+/* PETSc's file viewers (fabric.h5, checkpoint.h5, -restart, -positions_out) expand '${NAME}' in a file name from
+   the environment, where the run's own files (curve.csv, summary.json) take it as it is: refused */
+static void ViewerNameClash(const SceneOutput *o, char *msg, size_t len)
+{
+  const struct {
+    const char *opt, *path;
+  } place[] = {
+    {"output_dir",    o->output_dir   },
+    {"positions_out", o->positions_out},
+    {"restart",       o->restart      },
+  };
+
+  for (size_t k = 0; k < sizeof place / sizeof place[0]; k++)
+    if (strstr(place[k].path, "${")) {
+      snprintf(msg, len,
+               "-%s %.1024s: PETSc's file viewers, which write fabric.h5, checkpoint.h5 and -positions_out and read "
+               "-restart, take '${...}' in a file name for an environment variable; give the path without it",
+               place[k].opt, place[k].path);
+      return;
+    }
+}
+
 /* -output_dir, -positions_out and the viewers' files can be written: rank 0 looks, every rank refuses alike */
 static PetscErrorCode CheckOutputPlaces(MPI_Comm comm, const Scene *s)
 {
@@ -2101,7 +2123,8 @@ static PetscErrorCode CheckOutputPlaces(MPI_Comm comm, const Scene *s)
   PetscCall(PetscOptionsHasHelp(NULL, &help));
   if (help) PetscFunctionReturn(0); /* -help writes nothing */
   PetscCall(CommRank(comm, &rank));
-  if (!rank) PositionsOutClash(s, msg, sizeof msg);
+  if (!rank) ViewerNameClash(o, msg, sizeof msg);
+  if (!rank && !msg[0]) PositionsOutClash(s, msg, sizeof msg);
   if (!rank && !msg[0]) InputOutputClash(s, msg, sizeof msg);
   if (!rank && !msg[0] && o->output_dir[0]) ProbeDirectory("output_dir", o->output_dir, &pm, msg, sizeof msg);
   PetscCall(BroadcastFromRoot(comm, msg, (PetscInt) sizeof msg, MPI_CHAR));
