@@ -677,6 +677,32 @@ static PetscErrorCode CheckReadable(MPI_Comm comm, const char *opt, const char *
   PetscFunctionReturn(0);
 }
 
+/* the next line of a scene file into *line (as getline, its line end kept): a line ends at LF, CR LF or a CR alone,
+   all three YAML line breaks (old Mac files have CR alone: read by LF only, such a file was one line). -1 at the end */
+static ssize_t SceneGetLine(char **line, size_t *cap, FILE *fp)
+{
+  size_t n = 0;
+  int    c;
+
+  while ((c = getc(fp)) != EOF) {
+    if (n + 3 > *cap) {
+      char *grown = realloc(*line, *cap = 2 * *cap + 128);
+      if (!grown) return -1;
+      *line = grown;
+    }
+    (*line)[n++] = (char) c;
+    if (c == '\n') break;
+    if (c == '\r') {
+      if ((c = getc(fp)) == '\n') (*line)[n++] = (char) c;
+      else if (c != EOF) ungetc(c, fp);
+      break;
+    }
+  }
+  if (!n) return -1;
+  (*line)[n] = 0;
+  return (ssize_t) n;
+}
+
 /* a scene line past a UTF-8 byte order mark, on the file's first line (an editor's; the YAML parser skips it) */
 static char *SkipBOM(char *line, int lineno)
 {
@@ -694,7 +720,7 @@ static PetscErrorCode CheckSceneHasOptions(MPI_Comm comm, const char *file)
 
   PetscFunctionBeginUser;
   PetscCheck(fp, comm, PETSC_ERR_FILE_OPEN, "-scene %s: no such file, or not readable", file);
-  while (!found && getline(&line, &cap, fp) >= 0) { /* whole lines, of any length */
+  while (!found && SceneGetLine(&line, &cap, fp) >= 0) { /* whole lines, of any length */
     const char *c = SkipBOM(line, ++lineno);
     while (*c == ' ' || *c == '\t') c++;
     if (*c && *c != '#' && *c != '\n' && *c != '\r' && strchr(c, ':')) found = 1;
@@ -727,7 +753,7 @@ static int FindMalformedLine(const char *file, char *text, size_t len, const cha
   FILE  *fp = fopen(file, "r");
 
   if (!fp) return 0;
-  while (!found && getline(&line, &cap, fp) >= 0) {
+  while (!found && SceneGetLine(&line, &cap, fp) >= 0) {
     char *c, *colon, *start = SkipBOM(line, ++lineno);
     int   tab = memchr(start, '\t', strspn(start, " \t")) != NULL; /* libyaml refuses it, saying nowhere where */
     if (!(c = KeyLine(start))) continue;
@@ -869,7 +895,7 @@ static int FindBadKey(const char *file, char *msg, size_t len)
 
   if (!fp) return 0;
   keys.nseen = keys.nmaps = 0;
-  while (!bad && getline(&line, &cap, fp) >= 0) { /* whole lines, of any length */
+  while (!bad && SceneGetLine(&line, &cap, fp) >= 0) { /* whole lines, of any length */
     char *c, *v, key[128], full[128] = "", anchor[64];
     int   ind;
     lineno++;
