@@ -890,7 +890,7 @@ static int FindBadKey(const char *file, char *msg, size_t len)
   static SceneKeys keys;
   char            *line = NULL, parent[8][128];
   size_t           cap  = 0;
-  int              indent[8], depth = 0, lineno = 0, bad = 0;
+  int              indent[8], kids[8], at[8], depth = 0, lineno = 0, bad = 0;
   FILE            *fp = fopen(file, "r");
 
   if (!fp) return 0;
@@ -903,24 +903,32 @@ static int FindBadKey(const char *file, char *msg, size_t len)
     c = line;
     line[strcspn(line, "\r\n")] = 0;
     while (*c == ' ' || *c == '\t') c++;
-    if (!*c || *c == '#' || *c == '-' || *c == '[') continue; /* no key (or FindMalformedLine's case) */
+    if (!*c || *c == '#') continue;
     if (*c == '{') {
       snprintf(msg, len, "line %d: a flow map at the start of a line: write its keys as lines 'key: value'", lineno);
       bad = lineno;
       break;
     }
-    if (!(v = SceneKey(c, key, sizeof key))) continue;
     ind = (int) (c - line);
+    while (depth && indent[depth - 1] >= ind) depth--;
+    if (*c == '-' || *c == '[' || !(v = SceneKey(c, key, sizeof key))) { /* no key (or FindMalformedLine's case) */
+      if (depth && !kids[depth - 1]) { /* under a key with no value on its line: that key's value, not a map */
+        for (int d = 0; d < depth; d++) snprintf(full + strlen(full), sizeof full - strlen(full), "%s%.100s", d ? "_" : "", parent[d]);
+        bad = SceneKeyOnce(&keys, full, c, at[depth - 1], msg, len);
+        depth--;
+      }
+      continue;
+    }
+    if (depth) kids[depth - 1]++;
     for (; *v == ' ' || *v == '\t'; v++) {}
     v = SceneValue(v, anchor, sizeof anchor);
-    while (depth && indent[depth - 1] >= ind) depth--;
     for (int d = 0; d < depth; d++) snprintf(full + strlen(full), sizeof full - strlen(full), "%.100s_", parent[d]);
     snprintf(full + strlen(full), sizeof full - strlen(full), "%.100s", key);
     if ((bad = SceneHidden(&keys, key, v, lineno, msg, len))) break;
     if ((!*v || *v == '#' || *v == '{') && anchor[0] && keys.nmaps < SCENE_ANCHORS_MAX)
       snprintf(keys.maps[keys.nmaps++], sizeof keys.maps[0], "%s", anchor);
     if (!*v || *v == '#') { /* a map: its keys follow, indented */
-      if (depth < 8) snprintf(parent[depth], sizeof parent[depth], "%.100s", key), indent[depth++] = ind;
+      if (depth < 8) snprintf(parent[depth], sizeof parent[depth], "%.100s", key), kids[depth] = 0, at[depth] = lineno, indent[depth++] = ind;
     } else if (*v == '{') /* a flow map on this line: each of its keys */
       bad = SceneFlowMap(&keys, full, v, lineno, msg, len);
     else
