@@ -3,7 +3,8 @@
 #  1. square net (inputs/square_net.yaml, 25 x 25): every load step balanced, and the loaded
 #     crossing's deflection under 0.5 N is the explicit path's 0.564165069 mm (measured with
 #     -balance_tol 1e-9 -speed_tol 1e-9 -max_inner_steps 2000000, docs/static.md) within 1e-6;
-#  2. the square net balanced to 1e-12 on 1, 2 and 3 ranks: positions agree to 1e-10 relative
+#  2. the square net balanced to 1e-11 on 1, 2 and 3 ranks (every load step: 1e-12 is below the
+#     net's rounding floor, residuals 1-3.6e-12 there): positions agree to 1e-10 relative
 #     (Krylov sums round differently on different splits: bitwise identity is not claimed);
 #  3. the pushing test at 8 threads/cm to 8 mm (bending, shear, the ball's contact, a slack
 #     membrane whose lines have no stiffness across), from the ball's linear prediction (what
@@ -81,7 +82,9 @@ run 2 -scene "$inputs/square_net.yaml" -solver static -output_dir "$work/sq"
 square_net sq "square net"
 
 for np in 1 2 3; do
-  run "$np" -scene "$inputs/square_net.yaml" -solver static -balance_tol 1e-12 -output_every 0 -output_dir "$work/r$np" -positions_out "$work/pos$np.bin"
+  run "$np" -scene "$inputs/square_net.yaml" -solver static -balance_tol 1e-11 -output_every 0 -output_dir "$work/r$np" -positions_out "$work/pos$np.bin"
+  if grep -q '"converged": true' "$work/r$np/summary.json"; then echo "PASS square net balanced to 1e-11 on $np ranks"
+  else echo "FAIL square net on $np ranks: not every load step balanced to 1e-11"; fail=1; fi
 done
 "$py" - "$work"/pos1.bin "$work"/pos2.bin "$work"/pos3.bin <<'PY' || fail=1
 import struct, sys
