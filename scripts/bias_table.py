@@ -7,7 +7,8 @@ grid has it, its outline on the grid diagonals) and prints, per load step: the j
 the pin-jointed-net formula gamma = 90 - 2 acos((D + d)/(sqrt(2) D)) degrees, D = gauge - width
 ("-" past d = (sqrt(2) - 1) D, where it reaches 90 degrees), the central zone's measured shear
 angle, their difference, the force and the te steps of the load step (N'); then whether every load
-step balanced (summary.json "converged").
+step balanced (summary.json "converged"). A run that stopped on an error (summary.json "error") gets
+its table up to where it stopped, then the error on stderr and exit status 1.
 """
 import argparse
 import csv
@@ -48,6 +49,8 @@ def main():
         cells = [f"{d:.2f}", f"{formula:.2f}" if formula is not None else "-", f"{centre:.2f}",
                  f"{centre - formula:+.2f}" if formula is not None else "-", f"{float(r['force_N']):.4g}", r["inner_steps"]]
         print("| " + " | ".join(cells) + " |" if a.markdown else " ".join(f"{x:>11}" for x in cells))
+    if summary.get("error"):  # the table is the run's first load steps only
+        sys.exit(f"bias_table.py: {a.run}: the run stopped after {len(rows)} load steps: {summary['error']}")
     print(f"every load step balanced: {'yes' if summary.get('converged') else 'NO'}; D = {D:.3f} mm")
 
 

@@ -92,6 +92,16 @@ stability_sweep.py: error: argument --keep: $work/file: not a directory" "$root/
     if [[ "$(cat "$work/out")" == curve.png && -s curve.png && ! -e curve ]]; then echo "PASS plot_curve.py -o curve printed curve.png, the file it wrote"
     else echo "FAIL plot_curve.py -o curve printed '$(cat "$work/out")', wrote: $(ls)"; fail=1; fi
     ;;
+  bias_table)
+    # a run that stopped on an error after two load steps: its table ended as a whole run's, with exit 0
+    mkdir run && printf 'load_step,time_s,travel_mm,force_N,inner_steps,residual,balanced,center_shear_deg\n1,1,1,0.5,10,0,1,2.0\n2,2,2,0.9,12,0,1,4.1\n' >run/curve.csv
+    printf '{"gauge_mm": 150, "width_mm": 50, "converged": false, "error": "-te 1 s is above the stable bound"}\n' >run/summary.json
+    expect 1 "bias_table.py: run: the run stopped after 2 load steps: -te 1 s is above the stable bound" /usr/bin/python3 "$root/scripts/bias_table.py" run
+    [[ $(wc -l <"$work/out") -eq 3 ]] || { echo "FAIL bias_table.py printed $(wc -l <"$work/out") lines, not its head and 2 rows"; fail=1; }
+    sed -i 's/, "error": "[^"]*"//; s/false/true/' run/summary.json
+    expect 0 "" /usr/bin/python3 "$root/scripts/bias_table.py" run
+    [[ $(tail -n 1 "$work/out") == "every load step balanced: yes; D = 100.000 mm" ]] || { echo "FAIL bias_table.py's last line: $(tail -n 1 "$work/out")"; fail=1; }
+    ;;
   *) echo "scripts_args.sh: unknown case $case_"; exit 2 ;;
 esac
 exit $fail
