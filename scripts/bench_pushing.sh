@@ -36,7 +36,7 @@ for r in "${runs[@]}"; do
   fi
 done
 
-printf '%-15s %8s %9s %7s %7s %10s %10s %10s %10s %9s %9s\n' run balanced wall_s te_steps newton krylov F5_N F10_N F15_N err_5mm+ speedup
+printf '%-17s %8s %9s %8s %7s %10s %10s %10s %10s %9s %9s\n' run balanced wall_s te_steps newton krylov F5_N F10_N F15_N err_5mm+ speedup
 t_ref="$(key explicit wall_s)"
 for r in "${rows[@]}"; do
   /usr/bin/python3 - "$work/static_1e-8/curve.csv" "$work/$r/curve.csv" "$r" "$(key "$r" wall_s)" "$(key "$r" te_steps)" \
@@ -48,7 +48,7 @@ name, wall, te, nl, li, conv, t_ref = sys.argv[3:10]
 err = max(abs(f - ref[t]) / abs(ref[t]) for t, f in rows.items() if t >= 5 - 1e-9)
 at = lambda mm: f"{rows.get(float(mm), float('nan')):.4f}"
 te = te if te not in ("", "0") else "-"
-print(f"{name:<15} {conv or '-':>8} {float(wall):9.2f} {te:>7} {nl or '-':>7} {li or '-':>10} {at(5):>10} {at(10):>10} "
+print(f"{name:<17} {conv or '-':>8} {float(wall):9.2f} {te:>8} {nl or '-':>7} {li or '-':>10} {at(5):>10} {at(10):>10} "
       f"{at(15):>10} {100 * err:8.3f}% {float(t_ref) / float(wall):9.2f}")
 PY
 done
