@@ -116,8 +116,8 @@ def main():
     ax.grid(True, alpha=0.3)
     ax.legend()
     out = a.out or os.path.join(os.path.dirname(os.path.abspath(a.curves[0])), "curve.png")
-    if not ext:  # matplotlib adds .png to a name without one: print the file it writes
-        out += ".png"
+    if not os.path.splitext(out)[1][1:]:  # matplotlib adds .png to a name without one: print the file it writes
+        out = out.rstrip(".") + "." + plt.rcParams["savefig.format"]
     fig.tight_layout()
     try:
         fig.savefig(out)

@@ -91,6 +91,12 @@ stability_sweep.py: error: argument --keep: $work/file: not a directory" "$root/
     expect 0 "" /usr/bin/python3 "$root/scripts/plot_curve.py" c.csv -o curve
     if [[ "$(cat "$work/out")" == curve.png && -s curve.png && ! -e curve ]]; then echo "PASS plot_curve.py -o curve printed curve.png, the file it wrote"
     else echo "FAIL plot_curve.py -o curve printed '$(cat "$work/out")', wrote: $(ls)"; fail=1; fi
+    # without -o: curve.png beside the curve (the extension added above made it curve.png.png)
+    mkdir run && cp c.csv run/curve.csv && rm -f curve.png
+    expect 0 "" /usr/bin/python3 "$root/scripts/plot_curve.py" run/curve.csv
+    if [[ "$(cat "$work/out")" == "$PWD/run/curve.png" && -s run/curve.png && "$(ls run)" == "$(printf 'curve.csv\ncurve.png')" ]]; then
+      echo "PASS plot_curve.py without -o wrote and printed run/curve.png"
+    else echo "FAIL plot_curve.py without -o printed '$(cat "$work/out")', wrote: $(ls run)"; fail=1; fi
     ;;
   bias_table)
     # a run that stopped on an error after two load steps: its table ended as a whole run's, with exit 0
