@@ -890,7 +890,7 @@ static int FindBadKey(const char *file, char *msg, size_t len)
   static SceneKeys keys;
   char            *line = NULL, parent[8][128];
   size_t           cap  = 0;
-  int              indent[8], kids[8], at[8], depth = 0, lineno = 0, bad = 0;
+  int              indent[8], kids[8], at[8], anchored[8], depth = 0, lineno = 0, bad = 0;
   FILE            *fp = fopen(file, "r");
 
   if (!fp) return 0;
@@ -913,8 +913,10 @@ static int FindBadKey(const char *file, char *msg, size_t len)
     while (depth && indent[depth - 1] >= ind) depth--;
     if (*c == '-' || *c == '[' || !(v = SceneKey(c, key, sizeof key))) { /* no key (or FindMalformedLine's case) */
       if (depth && !kids[depth - 1]) { /* under a key with no value on its line: that key's value, not a map */
+        if (anchored[depth - 1]) keys.nmaps--; /* its anchor, the last taken, names that value: an alias of it is one */
         for (int d = 0; d < depth; d++) snprintf(full + strlen(full), sizeof full - strlen(full), "%s%.100s", d ? "_" : "", parent[d]);
-        bad = SceneKeyOnce(&keys, full, c, at[depth - 1], msg, len);
+        if (!(bad = SceneHidden(&keys, parent[depth - 1], c, lineno, msg, len)))
+          bad = SceneKeyOnce(&keys, full, c, at[depth - 1], msg, len);
         depth--;
       }
       continue;
@@ -925,10 +927,13 @@ static int FindBadKey(const char *file, char *msg, size_t len)
     for (int d = 0; d < depth; d++) snprintf(full + strlen(full), sizeof full - strlen(full), "%.100s_", parent[d]);
     snprintf(full + strlen(full), sizeof full - strlen(full), "%.100s", key);
     if ((bad = SceneHidden(&keys, key, v, lineno, msg, len))) break;
-    if ((!*v || *v == '#' || *v == '{') && anchor[0] && keys.nmaps < SCENE_ANCHORS_MAX)
-      snprintf(keys.maps[keys.nmaps++], sizeof keys.maps[0], "%s", anchor);
+    const int added = (!*v || *v == '#' || *v == '{') && anchor[0] && keys.nmaps < SCENE_ANCHORS_MAX;
+    if (added) snprintf(keys.maps[keys.nmaps++], sizeof keys.maps[0], "%s", anchor);
     if (!*v || *v == '#') { /* a map: its keys follow, indented */
-      if (depth < 8) snprintf(parent[depth], sizeof parent[depth], "%.100s", key), kids[depth] = 0, at[depth] = lineno, indent[depth++] = ind;
+      if (depth < 8) {
+        snprintf(parent[depth], sizeof parent[depth], "%.100s", key);
+        kids[depth] = 0, at[depth] = lineno, anchored[depth] = added, indent[depth++] = ind;
+      }
     } else if (*v == '{') /* a flow map on this line: each of its keys */
       bad = SceneFlowMap(&keys, full, v, lineno, msg, len);
     else
