@@ -2128,8 +2128,9 @@ static void ProbeViewerFiles(const char *output_dir, char *msg, size_t len)
 }
 
 /* PETSc's file viewers (fabric.h5, checkpoint.h5, -restart, -positions_out) expand '${NAME}' in a file name from
-   the environment, where the run's own files (curve.csv, summary.json) take it as it is: refused */
-static void ViewerNameClash(const SceneOutput *o, char *msg, size_t len)
+   the environment, where the run's own files (curve.csv, summary.json) take it as it is: refused (given_dir: -output_dir
+   as given, "" for the default results/NAME, named after the scene file) */
+static void ViewerNameClash(const SceneOutput *o, const char *given_dir, char *msg, size_t len)
 {
   const struct {
     const char *opt, *path;
@@ -2139,6 +2140,14 @@ static void ViewerNameClash(const SceneOutput *o, char *msg, size_t len)
     {"restart",       o->restart      },
   };
 
+  if (!given_dir[0] && strstr(o->output_dir, "${")) { /* the scene's name, not an -output_dir given */
+    snprintf(msg, len,
+             "-scene %.1024s: its output directory, %.1024s (named after the scene file: no -output_dir given), holds "
+             "'${': PETSc's file viewers, which write fabric.h5 and checkpoint.h5, take '${...}' in a file name for an "
+             "environment variable; give -output_dir",
+             o->file, o->output_dir);
+    return;
+  }
   for (size_t k = 0; k < sizeof place / sizeof place[0]; k++)
     if (strstr(place[k].path, "${")) {
       snprintf(msg, len,
@@ -2150,7 +2159,7 @@ static void ViewerNameClash(const SceneOutput *o, char *msg, size_t len)
 }
 
 /* -output_dir, -positions_out and the viewers' files can be written: rank 0 looks, every rank refuses alike */
-static PetscErrorCode CheckOutputPlaces(MPI_Comm comm, const Scene *s)
+static PetscErrorCode CheckOutputPlaces(MPI_Comm comm, const SceneInput *in, const Scene *s)
 {
   const SceneOutput *o = &s->out;
   ProbeMade   pm = {.nmade = 0};
@@ -2162,7 +2171,7 @@ static PetscErrorCode CheckOutputPlaces(MPI_Comm comm, const Scene *s)
   PetscCall(PetscOptionsHasHelp(NULL, &help));
   if (help) PetscFunctionReturn(0); /* -help writes nothing */
   PetscCall(CommRank(comm, &rank));
-  if (!rank) ViewerNameClash(o, msg, sizeof msg);
+  if (!rank) ViewerNameClash(o, in->output_dir, msg, sizeof msg);
   if (!rank && !msg[0]) PositionsOutClash(s, msg, sizeof msg);
   if (!rank && !msg[0]) InputOutputClash(s, msg, sizeof msg);
   if (!rank && !msg[0] && o->output_dir[0]) ProbeDirectory("output_dir", o->output_dir, &pm, msg, sizeof msg);
@@ -2217,7 +2226,7 @@ static PetscErrorCode SceneDerive(MPI_Comm comm, Scene *s)
   PetscCall(CheckSolverOptions(comm, in)); /* first: the explicit knobs' own checks would name the wrong cure */
   PetscCall(CheckTestOptions(comm, in, s));
   PetscCall(CheckOptionsApply(comm, s));
-  PetscCall(CheckOutputPlaces(comm, s));
+  PetscCall(CheckOutputPlaces(comm, in, s));
   PetscFunctionReturn(0);
 }
 

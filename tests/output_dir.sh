@@ -14,7 +14,8 @@
 #     left in either place (the ranks waited in MPI_File_open for ever).
 #  6. a scene file whose name holds a backslash and ${...} is read under that name (PETSc's YAML file reader
 #     made the backslash a '/' and expanded ${...}: "not a valid YAML option file: Unable to open" or
-#     "Substitution string ... not found").
+#     "Substitution string ... not found"); without -output_dir, its default results/NAME holding '${' is refused
+#     naming the scene (the refusal named -output_dir, which was not given).
 set -u
 fabric="$1"; scene="$2"
 . "$(dirname "$0")/runs.sh" # $py, $work, $fail, run NP ARGS...
@@ -65,6 +66,12 @@ except (OSError, ValueError) as e:
 print(("PASS" if ok else "FAIL") + f" a scene file named with a backslash and ${{...}} is read as named: {s['scene'] if ok else s!r}")
 sys.exit(0 if ok else 1)
 PY
+# without -output_dir its default, results/ and the scene's name, holds '${': refused naming the scene (it named
+# -output_dir, not given), nothing written
+log="$(cd "$work" && mpiexec -n 1 "$fabric" -quiet -scene "$name.yaml" -gauge_mm 20 -width_mm 5 -load_steps 2 2>&1)"
+want="fabric: error: -scene $name.yaml: its output directory, results/back\\slash\${NO_SUCH_VAR} (named after the scene file: no -output_dir given), holds '\${'"
+if [[ "$log" == "$want"* && ! -e "$work/results" ]]; then echo "PASS its default output directory refused naming the scene"
+else echo "FAIL the default output directory of a scene named with \${...}: expected '$want...', got:"; echo "$log"; fail=1; fi
 
 d="$work/late"
 run 1 "${small[@]}" -output_dir "$d" -output_every 0 -checkpoint_every 3
