@@ -69,8 +69,10 @@ case "$case_" in
   stability_sweep)
     # --keep naming a file: a traceback from the first case (FileExistsError)
     echo text >file
-    COLUMNS=80 expect 2 "usage: stability_sweep.py [-h] [-fast] [--fabric FABRIC] [--only ONLY]
-                          [--keep KEEP] [--nice NICE] [--list]
+    # argparse's usage above the error: its text and wrapping are the Python version's and the terminal's (3.13
+    # rewrote how usage is laid out), so the usage is taken from the script's own -h, laid out alike
+    usage="$("$root/scripts/stability_sweep.sh" -h | sed -n '1,/^$/p' | sed '$d')"
+    expect 2 "$usage
 stability_sweep.py: error: argument --keep: $work/file: not a directory" "$root/scripts/stability_sweep.sh" -fast --keep file --fabric "$FABRIC"
     ;;
   scene_times)
