@@ -26,6 +26,13 @@ PetscErrorCode BalanceCrossings(Fabric fab, BalanceCheck *c);
    go through the hole). */
 PetscErrorCode BallPassedCheck(Fabric fab);
 
+/* After a tear that left the specimen whole, and before a load step's row is written, once yarns have broken: the
+   crossing the point load (-point_load_N) acts on still has a yarn segment, and (the square net, whose rows report
+   its travel) has not moved farther than the fabric's size from its place at rest (a piece torn out with it). Else nothing holds it against the load: it flew
+   off (the square net's rows said 240 m of travel, every load step after unbalanced) or Newton diverged with a
+   message that blamed the solver. Stops the run naming the crossing and the options. */
+PetscErrorCode PointLoadHeldCheck(Fabric fab);
+
 /* The energy watch (damped and paper integrators): every ENERGY_WATCH_EVERY te steps of a
    relaxation with nothing doing work on the fabric, the mechanical energy H (below) is taken
    across one te step. EnergyWatchBefore, before te step n of the relaxation round, says whether

@@ -143,6 +143,49 @@ PetscErrorCode BallPassedCheck(Fabric fab)
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode PointLoadHeldCheck(Fabric fab)
+{
+  const Scene     *s = &fab->s;
+  const Patch     *p = &fab->grid.patch;
+  const PetscReal *P = s->load.point_load;
+  const PetscInt   i = s->load.load_at[0], j = s->load.load_at[1];
+  PetscReal        loose[2] = {0, 0}; /* every segment at it broken; its distance from its place at rest, m */
+  char             why[160];
+
+  PetscFunctionBeginUser;
+  if (!fab->stats.broken_any || (P[0] == 0 && P[1] == 0 && P[2] == 0)) PetscFunctionReturn(0);
+  if (fab->grid.load_index >= 0) { /* this rank owns the loaded crossing: its four segments are in its patch */
+    const PetscInt     k = (j - p->gys) * p->gxm + (i - p->gxs), w = p->gxm, q = fab->grid.load_index; /* ghosted, owned */
+    const PetscScalar *x, *x0;
+    PetscBool          held = PETSC_FALSE;
+    if (i > p->gxs && p->exists[k - 1] && !p->broken_x[k - 1]) held = PETSC_TRUE;
+    if (i + 1 < p->gxs + p->gxm && p->exists[k + 1] && !p->broken_x[k]) held = PETSC_TRUE;
+    if (j > p->gys && p->exists[k - w] && !p->broken_y[k - w]) held = PETSC_TRUE;
+    if (j + 1 < p->gys + p->gym && p->exists[k + w] && !p->broken_y[k]) held = PETSC_TRUE;
+    loose[0] = held ? 0.0 : 1.0;
+    PetscCall(VecGetArrayRead(fab->state.X, &x));
+    PetscCall(VecGetArrayRead(fab->grid.X0, &x0));
+    loose[1] = PetscSqrtReal(PetscSqr(x[3 * q] - x0[3 * q]) + PetscSqr(x[3 * q + 1] - x0[3 * q + 1]) +
+                             PetscSqr(x[3 * q + 2] - x0[3 * q + 2]));
+    PetscCall(VecRestoreArrayRead(fab->grid.X0, &x0));
+    PetscCall(VecRestoreArrayRead(fab->state.X, &x));
+  }
+  PetscCall(GlobalMax(fab->comm, loose, 2));
+  if (s->test != TEST_SQUARE) loose[1] = 0; /* the square net measures that crossing's travel (a strip's pieces may fly) */
+  if (loose[0] == 0 && loose[1] <= fab->grid.extent) PetscFunctionReturn(0);
+  if (loose[1] > fab->grid.extent) /* a piece torn out with it: the crossing may still have segments, holding nothing */
+    PetscCall(PetscSNPrintf(why, sizeof why, " and it has moved %g mm, farther than the fabric's size %g mm",
+                            (double) (1e3 * loose[1]), (double) (1e3 * fab->grid.extent)));
+  else why[0] = 0;
+  SETERRQ(fab->comm, PETSC_ERR_NOT_CONVERGED,
+          "the point load (-point_load_N %g,%g,%g) has torn its crossing (%" PetscInt_FMT ", %" PetscInt_FMT
+          ") loose at load step %" PetscInt_FMT ": %s (-warp_break_pct %g, -weft_break_pct %g)%s; nothing holds it "
+          "against the load: a smaller -point_load_N or stronger yarns",
+          (double) P[0], (double) P[1], (double) P[2], i, j, fab->load.load_step,
+          loose[0] != 0 ? "every yarn segment at it has broken" : "yarns that held it have broken",
+          (double) (100 * s->yarns.warp.break_ey), (double) (100 * s->yarns.weft.break_ey), why);
+}
+
 /* ------------------------------------------------------------------ the energy watch */
 
 /* the watch applies: a damped scheme, not a tear, nothing doing work on the fabric */

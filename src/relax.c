@@ -322,6 +322,7 @@ static PetscErrorCode BreakAndTear(Fabric fab, StepStats *st, PetscBool at_rest,
   *measured = PETSC_FALSE; /* the row is no longer this state */
   if (at_rest) PetscCall(VecZeroEntries(fab->state.V));
   PetscCall(FollowTear(fab, st, row, ruptured));
+  if (!*ruptured) PetscCall(PointLoadHeldCheck(fab)); /* before the load step relaxes (or is solved) again */
   PetscFunctionReturn(0);
 }
 
@@ -559,6 +560,7 @@ PetscErrorCode FabricRun(Fabric fab)
     if (CheckpointStopped()) break; /* SIGTERM or SIGUSR1: its checkpoint is written */
     ruptured = fab->stats.rupture.rupture_step == k;
     if (!ruptured) PetscCall(BallPassedCheck(fab)); /* the pushing test: the fabric still before the ball */
+    if (!ruptured) PetscCall(PointLoadHeldCheck(fab)); /* a point load: its crossing still held */
     if (!row->balanced && !ruptured) fab->stats.converged = PETSC_FALSE; /* a tear is not meant to balance */
     PetscCall(KeepConverged(fab));
     PetscCall(PetscTime(&fab->stats.wall));
