@@ -1412,6 +1412,8 @@ static PetscErrorCode CheckOptionsApply(MPI_Comm comm, const Scene *s)
   const PetscBool bodies =
       s->bodies.sphere_radius > 0 || s->bodies.plane || s->bodies.pedestal_radius > 0 ? PETSC_TRUE : PETSC_FALSE;
   const PetscBool moves = JawTest(s) || s->test == TEST_PUSHING ? PETSC_TRUE : PETSC_FALSE;
+  const PetscBool tears = s->yarns.warp.break_ey > 0 || s->yarns.weft.break_ey > 0 ? PETSC_TRUE : PETSC_FALSE;
+  const char     *nobreak = "-warp_break_pct 0 and -weft_break_pct 0", *notear = "no yarn breaks: there is no tear or rupture";
   char test[64], shape[64], clamp[64], law[2][PETSC_MAX_PATH_LEN + 16];
   struct {
     const char *name;
@@ -1432,6 +1434,14 @@ static PetscErrorCode CheckOptionsApply(MPI_Comm comm, const Scene *s)
       {"contact_stiffness_N_m", bodies, test, "there is no sphere, plane or pedestal to touch"},
       {"warp_modulus_cN_tex", !s->yarns.warp.csv[0], law[0], "the table sets the yarn's stiffness"},
       {"weft_modulus_cN_tex", !s->yarns.weft.csv[0], law[1], "the table sets the yarn's stiffness"},
+      {"break_gauge_mm", tears, nobreak, notear},
+      {"break_seed", tears, nobreak, notear},
+      {"rupture_drop_pct", tears, nobreak, notear},
+      {"tear_wave_crossings", tears, nobreak, notear},
+      {"tear_max_ms", tears, nobreak, notear},
+      {"tear_damping_ratio", tears, nobreak, notear},
+      {"tear_te_safety", tears, nobreak, notear},
+      {"output_tear_every", tears || s->out.output_tear_every == 0, nobreak, notear}, /* 0: off, as without a tear */
   };
 
   PetscFunctionBeginUser;
