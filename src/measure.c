@@ -45,42 +45,76 @@ static PetscErrorCode GripReaction(MPI_Comm comm, const FabricGrid *g, const Pet
   PetscFunctionReturn(0);
 }
 
-/* Pushing: the reaction on the sphere is minus the sum of the contact forces on the fabric;
-   force_N is its component against the travel (positive while the fabric resists). A sum
-   over points: the same to rounding on any number of ranks, never fed back into positions. */
-static PetscErrorCode SphereReaction(MPI_Comm comm, const PetscReal contact_sum[3], const PetscReal dir[3],
-                                     PetscReal travel, CurveRow *row)
+/* The contact force of the body of this kind on each owned crossing, t[3 k + d], at the positions x
+   ComputeForces has just used: the terms of the bodies' exact reaction sums. Friction is computed on
+   a copy of the anchors (measuring moves none). All zero without such a body. */
+static PetscErrorCode BodyContactTerms(Fabric fab, BodyKind kind, const PetscScalar *x, PetscReal *t)
 {
-  PetscReal sum[3];
+  const FabricGrid *g = &fab->grid;
+  const Body       *b = NULL;
+  PetscReal         c[3], sum[3] = {0, 0, 0}, *anchor = NULL;
 
   PetscFunctionBeginUser;
-  for (int d = 0; d < 3; d++) sum[d] = contact_sum[d];
-  PetscCall(GlobalSum(comm, sum, 3));
-  row->force  = sum[0] * dir[0] + sum[1] * dir[1] + sum[2] * dir[2];
+  PetscCall(PetscArrayzero(t, 3 * g->nloc));
+  for (PetscInt q = 0; q < fab->bodies.n; q++)
+    if (fab->bodies.body[q].kind == kind) b = &fab->bodies.body[q];
+  if (!b) PetscFunctionReturn(0);
+  BodyPosition(b, fab->load.travel_now, c);
+  if (fab->state.anchor[kind]) {
+    const PetscScalar *a;
+    PetscCall(PetscMalloc1(3 * g->nloc, &anchor));
+    PetscCall(VecGetArrayRead(fab->state.anchor[kind], &a));
+    PetscCall(PetscArraycpy(anchor, a, 3 * g->nloc));
+    PetscCall(VecRestoreArrayRead(fab->state.anchor[kind], &a));
+  }
+  BodyContact(b, c, g->nloc, x, g->inv_m, anchor, t, sum);
+  PetscCall(PetscFree(anchor));
+  PetscFunctionReturn(0);
+}
+
+/* Pushing: the reaction on the sphere is minus the sum of the contact forces on the fabric;
+   force_N is its component against the travel (positive while the fabric resists). An exact sum
+   (PointSums) of each crossing's contact force along the path: the same on any number of ranks and
+   any split, as the break detection that reads it (a ball burst) must be. */
+static PetscErrorCode SphereReaction(Fabric fab, const PetscScalar *x, const PetscReal dir[3], PetscReal travel,
+                                     CurveRow *row)
+{
+  const PetscInt n = fab->grid.nloc;
+  PetscReal     *t;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc1(3 * n, &t));
+  PetscCall(BodyContactTerms(fab, BODY_SPHERE, x, t));
+  for (PetscInt k = 0; k < n; k++) t[k] = t[3 * k] * dir[0] + t[3 * k + 1] * dir[1] + t[3 * k + 2] * dir[2];
+  PetscCall(PointSums(fab->comm, 1, t, n, &row->force));
+  PetscCall(PetscFree(t));
   row->travel = travel;
   PetscFunctionReturn(0);
 }
 
 /* Supports (a plane or a pedestal): the force of the fabric on each body, minus the sum of
-   the contact forces on the fabric (from GripReaction's ComputeForces at the balanced state);
+   the contact forces on the fabric (recomputed at GripReaction's state, BodyContactTerms);
    on the clamps and the grips, the internal forces on the crossings they hold plus their weight
    (they hold it too); and the specimen's weight. At rest the free crossings balance, and the
    internal forces sum to zero over the fabric, so plane + pedestal + clamp = weight, up to
-   the residual forces of the balance test. Sums over points: reported, never fed back; the
-   clamps' and the weight exact (the same on any split), the bodies' the force kernel's sums. */
-static PetscErrorCode SupportReactions(MPI_Comm comm, const FabricGrid *g, const PetscScalar *f,
-                                       const PetscReal gravity[3], const PetscReal body_sum[BODY_KINDS][3],
-                                       CurveRow *row)
+   the residual forces of the balance test. Sums over points: reported, never fed back; exact
+   (PointSums), the same on any number of ranks and any split, as curve.csv must be. */
+static PetscErrorCode SupportReactions(Fabric fab, const PetscScalar *x, const PetscScalar *f, CurveRow *row)
 {
-  const Patch *p = &g->patch;
-  PetscReal    acc[12], *t;
+  const FabricGrid *g = &fab->grid;
+  const Patch      *p = &g->patch;
+  const PetscReal  *gravity = fab->load.gravity_now;
+  PetscReal         acc[12], *t, *b;
 
   PetscFunctionBeginUser;
-  for (int d = 0; d < 3; d++) {
-    acc[d]     = -body_sum[BODY_PLANE][d];
-    acc[3 + d] = -body_sum[BODY_PEDESTAL][d];
+  PetscCall(PetscMalloc2(3 * g->nloc, &b, 3 * g->nloc, &t));
+  for (int q = 0; q < 2; q++) { /* the plane's and the pedestal's: minus their contact forces on the crossings */
+    PetscCall(BodyContactTerms(fab, q == 0 ? BODY_PLANE : BODY_PEDESTAL, x, b));
+    for (PetscInt k = 0; k < g->nloc; k++)
+      for (int d = 0; d < 3; d++) t[d * g->nloc + k] = -b[3 * k + d];
+    PetscCall(PointSums(fab->comm, 3, t, g->nloc, acc + 3 * q));
   }
-  PetscCall(GlobalSum(comm, acc, 6)); /* the bodies' contact sums, the force kernel's (to rounding on other ranks) */
+  PetscCall(PetscFree2(b, t));
   PetscCall(PetscCalloc1(6 * g->nloc, &t)); /* held crossings' forces and every crossing's weight: exact sums */
   for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
     for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
@@ -92,8 +126,8 @@ static PetscErrorCode SupportReactions(MPI_Comm comm, const FabricGrid *g, const
         t[(3 + d) * g->nloc + k] = w;
       }
     }
-  PetscCall(PointSums(comm, 3, t, g->nloc, acc + 6));
-  PetscCall(PointSums(comm, 3, t + 3 * g->nloc, g->nloc, acc + 9));
+  PetscCall(PointSums(fab->comm, 3, t, g->nloc, acc + 6));
+  PetscCall(PointSums(fab->comm, 3, t + 3 * g->nloc, g->nloc, acc + 9));
   PetscCall(PetscFree(t));
   for (int d = 0; d < 3; d++) {
     row->plane_force[d]    = acc[d];
@@ -304,11 +338,10 @@ PetscErrorCode MeasureLoadStep(Fabric fab, CurveRow *row)
   if (s->test == TEST_SQUARE)
     PetscCall(LoadPointTravel(fab->comm, &fab->grid, x, x0, s->load.point_load, fab->load.load_factor, row));
   if (s->test == TEST_PUSHING)
-    PetscCall(SphereReaction(fab->comm, fab->meas.body_sum[BODY_SPHERE], s->bodies.sphere_dir,
-                             LoadTravelReached(&fab->load), row));
+    PetscCall(SphereReaction(fab, x, s->bodies.sphere_dir, LoadTravelReached(&fab->load), row));
   if (s->test == TEST_BIAS) PetscCall(CenterShear(fab->comm, s, &fab->grid.patch, xl, row));
   if (s->bodies.plane || s->bodies.pedestal_radius > 0)
-    PetscCall(SupportReactions(fab->comm, &fab->grid, f, fab->load.gravity_now, fab->meas.body_sum, row));
+    PetscCall(SupportReactions(fab, x, f, row));
   PetscCall(VecRestoreArrayRead(fab->state.Xl, &xl));
   PetscCall(VecRestoreArrayRead(fab->grid.X0, &x0));
   PetscCall(VecRestoreArrayRead(fab->state.X, &x));
