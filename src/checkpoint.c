@@ -251,6 +251,8 @@ typedef struct {
   double static_lh[3], static_shift;
   double elapsed;
   long   coarse_nonlinear_iterations, conv_segments, static_segments;
+  long   te_measured, te_prev_step, tm_step[4], tm_end[4]; /* -te_measure: its count and its four records */
+  double tm_te[4], tm_bound[4], tm_limit[4];
 } RelaxState;
 
 typedef struct {
@@ -259,7 +261,7 @@ typedef struct {
   void       *value;
 } Attr;
 
-#define MAX_RELAX_ATTRS 64
+#define MAX_RELAX_ATTRS 96
 
 static int RelaxAttrs(RelaxState *r, Attr *a)
 {
@@ -292,6 +294,18 @@ static int RelaxAttrs(RelaxState *r, Attr *a)
   ATTR_L("linear_iterations", linear_iterations), ATTR_D("load_step_elapsed_s", elapsed);
   ATTR_L("coarse_nonlinear_iterations", coarse_nonlinear_iterations), ATTR_L("converged_positions_segments", conv_segments);
   ATTR_L("static_balanced_segments", static_segments);
+  ATTR_L("te_measure_states", te_measured), ATTR_L("te_measure_prev_load_step", te_prev_step);
+  {
+    static const char *const rec[4] = {"first", "last", "tightest", "worst"};
+    static char              names[4][5][48];
+    for (int q = 0; q < 4; q++) {
+      const char *const fld[5] = {"load_step", "end", "te_s", "te_bound_s", "limit_s"};
+      for (int k = 0; k < 5; k++) snprintf(names[q][k], sizeof names[q][k], "te_measure_%s_%s", rec[q], fld[k]);
+      a[n++] = (Attr){names[q][0], 0, &r->tm_step[q]}, a[n++] = (Attr){names[q][1], 0, &r->tm_end[q]};
+      a[n++] = (Attr){names[q][2], 1, &r->tm_te[q]}, a[n++] = (Attr){names[q][3], 1, &r->tm_bound[q]};
+      a[n++] = (Attr){names[q][4], 1, &r->tm_limit[q]};
+    }
+  }
 #undef ATTR_L
 #undef ATTR_D
   return n;
@@ -348,6 +362,14 @@ static void RelaxStatePack(Fabric fab, const RelaxPoint *at, RelaxState *r)
   r->te_rebounds        = (long) fab->stats.te_rebounds;
   for (int d = 0; d < 2; d++) r->win_lo[d] = fab->grid.patch.win_lo[d], r->win_hi[d] = fab->grid.patch.win_hi[d];
   r->win_s = fab->grid.patch.win_s;
+  {
+    const TeMeasure *m[4] = {&fab->step.te_first, &fab->step.te_last, &fab->step.te_tightest, &fab->step.te_worst};
+    r->te_measured  = (long) fab->step.te_measured;
+    r->te_prev_step = (long) fab->step.te_prev_step;
+    for (int q = 0; q < 4; q++)
+      r->tm_step[q] = (long) m[q]->load_step, r->tm_end[q] = (long) m[q]->end, r->tm_te[q] = m[q]->te,
+      r->tm_bound[q] = m[q]->te_bound, r->tm_limit[q] = m[q]->limit;
+  }
 }
 
 static void RelaxStateUnpack(const RelaxState *r, Fabric fab)
@@ -396,6 +418,14 @@ static void RelaxStateUnpack(const RelaxState *r, Fabric fab)
   fab->stats.te_rebounds = (PetscInt64) r->te_rebounds;
   for (int d = 0; d < 2; d++) fab->grid.patch.win_lo[d] = r->win_lo[d], fab->grid.patch.win_hi[d] = r->win_hi[d];
   fab->grid.patch.win_s = r->win_s;
+  {
+    TeMeasure *m[4] = {&fab->step.te_first, &fab->step.te_last, &fab->step.te_tightest, &fab->step.te_worst};
+    fab->step.te_measured  = (PetscInt) r->te_measured;
+    fab->step.te_prev_step = (PetscInt) r->te_prev_step;
+    for (int q = 0; q < 4; q++)
+      m[q]->load_step = (PetscInt) r->tm_step[q], m[q]->end = r->tm_end[q] ? PETSC_TRUE : PETSC_FALSE, m[q]->te = r->tm_te[q],
+      m[q]->te_bound = r->tm_bound[q], m[q]->limit = r->tm_limit[q];
+  }
 }
 
 /* broken segments of the owned points as a dof-2 vector: [to i+1, to j+1] */
