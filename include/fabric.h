@@ -176,8 +176,7 @@ typedef struct { /* run statistics and the curve */
   FILE          *curve_fp; /* rank 0 */
 } RunStats;
 
-typedef struct {                     /* measurements of the last force evaluation and of the drape */
-  PetscReal body_sum[BODY_KINDS][3]; /* this rank's sum of each body's contact forces (by BodyKind) */
+typedef struct {                     /* measurements of the drape */
   PetscReal drape_pct;               /* drape coefficient (%), drape test */
   PetscReal drape_flat_area;         /* m^2: the flat specimen's shadow, measured once (0: not yet) */
   PetscInt  folds;                   /* folds of the draped outline, drape test */

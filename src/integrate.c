@@ -30,18 +30,16 @@
 #define FIRE_FALPHA 0.99
 #define FIRE_DTMIN  0.02
 
-/* the rigid bodies' contact and friction on the owned points of box, row by row, each body
-   adding to its own reaction sum */
+/* the rigid bodies' contact and friction on the owned points of box, row by row (their reactions are measured
+   apart, as exact sums: measure.c) */
 static PetscErrorCode BodyForces(Fabric fab, Vec X, const PetscInt box[4], PetscScalar *f)
 {
   const Patch       *p = &fab->grid.patch;
   const PetscScalar *x;
   PetscScalar       *anchor[BODY_KINDS] = {NULL};
-  PetscReal          c[BODY_KINDS][3];
+  PetscReal          c[BODY_KINDS][3], sum[3] = {0, 0, 0};
 
   PetscFunctionBeginUser;
-  for (int b = 0; b < BODY_KINDS; b++)
-    for (int d = 0; d < 3; d++) fab->meas.body_sum[b][d] = 0;
   if (!fab->bodies.n) PetscFunctionReturn(0);
   for (PetscInt q = 0; q < fab->bodies.n; q++) BodyPosition(&fab->bodies.body[q], fab->load.travel_now, c[q]);
   PetscCall(VecGetArrayRead(X, &x));
@@ -54,7 +52,7 @@ static PetscErrorCode BodyForces(Fabric fab, Vec X, const PetscInt box[4], Petsc
     for (PetscInt q = 0; q < fab->bodies.n; q++) {
       const Body *b = &fab->bodies.body[q];
       BodyContact(b, c[q], n, x + 3 * k0, fab->grid.inv_m + k0, anchor[q] ? anchor[q] + 3 * k0 : NULL, f + 3 * k0,
-                  fab->meas.body_sum[b->kind]);
+                  sum);
     }
   }
   for (PetscInt q = 0; q < fab->bodies.n; q++)
