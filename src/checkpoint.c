@@ -964,6 +964,14 @@ static int ReadRelaxState(const Scene *s, hid_t g, const char *file, Header *h)
   if (r->window_grow < 0 || r->window_grow > WINDOW_GROW_MAX)
     return REFUSE("-restart %s: damaged checkpoint: te_window_doublings = %ld (0 to %d)", file, r->window_grow,
                   WINDOW_GROW_MAX);
+  if (r->te_measured < 0 || r->te_prev_step < 0 || r->te_prev_step > s->load.load_steps)
+    return REFUSE("-restart %s: damaged checkpoint: te_measure_states = %ld, te_measure_prev_load_step = %ld (0 to %" PetscInt_FMT
+                  ")", file, r->te_measured, r->te_prev_step, s->load.load_steps);
+  for (int q = 0; r->te_measured > 0 && q < 4; q++) /* summary.json's te / limit of each record */
+    if (r->tm_step[q] < 1 || r->tm_step[q] > s->load.load_steps || (r->tm_end[q] != 0 && r->tm_end[q] != 1) ||
+        !(r->tm_limit[q] > 0) || r->tm_te[q] < 0 || r->tm_bound[q] < 0)
+      return REFUSE("-restart %s: damaged checkpoint: te_measure record %d: load step %ld, end %ld, te %g s, bound %g s, "
+                    "limit %g s", file, q, r->tm_step[q], r->tm_end[q], r->tm_te[q], r->tm_bound[q], r->tm_limit[q]);
   if (r->within && (r->te_step < 1 || r->te_step >= s->load.max_inner_steps || r->round < 0 || r->inner_steps < 0))
     return REFUSE(
         "-restart %s: damaged checkpoint: te step %ld of round %ld within a load step of at most %" PetscInt_FMT

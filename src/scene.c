@@ -1344,7 +1344,8 @@ static PetscErrorCode CheckTestOptions(MPI_Comm comm, const SceneInput *in, cons
              comm, PETSC_ERR_USER_INPUT,
              "-clamp none with -test %s: nothing holds the fabric (no clamp, no -clamp_line_mm, no plane or pedestal "
              "to rest on): the %s moves it freely and no load step can balance; use -clamp %s or add -clamp_line_mm",
-             TestNames[s->test], s->test == TEST_PUSHING ? "ball" : "point load", s->test == TEST_PUSHING ? "ring" : "edge");
+             TestNames[s->test], s->test == TEST_PUSHING ? "ball" : "point load",
+             s->test == TEST_PUSHING ? "ring with -clamp_ring_mm" : "edge");
   PetscCheck(JawTest(s) || in->elongation_pct == 0, comm, PETSC_ERR_USER_INPUT,
              "-elongation_pct %g: -test %s has no jaws to pull", (double) in->elongation_pct, TestNames[s->test]);
   PetscCheck(s->load.waypoints == 0 || JawTest(s), comm, PETSC_ERR_USER_INPUT,
@@ -1436,7 +1437,7 @@ static PetscErrorCode CheckOptionsApply(MPI_Comm comm, const Scene *s)
       {"weft_modulus_cN_tex", !s->yarns.weft.csv[0], law[1], "the table sets the yarn's stiffness"},
       {"break_gauge_mm", tears, nobreak, notear},
       {"break_seed", tears, nobreak, notear},
-      {"rupture_drop_pct", tears, nobreak, notear},
+      {"rupture_drop_pct", tears || !ReactionTest(s), nobreak, notear}, /* else the entry above */
       {"tear_wave_crossings", tears, nobreak, notear},
       {"tear_max_ms", tears, nobreak, notear},
       {"tear_damping_ratio", tears, nobreak, notear},
@@ -1621,7 +1622,7 @@ PetscErrorCode SceneWidthText(const SceneInput *in, const char *real_fmt, char *
 
   PetscFunctionBeginUser;
   PetscCall(PetscSNPrintf(fmt, sizeof fmt, "-width_mm %s", real_fmt));
-  if (in->yarns > 0) PetscCall(PetscSNPrintf(text, len, "-yarns %" PetscInt_FMT, in->yarns));
+  if (in->test == TEST_STRIP && in->yarns > 0) PetscCall(PetscSNPrintf(text, len, "-yarns %" PetscInt_FMT, in->yarns));
   else PetscCall(PetscSNPrintf(text, len, fmt, (double) in->width_mm));
   PetscFunctionReturn(0);
 }
@@ -2212,8 +2213,9 @@ static PetscErrorCode DeriveBreaks(MPI_Comm comm, const SceneInput *in, Scene *s
   PetscFunctionReturn(0);
 }
 
-/* everything the scene's options (s->in) give */
-static PetscErrorCode SceneDerive(MPI_Comm comm, Scene *s)
+/* everything the scene's options (s->in) give; a coarse scene (SceneCoarsen) is not checked for options that do
+   not apply: its options are the fine scene's, checked there (its yarns do not break, its rupture options stand) */
+static PetscErrorCode SceneDerive(MPI_Comm comm, Scene *s, PetscBool coarse)
 {
   SceneInput *in = &s->in;
 
@@ -2235,7 +2237,7 @@ static PetscErrorCode SceneDerive(MPI_Comm comm, Scene *s)
   PetscCall(DerivePath(comm, in, s->spec.gauge, &s->load));
   PetscCall(CheckSolverOptions(comm, in)); /* first: the explicit knobs' own checks would name the wrong cure */
   PetscCall(CheckTestOptions(comm, in, s));
-  PetscCall(CheckOptionsApply(comm, s));
+  if (!coarse) PetscCall(CheckOptionsApply(comm, s));
   PetscCall(CheckOutputPlaces(comm, in, s));
   PetscFunctionReturn(0);
 }
@@ -2245,7 +2247,7 @@ PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s)
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(s, sizeof *s));
   PetscCall(ReadOptions(comm, &s->in));
-  PetscCall(SceneDerive(comm, s));
+  PetscCall(SceneDerive(comm, s, PETSC_FALSE));
   PetscFunctionReturn(0);
 }
 
@@ -2285,7 +2287,7 @@ PetscErrorCode SceneCoarsen(MPI_Comm comm, const Scene *fine, Scene *coarse, Pet
   in->output_every = in->output_te_every = in->output_tear_every = 0;
   in->checkpoint_every = in->checkpoint_every_te = 0;
   in->checkpoint_every_s                         = 0;
-  PetscCall(SceneDerive(comm, coarse));
+  PetscCall(SceneDerive(comm, coarse, PETSC_TRUE));
   *fits = (2 * coarse->spec.nx - 1 == fine->spec.nx && 2 * coarse->spec.ny - 1 == fine->spec.ny &&
            (!loaded || (2 * coarse->load.load_at[0] == fine->load.load_at[0] &&
                         2 * coarse->load.load_at[1] == fine->load.load_at[1])))

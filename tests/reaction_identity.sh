@@ -21,6 +21,7 @@ check() { # name, options...
       -output_dir "$work/$name$run" -positions_out "$work/$name$run.bin" >"$work/$name$run.log" 2>&1 ||
       { echo "FAIL $name on $run ranks: $(tail -n 1 "$work/$name$run.log")"; fail=1; continue; }
     got="$(attr "$work/$name$run/checkpoint.h5" /peak_force_N) $(attr "$work/$name$run/checkpoint.h5" /history/curve/checksum)"
+    [[ $got =~ ^-?[0-9.e+-]+\ -?[0-9.e+-]+$ ]] || { echo "FAIL $name on $run ranks: no peak force and curve checksum in checkpoint.h5 ('$got')"; fail=1; continue; }
     if [[ -z "$ref" ]]; then ref="$got"; echo "$name on 1 rank: peak force, curve checksum: $ref"; continue; fi
     if [[ "$got" == "$ref" ]] && cmp -s "$work/${name}1.bin" "$work/$name$run.bin" &&
       cmp -s "$work/${name}1/curve.csv" "$work/$name$run/curve.csv"; then echo "PASS $name: $run ranks == 1 rank (bit-identical)"

@@ -61,6 +61,12 @@ for bad in "grip_disp_m nan" "wall_s inf" "te_now_s nan" "peak_force_N -inf"; do
   cp "$ck" "$work/attr.h5" && setattr "$work/attr.h5" "$attr" "$value" || { echo "FAIL cannot set $attr"; fail=1; continue; }
   refuse "attr_${attr}_$value" "-restart .*attr.h5: damaged checkpoint: $attr = -?(nan|inf) is not a finite number" "${opts[@]}" -output_dir "$work/run" -restart "$work/attr.h5"
 done
+# -te_measure's counts (checkpoint format 16): out of their range they made summary.json's te / limit inf or nan
+for bad in "te_measure_states -1 -1, te_measure_prev_load_step = [0-9]+" "te_measure_prev_load_step 7 [0-9]+, te_measure_prev_load_step = 7"; do
+  read -r attr value what <<<"$bad"
+  cp "$ck" "$work/attr.h5" && setattr "$work/attr.h5" "$attr" "$value" || { echo "FAIL cannot set $attr"; fail=1; continue; }
+  refuse "attr_${attr}_$value" "-restart .*attr.h5: damaged checkpoint: te_measure_states = $what .0 to 6." "${opts[@]}" -output_dir "$work/run" -restart "$work/attr.h5"
+done
 # frames were written before the checkpoint: restarting into a directory without them is refused
 refuse frames_missing "-restart .*checkpoint.h5: .*/elsewhere/fabric.h5, which holds the [0-9]+ frames written before the checkpoint, is missing" "${opts[@]}" -output_dir "$work/elsewhere" -restart "$ck"
 [[ -e "$work/elsewhere" ]] && { echo "FAIL frames_missing: $work/elsewhere was created"; fail=1; }
