@@ -1983,22 +1983,31 @@ static int SameFile(const char *path, const char *other)
   return !strcmp(p, q);
 }
 
+/* the run's input files, each with its option ("" when not given); -restart last */
+typedef struct {
+  const char *opt, *file;
+} InputFile;
+#define INPUT_FILES 4
+static void InputFiles(const Scene *s, InputFile input[INPUT_FILES])
+{
+  input[0] = (InputFile){"scene", s->out.file};
+  input[1] = (InputFile){"warp_law_csv", s->yarns.warp.csv};
+  input[2] = (InputFile){"weft_law_csv", s->yarns.weft.csv};
+  input[3] = (InputFile){"restart", s->out.restart};
+}
+
 /* no input file may be one the run writes in -output_dir: it would be removed at the start (summary.json,
-   fabric.h5, ...) or written over (curve.csv) */
+   fabric.h5, ...) or written over (curve.csv); not -restart, whose DIR/checkpoint.h5 the run goes on from
+   (RestartsFrom) */
 static void InputOutputClash(const Scene *s, char *msg, size_t len)
 {
   const SceneOutput *o = &s->out;
-  const struct {
-    const char *opt, *file;
-  } input[] = {
-    {"scene",        o->file          },
-    {"warp_law_csv", s->yarns.warp.csv},
-    {"weft_law_csv", s->yarns.weft.csv},
-  };
-  char f[3 * PETSC_MAX_PATH_LEN];
+  InputFile          input[INPUT_FILES];
+  char               f[3 * PETSC_MAX_PATH_LEN];
 
   if (!o->output_dir[0]) return;
-  for (size_t k = 0; k < sizeof input / sizeof input[0]; k++)
+  InputFiles(s, input);
+  for (size_t k = 0; k < INPUT_FILES - 1; k++)
     for (size_t q = 0; input[k].file[0] && q < sizeof OwnFiles / sizeof OwnFiles[0]; q++) {
       snprintf(f, sizeof f, "%s/%s", o->output_dir, OwnFiles[q]);
       if (SameFile(input[k].file, f)) {
@@ -2016,17 +2025,11 @@ static void InputOutputClash(const Scene *s, char *msg, size_t len)
 static void PositionsOutClash(const Scene *s, char *msg, size_t len)
 {
   const SceneOutput *o = &s->out;
-  const struct {
-    const char *opt, *file;
-  } input[] = {
-    {"scene",        o->file          },
-    {"warp_law_csv", s->yarns.warp.csv},
-    {"weft_law_csv", s->yarns.weft.csv},
-    {"restart",      o->restart       },
-  };
+  InputFile          input[INPUT_FILES];
 
   if (!o->positions_out[0]) return;
-  for (size_t k = 0; k < sizeof input / sizeof input[0]; k++)
+  InputFiles(s, input);
+  for (size_t k = 0; k < INPUT_FILES; k++)
     if (SameFile(o->positions_out, input[k].file)) {
       snprintf(msg, len,
                "-positions_out %s: is the run's input file -%s %s: it would be written over; give another file",
