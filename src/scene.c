@@ -988,6 +988,15 @@ static PetscErrorCode ReadSceneText(MPI_Comm comm, const char *file, char **text
   PetscCall(BroadcastFromRoot(comm, &len, 1, MPIU_INT));
   PetscCall(BroadcastFromRoot(comm, *text, len, MPI_CHAR));
   (*text)[len] = 0;
+  { /* a NUL byte would end the text there for the YAML parser: the rest of the file would be left unread */
+    const char *nul = memchr(*text, 0, (size_t) len);
+    int         lineno = 1;
+    for (const char *c = *text; nul && c < nul; c++) lineno += *c == '\n';
+    if (nul) PetscCall(PetscFree(*text));
+    PetscCheck(!nul, comm, PETSC_ERR_FILE_UNEXPECTED,
+               "-scene %s: line %d holds a NUL byte (not a text file?): the options after it would be left unread", file,
+               lineno);
+  }
   PetscFunctionReturn(0);
 }
 
