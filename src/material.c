@@ -83,11 +83,16 @@ static PetscErrorCode ReadYarnCSV(MPI_Comm comm, const YarnLaw *y, PetscInt *n, 
   fp = fopen(y->csv, "r");
   PetscCheck(fp, comm, PETSC_ERR_FILE_OPEN, "-%s_law_csv %s: cannot open the yarn law file", y->name, y->csv);
   PetscCall(PetscMalloc3(cap, strain, cap, force, cap, at));
-  while (!msg[0] && getline(&line, &linecap, fp) >= 0) { /* whole lines, of any length */
+  for (ssize_t got; !msg[0] && (got = getline(&line, &linecap, fp)) >= 0;) { /* whole lines, of any length */
     char       *p = line + strspn(line, " \t");
     const char *cr;
     double      s = 0, f = 0;
     lineno++;
+    if (memchr(line, 0, (size_t) got)) { /* the line would end there: '1.5,10\0' '4.1' read as 1.5,10 */
+      PetscCall(PetscSNPrintf(msg, sizeof msg, "-%s_law_csv %s line %" PetscInt_FMT ": a NUL byte (not a text file?)",
+                              y->name, y->csv, lineno));
+      break;
+    }
     if (lineno == 1 && !strncmp(p, "\xEF\xBB\xBF", 3)) p += 3 + strspn(p + 3, " \t"); /* a spreadsheet's UTF-8 BOM */
     cr = strchr(p, '\r');
     if (cr) cr += strspn(cr, "\r");
