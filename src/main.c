@@ -18,7 +18,7 @@
 #include <sys/stat.h>
 #include <unistd.h> /* access */
 
-static const char help[] = "fabric: woven-fabric mechanics at the yarn-crossing scale (explicit, MPI-parallel).\n"
+static const char help[] = "fabric: woven-fabric mechanics at the yarn-crossing scale (explicit relaxation or a quasi-static Newton-Krylov solve, MPI-parallel).\n"
                            "  mpiexec -n P fabric -scene inputs/strip_warp.yaml [-output_dir DIR] [options]\n"
                            "Any scene key can be overridden on the command line. Units are in the option names.\n\n";
 
