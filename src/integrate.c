@@ -1,6 +1,8 @@
 /* integrate.c - explicit time integration (MODEL.md 7) and the stable step.
  *
- * damped (default), central differences with mass-proportional damping c = nu/m:
+ * fire (default): FIRE, velocities steered along the force and stopped when the power F.v turns
+ *   negative (IntegrateFire below; MODEL.md 15).
+ * damped, central differences with mass-proportional damping c = nu/m:
  *   v(n+1/2) = ((2 - c te) v(n-1/2) + 2 te F_n / m) / (2 + c te),  x(n+1) = x(n) + te v(n+1/2)
  *   stable for omega_max te <= 2 at any damping.
  * paper, eq. (10), a leapfrog over two interleaved chains:
