@@ -220,7 +220,7 @@ static PetscErrorCode Run(int argc, char **argv)
     const RuptureState *r    = &fab->stats.rupture;
     const PetscReal     peak = r->peak_force;
     const PetscInt      K    = r->rupture_step ? r->rupture_step : fab->s.load.load_steps;
-    char                where[160], work[128];
+    char                where[160], work[128], force[96];
     const CurveRow     *last = &fab->stats.curve[K - 1];
     /* the jaw tests end at an elongation, the others at a travel (sphere, load point, drop) */
     if (JawTest(&fab->s))
@@ -238,9 +238,14 @@ static PetscErrorCode Run(int argc, char **argv)
       PetscCall(PetscSNPrintf(work, sizeof work, "%" PetscInt64_FMT " te steps, %.3e point updates/s",
                               fab->stats.te_steps,
                               fab->stats.wall > 0 ? (double) fab->stats.point_updates / fab->stats.wall : 0.0));
-    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fabric: done in %.2f s: %s; peak force %.4g N%s, %s; %s\n",
-                          (double) fab->stats.wall, work, (double) peak,
-                          r->peak_balanced ? "" : " (from a load step that did not balance)", where,
+    if (fab->s.test == TEST_DRAPE) /* nothing pulls a drape: its result is the outline */
+      PetscCall(PetscSNPrintf(force, sizeof force, "drape coefficient %.4g %%, %" PetscInt_FMT " folds",
+                              (double) fab->meas.drape_pct, fab->meas.folds));
+    else
+      PetscCall(PetscSNPrintf(force, sizeof force, "peak force %.4g N%s", (double) peak,
+                              r->peak_balanced ? "" : " (from a load step that did not balance)"));
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fabric: done in %.2f s: %s; %s, %s; %s\n", (double) fab->stats.wall,
+                          work, force, where,
                           fab->stats.converged         ? "every load step balanced"
                           : fab->s.out.output_dir[0] ? "some load steps did NOT balance (see curve.csv residual)"
                                                      : "some load steps did NOT balance"));
