@@ -1,7 +1,8 @@
 /* test_units.c - unit tests of the small pieces the solver is built from, each against an answer
  * worked out by hand, with the tolerance stated (exact equality where the answer is exact).
  *
- *   test_units -case graph_distance|front_box|load_path|curve_row|option_values|drape_defaults
+ *   test_units -case graph_distance|front_box|load_path|curve_row|option_values|drape_defaults|
+ *                    predict_extrapolate
  *
  * graph_distance and front_box check owned points only, on any number of ranks (CTest runs
  * them on 1, 2 and 3): the hand values do not depend on the decomposition, so passing on every
@@ -854,6 +855,68 @@ static PetscErrorCode TestBreakStrain(void)
   PetscFunctionReturn(0);
 }
 
+/* ---------------- PredictLoadStep, extrapolating ---------------- */
+
+/* -predict extrapolate at load step 3, by hand: the converged states of the last two load steps
+   Xconv_prev = X0 and Xconv = X0 + delta (delta a distinct multiple of 2^-20 m per point and axis), the
+   positions at Xconv. Each free point moves by ratio x delta, every other stays: ratio = the grip steps'
+   ratio (2^-12 m after 2^-13 m: 2) on the strip, 1 under a point load (the load grows by the same share each
+   load step: the last increment again). Exact: the expected value is the same operations' result. */
+static PetscErrorCode CheckExtrapolate(const char *what, const char *opts, PetscReal step_prev, PetscReal step,
+                                       PetscReal ratio)
+{
+  Fabric             fab;
+  const PetscScalar *x, *x0, *xc;
+  PetscScalar       *a;
+  PetscBool          moved;
+  PetscInt           bad = 0;
+  const PetscReal    move[3] = {0, 0, 0};
+
+  PetscFunctionBeginUser;
+  PetscCall(NewFabric(opts, &fab));
+  PetscCall(VecDuplicate(fab->state.X, &fab->state.Xconv));
+  PetscCall(VecDuplicate(fab->state.X, &fab->state.Xconv_prev));
+  PetscCall(VecCopy(fab->grid.X0, fab->state.Xconv_prev));
+  PetscCall(VecGetArray(fab->state.Xconv, &a));
+  PetscCall(VecGetArrayRead(fab->grid.X0, &x0));
+  for (PetscInt k = 0; k < fab->grid.nloc; k++)
+    for (int d = 0; d < 3; d++) a[3 * k + d] = x0[3 * k + d] + ldexp((PetscReal) ((k % 7 + 1) * (d + 1)), -20);
+  PetscCall(VecRestoreArrayRead(fab->grid.X0, &x0));
+  PetscCall(VecRestoreArray(fab->state.Xconv, &a));
+  PetscCall(VecCopy(fab->state.Xconv, fab->state.X));
+  fab->load.load_step        = 3;
+  fab->load.travel_step_prev = step_prev;
+  PetscCall(PredictLoadStep(fab, step, move, &moved));
+  PetscCall(VecGetArrayRead(fab->state.X, &x));
+  PetscCall(VecGetArrayRead(fab->state.Xconv, &xc));
+  PetscCall(VecGetArrayRead(fab->grid.X0, &x0));
+  for (PetscInt k = 0; k < fab->grid.nloc; k++)
+    for (int d = 0; d < 3; d++) {
+      const PetscReal want = fab->grid.kind[k] == POINT_FREE ? xc[3 * k + d] + ratio * (xc[3 * k + d] - x0[3 * k + d])
+                                                              : xc[3 * k + d];
+      if (x[3 * k + d] != want)
+        Report(&bad, "%s: point %" PetscInt_FMT " axis %d at %.17g, expected %.17g\n", what, k, d,
+               (double) x[3 * k + d], (double) want);
+    }
+  PetscCall(VecRestoreArrayRead(fab->grid.X0, &x0));
+  PetscCall(VecRestoreArrayRead(fab->state.Xconv, &xc));
+  PetscCall(VecRestoreArrayRead(fab->state.X, &x));
+  PetscCall(Expect(what, bad + (moved ? 0 : 1), 3 * fab->grid.nloc, "exact"));
+  PetscCall(FabricDestroy(&fab));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode TestPredictExtrapolate(void)
+{
+  PetscFunctionBeginUser;
+  PetscCall(CheckExtrapolate("strip: each free point moves by (grip step 2^-12 / last 2^-13) x its last increment",
+                             STRIP "-predict extrapolate", ldexp(1.0, -13), ldexp(1.0, -12), 2.0));
+  PetscCall(CheckExtrapolate("square net, point load: each free point moves by its last increment",
+                             BASE "-test square -gauge_mm 10 -width_mm 10 -point_load_N 0,0,0.1 -predict extrapolate",
+                             0.0, 0.0, 1.0));
+  PetscFunctionReturn(0);
+}
+
 int main(int argc, char **argv)
 {
   char name[64] = "";
@@ -872,6 +935,8 @@ int main(int argc, char **argv)
     PetscCall(TestOptionValues());
   else if (!strcmp(name, "drape_defaults"))
     PetscCall(TestDrapeDefaults());
+  else if (!strcmp(name, "predict_extrapolate"))
+    PetscCall(TestPredictExtrapolate());
   else if (!strcmp(name, "break_strain"))
     PetscCall(TestBreakStrain());
   else {

@@ -898,6 +898,37 @@ static PetscErrorCode BalanceCrossingsCase(void)
   PetscFunctionReturn(0);
 }
 
+/* A balanced load step is at rest: the te steps' test asks for the residual below -balance_tol and every free
+   crossing's speed below -speed_tol. One yarn, ends fixed, a midpoint load, the damped scheme at 1 % of critical
+   damping: the slow transverse mode swings through its balance many times, its residual below a loose
+   -balance_tol 1e-2 for te steps in a row at full speed. Every load step balanced, and at the end every free
+   crossing's speed (the state's velocities) at most -speed_tol 1e-7 m/s; a test that ignored the speed ended
+   the load steps while the yarn swung. */
+static PetscErrorCode BalancedAtRest(void)
+{
+  Fabric             fab;
+  const PetscScalar *v;
+  PetscReal          vmax = 0, tol;
+
+  PetscFunctionBeginUser;
+  PetscCall(NewFabric(ONE_YARN "-gauge_mm 20 -elongation_pct 0 -point_load_N 0,0,0.05 -load_steps 4 -predict none "
+                               "-balance_tol 1e-2 -speed_tol 1e-7 -damping_ratio 0.01 -integrator damped "
+                               "-max_inner_steps 1000000",
+                      &fab));
+  PetscCall(FabricRun(fab));
+  tol = fab->s.num.speed_tol;
+  PetscCall(VecGetArrayRead(fab->state.V, &v));
+  for (PetscInt k = 0; k < fab->grid.nloc; k++)
+    if (fab->grid.inv_m[k] > 0)
+      vmax = PetscMax(vmax, PetscSqrtReal(v[3 * k] * v[3 * k] + v[3 * k + 1] * v[3 * k + 1] + v[3 * k + 2] * v[3 * k + 2]));
+  PetscCall(VecRestoreArrayRead(fab->state.V, &v));
+  PetscCall(GlobalMax(PETSC_COMM_WORLD, &vmax, 1));
+  CheckTrue("every load step balanced", fab->stats.converged, (double) fab->stats.converged);
+  CheckTrue("balanced at rest: the largest speed of a free crossing <= -speed_tol 1e-7 m/s", vmax <= tol, vmax);
+  PetscCall(FabricDestroy(&fab));
+  PetscFunctionReturn(0);
+}
+
 int main(int argc, char **argv)
 {
   char name[64] = "";

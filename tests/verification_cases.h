@@ -15,6 +15,8 @@ CASE(spectrum_chain, SpectrumChain(), "verification", 120)
 CASE(spectrum_scenes, SpectrumScenes(), "verification", 300)
 /* the balance test per crossing against exact ratios, and after a relaxation (balance.c) */
 CASE(balance_crossings, BalanceCrossingsCase(), "verification", 120)
+/* the te steps' balance test: at rest, not only balanced (mutation test of integrate.c) */
+CASE(balanced_at_rest, BalancedAtRest(), "verification", 120)
 /* scenes with shapes, clamp regions, rigid bodies, clamp and grip lines and the grip's path */
 CASE(square_net, SquareNet(), "verification;scenes", 120)
 CASE(bias_extension, BiasExtension(), "verification;scenes", 120)
