@@ -4,7 +4,8 @@
  *            written here independently (linear laws, sharp kinks) and differentiated by central
  *            differences, on a randomly distorted grid with absent points (holes, a cut corner)
  *            that exercises compression, de-crimping, extension, one-sided shear at edges and
- *            jamming; the kernel's energy (InternalEnergy) equals the one written here.
+ *            jamming (and sheared the other way: jamming at negative shear angles); the kernel's energy
+ *            (InternalEnergy) equals the one written here.
  *  law:      d/de ChordEnergy = ChordTension and ChordTensionSlope = dT/de (central differences)
  *            over every regime of a linear and a tabulated law with smoothing blends; the energy's
  *            increments equal Gauss integrals of T.
@@ -17,7 +18,13 @@
  *  identity: (c) StableOmega2 and the per-term row bounds, (d) ComputeInternalForces: bit-identical
  *            to the implementation before the terms were split (kept below as the reference).
  *  table:    the fast yarn table equals GSL's Steffen spline of the CSV, and extends linearly.
- *  tangent:  ChordTangentMax of the piecewise-linear law over strain windows.
+ *  tangent:  ChordTangentMax of the piecewise-linear law over strain windows; of the tabulated and
+ *            linear laws with blends: at least the law's slope in any window; the blends join the
+ *            law C1.
+ *  fields:   PointFields (tensions, shear angle) on a uniformly stretched, sheared grid; the
+ *            quasi-static path's traction tangent (tension_field) is the convex one.
+ *  bodies:   contact energy, gradient and Hessian on every face (the pedestal's bottom too).
+ *  breaking: a yarn's breaking chord strain c + break_ey (1 + c).
  */
 #include "bodies.h"
 #include "kernels.h"
@@ -490,8 +497,9 @@ static double Energy(const Patch *p, const double *x)
 }
 
 /* what a distorted state exercises: x-segments compressed, in contact, in yarn extension;
-   interior crossings jammed */
-static void CountRegimes(const Patch *p, const double *x, int *compressed, int *contact, int *extended, int *jammed)
+   interior crossings jammed with shear of the sign sign (s > s_lock, or s < -s_lock) */
+static void CountRegimes(const Patch *p, const double *x, int sign, int *compressed, int *contact, int *extended,
+                         int *jammed)
 {
   *compressed = *contact = *extended = *jammed = 0;
   for (int j = 0; j < NY; j++)
@@ -506,7 +514,7 @@ static void CountRegimes(const Patch *p, const double *x, int *compressed, int *
       double        s = 0;
       if (!Ex(p, i, j) || !Ex(p, i - 1, j) || !Ex(p, i + 1, j) || !Ex(p, i, j - 1) || !Ex(p, i, j + 1)) continue;
       for (int q = 0; q < 3; q++) s += (b[q] - a[q]) * (d[q] - c[q]);
-      *jammed += fabs(s / (Dist(a, b) * Dist(c, d))) > p->s_lock;
+      *jammed += sign * s / (Dist(a, b) * Dist(c, d)) > p->s_lock;
     }
 }
 #undef X
@@ -536,12 +544,13 @@ static PetscErrorCode PatchFree(Patch *p)
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode TestForces(void)
+static PetscErrorCode TestForces(int mirror)
 {
   YarnLaw warp = {0}, weft = {0};
   Patch   p = {0};
   double  x[3 * NP], f[3 * NP], tmax, fbig = 0, errmax = 0;
   int     jammed, compressed, extended, contact;
+  char    what[256];
 
   PetscFunctionBeginUser;
   warp.name = "warp", warp.EA = 52, warp.crimp = 0.08, warp.Ec = 2.6, warp.k_comp = 1e-3, warp.e_contact = -0.08;
@@ -561,6 +570,8 @@ static PetscErrorCode TestForces(void)
   p.exists[NX - 1]     = 0;
   PetscCall(PatchSetUp(&p));
   DistortedState(&p, x, 12345);
+  if (mirror) /* sheared the other way (x by -0.3 j ay, not +0.3): jamming at s < -s_lock */
+    for (int k = 0; k < NP; k++) x[3 * k] -= 0.6 * (k / NX) * p.ay;
   {
     const PetscInt box[4] = {0, NX, 0, NY};
     ComputeInternalForces(&p, x, box, f, &tmax);
@@ -580,7 +591,7 @@ static PetscErrorCode TestForces(void)
     fbig   = fbig > fabs(fd) ? fbig : fabs(fd);
     errmax = errmax > fabs(fd - f[k]) ? errmax : fabs(fd - f[k]);
   }
-  CountRegimes(&p, x, &compressed, &contact, &extended, &jammed);
+  CountRegimes(&p, x, mirror ? -1 : 1, &compressed, &contact, &extended, &jammed);
   /* a sub-box computes exactly the forces the full sweep computes on its points */
   {
     const PetscInt boxes[4][4] = {{3, NX, 0, NY}, {0, 4, 2, 6}, {2, 7, 1, 5}, {5, 6, 6, 7}};
@@ -595,11 +606,15 @@ static PetscErrorCode TestForces(void)
     Check("forces on sub-boxes equal the full sweep's (bit-identical: max difference)", worst, 0.0);
   }
   printf("segments along x: %d compressed (%d in contact), %d in yarn extension; %d jammed crossings; "
-         "largest force %.3e N\n",
-         compressed, contact, extended, jammed, fbig);
-  Check("kernel force vs -grad(energy) by central differences, max error / max force", errmax / fbig, 1e-6);
-  Check("distorted state has compressed, in-contact, extended segments and jammed crossings (0 = yes)",
-        (compressed > 0 && contact > 0 && extended > 0 && jammed > 0) ? 0 : 1, 0);
+         "largest force %.3e N%s\n",
+         compressed, contact, extended, jammed, fbig, mirror ? " (sheared the other way: s < 0)" : "");
+  snprintf(what, sizeof what, "kernel force vs -grad(energy) by central differences%s, max error / max force",
+           mirror ? " (negative shear)" : "");
+  Check(what, errmax / fbig, 1e-6);
+  snprintf(what, sizeof what,
+           "distorted state%s has compressed, in-contact, extended segments and jammed crossings (0 = yes)",
+           mirror ? " (negative shear)" : "");
+  Check(what, (compressed > 0 && contact > 0 && extended > 0 && jammed > 0) ? 0 : 1, 0);
   PetscCall(PatchFree(&p));
   PetscFunctionReturn(0);
 }
@@ -1123,11 +1138,29 @@ static PetscErrorCode TestTerms(const char *csv)
   PetscFunctionBeginUser;
   PetscCall(LawsSetUp(&warp, &weft, csv));
   PetscCall(RichPatch(&p, &warp, &weft, 0));
+  PetscCall(PetscMalloc1(9 * NP * NP, &K));
+  /* the shear terms at crossings jammed the other way (s < -s_lock): the state sheared by -0.3 j ay */
+  DistortedState(&p, x, 2024);
+  for (int k = 0; k < NP; k++) x[3 * k] -= 0.6 * (k / NX) * p.ay;
+  {
+    int negative = 0;
+    for (int j = 0; j < NY; j++)
+      for (int i = 0; i < NX; i++) {
+        PetscReal sc, tmin;
+        negative += CrossingShear(&p, x, i, j, &sc, &tmin) && sc < -p.s_lock;
+      }
+    printf("sheared the other way: %d crossings jammed at s < -s_lock\n", negative);
+    Check("sheared the other way: crossings jammed at negative shear (0 = yes)", negative > 0 ? 0 : 1, 0);
+    PetscCall(PetscArrayzero(K, 9 * NP * NP));
+    PetscCall(DenseTangent(&p, &ShearTerm, x, full, K));
+    CheckGradient(&p, &ShearTerm, x);
+    CheckInstanceGradients(&p, &ShearTerm, x);
+    CheckTangent(&p, &ShearTerm, x, K);
+  }
   DistortedState(&p, x, 2024);
   Check("rich patch has contact, compression, de-crimping, table, beyond-table, broken segments, jammed and "
         "free crossings (0 = yes)",
         RichRegimes(&p, x), 0);
-  PetscCall(PetscMalloc1(9 * NP * NP, &K));
   for (int t = 0; t < INTERNAL_TERMS; t++) {
     PetscCall(PetscArrayzero(K, 9 * NP * NP));
     PetscCall(DenseTangent(&p, InternalTerms[t], x, full, K));
@@ -1544,7 +1577,8 @@ static double Norm3(const PetscReal v[3])
 }
 
 /* Rigid bodies (bodies.c): for a sphere, a plane and a pedestal (top face, rim, rounded edge),
-   at points in contact: BodyEnergy's gradient is minus BodyContact's force (to 1e-12 relative), the
+   at points in contact (the pedestal's bottom face too: a point pushed deep into it): BodyEnergy's gradient
+   is minus BodyContact's force (to 1e-12 relative), the
    energy's central differences give the gradient (1e-6 relative) and the gradient's give the
    Hessian (1e-6 relative to its largest entry). */
 static void TestBodies(void)
@@ -1554,20 +1588,20 @@ static void TestBodies(void)
       {BODY_PLANE, {0, 0, 0}, {0.6, 0, 0.8}, 0, 0, 2e-4, 500.0, 0.0},
       {BODY_PEDESTAL, {0, 0, 0}, {0, 0, 0}, 0.01, 0.005, 2e-4, 500.0, 0.0},
   };
-  const PetscReal pts[3][4][3] = {
-      {{0.001, 0.002, -0.0001}, {0.003, -0.001, -0.0005}, {0, 0, 0.0001}, {0.02, 0, 0}},   /* sphere */
-      {{0.0001, 0, 0.0001}, {0.001, 0.003, -0.001}, {0.0065, 0, -0.00995}, {0, 0, 0.001}}, /* plane */
+  const PetscReal pts[3][5][3] = {
+      {{0.001, 0.002, -0.0001}, {0.003, -0.001, -0.0005}, {0, 0, 0.0001}, {0.02, 0, 0}, {0.03, 0, 0}}, /* sphere */
+      {{0.0001, 0, 0.0001}, {0.001, 0.003, -0.001}, {0.0065, 0, -0.00995}, {0, 0, 0.001}, {0, 0, 0.002}}, /* plane */
       {{0.001, 0.002, 0.0001},
        {0.0101, 0.0001, 0.0001},
        {0.0099, 0.0, -0.001},
-       {0.01015, 0.0005, -0.002}}, /* pedestal: top,
-                    edge, rim inside, rim outside */
+       {0.01015, 0.0005, -0.002},
+       {0.001, 0.002, -0.0049}}, /* pedestal: top, edge, rim inside, rim outside, bottom (0.1 mm above it) */
   };
   double eg = 0, eK = 0, ef = 0;
   int    contacts = 0;
 
   for (int b = 0; b < 3; b++)
-    for (int q = 0; q < 4; q++) {
+    for (int q = 0; q < 5; q++) {
       PetscReal       c[3], g[3], K[9], f[3] = {0, 0, 0}, sum[3] = {0, 0, 0}, one = 1.0, gp[3], gm[3], Kd[9];
       const PetscReal h = 1e-8;
       BodyPosition(&bodies[b], 0.0, c);
@@ -1584,11 +1618,183 @@ static void TestBodies(void)
         for (int e = 0; e < 3; e++) eK = PetscMax(eK, fabs((gp[e] - gm[e]) / (2 * h) - K[3 * e + d]) / MaxAbs(K, 9));
       }
     }
-  Check("bodies: points in contact (count - 10, 0 = as placed: 3 sphere, 3 plane, 4 pedestal faces)",
-        fabs(contacts - 10.0), 0.0);
+  Check("bodies: points in contact (count - 11, 0 = as placed: 3 sphere, 3 plane, 5 pedestal faces)",
+        fabs(contacts - 11.0), 0.0);
   Check("bodies: BodyEnergy gradient = -BodyContact force, max relative", ef, 1e-12);
   Check("bodies: BodyEnergy gradient vs central differences of the energy, max relative", eg, 1e-6);
   Check("bodies: BodyEnergy Hessian vs central differences of the gradient, max / max entry", eK, 1e-6);
+}
+
+/* ============== the stable step's tangent covers the law; the blends join the law C1 ============== */
+
+/* The stable-step bound's tangent (ChordTangentMax over a window of chord strains) is at least the
+   law's slope (ChordTensionSlope) anywhere in the window (MODEL.md 7.3: a smaller one gives a te above
+   the stable limit): over windows of 4 widths across every regime, sampled at 257 strains each (to
+   1e-6: the bound samples each table cell's slope 5 times, each blend's 65 times with a 5 % margin); and,
+   to 1e-9, at both ends of each table cell, for the window of that one cell (the bound's samples include
+   the cell's ends). The smoothing blends join the law C1: each blend's cubic equals the piecewise law at
+   both of its ends (1e-12 of the law's largest tension) and its slope the piecewise law's one-sided slope
+   there (1e-5: a tabulated piece's slope is a forward difference of 1e-7); the linear law's slope past the
+   crimp is EA/(1+c) exactly. */
+static PetscErrorCode CheckLawCovered(const char *name, const YarnLaw *y)
+{
+  const double widths[4] = {5e-4, 3e-3, 2e-2, 1.5e-1};
+  double       over = 0, cell = 0, jumpT = 0, jumpK = 0, Tbig = fabs(ChordTension(y, 0.3));
+  YarnLaw      sharp = *y;
+  char         what[256];
+
+  PetscFunctionBeginUser;
+  sharp.nblend = 0; /* the piecewise law, kinks and all */
+  for (int w = 0; w < 4; w++)
+    for (double a = -0.3; a + widths[w] <= 0.3; a += 0.00137) {
+      const double b = a + widths[w], bound = ChordTangentMax(y, a, b);
+      double       slope = 0;
+      for (int q = 0; q <= 256; q++) slope = fmax(slope, fabs(ChordTensionSlope(y, a + (b - a) * q / 256.0)));
+      over = fmax(over, (slope - bound) / slope);
+    }
+  for (PetscInt k = 0; k + 1 < y->ntab; k++) { /* each cell alone, its ends a hundredth of a cell inside */
+    const double lo = y->crimp + (k + 0.01) * y->tab_h * (1 + y->crimp);
+    const double hi = y->crimp + (k + 0.99) * y->tab_h * (1 + y->crimp), bound = ChordTangentMax(y, lo, hi);
+    const double slope = fmax(ChordTensionSlope(y, lo), ChordTensionSlope(y, hi));
+    cell = fmax(cell, (slope - bound) / slope);
+  }
+  for (PetscInt k = 0; k < y->nblend; k++) {
+    const double ends[2] = {y->blend[k].lo, y->blend[k].hi};
+    for (int side = 0; side < 2; side++) {
+      const double e = ends[side], out = nextafter(e, side ? 1.0 : -1.0); /* just outside the blend */
+      const double ks = ChordTensionSlope(&sharp, out), kb = ChordTensionSlope(y, e);
+      jumpT = fmax(jumpT, fabs(ChordTension(y, e) - ChordTensionPiecewise(y, e)) / Tbig);
+      jumpK = fmax(jumpK, fabs(kb - ks) / fmax(fabs(ks), fabs(kb)));
+    }
+  }
+  snprintf(what, sizeof what, "%s: ChordTangentMax over windows vs the largest slope in them, max shortfall / slope",
+           name);
+  Check(what, over, 1e-6);
+  snprintf(what, sizeof what, "%s: ChordTangentMax of one table cell vs the slope at its ends, max shortfall / slope",
+           name);
+  Check(what, cell, 1e-9);
+  snprintf(what, sizeof what, "%s: blends vs the piecewise law at their ends: tension jump / max tension", name);
+  Check(what, jumpT, 1e-12);
+  snprintf(what, sizeof what, "%s: blends vs the piecewise law at their ends: slope jump, relative", name);
+  Check(what, jumpK, 1e-5);
+  if (!y->ntab) {
+    snprintf(what, sizeof what, "%s: linear law's slope past the crimp vs EA / (1 + c), relative", name);
+    Check(what, fabs(ChordTensionSlope(&sharp, y->crimp + 0.1) - y->EA / (1 + y->crimp)) / y->EA, 1e-15);
+  }
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode TestLawCovered(const char *csv)
+{
+  YarnLaw warp = {0}, weft = {0};
+
+  PetscFunctionBeginUser;
+  PetscCall(LawsSetUp(&warp, &weft, csv));
+  PetscCall(CheckLawCovered("warp law", &warp));
+  PetscCall(CheckLawCovered("weft law", &weft));
+  PetscCall(YarnLawDestroy(&warp));
+  PetscCall(YarnLawDestroy(&weft));
+  PetscFunctionReturn(0);
+}
+
+/* PointFields (the frames' fields) on a uniformly stretched and sheared grid, whose every warp chord has
+   strain ex, every weft chord ey and every crossing the shear angle gamma (one-sided tangents at the
+   edges give the same): the warp tension T_warp(ex), the weft tension T_weft(ey) (the mean of one or two
+   equal segments: 1e-12 relative) and gamma in degrees (1e-9 degrees), at every crossing, edges included */
+static PetscErrorCode TestPointFields(const char *csv)
+{
+  YarnLaw      warp = {0}, weft = {0};
+  Patch        p    = {0};
+  const double ex = 0.1, ey = 0.02, gamma = 12.5 * M_PI / 180; /* past the warp's crimp; the weft de-crimping */
+  double       x[3 * NP], tw[NP], tf[NP], sh[NP], Tw, Tf, ew = 0, ef = 0, es = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(LawsSetUp(&warp, &weft, csv));
+  p.nx = NX, p.ny = NY, p.xm = p.gxm = NX, p.ym = p.gym = NY;
+  p.ax = 4.2e-4, p.ay = 3.9e-4, p.warp = &warp, p.weft = &weft, p.traction = PETSC_TRUE;
+  PetscCall(PetscCalloc1(NP, &p.exists));
+  PetscCall(PetscCalloc1(NP, &p.broken_x));
+  PetscCall(PetscCalloc1(NP, &p.broken_y));
+  for (int k = 0; k < NP; k++) p.exists[k] = 1;
+  PetscCall(PatchSetUp(&p));
+  for (int j = 0; j < NY; j++)
+    for (int i = 0; i < NX; i++) {
+      double *q = x + 3 * (j * NX + i);
+      q[0] = i * p.ax * (1 + ex) + j * p.ay * (1 + ey) * sin(gamma), q[1] = j * p.ay * (1 + ey) * cos(gamma), q[2] = 0;
+    }
+  PointFields(&p, x, tw, tf, sh);
+  Tw = ChordTension(&warp, ex), Tf = ChordTension(&weft, ey);
+  for (int k = 0; k < NP; k++) {
+    ew = fmax(ew, fabs(tw[k] - Tw) / Tw), ef = fmax(ef, fabs(tf[k] - Tf) / Tf);
+    es = fmax(es, fabs(sh[k] - gamma * 180 / M_PI));
+  }
+  printf("point fields: warp %.6g N, weft %.6g N, shear %.6g deg\n", Tw, Tf, gamma * 180 / M_PI);
+  Check("PointFields on a uniform sheared grid: warp tension vs T_warp(ex) at every crossing, max relative", ew, 1e-12);
+  Check("PointFields on a uniform sheared grid: weft tension vs T_weft(ey) at every crossing, max relative", ef, 1e-12);
+  Check("PointFields on a uniform sheared grid: shear angle vs gamma at every crossing, max error (deg)", es, 1e-9);
+  PetscCall(PatchFree(&p));
+  PetscCall(YarnLawDestroy(&warp));
+  PetscCall(YarnLawDestroy(&weft));
+  PetscFunctionReturn(0);
+}
+
+/* The quasi-static path's traction tangent (tension_field): every segment's Hessian is the convex one,
+   k n n^T + max(T,0)/L (I - n n^T), bit for bit, and differs from the exact one at some compressed segment */
+static PetscErrorCode TestTensionField(const char *csv)
+{
+  YarnLaw      warp = {0}, weft = {0};
+  Patch        p;
+  double       x[3 * NP];
+  TermInstance a, b, c;
+  int          differ = 0, compressed = 0, segments = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(LawsSetUp(&warp, &weft, csv));
+  PetscCall(RichPatch(&p, &warp, &weft, 0));
+  DistortedState(&p, x, 2024);
+  for (int j = 0; j < NY; j++)
+    for (int i = 0; i < NX; i++)
+      for (int dir = 0; dir < 2; dir++) {
+        p.tension_field = PETSC_TRUE;
+        if (!TractionTerm.instance(&p, x, i, j, dir, TERM_HESSIAN | TERM_GRADIENT, &a)) continue;
+        p.tension_field = PETSC_FALSE;
+        TractionTerm.instance(&p, x, i, j, dir, TERM_HESSIAN | TERM_CONVEX | TERM_GRADIENT, &b);
+        TractionTerm.instance(&p, x, i, j, dir, TERM_HESSIAN | TERM_GRADIENT, &c);
+        segments++;
+        differ += memcmp(a.K, b.K, 36 * sizeof(PetscReal)) != 0;
+        /* the gradient on the second point is T n: compressed when it points back along the chord */
+        {
+          const PetscReal *xa = x + 3 * (j * NX + i), *xb = x + 3 * ((j + dir) * NX + i + !dir);
+          double           dot = 0;
+          for (int d = 0; d < 3; d++) dot += a.g[3 + d] * (xb[d] - xa[d]);
+          if (dot < 0 && memcmp(a.K, c.K, 36 * sizeof(PetscReal))) compressed++;
+        }
+      }
+  printf("tension field: %d segments, %d compressed with a tangent other than the exact one\n", segments, compressed);
+  Check("tension_field: traction Hessian vs the convex one, segments that differ (bits)", differ, 0);
+  Check("tension_field: some compressed segment's Hessian drops its geometric part (0 = yes)",
+        compressed > 0 ? 0 : 1, 0);
+  PetscCall(PatchFree(&p));
+  PetscCall(YarnLawDestroy(&warp));
+  PetscFunctionReturn(0);
+}
+
+/* A yarn that breaks at yarn strain break_ey (no scatter) breaks at chord strain c + break_ey (1 + c): the
+   crimp is pulled out first (MODEL.md 5.1), and every segment draws that strain */
+static PetscErrorCode TestBreakChordStrain(void)
+{
+  YarnLaw y = {0};
+
+  PetscFunctionBeginUser;
+  y.name = "warp", y.tex = 20, y.EA = 52, y.crimp = 0.08, y.Ec = 2.6, y.k_comp = 1e-3, y.e_contact = -0.08;
+  y.break_ey = 0.065;
+  PetscCall(YarnLawSetUp(&y, PETSC_COMM_SELF));
+  PetscCall(YarnBreakSetUp(&y, 4.2e-4, PETSC_COMM_SELF));
+  Check("breaking chord strain vs c + break_ey (1 + c) = 0.1502, error", fabs(y.break_e - 0.1502), 1e-15);
+  Check("a segment's breaking strain without scatter vs the law's, error",
+        fabs(SegmentBreakStrain(&y, 7, 0, 3, 4) - 0.1502), 1e-15);
+  PetscCall(YarnLawDestroy(&y));
+  PetscFunctionReturn(0);
 }
 
 int main(int argc, char **argv)
@@ -1597,7 +1803,8 @@ int main(int argc, char **argv)
 
   PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
   PetscCall(PetscOptionsGetString(NULL, NULL, "-csv", csv, sizeof csv, NULL));
-  PetscCall(TestForces());
+  PetscCall(TestForces(0));
+  PetscCall(TestForces(1)); /* sheared the other way */
   PetscCall(TestLaw(csv));
   PetscCall(TestTerms(csv));
   TestPositivePart();
@@ -1607,6 +1814,10 @@ int main(int argc, char **argv)
   TestBodies();
   PetscCall(TestWindowFlag(csv));
   PetscCall(TestDegenerate(csv));
+  PetscCall(TestLawCovered(csv));
+  PetscCall(TestPointFields(csv));
+  PetscCall(TestTensionField(csv));
+  PetscCall(TestBreakChordStrain());
   PetscCall(PetscFinalize());
   return failures ? 1 : 0;
 }
