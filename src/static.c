@@ -347,7 +347,13 @@ static PetscErrorCode FormJacobian(SNES snes, Vec U, Mat A, Mat P, void *ctx)
   PetscFunctionBeginUser;
   (void) snes;
   (void) A;
-  PetscCheck(P == ss->J, fab->comm, PETSC_ERR_SUP, "the quasi-static solver assembles its own matrix");
+  if (P != ss->J) { /* a solver asked the grid's DM for the tangent in another matrix (say PCTelescope's) */
+    char given[448];
+    SolverOptionsGiven(given, sizeof given);
+    SETERRQ(fab->comm, PETSC_ERR_SUP,
+            "a solver asked for the tangent in a matrix of its own; the quasi-static solver assembles only its own%s%s%s",
+            given[0] ? " (the solver options given: " : "", given, given[0] ? ")" : "");
+  }
   PetscCall(MatZeroEntries(P));
   ss->tangents++;
   PetscCall(HaloExchange(fab->grid.da, U, fab->state.Xl));
@@ -1438,6 +1444,14 @@ static PetscBool GamgTypeOk(const char *value)
   return !strcmp(value, PCGAMGAGG) ? PETSC_TRUE : PETSC_FALSE;
 }
 
+/* preconditioners that need what the quasi-static path does not give them: telescope asks the grid's DM for the
+   tangent in a matrix of its own (FormJacobian refused it, "assembles its own matrix", naming no option), patch
+   converts the grid's DMDA to a DMPlex (PETSc's "No conversion possible between DM types da and plex") */
+static PetscBool PcTypeOk(const char *value)
+{
+  return strcmp(value, "telescope") && strcmp(value, "patch") ? PETSC_TRUE : PETSC_FALSE;
+}
+
 /* The first option given whose name is suffix under any prefix (-ksp_gmres_restart,
    -mg_levels_ksp_gmres_restart, -tao_nls_ksp_gmres_restart ...) and whose value ("" if none) ok()
    refuses: "-name value" into bad, else "". Read without marking any option used (an option no
@@ -1592,6 +1606,11 @@ PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
     PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT,
                "%s with -solver static: GAMG's aggregation (agg) only; classical hung in PETSc's set-up on 2 ranks, "
                "geo needs coordinates it is not given",
+               bad);
+    PetscCall(FindBadOption("pc_type", PcTypeOk, bad, sizeof bad));
+    PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT,
+               "%s with -solver static: telescope needs the tangent assembled by PETSc on a sub-grid, patch a DMPlex; "
+               "the quasi-static path assembles its own tangent on the grid's DMDA (use mg, gamg, lu ...)",
                bad);
   }
   if (o.tao) { /* TAO's Newton line search or trust region, on the unconstrained Pi (the others
