@@ -306,7 +306,10 @@ static const OptionDesc Options[] = {
     REAL("", "energy_watch", energy_watch, DEF(0.5), NONNEG, NONNEG_MUST,
          "damped and paper integrators: stop a relaxation whose mechanical energy grows, with nothing doing work on "
          "the fabric, by more than this fraction of the energy it has released (0 = no watch)"),
-    ENUM("", "predict", predict, DEF(PREDICT_LINEAR), PredictNames, "displacement prediction at each load step: none (from the last balanced state), linear (each point moves by its share of the grip step, from its distances to the clamped and moved points), extrapolate (the last load step's increment repeated)"),
+    ENUM("", "predict", predict, DEF(PREDICT_LINEAR), PredictNames,
+         "displacement prediction at each load step: none (from the last balanced state), linear (each point moves "
+         "by its share of the grip step, from its distances to the clamped and moved points), extrapolate (the last "
+         "load step's increment repeated)"),
     INT("", "grip_ramp_steps", grip_ramp_steps, DEF(-1), -1, "-1 (auto) or >= 0",
         "te steps over which the jaw (or the sphere) moves to each load step's position (cosine ramp); -1 = half a "
         "period of the slowest mode without prediction or with a sphere, 0 (a jump) with prediction"),
