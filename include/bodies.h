@@ -28,9 +28,9 @@ extern const char *const BodyNames[BODY_KINDS];
 
 /* where the body is when the load program has moved it by travel (only the sphere moves) */
 void BodyPosition(const Body *b, PetscReal travel, PetscReal c[3]);
-/* contact (and friction, with anchors) of body b at position c on n consecutive points: adds to f and sum */
+/* contact (and friction, with anchors) of body b at position c on n consecutive points: adds to f */
 void BodyContact(const Body *b, const PetscReal c[3], PetscInt n, const PetscReal *x, const PetscReal *inv_m,
-                 PetscReal *anchor, PetscReal *f, PetscReal sum[3]);
+                 PetscReal *anchor, PetscReal *f);
 /* penalty energy 0.5 k p^2 of one point at x (p: penetration), its gradient g and Hessian K (3 x 3, row-major) */
 PetscReal BodyEnergy(const Body *b, const PetscReal c[3], const PetscReal x[3], PetscReal g[3], PetscReal K[9]);
 /* the body's share of a point's Gershgorin row sum: its penalty spring, whether in contact or not */
@@ -41,17 +41,17 @@ static inline PetscReal BodyBound(const Body *b)
 
 /* Penalty contact with rigid bodies (MODEL.md 5.5) on n consecutive owned points: a point
    closer than reach (h/2, plus R for a sphere) to the body is pushed out along the surface
-   normal with fn = k (reach - distance). Only points with inv_m > 0 feel it. Adds to f, and the
-   added forces to sum[3] (the body's reaction is minus their total).
+   normal with fn = k (reach - distance). Only points with inv_m > 0 feel it. Adds to f (the body's
+   reaction is minus the total added: measured as an exact sum in measure.c).
    Coulomb friction (mu > 0, anchor != NULL): a stick spring of stiffness k to a per-point anchor
    (3 per point, relative to the body's reference point: c, p0, top), cut at mu fn (slip);
    anchor is updated (a point out of contact gets its anchor where it is). NULL: frictionless. */
 void SphereContact(PetscInt n, const PetscReal *x, const PetscReal *inv_m, const PetscReal c[3], PetscReal reach,
-                   PetscReal k, PetscReal mu, PetscReal *anchor, PetscReal *f, PetscReal sum[3]);
+                   PetscReal k, PetscReal mu, PetscReal *anchor, PetscReal *f);
 
 /* A rigid plane through p0 with unit normal nrm: pushed out along nrm (a point behind it too). */
 void PlaneContact(PetscInt n, const PetscReal *x, const PetscReal *inv_m, const PetscReal p0[3], const PetscReal nrm[3],
-                  PetscReal reach, PetscReal k, PetscReal mu, PetscReal *anchor, PetscReal *f, PetscReal sum[3]);
+                  PetscReal reach, PetscReal k, PetscReal mu, PetscReal *anchor, PetscReal *f);
 
 /* A rigid disc (pedestal): the solid vertical cylinder of the given radius whose flat top face
    is centred on top[3] and faces +z, reaching height below it. The distance is to the nearest
@@ -59,7 +59,6 @@ void PlaneContact(PetscInt n, const PetscReal *x, const PetscReal *inv_m, const 
    it, to the edge circle (a rounded edge of radius reach) around it; a point inside leaves
    through its nearest face (top, rim or bottom). */
 void DiscContact(PetscInt n, const PetscReal *x, const PetscReal *inv_m, const PetscReal top[3], PetscReal radius,
-                 PetscReal height, PetscReal reach, PetscReal k, PetscReal mu, PetscReal *anchor, PetscReal *f,
-                 PetscReal sum[3]);
+                 PetscReal height, PetscReal reach, PetscReal k, PetscReal mu, PetscReal *anchor, PetscReal *f);
 
 #endif

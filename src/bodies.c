@@ -14,9 +14,9 @@
    comes to rest, which a law of the slip velocity cannot do: its force vanishes at rest and
    the point creeps); above it, it slides with a friction force of exactly mu fn. With the
    tangential stiffness equal to the normal one the contact block is k I, so the stable-step
-   bound is the frictionless one. Adds ft to f and to sum. */
+   bound is the frictionless one. Adds ft to f. */
 static inline void StickSlip(const PetscReal rel[3], const PetscReal n[3], PetscReal fn, PetscReal k, PetscReal mu,
-                             PetscReal a[3], PetscReal f[3], PetscReal sum[3])
+                             PetscReal a[3], PetscReal f[3])
 {
   PetscReal t[3], dn = 0, t2 = 0;
   for (int d = 0; d < 3; d++) t[d] = rel[d] - a[d], dn += t[d] * n[d];
@@ -26,35 +26,29 @@ static inline void StickSlip(const PetscReal rel[3], const PetscReal n[3], Petsc
     scale = -mu * fn / PetscSqrtReal(t2);
     for (int d = 0; d < 3; d++) a[d] = rel[d] + scale * t[d] / k;
   }
-  for (int d = 0; d < 3; d++) {
-    f[d] += scale * t[d];
-    sum[d] += scale * t[d];
-  }
+  for (int d = 0; d < 3; d++) f[d] += scale * t[d];
 }
 
 /* The normal push fv (= fn n) on point q, and friction if anchors are kept; a point out of
    contact (fn <= 0) has its anchor reset to where it is. */
 static inline void ContactForce(PetscInt q, const PetscReal *x, const PetscReal c[3], const PetscReal n[3],
                                 PetscReal fn, const PetscReal fv[3], PetscReal k, PetscReal mu, PetscReal *anchor,
-                                PetscReal *f, PetscReal sum[3])
+                                PetscReal *f)
 {
   if (fn <= 0) {
     if (anchor)
       for (int d = 0; d < 3; d++) anchor[3 * q + d] = x[3 * q + d] - c[d];
     return;
   }
-  for (int d = 0; d < 3; d++) {
-    f[3 * q + d] += fv[d];
-    sum[d] += fv[d];
-  }
+  for (int d = 0; d < 3; d++) f[3 * q + d] += fv[d];
   if (anchor && mu > 0) {
     const PetscReal rel[3] = {x[3 * q] - c[0], x[3 * q + 1] - c[1], x[3 * q + 2] - c[2]};
-    StickSlip(rel, n, fn, k, mu, anchor + 3 * q, f + 3 * q, sum);
+    StickSlip(rel, n, fn, k, mu, anchor + 3 * q, f + 3 * q);
   }
 }
 
 void SphereContact(PetscInt n, const PetscReal *x, const PetscReal *inv_m, const PetscReal c[3], PetscReal reach,
-                   PetscReal k, PetscReal mu, PetscReal *anchor, PetscReal *f, PetscReal sum[3])
+                   PetscReal k, PetscReal mu, PetscReal *anchor, PetscReal *f)
 {
   for (PetscInt q = 0; q < n; q++) {
     if (inv_m[q] <= 0) continue;
@@ -67,32 +61,31 @@ void SphereContact(PetscInt n, const PetscReal *x, const PetscReal *inv_m, const
       nrm[0] = dx / r, nrm[1] = dy / r, nrm[2] = dz / r;
       fn = k * (reach - r);
     }
-    ContactForce(q, x, c, nrm, fn, fv, k, mu, anchor, f, sum);
+    ContactForce(q, x, c, nrm, fn, fv, k, mu, anchor, f);
   }
 }
 
 /* a push fn along the unit normal n (plane, disc) */
 static inline void NormalPush(PetscInt q, const PetscReal *x, const PetscReal c[3], const PetscReal n[3], PetscReal fn,
-                              PetscReal k, PetscReal mu, PetscReal *anchor, PetscReal *f, PetscReal sum[3])
+                              PetscReal k, PetscReal mu, PetscReal *anchor, PetscReal *f)
 {
   const PetscReal fv[3] = {fn * n[0], fn * n[1], fn * n[2]};
-  ContactForce(q, x, c, n, fn, fv, k, mu, anchor, f, sum);
+  ContactForce(q, x, c, n, fn, fv, k, mu, anchor, f);
 }
 
 void PlaneContact(PetscInt n, const PetscReal *x, const PetscReal *inv_m, const PetscReal p0[3], const PetscReal nrm[3],
-                  PetscReal reach, PetscReal k, PetscReal mu, PetscReal *anchor, PetscReal *f, PetscReal sum[3])
+                  PetscReal reach, PetscReal k, PetscReal mu, PetscReal *anchor, PetscReal *f)
 {
   for (PetscInt q = 0; q < n; q++) {
     if (inv_m[q] <= 0) continue;
     const PetscReal dist =
         (x[3 * q] - p0[0]) * nrm[0] + (x[3 * q + 1] - p0[1]) * nrm[1] + (x[3 * q + 2] - p0[2]) * nrm[2];
-    NormalPush(q, x, p0, nrm, dist < reach ? k * (reach - dist) : 0.0, k, mu, anchor, f, sum);
+    NormalPush(q, x, p0, nrm, dist < reach ? k * (reach - dist) : 0.0, k, mu, anchor, f);
   }
 }
 
 void DiscContact(PetscInt n, const PetscReal *x, const PetscReal *inv_m, const PetscReal top[3], PetscReal radius,
-                 PetscReal height, PetscReal reach, PetscReal k, PetscReal mu, PetscReal *anchor, PetscReal *f,
-                 PetscReal sum[3])
+                 PetscReal height, PetscReal reach, PetscReal k, PetscReal mu, PetscReal *anchor, PetscReal *f)
 {
   for (PetscInt q = 0; q < n; q++) {
     if (inv_m[q] <= 0) continue;
@@ -114,7 +107,7 @@ void DiscContact(PetscInt n, const PetscReal *x, const PetscReal *inv_m, const P
       else
         dist = -d_bot, nrm[0] = 0, nrm[1] = 0, nrm[2] = -1;
     }
-    NormalPush(q, x, top, nrm, dist < reach ? k * (reach - dist) : 0.0, k, mu, anchor, f, sum);
+    NormalPush(q, x, top, nrm, dist < reach ? k * (reach - dist) : 0.0, k, mu, anchor, f);
   }
 }
 
@@ -126,12 +119,12 @@ void BodyPosition(const Body *b, PetscReal travel, PetscReal c[3])
 }
 
 void BodyContact(const Body *b, const PetscReal c[3], PetscInt n, const PetscReal *x, const PetscReal *inv_m,
-                 PetscReal *anchor, PetscReal *f, PetscReal sum[3])
+                 PetscReal *anchor, PetscReal *f)
 {
   switch (b->kind) {
-  case BODY_SPHERE: SphereContact(n, x, inv_m, c, b->reach, b->k, b->mu, anchor, f, sum); break;
-  case BODY_PLANE: PlaneContact(n, x, inv_m, c, b->dir, b->reach, b->k, b->mu, anchor, f, sum); break;
-  default: DiscContact(n, x, inv_m, c, b->radius, b->height, b->reach, b->k, b->mu, anchor, f, sum);
+  case BODY_SPHERE: SphereContact(n, x, inv_m, c, b->reach, b->k, b->mu, anchor, f); break;
+  case BODY_PLANE: PlaneContact(n, x, inv_m, c, b->dir, b->reach, b->k, b->mu, anchor, f); break;
+  default: DiscContact(n, x, inv_m, c, b->radius, b->height, b->reach, b->k, b->mu, anchor, f);
   }
 }
 
@@ -153,13 +146,13 @@ static void PenaltyCurvature(PetscReal K[9], PetscReal kp, const PetscReal n[3],
    distance r (the sphere, the pedestal's rim edge) and 0 on a flat face (plane, top, rim). */
 PetscReal BodyEnergy(const Body *b, const PetscReal c[3], const PetscReal x[3], PetscReal g[3], PetscReal K[9])
 {
-  PetscReal f[3] = {0, 0, 0}, sum[3] = {0, 0, 0}, one = 1.0, nrm[3], p;
+  PetscReal f[3] = {0, 0, 0}, one = 1.0, nrm[3], p;
   Body      unit = *b; /* the push with unit stiffness and no friction is p n */
 
   unit.k = 1.0, unit.mu = 0.0;
   for (int q = 0; q < 9; q++) K[q] = 0;
   for (int d = 0; d < 3; d++) g[d] = 0;
-  BodyContact(&unit, c, 1, x, &one, NULL, f, sum);
+  BodyContact(&unit, c, 1, x, &one, NULL, f);
   p = PetscSqrtReal(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]); /* |f| = 1 * p with unit stiffness */
   if (!(p > 0)) return 0.0;
   for (int d = 0; d < 3; d++) nrm[d] = f[d] / p, g[d] = -b->k * p * nrm[d];

@@ -39,7 +39,7 @@ static PetscErrorCode BodyForces(Fabric fab, Vec X, const PetscInt box[4], Petsc
   const Patch       *p = &fab->grid.patch;
   const PetscScalar *x;
   PetscScalar       *anchor[BODY_KINDS] = {NULL};
-  PetscReal          c[BODY_KINDS][3], sum[3] = {0, 0, 0};
+  PetscReal          c[BODY_KINDS][3];
 
   PetscFunctionBeginUser;
   if (!fab->bodies.n) PetscFunctionReturn(0);
@@ -53,8 +53,7 @@ static PetscErrorCode BodyForces(Fabric fab, Vec X, const PetscInt box[4], Petsc
     const PetscInt k0 = (j - p->ys) * p->xm + (box[0] - p->xs), n = box[1] - box[0];
     for (PetscInt q = 0; q < fab->bodies.n; q++) {
       const Body *b = &fab->bodies.body[q];
-      BodyContact(b, c[q], n, x + 3 * k0, fab->grid.inv_m + k0, anchor[q] ? anchor[q] + 3 * k0 : NULL, f + 3 * k0,
-                  sum);
+      BodyContact(b, c[q], n, x + 3 * k0, fab->grid.inv_m + k0, anchor[q] ? anchor[q] + 3 * k0 : NULL, f + 3 * k0);
     }
   }
   for (PetscInt q = 0; q < fab->bodies.n; q++)

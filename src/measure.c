@@ -52,7 +52,7 @@ static PetscErrorCode BodyContactTerms(Fabric fab, BodyKind kind, const PetscSca
 {
   const FabricGrid *g = &fab->grid;
   const Body       *b = NULL;
-  PetscReal         c[3], sum[3] = {0, 0, 0}, *anchor = NULL;
+  PetscReal         c[3], *anchor = NULL;
 
   PetscFunctionBeginUser;
   PetscCall(PetscArrayzero(t, 3 * g->nloc));
@@ -67,7 +67,7 @@ static PetscErrorCode BodyContactTerms(Fabric fab, BodyKind kind, const PetscSca
     PetscCall(PetscArraycpy(anchor, a, 3 * g->nloc));
     PetscCall(VecRestoreArrayRead(fab->state.anchor[kind], &a));
   }
-  BodyContact(b, c, g->nloc, x, g->inv_m, anchor, t, sum);
+  BodyContact(b, c, g->nloc, x, g->inv_m, anchor, t);
   PetscCall(PetscFree(anchor));
   PetscFunctionReturn(0);
 }
