@@ -13,9 +13,11 @@
 #include "frames.h"
 #include "stencil.h"
 
+#include <errno.h>
 #include <float.h>
 #include <math.h>
 #include <sys/resource.h>
+#include <stdlib.h>
 #include <unistd.h>
 
 /* Position of crossing (i,j) relative to the grid centre at rest, m. (i - (nx-1)/2) is exact,
@@ -296,14 +298,31 @@ static PetscErrorCode RankGrid(PetscInt nx, PetscInt ny, PetscMPIInt size, Petsc
 /* PETSc's -da_processors_x and -da_processors_y, checked here on every rank alike (the DMDA would
    fail on some ranks only): a split of the size, 2 crossings a rank at least along a split
    direction; one of them given, the other is the rest of the ranks */
+/* a rank count option read as text: PETSc's own reading wraps 4294967297 to 1 */
+static PetscErrorCode RankCountOption(MPI_Comm comm, const char *name, PetscInt *v, PetscBool *set)
+{
+  char      text[64], *end;
+  long long l;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsGetString(NULL, NULL, name, text, sizeof text, set));
+  if (!*set) PetscFunctionReturn(0);
+  errno = 0;
+  l     = strtoll(text, &end, 10);
+  PetscCheck(end != text && !*end && errno != ERANGE && l >= 1 && l <= PETSC_MAX_INT, comm, PETSC_ERR_USER_INPUT,
+             "%s %s: not a number of ranks (a whole number from 1)", name, text);
+  *v = (PetscInt) l;
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode UserRankGrid(PetscInt nx, PetscInt ny, PetscMPIInt size, MPI_Comm comm, PetscInt *m, PetscInt *n)
 {
   PetscInt  px = 0, py = 0;
   PetscBool hx = PETSC_FALSE, hy = PETSC_FALSE;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscOptionsGetInt(NULL, NULL, "-da_processors_x", &px, &hx));
-  PetscCall(PetscOptionsGetInt(NULL, NULL, "-da_processors_y", &py, &hy));
+  PetscCall(RankCountOption(comm, "-da_processors_x", &px, &hx));
+  PetscCall(RankCountOption(comm, "-da_processors_y", &py, &hy));
   if (!hx && !hy) PetscFunctionReturn(0);
   PetscCheck(!hx || (px >= 1 && px <= size && size % px == 0), comm, PETSC_ERR_USER_INPUT,
              "-da_processors_x %" PetscInt_FMT ": must divide the %d ranks", px, size);
