@@ -1439,6 +1439,15 @@ static PetscBool CountOk(const char *value)
   return end != value && !*end && v < 0 ? PETSC_FALSE : PETSC_TRUE;
 }
 
+/* a linear solve's relative tolerance: from 0 to below 1 (PETSc's words, default or DECIDE, are PETSc's to read);
+   -ksp_rtol 2 let the first residual pass, every Newton step was zero and no load step balanced, and -1 ran */
+static PetscBool RtolOk(const char *value)
+{
+  char        *end;
+  const double v = strtod(value, &end);
+  return end != value && !*end && !(v >= 0 && v < 1) ? PETSC_FALSE : PETSC_TRUE;
+}
+
 static PetscBool GamgTypeOk(const char *value)
 {
   return !strcmp(value, PCGAMGAGG) ? PETSC_TRUE : PETSC_FALSE;
@@ -1600,6 +1609,11 @@ PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
       for (int k = 0; k < 3 && !bad[0]; k++) PetscCall(FindBadOption(limits[k], CountOk, bad, sizeof bad));
       PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT, "%s with -solver static: an iteration limit, 0 or more", bad);
     }
+    PetscCall(FindBadOption("ksp_rtol", RtolOk, bad, sizeof bad));
+    PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT,
+               "%s with -solver static: a linear solve's relative tolerance, from 0 to below 1 (at 1 or more the first "
+               "residual passes and Newton's steps are zero)",
+               bad);
     /* GAMG's aggregation only: its classical coarsening hung in PETSc's set-up on 2 ranks (on the 25 x 25
        net), and its geometric one needs the crossings' coordinates, which it is not given */
     PetscCall(FindBadOption("pc_gamg_type", GamgTypeOk, bad, sizeof bad));
