@@ -667,7 +667,7 @@ int SceneOptionValues(const Scene *s, PetscInt k, char name[64], PetscReal v[], 
 
 /* ---------------- the scene file and unused options ---------------- */
 
-/* FILE (of option OPT) is a readable file: a directory said "no such file" */
+/* FILE (of option OPT) is a readable regular file: a directory said "no such file" */
 static PetscErrorCode CheckReadable(MPI_Comm comm, const char *opt, const char *file)
 {
   PetscBool exists, dir;
@@ -675,6 +675,11 @@ static PetscErrorCode CheckReadable(MPI_Comm comm, const char *opt, const char *
   PetscFunctionBeginUser;
   PetscCall(PetscTestDirectory(file, 'r', &dir));
   PetscCheck(!dir, comm, PETSC_ERR_FILE_OPEN, "%s %s: a directory, not a file", opt, file);
+  { /* a device or a pipe (/dev/zero, a shell's <(...)): PETSc's test said "no such file"; it is read more than once */
+    struct stat st;
+    PetscCheck(stat(file, &st) || S_ISREG(st.st_mode), comm, PETSC_ERR_FILE_OPEN,
+               "%s %s: not a regular file (a device or a pipe: give a file)", opt, file);
+  }
   PetscCall(PetscTestFile(file, 'r', &exists));
   PetscCheck(exists, comm, PETSC_ERR_FILE_OPEN, "%s %s: no such file, or not readable", opt, file);
   PetscFunctionReturn(0);
