@@ -2,12 +2,13 @@
  * worked out by hand, with the tolerance stated (exact equality where the answer is exact).
  *
  *   test_units -case graph_distance|front_box|load_path|curve_row|option_values|drape_defaults|
- *                    predict_extrapolate
+ *                    predict_extrapolate|set_up
  *
  * graph_distance and front_box check owned points only, on any number of ranks (CTest runs
  * them on 1, 2 and 3): the hand values do not depend on the decomposition, so passing on every
  * rank count means the same values on each.
  */
+#include "comm.h"
 #include "front.h"
 #include "load.h"
 #include "measure.h"
@@ -917,6 +918,83 @@ static PetscErrorCode TestPredictExtrapolate(void)
   PetscFunctionReturn(0);
 }
 
+/* ---------------- the fabric's set-up (fabric.c) and the exact sums (comm.c) ---------------- */
+
+/* A strip at unequal densities and yarns: every owned crossing's mass is half of each yarn segment at it,
+   tex (1 + crimp) x the spacing along that yarn (MODEL.md 4), and the bending constants are B / spacing;
+   a disc's crossings are those within its radius (counted here in integers); the smallest split the stencil
+   allows (2 crossings a rank) is taken; GlobalSumsExact sums terms whose largest is a rank's last. On any number
+   of ranks. */
+static PetscErrorCode TestSetUp(void)
+{
+  Fabric      fab;
+  PetscMPIInt size, rank;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(PETSC_COMM_WORLD, &size));
+  PetscCallMPI(MPI_Comm_rank(PETSC_COMM_WORLD, &rank));
+  { /* 25 picks/cm (warp segments 0.4 mm, along i), 20 ends/cm (weft segments 0.5 mm, along j) */
+    const PetscReal mx = 0.5 * 20e-6 * 1.08 * 0.4e-3, my = 0.5 * 30e-6 * 1.05 * 0.5e-3;
+    PetscInt        bad = 0;
+    PetscCall(NewFabric(STRIP "-ends_per_cm 20 -picks_per_cm 25 -warp_tex 20 -weft_tex 30 -warp_crimp_pct 8 "
+                              "-weft_crimp_pct 5 -warp_bending_Nm2 2e-9 -weft_bending_Nm2 3e-9",
+                        &fab));
+    const Patch *p = &fab->grid.patch;
+    for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
+      for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
+        const PetscReal got  = fab->grid.mass[(j - p->ys) * p->xm + (i - p->xs)];
+        const PetscReal want = mx * ((i > 0) + (i < p->nx - 1)) + my * ((j > 0) + (j < p->ny - 1));
+        if (!(PetscAbsReal(got - want) <= 1e-14 * want))
+          Report(&bad, "  [rank %d] mass at (%d,%d): %.17g kg, expected %.17g\n", rank, (int) i, (int) j, (double) got,
+                 (double) want);
+      }
+    PetscCall(Expect("strip 20 x 25 threads/cm, 20 and 30 tex, 8 and 5 % crimp: each crossing's mass", bad,
+                     fab->grid.nloc, "1e-14 relative"));
+    PetscCall(ExpectReal("warp bending constant B / 0.4 mm (N m)", p->kbx, 2e-9 / 0.4e-3, 1e-15 * 2e-9 / 0.4e-3));
+    PetscCall(ExpectReal("weft bending constant B / 0.5 mm (N m)", p->kby, 3e-9 / 0.5e-3, 1e-15 * 3e-9 / 0.5e-3));
+    PetscCall(FabricDestroy(&fab));
+  }
+  { /* a 37 mm disc on a 50 mm net at 20 threads/cm: 101 x 101 crossings at 0.5 mm, radius 37 spacings; crossings
+       on the circle (0 +-37 and 12,35 spacings from the centre, ...) belong to it */
+    PetscInt want = 0, bad = 0;
+    for (PetscInt j = 0; j < 101; j++)
+      for (PetscInt i = 0; i < 101; i++) want += (i - 50) * (i - 50) + (j - 50) * (j - 50) <= 37 * 37;
+    PetscCall(NewFabric(BASE "-test square -shape disc -gauge_mm 50 -width_mm 50 -ends_per_cm 20 -picks_per_cm 20 "
+                             "-disc_diameter_mm 37",
+                        &fab));
+    const Patch *p = &fab->grid.patch;
+    for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
+      for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
+        const int in = (i - 50) * (i - 50) + (j - 50) * (j - 50) <= 37 * 37;
+        if (p->exists[(j - p->gys) * p->gxm + (i - p->gxs)] != in)
+          Report(&bad, "  [rank %d] crossing (%d,%d) %s in the disc\n", rank, (int) i, (int) j, in ? "missing" : "wrongly");
+      }
+    PetscCall(Expect("disc of 37 mm at 0.5 mm spacings: the crossings within it", bad, fab->grid.nloc, "exact"));
+    PetscCall(ExpectReal("disc of 37 mm at 0.5 mm spacings: its crossings (points)", (PetscReal) fab->grid.points,
+                         (PetscReal) want, 0));
+    PetscCall(FabricDestroy(&fab));
+  }
+  if (size > 1) { /* one yarn of 2 crossings a rank: split along it, 2 crossings each */
+    char opts[256];
+    PetscCall(PetscSNPrintf(opts, sizeof opts, STRIP "-yarns 1 -gauge_mm %.17g", (2.0 * size - 1) / 2.4));
+    PetscCall(NewFabric(opts, &fab));
+    PetscCall(ExpectReal("one yarn of 2 crossings a rank: its crossings", (PetscReal) fab->grid.points, 2.0 * size, 0));
+    PetscCall(Expect("one yarn of 2 crossings a rank: each rank holds 2", fab->grid.patch.xm != 2, 1, "exact"));
+    PetscCall(FabricDestroy(&fab));
+  }
+  { /* 5 terms a rank (a block of 4 and one more), the largest its last: rank r's last terms are 2^r, and 2^20 after
+       a 1 (powers of 2: every term is a whole number of quanta, the sums are exact) */
+    const PetscReal big = 1048576.0;
+    PetscReal       terms[10] = {0, 0, 0, 0, ldexp(1.0, rank), 1, 0, 0, 0, big}, sums[2];
+    PetscCall(GlobalSumsExact(PETSC_COMM_WORLD, 2, terms, 5, sums));
+    PetscCall(ExpectReal("GlobalSumsExact, each rank's only term its last, 2^rank: 2^ranks - 1", sums[0],
+                         ldexp(1.0, size) - 1, 0));
+    PetscCall(ExpectReal("GlobalSumsExact, each rank's largest term its last: ranks x (1 + 2^20)", sums[1],
+                         size * (1.0 + big), 0));
+  }
+  PetscFunctionReturn(0);
+}
+
 int main(int argc, char **argv)
 {
   char name[64] = "";
@@ -939,6 +1017,8 @@ int main(int argc, char **argv)
     PetscCall(TestPredictExtrapolate());
   else if (!strcmp(name, "break_strain"))
     PetscCall(TestBreakStrain());
+  else if (!strcmp(name, "set_up"))
+    PetscCall(TestSetUp());
   else {
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "unknown -case '%s'\n", name));
     failures++;
