@@ -2,7 +2,8 @@
  * worked out by hand, with the tolerance stated (exact equality where the answer is exact).
  *
  *   test_units -case graph_distance|front_box|load_path|curve_row|option_values|drape_defaults|
- *                    predict_extrapolate|set_up
+ *                    predict_extrapolate|break_strain|set_up|scene_units|
+ *                    yarn_csv_place
  *
  * graph_distance and front_box check owned points only, on any number of ranks (CTest runs
  * them on 1, 2 and 3): the hand values do not depend on the decomposition, so passing on every
@@ -18,6 +19,8 @@
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 static int failures = 0; /* the same on every rank: every check is reduced over the ranks */
 
@@ -856,6 +859,212 @@ static PetscErrorCode TestBreakStrain(void)
   PetscFunctionReturn(0);
 }
 
+/* ---------------- the textile units at the edges: SceneLoad's SI values, summary.json's echo ---------------- */
+
+/* |value - expected| <= 4 ulp of expected: a unit factor applied once (an exact answer rounded once or twice) */
+static PetscErrorCode ExpectSI(const char *what, PetscReal value, PetscReal expected)
+{
+  PetscFunctionBeginUser;
+  PetscCall(ExpectReal(what, value, expected, 4 * PETSC_MACHINE_EPSILON * PetscAbsReal(expected)));
+  PetscFunctionReturn(0);
+}
+
+/* the scene's yarn options as distinct values for warp and weft, the densities unequal (20 ends x 10 picks per cm),
+   every conversion worked out by hand: tex (g/km) -> kg/m is 1e-6, EA = modulus (cN/tex) x tex / 100 N, % / 100,
+   mm/min -> m/s is 1e-3/60, ms -> s 1e-3, mm -> m 1e-3. summary.json's options echo every given value exactly
+   (%.17g: strtod gives the double back), each yarn its own. */
+#define UNIT_YARNS                                                                                                     \
+  "-warp_tex 30 -weft_tex 12.5 -warp_modulus_cN_tex 200 -weft_modulus_cN_tex 400 -warp_crimp_pct 6 -weft_crimp_pct 3 " \
+  "-warp_contact_pct 40 -weft_contact_pct 25 -warp_law_smoothing_pct 1 -weft_law_smoothing_pct 2 "                    \
+  "-warp_bending_Nm2 3e-9 -weft_bending_Nm2 5e-9 -warp_break_pct 7 -weft_break_pct 4 -warp_decrimp_ratio 0.1 "         \
+  "-weft_decrimp_ratio 0.2 -ends_per_cm 20 -picks_per_cm 10 "
+static PetscErrorCode TestSceneUnits(void)
+{
+  Scene s;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsClear(NULL));
+  PetscCall(PetscOptionsInsertString(NULL, STRIP UNIT_YARNS
+                                     "-speed_mm_min 30 -elongation_pct 5 -tear_max_ms 7 -tear_te_safety 0.75 "
+                                     "-rupture_drop_pct 40 -break_gauge_mm 250 -plane -plane_point_mm 0,0,-1 "
+                                     "-thickness_mm 0.4 -warp_break_cv_pct 0.123456789012345678"));
+  PetscCall(SceneLoad(PETSC_COMM_SELF, &s));
+  {
+    const YarnLaw *w = &s.yarns.warp, *f = &s.yarns.weft;
+    PetscCall(ExpectSI("-warp_tex 30: mu 3e-5 kg/m", w->mu, 3e-5));
+    PetscCall(ExpectSI("-weft_tex 12.5: mu 1.25e-5 kg/m", f->mu, 1.25e-5));
+    PetscCall(ExpectSI("warp EA = 200 cN/tex x 30 tex = 60 N", w->EA, 60));
+    PetscCall(ExpectSI("weft EA = 400 cN/tex x 12.5 tex = 50 N", f->EA, 50));
+    PetscCall(ExpectSI("-warp_crimp_pct 6: 0.06", w->crimp, 0.06));
+    PetscCall(ExpectSI("-weft_crimp_pct 3: 0.03", f->crimp, 0.03));
+    PetscCall(ExpectSI("-warp_contact_pct 40: contact at chord strain -0.4", w->e_contact, -0.4));
+    PetscCall(ExpectSI("-weft_contact_pct 25: contact at chord strain -0.25", f->e_contact, -0.25));
+    PetscCall(ExpectSI("-warp_law_smoothing_pct 1: half-width 0.01", w->smoothing, 0.01));
+    PetscCall(ExpectSI("-weft_law_smoothing_pct 2: half-width 0.02", f->smoothing, 0.02));
+    PetscCall(ExpectSI("-warp_bending_Nm2 3e-9", w->bending, 3e-9));
+    PetscCall(ExpectSI("-weft_bending_Nm2 5e-9", f->bending, 5e-9));
+    PetscCall(ExpectSI("-warp_break_pct 7: yarn breaking strain 0.07", w->break_ey, 0.07));
+    PetscCall(ExpectSI("-weft_break_pct 4: yarn breaking strain 0.04", f->break_ey, 0.04));
+    PetscCall(ExpectSI("warp Ec = 0.1 x 60 N = 6 N", w->Ec, 6));
+    PetscCall(ExpectSI("weft Ec = 0.2 x 50 N = 10 N", f->Ec, 10));
+    PetscCall(ExpectSI("-break_gauge_mm 250: 0.25 m", w->break_gauge, 0.25));
+  }
+  PetscCall(ExpectSI("-ends_per_cm 20: 2000 per m", s.spec.ends_per_m, 2000));
+  PetscCall(ExpectSI("-picks_per_cm 10: 1000 per m", s.spec.picks_per_m, 1000));
+  /* the warp pull: along x the weft spacing 1 mm (gauge 20 mm: 21 crossings), across 5 mm / 0.5 mm = 10 yarns */
+  PetscCall(ExpectReal("warp strip 20 x 5 mm at 20 ends x 10 picks/cm: nx 21", s.spec.nx, 21, 0));
+  PetscCall(ExpectReal("warp strip: ny 10", s.spec.ny, 10, 0));
+  PetscCall(ExpectSI("warp strip: gauge 20 mm", s.spec.gauge, 0.02));
+  PetscCall(ExpectSI("warp strip: width 5 mm", s.spec.width, 0.005));
+  PetscCall(ExpectSI("-speed_mm_min 30: 5e-4 m/s", s.load.speed, 5e-4));
+  PetscCall(ExpectSI("-speed_tol 0: the test speed, 5e-4 m/s", s.num.speed_tol, 5e-4));
+  PetscCall(ExpectSI("-elongation_pct 5: 0.05", s.load.elongation, 0.05));
+  PetscCall(ExpectSI("-tear_max_ms 7: 7e-3 s", s.rupture.max_time, 7e-3));
+  PetscCall(ExpectReal("-tear_te_safety 0.75", s.num.te_safety_tear, 0.75, 0));
+  PetscCall(ExpectSI("-rupture_drop_pct 40: 0.4", s.rupture.drop, 0.4));
+  PetscCall(ExpectSI("-thickness_mm 0.4: 4e-4 m", s.bodies.thickness, 4e-4));
+  PetscCall(ExpectSI("-plane_point_mm 0,0,-1: z -1e-3 m", s.bodies.plane_point[2], -1e-3));
+  /* the contact's default penalty: the warp segment's EA/L0, L0 the weft spacing 1 mm: 60 N / 1e-3 m */
+  PetscCall(ExpectSI("-contact_stiffness_N_m 0: warp EA x picks per m = 6e4 N/m", s.bodies.contact_k, 6e4));
+  { /* summary.json's options: the given values back exactly, warp and weft each their own */
+    static const struct {
+      const char *name;
+      double      value;
+    } Echo[] = {{"warp_tex", 30},          {"weft_tex", 12.5},       {"warp_modulus_cN_tex", 200},
+                {"weft_modulus_cN_tex", 400}, {"warp_crimp_pct", 6},  {"weft_crimp_pct", 3},
+                {"warp_bending_Nm2", 3e-9}, {"weft_bending_Nm2", 5e-9}, {"speed_mm_min", 30},
+                {"tear_max_ms", 7},        {"ends_per_cm", 20},      {"picks_per_cm", 10},
+                {"warp_break_cv_pct", 0.123456789012345678}, {"weft_break_cv_pct", 0}};
+    FILE    *fp = tmpfile();
+    char     line[512];
+    PetscInt found[sizeof Echo / sizeof Echo[0]] = {0}, bad = 0;
+    if (fp) {
+      SceneOptionsJson(&s, fp, "    ");
+      rewind(fp);
+      while (fgets(line, sizeof line, fp))
+        for (size_t e = 0; e < sizeof Echo / sizeof Echo[0]; e++) {
+          char key[80];
+          snprintf(key, sizeof key, "    \"%s\": ", Echo[e].name);
+          if (strncmp(line, key, strlen(key))) continue;
+          found[e]++;
+          if (strtod(line + strlen(key), NULL) != Echo[e].value)
+            Report(&bad, "  summary.json: %s", line);
+        }
+      fclose(fp);
+    }
+    for (size_t e = 0; e < sizeof Echo / sizeof Echo[0]; e++)
+      if (found[e] != 1) Report(&bad, "  summary.json: -%s %d times\n", Echo[e].name, (int) found[e]);
+    PetscCall(Expect("summary.json's options: each given value once, exactly (%.17g)", bad,
+                     (PetscInt) (sizeof Echo / sizeof Echo[0]), "exact"));
+  }
+  PetscCall(SceneDestroy(&s));
+
+  /* the weft pull: along y the warp spacing 0.5 mm (gauge 20 mm: 41 crossings), across 5 mm / 1 mm = 5 yarns */
+  PetscCall(PetscOptionsClear(NULL));
+  PetscCall(PetscOptionsInsertString(NULL, STRIP "-pull weft -ends_per_cm 20 -picks_per_cm 10"));
+  PetscCall(SceneLoad(PETSC_COMM_SELF, &s));
+  PetscCall(ExpectReal("weft strip 20 x 5 mm at 20 ends x 10 picks/cm: nx 5", s.spec.nx, 5, 0));
+  PetscCall(ExpectReal("weft strip: ny 41", s.spec.ny, 41, 0));
+  PetscCall(ExpectSI("weft strip: gauge 20 mm", s.spec.gauge, 0.02));
+  PetscCall(ExpectSI("weft strip: width 5 mm", s.spec.width, 0.005));
+  PetscCall(SceneDestroy(&s));
+
+  /* the square net: gauge along x at the weft spacing 1 mm (21 crossings), width along y at the warp spacing 0.5 mm
+     (11 crossings) */
+  PetscCall(PetscOptionsClear(NULL));
+  PetscCall(PetscOptionsInsertString(NULL, BASE "-test square -gauge_mm 20 -width_mm 5 -ends_per_cm 20 -picks_per_cm 10"));
+  PetscCall(SceneLoad(PETSC_COMM_SELF, &s));
+  PetscCall(ExpectReal("square net 20 x 5 mm at 20 ends x 10 picks/cm: nx 21", s.spec.nx, 21, 0));
+  PetscCall(ExpectReal("square net: ny 11", s.spec.ny, 11, 0));
+  PetscCall(ExpectSI("square net: gauge 20 mm", s.spec.gauge, 0.02));
+  PetscCall(ExpectSI("square net: width 5 mm", s.spec.width, 0.005));
+  PetscCall(SceneDestroy(&s));
+
+  /* -static_sequence's coarser fabric (docs/options.md): half the thread density, each yarn of twice the tex (mass
+     and EA) and twice the bending stiffness; the 25 x 25 net at 24 threads/cm gives 13 x 13 */
+  {
+    Scene     fine, coarse;
+    PetscBool fits;
+    PetscCall(PetscOptionsClear(NULL));
+    PetscCall(PetscOptionsInsertString(NULL, BASE "-test square -gauge_mm 10 -width_mm 10 -warp_bending_Nm2 3e-9"));
+    PetscCall(SceneLoad(PETSC_COMM_SELF, &fine));
+    PetscCall(SceneCoarsen(PETSC_COMM_SELF, &fine, &coarse, &fits));
+    PetscCall(ExpectReal("the 25 x 25 net has a coarser fabric", fits, 1, 0));
+    if (fits) {
+      PetscCall(ExpectReal("coarse net: nx 13", coarse.spec.nx, 13, 0));
+      PetscCall(ExpectSI("coarse net: 1200 ends per m", coarse.spec.ends_per_m, 1200));
+      PetscCall(ExpectSI("coarse warp: mu 2 x 20 tex = 4e-5 kg/m", coarse.yarns.warp.mu, 4e-5));
+      PetscCall(ExpectSI("coarse warp: EA 2 x 52 N", coarse.yarns.warp.EA, 104));
+      PetscCall(ExpectSI("coarse warp: bending 2 x 3e-9 N m^2", coarse.yarns.warp.bending, 6e-9));
+      PetscCall(ExpectSI("coarse weft: bending 2 x 2e-9 N m^2", coarse.yarns.weft.bending, 4e-9));
+      PetscCall(SceneDestroy(&coarse));
+    }
+    PetscCall(SceneDestroy(&fine));
+  }
+
+  /* the drape's pedestal: 40 mm high, its top at -thickness/2 */
+  PetscCall(PetscOptionsClear(NULL));
+  PetscCall(PetscOptionsInsertString(NULL, "-test drape -pedestal_height_mm 40 -thickness_mm 0.5"));
+  PetscCall(SceneLoad(PETSC_COMM_SELF, &s));
+  PetscCall(ExpectSI("-pedestal_height_mm 40: 0.04 m", s.bodies.pedestal_height, 0.04));
+  PetscCall(ExpectSI("the pedestal's top at -thickness/2 = -2.5e-4 m", s.bodies.pedestal_top[2], -2.5e-4));
+  PetscCall(SceneDestroy(&s));
+  PetscFunctionReturn(0);
+}
+
+/* a relative yarn table is the working directory's when it is there, the scene file's directory's only when it is
+   not: two linear tables of the same name, 100 cN and 50 cN per % (EA 100 N and 50 N, from the slope of the
+   Steffen spline through straight data, to 1e-9), one in the working directory and one beside the scene file;
+   a third only beside the scene file. Made in a temporary directory, removed after. */
+static PetscErrorCode TestYarnCsvPlace(void)
+{
+  char           tmp[] = "/tmp/fabric_csv_XXXXXX", cwd[PETSC_MAX_PATH_LEN], path[PETSC_MAX_PATH_LEN + 32];
+  const char    *files[3] = {"law.csv", "scene/law.csv", "scene/only.csv"};
+  const int      per_pct[3] = {100, 50, 50};
+  Scene          s;
+  PetscErrorCode ierr;
+
+  PetscFunctionBeginUser;
+  PetscCheck(getcwd(cwd, sizeof cwd) && mkdtemp(tmp), PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "no temporary directory");
+  PetscCall(PetscSNPrintf(path, sizeof path, "%s/scene", tmp));
+  PetscCheck(!mkdir(path, 0700), PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot make %s", path);
+  for (int f = 0; f < 3; f++) {
+    FILE *fp;
+    PetscCall(PetscSNPrintf(path, sizeof path, "%s/%s", tmp, files[f]));
+    fp = fopen(path, "w");
+    PetscCheck(fp, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot write %s", path);
+    fprintf(fp, "strain_pct,force_cN\n");
+    for (int k = 0; k <= 4; k++) fprintf(fp, "%d,%d\n", k, k * per_pct[f]);
+    fclose(fp);
+  }
+  PetscCheck(!chdir(tmp), PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot enter %s", tmp);
+  PetscCall(PetscOptionsClear(NULL));
+  PetscCall(PetscOptionsInsertString(NULL, STRIP "-scene scene/x.yaml -warp_law_csv law.csv -weft_law_csv only.csv"));
+  PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
+  ierr = SceneLoad(PETSC_COMM_SELF, &s); /* the files are removed below whatever it gives */
+  PetscCall(PetscPopErrorHandler());
+  PetscCall(ExpectReal("SceneLoad with the two tables succeeds", (PetscReal) ierr, 0, 0));
+  if (!ierr) {
+    PetscCall(ExpectReal("-warp_law_csv law.csv, in the working directory and beside the scene: the working "
+                         "directory's (its path as given)",
+                         (PetscReal) !strcmp(s.yarns.warp.csv, "law.csv"), 1, 0));
+    PetscCall(ExpectReal("... its law, 100 cN per %: EA 100 N", s.yarns.warp.EA, 100, 1e-7));
+    PetscCall(ExpectReal("-weft_law_csv only.csv, beside the scene only: scene/only.csv",
+                         (PetscReal) !strcmp(s.yarns.weft.csv, "scene/only.csv"), 1, 0));
+    PetscCall(ExpectReal("... its law, 50 cN per %: EA 50 N", s.yarns.weft.EA, 50, 5e-8));
+    PetscCall(SceneDestroy(&s));
+  }
+  PetscCheck(!chdir(cwd), PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot return to %s", cwd);
+  for (int f = 2; f >= 0; f--) {
+    PetscCall(PetscSNPrintf(path, sizeof path, "%s/%s", tmp, files[f]));
+    remove(path);
+  }
+  PetscCall(PetscSNPrintf(path, sizeof path, "%s/scene", tmp));
+  rmdir(path);
+  rmdir(tmp);
+  PetscFunctionReturn(0);
+}
+
 /* ---------------- PredictLoadStep, extrapolating ---------------- */
 
 /* -predict extrapolate at load step 3, by hand: the converged states of the last two load steps
@@ -1019,6 +1228,10 @@ int main(int argc, char **argv)
     PetscCall(TestBreakStrain());
   else if (!strcmp(name, "set_up"))
     PetscCall(TestSetUp());
+  else if (!strcmp(name, "scene_units"))
+    PetscCall(TestSceneUnits());
+  else if (!strcmp(name, "yarn_csv_place"))
+    PetscCall(TestYarnCsvPlace());
   else {
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "unknown -case '%s'\n", name));
     failures++;
