@@ -869,6 +869,30 @@ static PetscErrorCode ExpectSI(const char *what, PetscReal value, PetscReal expe
   PetscFunctionReturn(0);
 }
 
+/* summary.json's options (SceneOptionsJson): option name's line is exactly "name": text */
+static PetscErrorCode ExpectJsonLine(const Scene *s, const char *name, const char *text)
+{
+  FILE *fp = tmpfile();
+  char  line[512], want[256], what[320];
+  int   found = 0;
+
+  PetscFunctionBeginUser;
+  PetscCheck(fp, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "no temporary file");
+  snprintf(want, sizeof want, "    \"%s\": %s", name, text);
+  SceneOptionsJson(s, fp, "    ");
+  rewind(fp);
+  while (fgets(line, sizeof line, fp)) {
+    size_t n = strcspn(line, "\n");
+    line[n] = 0;
+    if (n && line[n - 1] == ',') line[n - 1] = 0; /* the member's comma */
+    found += !strcmp(line, want);
+  }
+  fclose(fp);
+  PetscCall(PetscSNPrintf(what, sizeof what, "summary.json's options: %s once", want + 4));
+  PetscCall(ExpectReal(what, found, 1, 0));
+  PetscFunctionReturn(0);
+}
+
 /* the scene's yarn options as distinct values for warp and weft, the densities unequal (20 ends x 10 picks per cm),
    every conversion worked out by hand: tex (g/km) -> kg/m is 1e-6, EA = modulus (cN/tex) x tex / 100 N, % / 100,
    mm/min -> m/s is 1e-3/60, ms -> s 1e-3, mm -> m 1e-3. summary.json's options echo every given value exactly
@@ -972,12 +996,32 @@ static PetscErrorCode TestSceneUnits(void)
   /* the square net: gauge along x at the weft spacing 1 mm (21 crossings), width along y at the warp spacing 0.5 mm
      (11 crossings) */
   PetscCall(PetscOptionsClear(NULL));
-  PetscCall(PetscOptionsInsertString(NULL, BASE "-test square -gauge_mm 20 -width_mm 5 -ends_per_cm 20 -picks_per_cm 10"));
+  PetscCall(PetscOptionsInsertString(NULL, BASE "-test square -gauge_mm 20 -width_mm 5 -ends_per_cm 20 -picks_per_cm 10 "
+                                                 "-point_load_N 0,0.25,-1.5 -point_load_at 7,3"));
   PetscCall(SceneLoad(PETSC_COMM_SELF, &s));
   PetscCall(ExpectReal("square net 20 x 5 mm at 20 ends x 10 picks/cm: nx 21", s.spec.nx, 21, 0));
   PetscCall(ExpectReal("square net: ny 11", s.spec.ny, 11, 0));
   PetscCall(ExpectSI("square net: gauge 20 mm", s.spec.gauge, 0.02));
   PetscCall(ExpectSI("square net: width 5 mm", s.spec.width, 0.005));
+  PetscCall(ExpectReal("-point_load_at 7,3: i", s.load.load_at[0], 7, 0));
+  PetscCall(ExpectReal("-point_load_at 7,3: j", s.load.load_at[1], 3, 0));
+  PetscCall(ExpectJsonLine(&s, "point_load_at", "[7, 3]"));
+  PetscCall(ExpectJsonLine(&s, "point_load_N", "[0, 0.25, -1.5]"));
+  PetscCall(ExpectJsonLine(&s, "test", "\"square\""));
+  PetscCall(SceneDestroy(&s));
+
+  /* the bias specimen at unequal densities: a grid of side (gauge + 2 jaw depths + width) / sqrt(2) = 84 mm / sqrt(2)
+     = 59.40 mm, along x at the weft spacing (6 picks/cm: round(35.64) + 1 = 37), along y at the warp spacing
+     (8 ends/cm: round(47.52) + 1 = 49) */
+  PetscCall(PetscOptionsClear(NULL));
+  PetscCall(PetscOptionsInsertString(NULL, BASE "-test bias -gauge_mm 60 -width_mm 20 -jaw_depth_mm 2 -ends_per_cm 8 "
+                                                 "-picks_per_cm 6"));
+  PetscCall(SceneLoad(PETSC_COMM_SELF, &s));
+  PetscCall(ExpectReal("bias 60 x 20 mm, jaws 2 mm, at 8 ends x 6 picks/cm: nx 37", s.spec.nx, 37, 0));
+  PetscCall(ExpectReal("bias: ny 49", s.spec.ny, 49, 0));
+  PetscCall(ExpectSI("bias: gauge 60 mm", s.spec.gauge, 0.06));
+  PetscCall(ExpectSI("bias: width 20 mm", s.spec.width, 0.02));
+  PetscCall(ExpectSI("bias: jaw depth 2 mm", s.spec.jaw_depth, 0.002));
   PetscCall(SceneDestroy(&s));
 
   /* -static_sequence's coarser fabric (docs/options.md): half the thread density, each yarn of twice the tex (mass
