@@ -3,7 +3,7 @@
  *   test_verification -case linear_strip|crimp_knee|wave_speed|transverse_load|
  *                           stable_095|unstable_110|paper_parasitic|square_net|bias_extension|plane_rest|
  *                           pedestal_rest|friction_incline|
- *                           grip_lines|grip_path|drape_measure|spectrum_chain|spectrum_scenes|
+ *                           grip_lines|grip_path|drape_measure|spectrum_chain|spectrum_scenes|spectrum_dense|
  *                           balance_crossings
  */
 #include "balance.h"
@@ -12,6 +12,8 @@
 #include "measure.h"
 #include "relax.h"
 #include "spectrum.h"
+
+#include <petscblaslapack.h>
 
 #include <math.h>
 
@@ -241,6 +243,110 @@ static PetscErrorCode SpectrumScenes(void)
     }
     PetscCall(FabricDestroy(&fab));
   }
+  PetscFunctionReturn(0);
+}
+
+/* the dense tangent of SpectrumDense: adds an instance's blocks between free crossings (1 rank) */
+typedef struct {
+  const Patch     *p;
+  const PetscReal *inv_m;
+  PetscInt         n; /* 3 x the crossings */
+  PetscReal       *K;
+} DenseK;
+
+static PetscErrorCode AddDenseK(void *ctx, PetscInt n, const PetscInt i[], const PetscInt j[], const PetscReal K[])
+{
+  DenseK *d = (DenseK *) ctx;
+
+  PetscFunctionBeginUser;
+  for (PetscInt a = 0; a < n; a++)
+    for (PetscInt b = 0; b < n; b++) {
+      const PetscInt ka = j[a] * d->p->nx + i[a], kb = j[b] * d->p->nx + i[b];
+      if (!(d->inv_m[ka] > 0 && d->inv_m[kb] > 0)) continue;
+      for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) {
+          const PetscReal v = K[(3 * a + r) * 3 * n + 3 * b + c];
+          if (isfinite(v)) d->K[(3 * ka + r) * d->n + 3 * kb + c] += v;
+        }
+    }
+  PetscFunctionReturn(0);
+}
+
+/* The measured omega_max^2 (Lanczos, spectrum.c) against the largest eigenvalue of the dense
+   M^-1/2 K M^-1/2 by LAPACK (dsyev), K assembled independently on 1 rank from the terms' exact
+   Hessians (InternalTangent: traction, bending, shear) and the ball's penalty Hessian, between free
+   crossings: a small pushing test (2 threads/cm, bending, shear and the ball's
+   contact) after 4 quasi-static load steps to 6 mm. Within 1e-6 relative (Lanczos stops on a
+   change below 1e-6 over 10 steps). And the same without the ball's Hessian is not within it:
+   the contact sets the limit here (a check of the check). */
+static PetscErrorCode SpectrumDense(void)
+{
+  Fabric             fab;
+  const Patch       *p;
+  DenseK             d;
+  const PetscScalar *x;
+  PetscReal          omega2, lmax[2], c[3];
+  PetscInt           its, nfree = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(NewFabric(BASE "-test pushing -ends_per_cm 2 -picks_per_cm 2 -sphere_travel_mm 6 -load_steps 4 "
+                           "-solver static -balance_tol 1e-8",
+                      &fab));
+  PetscCall(FabricRun(fab));
+  PetscCall(TangentOmega2Max(fab, &omega2, &its));
+  p = &fab->grid.patch;
+  PetscCheck(fab->grid.nloc == p->nx * p->ny && fab->bodies.n == 1, PETSC_COMM_SELF, PETSC_ERR_SUP, "1 rank, one ball");
+  d.p = p, d.inv_m = fab->grid.inv_m, d.n = 3 * fab->grid.nloc;
+  for (int withbody = 0; withbody < 2; withbody++) {
+    PetscBLASInt nb, lwork, info;
+    PetscReal   *w, *work, wq;
+    PetscCall(PetscCalloc1((size_t) d.n * d.n, &d.K));
+    PetscCall(HaloExchange(fab->grid.da, fab->state.X, fab->state.Xl));
+    PetscCall(VecGetArrayRead(fab->state.Xl, &x));
+    {
+      const PetscInt all[4] = {0, p->nx, 0, p->ny};
+      PetscCall(InternalTangent(p, x, all, PETSC_FALSE, AddDenseK, &d));
+    }
+    PetscCall(VecRestoreArrayRead(fab->state.Xl, &x));
+    BodyPosition(&fab->bodies.body[0], fab->load.travel_now, c);
+    PetscCall(VecGetArrayRead(fab->state.X, &x));
+    for (PetscInt k = 0; k < fab->grid.nloc && withbody; k++) {
+      PetscReal g[3], Kb[9];
+      if (!(fab->grid.inv_m[k] > 0) || !(BodyEnergy(&fab->bodies.body[0], c, x + 3 * k, g, Kb) > 0)) continue;
+      for (int r = 0; r < 3; r++)
+        for (int q = 0; q < 3; q++) d.K[(3 * k + r) * d.n + 3 * k + q] += Kb[3 * r + q];
+    }
+    PetscCall(VecRestoreArrayRead(fab->state.X, &x));
+    nfree = 0;
+    for (PetscInt a = 0; a < d.n; a++) {
+      const PetscReal sa = fab->grid.inv_m[a / 3] > 0 ? PetscSqrtReal(fab->grid.inv_m[a / 3]) : 0;
+      nfree += sa > 0;
+      for (PetscInt b = 0; b < d.n; b++) {
+        const PetscReal sb = fab->grid.inv_m[b / 3] > 0 ? PetscSqrtReal(fab->grid.inv_m[b / 3]) : 0;
+        d.K[a * d.n + b] *= sa * sb;
+      }
+    }
+    PetscCall(PetscBLASIntCast(d.n, &nb));
+    PetscCall(PetscMalloc1(d.n, &w));
+    lwork = -1;
+    LAPACKsyev_("N", "U", &nb, d.K, &nb, w, &wq, &lwork, &info);
+    PetscCall(PetscBLASIntCast((PetscInt) wq, &lwork));
+    PetscCall(PetscMalloc1(lwork, &work));
+    LAPACKsyev_("N", "U", &nb, d.K, &nb, w, work, &lwork, &info);
+    PetscCheck(info == 0, PETSC_COMM_SELF, PETSC_ERR_LIB, "dsyev: info %d", (int) info);
+    lmax[withbody] = w[d.n - 1];
+    PetscCall(PetscFree(work));
+    PetscCall(PetscFree(w));
+    PetscCall(PetscFree(d.K));
+  }
+  PetscPrintf(PETSC_COMM_WORLD,
+              "%d free unknowns, %d Lanczos steps: omega_max^2 = %.12g; dense: %.12g, without the ball's Hessian %.12g\n",
+              (int) nfree / 3 * 3, (int) its, (double) omega2, (double) lmax[1], (double) lmax[0]);
+  CheckRel("measured omega_max^2 of a pushing test vs the dense tangent's largest eigenvalue (rad^2/s^2)", omega2, lmax[1],
+           1e-6);
+  CheckTrue("the ball's contact sets it: without its Hessian the largest eigenvalue differs by more than 1e-4 (relative)",
+            PetscAbsReal(lmax[0] - lmax[1]) > 1e-4 * lmax[1], (double) (PetscAbsReal(lmax[0] - lmax[1]) / lmax[1]));
+  PetscCall(FabricDestroy(&fab));
   PetscFunctionReturn(0);
 }
 

@@ -13,6 +13,7 @@ CASE(paper_parasitic, PaperParasitic(), "verification", 300)
 /* the measured stable limit (spectrum.c) against an exact spectrum, and the bound against it */
 CASE(spectrum_chain, SpectrumChain(), "verification", 120)
 CASE(spectrum_scenes, SpectrumScenes(), "verification", 300)
+CASE(spectrum_dense, SpectrumDense(), "verification", 120)
 /* the balance test per crossing against exact ratios, and after a relaxation (balance.c) */
 CASE(balance_crossings, BalanceCrossingsCase(), "verification", 120)
 /* the te steps' balance test: at rest, not only balanced (mutation test of integrate.c) */
