@@ -13,7 +13,7 @@
 #include "relax.h"
 #include "spectrum.h"
 
-#include <petscblaslapack.h>
+#include <gsl/gsl_eigen.h>
 
 #include <math.h>
 
@@ -273,7 +273,7 @@ static PetscErrorCode AddDenseK(void *ctx, PetscInt n, const PetscInt i[], const
 }
 
 /* The measured omega_max^2 (Lanczos, spectrum.c) against the largest eigenvalue of the dense
-   M^-1/2 K M^-1/2 by LAPACK (dsyev), K assembled independently on 1 rank from the terms' exact
+   M^-1/2 K M^-1/2 by GSL (gsl_eigen_symm), K assembled independently on 1 rank from the terms' exact
    Hessians (InternalTangent: traction, bending, shear) and the ball's penalty Hessian, between free
    crossings: a small pushing test (2 threads/cm, bending, shear and the ball's
    contact) after 4 quasi-static load steps to 6 mm. Within 1e-6 relative (Lanczos stops on a
@@ -298,8 +298,6 @@ static PetscErrorCode SpectrumDense(void)
   PetscCheck(fab->grid.nloc == p->nx * p->ny && fab->bodies.n == 1, PETSC_COMM_SELF, PETSC_ERR_SUP, "1 rank, one ball");
   d.p = p, d.inv_m = fab->grid.inv_m, d.n = 3 * fab->grid.nloc;
   for (int withbody = 0; withbody < 2; withbody++) {
-    PetscBLASInt nb, lwork, info;
-    PetscReal   *w, *work, wq;
     PetscCall(PetscCalloc1((size_t) d.n * d.n, &d.K));
     PetscCall(HaloExchange(fab->grid.da, fab->state.X, fab->state.Xl));
     PetscCall(VecGetArrayRead(fab->state.Xl, &x));
@@ -326,22 +324,24 @@ static PetscErrorCode SpectrumDense(void)
         d.K[a * d.n + b] *= sa * sb;
       }
     }
-    PetscCall(PetscBLASIntCast(d.n, &nb));
-    PetscCall(PetscMalloc1(d.n, &w));
-    lwork = -1;
-    LAPACKsyev_("N", "U", &nb, d.K, &nb, w, &wq, &lwork, &info);
-    PetscCall(PetscBLASIntCast((PetscInt) wq, &lwork));
-    PetscCall(PetscMalloc1(lwork, &work));
-    LAPACKsyev_("N", "U", &nb, d.K, &nb, w, work, &lwork, &info);
-    PetscCheck(info == 0, PETSC_COMM_SELF, PETSC_ERR_LIB, "dsyev: info %d", (int) info);
-    lmax[withbody] = w[d.n - 1];
-    PetscCall(PetscFree(work));
-    PetscCall(PetscFree(w));
+    { /* the eigenvalues of the dense symmetric matrix (GSL's QR on its tridiagonal form) */
+      gsl_matrix_view            A    = gsl_matrix_view_array(d.K, (size_t) d.n, (size_t) d.n);
+      gsl_vector                *eval = gsl_vector_alloc((size_t) d.n);
+      gsl_eigen_symm_workspace *ws   = gsl_eigen_symm_alloc((size_t) d.n);
+      int                        status;
+      PetscCheck(eval && ws, PETSC_COMM_SELF, PETSC_ERR_MEM, "gsl_eigen_symm: out of memory");
+      status = gsl_eigen_symm(&A.matrix, eval, ws);
+      PetscCheck(status == 0, PETSC_COMM_SELF, PETSC_ERR_LIB, "gsl_eigen_symm: status %d", status);
+      lmax[withbody] = gsl_vector_max(eval);
+      gsl_eigen_symm_free(ws);
+      gsl_vector_free(eval);
+    }
     PetscCall(PetscFree(d.K));
   }
-  PetscPrintf(PETSC_COMM_WORLD,
-              "%d free unknowns, %d Lanczos steps: omega_max^2 = %.12g; dense: %.12g, without the ball's Hessian %.12g\n",
-              (int) nfree / 3 * 3, (int) its, (double) omega2, (double) lmax[1], (double) lmax[0]);
+  PetscCall(PetscPrintf(PETSC_COMM_WORLD,
+                        "%d free unknowns, %d Lanczos steps: omega_max^2 = %.12g; dense: %.12g, without the ball's Hessian "
+                        "%.12g\n",
+                        (int) nfree / 3 * 3, (int) its, (double) omega2, (double) lmax[1], (double) lmax[0]));
   CheckRel("measured omega_max^2 of a pushing test vs the dense tangent's largest eigenvalue (rad^2/s^2)", omega2, lmax[1],
            1e-6);
   CheckTrue("the ball's contact sets it: without its Hessian the largest eigenvalue differs by more than 1e-4 (relative)",
