@@ -67,6 +67,23 @@ for bad in "te_measure_states -1 -1, te_measure_prev_load_step = [0-9]+" "te_mea
   cp "$ck" "$work/attr.h5" && setattr "$work/attr.h5" "$attr" "$value" || { echo "FAIL cannot set $attr"; fail=1; continue; }
   refuse "attr_${attr}_$value" "-restart .*attr.h5: damaged checkpoint: te_measure_states = $what .0 to 6." "${opts[@]}" -output_dir "$work/run" -restart "$work/attr.h5"
 done
+# a checkpoint of the format before or after this fabric's is refused; a grid of another length (other_grid: another
+# width); the load step, the place within it and the flag that says it is within one, out of their ranges (the
+# checkpoint is at the end of the last load step, 6; -max_inner_steps is 20000)
+setattrs() { /usr/bin/python3 -c "import sys, h5py; f = h5py.File(sys.argv[1], 'r+'); [f.attrs.__setitem__(k, float(v)) for k, v in zip(sys.argv[2::2], sys.argv[3::2])]" "$@"; }
+format=$(/usr/bin/python3 -c "import sys, h5py; print(int(h5py.File(sys.argv[1], 'r').attrs['fabric_checkpoint']))" "$ck")
+for v in $((format - 1)) $((format + 1)); do
+  cp "$ck" "$work/attr.h5" && setattrs "$work/attr.h5" fabric_checkpoint "$v" || { echo "FAIL cannot set fabric_checkpoint"; fail=1; continue; }
+  refuse "format_$v" "-restart .*attr.h5: checkpoint format $v, this fabric reads format $format" "${opts[@]}" -output_dir "$work/run" -restart "$work/attr.h5"
+done
+refuse other_grid_length "-restart .*checkpoint.h5: the checkpoint is of another grid: 49 x 12 crossings there .*, [0-9]+ x 12 here" "${opts[@]}" -gauge_mm 25 -output_dir "$work/run" -restart "$ck"
+for bad in "load_step_0|load step 0 of 6|load_step 0" "load_step_6_within|load step 7 of 6|load_step 6 within_load_step 1 relax_te_step 5" \
+           "within_2|within_load_step = 2|within_load_step 2" "te_step_0|te step 0 of round 0 within a load step of at most [0-9]+ te steps|within_load_step 1 relax_te_step 0 relax_round 0" \
+           "te_step_max|te step 20000 of round 0 within a load step of at most 20000 te steps|within_load_step 1 relax_te_step 20000 relax_round 0"; do
+  IFS='|' read -r name what pairs <<<"$bad"
+  cp "$ck" "$work/attr.h5" && setattrs "$work/attr.h5" $pairs || { echo "FAIL cannot set $pairs"; fail=1; continue; }
+  refuse "attr_$name" "-restart .*attr.h5: damaged checkpoint: $what" "${opts[@]}" -output_dir "$work/run" -restart "$work/attr.h5"
+done
 # frames were written before the checkpoint: restarting into a directory without them is refused
 refuse frames_missing "-restart .*checkpoint.h5: .*/elsewhere/fabric.h5, which holds the [0-9]+ frames written before the checkpoint, is missing" "${opts[@]}" -output_dir "$work/elsewhere" -restart "$ck"
 [[ -e "$work/elsewhere" ]] && { echo "FAIL frames_missing: $work/elsewhere was created"; fail=1; }

@@ -39,6 +39,7 @@ check '[[ $rc -ne 0 && ! -e $work/killed/summary.json && $rows_at_kill -lt 12 ]]
 attr() { h5dump -a "$2" "$1" | sed -n 's/ *(0): //p'; }
 echo "checkpoint at load step $(attr "$work/killed/checkpoint.h5" /load_step) with $(attr "$work/killed/checkpoint.h5" /frames) frames; $(h5ls "$work/killed/fabric.h5/frames" | wc -l) frames in fabric.h5 when killed"
 at=$(attr "$work/killed/checkpoint.h5" /load_step)
+check '[[ $at -ge 2 && $((at % 2)) -eq 0 ]]' "the checkpoint is of load step $at, one that -checkpoint_every 2 names (2, 4, ...)"
 mpiexec -n 2 "$fabric" "${opts[@]}" -quiet false -output_dir "$work/killed" -positions_out "$work/killed/positions.bin" -restart "$work/killed/checkpoint.h5" >"$work/restart.log" 2>&1
 rc=$?
 check '[[ $rc -eq 0 ]]' "the restarted run ends normally"

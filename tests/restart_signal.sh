@@ -11,7 +11,8 @@
 #   2 -> 2   SIGUSR1 to mpiexec, which Open MPI forwards to the ranks at once (SIGTERM to mpiexec
 #            reaches the ranks only after -mca odls_base_sigkill_timeout seconds, 1 by default, and
 #            is followed by SIGKILL as long after: docs/checkpoints.md)
-# DIR holds an earlier run's summary.json: the stopped run leaves none (it read as finished).
+# DIR holds an earlier run's summary.json: the stopped run leaves none (it read as finished), and says no end line
+# (it gave the last load step's force and travel of a load step not yet run).
 # The jaw's force in curve.csv is a sum over ranks, exact here: the jaw's crossings all lie on one
 # rank on 1, 2 and 3 ranks.
 set -u
@@ -53,6 +54,7 @@ case_() {
   check '[[ $rc -eq 3 ]]' "$name: SIG$sig to the $target: exit status $rc (3: stopped after a checkpoint)"
   check '[[ "$msg" =~ ^"fabric: SIG$sig: checkpoint written at load step "[0-9]+", te step "[0-9]+": restart with -restart $d/checkpoint.h5"$ ]]' "$name: the run says: $msg"
   check '[[ ! -e $d/summary.json && ! -e $d/positions.bin && $(($(wc -l <"$d/curve.csv") - 1)) -eq $((k - 1)) ]]' "$name: stopped within load step $k (curve.csv has its $((k - 1)) rows before, no summary.json, no final positions)"
+  check '! grep -Eq "^fabric: (done|results)" "$work/$name.log"' "$name: no end line (\"fabric: done ...\", \"fabric: results in ...\"): the run is not done"
   check '[[ "$(attr "$d/checkpoint.h5" /within_load_step)" == 1 && "$(attr "$d/checkpoint.h5" /load_step)" == $((k - 1)) && $((${n:-0} > 0 && ${n:-0} < 3000)) == 1 ]]' "$name: checkpoint.h5 is within load step $k after its te step $n ($(attr "$d/checkpoint.h5" /relax_te_step) te steps of round $(attr "$d/checkpoint.h5" /relax_round); ramp $(attr "$d/checkpoint.h5" /ramp_done)/$(attr "$d/checkpoint.h5" /ramp_steps))"
   mpiexec -n "$np2" "$fabric" "${opts[@]}" -quiet false -output_dir "$d" -positions_out "$d/positions.bin" -restart "$d/checkpoint.h5" >"$work/$name.restart.log" 2>&1
   rc=$?
