@@ -295,9 +295,6 @@ static PetscErrorCode RankGrid(PetscInt nx, PetscInt ny, PetscMPIInt size, Petsc
   PetscFunctionReturn(0);
 }
 
-/* PETSc's -da_processors_x and -da_processors_y, checked here on every rank alike (the DMDA would
-   fail on some ranks only): a split of the size, 2 crossings a rank at least along a split
-   direction; one of them given, the other is the rest of the ranks */
 /* a rank count option read as text: PETSc's own reading wraps 4294967297 to 1 */
 static PetscErrorCode RankCountOption(MPI_Comm comm, const char *name, PetscInt *v, PetscBool *set)
 {
@@ -315,6 +312,9 @@ static PetscErrorCode RankCountOption(MPI_Comm comm, const char *name, PetscInt 
   PetscFunctionReturn(0);
 }
 
+/* PETSc's -da_processors_x and -da_processors_y, checked here on every rank alike (the DMDA would
+   fail on some ranks only): a split of the size, 2 crossings a rank at least along a split
+   direction; one of them given, the other is the rest of the ranks */
 static PetscErrorCode UserRankGrid(PetscInt nx, PetscInt ny, PetscMPIInt size, MPI_Comm comm, PetscInt *m, PetscInt *n)
 {
   PetscInt  px = 0, py = 0;

@@ -195,7 +195,8 @@ static PetscErrorCode Run(int argc, char **argv)
     PetscCall(PetscPrintf(PETSC_COMM_WORLD,
                           "fabric: scene %s, %" PetscInt_FMT " x %" PetscInt_FMT " crossings (%" PetscInt_FMT
                           " points) on %d rank%s, %s %s, prediction %s, %" PetscInt_FMT " load step%s, test %s%s\n",
-                          fab->s.out.name, fab->s.spec.nx, fab->s.spec.ny, fab->grid.points, fab->size, fab->size == 1 ? "" : "s",
+                          fab->s.out.name, fab->s.spec.nx, fab->s.spec.ny, fab->grid.points, fab->size,
+                          fab->size == 1 ? "" : "s",
                           fab->s.num.solver == SOLVER_STATIC ? "static" : IntegratorNames[fab->s.num.integrator],
                           fab->s.num.solver == SOLVER_STATIC ? "solver" : "integrator", PredictNames[fab->s.num.predict],
                           fab->s.load.load_steps, fab->s.load.load_steps == 1 ? "" : "s", TestNames[fab->s.test], travel));
