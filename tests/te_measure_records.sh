@@ -12,7 +12,7 @@ fabric="$1"; inputs="$2"
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
 opts=(-scene "$inputs/strip_warp.yaml" -yarns 4 -gauge_mm 10 -elongation_pct 12 -load_steps 6 -te_measure 1 -quiet)
 mpiexec -n 2 "$fabric" "${opts[@]}" -output_dir "$work/d" -info :sys >"$work/log" 2>&1 || { cat "$work/log"; echo "FAIL the FIRE run"; exit 1; }
-mpiexec -n 2 "$fabric" "${opts[@]}" -output_dir "$work/p" -integrator paper >/dev/null 2>&1 || { echo "FAIL the paper run"; exit 1; }
+mpiexec -n 2 "$fabric" "${opts[@]}" -output_dir "$work/p" -integrator paper >"$work/paper.log" 2>&1 || { cat "$work/paper.log"; echo "FAIL the paper run"; exit 1; }
 /usr/bin/python3 - "$work/log" "$work/d/summary.json" "$work/p/summary.json" <<'PY'
 import json, re, sys
 states = [(int(m[1]), m[2], float(m[3]), float(m[4]))

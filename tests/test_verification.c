@@ -252,6 +252,7 @@ typedef struct {
   const PetscReal *inv_m;
   PetscInt         n; /* 3 x the crossings */
   PetscReal       *K;
+  PetscInt         nonfinite; /* entries of the terms' Hessians that were not finite */
 } DenseK;
 
 static PetscErrorCode AddDenseK(void *ctx, PetscInt n, const PetscInt i[], const PetscInt j[], const PetscReal K[])
@@ -267,6 +268,7 @@ static PetscErrorCode AddDenseK(void *ctx, PetscInt n, const PetscInt i[], const
         for (int c = 0; c < 3; c++) {
           const PetscReal v = K[(3 * a + r) * 3 * n + 3 * b + c];
           if (isfinite(v)) d->K[(3 * ka + r) * d->n + 3 * kb + c] += v;
+          else d->nonfinite++;
         }
     }
   PetscFunctionReturn(0);
@@ -296,7 +298,7 @@ static PetscErrorCode SpectrumDense(void)
   PetscCall(TangentOmega2Max(fab, &omega2, &its));
   p = &fab->grid.patch;
   PetscCheck(fab->grid.nloc == p->nx * p->ny && fab->bodies.n == 1, PETSC_COMM_SELF, PETSC_ERR_SUP, "1 rank, one ball");
-  d.p = p, d.inv_m = fab->grid.inv_m, d.n = 3 * fab->grid.nloc;
+  d.p = p, d.inv_m = fab->grid.inv_m, d.n = 3 * fab->grid.nloc, d.nonfinite = 0;
   for (int withbody = 0; withbody < 2; withbody++) {
     PetscCall(PetscCalloc1((size_t) d.n * d.n, &d.K));
     PetscCall(HaloExchange(fab->grid.da, fab->state.X, fab->state.Xl));
@@ -342,6 +344,7 @@ static PetscErrorCode SpectrumDense(void)
                         "%d free unknowns, %d Lanczos steps: omega_max^2 = %.12g; dense: %.12g, without the ball's Hessian "
                         "%.12g\n",
                         (int) nfree / 3 * 3, (int) its, (double) omega2, (double) lmax[1], (double) lmax[0]));
+  CheckTrue("every entry of the terms' Hessians between free crossings is finite", d.nonfinite == 0, (double) d.nonfinite);
   CheckRel("measured omega_max^2 of a pushing test vs the dense tangent's largest eigenvalue (rad^2/s^2)", omega2, lmax[1],
            1e-6);
   CheckTrue("the ball's contact sets it: without its Hessian the largest eigenvalue differs by more than 1e-4 (relative)",
