@@ -33,10 +33,13 @@ void BodyContact(const Body *b, const PetscReal c[3], PetscInt n, const PetscRea
                  PetscReal *anchor, PetscReal *f);
 /* penalty energy 0.5 k p^2 of one point at x (p: penetration), its gradient g and Hessian K (3 x 3, row-major) */
 PetscReal BodyEnergy(const Body *b, const PetscReal c[3], const PetscReal x[3], PetscReal g[3], PetscReal K[9]);
-/* the body's share of a point's Gershgorin row sum: its penalty spring, whether in contact or not */
-static inline PetscReal BodyBound(const Body *b)
+/* the body's share of the stable-step bound at a point, in contact or not: its penalty spring k
+   along its normal there (a frictionless sphere or plane: the penalty's Hessian is at most
+   k n n^T), or k in every direction (with friction, whose stick spring is tangential; the
+   pedestal, whose normal turns round its edge) */
+static inline PetscBool BodyBoundAlongNormal(const Body *b)
 {
-  return b->k;
+  return b->mu == 0 && (b->kind == BODY_SPHERE || b->kind == BODY_PLANE) ? PETSC_TRUE : PETSC_FALSE;
 }
 
 /* Penalty contact with rigid bodies (MODEL.md 5.5) on n consecutive owned points: a point

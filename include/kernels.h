@@ -64,6 +64,16 @@ typedef struct {  /* a row of yarn segments as the stable-step bound sees them (
   PetscReal *pull; /* its share of each end's pull-direction row (PullSpringRow) */
 } BoundSegRow;
 
+/* A frictionless sphere or plane as the stable-step bound sees it (MODEL.md 7.3): its penalty's
+   Hessian at a point is at most k n n^T, n the body's normal there (a sphere's tangential part,
+   -k (reach - r)/r (I - n n^T), only lowers it), so the point's block takes k along n alone. */
+#define CONTACT_BOUNDS_MAX 3
+typedef struct {
+  int       body;   /* its index among the scene's bodies */
+  PetscBool sphere; /* n from the centre c to the point; else the plane's unit normal n */
+  PetscReal k, c[3], n[3];
+} ContactBound;
+
 typedef struct {
   /* grid and patch, global indices */
   PetscInt       nx, ny;
@@ -75,7 +85,10 @@ typedef struct {
   PetscBool traction, bending, shear;
   PetscReal kbx, kby;       /* B / L0 along x and y, N m */
   PetscReal Ks, Kj, s_lock; /* shear stiffness per crossing, jamming stiffness (N m), sin(gamma_lock) */
-  PetscReal k_contact;      /* penalty stiffness of rigid-body contact (N/m), 0 = no body */
+  PetscReal k_contact;      /* penalty stiffness of rigid-body contact in every direction (N/m): the bodies with
+                               friction (the stick spring is tangential) and the pedestal; 0 = none */
+  ContactBound cb[CONTACT_BOUNDS_MAX]; /* the other bodies: k along their normal at each point */
+  int          ncb;
   /* the stable step's window (StableStep, MODEL.md 7.3): the chord strains of each family
      (0 warp, 1 weft) and the |sin(shear angle)| its bound covers; ComputeInternalForces sets
      left_window when a segment or crossing next to a point of its box is outside them */
@@ -154,13 +167,18 @@ typedef struct {    /* the point whose row sets the bound (the first in the patc
    state within the patch's window: at each point, 2 lambda_max of the sum of its yarn
    segments' 3x3 blocks (yarn tangent maximised over the window, geometric part max(T,0)/L),
    plus the Gershgorin row sums of bending and shear (jamming counted if the window reaches the
-   lock), plus the contact penalty. omega2_pull: the same from the current tangent of the yarns
-   along pull_dir (0: x, 1: y) alone: the highest frequency of the chain the damping is tuned to.
-   at (or NULL): the point whose row sets the bound, and its terms' parts there.
+   lock), plus the contact penalty (ContactBoundRow). omega2_pull: the same from the current
+   tangent of the yarns along pull_dir (0: x, 1: y) alone: the highest frequency of the chain the
+   damping is tuned to. at (or NULL): the point whose row sets the bound, and its terms' parts there.
    Each segment and crossing is evaluated once (rows in the patch's bound work space); each
-   point's row takes the same values in the same order as the sum of the terms' bound_row. */
+   point's row takes the same values in the same order as the sum of the terms' bound_row and
+   ContactBoundRow. */
 PetscReal StableOmega2(Patch *p, const PetscReal *x, const PetscReal *inv_m, int pull_dir, PetscReal *omega2_pull,
                        BoundRow *at);
+/* The rigid bodies' part of point (i,j)'s row: k_contact, plus what the frictionless bodies'
+   k n n^T add to the yarns' blocks, lambda_max(2 B + sum k n n^T) - 2 lambda_max(B) (between 0
+   and their sum of k), B the point's traction block (none without traction) */
+PetscReal ContactBoundRow(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j);
 /* omega2_pull of StableOmega2 alone */
 PetscReal PullOmega2(Patch *p, const PetscReal *x, const PetscReal *inv_m, int pull_dir);
 

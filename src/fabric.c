@@ -521,9 +521,13 @@ static PetscErrorCode SetUpPatch(Fabric fab, const DMDALocalInfo *info_)
     p->Ks        = s->terms.shear_G * p->ax * p->ay;
     p->Kj        = s->terms.jam_factor * p->Ks;
     p->s_lock    = PetscSinReal(s->terms.lock_deg * PETSC_PI / 180.0);
-    p->k_contact = 0; /* a crossing can touch every body at once */
-    for (PetscInt q = 0; q < fab->bodies.n; q++)
-      p->k_contact += BodyBound(&fab->bodies.body[q]); /* a crossing can touch every body at once */
+    p->k_contact = 0, p->ncb = 0; /* a crossing can touch every body at once */
+    for (PetscInt q = 0; q < fab->bodies.n; q++) {
+      const Body *b = &fab->bodies.body[q];
+      if (BodyBoundAlongNormal(b) && p->ncb < CONTACT_BOUNDS_MAX) /* a sphere's centre: at each bound */
+        p->cb[p->ncb++] = (ContactBound){(int) q, b->kind == BODY_SPHERE, b->k, {0, 0, 0}, {b->dir[0], b->dir[1], b->dir[2]}};
+      else p->k_contact += b->k;
+    }
     PetscCall(PetscCalloc1((size_t) p->gxm * p->gym, &p->exists));
     PetscCall(PetscCalloc1((size_t) p->gxm * p->gym, &p->broken_x));
     PetscCall(PetscCalloc1((size_t) p->gxm * p->gym, &p->broken_y));
@@ -553,6 +557,7 @@ static PetscErrorCode CheckStiffnessAndMass(Fabric fab)
   const Patch    *p      = &fab->grid.patch;
   const YarnLaw  *law[2] = {&s->yarns.warp, &s->yarns.weft};
   const PetscReal L0[2] = {p->ax, p->ay}, density[2] = {s->in.picks_per_cm, s->in.ends_per_cm};
+  PetscReal       kcontact = p->k_contact; /* and the bodies along their normals */
   PetscReal       m[2] = {0, 0}; /* minus the lightest and the heaviest positive point mass */
 
   PetscFunctionBeginUser;
@@ -569,10 +574,11 @@ static PetscErrorCode CheckStiffnessAndMass(Fabric fab)
                "%s/cm",
                n, (double) k, n, law[y]->csv, (double) density[y], spacing);
   }
-  PetscCheck(isfinite(p->kbx) && isfinite(p->kby) && isfinite(p->Ks) && isfinite(p->Kj) && isfinite(p->k_contact),
+  for (int q = 0; q < p->ncb; q++) kcontact += p->cb[q].k;
+  PetscCheck(isfinite(p->kbx) && isfinite(p->kby) && isfinite(p->Ks) && isfinite(p->Kj) && isfinite(kcontact),
              fab->comm, PETSC_ERR_USER_INPUT,
              "a stiffness overflows: bending %g, %g N m, shear %g N m, jamming %g N m, contact %g N/m", (double) p->kbx,
-             (double) p->kby, (double) p->Ks, (double) p->Kj, (double) p->k_contact);
+             (double) p->kby, (double) p->Ks, (double) p->Kj, (double) kcontact);
   m[0] = -PETSC_MAX_REAL;
   for (PetscInt k = 0; k < fab->grid.nloc; k++) {
     const PetscReal mk = fab->grid.mass[k];

@@ -511,11 +511,9 @@ static inline void SegmentBlock(PetscReal k, PetscReal T, PetscReal L, const Pet
    + v_b^T A_s v_b) with A_s = k n n^T + g (I - n n^T) >= the segment's tangent, k the yarn tangent's
    largest value in the family's window over L0, g = max(T,0)/L (a compressed segment's negative
    geometric stiffness only lowers K); so the point's row is 2 lambda_max(sum of its segments' A_s). */
-static void TractionBoundRow(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j, int pull_dir, PetscReal *rs,
-                             PetscReal *rp)
+static void TractionBlock(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j, int pull_dir, PetscReal B[6],
+                          PetscReal *rp)
 {
-  PetscReal B[6] = {0, 0, 0, 0, 0, 0};
-
   for (int dir = 0; dir < 2; dir++) {
     const YarnLaw  *law = dir == 0 ? p->warp : p->weft;
     const PetscReal L0  = dir == 0 ? p->ax : p->ay;
@@ -534,7 +532,56 @@ static void TractionBoundRow(const Patch *p, const PetscReal *x, PetscInt i, Pet
       if (dir == pull_dir) *rp += PullSpringRow(law, L0, e, T, L);
     }
   }
+}
+
+static void TractionBoundRow(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j, int pull_dir, PetscReal *rs,
+                             PetscReal *rp)
+{
+  PetscReal B[6] = {0, 0, 0, 0, 0, 0};
+
+  TractionBlock(p, x, i, j, pull_dir, B, rp);
   *rs += 2.0 * SymMaxEig3(B);
+}
+
+/* The rigid bodies at a point: v^T K v <= v^T (k_contact I + sum_b k_b n_b n_b^T) v, so the
+   frictionless bodies join the traction row's eigenvalue, lambda_max(2 B + sum_b k_b n_b n_b^T),
+   and the rest add k_contact (ContactBound). Where the yarns run across the normal (along a
+   sphere's surface) the bodies add little to the row; along it, their k. xp: the point. */
+static PetscReal ContactPart(const Patch *p, const PetscReal xp[3], const PetscReal B[6], PetscReal tr)
+{
+  PetscReal C[6], ksum = 0.0;
+
+  if (!p->ncb) return p->k_contact;
+  for (int q = 0; q < 6; q++) C[q] = B[q];
+  for (int q = 0; q < p->ncb; q++) {
+    const ContactBound *b = &p->cb[q];
+    const PetscReal     h = 0.5 * b->k; /* C is half the row's matrix, as B is */
+    PetscReal           n[3] = {b->n[0], b->n[1], b->n[2]};
+    ksum += b->k;
+    if (b->sphere) {
+      const PetscReal d[3] = {xp[0] - b->c[0], xp[1] - b->c[1], xp[2] - b->c[2]};
+      const PetscReal r    = PetscSqrtReal(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+      if (!(r > 0)) { /* at the centre: any direction */
+        C[0] += h, C[1] += h, C[2] += h;
+        continue;
+      }
+      for (int k = 0; k < 3; k++) n[k] = d[k] / r;
+    }
+    C[0] += h * n[0] * n[0], C[1] += h * n[1] * n[1], C[2] += h * n[2] * n[2];
+    C[3] += h * n[0] * n[1], C[4] += h * n[0] * n[2], C[5] += h * n[1] * n[2];
+  }
+  return p->k_contact + PetscMin(PetscMax(2.0 * SymMaxEig3(C) - tr, 0.0), ksum);
+}
+
+PetscReal ContactBoundRow(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j)
+{
+  PetscReal B[6] = {0, 0, 0, 0, 0, 0}, rp = 0.0, tr = 0.0;
+
+  if (p->traction) {
+    TractionBlock(p, x, i, j, 0, B, &rp);
+    tr = 2.0 * SymMaxEig3(B);
+  }
+  return ContactPart(p, x + 3 * ((j - p->gys) * p->gxm + (i - p->gxs)), B, tr);
 }
 
 /* The bound's view of the segments from (gxs + li, j) along dir, li in [c0, c1) (-2 <= c0,
@@ -1478,10 +1525,9 @@ PetscReal StableOmega2(Patch *p, const PetscReal *x, const PetscReal *inv_m, int
     for (PetscInt li = c0; li < c1; li++) {
       const PetscInt  i  = p->gxs + li;
       const PetscReal im = inv_m[(j - p->ys) * p->xm + (li - c0)];
-      PetscReal       rs = 0.0, rp = 0.0, upto[3];
+      PetscReal       rs = 0.0, rp = 0.0, upto[3], kc, B[6] = {0, 0, 0, 0, 0, 0};
       if (im <= 0.0) continue;
       if (p->traction) { /* TractionBoundRow */
-        PetscReal B[6] = {0, 0, 0, 0, 0, 0};
         BoundSegmentAdd(xr, li - 1, p->win_k[0], pull_dir == 0, B, &rp);
         BoundSegmentAdd(xr, li, p->win_k[0], pull_dir == 0, B, &rp);
         BoundSegmentAdd(yd, li, p->win_k[1], pull_dir == 1, B, &rp);
@@ -1502,10 +1548,11 @@ PetscReal StableOmega2(Patch *p, const PetscReal *x, const PetscReal *inv_m, int
         ShearBoundAdd(p, i, j, s, &rs);
       }
       upto[2] = rs;
-      rs += p->k_contact; /* a rigid body's penalty spring, whether in contact or not */
+      kc = ContactPart(p, x + 3 * ((j - p->gys) * p->gxm + li), B, upto[0]); /* ContactBoundRow */
+      rs += kc;
       if (rs * im > best.omega2)
         best = (BoundRow){
-          i, j, rs * im, {upto[0] * im, (upto[1] - upto[0]) * im, (upto[2] - upto[1]) * im, p->k_contact * im}
+          i, j, rs * im, {upto[0] * im, (upto[1] - upto[0]) * im, (upto[2] - upto[1]) * im, kc * im}
         };
       omega2 = PetscMax(omega2, rs * im);
       pull2  = PetscMax(pull2, rp * im);

@@ -421,7 +421,26 @@ static PetscReal RefStableOmega2(const Patch *p, const PetscReal *x, const Petsc
             !RefExistsG(p, i, j + 1))
           rs += RefShearRowBound(p, x, i, j, s_hi);
       }
-      rs += p->k_contact; /* a rigid body's penalty spring, whether in contact or not */
+      /* the rigid bodies: k_contact in every direction; the frictionless ones k n n^T along their
+         normal n at the point, joined to the traction block */
+      rs += p->k_contact;
+      if (p->ncb) {
+        const PetscReal *xp = RefPos(p, x, i, j);
+        PetscReal        C[3][3];
+        memcpy(C, B, sizeof C);
+        for (int q = 0; q < p->ncb; q++) {
+          const ContactBound *b = &p->cb[q];
+          PetscReal           n[3] = {b->n[0], b->n[1], b->n[2]}, r = 0.0;
+          if (b->sphere) {
+            for (int d = 0; d < 3; d++) n[d] = xp[d] - b->c[d], r += n[d] * n[d];
+            r = PetscSqrtReal(r);
+            for (int d = 0; d < 3; d++) n[d] = r > 0 ? n[d] / r : 0.0;
+          }
+          for (int a = 0; a < 3; a++)
+            for (int c = 0; c < 3; c++) C[a][c] += 0.5 * b->k * (b->sphere && r == 0 ? (a == c) : n[a] * n[c]);
+        }
+        rs += 2.0 * RefMaxEig3(C) - (p->traction ? 2.0 * RefMaxEig3(B) : 0.0);
+      }
       omega2 = PetscMax(omega2, rs * im);
       pull2  = PetscMax(pull2, rp * im);
     }
@@ -1338,6 +1357,15 @@ static void CompareWithReference(Patch *p, const double *x, const double *inv_m,
     PetscReal       o1, o2, p1, p2, r[5], lo[2], hi[2], s_hi;
     BoundRow        at;
     p->k_contact = contact[w % 2];
+    p->ncb       = w % 2; /* with a sphere and a plane along their normals (ContactBoundRow) */
+    if (p->ncb) {
+      const PetscReal *x0 = RefPos(p, x, p->xs + 1, p->ys + 1);
+      p->ncb              = 2;
+      p->cb[0]            = (ContactBound){0, PETSC_TRUE, 3e3, {x0[0], x0[1], x0[2] - 0.5 * p->ax}, {0, 0, 1}};
+      if (w == 3) /* the sphere's centre on a point: any direction there */
+        for (int d = 0; d < 3; d++) p->cb[0].c[d] = x0[d];
+      p->cb[1] = (ContactBound){1, PETSC_FALSE, 5e2, {0, 0, 0}, {0.6, 0, 0.8}};
+    }
     WindowRange(p, x, r);
     WindowSet(p, r, margin);
     RefWindow(p, x, margin, lo, hi, &s_hi);
@@ -1354,7 +1382,7 @@ static void CompareWithReference(Patch *p, const double *x, const double *inv_m,
         if (InternalTerms[t]->enabled(p)) InternalTerms[t]->bound_row(p, x, at.i, at.j, pull, &rs, &rp);
         bad[1] += PetscAbsReal(rs * im - at.part[t]) > 1e-12 * o1; /* a difference of partial sums: to the row's */
       }
-      bad[1] += PetscAbsReal(p->k_contact * im - at.part[3]) > 1e-12 * o1;
+      bad[1] += PetscAbsReal(ContactBoundRow(p, x, at.i, at.j) * im - at.part[3]) > 1e-12 * o1;
     }
     { /* StableOmega2 evaluates each segment and crossing once: the same bits as the largest of the
          rows summed term by term (bound_row), the bound, the pull row and the row that sets it */
@@ -1366,7 +1394,7 @@ static void CompareWithReference(Patch *p, const double *x, const double *inv_m,
         if (inv_m[k] <= 0) continue;
         for (int t = 0; t < INTERNAL_TERMS; t++)
           if (InternalTerms[t]->enabled(p)) InternalTerms[t]->bound_row(p, x, i, j, pull, &rs, &rp);
-        rs += p->k_contact;
+        rs += ContactBoundRow(p, x, i, j);
         if (rs * inv_m[k] > om) ki = k;
         om = PetscMax(om, rs * inv_m[k]);
         pm = PetscMax(pm, rp * inv_m[k]);
@@ -1384,10 +1412,11 @@ static void CompareWithReference(Patch *p, const double *x, const double *inv_m,
       o2 = RefStableOmega2(p, x, inv1, lo, hi, s_hi, pull, &p2); /* row k of the reference */
       for (int t = 0; t < INTERNAL_TERMS; t++)
         if (InternalTerms[t]->enabled(p)) InternalTerms[t]->bound_row(p, x, i, j, pull, &rs, &rp);
-      rs += p->k_contact;
+      rs += ContactBoundRow(p, x, i, j);
       bad[1] += !Close(rs, o2) || !Close(rp, p2);
     }
   }
+  p->ncb = 0, p->k_contact = 0.0;
 }
 
 static PetscErrorCode TestIdentity(const char *csv)
