@@ -66,12 +66,16 @@ typedef struct {  /* a row of yarn segments as the stable-step bound sees them (
 
 /* A frictionless sphere or plane as the stable-step bound sees it (MODEL.md 7.3): its penalty's
    Hessian at a point is at most k n n^T, n the body's normal there (a sphere's tangential part,
-   -k (reach - r)/r (I - n n^T), only lowers it), so the point's block takes k along n alone. */
+   -k (reach - r)/r (I - n n^T), only lowers it), so the point's block takes k along n alone.
+   A sphere that still moves by span within the load step (its ramp) turns the normal at a point
+   at distance r from c by an angle theta with sin(theta) <= span / r, which moves the
+   eigenvalue by at most k span / r: the row adds that too. */
 #define CONTACT_BOUNDS_MAX 3
 typedef struct {
   int       body;   /* its index among the scene's bodies */
   PetscBool sphere; /* n from the centre c to the point; else the plane's unit normal n */
   PetscReal k, c[3], n[3];
+  PetscReal span; /* m: how far a sphere's centre moves from c up to the load step's end */
 } ContactBound;
 
 typedef struct {

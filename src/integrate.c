@@ -146,8 +146,11 @@ static PetscErrorCode StableBound(Fabric fab, PetscReal omega2[2])
   PetscCall(GlobalMax(fab->comm, r, 5));
   WindowSet(p, r, (fab->step.tear ? s->num.te_window_tear : s->num.te_window) * (PetscReal) (1 << fab->step.window_grow));
   fab->step.window_bound_at = fab->stats.te_steps;
-  for (int q = 0; q < p->ncb; q++) /* the sphere where it is now */
-    if (p->cb[q].sphere) BodyPosition(&fab->bodies.body[p->cb[q].body], fab->load.travel_now, p->cb[q].c);
+  for (int q = 0; q < p->ncb; q++) /* the sphere where it is now, and how far it moves within the load step */
+    if (p->cb[q].sphere) {
+      BodyPosition(&fab->bodies.body[p->cb[q].body], fab->load.travel_now, p->cb[q].c);
+      p->cb[q].span = PetscAbsReal(fab->load.travel - fab->load.travel_now);
+    }
   omega2[0] = StableOmega2(p, xl, fab->grid.inv_m, s->spec.pull == PULL_WARP ? 0 : 1, &omega2[1], &at);
   PetscCall(VecRestoreArrayRead(fab->state.Xl, &xl));
   PetscCall(PetscLogEventEnd(EV_Bound, 0, 0, 0, 0));

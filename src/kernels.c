@@ -549,7 +549,7 @@ static void TractionBoundRow(const Patch *p, const PetscReal *x, PetscInt i, Pet
    sphere's surface) the bodies add little to the row; along it, their k. xp: the point. */
 static PetscReal ContactPart(const Patch *p, const PetscReal xp[3], const PetscReal B[6], PetscReal tr)
 {
-  PetscReal C[6], ksum = 0.0;
+  PetscReal C[6], ksum = 0.0, turn = 0.0;
 
   if (!p->ncb) return p->k_contact;
   for (int q = 0; q < 6; q++) C[q] = B[q];
@@ -566,11 +566,12 @@ static PetscReal ContactPart(const Patch *p, const PetscReal xp[3], const PetscR
         continue;
       }
       for (int k = 0; k < 3; k++) n[k] = d[k] / r;
+      turn += b->k * PetscMin(b->span / r, 1.0); /* the normal as the centre moves on (ContactBound) */
     }
     C[0] += h * n[0] * n[0], C[1] += h * n[1] * n[1], C[2] += h * n[2] * n[2];
     C[3] += h * n[0] * n[1], C[4] += h * n[0] * n[2], C[5] += h * n[1] * n[2];
   }
-  return p->k_contact + PetscMin(PetscMax(2.0 * SymMaxEig3(C) - tr, 0.0), ksum);
+  return p->k_contact + PetscMin(PetscMax(2.0 * SymMaxEig3(C) - tr, 0.0) + turn, ksum);
 }
 
 PetscReal ContactBoundRow(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j)

@@ -426,7 +426,7 @@ static PetscReal RefStableOmega2(const Patch *p, const PetscReal *x, const Petsc
       rs += p->k_contact;
       if (p->ncb) {
         const PetscReal *xp = RefPos(p, x, i, j);
-        PetscReal        C[3][3];
+        PetscReal        C[3][3], turn = 0.0, ksum = 0.0;
         memcpy(C, B, sizeof C);
         for (int q = 0; q < p->ncb; q++) {
           const ContactBound *b = &p->cb[q];
@@ -435,11 +435,13 @@ static PetscReal RefStableOmega2(const Patch *p, const PetscReal *x, const Petsc
             for (int d = 0; d < 3; d++) n[d] = xp[d] - b->c[d], r += n[d] * n[d];
             r = PetscSqrtReal(r);
             for (int d = 0; d < 3; d++) n[d] = r > 0 ? n[d] / r : 0.0;
+            if (r > 0) turn += b->k * PetscMin(b->span / r, 1.0); /* sin(theta) <= span / r */
           }
+          ksum += b->k;
           for (int a = 0; a < 3; a++)
             for (int c = 0; c < 3; c++) C[a][c] += 0.5 * b->k * (b->sphere && r == 0 ? (a == c) : n[a] * n[c]);
         }
-        rs += 2.0 * RefMaxEig3(C) - (p->traction ? 2.0 * RefMaxEig3(B) : 0.0);
+        rs += PetscMin(2.0 * RefMaxEig3(C) - (p->traction ? 2.0 * RefMaxEig3(B) : 0.0) + turn, ksum);
       }
       omega2 = PetscMax(omega2, rs * im);
       pull2  = PetscMax(pull2, rp * im);
@@ -1361,10 +1363,10 @@ static void CompareWithReference(Patch *p, const double *x, const double *inv_m,
     if (p->ncb) {
       const PetscReal *x0 = RefPos(p, x, p->xs + 1, p->ys + 1);
       p->ncb              = 2;
-      p->cb[0]            = (ContactBound){0, PETSC_TRUE, 3e3, {x0[0], x0[1], x0[2] - 0.5 * p->ax}, {0, 0, 1}};
+      p->cb[0] = (ContactBound){0, PETSC_TRUE, 3e3, {x0[0], x0[1], x0[2] - 0.5 * p->ax}, {0, 0, 1}, w == 5 ? 0.3 * p->ax : 0};
       if (w == 3) /* the sphere's centre on a point: any direction there */
         for (int d = 0; d < 3; d++) p->cb[0].c[d] = x0[d];
-      p->cb[1] = (ContactBound){1, PETSC_FALSE, 5e2, {0, 0, 0}, {0.6, 0, 0.8}};
+      p->cb[1] = (ContactBound){1, PETSC_FALSE, 5e2, {0, 0, 0}, {0.6, 0, 0.8}, 0};
     }
     WindowRange(p, x, r);
     WindowSet(p, r, margin);
