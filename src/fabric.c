@@ -525,7 +525,8 @@ static PetscErrorCode SetUpPatch(Fabric fab, const DMDALocalInfo *info_)
     for (PetscInt q = 0; q < fab->bodies.n; q++) {
       const Body *b = &fab->bodies.body[q];
       if (BodyBoundAlongNormal(b) && p->ncb < CONTACT_BOUNDS_MAX) /* a sphere's centre: at each bound */
-        p->cb[p->ncb++] = (ContactBound){(int) q, b->kind == BODY_SPHERE, b->k, {0, 0, 0}, {b->dir[0], b->dir[1], b->dir[2]}, 0};
+        p->cb[p->ncb++] =
+            (ContactBound){(int) q, b->kind == BODY_SPHERE, b->k, {0, 0, 0}, {b->dir[0], b->dir[1], b->dir[2]}, 0};
       else p->k_contact += b->k;
     }
     PetscCall(PetscCalloc1((size_t) p->gxm * p->gym, &p->exists));
