@@ -686,7 +686,9 @@ static PetscErrorCode CheckReadable(MPI_Comm comm, const char *opt, const char *
 }
 
 /* the next line of a scene file into *line (as getline, its line end kept): a line ends at LF, CR LF or a CR alone,
-   all three YAML line breaks (old Mac files have CR alone: read by LF only, such a file was one line). -1 at the end */
+   all three YAML line breaks (old Mac files have CR alone: read by LF only, such a file was one line). -1 at the end,
+   SCENE_LINE_NOMEM where the line does not fit in memory (not the end: what follows is unread) */
+#define SCENE_LINE_NOMEM (-2)
 static ssize_t SceneGetLine(char **line, size_t *cap, FILE *fp)
 {
   size_t n = 0;
@@ -694,9 +696,9 @@ static ssize_t SceneGetLine(char **line, size_t *cap, FILE *fp)
 
   while ((c = getc(fp)) != EOF) {
     if (n + 3 > *cap) {
-      char *grown = realloc(*line, *cap = 2 * *cap + 128);
-      if (!grown) return -1;
-      *line = grown;
+      char *grown = realloc(*line, 2 * *cap + 128);
+      if (!grown) return SCENE_LINE_NOMEM;
+      *line = grown, *cap = 2 * *cap + 128;
     }
     (*line)[n++] = (char) c;
     if (c == '\n') break;
@@ -724,17 +726,19 @@ static PetscErrorCode CheckSceneHasOptions(MPI_Comm comm, const char *file)
   char  *line = NULL;
   size_t cap  = 0;
   int    found = 0, lineno = 0;
+  ssize_t got = 0;
   FILE  *fp    = fopen(file, "r");
 
   PetscFunctionBeginUser;
   PetscCheck(fp, comm, PETSC_ERR_FILE_OPEN, "-scene %s: no such file, or not readable", file);
-  while (!found && SceneGetLine(&line, &cap, fp) >= 0) { /* whole lines, of any length */
+  while (!found && (got = SceneGetLine(&line, &cap, fp)) >= 0) { /* whole lines, of any length */
     const char *c = SkipBOM(line, ++lineno);
     while (*c == ' ' || *c == '\t') c++;
     if (*c && *c != '#' && *c != '\n' && *c != '\r' && strchr(c, ':')) found = 1;
   }
   free(line);
   fclose(fp);
+  PetscCheck(got != SCENE_LINE_NOMEM, comm, PETSC_ERR_MEM, "-scene %s: line %d does not fit in memory", file, lineno + 1);
   PetscCheck(found, comm, PETSC_ERR_USER_INPUT,
              "-scene %s: the file holds no option (an empty scene would run the default strip)", file);
   PetscFunctionReturn(0);
@@ -903,10 +907,17 @@ static int FindBadKey(const char *file, char *msg, size_t len)
 
   if (!fp) return 0;
   keys.nseen = keys.nmaps = 0;
-  while (!bad && SceneGetLine(&line, &cap, fp) >= 0) { /* whole lines, of any length */
-    char *c, *v, key[128], full[128] = "", anchor[64];
-    int   ind;
+  while (!bad) { /* whole lines, of any length */
+    char   *c, *v, key[128], full[128] = "", anchor[64];
+    int     ind;
+    ssize_t got = SceneGetLine(&line, &cap, fp);
     lineno++;
+    if (got == SCENE_LINE_NOMEM) {
+      snprintf(msg, len, "line %d does not fit in memory", lineno);
+      bad = lineno;
+      break;
+    }
+    if (got < 0) break;
     if (SkipBOM(line, lineno) != line) memmove(line, line + 3, strlen(line + 3) + 1); /* indents count after it */
     c = line;
     line[strcspn(line, "\r\n")] = 0;

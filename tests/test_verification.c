@@ -372,6 +372,28 @@ static PetscErrorCode SpectrumDense(void)
             fab->step.omega_max == PetscSqrtReal(bound[1]), (double) (bound[0] / bound[1]));
   CheckTrue("and with the ball left out of it, the bound is below the eigenvalue (a check of the check)",
             bound[2] < lmax[1], (double) (bound[2] / lmax[1]));
+  { /* within the ball's ramp, 1.5 mm short of the load step's end: the bound takes the ball where it is and the
+       1.5 mm it still moves (ContactBound.span), and that part raises it */
+    Patch          *pw   = &fab->grid.patch;
+    const PetscReal keep = fab->load.travel_now, left = 1.5e-3;
+    PetscReal       pull, with, without;
+    fab->load.travel_now = fab->load.travel - left;
+    PetscCall(StableStepAgain(fab));
+    with = fab->step.omega_max * fab->step.omega_max;
+    PetscCall(HaloExchange(fab->grid.da, fab->state.X, fab->state.Xl));
+    PetscCall(VecGetArrayRead(fab->state.Xl, &x));
+    BodyPosition(&fab->bodies.body[0], fab->load.travel_now, c);
+    CheckTrue("within the ramp the bound has the ball's centre where it is now (bits; the distance from it, m)",
+              memcmp(c, pw->cb[0].c, sizeof c) == 0,
+              (double) PetscSqrtReal(PetscSqr(c[0] - pw->cb[0].c[0]) + PetscSqr(c[1] - pw->cb[0].c[1]) +
+                                     PetscSqr(c[2] - pw->cb[0].c[2])));
+    CheckRel("and the travel still ahead to the load step's end (m)", pw->cb[0].span, left, 1e-12);
+    pw->cb[0].span = 0;
+    without        = StableOmega2(pw, x, fab->grid.inv_m, 0, &pull, NULL);
+    PetscCall(VecRestoreArrayRead(fab->state.Xl, &x));
+    CheckTrue("which raises it (the bound over the bound without it)", with > without, (double) (with / without));
+    fab->load.travel_now = keep;
+  }
   PetscCall(FabricDestroy(&fab));
   PetscFunctionReturn(0);
 }
