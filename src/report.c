@@ -143,6 +143,22 @@ static PetscBool RemoveStale(const char *dir, const char *name, const char *attr
   return PETSC_TRUE;
 }
 
+/* -positions_out, if there and a PETSc binary vector (its first word VEC_FILE_CLASSID, big-endian): an earlier
+   run's final positions, which a run that stops before its end would leave standing as if they were its own;
+   removed and named as RemoveStale does (rank 0) */
+static void RemoveStalePositions(const char *file)
+{
+  unsigned char w[4];
+  FILE         *fp;
+  int           ours;
+
+  if (!file[0] || !(fp = fopen(file, "rb"))) return;
+  ours = fread(w, 1, 4, fp) == 4 &&
+         (((PetscInt64) w[0] << 24) | ((PetscInt64) w[1] << 16) | ((PetscInt64) w[2] << 8) | w[3]) == VEC_FILE_CLASSID;
+  fclose(fp);
+  if (ours && !unlink(file)) printf("fabric: removed %s, an earlier run's\n", file);
+}
+
 /* DIR/checkpoint.h5 is the -restart file itself (the same file on the same device): the run keeps it */
 PetscBool RestartsFrom(const char *dir, const char *restart)
 {
@@ -160,6 +176,7 @@ PetscErrorCode OutputOpen(Fabric fab)
   int         status[2]                  = {0, 0}; /* 0 fine, 1 a directory, 2 curve.csv could not be written; errno */
 
   PetscFunctionBeginUser;
+  if (fab->rank == 0) RemoveStalePositions(fab->s.out.positions_out);
   if (!dir[0]) PetscFunctionReturn(0);
   if (fab->rank == 0) {
     char file[PETSC_MAX_PATH_LEN];

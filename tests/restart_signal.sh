@@ -11,7 +11,8 @@
 #   2 -> 2   SIGUSR1 to mpiexec, which Open MPI forwards to the ranks at once (SIGTERM to mpiexec
 #            reaches the ranks only after -mca odls_base_sigkill_timeout seconds, 1 by default, and
 #            is followed by SIGKILL as long after: docs/checkpoints.md)
-# DIR holds an earlier run's summary.json: the stopped run leaves none (it read as finished), and says no end line
+# DIR holds an earlier run's summary.json and final positions (-positions_out): the stopped run leaves neither (they
+# read as its own, finished), and says no end line
 # (it gave the last load step's force and travel of a load step not yet run).
 # The jaw's force in curve.csv is a sum over ranks, exact here: the jaw's crossings all lie on one
 # rank on 1, 2 and 3 ranks.
@@ -37,6 +38,7 @@ mpiexec -n 1 "$fabric" "${opts[@]}" -output_dir "$ref" -positions_out "$ref/posi
 case_() {
   local name="$1" np="$2" np2="$3" sig="$4" target="$5" delay="$6" d="$work/$1"
   mkdir -p "$d" && echo '{"converged": true}' >"$d/summary.json" # an earlier run's: removed at the start
+  cp "$ref/positions.bin" "$d/positions.bin" # an earlier run's final positions (-positions_out): removed too
   mpiexec -n "$np" "$fabric" "${opts[@]}" -output_dir "$d" -positions_out "$d/positions.bin" >"$work/$name.log" 2>&1 &
   local pid=$! i
   for ((i = 0; i < 3000; i++)); do
