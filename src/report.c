@@ -273,7 +273,7 @@ PetscErrorCode OutputProgress(Fabric fab, const CurveRow *r)
 {
   const PetscInt  K   = fab->s.load.load_steps;
   const PetscReal eta = fab->stats.wall / r->load_step * (K - r->load_step);
-  char            where[48], te[32] = ""; /* the static path takes no te steps */
+  char            where[48], te[32] = "", force[40] = ""; /* the static path takes no te steps; the drape no force */
 
   PetscFunctionBeginUser;
   if (fab->s.out.quiet) PetscFunctionReturn(0);
@@ -283,10 +283,11 @@ PetscErrorCode OutputProgress(Fabric fab, const CurveRow *r)
     PetscCall(PetscSNPrintf(where, sizeof where, "%s %8.3f mm", fab->s.test == TEST_DRAPE ? "drop  " : "travel",
                             (double) (1e3 * r->travel)));
   if (fab->s.num.solver != SOLVER_STATIC) PetscCall(PetscSNPrintf(te, sizeof te, "  te %.3g s", (double) fab->step.te));
+  if (fab->s.test != TEST_DRAPE) PetscCall(PetscSNPrintf(force, sizeof force, "  force %10.4f N", (double) r->force));
   PetscCall(PetscPrintf(fab->comm,
-                        "load step %4" PetscInt_FMT "/%" PetscInt_FMT "  %s  force %10.4f N  N' %6" PetscInt_FMT
+                        "load step %4" PetscInt_FMT "/%" PetscInt_FMT "  %s%s  N' %6" PetscInt_FMT
                         "%s  residual %.2e%s  elapsed %.1f s  ETA %.1f s\n",
-                        r->load_step, K, where, (double) r->force, r->inner_steps, r->balanced ? " " : "*",
+                        r->load_step, K, where, force, r->inner_steps, r->balanced ? " " : "*",
                         (double) r->residual, te, (double) fab->stats.wall, (double) eta));
   PetscCall(ProgressRupture(fab, r));
   PetscFunctionReturn(0);
