@@ -479,8 +479,8 @@ PetscErrorCode IODescribe(FabricIO io, const char *output_dir, PetscBool kept_ch
     PetscCall(PetscStrlen(buf, &n));
     PetscCall(PetscSNPrintf(buf + n, len - n, ", fabric.h5 and fabric.xmf (%" PetscInt_FMT " frames)", io->frames));
   }
-  if (kept_checkpoint || (io && (io->checkpoint_every || io->checkpoints))) { /* also one only -checkpoint_every_te or _s
-                                                                               wrote, or the restart's own */
+  if (kept_checkpoint || (io && io->checkpoints)) { /* one this run wrote (also by -checkpoint_every_te or _s), or
+                                                      the restart's own: not a -checkpoint_every past the last load step */
     PetscCall(PetscStrlen(buf, &n));
     PetscCall(PetscSNPrintf(buf + n, len - n, ", checkpoint.h5"));
   }

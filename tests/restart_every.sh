@@ -70,6 +70,11 @@ check '[[ "$results" == "fabric: results in $b/ (curve.csv, summary.json, fabric
 ck="$b/checkpoint.h5"
 last="$(where "$ck")"
 mv "$b/positions.bin" "$b/positions.first.bin"
+# -checkpoint_every past the last load step writes none, and the end line lists none (it listed checkpoint.h5)
+mpiexec -n 1 "$fabric" "${opts[@]}" -load_steps 2 -checkpoint_every 5 -output_dir "$work/none" >"$work/none.log" 2>&1
+rc=$?
+results="$(grep -m1 "^fabric: results in" "$work/none.log")"
+check '[[ $rc -eq 0 && ! -e "$work/none/checkpoint.h5" && "$results" == "fabric: results in $work/none/ (curve.csv, summary.json, fabric.h5 and fabric.xmf ("*" frames))" ]]' "checkpoint_every 5 of 2 load steps: no checkpoint.h5, none listed ($results)"
 mpiexec -n 2 "$fabric" "${opts[@]}" -quiet -output_dir "$b" -positions_out "$b/positions.bin" -restart "$ck" >"$work/again.log" 2>&1
 rc=$?
 what="$(same "$a" "$b")"
