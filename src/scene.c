@@ -2048,6 +2048,24 @@ static void InputOutputClash(const Scene *s, char *msg, size_t len)
     }
 }
 
+/* a directory in -output_dir under the name of a file the run writes there: the write would fail at that file's
+   first frame, checkpoint or end, with the run's other results written */
+static void OwnFileIsDirectory(const SceneOutput *o, char *msg, size_t len)
+{
+  char        f[3 * PETSC_MAX_PATH_LEN];
+  struct stat st;
+
+  if (!o->output_dir[0]) return;
+  for (size_t q = 0; q < sizeof OwnFiles / sizeof OwnFiles[0]; q++) {
+    snprintf(f, sizeof f, "%s/%s", o->output_dir, OwnFiles[q]);
+    if (!stat(f, &st) && S_ISDIR(st.st_mode)) {
+      snprintf(msg, len, "-output_dir %.1024s: %.1024s is a directory, where the run writes its %s; remove it or give "
+               "another -output_dir", o->output_dir, f, OwnFiles[q]);
+      return;
+    }
+  }
+}
+
 /* -positions_out must not be one of the run's input files (written over at the end), the output
    directory or a file the run writes in it */
 static void PositionsOutClash(const Scene *s, char *msg, size_t len)
@@ -2216,6 +2234,7 @@ static PetscErrorCode CheckOutputPlaces(MPI_Comm comm, const SceneInput *in, con
   if (!rank) ViewerNameClash(o, in->output_dir, msg, sizeof msg);
   if (!rank && !msg[0]) PositionsOutClash(s, msg, sizeof msg);
   if (!rank && !msg[0]) InputOutputClash(s, msg, sizeof msg);
+  if (!rank && !msg[0]) OwnFileIsDirectory(o, msg, sizeof msg);
   if (!rank && !msg[0] && o->output_dir[0]) ProbeDirectory("output_dir", o->output_dir, &pm, msg, sizeof msg);
   PetscCall(BroadcastFromRoot(comm, msg, (PetscInt) sizeof msg, MPI_CHAR));
   if (!msg[0] && o->output_dir[0]) PetscCall(ProbeShared(comm, o->output_dir, &pm, msg, sizeof msg));

@@ -16,6 +16,9 @@
 #     made the backslash a '/' and expanded ${...}: "not a valid YAML option file: Unable to open" or
 #     "Substitution string ... not found"); without -output_dir, its default results/NAME holding '${' is refused
 #     naming the scene (the refusal named -output_dir, which was not given).
+#  7. a directory in -output_dir under the name of a file the run writes (fabric.h5, .checkpoint.h5.tmp): refused
+#     at the start, naming it, the directory's earlier contents untouched (the run failed at its first frame or
+#     checkpoint with "Error in HDF5 call H5Fcreate()", its curve.csv and summary.json written)
 set -u
 fabric="$1"; scene="$2"
 . "$(dirname "$0")/runs.sh" # $py, $work, $fail, run NP ARGS...
@@ -108,4 +111,16 @@ if [[ $rc -ne 0 && $rc -ne 124 && -z $left ]] && grep -q "error: -output_dir out
 else
   cat "$work/log"; echo "FAIL ranks that do not share -output_dir: exit $rc (124: hung), left: $left"; fail=1
 fi
+for own in fabric.h5 .checkpoint.h5.tmp; do
+  d="$work/own_dir_$own"
+  mkdir -p "$d/$own" && echo '{"converged": true}' >"$d/summary.json"
+  mpiexec -n 1 "$fabric" "${small[@]}" -checkpoint_every 1 -output_dir "$d" >"$work/log" 2>&1
+  rc=$?
+  left="$(ls -A "$d" | tr '\n' ' ')"
+  if [[ $rc -ne 0 && "$left" == "$own summary.json " ]] && grep -q "^fabric: error: -output_dir $d: $d/$own is a directory, where the run writes its $own" "$work/log"; then
+    echo "PASS a directory $own in -output_dir: refused at the start (exit $rc), naming it; the directory as it was"
+  else
+    cat "$work/log"; echo "FAIL a directory $own in -output_dir: exit $rc, left: $left"; fail=1
+  fi
+done
 exit $fail
