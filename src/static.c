@@ -1219,14 +1219,17 @@ static PetscErrorCode SetPreconditioner(StaticSolver ss, KSP ksp)
     if (mumps && size > 1) { /* MUMPS's parallel factors sum the fronts' contributions in the order its messages
                                 arrive: they differ in the last bits from run to run, and so did Newton's path (a
                                 restart on the same ranks was not the uninterrupted run). Each rank factors the whole
-                                (small) tangent by MUMPS itself, -pc_type redundant: the same from run to run */
+                                (small) tangent by MUMPS itself, -pc_type redundant: the same from run to run.
+                                TAO's Newton factors the tangent unshifted first: on a slack net it is singular, and
+                                after MUMPS's failed factors there TAO's solve stopped the run (INFOG(1)=-3); PETSc's
+                                own LU reports the zero pivot, and TAO shifts the tangent */
       KSP inner;
       PC  lu;
       PetscCall(PCSetType(pc, PCREDUNDANT));
       PetscCall(PCRedundantGetKSP(pc, &inner));
       PetscCall(KSPGetPC(inner, &lu));
       PetscCall(PCSetType(lu, PCLU));
-      PetscCall(PCFactorSetMatSolverType(lu, MATSOLVERMUMPS));
+      PetscCall(PCFactorSetMatSolverType(lu, ss->opt.tao ? MATSOLVERPETSC : MATSOLVERMUMPS));
     } else if (mumps) {
       PetscCall(PCSetType(pc, PCLU));
       PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
