@@ -1405,29 +1405,26 @@ static PetscErrorCode CheckTestOptions(MPI_Comm comm, const SceneInput *in, cons
   PetscFunctionReturn(0);
 }
 
-/* the option (-name) was typed by the user: on the command line or in PETSC_OPTIONS (as rank 0 has them), not
-   only set by the scene file */
+/* the option (-name) was given by the user, not only set by the scene file: on the command line, in PETSC_OPTIONS,
+   or in a file the user names there with -options_file or -options_file_yaml (as rank 0 has them). Every rank
+   reads them (the file readers may be collective); rank 0's answer counts */
 static PetscErrorCode GivenByUser(MPI_Comm comm, const char *opt, PetscBool *user)
 {
-  PetscMPIInt rank;
-  PetscInt    found = 0;
+  int          argc;
+  char       **args;
+  const char  *env = getenv("PETSC_OPTIONS");
+  PetscOptions typed;
+  PetscBool    has;
+  PetscInt     found;
 
   PetscFunctionBeginUser;
-  PetscCall(CommRank(comm, &rank));
-  if (!rank) {
-    int         argc;
-    char      **args;
-    const char *env = getenv("PETSC_OPTIONS");
-    PetscCall(PetscGetArgs(&argc, &args));
-    for (int a = 1; a < argc && !found; a++) found = !strcasecmp(args[a], opt);
-    if (env && !found) {
-      char *copy, *save = NULL;
-      PetscCall(PetscStrallocpy(env, &copy));
-      for (char *t = strtok_r(copy, " \t\n", &save); t && !found; t = strtok_r(NULL, " \t\n", &save))
-        found = !strcasecmp(t, opt);
-      PetscCall(PetscFree(copy));
-    }
-  }
+  PetscCall(PetscGetArgs(&argc, &args));
+  PetscCall(PetscOptionsCreate(&typed));
+  PetscCall(PetscOptionsInsertArgs(typed, argc - 1, args + 1));
+  if (env) PetscCall(PetscOptionsInsertString(typed, env));
+  PetscCall(PetscOptionsHasName(typed, NULL, opt, &has));
+  PetscCall(PetscOptionsDestroy(&typed));
+  found = has;
   PetscCall(BroadcastFromRoot(comm, &found, 1, MPIU_INT));
   *user = found ? PETSC_TRUE : PETSC_FALSE;
   PetscFunctionReturn(0);
@@ -1443,6 +1440,8 @@ static PetscErrorCode CheckOptionsApply(MPI_Comm comm, const Scene *s)
   const PetscBool moves = JawTest(s) || s->test == TEST_PUSHING ? PETSC_TRUE : PETSC_FALSE;
   const PetscBool tears = s->yarns.warp.break_ey > 0 || s->yarns.weft.break_ey > 0 ? PETSC_TRUE : PETSC_FALSE;
   const char     *nobreak = "-warp_break_pct 0 and -weft_break_pct 0", *notear = "no yarn breaks: there is no tear or rupture";
+  const PetscBool fire = s->num.integrator == INTEGRATOR_FIRE ? PETSC_TRUE : PETSC_FALSE;
+  const char     *nofire = "FIRE has no damping to set (a tear's is -tear_damping_ratio)";
   char test[64], shape[64], clamp[64], law[2][PETSC_MAX_PATH_LEN + 16];
   struct {
     const char *name;
@@ -1471,6 +1470,19 @@ static PetscErrorCode CheckOptionsApply(MPI_Comm comm, const Scene *s)
       {"tear_damping_ratio", tears, nobreak, notear},
       {"tear_te_safety", tears, nobreak, notear},
       {"output_tear_every", tears || s->out.output_tear_every == 0, nobreak, notear}, /* 0: off, as without a tear */
+      {"damping_ratio", !fire, "-integrator fire", nofire},
+      {"energy_watch", !fire, "-integrator fire", "FIRE stops all motion at an uphill step: its energy cannot grow"},
+      {"nu", !fire || tears, "-integrator fire and no yarn breaking", "FIRE has no viscosity; only a tear's damped scheme reads it"},
+      {"plane_normal", s->bodies.plane, "-plane false", "there is no plane"},
+      {"plane_point_mm", s->bodies.plane, "-plane false", "there is no plane"},
+      {"pedestal_height_mm", s->bodies.pedestal_radius > 0, "-pedestal_diameter_mm 0", "there is no pedestal"},
+      {"pedestal_top_mm", s->bodies.pedestal_radius > 0, "-pedestal_diameter_mm 0", "there is no pedestal"},
+      {"thickness_mm", bodies, test, "the thickness only sets where a crossing touches a sphere, plane or pedestal"},
+      {"shear_G_N_m", s->terms.shear, "-shear false", "the shear term is off"},
+      {"shear_lock_deg", s->terms.shear, "-shear false", "the shear term is off"},
+      {"jam_factor", s->terms.shear, "-shear false", "the shear term is off"},
+      {"warp_bending_Nm2", s->terms.bending, "-bending false", "the bending term is off"},
+      {"weft_bending_Nm2", s->terms.bending, "-bending false", "the bending term is off"},
   };
 
   PetscFunctionBeginUser;
@@ -1639,6 +1651,19 @@ static PetscErrorCode DeriveOutput(MPI_Comm comm, const SceneInput *in, Scene *s
              o->checkpoint_every_te);
   PetscCheck(o->checkpoint_every_s == 0 || o->output_dir[0], comm, PETSC_ERR_USER_INPUT,
              "-checkpoint_every_s %g needs an output directory: -output_dir is none", (double) o->checkpoint_every_s);
+  if (!o->output_dir[0]) { /* frames typed with no directory to write them to (a scene's frames: left unwritten) */
+    static const char *const frames[] = {"-output_every", "-output_te_every", "-output_tear_every"};
+    const PetscInt           every[]  = {in->output_every, in->output_te_every, in->output_tear_every};
+    for (size_t k = 0; k < sizeof frames / sizeof frames[0]; k++) {
+      char      value[64] = "";
+      PetscBool set, user;
+      PetscCall(PetscOptionsGetString(NULL, NULL, frames[k], value, sizeof value, &set));
+      if (!set || every[k] == 0) continue; /* 0: no frames, as none are written */
+      PetscCall(GivenByUser(comm, frames[k], &user));
+      PetscCheck(!user, comm, PETSC_ERR_USER_INPUT, "%s %s writes frames of fabric.h5, but -output_dir is none; leave it out",
+                 frames[k], value);
+    }
+  }
   if (o->restart[0]) PetscCall(CheckReadable(comm, "-restart", o->restart));
   PetscFunctionReturn(0);
 }
