@@ -928,6 +928,21 @@ static int FindBadKey(const char *file, char *msg, size_t len)
       bad = lineno;
       break;
     }
+    if (*c == '?' && (!c[1] || c[1] == ' ' || c[1] == '\t')) { /* the key check would not see it */
+      snprintf(msg, len, "line %d: an explicit key ('? key' and ': value' on the next line): write it as 'key: value'",
+               lineno);
+      bad = lineno;
+      break;
+    }
+    if ((*c == '"' || *c == '\'') && strchr(c + 1, *c)) { /* a quoted key ("load\x5fsteps") the check reads raw */
+      const char *end = strchr(c + 1, *c), *after = end + 1;
+      while (*after == ' ' || *after == '\t') after++;
+      if (*after == ':' && memchr(c + 1, '\\', (size_t) (end - c - 1))) {
+        snprintf(msg, len, "line %d: an escape in a quoted key (%.60s): write the key plain", lineno, c);
+        bad = lineno;
+        break;
+      }
+    }
     ind = (int) (c - line);
     while (depth && indent[depth - 1] >= ind) depth--;
     if (*c == '-' || *c == '[' || !(v = SceneKey(c, key, sizeof key))) { /* no key (or FindMalformedLine's case) */
@@ -1028,6 +1043,18 @@ PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv)
   PetscErrorCode ierr;
 
   PetscFunctionBeginUser;
+  { /* a list of lines or waypoints given twice: the last would replace the first, not add to it */
+    static const char *const lists[] = {"-clamp_line_mm", "-grip_line_mm", "-grip_path_mm"};
+    for (size_t q = 0; q < sizeof lists / sizeof lists[0]; q++) {
+      int given = 0, last = 0;
+      for (int k = 1; k < argc; k++)
+        if (!strcasecmp(argv[k], lists[q])) given++, last = k;
+      PetscCheck(given <= 1, comm, PETSC_ERR_USER_INPUT,
+                 "%s given %d times on the command line (the last, %s, would replace the others, not add to them); "
+                 "give every item in one value, its numbers joined by commas",
+                 lists[q], given, last + 1 < argc ? argv[last + 1] : "");
+    }
+  }
   PetscCall(PetscOptionsGetString(NULL, NULL, "-scene", file, sizeof file, &set));
   if (!set) PetscFunctionReturn(0);
   { /* one scene: a second one would replace the first as a whole, not add to it */
@@ -1745,10 +1772,13 @@ static PetscErrorCode DeriveGrid(MPI_Comm comm, const SceneInput *in, Scene *s)
   } else if (s->test == TEST_BIAS) { /* unequal densities: the diagonals are not at 45 degrees */
     const PetscReal side = (gauge_mm + 2 * jaw_mm + width_mm) * 1e-3 / PetscSqrtReal(2.0);
     const PetscReal nx = round(side * s->spec.picks_per_m) + 1, ny = round(side * s->spec.ends_per_m) + 1;
-    PetscCheck(nx >= 5 && ny >= 5 && width_mm < gauge_mm, comm, PETSC_ERR_USER_INPUT,
-               "bias specimen too small or too wide: -gauge_mm %g, -width_mm %g (the gauge length must exceed the "
-               "width) give %g x %g crossings",
-               (double) gauge_mm, (double) width_mm, nx, ny);
+    PetscCheck(width_mm < gauge_mm, comm, PETSC_ERR_USER_INPUT,
+               "bias specimen too wide: -gauge_mm %g, -width_mm %g (the gauge length must exceed the width)",
+               (double) gauge_mm, (double) width_mm);
+    PetscCheck(nx >= 5 && ny >= 5, comm, PETSC_ERR_USER_INPUT,
+               "bias specimen too small: -gauge_mm %g, -width_mm %g at -ends_per_cm %g, -picks_per_cm %g give %g x %g "
+               "crossings (at least 5 a side)",
+               (double) gauge_mm, (double) width_mm, (double) ends_cm, (double) picks_cm, nx, ny);
     PetscCheck(1e-3 * width_mm >= LargestSpacing(s->spec.ends_per_m, s->spec.picks_per_m), comm, PETSC_ERR_USER_INPUT,
                "bias specimen too narrow: -width_mm %g at -ends_per_cm %g, -picks_per_cm %g is less than a yarn spacing "
                "(%g mm)",
