@@ -1244,6 +1244,31 @@ static PetscErrorCode SetPreconditioner(StaticSolver ss, KSP ksp)
   PetscFunctionReturn(0);
 }
 
+/* A retry's LU factors from scratch (a grid too small for multigrid): after MUMPS's numeric factorisation of a
+   singular tangent fails (INFOG(1) = -10: from -snes_shift_start 0 on a slack net), PETSc's MUMPS interface
+   skips every later one on the same pattern ("called after analysis phase fails"), so the stiffer retries
+   failed too and the load step ended unbalanced where one rank's CG (no factor failure) went on */
+static PetscErrorCode FreshFactors(StaticSolver ss)
+{
+  KSP       ksp;
+  PC        pc;
+  PetscBool lu, redundant;
+
+  PetscFunctionBeginUser;
+  PetscCall(SNESGetKSP(ss->snes, &ksp));
+  PetscCall(KSPGetPC(ksp, &pc));
+  PetscCall(PetscObjectTypeCompare((PetscObject) pc, PCREDUNDANT, &redundant));
+  if (redundant) {
+    KSP inner;
+    PetscCall(PCSetFailedReason(pc, PC_NOERROR)); /* its inner solve's failure (SUBPC_ERROR) stays set else */
+    PetscCall(PCRedundantGetKSP(pc, &inner));
+    PetscCall(KSPGetPC(inner, &pc));
+  }
+  PetscCall(PetscObjectTypeCompare((PetscObject) pc, PCLU, &lu));
+  if (lu) PetscCall(PCReset(pc));
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode SetDefaults(StaticSolver ss)
 {
   KSP            ksp;
@@ -2166,6 +2191,7 @@ PetscErrorCode StaticSolve(StaticSolver ss, StaticResult *r)
                reason != SNES_DIVERGED_TR_DELTA)    /* newtontr's: its trust region shrank to nothing */
       break;
     ss->h->shift = PetscMax(100.0 * ss->h->shift, 1e-6); /* start again from where it stopped, stiffer */
+    PetscCall(FreshFactors(ss));
   }
   if (!ss->tao) PetscCall(PetscStrncpy(r->reason, SNESConvergedReasons[reason], sizeof r->reason));
   {
