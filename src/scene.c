@@ -521,6 +521,7 @@ static const PhysicalRange Physical[] = {
     PHYSICAL("damping_ratio", 1e6, "", "1 is critical damping, more only slows the relaxation"),
     PHYSICAL("tear_damping_ratio", 1e6, "", "1 is critical damping, yarns have about 0.05"),
     PHYSICAL("nu", 1e6, "N s/m", "6e-3 N s/m is about critical for a yarn of the stability sweep, docs/stability.md"),
+    PHYSICAL("balance_floor", 1, "", "a fraction of the largest yarn tension: above it the test per crossing tests nothing"),
     PHYSICAL("gauge_mm", SIZE_MAX_MM, "mm", SIZE_WHY),
     PHYSICAL("width_mm", SIZE_MAX_MM, "mm", SIZE_WHY),
     PHYSICAL("disc_diameter_mm", SIZE_MAX_MM, "mm", SIZE_WHY),
