@@ -530,6 +530,9 @@ def run_case(case, fabric, work, nice, results):
         return dict(outcome="SKIPPED", detail="needs case %s" % e, wall=0.0, cmd="", args=[])
     outdir = os.path.join(work, re.sub(r"[^A-Za-z0-9_.-]+", "_", case["name"]))
     args = merge(shlex.split(BASES[case["base"]]), shlex.split(extra), shlex.split(QUIET), ["-output_dir", outdir])
+    if "-integrator" in args and args[args.index("-integrator") + 1] == "fire" and "-damping_ratio" in args:
+        k = args.index("-damping_ratio")  # a base's damping, for the damped scheme: FIRE has none (fabric refuses it)
+        args = args[:k] + args[k + 2:]
     posfile = None
     if case["base"] == "T":
         posfile = os.path.join(outdir, "positions.bin")

@@ -1433,9 +1433,9 @@ static PetscErrorCode CheckTestOptions(MPI_Comm comm, const SceneInput *in, cons
   PetscFunctionReturn(0);
 }
 
-/* the option (-name) was given by the user, not only set by the scene file: on the command line, in PETSC_OPTIONS,
-   or in a file the user names there with -options_file or -options_file_yaml (as rank 0 has them). Every rank
-   reads them (the file readers may be collective); rank 0's answer counts */
+/* the option (-name) was given by the user, not only set by the scene file: on the command line, in PETSC_OPTIONS or
+   PETSC_OPTIONS_YAML, or in a file the user names there with -options_file or -options_file_yaml (as rank 0 has
+   them). Every rank reads them (the file readers may be collective); rank 0's answer counts */
 static PetscErrorCode GivenByUser(MPI_Comm comm, const char *opt, PetscBool *user)
 {
   int          argc;
@@ -1450,6 +1450,7 @@ static PetscErrorCode GivenByUser(MPI_Comm comm, const char *opt, PetscBool *use
   PetscCall(PetscOptionsCreate(&typed));
   PetscCall(PetscOptionsInsertArgs(typed, argc - 1, args + 1));
   if (env) PetscCall(PetscOptionsInsertString(typed, env));
+  if ((env = getenv("PETSC_OPTIONS_YAML"))) PetscCall(PetscOptionsInsertStringYAML(typed, env));
   PetscCall(PetscOptionsHasName(typed, NULL, opt, &has));
   PetscCall(PetscOptionsDestroy(&typed));
   found = has;
@@ -1470,6 +1471,8 @@ static PetscErrorCode CheckOptionsApply(MPI_Comm comm, const Scene *s)
   const char     *nobreak = "-warp_break_pct 0 and -weft_break_pct 0", *notear = "no yarn breaks: there is no tear or rupture";
   const PetscBool fire = s->num.integrator == INTEGRATOR_FIRE ? PETSC_TRUE : PETSC_FALSE;
   const char     *nofire = "FIRE has no damping to set (a tear's is -tear_damping_ratio)";
+  const char     *relaxer = s->num.solver == SOLVER_STATIC ? "-solver static and no yarn breaking"
+                                                           : "-integrator fire and no yarn breaking";
   char test[64], shape[64], clamp[64], law[2][PETSC_MAX_PATH_LEN + 16];
   struct {
     const char *name;
@@ -1498,9 +1501,11 @@ static PetscErrorCode CheckOptionsApply(MPI_Comm comm, const Scene *s)
       {"tear_damping_ratio", tears, nobreak, notear},
       {"tear_te_safety", tears, nobreak, notear},
       {"output_tear_every", tears || s->out.output_tear_every == 0, nobreak, notear}, /* 0: off, as without a tear */
-      {"damping_ratio", !fire, "-integrator fire", nofire},
-      {"energy_watch", !fire, "-integrator fire", "FIRE stops all motion at an uphill step: its energy cannot grow"},
-      {"nu", !fire || tears, "-integrator fire and no yarn breaking", "FIRE has no viscosity; only a tear's damped scheme reads it"},
+      /* 0, off, passes: a command line that switches them off runs with FIRE too */
+      {"damping_ratio", !fire || s->num.damping_ratio == 0, "-integrator fire", nofire},
+      {"energy_watch", !fire || s->num.energy_watch == 0, "-integrator fire",
+       "FIRE stops all motion at an uphill step: its energy cannot grow"},
+      {"nu", !fire || tears || s->num.nu == 0, relaxer, "no viscosity there; only a tear's damped scheme reads it"},
       {"plane_normal", s->bodies.plane, "-plane false", "there is no plane"},
       {"plane_point_mm", s->bodies.plane, "-plane false", "there is no plane"},
       {"pedestal_height_mm", s->bodies.pedestal_radius > 0, "-pedestal_diameter_mm 0", "there is no pedestal"},
