@@ -17,7 +17,11 @@ extra=("$@")
 run() { # name, options...
   local name="$1"; shift
   mpiexec -n "$ranks" "$fabric" -scene "$here/inputs/pushing.yaml" -output_every 0 -quiet -output_dir "$work/$name" \
-    "${extra[@]}" "$@" >"$work/$name.log" 2>&1 || { echo "run $name failed: $(tail -3 "$work/$name.log")" >&2; exit 1; }
+    "${extra[@]}" "$@" >"$work/$name.log" 2>&1 || {
+    # fabric's own message, not mpiexec's footer after it
+    echo "bench_pushing.sh: run $name failed: $(grep -m1 '^fabric: error' "$work/$name.log" || tail -1 "$work/$name.log")" >&2
+    exit 1
+  }
 }
 key() { sed -n "s/^ *\"$2\": \\([^,]*\\),*$/\\1/p" "$work/$1/summary.json" | head -1; }
 

@@ -35,6 +35,12 @@ def main():
     if not rows:  # stopped before its first load step ended: summary.json says why
         why = f": {summary['error']}" if summary.get("error") else ""
         sys.exit(f"bias_table.py: {a.run}/curve.csv: no load step (the run stopped before its first){why}")
+    for k, r in enumerate(rows, start=2):  # a row cut short (a run stopped while writing it) or not numbers
+        try:
+            [float(r[c]) for c in ("travel_mm", "center_shear_deg", "force_N")]
+        except (TypeError, ValueError):
+            sys.exit(f"bias_table.py: {a.run}/curve.csv: line {k} is not a whole row of numbers "
+                     f"(a run stopped while writing it?): {','.join(v for v in r.values() if isinstance(v, str))}")
     D = summary["gauge_mm"] - summary["width_mm"]
     head = ["travel_mm", "formula_deg", "centre_deg", "diff_deg", "force_N", "N'"]
     if a.markdown:

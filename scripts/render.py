@@ -77,6 +77,12 @@ def main():
     h5 = os.path.join(os.path.abspath(a.dir), "fabric.h5")
     if not os.path.isfile(h5):
         sys.exit(f"render.py: {h5}: no such file (fabric.xmf describes the frames, fabric.h5 holds them)")
+    for f in (xmf, h5):  # a run stopped before writing them: the reader's errors named --field
+        if os.path.getsize(f) == 0:
+            sys.exit(f"render.py: {f}: empty (the run that wrote it stopped before its first frame?)")
+    with open(h5, "rb") as fh:
+        if fh.read(8) != b"\x89HDF\r\n\x1a\n":
+            sys.exit(f"render.py: {h5}: not an HDF5 file")
     reader = XDMFReader(FileNames=[xmf])
     reader.UpdatePipelineInformation()
     try:  # a property of the frames' times (one frame: a property of length 1)
@@ -101,6 +107,8 @@ def main():
         make_folder("--panel", a.panel)
 
     names = [reader.PointData.GetArray(i).Name for i in range(len(reader.PointData))]
+    if not names:
+        sys.exit(f"render.py: {xmf} and {h5} give no field: damaged or cut short (a run stopped while writing them?)")
     if a.field not in names:
         sys.exit(f"render.py: --field {a.field}: not a field of {xmf} (it has {', '.join(names)})")
     if a.range:

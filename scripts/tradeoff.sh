@@ -17,11 +17,15 @@
 #   that setting instead of the scene's.
 # /usr/bin/python3 scripts/plot_tradeoff.py table.csv -o figure.png draws error against time.
 set -eu
+case "${1:-}" in
+  -h | --help) sed -n '2,/^set /{/^set /d;s/^# \{0,1\}//;p}' "$0"; exit 0 ;;
+  "") echo "scripts/tradeoff.sh: usage: scripts/tradeoff.sh pushing|bias|drape [table.csv [options...]] (--help)" >&2; exit 2 ;;
+esac
 here="$(cd "$(dirname "$0")/.." && pwd)"
 fabric="${FABRIC:-$here/build/fabric}"
 [[ -x "$fabric" ]] || bash "$here/scripts/setup.sh" >/dev/null
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
-scene="${1:?usage: scripts/tradeoff.sh pushing|bias|drape [table.csv]}"
+scene="$1"
 case "$scene" in pushing | bias | drape) ;; *) echo "scripts/tradeoff.sh: scene '$scene': one of pushing, bias, drape" >&2; exit 2 ;; esac
 csv="${2:-}"
 # the table's file is checked before the runs (it was written after them: a traceback then), and an

@@ -45,6 +45,17 @@ for c in "--out /proc/frame|1|render.py: /proc/frame_000006.png: the image could
   else echo "FAIL render.py $ropts: exit $rc (expected $want_rc), expected '$want' last:"; cat "$work/bad.log" "$work/bad.err"; fail=1; fi
 done
 
+# fabric.h5 empty, or cut in half (a run stopped while writing it): said (it named --field warp_tension, not given)
+cp -r "$work/a" "$work/cut" && : >"$work/cut/fabric.h5"
+cp -r "$work/a" "$work/half" && truncate -s $(($(stat -c %s "$work/a/fabric.h5") / 2)) "$work/half/fabric.h5"
+for c in "cut|render.py: $work/cut/fabric.h5: empty (the run that wrote it stopped before its first frame?)" \
+         "half|render.py: $work/half/fabric.xmf and $work/half/fabric.h5 give no field: damaged or cut short (a run stopped while writing them?)"; do
+  d="${c%%|*}" want="${c#*|}"
+  pvbatch "$root/scripts/render.py" "$work/$d" --frames last --size 200x150 >"$work/bad.log" 2>"$work/bad.err"; rc=$?
+  if [[ $rc -eq 1 && "$(tail -n 1 "$work/bad.err")" == "$want" ]]; then echo "PASS render.py on $d fabric.h5: exit $rc, $want"
+  else echo "FAIL render.py on $d fabric.h5: exit $rc (expected 1), expected '$want', last:"; tail -3 "$work/bad.err"; fail=1; fi
+done
+
 # the paper's figure 11: three steps of a coarse pushing test side by side (render.py --panel)
 mpiexec -n 2 "$fabric" -scene "$root/inputs/pushing.yaml" -quiet -ends_per_cm 6 -picks_per_cm 6 -load_steps 6 -output_every 2 -output_dir "$work/p" >/dev/null || { echo "FAIL the pushing run failed"; exit 1; }
 pvbatch "$root/scripts/render.py" "$work/p" --frames 1,2,last --size 400x300 --out "$work/pimg/frame" --panel "$work/fig11.png" >"$work/panel.log" 2>&1 || { echo "FAIL render.py --panel failed:"; cat "$work/panel.log"; fail=1; }

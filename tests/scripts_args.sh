@@ -28,6 +28,9 @@ case "$case_" in
     expect 2 "scripts/tradeoff.sh: table.csv '-predict': an option, not a file name (give the table's file first, or \"\" for none)" \
       "$t" pushing -predict linear
     # a table that cannot be written: a traceback once every run had ended
+    expect 2 "scripts/tradeoff.sh: usage: scripts/tradeoff.sh pushing|bias|drape [table.csv [options...]] (--help)" "$t"
+    expect 0 "" "$t" --help
+    grep -q "^The explicit path's speed/accuracy trade" "$work/out" || { echo "FAIL tradeoff.sh --help printed: $(head -1 "$work/out")"; fail=1; }
     expect 2 "scripts/tradeoff.sh: table.csv 'no/t.csv': no directory no" "$t" bias no/t.csv
     expect 2 "scripts/tradeoff.sh: table.csv '$work': a directory" "$t" bias "$work"
     # a pushing test that stops before 5 mm: max() of no row, a traceback after every run
@@ -37,6 +40,9 @@ case "$case_" in
   bench_pushing)
     expect 1 "bench_pushing.sh: the reference run reaches no load step at 5 mm of travel or more: no force error from 5 mm on" \
       "$root/scripts/bench_pushing.sh" "${small_pushing[@]}"
+    # a run that fails says fabric's message (it said mpiexec's footer: "Process name: ... Exit code: 1")
+    expect 1 "bench_pushing.sh: run static_1e-8 failed: fabric: error: -gauge_mm abc: not a number" \
+      "$root/scripts/bench_pushing.sh" -gauge_mm abc
     ;;
   plot_tradeoff)
     printf 'knob,value,balanced,wall_s,te_steps,force_err_pct\nreference,static 1e-8,true,1.98,-,0.0000\nbase,-,true,0.41,973,0.0001\n' >t.csv
@@ -111,6 +117,17 @@ stability_sweep.py: error: argument --keep: $work/file: not a directory" "$root/
     sed -i 's/, "error": "[^"]*"//; s/false/true/' run/summary.json
     expect 0 "" /usr/bin/python3 "$root/scripts/bias_table.py" run
     [[ $(tail -n 1 "$work/out") == "every load step balanced: yes; D = 100.000 mm" ]] || { echo "FAIL bias_table.py's last line: $(tail -n 1 "$work/out")"; fail=1; }
+    # a row cut short (a run stopped while writing it): said, naming the line (it was a TypeError traceback)
+    printf '3,3,3,1.2' >>run/curve.csv
+    expect 1 "bias_table.py: run/curve.csv: line 4 is not a whole row of numbers (a run stopped while writing it?): 3,3,3,1.2" \
+      /usr/bin/python3 "$root/scripts/bias_table.py" run
+    ;;
+  bias_convergence)
+    # its arguments are densities: a bad one named as the script's (it went to fabric: "-ends_per_cm abc: not a number")
+    expect 2 "bias_convergence.sh: 'abc': not a thread density (a number of threads/cm above 0; --help)" "$root/scripts/bias_convergence.sh" abc
+    expect 2 "bias_convergence.sh: '0': not a thread density (a number of threads/cm above 0; --help)" "$root/scripts/bias_convergence.sh" 4 0
+    expect 0 "" "$root/scripts/bias_convergence.sh" --help
+    grep -q "^Grid convergence of the bias extension test" "$work/out" || { echo "FAIL bias_convergence.sh --help printed: $(head -2 "$work/out")"; fail=1; }
     ;;
   *) echo "scripts_args.sh: unknown case $case_"; exit 2 ;;
 esac
