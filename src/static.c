@@ -1385,6 +1385,17 @@ static PetscErrorCode ReadOptions(MPI_Comm comm, StaticOptions *o)
   o->tangent       = TANGENT_STENCIL;
   o->tangent_set   = PETSC_FALSE;
   o->sequence      = 0;
+  { /* a value left out (-static_sequence $N with N unset): PETSc's readers keep the default without a word */
+    static const char *const valued[] = {"-snes_shift_start", "-snes_shift_carry", "-snes_extrapolate", "-mg_line_lump",
+                                         "-static_minimizer", "-static_tangent",   "-static_sequence"};
+    for (size_t k = 0; k < sizeof valued / sizeof valued[0]; k++) {
+      char      value[8] = "";
+      PetscBool set;
+      PetscCall(PetscOptionsGetString(NULL, NULL, valued[k], value, sizeof value, &set));
+      PetscCheck(!set || value[0], comm, PETSC_ERR_USER_INPUT, "%s: empty value (give a value or leave the option out)",
+                 valued[k]);
+    }
+  }
   PetscOptionsBegin(comm, NULL, "Quasi-static solver (-solver static, docs/static.md)", NULL);
   PetscCall(PetscOptionsReal("-snes_shift_start", "pretension shift k_s / k_ref at the run's first Newton step", NULL,
                              o->shift_start, &o->shift_start, NULL));
@@ -1426,12 +1437,21 @@ static PetscErrorCode ReadOptions(MPI_Comm comm, StaticOptions *o)
              "-static_sequence %" PetscInt_FMT ": 0 (none) to 8 coarser fabrics", o->sequence);
   PetscCheck(o->order >= 0 && o->order <= 2, comm, PETSC_ERR_USER_INPUT, "-snes_extrapolate %" PetscInt_FMT ": 0, 1 or 2",
              o->order);
-  PetscCheck(o->line_lump >= 0 && o->line_lump < PETSC_INFINITY, comm, PETSC_ERR_USER_INPUT,
+  PetscCheck(o->line_lump >= 0 && isfinite(o->line_lump), comm, PETSC_ERR_USER_INPUT,
              "-mg_line_lump %g: must be a finite number, 0 or more", (double) o->line_lump);
-  PetscCheck(o->shift_start >= 0 && o->shift_start < PETSC_INFINITY, comm, PETSC_ERR_USER_INPUT,
+  PetscCheck(o->shift_start >= 0 && isfinite(o->shift_start), comm, PETSC_ERR_USER_INPUT,
              "-snes_shift_start %.6g: must be a finite number, 0 or more", (double) o->shift_start);
-  PetscCheck(o->shift_carry >= 0 && o->shift_carry < PETSC_INFINITY, comm, PETSC_ERR_USER_INPUT,
+  PetscCheck(o->shift_carry >= 0 && isfinite(o->shift_carry), comm, PETSC_ERR_USER_INPUT,
              "-snes_shift_carry %.6g: must be a finite number, 0 or more", (double) o->shift_carry);
+  /* 1e300 ran every load step to nothing (Newton's steps 1e-100 of the fabric's), said only as unbalanced */
+  PetscCheck(o->shift_start <= 1e6, comm, PETSC_ERR_USER_INPUT,
+             "-snes_shift_start %.6g is beyond its range (at most 1e6: the tangent shifted by this times a segment's "
+             "stiffness; Newton's steps vanish)",
+             (double) o->shift_start);
+  PetscCheck(o->shift_carry <= 1e6, comm, PETSC_ERR_USER_INPUT,
+             "-snes_shift_carry %.6g is beyond its range (at most 1e6: a load step's first shift, this times the last "
+             "one's)",
+             (double) o->shift_carry);
   PetscFunctionReturn(0);
 }
 
