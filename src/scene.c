@@ -1044,28 +1044,27 @@ PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv)
   PetscErrorCode ierr;
 
   PetscFunctionBeginUser;
-  { /* a list of lines or waypoints given twice: the last would replace the first, not add to it */
-    static const char *const lists[] = {"-clamp_line_mm", "-grip_line_mm", "-grip_path_mm"};
-    for (size_t q = 0; q < sizeof lists / sizeof lists[0]; q++) {
+  { /* given twice on the command line, one of these would replace the other as a whole, not add to it */
+#define LIST_ONCE "would replace the others, not add to them); give every item in one value, its numbers joined by commas"
+    static const struct {
+      const char *name, *why;
+    } once[] = {
+        {"-scene", "would be the only one read); give one scene file and the options that change it"},
+        {"-clamp_line_mm", LIST_ONCE},
+        {"-grip_line_mm", LIST_ONCE},
+        {"-grip_path_mm", LIST_ONCE},
+    };
+#undef LIST_ONCE
+    for (size_t q = 0; q < sizeof once / sizeof once[0]; q++) {
       int given = 0, last = 0;
       for (int k = 1; k < argc; k++)
-        if (!strcasecmp(argv[k], lists[q])) given++, last = k;
-      PetscCheck(given <= 1, comm, PETSC_ERR_USER_INPUT,
-                 "%s given %d times on the command line (the last, %s, would replace the others, not add to them); "
-                 "give every item in one value, its numbers joined by commas",
-                 lists[q], given, last + 1 < argc ? argv[last + 1] : "");
+        if (!strcasecmp(argv[k], once[q].name)) given++, last = k;
+      PetscCheck(given <= 1, comm, PETSC_ERR_USER_INPUT, "%s given %d times on the command line (the last, %s, %s",
+                 once[q].name, given, last + 1 < argc ? argv[last + 1] : "", once[q].why);
     }
   }
   PetscCall(PetscOptionsGetString(NULL, NULL, "-scene", file, sizeof file, &set));
   if (!set) PetscFunctionReturn(0);
-  { /* one scene: a second one would replace the first as a whole, not add to it */
-    int given = 0;
-    for (int k = 1; k < argc; k++) given += !strcmp(argv[k], "-scene");
-    PetscCheck(given <= 1, comm, PETSC_ERR_USER_INPUT,
-               "-scene given %d times on the command line (the last, %s, would be the only one read); give one scene "
-               "file and the options that change it",
-               given, file);
-  }
   PetscCheck(file[0], comm, PETSC_ERR_USER_INPUT, "-scene needs a file name");
   PetscCall(CheckReadable(comm, "-scene", file));
   PetscCall(CheckSceneHasOptions(comm, file));
