@@ -5,7 +5,6 @@
  * so each rank computes the forces on its own points from its ghosts.
  */
 #include "fabric.h"
-#include "measure.h"
 #include "comm.h"
 #include "events.h"
 #include "front.h"
@@ -817,7 +816,6 @@ static PetscErrorCode FabricSetUp(Fabric fab)
   PetscCall(CheckStiffnessAndMass(fab));
   PetscCall(CheckSphere(fab, &info));
   PetscCall(CheckBodiesAtRest(fab, &info));
-  if (fab->s.test == TEST_DRAPE) PetscCall(DrapeSetUp(fab)); /* the flat specimen's outline, wider than its support */
   fab->grid.pull_dir[0] = s->spec.pull == PULL_WARP ? 1.0 : 0.0;
   fab->grid.pull_dir[1] = s->spec.pull == PULL_WARP ? 0.0 : 1.0;
   fab->grid.pull_dir[2] = 0.0;

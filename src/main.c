@@ -9,6 +9,7 @@
 #include "checkpoint.h"
 #include "frames.h"
 #include "load.h"
+#include "measure.h"
 #include "report.h"
 #include "scene.h"
 
@@ -186,6 +187,7 @@ static PetscErrorCode Run(int argc, char **argv)
     PetscCall(SceneCheckUnused(PETSC_COMM_WORLD, PETSC_TRUE)); /* a misspelt option beside -help: after the list */
     PetscFunctionReturn(0);
   }
+  if (fab->s.test == TEST_DRAPE) PetscCall(DrapeSetUp(fab)); /* the flat specimen's outline, wider than its support */
   if (fab->s.num.solver == SOLVER_STATIC) PetscCall(StaticOptionsCheck(PETSC_COMM_WORLD)); /* reads -static_* */
   PetscCall(SceneCheckUnused(PETSC_COMM_WORLD, fab->s.num.solver == SOLVER_STATIC));
   if (!fab->s.out.quiet) {
