@@ -643,8 +643,15 @@ static PetscErrorCode SetUpMasses(Fabric fab, const DMDALocalInfo *info_)
     fab->grid.points = count;
     PetscCall(GlobalSumInt(comm, &fab->grid.points, 1));
     PetscCall(GlobalMax(comm, &wmax, 1));
-    /* the balance test's force scale never drops below a point's weight (or 1 uN) */
-    fab->step.force_floor = PetscMax(wmax, 1e-6);
+    /* the balance test's force scale never drops below a point's weight, nor below 1 uN unless the
+       scene's own forces are smaller: its point load, or 1e-7 of the softer yarn's stiffness EA */
+    {
+      const PetscReal P = PetscSqrtReal(PetscSqr(s->load.point_load[0]) + PetscSqr(s->load.point_load[1]) +
+                                        PetscSqr(s->load.point_load[2]));
+      PetscReal       small = PetscMin(1e-6, 1e-7 * PetscMin(s->yarns.warp.EA, s->yarns.weft.EA));
+      if (P > 0) small = PetscMin(small, P);
+      fab->step.force_floor = PetscMax(wmax, small);
+    }
   }
   PetscFunctionReturn(0);
 }
@@ -834,6 +841,7 @@ static PetscErrorCode FabricSetUp(Fabric fab)
   PetscCall(FrontSetUp(fab));
   fab->stats.converged = PETSC_TRUE;
   fab->stats.rupture.peak_balanced = PETSC_TRUE; /* no unbalanced state has given the largest force */
+  fab->stats.rupture.peak_force    = -PETSC_MAX_REAL; /* none yet: the first row's force is the first maximum */
   PetscCall(PetscCalloc1(s->load.load_steps, &fab->stats.curve));
   PetscCall(IOSetUp(&s->out, &fab->io)); /* the output state of frames and checkpoints */
   PetscFunctionReturn(0);

@@ -293,6 +293,13 @@ PetscErrorCode OutputProgress(Fabric fab, const CurveRow *r)
   PetscFunctionReturn(0);
 }
 
+/* the largest force so far as a JSON member: null before the first load step ended */
+static void JsonPeak(FILE *fp, const char *name, PetscReal peak)
+{
+  if (peak == -PETSC_MAX_REAL) fprintf(fp, "  \"%s\": null,\n", name);
+  else fprintf(fp, "  \"%s\": %.9g,\n", name, (double) peak);
+}
+
 /* summary.json's rupture members (ISO 13934-1, ASTM D3787): the maximum force and where it was,
    the bursting force of a ball burst, the segments broken and the rupture (null: none) */
 static void SummaryRupture(Fabric fab, FILE *fp)
@@ -302,8 +309,8 @@ static void SummaryRupture(Fabric fab, FILE *fp)
   PetscReal           mm[2];
 
   if (ReactionTest(s)) {
-    fprintf(fp, "  \"max_force_N\": %.9g,\n  \"max_force_balanced\": %s,\n", (double) r->peak_force,
-            r->peak_balanced ? "true" : "false");
+    JsonPeak(fp, "max_force_N", r->peak_force);
+    fprintf(fp, "  \"max_force_balanced\": %s,\n", r->peak_balanced ? "true" : "false");
     if (JawTest(s)) fprintf(fp, "  \"elongation_at_max_force_pct\": %.9g,\n", (double) (100.0 * r->at_peak));
     else fprintf(fp, "  \"travel_at_max_force_mm\": %.9g,\n", (double) (1e3 * r->at_peak));
     if (s->test == TEST_PUSHING && r->rupture_step) fprintf(fp, "  \"bursting_force_N\": %.9g,\n", (double) r->peak_force);
@@ -394,8 +401,8 @@ PetscErrorCode OutputSummary(Fabric fab, const char *error)
           fab->stats.te_steps, fab->stats.point_updates, (double) fab->stats.wall,
           fab->stats.wall > 0 ? (double) fab->stats.point_updates / fab->stats.wall : 0.0);
   fprintf(fp, "  \"te_rebounds\": %" PetscInt64_FMT ",\n", fab->stats.te_rebounds);
-  fprintf(fp, "  \"gauge_mm\": %.6g,\n  \"width_mm\": %.6g,\n  \"peak_force_N\": %.9g,\n",
-          (double) (s->spec.gauge * 1e3), (double) (s->spec.width * 1e3), (double) fab->stats.rupture.peak_force);
+  fprintf(fp, "  \"gauge_mm\": %.6g,\n  \"width_mm\": %.6g,\n", (double) (s->spec.gauge * 1e3), (double) (s->spec.width * 1e3));
+  JsonPeak(fp, "peak_force_N", fab->stats.rupture.peak_force);
   SummaryRupture(fab, fp);
   SummaryTeMeasure(fab, fp);
   if (s->num.kinetic_damping)
