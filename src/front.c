@@ -103,18 +103,19 @@ PetscErrorCode FrontSetUp(Fabric fab)
 }
 
 /* A load changed: the front starts again from the disturbed points. A prediction that moved the
-   points moves every reachable one, and gravity at the first step disturbs every point: then it
-   is covered (a prediction with nothing to follow, -predict linear under a point load, moves none). */
+   points moves every reachable one, gravity at the first step disturbs every point, and a load
+   step that ended unbalanced left points moving anywhere: then it is covered (a prediction with
+   nothing to follow, -predict linear under a point load, moves none). */
 void FrontLoadChange(Fabric fab, PetscBool predicted)
 {
-  const Scene *s           = &fab->s;
-  const int    gravity     = s->terms.gravity[0] != 0 || s->terms.gravity[1] != 0 || s->terms.gravity[2] != 0;
+  const Scene    *s       = &fab->s;
+  const PetscInt  k       = fab->load.load_step;
+  const int       gravity = s->terms.gravity[0] != 0 || s->terms.gravity[1] != 0 || s->terms.gravity[2] != 0;
+  const PetscBool moving  = k > 1 && !fab->stats.curve[k - 2].balanced;
   fab->front.front_step    = 0;
-  fab->front.front_covered = (!s->num.front || predicted || (gravity && fab->load.load_step == 1))
-                                 ? PETSC_TRUE
-                                 : PETSC_FALSE;
+  fab->front.front_covered = (!s->num.front || predicted || moving || (gravity && k == 1)) ? PETSC_TRUE : PETSC_FALSE;
   if (s->num.sleep_tol > 0) {
-    if (predicted || fab->load.load_step == 1 || !fab->front.front_box)
+    if (predicted || moving || k == 1 || !fab->front.front_box)
       FrontWakeAll(fab);
     else { /* wake the disturbed points too */
       const PetscInt *src     = fab->front.front_box;
