@@ -252,6 +252,18 @@ static PetscErrorCode Run(int argc, char **argv)
                           fab->stats.converged         ? "every load step balanced"
                           : fab->s.out.output_dir[0] ? "some load steps did NOT balance (see curve.csv residual)"
                                                      : "some load steps did NOT balance"));
+    if (fab->s.num.solver != SOLVER_STATIC) { /* unbalanced below the force test: say what else held them */
+      PetscInt n = 0;
+      for (PetscInt k = 0; k < K; k++)
+        n += !fab->stats.curve[k].balanced && fab->stats.curve[k].residual <= fab->s.num.balance_tol && k + 1 != r->rupture_step;
+      if (n)
+        PetscCall(PetscPrintf(PETSC_COMM_WORLD,
+                              "fabric: %" PetscInt_FMT " load step%s did not balance with a residual below -balance_tol %g: "
+                              "crossings still moved faster than -speed_tol %g m/s, the grip's ramp had not ended, or a "
+                              "crossing's own forces did not balance within -max_inner_steps %" PetscInt_FMT "\n",
+                              n, n == 1 ? "" : "s", (double) fab->s.num.balance_tol, (double) fab->s.num.speed_tol,
+                              fab->s.load.max_inner_steps));
+    }
   }
   if (fab->s.out.output_dir[0]) {
     char files[256];
