@@ -599,6 +599,23 @@ static PetscErrorCode InstabilityCause(Fabric fab, char *cause, size_t len)
       PetscFunctionReturn(0);
     }
   }
+  { /* yarns that cannot carry the fabric's own weight: a yarn as long as the fabric, hung by its end,
+       stretched by 100 % or more */
+    const PetscReal *g = fab->load.gravity_now, gmag = PetscSqrtReal(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+    const YarnLaw   *y[2] = {&fab->s.yarns.warp, &fab->s.yarns.weft};
+    for (int f = 0; f < 2; f++) {
+      const PetscReal w = y[f]->mu * (1.0 + y[f]->crimp) * gmag * fab->grid.extent; /* N */
+      if (w > y[f]->EA) {
+        PetscCall(PetscSNPrintf(cause, len,
+                                "; the %s yarns cannot carry the fabric's own weight: one as long as the fabric (%g m) "
+                                "weighs %g N under -gravity (%g m/s^2 at this load step), %g times their stiffness EA "
+                                "(%g N); lower -gravity or give stiffer yarns",
+                                y[f]->name, (double) fab->grid.extent, (double) w, (double) gmag, (double) (w / y[f]->EA),
+                                (double) y[f]->EA));
+        PetscFunctionReturn(0);
+      }
+    }
+  }
   if (!PaperSteps(fab) || (fab->s.num.nu == 0 && fab->step.damp_c == 0)) PetscFunctionReturn(0);
   PetscCall(PetscSNPrintf(cause, len,
                           "; -integrator paper steps the damping by a central difference whose spurious mode grows by a "
