@@ -675,7 +675,9 @@ static PetscErrorCode RestOnSupport(PetscBool pedestal)
    mu = 0.2 < tan alpha, slides: every crossing reaches the terminal speed
    m g (sin(alpha) - mu cos(alpha)) / nu (the fixed point of the damped central differences is
    exact), to 1e-6 after 3000 te steps, and the plane's tangential reaction is
-   mu times its normal one, 1e-9. */
+   mu times its normal one, 1e-9. The same 2 % above and below tan(alpha): sticks, as at 0.5; slides
+   at the terminal speed to 1e-4, the tangential reaction mu times the normal one to 1e-6 (a slip
+   test off by 5 % stuck there). */
 static PetscErrorCode FrictionIncline(void)
 {
   const PetscReal alpha = 20.0 * PETSC_PI / 180.0, g = 9.81;
@@ -685,10 +687,12 @@ static PetscErrorCode FrictionIncline(void)
   char        opts[1024];
 
   PetscFunctionBeginUser;
-  for (int slide = 0; slide < 2; slide++) {
+  /* mu 0.5 and 0.2, then 2 % either side of the threshold tan(alpha) (the stick/slip test's own margin) */
+  for (int c = 0; c < 4; c++) {
     Fabric             fab;
     const PetscScalar *x, *x0, *v;
-    const PetscReal    mu     = slide ? 0.2 : 0.5;
+    const int          slide  = c % 2;
+    const PetscReal    mu     = c < 2 ? (slide ? 0.2 : 0.5) : (slide ? 0.98 : 1.02) * PetscTanReal(alpha);
     PetscReal          err[2] = {0, 0}, ref[2] = {0, 0};
     PetscCall(PetscSNPrintf(opts, sizeof opts, "%s -friction_mu %g -gravity %.17g,0,%.17g %s", base, (double) mu,
                             (double) (g * PetscSinReal(alpha)), (double) (-g * PetscCosReal(alpha)),
@@ -723,7 +727,8 @@ static PetscErrorCode FrictionIncline(void)
     {
       const CurveRow *r = &fab->stats.curve[0];
       if (!slide) {
-        CheckTrue("mu 0.5 > tan(alpha), sticks: the load step balanced", r->balanced, r->residual);
+        PetscPrintf(PETSC_COMM_WORLD, "mu %g, tan(alpha) %g:\n", (double) mu, (double) PetscTanReal(alpha));
+        CheckTrue("mu > tan(alpha), sticks: the load step balanced", r->balanced, r->residual);
         CheckTrue("sticks: x - x0 = m g sin(alpha) / k_c at every crossing (largest error / largest <= 1e-6)",
                   err[0] <= 1e-6 * ref[0], err[0] / ref[0]);
         CheckTrue("sticks: z = -m g cos(alpha) / k_c at every crossing (largest error / largest <= 1e-6)",
@@ -731,15 +736,19 @@ static PetscErrorCode FrictionIncline(void)
         CheckRel("sticks: plane reaction fx = the weight's x (N)", r->plane_force[0], r->weight[0], 1e-6);
         CheckRel("sticks: plane reaction fz = the weight's z (N)", r->plane_force[2], r->weight[2], 1e-6);
       } else {
-        PetscPrintf(PETSC_COMM_WORLD, "slides: %d te steps of %g s\n", (int) fab->stats.te_steps,
-                    (double) fab->step.te);
-        CheckTrue("mu 0.2 < tan(alpha), slides: every crossing at the terminal speed m g (sin(alpha) - mu cos(alpha)) "
-                  "/ nu (largest error / largest speed <= 1e-6)",
-                  isfinite(ref[0]) && ref[0] > 0 && err[0] <= 1e-6 * ref[0], err[0] / ref[0]);
+        PetscPrintf(PETSC_COMM_WORLD, "mu %g, tan(alpha) %g: slides: %d te steps of %g s\n", (double) mu,
+                    (double) PetscTanReal(alpha), (int) fab->stats.te_steps, (double) fab->step.te);
+        /* 2 % below the threshold, the anchor's slips leave the friction force 4.8e-7 of it short of mu fn, which
+           the speed, set by (tan(alpha) - mu), shows 49 times as large */
+        CheckTrue(c < 2 ? "mu < tan(alpha), slides: every crossing at the terminal speed m g (sin(alpha) - mu "
+                          "cos(alpha)) / nu (largest error / largest speed <= 1e-6)"
+                        : "mu < tan(alpha), slides: every crossing at the terminal speed m g (sin(alpha) - mu "
+                          "cos(alpha)) / nu (largest error / largest speed <= 1e-4)",
+                  isfinite(ref[0]) && ref[0] > 0 && err[0] <= (c < 2 ? 1e-6 : 1e-4) * ref[0], err[0] / ref[0]);
         CheckTrue("slides: no speed across the slope or off the plane (largest / the terminal speed <= 1e-6)",
                   err[1] <= 1e-6 * ref[1], err[1] / ref[1]);
         CheckRel("slides: plane tangential reaction fx = mu times the normal one (N)", r->plane_force[0],
-                 -mu * r->plane_force[2], 1e-9);
+                 -mu * r->plane_force[2], c < 2 ? 1e-9 : 1e-6);
       }
     }
     PetscCall(FabricDestroy(&fab));
