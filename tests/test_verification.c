@@ -113,6 +113,32 @@ static PetscReal Ux(Fabric fab, PetscInt i)
   return u;
 }
 
+/* The damped scheme's damping (-integrator damped): c = 2 zeta omega_1, omega_1 the slowest mode of the
+   chain of n segments along the pull. One yarn, both ends held, a linear law through zero (stiffness
+   k = EA / L0 at any strain), masses m = mu L0: omega_1 = 2 sqrt(k/m) sin(pi / (2n)) exactly; the code's
+   pi sqrt(k/m) / n is within (pi/2n)^2/6 of it (7e-6 at n = 240): to 1e-4, and c to 1e-4 of 2 zeta omega_1. */
+static PetscErrorCode DampingSlowest(void)
+{
+  Fabric fab;
+
+  PetscFunctionBeginUser;
+  PetscCall(NewFabric(ONE_YARN "-integrator damped -damping_ratio 0.3 -elongation_pct 1 -load_steps 1 -predict none "
+                               "-early_exit 0 -max_inner_steps 10",
+                      &fab));
+  PetscCall(FabricRun(fab));
+  {
+    const YarnLaw  *y  = &fab->s.yarns.warp;
+    const PetscInt  n  = fab->s.spec.nx - 1;
+    const PetscReal L0 = fab->s.spec.gauge / n, w = PetscSqrtReal(y->EA / y->mu) / L0; /* sqrt(k/m) */
+    const PetscReal omega1 = 2.0 * w * PetscSinReal(PETSC_PI / (2.0 * n));
+    PetscPrintf(PETSC_COMM_WORLD, "one yarn of %d segments, sqrt(k/m) = %g rad/s\n", (int) n, (double) w);
+    CheckRel("slowest mode omega_1 (rad/s)", fab->step.omega1, omega1, 1e-4);
+    CheckRel("damping c = 2 zeta omega_1 (1/s)", fab->step.damp_c, 2.0 * 0.3 * omega1, 1e-4);
+  }
+  PetscCall(FabricDestroy(&fab));
+  PetscFunctionReturn(0);
+}
+
 /* Longitudinal wave along one yarn: speed L0 sqrt(k/m) = sqrt(EA/mu), within 2 %.
    The grip end steps by D; the front reaches D/3 (the zero of the Airy front) at time
    n L0 / c at n segments from the grip. Speed from the arrival times at two points. */

@@ -6,6 +6,7 @@
 CASE(linear_strip, LinearStrip(), "verification", 300)
 CASE(crimp_knee, CrimpKnee(), "verification", 300)
 CASE(wave_speed, WaveSpeed(), "verification", 300)
+CASE(damping_slowest, DampingSlowest(), "verification", 60)
 CASE(transverse_load, TransverseLoad(), "verification", 300)
 CASE(stable_095, Stable095(), "verification", 300)
 CASE(unstable_110, Unstable110(), "verification", 300)
