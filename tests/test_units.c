@@ -1045,6 +1045,39 @@ static PetscErrorCode TestSceneUnits(void)
     }
     PetscCall(SceneDestroy(&fine));
   }
+  /* the same with a tabulated warp law (a curved one, 2 + 3 s^2 cN at s %, written to a temporary file): the coarse
+     yarn stands for two, so its table holds twice the fine table's forces at every node, and EA is twice */
+  {
+    char      file[] = "/tmp/fabric_coarse_XXXXXX", opts[256];
+    int       fd     = mkstemp(file);
+    FILE     *fp     = fd >= 0 ? fdopen(fd, "w") : NULL;
+    Scene     fine, coarse;
+    PetscBool fits;
+    PetscReal worst = 0;
+    PetscCheck(fp, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot write a temporary file");
+    fprintf(fp, "strain_pct,force_cN\n0,0\n");
+    for (int k = 1; k <= 10; k++) fprintf(fp, "%d,%d\n", k, 2 + 3 * k * k);
+    fclose(fp);
+    PetscCall(PetscSNPrintf(opts, sizeof opts, BASE "-test square -gauge_mm 10 -width_mm 10 -warp_law_csv %s", file));
+    PetscCall(PetscOptionsClear(NULL));
+    PetscCall(PetscOptionsInsertString(NULL, opts));
+    PetscCall(SceneLoad(PETSC_COMM_SELF, &fine));
+    PetscCall(SceneCoarsen(PETSC_COMM_SELF, &fine, &coarse, &fits));
+    unlink(file);
+    PetscCall(ExpectReal("the 25 x 25 net with a tabulated law has a coarser fabric", fits, 1, 0));
+    if (fits) {
+      PetscCall(ExpectReal("coarse warp table: as many nodes as the fine", coarse.yarns.warp.ntab, fine.yarns.warp.ntab, 0));
+      for (PetscInt k = 0; k < PetscMin(fine.yarns.warp.ntab, coarse.yarns.warp.ntab); k++)
+        worst = PetscMax(worst, PetscAbsReal(coarse.yarns.warp.tab_T[k] - 2 * fine.yarns.warp.tab_T[k]) /
+                                    PetscMax(PetscAbsReal(2 * fine.yarns.warp.tab_T[k]), 1e-300));
+      PetscCall(ExpectReal("coarse warp table: 2 x the fine tension at every node, largest relative difference", worst, 0,
+                           1e-15));
+      PetscCall(ExpectReal("coarse warp: EA 2 x the fine table's (relative)", coarse.yarns.warp.EA / (2 * fine.yarns.warp.EA),
+                           1, 1e-15));
+      PetscCall(SceneDestroy(&coarse));
+    }
+    PetscCall(SceneDestroy(&fine));
+  }
 
   /* the drape's pedestal: 40 mm high, its top at -thickness/2 */
   PetscCall(PetscOptionsClear(NULL));
