@@ -329,6 +329,24 @@ static PetscErrorCode TestFrontBox(void)
                             PETSC_FALSE, PETSC_FALSE));
   PetscCall(FabricDestroy(&fab));
 
+  /* sleeping: the box is the awake box grown by the stencil's reach, 2, on every side, and the box kept awake grown
+     the same (the 25 x 25 net, front off, the grips at rest) */
+  PetscCall(NewFabric(BASE "-test square -gauge_mm 10 -width_mm 10 -point_load_N 0,0,-0.01 -sleep_tol 1e-4", &fab));
+  fab->front.front_covered = PETSC_TRUE, fab->load.ramp_done = fab->load.ramp_steps = 0;
+  fab->front.awake_box[0] = 5, fab->front.awake_box[1] = 8, fab->front.awake_box[2] = 6, fab->front.awake_box[3] = 9;
+  FrontKeepReset(fab);
+  n = FrontStepBox(fab, g, l);
+  PetscCall(ExpectReal("sleeping: awake [5,8) x [6,9) gives the box [3,10) x [4,11), 49 points",
+                       (g[0] == 3 && g[1] == 10 && g[2] == 4 && g[3] == 11 && n == 49), 1, 0));
+  {
+    const PetscInt keep[4] = {15, 16, 20, 21};
+    FrontKeepAwake(fab, keep);
+  }
+  n = FrontStepBox(fab, g, l);
+  PetscCall(ExpectReal("sleeping: with [15,16) x [20,21) kept awake, the box [3,18) x [4,23), 285 points",
+                       (g[0] == 3 && g[1] == 18 && g[2] == 4 && g[3] == 23 && n == 285), 1, 0));
+  PetscCall(FabricDestroy(&fab));
+
   /* disc: the same boxes; once a box is the whole grid, the count is the existing crossings */
   PetscCall(NewFabric(DISC "-point_load_N 0,0,-0.01 -front 1 -predict none", &fab));
   PetscCall(CheckFrontSteps(fab, "disc, centre load: box [12-2k, 13+2k)^2, its area; whole grid: existing points", 13,
