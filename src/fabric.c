@@ -646,8 +646,7 @@ static PetscErrorCode SetUpMasses(Fabric fab, const DMDALocalInfo *info_)
     /* the balance test's force scale never drops below a point's weight, nor below 1 uN unless the
        scene's own forces are smaller: its point load, or 1e-7 of the softer yarn's stiffness EA */
     {
-      const PetscReal P = PetscSqrtReal(PetscSqr(s->load.point_load[0]) + PetscSqr(s->load.point_load[1]) +
-                                        PetscSqr(s->load.point_load[2]));
+      const PetscReal P = hypot(hypot(s->load.point_load[0], s->load.point_load[1]), s->load.point_load[2]);
       PetscReal       small = PetscMin(1e-6, 1e-7 * PetscMin(s->yarns.warp.EA, s->yarns.weft.EA));
       if (P > 0) small = PetscMin(small, P);
       fab->step.force_floor = PetscMax(wmax, small);

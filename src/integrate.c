@@ -575,7 +575,8 @@ static PetscErrorCode KineticDamping(Fabric fab, const PetscInt box[4], PetscRea
 }
 
 /* An instability's likely cause, for its message (collective; "" if none is known): a point load that by
-   itself moves its crossing farther than the fabric's size in one te step (no yarn holds that); or the
+   itself moves its crossing farther than the fabric's size in one te step (no yarn holds that); yarns
+   too soft to carry the fabric's weight, at a stable te with no body to rest on; or the
    paper's scheme (MODEL.md eq. 10), which steps the damping c = 2 zeta omega_1 + nu/m by a central
    difference over 2 te, whose spurious root grows by a factor of about 1 + c te per te step (c te > 1:
    a runaway within te steps) */
@@ -599,8 +600,9 @@ static PetscErrorCode InstabilityCause(Fabric fab, char *cause, size_t len)
       PetscFunctionReturn(0);
     }
   }
-  { /* yarns that cannot carry the fabric's own weight: a yarn as long as the fabric, hung by its end,
-       stretched by 100 % or more */
+  if (fab->step.te <= fab->step.te_bound && !fab->s.bodies.plane && fab->s.bodies.pedestal_radius == 0 &&
+      fab->s.bodies.sphere_radius == 0) { /* yarns that cannot carry the fabric's own weight (no body does): a yarn
+                                             as long as the fabric, hung by its end, stretched by 100 % or more */
     const PetscReal *g = fab->load.gravity_now, gmag = PetscSqrtReal(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
     const YarnLaw   *y[2] = {&fab->s.yarns.warp, &fab->s.yarns.weft};
     for (int f = 0; f < 2; f++) {

@@ -171,7 +171,7 @@ static PetscBool CanRupture(const Scene *s)
 static PetscBool MarkRupture(Fabric fab, const CurveRow *row)
 {
   RuptureState *r = &fab->stats.rupture;
-  if (!(row->force < (1.0 - fab->s.rupture.drop) * r->peak_force)) return PETSC_FALSE;
+  if (!(r->peak_force > 0 && row->force < (1.0 - fab->s.rupture.drop) * r->peak_force)) return PETSC_FALSE;
   r->rupture_step = fab->load.load_step;
   r->rupture_time = row->time + fab->load.elapsed;
   return PETSC_TRUE;

@@ -309,9 +309,11 @@ static void SummaryRupture(Fabric fab, FILE *fp)
   PetscReal           mm[2];
 
   if (ReactionTest(s)) {
+    const PetscBool none = r->peak_force == -PETSC_MAX_REAL; /* no load step has ended */
     JsonPeak(fp, "max_force_N", r->peak_force);
-    fprintf(fp, "  \"max_force_balanced\": %s,\n", r->peak_balanced ? "true" : "false");
-    if (JawTest(s)) fprintf(fp, "  \"elongation_at_max_force_pct\": %.9g,\n", (double) (100.0 * r->at_peak));
+    fprintf(fp, "  \"max_force_balanced\": %s,\n", none ? "null" : r->peak_balanced ? "true" : "false");
+    if (none) fprintf(fp, "  \"%s\": null,\n", JawTest(s) ? "elongation_at_max_force_pct" : "travel_at_max_force_mm");
+    else if (JawTest(s)) fprintf(fp, "  \"elongation_at_max_force_pct\": %.9g,\n", (double) (100.0 * r->at_peak));
     else fprintf(fp, "  \"travel_at_max_force_mm\": %.9g,\n", (double) (1e3 * r->at_peak));
     if (s->test == TEST_PUSHING && r->rupture_step) fprintf(fp, "  \"bursting_force_N\": %.9g,\n", (double) r->peak_force);
   }
