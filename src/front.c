@@ -111,8 +111,8 @@ void FrontLoadChange(Fabric fab, PetscBool predicted)
   const Scene    *s       = &fab->s;
   const PetscInt  k       = fab->load.load_step;
   const int       gravity = s->terms.gravity[0] != 0 || s->terms.gravity[1] != 0 || s->terms.gravity[2] != 0;
-  const PetscBool moving  = s->num.solver != SOLVER_STATIC && k > 1 && !fab->stats.curve[k - 2].balanced; /* the
-                              static path's coarse fabrics keep no rows */
+  /* the load step before ended unbalanced (the static path's coarse fabrics keep no rows) */
+  const PetscBool moving  = s->num.solver != SOLVER_STATIC && k > 1 && !fab->stats.curve[k - 2].balanced;
   fab->front.front_step    = 0;
   fab->front.front_covered = (!s->num.front || predicted || moving || (gravity && k == 1)) ? PETSC_TRUE : PETSC_FALSE;
   if (s->num.sleep_tol > 0) {
