@@ -174,6 +174,7 @@ typedef struct { /* run statistics and the curve */
   PetscLogDouble wall_start, wall;
   CurveRow      *curve;
   FILE          *curve_fp; /* rank 0 */
+  FILE          *lock_fp;  /* rank 0: DIR/.fabric.lock, write-locked while the run lasts */
 } RunStats;
 
 typedef struct {                     /* measurements of the drape */

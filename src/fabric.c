@@ -907,6 +907,7 @@ PetscErrorCode FabricDestroy(Fabric *pfab)
   PetscFunctionBeginUser;
   if (!fab) PetscFunctionReturn(0);
   if (fab->stats.curve_fp) fclose(fab->stats.curve_fp);
+  if (fab->stats.lock_fp) fclose(fab->stats.lock_fp); /* the lock with it */
   PetscCall(IODestroy(&fab->io));
   PetscCall(PetscFree(fab->stats.curve));
   PetscCall(PetscFree(fab->step.ke_terms));

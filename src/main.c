@@ -361,6 +361,13 @@ int main(int argc, char **argv)
   /* MPI before PETSc: the option files are looked at first, and an MPI call that fails (an MPI
      that cannot run the -sf_type asked for, say) returns its error to PETSc, which then stops
      the run with one line, instead of MPI aborting it with no word of which option caused it */
+#if defined(OPEN_MPI)
+  /* Open MPI 4.1's shared-file-pointer component "lockedfile" writes the name of the file being
+     opened into a fixed buffer: an -output_dir or -restart path of more than about 225 characters
+     overflows it and aborts the run inside MPI_File_open (open-mpi/ompi#13565). The solver never
+     uses shared file pointers: leave that component out, unless the user chose the components. */
+  setenv("OMPI_MCA_sharedfp", "^lockedfile", 0);
+#endif
   if (MPI_Init(&argc, &argv) != MPI_SUCCESS) return 1;
   MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN);
   MPI_Comm_set_errhandler(MPI_COMM_SELF, MPI_ERRORS_RETURN);

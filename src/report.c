@@ -12,6 +12,7 @@
 #include "load.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <string.h>
 #include <math.h>
 #include <sys/stat.h>
@@ -168,6 +169,23 @@ PetscBool RestartsFrom(const char *dir, const char *restart)
   return !stat(file, &a) && !stat(restart, &b) && a.st_dev == b.st_dev && a.st_ino == b.st_ino ? PETSC_TRUE : PETSC_FALSE;
 }
 
+/* One run per output directory: two runs writing into one would mix their files, and the first
+   would still report success. Rank 0 holds a write lock on DIR/.fabric.lock while the run lasts;
+   the system drops it when the run ends, however it ends (no stale lock after a crash). 1: another
+   run holds it. A lock file that cannot be made, or a file system without locks, is let be. */
+static int LockDir(Fabric fab, const char *dir)
+{
+  char         file[PETSC_MAX_PATH_LEN];
+  struct flock fl;
+
+  if (snprintf(file, sizeof file, "%s/.fabric.lock", dir) >= (int) sizeof file) return 0;
+  if (!(fab->stats.lock_fp = fopen(file, "a"))) return 0;
+  memset(&fl, 0, sizeof fl);
+  fl.l_type   = F_WRLCK;
+  fl.l_whence = SEEK_SET; /* the whole file: l_start 0, l_len 0 */
+  return fcntl(fileno(fab->stats.lock_fp), F_SETLK, &fl) && (errno == EACCES || errno == EAGAIN);
+}
+
 /* curve.csv: the header, and after a restart the rows before the checkpoint */
 PetscErrorCode OutputOpen(Fabric fab)
 {
@@ -181,6 +199,7 @@ PetscErrorCode OutputOpen(Fabric fab)
   if (fab->rank == 0) {
     char file[PETSC_MAX_PATH_LEN];
     if (MakeDirs(dir, failed, sizeof failed)) status[0] = 1, status[1] = errno;
+    else if (LockDir(fab, dir)) status[0] = 3;
     if (!status[0]) { /* an earlier run's summary, checkpoint and frames would stand beside this run's results */
       RemoveStale(dir, "summary.json", NULL);
       if (!RestartsFrom(dir, fab->s.out.restart)) RemoveStale(dir, "checkpoint.h5", "fabric_checkpoint");
@@ -207,6 +226,10 @@ PetscErrorCode OutputOpen(Fabric fab)
              failed, strerror(status[1]));
   PetscCheck(status[0] != 2, fab->comm, PETSC_ERR_FILE_WRITE, "-output_dir %s: cannot write %s/curve.csv (%s)", dir,
              dir, strerror(status[1]));
+  PetscCheck(status[0] != 3, fab->comm, PETSC_ERR_FILE_OPEN,
+             "-output_dir %s: another run is writing there (it holds %s/.fabric.lock); give each run its own -output_dir, "
+             "or wait for that one to end",
+             dir, dir);
   PetscCall(CheckRoom(fab));
   PetscFunctionReturn(0);
 }

@@ -1037,6 +1037,35 @@ static PetscErrorCode ReadSceneText(MPI_Comm comm, const char *file, char **text
 
 /* -scene FILE: insert the YAML option file, then PETSC_OPTIONS and the command line again so that they win
    (PETSc's order: option files, the environment, the command line) */
+/* A word on the command line where an option name belongs (a scene file without -scene, or
+   load_steps=3) is skipped by PETSc, and the run would go on without it: refuse it. The walk is
+   PETSc's own: a name (PetscOptionsValidKey: -x, not -5) takes the next word as its value unless
+   that word is a name itself; -prefix_pop takes none. */
+static PetscErrorCode CheckBareWords(MPI_Comm comm, int argc, char **argv)
+{
+  PetscFunctionBeginUser;
+  for (int k = 1; k < argc;) {
+    PetscBool   key, next = PETSC_TRUE;
+    const char *w   = argv[k];
+    const char *dot = strrchr(w, '.'), *eq = strchr(w, '=');
+    PetscCall(PetscOptionsValidKey(w, &key));
+    if (!key) {
+      const int yaml = dot && (!strcasecmp(dot, ".yaml") || !strcasecmp(dot, ".yml"));
+      PetscCheck(!yaml, comm, PETSC_ERR_USER_INPUT,
+                 "'%s' on the command line is not an option: a scene file is given as -scene %s", w, w);
+      PetscCheck(!eq || eq == w, comm, PETSC_ERR_USER_INPUT,
+                 "'%s' on the command line is not an option: options are given as -name value (-%.*s %s)", w,
+                 (int) (eq - w), w, eq + 1);
+      SETERRQ(comm, PETSC_ERR_USER_INPUT,
+              "'%s' on the command line is not an option, nor the value of one (%s%s): options are given as -name value",
+              w, k > 1 ? "it follows " : "it is the first word", k > 1 ? argv[k - 1] : "");
+    }
+    if (k + 1 < argc && strcasecmp(w, "-prefix_pop")) PetscCall(PetscOptionsValidKey(argv[k + 1], &next));
+    k += next ? 1 : 2;
+  }
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv)
 {
   char           file[PETSC_MAX_PATH_LEN], *text;
@@ -1063,6 +1092,7 @@ PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv)
                  once[q].name, given, last + 1 < argc ? argv[last + 1] : "", once[q].why);
     }
   }
+  PetscCall(CheckBareWords(comm, argc, argv));
   PetscCall(PetscOptionsGetString(NULL, NULL, "-scene", file, sizeof file, &set));
   if (!set) PetscFunctionReturn(0);
   PetscCheck(file[0], comm, PETSC_ERR_USER_INPUT, "-scene needs a file name");

@@ -19,6 +19,11 @@
 #  7. a directory in -output_dir under the name of a file the run writes (fabric.h5, .checkpoint.h5.tmp): refused
 #     at the start, naming it, the directory's earlier contents untouched (the run failed at its first frame or
 #     checkpoint with "Error in HDF5 call H5Fcreate()", its curve.csv and summary.json written)
+#  8. an -output_dir path of 260 characters: frames, a checkpoint and a restart from it on 2 ranks (Open MPI 4.1's
+#     MPI_File_open aborted the run beyond about 225 characters: a buffer overflow in its shared-file-pointer component)
+#  9. an -output_dir another run is writing into (it holds DIR/.fabric.lock): refused at the start, naming it, the
+#     directory as it was; once that run has ended, a run there goes on (the two runs' files were mixed, and the first
+#     reported success)
 set -u
 fabric="$1"; scene="$2"
 . "$(dirname "$0")/runs.sh" # $py, $work, $fail, run NP ARGS...
@@ -123,4 +128,34 @@ for own in fabric.h5 .checkpoint.h5.tmp; do
     cat "$work/log"; echo "FAIL a directory $own in -output_dir: exit $rc, left: $left"; fail=1
   fi
 done
+d="$work/$(printf 'l%.0s' {1..200})/$(printf 'm%.0s' {1..40})"
+run 2 "${small[@]}" -output_dir "$d" -checkpoint_every 2 -output_every 1
+run 2 "${small[@]}" -output_dir "$d" -output_every 1 -restart "$d/checkpoint.h5"
+if [[ ${#d} -ge 260 && -s $d/fabric.h5 && -s $d/checkpoint.h5 ]] && grep -q '"converged": true' "$d/summary.json"; then
+  echo "PASS an -output_dir of ${#d} characters: frames, a checkpoint and a restart on 2 ranks"
+else
+  echo "FAIL an -output_dir of ${#d} characters: $(ls -A "$d" | tr '\n' ' ')"; fail=1
+fi
+d="$work/locked"
+mkdir -p "$d" && echo '{"converged": true}' >"$d/summary.json"
+"$py" -c 'import fcntl, sys, time; f = open(sys.argv[1], "a"); fcntl.lockf(f, fcntl.LOCK_EX); open(sys.argv[2], "w").close(); time.sleep(60)' \
+  "$d/.fabric.lock" "$work/held" &
+holder=$!
+for t in $(seq 100); do [[ -e $work/held ]] && break; sleep 0.1; done
+mpiexec -n 2 "$fabric" "${small[@]}" -output_dir "$d" >"$work/log" 2>&1
+rc=$?
+left="$(ls -A "$d" | tr '\n' ' ')"
+if [[ $rc -ne 0 && "$left" == ".fabric.lock summary.json " ]] &&
+  grep -q "^fabric: error: -output_dir $d: another run is writing there (it holds $d/.fabric.lock); give each run its own -output_dir" "$work/log"; then
+  echo "PASS an -output_dir another run holds: refused at the start (exit $rc), naming it; the directory as it was"
+else
+  cat "$work/log"; echo "FAIL an -output_dir another run holds: exit $rc, left: $left"; fail=1
+fi
+kill "$holder"; wait "$holder" 2>/dev/null
+run 2 "${small[@]}" -output_dir "$d"
+if grep -q '"scene": "strip_warp"' "$d/summary.json"; then
+  echo "PASS once the other run has ended, a run in that -output_dir goes on"
+else
+  echo "FAIL once the other run has ended: summary.json is not this run's"; fail=1
+fi
 exit $fail
