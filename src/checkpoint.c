@@ -201,6 +201,81 @@ static PetscErrorCode WriteChecksum(PetscViewer v, const char *path, uint64_t su
   PetscFunctionReturn(0);
 }
 
+/* The attributes of / (the counters, the rupture state and the relaxation's state) carry one more
+   checksum, attributes_checksum: the sum mod 2^64 of a hash of (name, value) over every other
+   numeric attribute there. It is computed from the file, as written and as read, so every
+   attribute the checkpoint gains is covered. An integer is hashed as its 64-bit value, a real as
+   its 8 bytes: a change of any one value, in range or not, changes the sum. */
+#define ATTRS_CHECKSUM "attributes_checksum"
+typedef struct {
+  uint64_t sum;
+  int      bad; /* an attribute that is not one numeric value */
+} AttrsSum;
+
+static herr_t AttrsSumOne(hid_t loc, const char *name, const H5A_info_t *info, void *ctx)
+{
+  AttrsSum   *s  = ctx;
+  uint64_t    nh = 1469598103934665603ULL, bits = 0; /* FNV-1a of the name */
+  hid_t       a, t, sp;
+  H5T_class_t cls;
+  int         ok = 0;
+
+  (void) info;
+  if (!strcmp(name, ATTRS_CHECKSUM)) return 0;
+  for (const char *c = name; *c; c++) nh = (nh ^ (unsigned char) *c) * 1099511628211ULL;
+  if ((a = H5Aopen(loc, name, H5P_DEFAULT)) < 0) return s->bad = 1, -1;
+  t   = H5Aget_type(a);
+  sp  = H5Aget_space(a);
+  cls = t >= 0 ? H5Tget_class(t) : H5T_NO_CLASS;
+  if (sp >= 0 && H5Sget_simple_extent_npoints(sp) == 1) {
+    if (cls == H5T_FLOAT) {
+      double v;
+      ok = H5Aread(a, H5T_NATIVE_DOUBLE, &v) >= 0;
+      memcpy(&bits, &v, sizeof bits);
+    } else if (cls == H5T_INTEGER) {
+      long long v;
+      ok   = H5Aread(a, H5T_NATIVE_LLONG, &v) >= 0;
+      bits = (uint64_t) v;
+    }
+  }
+  if (sp >= 0) H5Sclose(sp);
+  if (t >= 0) H5Tclose(t);
+  H5Aclose(a);
+  if (!ok) return s->bad = 1, -1;
+  s->sum += Mix64(bits ^ Mix64(nh + HASH_GOLDEN));
+  return 0;
+}
+
+/* the checksum of the attributes of the group g (open); 0 if one is not a single number */
+static int AttrsChecksum(hid_t g, uint64_t *sum)
+{
+  AttrsSum s = {0, 0};
+  hsize_t  at = 0;
+  if (H5Aiterate2(g, H5_INDEX_NAME, H5_ITER_INC, &at, AttrsSumOne, &s) < 0 || s.bad) return 0;
+  *sum = s.sum;
+  return 1;
+}
+
+/* attributes_checksum of /, from the attributes written; every rank, the same value */
+static PetscErrorCode WriteAttrsChecksum(PetscViewer v)
+{
+  hid_t    file, g, sp = -1, a = -1;
+  herr_t   status = -1;
+  uint64_t sum;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscViewerHDF5GetFileId(v, &file));
+  g = H5Gopen2(file, "/", H5P_DEFAULT);
+  if (g >= 0 && AttrsChecksum(g, &sum)) sp = H5Screate(H5S_SCALAR);
+  if (sp >= 0) a = H5Acreate2(g, ATTRS_CHECKSUM, H5T_STD_U64LE, sp, H5P_DEFAULT, H5P_DEFAULT);
+  if (a >= 0) status = H5Awrite(a, H5T_NATIVE_UINT64, &sum);
+  if (a >= 0) H5Aclose(a);
+  if (sp >= 0) H5Sclose(sp);
+  if (g >= 0) H5Gclose(g);
+  PetscCheck(status >= 0, PETSC_COMM_SELF, PETSC_ERR_LIB, "checkpoint: cannot write the checksum of the attributes of /");
+  PetscFunctionReturn(0);
+}
+
 /* ------------------------------------------------------------------ what a checkpoint holds */
 
 /* the state vectors of a checkpoint, in /state */
@@ -701,6 +776,7 @@ static PetscErrorCode CheckpointWrite(Fabric fab, const RelaxPoint *at)
   PetscCall(WriteScene(&fab->s, v));
   PetscCall(WriteCounters(fab, v, done));
   PetscCall(WriteRelaxState(fab, v, at));
+  PetscCall(WriteAttrsChecksum(v)); /* last: it covers every attribute of / */
   PetscCall(PetscViewerDestroy(&v));
   PetscCall(CommitFile(fab->comm, fab->rank, dir, tmp, file));
   ckpt.last_te = fab->stats.te_steps;
@@ -1145,6 +1221,15 @@ static PetscErrorCode ReadHeader(Fabric fab, const char *file, Header *h, double
           ReadHistoryArray(fid, file, "/history/curve", what, CURVE_COLS * h->load_step, *rows, h)) {
         snprintf(what, sizeof what, "%d frames", h->frames);
         if (h->frames) ReadHistoryArray(fid, file, "/history/frames", what, 3 * h->frames, *frames, h);
+      }
+      if (!h->status) { /* last: a value out of its range has been named above */
+        uint64_t want, sum;
+        if (!ReadAttr(g, ATTRS_CHECKSUM, H5T_NATIVE_UINT64, &want))
+          (void) REFUSE("-restart %s: damaged checkpoint: / has no " ATTRS_CHECKSUM, file);
+        else if (!AttrsChecksum(g, &sum) || sum != want)
+          (void) REFUSE("-restart %s: damaged checkpoint: the checksum of the attributes of / (the counters and the "
+                        "relaxation's state) does not match",
+                        file);
       }
     }
   }

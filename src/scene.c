@@ -632,9 +632,9 @@ static PetscErrorCode ReadOptions(MPI_Comm comm, SceneInput *in)
       PetscCall(ReadOption(comm, o, 0, in, in, help));
       continue;
     }
+    if (help && !strcmp(o->name, "%s_tex")) /* the yarns' group: the first yarn option */
+      PetscCall(PetscPrintf(comm, "Yarns (each -warp_... option has its -weft_... twin):\n"));
     for (int y = 0; y < 2; y++) PetscCall(ReadOption(comm, o, y, in, &in->yarn[y], help && y == 0));
-    if (help && !strcmp(o->name, "%s_tex"))
-      PetscCall(PetscPrintf(comm, "  (each -warp_... option has its -weft_... twin)\n"));
   }
   PetscFunctionReturn(0);
 }

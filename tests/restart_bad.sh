@@ -2,7 +2,8 @@
 # restart_bad.sh FABRIC SCENE: a checkpoint that is damaged, foreign or of another scene is
 # refused on 2 ranks with one clear message naming -restart and the file, a non-zero exit, within
 # seconds (no hang), and the output directory it would append to is left as it was. A byte flipped
-# in the data of any array is refused by the array's checksum, naming it.
+# in the data of any array is refused by the array's checksum, naming it; a value of the attributes of /
+# changed within its range, by their checksum.
 set -u
 fabric="$1"; scene="$2"
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -60,6 +61,13 @@ for bad in "grip_disp_m nan" "wall_s inf" "te_now_s nan" "peak_force_N -inf"; do
   read -r attr value <<<"$bad"
   cp "$ck" "$work/attr.h5" && setattr "$work/attr.h5" "$attr" "$value" || { echo "FAIL cannot set $attr"; fail=1; continue; }
   refuse "attr_${attr}_$value" "-restart .*attr.h5: damaged checkpoint: $attr = -?(nan|inf) is not a finite number" "${opts[@]}" -output_dir "$work/run" -restart "$work/attr.h5"
+done
+# a value changed within its range (1 ulp of a real, one more of a count) is refused by the checksum of the attributes of /
+# (format 17): a changed te, FIRE step or time restarted and silently gave other results
+nudge() { /usr/bin/python3 -c "import sys, h5py, numpy as np; f = h5py.File(sys.argv[1], 'r+'); v = f.attrs[sys.argv[2]]; f.attrs[sys.argv[2]] = np.nextafter(v, np.inf) if np.issubdtype(v.dtype, np.floating) else v + 1" "$@"; }
+for attr in te_now_s fire_alpha fire_dt_s time_s fire_positive_steps kinetic_resets; do
+  cp "$ck" "$work/attr.h5" && nudge "$work/attr.h5" "$attr" || { echo "FAIL cannot change $attr"; fail=1; continue; }
+  refuse "attr_${attr}_nudged" "-restart .*attr.h5: damaged checkpoint: the checksum of the attributes of / .the counters and the relaxation's state. does not match" "${opts[@]}" -output_dir "$work/run" -restart "$work/attr.h5"
 done
 # -te_measure's counts (checkpoint format 16): out of their range they made summary.json's te / limit inf or nan
 for bad in "te_measure_states -1 -1, te_measure_prev_load_step = [0-9]+" "te_measure_prev_load_step 7 [0-9]+, te_measure_prev_load_step = 7"; do

@@ -6,7 +6,8 @@
 #  2. frames turned on at the restart: frame 0, the restart's state, is labelled load step 4 and its te
 #     step, before load step 4's own frame in time (it was labelled 3, after it);
 #  3. a restart that writes no frames: fabric.h5 and fabric.xmf keep the frames written before the
-#     checkpoint and no later one (the stopped run's later frames stayed).
+#     checkpoint and no later one (the stopped run's later frames stayed);
+#  5. te frames turned off at a restart within a load step: the frame times still increase.
 set -u
 fabric="$1"; strip="$2"; rupture="$3"
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
@@ -33,6 +34,14 @@ check 'tail -n +2 "$work/te.txt" | grep -qv "^.* 4 0$" && [[ -z "$(tail -n +2 "$
 frames "$work/on/fabric.xmf" >"$work/on.txt"
 check 'awk "NR == 1 { t = \$1; ok = \$2 == 4 && \$3 > 0 } NR == 2 { ok = ok && \$2 == 4 && \$1 > t } END { exit !ok }" "$work/on.txt"' \
   "frame 0 of the restart within load step 4: $(head -1 "$work/on.txt"), then $(sed -n 2p "$work/on.txt") (time, load step, te step)"
+
+# 5. te frames turned off at a restart within load step 4: its end frame comes after the te frames written
+#    before the checkpoint (it was at the load step's time, before them)
+"$fabric" "${opts[@]}" -output_te_every 100 -checkpoint_every_te 1500 -output_dir "$work/tedown" || fail=1
+"$fabric" "${opts[@]}" -output_te_every 0 -restart "$work/tedown/checkpoint.h5" -output_dir "$work/tedown" || fail=1
+frames "$work/tedown/fabric.xmf" >"$work/tedown.txt"
+check 'awk "NR > 1 && \$1 <= t { bad = 1 } { t = \$1 } END { exit bad || NR < 3 }" "$work/tedown.txt"' \
+  "te frames turned off at a restart within load step 4: frame times increase ($(tail -2 "$work/tedown.txt" | tr '\n' ';'))"
 
 ropts=(-scene "$rupture" -gauge_mm 20 -width_mm 5 -quiet -checkpoint_every 30)
 "$fabric" "${ropts[@]}" -output_te_every 20 -output_tear_every 10 -output_dir "$work/full" || fail=1
