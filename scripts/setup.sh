@@ -9,7 +9,7 @@ export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_
 
 # paraview + python3-paraview: pvpython and pvbatch (scripts/render.py, the output tests); xvfb and
 # xauth: xvfb-run, a display for pvbatch; python3-h5py/numpy/matplotlib: the scripts and tests
-packages=(build-essential cmake pkg-config petsc-dev libhdf5-openmpi-dev libgsl-dev openmpi-bin hdf5-tools valgrind
+packages=(build-essential cmake pkg-config petsc-dev libyaml-dev libhdf5-openmpi-dev libgsl-dev openmpi-bin hdf5-tools valgrind
   paraview python3-paraview xvfb xauth python3-h5py python3-numpy python3-matplotlib ${FABRIC_EXTRA_PACKAGES:-})
 missing=()
 for p in "${packages[@]}"; do

@@ -350,7 +350,7 @@ static void SummaryRupture(Fabric fab, FILE *fp)
             ", \"x_mm\": %.6g, \"y_mm\": %.6g, \"load_step\": %" PetscInt_FMT ", \"time_s\": %.9g},\n",
             r->first.dir == 0 ? "warp" : "weft", r->first.i, r->first.j, (double) mm[0], (double) mm[1], r->first_step,
             (double) r->first_time);
-  }
+  } else fprintf(fp, "  \"first_break\": null,\n"); /* nothing broke */
   if (r->rupture_step) {
     const CurveRow *row = &fab->stats.curve[r->rupture_step - 1];
     fprintf(fp, "  \"rupture\": {\"load_step\": %" PetscInt_FMT ", \"time_s\": %.9g, \"%s\": %.9g, \"force_N\": %.9g},\n",

@@ -20,6 +20,7 @@
 #include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
+#include <yaml.h>
 #include <strings.h>
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -755,6 +756,31 @@ static char *KeyLine(char *line)
   return !*c || *c == '#' || *c == '-' || *c == '[' || *c == '{' || *c == '"' || *c == '\'' ? NULL : c;
 }
 
+/* What libyaml (PETSc's YAML reader) finds wrong with the text, and where: "line L, column C:
+   problem (context)"; 0 if it parses. PETSc says only "YAML parser loading error". */
+static int YamlProblem(const char *text, char *msg, size_t len)
+{
+  yaml_parser_t p;
+  yaml_event_t  e;
+  int           bad = 0, done = 0;
+
+  if (!yaml_parser_initialize(&p)) return 0;
+  yaml_parser_set_input_string(&p, (const unsigned char *) text, strlen(text));
+  while (!done && !bad) {
+    if (!yaml_parser_parse(&p, &e)) bad = 1;
+    else {
+      done = e.type == YAML_STREAM_END_EVENT;
+      yaml_event_delete(&e);
+    }
+  }
+  if (bad)
+    snprintf(msg, len, "line %lu, column %lu: %s%s%s%s", (unsigned long) p.problem_mark.line + 1,
+             (unsigned long) p.problem_mark.column + 1, p.problem ? p.problem : "a YAML error",
+             p.context ? " (" : "", p.context ? p.context : "", p.context ? ")" : "");
+  yaml_parser_delete(&p);
+  return bad;
+}
+
 /* The first line of a scene file that cannot be a YAML "key: value" line (no colon, or no space
    after the first one), as a hint when the YAML parser refuses the file without saying where.
    0 if none is found. */
@@ -1111,20 +1137,22 @@ PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv)
   ierr = PetscOptionsInsertStringYAML(NULL, text); /* the text as read: PetscOptionsInsertFileYAML would open the
                                                       file by another name ('\\' made '/', ${VAR} expanded) */
   PetscCall(PetscPopErrorHandler());
-  PetscCall(PetscFree(text));
-  if (ierr) {
-    const char *text;
+  if (ierr) { /* said where: a line that cannot be "key: value", else libyaml's problem and place */
+    const char *msg;
     char       *specific = NULL;
-    char        bad[256];
-    const char *why = NULL;
-    int         lineno;
-    PetscCall(PetscErrorMessage(ierr, &text, &specific));
-    lineno = FindMalformedLine(file, bad, sizeof bad, &why);
+    char        bad[256], where[512] = "";
+    const char *why    = NULL;
+    int         lineno = FindMalformedLine(file, bad, sizeof bad, &why);
+    if (!lineno && !YamlProblem(text, where, sizeof where)) where[0] = 0;
+    PetscCall(PetscFree(text));
+    PetscCall(PetscErrorMessage(ierr, &msg, &specific));
+    if (specific && specific[0]) msg = specific;
     PetscCheck(!lineno, comm, PETSC_ERR_FILE_UNEXPECTED, "-scene %s: not a valid YAML option file: %s (line %d, '%s': %s)",
-               file, specific && specific[0] ? specific : text, lineno, bad, why);
-    SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED, "-scene %s: not a valid YAML option file: %s", file,
-            specific && specific[0] ? specific : text);
+               file, msg, lineno, bad, why);
+    PetscCheck(!where[0], comm, PETSC_ERR_FILE_UNEXPECTED, "-scene %s: not a valid YAML option file: %s", file, where);
+    SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED, "-scene %s: not a valid YAML option file: %s", file, msg);
   }
+  PetscCall(PetscFree(text));
   PetscCall(InsertEnvOptions(comm));
   PetscCall(PetscOptionsInsertArgs(NULL, argc - 1, argv + 1));
   PetscFunctionReturn(0);
