@@ -10,6 +10,11 @@
 
 #include "material.h"
 
+/* a run refused because another holds DIR/.fabric.lock (scene.c looks, report.c takes it): DIR, DIR */
+#define OUTPUT_DIR_BUSY \
+  "-output_dir %.2000s: another run is writing there (it holds %.2000s/.fabric.lock); give each run its own -output_dir, " \
+  "or wait for that one to end"
+
 #define MAX_LINES     8  /* -clamp_line_mm, -grip_line_mm */
 #define MAX_WAYPOINTS 32 /* -grip_path_mm */
 

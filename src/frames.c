@@ -352,7 +352,7 @@ PetscErrorCode FramesLoadStep(FabricIO io, const FrameSource *src, const FrameIn
   if (!FramesOn(io, src->out->output_dir) || !io->output_every) PetscFunctionReturn(0);
   if (f->load_step % io->output_every && !last && !ruptured) PetscFunctionReturn(0);
   if (io->output_te_every || io->output_tear_every || ruptured || /* after its te and tear frames, also those */
-      (io->frames && io->frame[io->frames - 1].load_step == f->load_step)) /* before a restart that turned them off */
+      (io->frames && io->frame[io->frames - 1].time >= f->time)) /* before a restart that turned them off */
     at.time += elapsed;
   PetscCall(WriteFrame(io, src, &at));
   PetscFunctionReturn(0);

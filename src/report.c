@@ -179,7 +179,7 @@ static int LockDir(Fabric fab, const char *dir)
   struct flock fl;
 
   if (snprintf(file, sizeof file, "%s/.fabric.lock", dir) >= (int) sizeof file) return 0;
-  if (!(fab->stats.lock_fp = fopen(file, "a"))) return 0;
+  if (!(fab->stats.lock_fp = fopen(file, "ae"))) return 0; /* e: not inherited by a child process */
   memset(&fl, 0, sizeof fl);
   fl.l_type   = F_WRLCK;
   fl.l_whence = SEEK_SET; /* the whole file: l_start 0, l_len 0 */
@@ -194,12 +194,14 @@ PetscErrorCode OutputOpen(Fabric fab)
   int         status[2]                  = {0, 0}; /* 0 fine, 1 a directory, 2 curve.csv could not be written; errno */
 
   PetscFunctionBeginUser;
-  if (fab->rank == 0) RemoveStalePositions(fab->s.out.positions_out);
+  if (fab->rank == 0 && dir[0]) { /* the lock first: a refused run removes nothing */
+    if (MakeDirs(dir, failed, sizeof failed)) status[0] = 1, status[1] = errno;
+    else if (LockDir(fab, dir)) status[0] = 3;
+  }
+  if (fab->rank == 0 && !status[0]) RemoveStalePositions(fab->s.out.positions_out);
   if (!dir[0]) PetscFunctionReturn(0);
   if (fab->rank == 0) {
     char file[PETSC_MAX_PATH_LEN];
-    if (MakeDirs(dir, failed, sizeof failed)) status[0] = 1, status[1] = errno;
-    else if (LockDir(fab, dir)) status[0] = 3;
     if (!status[0]) { /* an earlier run's summary, checkpoint and frames would stand beside this run's results */
       RemoveStale(dir, "summary.json", NULL);
       if (!RestartsFrom(dir, fab->s.out.restart)) RemoveStale(dir, "checkpoint.h5", "fabric_checkpoint");
@@ -226,10 +228,7 @@ PetscErrorCode OutputOpen(Fabric fab)
              failed, strerror(status[1]));
   PetscCheck(status[0] != 2, fab->comm, PETSC_ERR_FILE_WRITE, "-output_dir %s: cannot write %s/curve.csv (%s)", dir,
              dir, strerror(status[1]));
-  PetscCheck(status[0] != 3, fab->comm, PETSC_ERR_FILE_OPEN,
-             "-output_dir %s: another run is writing there (it holds %s/.fabric.lock); give each run its own -output_dir, "
-             "or wait for that one to end",
-             dir, dir);
+  PetscCheck(status[0] != 3, fab->comm, PETSC_ERR_FILE_OPEN, OUTPUT_DIR_BUSY, dir, dir);
   PetscCall(CheckRoom(fab));
   PetscFunctionReturn(0);
 }

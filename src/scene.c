@@ -773,7 +773,12 @@ static int YamlProblem(const char *text, char *msg, size_t len)
       yaml_event_delete(&e);
     }
   }
-  if (bad)
+  if (bad && p.error == YAML_READER_ERROR) { /* a byte that is not UTF-8: libyaml gives its offset, no mark */
+    unsigned long line = 1, col = 1;
+    for (size_t k = 0; k < p.problem_offset && text[k]; k++) line += text[k] == '\n', col = text[k] == '\n' ? 1 : col + 1;
+    snprintf(msg, len, "line %lu, column %lu: %s (byte 0x%02x; the file must be UTF-8)", line, col,
+             p.problem ? p.problem : "a byte that cannot be read", (unsigned) (p.problem_value & 0xff));
+  } else if (bad)
     snprintf(msg, len, "line %lu, column %lu: %s%s%s%s", (unsigned long) p.problem_mark.line + 1,
              (unsigned long) p.problem_mark.column + 1, p.problem ? p.problem : "a YAML error",
              p.context ? " (" : "", p.context ? p.context : "", p.context ? ")" : "");
@@ -1061,8 +1066,6 @@ static PetscErrorCode ReadSceneText(MPI_Comm comm, const char *file, char **text
   PetscFunctionReturn(0);
 }
 
-/* -scene FILE: insert the YAML option file, then PETSC_OPTIONS and the command line again so that they win
-   (PETSc's order: option files, the environment, the command line) */
 /* A word on the command line where an option name belongs (a scene file without -scene, or
    load_steps=3) is skipped by PETSc, and the run would go on without it: refuse it. The walk is
    PETSc's own: a name (PetscOptionsValidKey: -x, not -5) takes the next word as its value unless
@@ -1077,11 +1080,11 @@ static PetscErrorCode CheckBareWords(MPI_Comm comm, int argc, char **argv)
     PetscCall(PetscOptionsValidKey(w, &key));
     if (!key) {
       const int yaml = dot && (!strcasecmp(dot, ".yaml") || !strcasecmp(dot, ".yml"));
-      PetscCheck(!yaml, comm, PETSC_ERR_USER_INPUT,
-                 "'%s' on the command line is not an option: a scene file is given as -scene %s", w, w);
       PetscCheck(!eq || eq == w, comm, PETSC_ERR_USER_INPUT,
                  "'%s' on the command line is not an option: options are given as -name value (-%.*s %s)", w,
                  (int) (eq - w), w, eq + 1);
+      PetscCheck(!yaml, comm, PETSC_ERR_USER_INPUT,
+                 "'%s' on the command line is not an option: a scene file is given as -scene %s", w, w);
       SETERRQ(comm, PETSC_ERR_USER_INPUT,
               "'%s' on the command line is not an option, nor the value of one (%s%s): options are given as -name value",
               w, k > 1 ? "it follows " : "it is the first word", k > 1 ? argv[k - 1] : "");
@@ -1092,6 +1095,8 @@ static PetscErrorCode CheckBareWords(MPI_Comm comm, int argc, char **argv)
   PetscFunctionReturn(0);
 }
 
+/* -scene FILE: insert the YAML option file, then PETSC_OPTIONS and the command line again so that they win
+   (PETSc's order: option files, the environment, the command line) */
 PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv)
 {
   char           file[PETSC_MAX_PATH_LEN], *text;
@@ -2336,6 +2341,23 @@ static void ViewerNameClash(const SceneOutput *o, const char *given_dir, char *m
     }
 }
 
+/* Another run holds DIR/.fabric.lock (report.c takes it as the run opens its outputs): refused before
+   anything there is read (a restart's frames) or removed (-positions_out) */
+static void OutputDirBusy(const char *dir, char *msg, size_t len)
+{
+  char         file[PETSC_MAX_PATH_LEN];
+  struct flock fl;
+  int          fd;
+
+  if (snprintf(file, sizeof file, "%s/.fabric.lock", dir) >= (int) sizeof file) return;
+  if ((fd = open(file, O_RDONLY | O_CLOEXEC)) < 0) return; /* none: no run has written there, or none is */
+  memset(&fl, 0, sizeof fl);
+  fl.l_type   = F_WRLCK;
+  fl.l_whence = SEEK_SET;
+  if (!fcntl(fd, F_GETLK, &fl) && fl.l_type != F_UNLCK) snprintf(msg, len, OUTPUT_DIR_BUSY, dir, dir);
+  close(fd);
+}
+
 /* -output_dir, -positions_out and the viewers' files can be written: rank 0 looks, every rank refuses alike */
 static PetscErrorCode CheckOutputPlaces(MPI_Comm comm, const SceneInput *in, const Scene *s)
 {
@@ -2353,6 +2375,7 @@ static PetscErrorCode CheckOutputPlaces(MPI_Comm comm, const SceneInput *in, con
   if (!rank && !msg[0]) PositionsOutClash(s, msg, sizeof msg);
   if (!rank && !msg[0]) InputOutputClash(s, msg, sizeof msg);
   if (!rank && !msg[0]) OwnFileIsDirectory(o, msg, sizeof msg);
+  if (!rank && !msg[0] && o->output_dir[0]) OutputDirBusy(o->output_dir, msg, sizeof msg);
   if (!rank && !msg[0] && o->output_dir[0]) ProbeDirectory("output_dir", o->output_dir, &pm, msg, sizeof msg);
   PetscCall(BroadcastFromRoot(comm, msg, (PetscInt) sizeof msg, MPI_CHAR));
   if (!msg[0] && o->output_dir[0]) PetscCall(ProbeShared(comm, o->output_dir, &pm, msg, sizeof msg));

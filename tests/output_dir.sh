@@ -22,7 +22,7 @@
 #  8. an -output_dir path of 260 characters: frames, a checkpoint and a restart from it on 2 ranks (Open MPI 4.1's
 #     MPI_File_open aborted the run beyond about 225 characters: a buffer overflow in its shared-file-pointer component)
 #  9. an -output_dir another run is writing into (it holds DIR/.fabric.lock): refused at the start, naming it, the
-#     directory as it was; once that run has ended, a run there goes on (the two runs' files were mixed, and the first
+#     directory and the -positions_out file as they were; once that run has ended, a run there goes on (the two runs' files were mixed, and the first
 #     reported success)
 set -u
 fabric="$1"; scene="$2"
@@ -142,10 +142,11 @@ mkdir -p "$d" && echo '{"converged": true}' >"$d/summary.json"
   "$d/.fabric.lock" "$work/held" &
 holder=$!
 for t in $(seq 100); do [[ -e $work/held ]] && break; sleep 0.1; done
-mpiexec -n 2 "$fabric" "${small[@]}" -output_dir "$d" >"$work/log" 2>&1
+echo "an earlier run's positions" >"$work/pos.bin"
+mpiexec -n 2 "$fabric" "${small[@]}" -output_dir "$d" -positions_out "$work/pos.bin" >"$work/log" 2>&1
 rc=$?
 left="$(ls -A "$d" | tr '\n' ' ')"
-if [[ $rc -ne 0 && "$left" == ".fabric.lock summary.json " ]] &&
+if [[ $rc -ne 0 && "$left" == ".fabric.lock summary.json " && -s $work/pos.bin ]] &&
   grep -q "^fabric: error: -output_dir $d: another run is writing there (it holds $d/.fabric.lock); give each run its own -output_dir" "$work/log"; then
   echo "PASS an -output_dir another run holds: refused at the start (exit $rc), naming it; the directory as it was"
 else
