@@ -10,7 +10,11 @@
 
 #include "material.h"
 
-/* a run refused because another holds DIR/.fabric.lock (scene.c looks, report.c takes it): DIR, DIR */
+/* DIR/.fabric.lock: 1 when another run holds it; with take, rank 0 locks it for this run (*take stays
+   open while the run lasts). The set-up looks (take NULL); report.c takes it as the outputs open. */
+int OutputDirLock(const char *dir, FILE **take);
+
+/* a run refused because another holds DIR/.fabric.lock: DIR, DIR */
 #define OUTPUT_DIR_BUSY \
   "-output_dir %.2000s: another run is writing there (it holds %.2000s/.fabric.lock); give each run its own -output_dir, " \
   "or wait for that one to end"

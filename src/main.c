@@ -363,7 +363,7 @@ int main(int argc, char **argv)
      the run with one line, instead of MPI aborting it with no word of which option caused it */
 #if defined(OPEN_MPI)
   /* Open MPI 4.1's shared-file-pointer component "lockedfile" writes the name of the file being
-     opened into a fixed buffer: an -output_dir or -restart path of more than about 225 characters
+     opened into a fixed buffer: a long -output_dir or -restart path (251 characters did)
      overflows it and aborts the run inside MPI_File_open (open-mpi/ompi#13565). The solver never
      uses shared file pointers: leave that component out, unless the user chose the components. */
   setenv("OMPI_MCA_sharedfp", "^lockedfile", 0);

@@ -169,23 +169,6 @@ PetscBool RestartsFrom(const char *dir, const char *restart)
   return !stat(file, &a) && !stat(restart, &b) && a.st_dev == b.st_dev && a.st_ino == b.st_ino ? PETSC_TRUE : PETSC_FALSE;
 }
 
-/* One run per output directory: two runs writing into one would mix their files, and the first
-   would still report success. Rank 0 holds a write lock on DIR/.fabric.lock while the run lasts;
-   the system drops it when the run ends, however it ends (no stale lock after a crash). 1: another
-   run holds it. A lock file that cannot be made, or a file system without locks, is let be. */
-static int LockDir(Fabric fab, const char *dir)
-{
-  char         file[PETSC_MAX_PATH_LEN];
-  struct flock fl;
-
-  if (snprintf(file, sizeof file, "%s/.fabric.lock", dir) >= (int) sizeof file) return 0;
-  if (!(fab->stats.lock_fp = fopen(file, "ae"))) return 0; /* e: not inherited by a child process */
-  memset(&fl, 0, sizeof fl);
-  fl.l_type   = F_WRLCK;
-  fl.l_whence = SEEK_SET; /* the whole file: l_start 0, l_len 0 */
-  return fcntl(fileno(fab->stats.lock_fp), F_SETLK, &fl) && (errno == EACCES || errno == EAGAIN);
-}
-
 /* curve.csv: the header, and after a restart the rows before the checkpoint */
 PetscErrorCode OutputOpen(Fabric fab)
 {
@@ -196,7 +179,7 @@ PetscErrorCode OutputOpen(Fabric fab)
   PetscFunctionBeginUser;
   if (fab->rank == 0 && dir[0]) { /* the lock first: a refused run removes nothing */
     if (MakeDirs(dir, failed, sizeof failed)) status[0] = 1, status[1] = errno;
-    else if (LockDir(fab, dir)) status[0] = 3;
+    else if (OutputDirLock(dir, &fab->stats.lock_fp)) status[0] = 3;
   }
   if (fab->rank == 0 && !status[0]) RemoveStalePositions(fab->s.out.positions_out);
   if (!dir[0]) PetscFunctionReturn(0);

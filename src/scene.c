@@ -2341,21 +2341,29 @@ static void ViewerNameClash(const SceneOutput *o, const char *given_dir, char *m
     }
 }
 
-/* Another run holds DIR/.fabric.lock (report.c takes it as the run opens its outputs): refused before
-   anything there is read (a restart's frames) or removed (-positions_out) */
-static void OutputDirBusy(const char *dir, char *msg, size_t len)
+/* One run per output directory: two runs writing into one would mix their files, and the first
+   would still report success. Rank 0 holds a write lock on DIR/.fabric.lock while the run lasts
+   (report.c takes it as the run opens its outputs; the set-up looks, so a refused run reads and
+   removes nothing there). The system drops it when the run ends, however it ends: no stale lock
+   after a crash. A lock file that cannot be made or opened, or a file system without locks, is let be. */
+int OutputDirLock(const char *dir, FILE **take)
 {
   char         file[PETSC_MAX_PATH_LEN];
   struct flock fl;
-  int          fd;
+  int          fd, held;
 
-  if (snprintf(file, sizeof file, "%s/.fabric.lock", dir) >= (int) sizeof file) return;
-  if ((fd = open(file, O_RDONLY | O_CLOEXEC)) < 0) return; /* none: no run has written there, or none is */
+  if (snprintf(file, sizeof file, "%s/.fabric.lock", dir) >= (int) sizeof file) return 0;
   memset(&fl, 0, sizeof fl);
   fl.l_type   = F_WRLCK;
-  fl.l_whence = SEEK_SET;
-  if (!fcntl(fd, F_GETLK, &fl) && fl.l_type != F_UNLCK) snprintf(msg, len, OUTPUT_DIR_BUSY, dir, dir);
+  fl.l_whence = SEEK_SET; /* the whole file: l_start 0, l_len 0 */
+  if (take) { /* e, O_CLOEXEC: not inherited by a child process */
+    if (!(*take = fopen(file, "ae"))) return 0;
+    return fcntl(fileno(*take), F_SETLK, &fl) && (errno == EACCES || errno == EAGAIN);
+  }
+  if ((fd = open(file, O_RDONLY | O_CLOEXEC)) < 0) return 0; /* none: no run has written there, or none is */
+  held = !fcntl(fd, F_GETLK, &fl) && fl.l_type != F_UNLCK;
   close(fd);
+  return held;
 }
 
 /* -output_dir, -positions_out and the viewers' files can be written: rank 0 looks, every rank refuses alike */
@@ -2375,7 +2383,8 @@ static PetscErrorCode CheckOutputPlaces(MPI_Comm comm, const SceneInput *in, con
   if (!rank && !msg[0]) PositionsOutClash(s, msg, sizeof msg);
   if (!rank && !msg[0]) InputOutputClash(s, msg, sizeof msg);
   if (!rank && !msg[0]) OwnFileIsDirectory(o, msg, sizeof msg);
-  if (!rank && !msg[0] && o->output_dir[0]) OutputDirBusy(o->output_dir, msg, sizeof msg);
+  if (!rank && !msg[0] && o->output_dir[0] && OutputDirLock(o->output_dir, NULL))
+    snprintf(msg, sizeof msg, OUTPUT_DIR_BUSY, o->output_dir, o->output_dir);
   if (!rank && !msg[0] && o->output_dir[0]) ProbeDirectory("output_dir", o->output_dir, &pm, msg, sizeof msg);
   PetscCall(BroadcastFromRoot(comm, msg, (PetscInt) sizeof msg, MPI_CHAR));
   if (!msg[0] && o->output_dir[0]) PetscCall(ProbeShared(comm, o->output_dir, &pm, msg, sizeof msg));

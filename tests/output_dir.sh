@@ -20,7 +20,7 @@
 #     at the start, naming it, the directory's earlier contents untouched (the run failed at its first frame or
 #     checkpoint with "Error in HDF5 call H5Fcreate()", its curve.csv and summary.json written)
 #  8. an -output_dir path of 260 characters: frames, a checkpoint and a restart from it on 2 ranks (Open MPI 4.1's
-#     MPI_File_open aborted the run beyond about 225 characters: a buffer overflow in its shared-file-pointer component)
+#     MPI_File_open aborted a run into a 251-character -output_dir: a buffer overflow in its shared-file-pointer component)
 #  9. an -output_dir another run is writing into (it holds DIR/.fabric.lock): refused at the start, naming it, the
 #     directory and the -positions_out file as they were; once that run has ended, a run there goes on (the two runs' files were mixed, and the first
 #     reported success)

@@ -5,9 +5,11 @@
 #     run's frame at that te step (they were counted from the restart);
 #  2. frames turned on at the restart: frame 0, the restart's state, is labelled load step 4 and its te
 #     step, before load step 4's own frame in time (it was labelled 3, after it);
-#  3. a restart that writes no frames: fabric.h5 and fabric.xmf keep the frames written before the
+#  3. te frames turned off at a restart within a load step: the frame times still increase;
+# and on the 20 x 5 mm strip to rupture (the checkpoint at load step 60):
+#  4. a restart that writes no frames: fabric.h5 and fabric.xmf keep the frames written before the
 #     checkpoint and no later one (the stopped run's later frames stayed);
-#  5. te frames turned off at a restart within a load step: the frame times still increase.
+#  5. the same beside a damaged fabric.h5: the run goes on and leaves the file alone.
 set -u
 fabric="$1"; strip="$2"; rupture="$3"
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
@@ -35,7 +37,7 @@ frames "$work/on/fabric.xmf" >"$work/on.txt"
 check 'awk "NR == 1 { t = \$1; ok = \$2 == 4 && \$3 > 0 } NR == 2 { ok = ok && \$2 == 4 && \$1 > t } END { exit !ok }" "$work/on.txt"' \
   "frame 0 of the restart within load step 4: $(head -1 "$work/on.txt"), then $(sed -n 2p "$work/on.txt") (time, load step, te step)"
 
-# 5. te frames turned off at a restart within load step 4: its end frame comes after the te frames written
+# 3. te frames turned off at a restart within load step 4: its end frame comes after the te frames written
 #    before the checkpoint (it was at the load step's time, before them)
 "$fabric" "${opts[@]}" -output_te_every 100 -checkpoint_every_te 1500 -output_dir "$work/tedown" || fail=1
 "$fabric" "${opts[@]}" -output_te_every 0 -restart "$work/tedown/checkpoint.h5" -output_dir "$work/tedown" || fail=1
@@ -53,7 +55,7 @@ kept=$(h5ls "$work/off/fabric.h5/frames" | wc -l); listed=$(grep -c '<Grid Name=
 all=$(h5ls "$work/full/fabric.h5/frames" | wc -l)
 check '[[ -n "$ck_frames" && $kept == "$ck_frames" && $listed == "$ck_frames" && $all -gt $ck_frames ]]' \
   "a restart without frames: fabric.h5 keeps $kept and fabric.xmf lists $listed frames, the checkpoint's $ck_frames (the stopped run wrote $all)"
-# 4. the same with fabric.h5 damaged (the advice of a restart with frames, which refuses it): this run writes
+# 5. the same with fabric.h5 damaged (the advice of a restart with frames, which refuses it): this run writes
 #    no frames and leaves the file alone (it stopped on it)
 cp -r "$work/full" "$work/bad"; echo "not HDF5" >"$work/bad/fabric.h5"
 "$fabric" "${ropts[@]}" -output_every 0 -output_te_every 0 -output_tear_every 0 -restart "$work/bad/checkpoint.h5" \
