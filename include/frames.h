@@ -10,7 +10,8 @@
  *   attributes of a frame group: time_s, load_step, te_step (te steps into the load step)
  *   attributes of /: nx, ny, scene, frames (how many frames the file holds)
  * DIR/fabric.xmf: the XDMF index of those frames (a temporal collection of structured grids of
- *   3-D points, nx x ny x 1), rewritten by rank 0 after every frame (aside, then renamed).
+ *   3-D points, nx x ny x 1): rank 0 writes it aside and renames it at the first frame and a restart,
+ *   and after each later frame writes that frame's entry and the closing tags in place.
  * DIR/checkpoint.h5: everything a run needs to continue exactly (checkpoint.c).
  */
 #ifndef FABRIC_FRAMES_H
@@ -37,6 +38,10 @@ struct _p_FabricIO {
   FrameInfo *frame;        /* every frame written so far (the same on all ranks) */
   PetscInt   te_load_step; /* load step of the te-frame counter */
   PetscInt64 te_base;      /* te_steps when that load step began */
+  /* fabric.xmf */
+  PetscInt    xmf_frames;   /* frames it lists (the same on all ranks) */
+  PetscInt64 *xmf_at;       /* rank 0: where frame k's entry begins in it, k <= xmf_frames (the tail's at xmf_frames) */
+  PetscInt    xmf_cap;      /* rank 0: xmf_at's length */
   /* restart */
   PetscBool restarted;
   PetscInt  checkpoints; /* DIR/checkpoint.h5 written by this run, of any kind (-checkpoint_every*, a signal) */

@@ -807,10 +807,13 @@ static PetscErrorCode FabricSetUp(Fabric fab)
 {
   Scene        *s = &fab->s;
   DMDALocalInfo info;
+  PetscBool     help;
 
   PetscFunctionBeginUser;
-  PetscCall(CheckMemory(fab));
+  PetscCall(PetscOptionsHasHelp(NULL, &help));
+  if (!help) PetscCall(CheckMemory(fab));
   PetscCall(CreateGrid(fab));
+  if (help) PetscFunctionReturn(0); /* the grid has listed its -da_* options; the rest would cost time and memory alone */
   PetscCall(DMDAGetLocalInfo(fab->grid.da, &info));
   fab->grid.nloc = (PetscInt) info.xm * info.ym;
   PetscCall(CreateState(fab, &info));
@@ -836,7 +839,9 @@ static PetscErrorCode FabricSetUp(Fabric fab)
   if (s->num.kinetic_damping) PetscCall(PetscCalloc1(fab->grid.nloc, &fab->step.ke_terms));
   PetscCall(PetscCalloc1(2 * fab->grid.patch.xm, &fab->step.tally_rows));
   PetscCall(SetUpAnchors(fab));
-  PetscCall(PredictSetUp(fab));
+  /* the linear prediction's weights (two graph-distance passes over the grid): a ball's are found per load step */
+  if (s->num.predict != PREDICT_NONE && !(s->bodies.sphere_radius > 0)) PetscCall(PredictSetUp(fab));
+  else PetscCall(PetscArrayzero(fab->grid.predict_w, fab->grid.nloc));
   PetscCall(FrontSetUp(fab));
   fab->stats.converged = PETSC_TRUE;
   fab->stats.rupture.peak_balanced = PETSC_TRUE; /* no unbalanced state has given the largest force */

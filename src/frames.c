@@ -3,8 +3,10 @@
  * Frames are written collectively through PETSc's HDF5 viewer: each rank writes its own patch
  * of the DMDA vectors in the natural (ny, nx, dof) layout, nothing is gathered on one rank, so
  * the file is the same on any number of ranks. fabric.h5 is opened and closed for every frame:
- * between frames it is complete. Rank 0 then rewrites fabric.xmf aside and renames it into
- * place, so the index is valid at any moment and names only complete frames.
+ * between frames it is complete. Rank 0 then adds the frame to fabric.xmf: its entry and the
+ * closing tags in one write, in place (the whole index, aside and renamed into place, at the
+ * first frame and after a restart), so the index names only complete frames and a frame costs
+ * its own entry (rewriting the whole index made n frames cost n^2).
  *
  * Frames: the state at the start (rest, load step 0), then every -output_every K load steps and
  * the last load step, at the load step's test time time_s = grip travel / test speed (as in
@@ -28,9 +30,13 @@
 #include "comm.h"
 #include "events.h"
 
+#include <fcntl.h>
 #include <math.h>
 #include <petscviewerhdf5.h>
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
 
 /* the output state of frames and checkpoints, from the scene's output options */
 PetscErrorCode IOSetUp(const SceneOutput *out, FabricIO *pio)
@@ -45,6 +51,7 @@ PetscErrorCode IOSetUp(const SceneOutput *out, FabricIO *pio)
   io->checkpoint_every = out->checkpoint_every;
   PetscCall(PetscStrncpy(io->restart, out->restart, sizeof io->restart));
   io->te_load_step = -1;
+  io->xmf_frames   = -1; /* none written yet */
   *pio             = io;
   PetscFunctionReturn(0);
 }
@@ -57,6 +64,7 @@ PetscErrorCode IODestroy(FabricIO *pio)
   if (!io) PetscFunctionReturn(0);
   PetscCall(DMDestroy(&io->da1));
   PetscCall(PetscFree(io->frame));
+  PetscCall(PetscFree(io->xmf_at));
   PetscCall(PetscFree(*pio));
   PetscFunctionReturn(0);
 }
@@ -146,6 +154,8 @@ PetscErrorCode FramesAppend(FabricIO io, const FrameInfo *f)
   PetscFunctionReturn(0);
 }
 
+static PetscErrorCode FramesXdmfLast(FabricIO io, MPI_Comm comm, const char *dir, PetscInt nx, PetscInt ny);
+
 /* write the current state as frame f; a frame of the same load step and te step as the last
    one replaces it (the te frame at a load step's last te step is also the load step's frame) */
 static PetscErrorCode WriteFrame(FabricIO io, const FrameSource *src, const FrameInfo *f)
@@ -196,7 +206,7 @@ static PetscErrorCode WriteFrame(FabricIO io, const FrameSource *src, const Fram
   PetscCall(PetscObjectSetName((PetscObject) src->X, "positions"));
   io->frames = index;
   PetscCall(FramesAppend(io, f));
-  PetscCall(FramesWriteXdmf(io, src->comm, dir, g->patch.nx, g->patch.ny));
+  PetscCall(FramesXdmfLast(io, src->comm, dir, g->patch.nx, g->patch.ny));
   PetscCall(PetscLogEventEnd(EV_Output, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
@@ -407,8 +417,10 @@ static void XdmfItem(FILE *fp, const char *indent, PetscInt nx, PetscInt ny, int
             indent, ny, nx, path);
 }
 
-/* Rank 0 writes the XDMF index of the frames aside, then renames it into place. */
-PetscErrorCode FramesWriteXdmf(FabricIO io, MPI_Comm comm, const char *dir, PetscInt nx, PetscInt ny)
+static const char xdmf_tail[] = "    </Grid>\n  </Domain>\n</Xdmf>\n";
+
+/* frame k's entry of the index */
+static void XdmfFrame(FILE *fp, const FrameInfo *f, PetscInt k, PetscInt nx, PetscInt ny)
 {
   static const struct {
     const char *name, *type;
@@ -417,48 +429,60 @@ PetscErrorCode FramesWriteXdmf(FabricIO io, MPI_Comm comm, const char *dir, Pets
       {"velocities", "Vector", 3},   {"displacement", "Vector", 3},    {"warp_tension", "Scalar", 1},
       {"weft_tension", "Scalar", 1}, {"shear_angle_deg", "Scalar", 1},
   };
+  char path[128];
+
+  fprintf(fp, "      <Grid Name=\"frame_%06" PetscInt_FMT "\" GridType=\"Uniform\">\n", k);
+  fprintf(fp, "        <Time TimeType=\"Single\" Value=\"%.17g\"/>\n", (double) f->time);
+  fprintf(fp,
+          "        <Information Name=\"load_step\" Value=\"%" PetscInt_FMT
+          "\"/>\n        <Information Name=\"te_step\" Value=\"%" PetscInt_FMT "\"/>\n",
+          f->load_step, f->te_step);
+  fprintf(fp, "        <Topology TopologyType=\"3DSMesh\" Dimensions=\"1 %" PetscInt_FMT " %" PetscInt_FMT "\"/>\n",
+          ny, nx);
+  fprintf(fp, "        <Geometry GeometryType=\"XYZ\">\n");
+  snprintf(path, sizeof path, "/frames/%06" PetscInt_FMT "/positions", k);
+  XdmfItem(fp, "          ", nx, ny, 3, path);
+  fprintf(fp, "        </Geometry>\n");
+  for (size_t a = 0; a < sizeof field / sizeof field[0]; a++) {
+    fprintf(fp, "        <Attribute Name=\"%s\" AttributeType=\"%s\" Center=\"Node\">\n", field[a].name, field[a].type);
+    snprintf(path, sizeof path, "/frames/%06" PetscInt_FMT "/%s", k, field[a].name);
+    XdmfItem(fp, "          ", nx, ny, field[a].dof, path);
+    fprintf(fp, "        </Attribute>\n");
+  }
+  fprintf(fp, "        <Attribute Name=\"point_kind\" AttributeType=\"Scalar\" Center=\"Node\">\n");
+  XdmfItem(fp, "          ", nx, ny, 1, "/grid/point_kind");
+  fprintf(fp, "        </Attribute>\n      </Grid>\n");
+}
+
+/* Rank 0 writes the XDMF index of the frames aside, then renames it into place, and keeps where
+   each frame's entry begins (xmf_at), so that a later frame's entry is written in place. */
+PetscErrorCode FramesWriteXdmf(FabricIO io, MPI_Comm comm, const char *dir, PetscInt nx, PetscInt ny)
+{
   int         ok = 1;
   PetscMPIInt rank;
 
   PetscFunctionBeginUser;
   PetscCall(CommRank(comm, &rank));
   if (rank == 0) {
-    char  file[PETSC_MAX_PATH_LEN], tmp[PETSC_MAX_PATH_LEN], path[128];
+    char  file[PETSC_MAX_PATH_LEN], tmp[PETSC_MAX_PATH_LEN];
     FILE *fp;
     PetscCall(PetscSNPrintf(file, sizeof file, "%s/fabric.xmf", dir));
     PetscCall(PetscSNPrintf(tmp, sizeof tmp, "%s/.fabric.xmf.tmp", dir));
+    if (io->frames + 1 > io->xmf_cap) {
+      PetscCall(PetscFree(io->xmf_at));
+      io->xmf_cap = PetscMax(16, 2 * (io->frames + 1));
+      PetscCall(PetscMalloc1(io->xmf_cap, &io->xmf_at));
+    }
     fp = fopen(tmp, "w");
     if (fp) {
       fprintf(fp,
               "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n<Xdmf Version=\"2.0\">\n  <Domain>\n");
       fprintf(fp, "    <Grid Name=\"fabric\" GridType=\"Collection\" CollectionType=\"Temporal\">\n");
-      for (PetscInt k = 0; k < io->frames; k++) {
-        const FrameInfo *f = &io->frame[k];
-        fprintf(fp, "      <Grid Name=\"frame_%06" PetscInt_FMT "\" GridType=\"Uniform\">\n", k);
-        fprintf(fp, "        <Time TimeType=\"Single\" Value=\"%.17g\"/>\n", (double) f->time);
-        fprintf(fp,
-                "        <Information Name=\"load_step\" Value=\"%" PetscInt_FMT
-                "\"/>\n        <Information Name=\"te_step\" Value=\"%" PetscInt_FMT "\"/>\n",
-                f->load_step, f->te_step);
-        fprintf(fp,
-                "        <Topology TopologyType=\"3DSMesh\" Dimensions=\"1 %" PetscInt_FMT " %" PetscInt_FMT "\"/>\n",
-                ny, nx);
-        fprintf(fp, "        <Geometry GeometryType=\"XYZ\">\n");
-        snprintf(path, sizeof path, "/frames/%06" PetscInt_FMT "/positions", k);
-        XdmfItem(fp, "          ", nx, ny, 3, path);
-        fprintf(fp, "        </Geometry>\n");
-        for (size_t a = 0; a < sizeof field / sizeof field[0]; a++) {
-          fprintf(fp, "        <Attribute Name=\"%s\" AttributeType=\"%s\" Center=\"Node\">\n", field[a].name,
-                  field[a].type);
-          snprintf(path, sizeof path, "/frames/%06" PetscInt_FMT "/%s", k, field[a].name);
-          XdmfItem(fp, "          ", nx, ny, field[a].dof, path);
-          fprintf(fp, "        </Attribute>\n");
-        }
-        fprintf(fp, "        <Attribute Name=\"point_kind\" AttributeType=\"Scalar\" Center=\"Node\">\n");
-        XdmfItem(fp, "          ", nx, ny, 1, "/grid/point_kind");
-        fprintf(fp, "        </Attribute>\n      </Grid>\n");
+      for (PetscInt k = 0; k <= io->frames; k++) {
+        io->xmf_at[k] = (PetscInt64) ftell(fp);
+        if (k < io->frames) XdmfFrame(fp, &io->frame[k], k, nx, ny);
       }
-      fprintf(fp, "    </Grid>\n  </Domain>\n</Xdmf>\n");
+      fputs(xdmf_tail, fp);
       ok = !ferror(fp);
       ok = !fclose(fp) && ok;
       ok = ok && !rename(tmp, file);
@@ -467,6 +491,61 @@ PetscErrorCode FramesWriteXdmf(FabricIO io, MPI_Comm comm, const char *dir, Pets
   }
   PetscCall(BroadcastFromRoot(comm, &ok, 1, MPI_INT));
   PetscCheck(ok, comm, PETSC_ERR_FILE_WRITE, "-output_dir %s: cannot write fabric.xmf", dir);
+  io->xmf_frames = io->frames;
+  PetscFunctionReturn(0);
+}
+
+/* The index after the frame io->frames - 1 was written: its entry and the closing tags in one
+   write where its entry begins (after the entries before it, or over the frame it replaced), the
+   file cut after them; a frame costs its own entry, not the whole index. The whole index is
+   written aside (FramesWriteXdmf) when this run has not written the entries before it. */
+static PetscErrorCode FramesXdmfLast(FabricIO io, MPI_Comm comm, const char *dir, PetscInt nx, PetscInt ny)
+{
+  const PetscInt k  = io->frames - 1;
+  int            ok = 1;
+  PetscMPIInt    rank;
+
+  PetscFunctionBeginUser;
+  if (io->xmf_frames < k || io->xmf_frames < 0) { /* the same on every rank */
+    PetscCall(FramesWriteXdmf(io, comm, dir, nx, ny));
+    PetscFunctionReturn(0);
+  }
+  PetscCall(CommRank(comm, &rank));
+  if (rank == 0) {
+    const size_t tail = sizeof xdmf_tail - 1;
+    char         file[PETSC_MAX_PATH_LEN], *text = NULL;
+    size_t       len = 0;
+    FILE        *mem = open_memstream(&text, &len);
+    int          fd;
+
+    if (k + 2 > io->xmf_cap) { /* xmf_at[k + 1] */
+      PetscInt64 *grown;
+      io->xmf_cap = PetscMax(16, 2 * (k + 2));
+      PetscCall(PetscMalloc1(io->xmf_cap, &grown));
+      PetscCall(PetscArraycpy(grown, io->xmf_at, k + 1));
+      PetscCall(PetscFree(io->xmf_at));
+      io->xmf_at = grown;
+    }
+    if (mem) {
+      XdmfFrame(mem, &io->frame[k], k, nx, ny);
+      fputs(xdmf_tail, mem);
+      ok = !ferror(mem);
+      ok = !fclose(mem) && ok;
+    } else
+      ok = 0;
+    PetscCall(PetscSNPrintf(file, sizeof file, "%s/fabric.xmf", dir));
+    if (ok) {
+      const off_t at = (off_t) io->xmf_at[k];
+      ok             = (fd = open(file, O_WRONLY | O_CLOEXEC)) >= 0;
+      ok             = ok && pwrite(fd, text, len, at) == (ssize_t) len && !ftruncate(fd, at + (off_t) len);
+      if (fd >= 0) ok = !close(fd) && ok;
+    }
+    if (ok) io->xmf_at[k + 1] = io->xmf_at[k] + (PetscInt64) (len - tail);
+    free(text);
+  }
+  PetscCall(BroadcastFromRoot(comm, &ok, 1, MPI_INT));
+  PetscCheck(ok, comm, PETSC_ERR_FILE_WRITE, "-output_dir %s: cannot write fabric.xmf", dir);
+  io->xmf_frames = io->frames;
   PetscFunctionReturn(0);
 }
 
