@@ -64,7 +64,7 @@ PetscErrorCode IODestroy(FabricIO *pio)
   if (!io) PetscFunctionReturn(0);
   PetscCall(DMDestroy(&io->da1));
   PetscCall(PetscFree(io->frame));
-  PetscCall(PetscFree(io->xmf_at));
+  free(io->xmf_at);
   PetscCall(PetscFree(*pio));
   PetscFunctionReturn(0);
 }
@@ -454,6 +454,18 @@ static void XdmfFrame(FILE *fp, const FrameInfo *f, PetscInt k, PetscInt nx, Pet
   fprintf(fp, "        </Attribute>\n      </Grid>\n");
 }
 
+/* xmf_at holds at least n entries (rank 0); 0 when it cannot */
+static int XmfAtFits(FabricIO io, PetscInt n)
+{
+  if (n > io->xmf_cap) {
+    const PetscInt cap   = PetscMax(16, 2 * n);
+    PetscInt64    *grown = realloc(io->xmf_at, (size_t) cap * sizeof *grown);
+    if (!grown) return 0;
+    io->xmf_at = grown, io->xmf_cap = cap;
+  }
+  return 1;
+}
+
 /* Rank 0 writes the XDMF index of the frames aside, then renames it into place, and keeps where
    each frame's entry begins (xmf_at), so that a later frame's entry is written in place. */
 PetscErrorCode FramesWriteXdmf(FabricIO io, MPI_Comm comm, const char *dir, PetscInt nx, PetscInt ny)
@@ -465,16 +477,11 @@ PetscErrorCode FramesWriteXdmf(FabricIO io, MPI_Comm comm, const char *dir, Pets
   PetscCall(CommRank(comm, &rank));
   if (rank == 0) {
     char  file[PETSC_MAX_PATH_LEN], tmp[PETSC_MAX_PATH_LEN];
-    FILE *fp;
+    FILE *fp = NULL;
     PetscCall(PetscSNPrintf(file, sizeof file, "%s/fabric.xmf", dir));
     PetscCall(PetscSNPrintf(tmp, sizeof tmp, "%s/.fabric.xmf.tmp", dir));
-    if (io->frames + 1 > io->xmf_cap) {
-      PetscCall(PetscFree(io->xmf_at));
-      io->xmf_cap = PetscMax(16, 2 * (io->frames + 1));
-      PetscCall(PetscMalloc1(io->xmf_cap, &io->xmf_at));
-    }
-    fp = fopen(tmp, "w");
-    if (fp) {
+    ok = XmfAtFits(io, io->frames + 1) && (fp = fopen(tmp, "w")) != NULL;
+    if (ok) {
       fprintf(fp,
               "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n<Xdmf Version=\"2.0\">\n  <Domain>\n");
       fprintf(fp, "    <Grid Name=\"fabric\" GridType=\"Collection\" CollectionType=\"Temporal\">\n");
@@ -486,8 +493,7 @@ PetscErrorCode FramesWriteXdmf(FabricIO io, MPI_Comm comm, const char *dir, Pets
       ok = !ferror(fp);
       ok = !fclose(fp) && ok;
       ok = ok && !rename(tmp, file);
-    } else
-      ok = 0;
+    }
   }
   PetscCall(BroadcastFromRoot(comm, &ok, 1, MPI_INT));
   PetscCheck(ok, comm, PETSC_ERR_FILE_WRITE, "-output_dir %s: cannot write fabric.xmf", dir);
@@ -495,57 +501,58 @@ PetscErrorCode FramesWriteXdmf(FabricIO io, MPI_Comm comm, const char *dir, Pets
   PetscFunctionReturn(0);
 }
 
-/* The index after the frame io->frames - 1 was written: its entry and the closing tags in one
-   write where its entry begins (after the entries before it, or over the frame it replaced), the
-   file cut after them; a frame costs its own entry, not the whole index. The whole index is
-   written aside (FramesWriteXdmf) when this run has not written the entries before it. */
+/* Rank 0: frame k's entry and the closing tags in one write where the entry begins (after the
+   entries before it, or over the entry of the frame it replaces, padded with blanks to that
+   entry's length when shorter: the file never shrinks, so no byte of the old end is left after
+   the new closing tags). 0 when it cannot (no file to write into: the whole index then). */
+static int XdmfWriteLast(FabricIO io, const char *file, PetscInt k, PetscInt nx, PetscInt ny)
+{
+  const size_t tail = sizeof xdmf_tail - 1;
+  const size_t old  = k < io->xmf_frames ? (size_t) (io->xmf_at[k + 1] - io->xmf_at[k]) : 0;
+  char        *text = NULL;
+  size_t       len  = 0, entry;
+  FILE        *mem;
+  int          ok, fd;
+
+  if (!XmfAtFits(io, k + 2) || !(mem = open_memstream(&text, &len))) return 0;
+  XdmfFrame(mem, &io->frame[k], k, nx, ny);
+  fflush(mem);
+  for (size_t n = len; n < old; n++) fputc(' ', mem);
+  fflush(mem);
+  entry = len;
+  fputs(xdmf_tail, mem);
+  ok = !ferror(mem);
+  ok = !fclose(mem) && ok && len == entry + tail;
+  if (ok) {
+    ok = (fd = open(file, O_WRONLY | O_CLOEXEC)) >= 0;
+    ok = ok && pwrite(fd, text, len, (off_t) io->xmf_at[k]) == (ssize_t) len;
+    if (fd >= 0) ok = !close(fd) && ok;
+  }
+  if (ok) io->xmf_at[k + 1] = io->xmf_at[k] + (PetscInt64) entry;
+  free(text);
+  return ok;
+}
+
+/* The index after the frame io->frames - 1 was written: a frame costs its own entry, not the
+   whole index (XdmfWriteLast). The whole index is written aside (FramesWriteXdmf) when this run
+   has not written the entries before it, or the entry could not be written in place. */
 static PetscErrorCode FramesXdmfLast(FabricIO io, MPI_Comm comm, const char *dir, PetscInt nx, PetscInt ny)
 {
-  const PetscInt k  = io->frames - 1;
-  int            ok = 1;
-  PetscMPIInt    rank;
+  int         ok = 0;
+  PetscMPIInt rank;
 
   PetscFunctionBeginUser;
-  if (io->xmf_frames < k || io->xmf_frames < 0) { /* the same on every rank */
-    PetscCall(FramesWriteXdmf(io, comm, dir, nx, ny));
-    PetscFunctionReturn(0);
-  }
-  PetscCall(CommRank(comm, &rank));
-  if (rank == 0) {
-    const size_t tail = sizeof xdmf_tail - 1;
-    char         file[PETSC_MAX_PATH_LEN], *text = NULL;
-    size_t       len = 0;
-    FILE        *mem = open_memstream(&text, &len);
-    int          fd;
-
-    if (k + 2 > io->xmf_cap) { /* xmf_at[k + 1] */
-      PetscInt64 *grown;
-      io->xmf_cap = PetscMax(16, 2 * (k + 2));
-      PetscCall(PetscMalloc1(io->xmf_cap, &grown));
-      PetscCall(PetscArraycpy(grown, io->xmf_at, k + 1));
-      PetscCall(PetscFree(io->xmf_at));
-      io->xmf_at = grown;
+  if (io->xmf_frames >= 0 && io->xmf_frames >= io->frames - 1) { /* the same on every rank */
+    PetscCall(CommRank(comm, &rank));
+    if (rank == 0) {
+      char file[PETSC_MAX_PATH_LEN];
+      PetscCall(PetscSNPrintf(file, sizeof file, "%s/fabric.xmf", dir));
+      ok = XdmfWriteLast(io, file, io->frames - 1, nx, ny);
     }
-    if (mem) {
-      XdmfFrame(mem, &io->frame[k], k, nx, ny);
-      fputs(xdmf_tail, mem);
-      ok = !ferror(mem);
-      ok = !fclose(mem) && ok;
-    } else
-      ok = 0;
-    PetscCall(PetscSNPrintf(file, sizeof file, "%s/fabric.xmf", dir));
-    if (ok) {
-      const off_t at = (off_t) io->xmf_at[k];
-      ok             = (fd = open(file, O_WRONLY | O_CLOEXEC)) >= 0;
-      ok             = ok && pwrite(fd, text, len, at) == (ssize_t) len && !ftruncate(fd, at + (off_t) len);
-      if (fd >= 0) ok = !close(fd) && ok;
-    }
-    if (ok) io->xmf_at[k + 1] = io->xmf_at[k] + (PetscInt64) (len - tail);
-    free(text);
+    PetscCall(BroadcastFromRoot(comm, &ok, 1, MPI_INT));
   }
-  PetscCall(BroadcastFromRoot(comm, &ok, 1, MPI_INT));
-  PetscCheck(ok, comm, PETSC_ERR_FILE_WRITE, "-output_dir %s: cannot write fabric.xmf", dir);
-  io->xmf_frames = io->frames;
+  if (ok) io->xmf_frames = io->frames;
+  else PetscCall(FramesWriteXdmf(io, comm, dir, nx, ny));
   PetscFunctionReturn(0);
 }
 

@@ -45,6 +45,8 @@ frames "$work/tedown/fabric.xmf" >"$work/tedown.txt"
 check 'awk "NR > 1 && \$1 <= t { bad = 1 } { t = \$1 } END { exit bad || NR < 3 }" "$work/tedown.txt"' \
   "te frames turned off at a restart within load step 4: frame times increase ($(tail -2 "$work/tedown.txt" | tr '\n' ';'))"
 
+# 4. the strip to rupture, stopped after its last checkpoint (load step 60) with later frames written: a restart
+#    without frames keeps the checkpoint's frames in fabric.h5 and fabric.xmf, and no later one
 ropts=(-scene "$rupture" -gauge_mm 20 -width_mm 5 -quiet -checkpoint_every 30)
 "$fabric" "${ropts[@]}" -output_te_every 20 -output_tear_every 10 -output_dir "$work/full" || fail=1
 ck_frames=$(h5dump -a /frames "$work/full/checkpoint.h5" 2>/dev/null | sed -n 's/^ *(0): \([0-9]*\)$/\1/p')
