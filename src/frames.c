@@ -502,40 +502,37 @@ PetscErrorCode FramesWriteXdmf(FabricIO io, MPI_Comm comm, const char *dir, Pets
 }
 
 /* Rank 0: frame k's entry and the closing tags in one write where the entry begins (after the
-   entries before it, or over the entry of the frame it replaces, padded with blanks to that
-   entry's length when shorter: the file never shrinks, so no byte of the old end is left after
-   the new closing tags). 0 when it cannot (no file to write into: the whole index then). */
+   entries before it, or over the entry of the frame it replaces, when the new one is no shorter:
+   the file never shrinks, so no byte of the old end is left after the new closing tags). 0 when
+   it does not (a shorter entry, no file to write into: the whole index then, as a restart
+   writes it, so that the index does not depend on the run's history). */
 static int XdmfWriteLast(FabricIO io, const char *file, PetscInt k, PetscInt nx, PetscInt ny)
 {
   const size_t tail = sizeof xdmf_tail - 1;
   const size_t old  = k < io->xmf_frames ? (size_t) (io->xmf_at[k + 1] - io->xmf_at[k]) : 0;
   char        *text = NULL;
-  size_t       len  = 0, entry;
+  size_t       len  = 0;
   FILE        *mem;
   int          ok, fd;
 
   if (!XmfAtFits(io, k + 2) || !(mem = open_memstream(&text, &len))) return 0;
   XdmfFrame(mem, &io->frame[k], k, nx, ny);
-  fflush(mem);
-  for (size_t n = len; n < old; n++) fputc(' ', mem);
-  fflush(mem);
-  entry = len;
   fputs(xdmf_tail, mem);
   ok = !ferror(mem);
-  ok = !fclose(mem) && ok && len == entry + tail;
+  ok = !fclose(mem) && ok && len >= tail + old;
   if (ok) {
     ok = (fd = open(file, O_WRONLY | O_CLOEXEC)) >= 0;
     ok = ok && pwrite(fd, text, len, (off_t) io->xmf_at[k]) == (ssize_t) len;
     if (fd >= 0) ok = !close(fd) && ok;
   }
-  if (ok) io->xmf_at[k + 1] = io->xmf_at[k] + (PetscInt64) entry;
+  if (ok) io->xmf_at[k + 1] = io->xmf_at[k] + (PetscInt64) (len - tail);
   free(text);
   return ok;
 }
 
 /* The index after the frame io->frames - 1 was written: a frame costs its own entry, not the
    whole index (XdmfWriteLast). The whole index is written aside (FramesWriteXdmf) when this run
-   has not written the entries before it, or the entry could not be written in place. */
+   has not written the entries before it, or the entry was not written in place. */
 static PetscErrorCode FramesXdmfLast(FabricIO io, MPI_Comm comm, const char *dir, PetscInt nx, PetscInt ny)
 {
   int         ok = 0;
