@@ -12,7 +12,6 @@
 #include "load.h"
 
 #include <errno.h>
-#include <fcntl.h>
 #include <string.h>
 #include <math.h>
 #include <sys/stat.h>

@@ -1148,7 +1148,7 @@ PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv)
     char        bad[256], where[512] = "";
     const char *why    = NULL;
     int         lineno = FindMalformedLine(file, bad, sizeof bad, &why);
-    if (!lineno && !YamlProblem(text, where, sizeof where)) where[0] = 0;
+    if (!lineno) (void) YamlProblem(text, where, sizeof where); /* where stays "" if libyaml finds nothing */
     PetscCall(PetscFree(text));
     PetscCall(PetscErrorMessage(ierr, &msg, &specific));
     if (specific && specific[0]) msg = specific;
