@@ -86,14 +86,14 @@ static PetscErrorCode PatchAllocRows(Patch *p)
   PetscFunctionReturn(0);
 }
 
-/* the stable-step bound's rows: 8 arrays a segment row, 1 a shear row, columns -2..gxm+1 */
+/* the stable-step bound's rows: 8 arrays a segment row, 1 a shear row, 5 scratch rows, columns -2..gxm+1 */
 static PetscErrorCode PatchAllocBoundRows(Patch *p)
 {
   const PetscInt per_row = p->gxm + 4;
   PetscReal     *w;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscCalloc1((size_t) (8 * (1 + KERNEL_RING) + KERNEL_RING) * per_row, &p->bound_work));
+  PetscCall(PetscCalloc1((size_t) (8 * (1 + KERNEL_RING) + KERNEL_RING + 5) * per_row, &p->bound_work));
   w = p->bound_work + 2;
   for (PetscInt r = -1; r < KERNEL_RING; r++) {
     BoundSegRow *s = r < 0 ? &p->bx_seg : &p->by_seg[r];
@@ -102,6 +102,7 @@ static PetscErrorCode PatchAllocBoundRows(Patch *p)
     s->pull = w, w += per_row;
   }
   for (PetscInt r = 0; r < KERNEL_RING; r++) p->bsh_ring[r] = w, w += per_row;
+  for (int q = 0; q < 5; q++) p->bound_row[q] = w, w += per_row;
   PetscFunctionReturn(0);
 }
 
@@ -589,26 +590,61 @@ PetscReal ContactBoundRow(const Patch *p, const PetscReal *x, PetscInt i, PetscI
    c1 <= gxm + 2): their length (-1 if absent or broken) and, with traction, their share of each
    end's block as TractionBoundRow adds it (blocks, L > 0) and of the pull-direction row (dir ==
    pull_dir) */
+/* chords a[i] -> b[i], a <= i < b, as ChordAt and BoundSegmentRow take them: the chord (d), its
+   length (L: -1 if a point is absent or the segment broken) and its strain L/L0 - 1 (e) */
+static void BoundChordRow(PetscReal L0, PetscInt a, PetscInt b, const PetscReal *restrict xa,
+                          const PetscReal *restrict xb, const unsigned char *restrict ea,
+                          const unsigned char *restrict eb, const unsigned char *restrict broken,
+                          PetscReal *restrict dx, PetscReal *restrict dy, PetscReal *restrict dz,
+                          PetscReal *restrict Lr, PetscReal *restrict e)
+{
+  for (PetscInt i = a; i < b; i++) {
+    const PetscReal d0 = xb[3 * i] - xa[3 * i], d1 = xb[3 * i + 1] - xa[3 * i + 1], d2 = xb[3 * i + 2] - xa[3 * i + 2];
+    const PetscReal L = PetscSqrtReal(PetscSqr(d0) + PetscSqr(d1) + PetscSqr(d2));
+    dx[i] = d0, dy[i] = d1, dz[i] = d2;
+    Lr[i] = (ea[i] != 0) & (eb[i] != 0) & (broken[i] == 0) ? L : -1.0;
+    e[i]  = L / L0 - 1.0;
+  }
+}
+
+/* SegmentBlock of the chords a <= i < b into the rows bq (any value where L <= 0: not read) */
+static void BoundBlockRow(PetscReal k, PetscInt a, PetscInt b, const PetscReal *restrict T,
+                          const PetscReal *restrict Lr, const PetscReal *restrict dx, const PetscReal *restrict dy,
+                          const PetscReal *restrict dz, PetscReal *restrict b0, PetscReal *restrict b1,
+                          PetscReal *restrict b2, PetscReal *restrict b3, PetscReal *restrict b4,
+                          PetscReal *restrict b5)
+{
+  for (PetscInt i = a; i < b; i++) {
+    const PetscReal L = Lr[i] > 0 ? Lr[i] : 1.0; /* a safe divisor where the block is not read */
+    const PetscReal g = PetscMax(T[i], 0.0) / L, kg = (k - g) / (L * L);
+    b0[i] = kg * dx[i] * dx[i] + g, b1[i] = kg * dy[i] * dy[i] + g, b2[i] = kg * dz[i] * dz[i] + g;
+    b3[i] = kg * dx[i] * dy[i], b4[i] = kg * dx[i] * dz[i], b5[i] = kg * dy[i] * dz[i];
+  }
+}
+
 static void BoundSegmentRow(const Patch *p, const PetscReal *x, PetscInt j, int dir, int pull_dir, int blocks,
                             PetscInt c0, PetscInt c1, BoundSegRow *s)
 {
   const YarnLaw  *law = dir == 0 ? p->warp : p->weft;
   const PetscReal L0  = dir == 0 ? p->ax : p->ay;
-  const PetscReal k   = p->win_k[dir];
+  const PetscInt  n = p->gxm, lj = j - p->gys, lk = lj + (dir == 1);
+  /* the segments whose two ends are in the ghosted patch; the others have an absent end */
+  const PetscInt a = PetscMax(c0, 0), b = PetscMin(c1, n - (dir == 0));
+  PetscReal *e = p->bound_row[0], *T = p->bound_row[1], *dx = p->bound_row[2], *dy = p->bound_row[3],
+            *dz = p->bound_row[4];
 
-  for (PetscInt li = c0; li < c1; li++) {
-    const Chord c = ChordAt(p, x, p->gxs + li, j, dir);
-    s->L[li]      = c.alive ? c.L : -1.0;
-    if (!c.alive || !p->traction) continue;
-    const PetscReal *d = c.d;
-    const PetscReal  L = c.L, e = L / L0 - 1.0, T = ChordTension(law, e);
-    if (blocks && L > 0) {
-      PetscReal b[6];
-      SegmentBlock(k, T, L, d, b);
-      for (int q = 0; q < 6; q++) s->b[q][li] = b[q];
-    }
-    if (dir == pull_dir) s->pull[li] = PullSpringRow(law, L0, e, T, L);
-  }
+  for (PetscInt li = c0; li < c1; li++) s->L[li] = -1.0;
+  if (lj < 0 || lk >= p->gym || a >= b) return;
+  const unsigned char *ea = p->exists + lj * n, *eb = p->exists + lk * n + (dir == 0);
+  const unsigned char *broken = (dir == 0 ? p->broken_x : p->broken_y) + lj * n;
+  BoundChordRow(L0, a, b, x + 3 * lj * n, x + 3 * (lk * n + (dir == 0)), ea, eb, broken, dx, dy, dz, s->L, e);
+  if (!p->traction) return;
+  ChordTensionRow(law, a, b, e, ea, eb, broken, T);
+  if (blocks)
+    BoundBlockRow(p->win_k[dir], a, b, T, s->L, dx, dy, dz, s->b[0], s->b[1], s->b[2], s->b[3], s->b[4], s->b[5]);
+  if (dir == pull_dir)
+    for (PetscInt li = a; li < b; li++)
+      if (!(s->L[li] < 0)) s->pull[li] = PullSpringRow(law, L0, e[li], T[li], s->L[li]);
 }
 
 /* adds segment li of row s to the block B (and its pull share to *rp) as TractionBoundRow does */
@@ -624,7 +660,7 @@ static inline void BoundSegmentAdd(const BoundSegRow *s, PetscInt li, PetscReal 
   if (pull) *rp += s->pull[li];
 }
 
-PetscReal PullOmega2(Patch *p, const PetscReal *x, const PetscReal *inv_m, int pull_dir)
+FABRIC_WIDE PetscReal PullOmega2(Patch *p, const PetscReal *x, const PetscReal *inv_m, int pull_dir)
 {
   const PetscInt c0 = p->xs - p->gxs, c1 = c0 + p->xm;
   PetscReal      pull2 = 0.0;
@@ -1464,20 +1500,66 @@ PetscErrorCode TermBlocksAddToMat(void *ctx, PetscInt n, const PetscInt i[], con
 
 /* ============== stable step: a bound on the tangent stiffness over a window of states (MODEL.md 7.3) ============== */
 
-void WindowRange(const Patch *p, const PetscReal *x, PetscReal r[5])
+/* the columns [*a, *b) of [c0, c1) in row j (global) whose crossings and their four neighbours
+   all exist, so that their shear tangents are x(i+1,j) - x(i-1,j) and x(i,j+1) - x(i,j-1): 1 if
+   there are any */
+static int ShearInterior(const Patch *p, PetscInt j, PetscInt c0, PetscInt c1, PetscInt *a, PetscInt *b)
 {
+  const PetscInt n = p->gxm, lj = j - p->gys, w = n + 2;
+  *a = PetscMax(c0, 1), *b = PetscMin(c1, n - 1);
+  return lj >= 1 && lj + 1 < p->gym && *a < *b && AllExist(p->epad + (lj + 1) * w + *a, *b - *a + 2) &&
+         AllExist(p->epad + lj * w + *a + 1, *b - *a) && AllExist(p->epad + (lj + 2) * w + *a + 1, *b - *a);
+}
+
+/* |s| of row j's shear crossings, local columns [a, b) of its interior (ShearInterior): CrossingShear's
+   own expressions, -PETSC_MAX_REAL where it has no shear (a zero tangent) */
+static void ShearCosineRow(const Patch *p, const PetscReal *x, PetscInt j, PetscInt a, PetscInt b,
+                           PetscReal *restrict out)
+{
+  const PetscInt n = p->gxm, lj = j - p->gys;
+  const PetscReal *restrict xr = x + 3 * lj * n, *restrict xd = xr - 3 * n, *restrict xu = xr + 3 * n;
+  for (PetscInt li = a; li < b; li++) {
+    const PetscReal wx = xr[3 * li + 3] - xr[3 * li - 3], wy = xr[3 * li + 4] - xr[3 * li - 2],
+                    wz = xr[3 * li + 5] - xr[3 * li - 1];
+    const PetscReal fx = xu[3 * li] - xd[3 * li], fy = xu[3 * li + 1] - xd[3 * li + 1], fz = xu[3 * li + 2] - xd[3 * li + 2];
+    const PetscReal nw = PetscSqrtReal(wx * wx + wy * wy + wz * wz), nf = PetscSqrtReal(fx * fx + fy * fy + fz * fz);
+    const PetscReal s  = PetscMax(-1.0, PetscMin(1.0, (wx * fx + wy * fy + wz * fz) / (nw * nf)));
+    out[li]            = nw > 0 && nf > 0 ? PetscAbsReal(s) : -PETSC_MAX_REAL;
+  }
+}
+
+/* row by row: the chords and the interior crossings' cosines by loops that vectorise, the
+   maxima taken in the order of the crossings (as one loop over them) */
+FABRIC_WIDE void WindowRange(const Patch *p, const PetscReal *x, PetscReal r[5])
+{
+  const PetscInt n = p->gxm, c0 = p->xs - p->gxs, c1 = c0 + p->xm;
+  PetscReal     *e = p->bound_row[0], *L = p->bound_row[1], *dx = p->bound_row[2], *dy = p->bound_row[3],
+            *dz = p->bound_row[4];
+
   for (int k = 0; k < 5; k++) r[k] = -PETSC_MAX_REAL;
-  for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
-    for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
-      PetscReal s, tmin;
-      for (int dir = 0; dir < 2; dir++) {
-        const Chord c = ChordAt(p, x, i, j, dir);
-        if (!c.alive) continue;
-        const PetscReal e = c.L / (dir == 0 ? p->ax : p->ay) - 1.0;
-        r[2 * dir] = PetscMax(r[2 * dir], -e), r[2 * dir + 1] = PetscMax(r[2 * dir + 1], e);
-      }
-      if (p->shear && CrossingShear(p, x, i, j, &s, &tmin)) r[4] = PetscMax(r[4], PetscAbsReal(s));
+  for (PetscInt j = p->ys; j < p->ys + p->ym; j++) {
+    const PetscInt lj = j - p->gys;
+    for (int dir = 0; dir < 2; dir++) { /* the segments from the owned crossings; those past the patch are absent */
+      const PetscInt  lk = lj + (dir == 1), b = PetscMin(c1, n - (dir == 0));
+      const PetscReal L0 = dir == 0 ? p->ax : p->ay;
+      if (lk >= p->gym || c0 >= b) continue;
+      BoundChordRow(L0, c0, b, x + 3 * lj * n, x + 3 * (lk * n + (dir == 0)), p->exists + lj * n,
+                    p->exists + lk * n + (dir == 0), (dir == 0 ? p->broken_x : p->broken_y) + lj * n, dx, dy, dz, L, e);
+      for (PetscInt li = c0; li < b; li++)
+        if (!(L[li] < 0)) r[2 * dir] = PetscMax(r[2 * dir], -e[li]), r[2 * dir + 1] = PetscMax(r[2 * dir + 1], e[li]);
     }
+    if (p->shear) {
+      PetscReal s, tmin;
+      PetscInt  a, b;
+      if (!ShearInterior(p, j, c0, c1, &a, &b)) a = b = c1;
+      for (PetscInt li = c0; li < a; li++)
+        if (CrossingShear(p, x, p->gxs + li, j, &s, &tmin)) r[4] = PetscMax(r[4], PetscAbsReal(s));
+      ShearCosineRow(p, x, j, a, b, e);
+      for (PetscInt li = a; li < b; li++) r[4] = PetscMax(r[4], e[li]);
+      for (PetscInt li = PetscMax(a, b); li < c1; li++)
+        if (CrossingShear(p, x, p->gxs + li, j, &s, &tmin)) r[4] = PetscMax(r[4], PetscAbsReal(s));
+    }
+  }
 }
 
 void WindowSet(Patch *p, const PetscReal r[5], PetscReal margin)
@@ -1492,17 +1574,38 @@ void WindowSet(Patch *p, const PetscReal r[5], PetscReal margin)
   p->win_s = PetscMax(r[4], 0.0) + margin;
 }
 
-/* the shear crossings' bounds (ShearCrossingBound) of row j, local columns [c0, c1) */
+/* the shear crossings' bounds (ShearCrossingBound) of row j, local columns [c0, c1): on the
+   row's interior (ShearInterior) one loop of ShearCrossingBound's own expressions (it vectorises;
+   the cosine is not needed), elsewhere crossing by crossing */
 static void BoundShearRow(const Patch *p, const PetscReal *x, PetscInt j, PetscInt c0, PetscInt c1, PetscReal *sh)
 {
-  for (PetscInt li = c0; li < c1; li++) sh[li] = ShearCrossingBound(p, x, p->gxs + li, j);
+  const PetscInt n = p->gxm, lj = j - p->gys;
+  PetscInt       a, b;
+
+  if (!ShearInterior(p, j, c0, c1, &a, &b)) a = b = c1;
+  for (PetscInt li = c0; li < a; li++) sh[li] = ShearCrossingBound(p, x, p->gxs + li, j);
+  if (a < b) {
+    const PetscReal K = (p->Ks + (p->win_s >= p->s_lock ? p->Kj : 0.0)) * (4.0 + 12.0 * PetscMin(p->win_s, 1.0));
+    const PetscReal *restrict xr = x + 3 * lj * n, *restrict xd = xr - 3 * n, *restrict xu = xr + 3 * n;
+    PetscReal *restrict       out = sh;
+    for (PetscInt li = a; li < b; li++) {
+      const PetscReal wx = xr[3 * li + 3] - xr[3 * li - 3], wy = xr[3 * li + 4] - xr[3 * li - 2],
+                      wz = xr[3 * li + 5] - xr[3 * li - 1];
+      const PetscReal fx = xu[3 * li] - xd[3 * li], fy = xu[3 * li + 1] - xd[3 * li + 1],
+                      fz = xu[3 * li + 2] - xd[3 * li + 2];
+      const PetscReal nw = PetscSqrtReal(wx * wx + wy * wy + wz * wz), nf = PetscSqrtReal(fx * fx + fy * fy + fz * fz);
+      const PetscReal tmin = PetscMin(nw, nf);
+      out[li]              = nw > 0 && nf > 0 ? K / (tmin * tmin) : 0.0;
+    }
+  }
+  for (PetscInt li = PetscMax(a, b); li < c1; li++) sh[li] = ShearCrossingBound(p, x, p->gxs + li, j);
 }
 
 /* The rows of StableOmega2, one patch row at a time: the x-segments of row j, the y-segments of
    rows j-2..j+1 and the shear crossings of rows j-1..j+1 are each evaluated once, and each point
    adds their shares as TractionBoundRow, BendingBoundRow and ShearBoundRow do (the same values in
    the same order: unit_kernels (c) checks the bits). */
-PetscReal StableOmega2(Patch *p, const PetscReal *x, const PetscReal *inv_m, int pull_dir, PetscReal *omega2_pull,
+FABRIC_WIDE PetscReal StableOmega2(Patch *p, const PetscReal *x, const PetscReal *inv_m, int pull_dir, PetscReal *omega2_pull,
                        BoundRow *at)
 {
   const PetscInt c0 = p->xs - p->gxs, c1 = c0 + p->xm; /* owned local columns */
