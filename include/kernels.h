@@ -113,7 +113,7 @@ typedef struct {
      j-2..j+1 and the shear crossings' rows j-1..j+1 (columns padded by 2 on each side) */
   BoundSegRow    bx_seg, by_seg[KERNEL_RING];
   PetscReal     *bsh_ring[KERNEL_RING];
-  PetscReal     *bound_row[5]; /* scratch of BoundSegmentRow: strains, tensions, chords */
+  PetscReal     *bound_row[13]; /* the bound's scratch rows: strains, tensions, chords; bending centres */
   PetscReal     *bound_work;
   PetscReal     *zero_row;   /* 3*gxm zeros: positions of rows outside the patch */
   PetscReal     *strain_row; /* gxm: the chord strains of the segment row being computed */

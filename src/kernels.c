@@ -86,14 +86,14 @@ static PetscErrorCode PatchAllocRows(Patch *p)
   PetscFunctionReturn(0);
 }
 
-/* the stable-step bound's rows: 8 arrays a segment row, 1 a shear row, 5 scratch rows, columns -2..gxm+1 */
+/* the stable-step bound's rows: 8 arrays a segment row, 1 a shear row, 13 scratch rows, columns -2..gxm+1 */
 static PetscErrorCode PatchAllocBoundRows(Patch *p)
 {
   const PetscInt per_row = p->gxm + 4;
   PetscReal     *w;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscCalloc1((size_t) (8 * (1 + KERNEL_RING) + KERNEL_RING + 5) * per_row, &p->bound_work));
+  PetscCall(PetscCalloc1((size_t) (8 * (1 + KERNEL_RING) + KERNEL_RING + 13) * per_row, &p->bound_work));
   w = p->bound_work + 2;
   for (PetscInt r = -1; r < KERNEL_RING; r++) {
     BoundSegRow *s = r < 0 ? &p->bx_seg : &p->by_seg[r];
@@ -102,7 +102,7 @@ static PetscErrorCode PatchAllocBoundRows(Patch *p)
     s->pull = w, w += per_row;
   }
   for (PetscInt r = 0; r < KERNEL_RING; r++) p->bsh_ring[r] = w, w += per_row;
-  for (int q = 0; q < 5; q++) p->bound_row[q] = w, w += per_row;
+  for (int q = 0; q < 13; q++) p->bound_row[q] = w, w += per_row;
   PetscFunctionReturn(0);
 }
 
@@ -1545,8 +1545,11 @@ FABRIC_WIDE void WindowRange(const Patch *p, const PetscReal *x, PetscReal r[5])
       if (lk >= p->gym || c0 >= b) continue;
       BoundChordRow(L0, c0, b, x + 3 * lj * n, x + 3 * (lk * n + (dir == 0)), p->exists + lj * n,
                     p->exists + lk * n + (dir == 0), (dir == 0 ? p->broken_x : p->broken_y) + lj * n, dx, dy, dz, L, e);
-      for (PetscInt li = c0; li < b; li++)
-        if (!(L[li] < 0)) r[2 * dir] = PetscMax(r[2 * dir], -e[li]), r[2 * dir + 1] = PetscMax(r[2 * dir + 1], e[li]);
+      for (PetscInt li = c0; li < b; li++) { /* selects, not branches: an absent or broken one gives -PETSC_MAX_REAL */
+        const int alive = !(L[li] < 0);
+        r[2 * dir]      = PetscMax(r[2 * dir], alive ? -e[li] : -PETSC_MAX_REAL);
+        r[2 * dir + 1]  = PetscMax(r[2 * dir + 1], alive ? e[li] : -PETSC_MAX_REAL);
+      }
     }
     if (p->shear) {
       PetscReal s, tmin;
@@ -1601,6 +1604,22 @@ static void BoundShearRow(const Patch *p, const PetscReal *x, PetscInt j, PetscI
   for (PetscInt li = PetscMax(a, b); li < c1; li++) sh[li] = ShearCrossingBound(p, x, p->gxs + li, j);
 }
 
+/* the bending centres' rows (BendingBoundAdd) of one yarn family, centres a <= i < b, from the
+   lengths of their chords before (L1) and after (L2) them: kb 12 / Lmin^2 into v12 and kb 24 /
+   Lmin^2 into v24, 0 where BendingBoundAdd adds nothing (a row sum is >= +0, so adding +0 leaves
+   it as it is) */
+static void BoundBendRow(PetscReal kb, PetscReal Lc, PetscInt a, PetscInt b, const PetscReal *restrict L1,
+                         const PetscReal *restrict L2, PetscReal *restrict v12, PetscReal *restrict v24)
+{
+  for (PetscInt i = a; i < b; i++) {
+    const PetscReal Lmin = PetscMin(PetscMin(L1[i], L2[i]), Lc);
+    const int       on   = !(L1[i] < 0) & !(L2[i] < 0) & (Lmin > 0);
+    const PetscReal d    = on ? Lmin * Lmin : 1.0;
+    v12[i]               = on ? kb * 12.0 / d : 0.0;
+    v24[i]               = on ? kb * 24.0 / d : 0.0;
+  }
+}
+
 /* The rows of StableOmega2, one patch row at a time: the x-segments of row j, the y-segments of
    rows j-2..j+1 and the shear crossings of rows j-1..j+1 are each evaluated once, and each point
    adds their shares as TractionBoundRow, BendingBoundRow and ShearBoundRow do (the same values in
@@ -1612,6 +1631,10 @@ FABRIC_WIDE PetscReal StableOmega2(Patch *p, const PetscReal *x, const PetscReal
   const int      segs = p->traction || p->bending;
   PetscReal      omega2 = 0.0, pull2 = 0.0;
   BoundRow       best = {-1, -1, 0.0, {0, 0, 0, 0}};
+  /* the bending centres' rows: along x (row j), along y (rows j - 1, j, j + 1) */
+  PetscReal *bx12 = p->bound_row[5], *bx24 = p->bound_row[6], *by12[3] = {p->bound_row[7], p->bound_row[8], p->bound_row[9]},
+            *by24[3] = {p->bound_row[10], p->bound_row[11], p->bound_row[12]};
+  const PetscReal Lcx = (1.0 + p->warp->e_contact) * p->ax, Lcy = (1.0 + p->weft->e_contact) * p->ay;
 
   if (segs)
     for (PetscInt r = p->ys - 2; r < p->ys + 1; r++)
@@ -1626,6 +1649,12 @@ FABRIC_WIDE PetscReal StableOmega2(Patch *p, const PetscReal *x, const PetscReal
       BoundSegmentRow(p, x, j + 1, 1, pull_dir, 1, c0, c1, &p->by_seg[SLOT(j + 1)]);
     }
     if (p->shear) BoundShearRow(p, x, j + 1, c0 - 1, c1 + 1, p->bsh_ring[SLOT(j + 1)]);
+    if (p->bending) {
+      BoundBendRow(p->kbx, Lcx, c0 - 1, c1 + 1, xr->L - 1, xr->L, bx12, bx24);
+      for (int k = -1; k <= 1; k++)
+        BoundBendRow(p->kby, Lcy, c0, c1, p->by_seg[SLOT(j + k - 1)].L, p->by_seg[SLOT(j + k)].L, by12[k + 1],
+                     by24[k + 1]);
+    }
     for (PetscInt li = c0; li < c1; li++) {
       const PetscInt  i  = p->gxs + li;
       const PetscReal im = inv_m[(j - p->ys) * p->xm + (li - c0)];
@@ -1639,13 +1668,10 @@ FABRIC_WIDE PetscReal StableOmega2(Patch *p, const PetscReal *x, const PetscReal
         rs += 2.0 * SymMaxEig3(B);
       }
       upto[0] = rs;
-      if (p->bending) /* BendingBoundRow: the chords from point q to q + 1 along dir, q = -2..1 */
-        for (int dir = 0; dir < 2; dir++) {
-          const PetscReal Lc = (1.0 + (dir == 0 ? p->warp : p->weft)->e_contact) * (dir == 0 ? p->ax : p->ay);
-          PetscReal       L[4];
-          for (int q = -2; q <= 1; q++) L[q + 2] = dir == 0 ? xr->L[li + q] : p->by_seg[SLOT(j + q)].L[li];
-          BendingBoundAdd(dir == 0 ? p->kbx : p->kby, Lc, L, &rs);
-        }
+      if (p->bending) { /* BendingBoundRow: the centres k = -1, 0, 1 along x, then along y */
+        rs += bx12[li - 1], rs += bx24[li], rs += bx12[li + 1];
+        rs += by12[0][li], rs += by24[1][li], rs += by12[2][li];
+      }
       upto[1] = rs;
       if (p->shear) { /* ShearBoundRow */
         const PetscReal s[5] = {sc[li - 1], sc[li + 1], sd[li], su[li], sc[li]};

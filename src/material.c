@@ -335,43 +335,6 @@ PetscErrorCode YarnLawDestroy(YarnLaw *y)
   PetscFunctionReturn(0);
 }
 
-/* largest dTyarn/dey over yarn strains [lo, hi], lo >= 0 */
-static PetscReal YarnSlopeMax(const YarnLaw *y, PetscReal lo, PetscReal hi)
-{
-  PetscInt  ncell = y->ntab - 1, k0, k1;
-  PetscReal m     = 0.0;
-
-  if (!y->ntab) return y->EA;
-  if (hi >= y->tab_end) m = y->tab_dT[y->ntab - 1]; /* linear extension */
-  if (lo >= y->tab_end) return m;
-  k0 = (PetscInt) (lo * y->tab_inv_h);
-  k1 = PetscMin((PetscInt) (hi * y->tab_inv_h), ncell - 1);
-  if (k1 < k0) k1 = k0;
-  {
-    PetscInt len = k1 - k0 + 1, l = 0;
-    while ((2 << l) <= len) l++;
-    m = PetscMax(m, PetscMax(y->tab_slope_max[l][k0], y->tab_slope_max[l][k1 - (1 << l) + 1]));
-  }
-  return m;
-}
-
-PetscReal ChordTangentMax(const YarnLaw *y, PetscReal a, PetscReal b)
-{
-  const PetscReal c = y->crimp;
-  PetscReal       m = 0.0;
-
-  if (a <= y->e_contact) m = y->EA;
-  if (a <= 0.0 && b > y->e_contact) m = PetscMax(m, y->k_comp * y->EA);
-  if (a < c && b > 0.0) m = PetscMax(m, y->Ec);
-  if (b > c) {
-    PetscReal lo = (PetscMax(a, c) - c) / (1.0 + c), hi = (b - c) / (1.0 + c);
-    m = PetscMax(m, YarnSlopeMax(y, lo, hi) / (1.0 + c));
-  }
-  for (PetscInt k = 0; k < y->nblend; k++)
-    if (a <= y->blend[k].hi && b >= y->blend[k].lo) m = PetscMax(m, y->blend[k].slope_max);
-  return m;
-}
-
 /* ---------------- the scatter of the breaking strain ---------------- */
 
 /* the coefficient of variation of a Weibull distribution of shape k:
