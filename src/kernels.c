@@ -586,12 +586,9 @@ PetscReal ContactBoundRow(const Patch *p, const PetscReal *x, PetscInt i, PetscI
   return ContactPart(p, x + 3 * ((j - p->gys) * p->gxm + (i - p->gxs)), B, tr);
 }
 
-/* The bound's view of the segments from (gxs + li, j) along dir, li in [c0, c1) (-2 <= c0,
-   c1 <= gxm + 2): their length (-1 if absent or broken) and, with traction, their share of each
-   end's block as TractionBoundRow adds it (blocks, L > 0) and of the pull-direction row (dir ==
-   pull_dir) */
-/* chords a[i] -> b[i], a <= i < b, as ChordAt and BoundSegmentRow take them: the chord (d), its
-   length (L: -1 if a point is absent or the segment broken) and its strain L/L0 - 1 (e) */
+/* chords a[i] -> b[i], a <= i < b, as ChordAt takes them and TractionBlock their strain: the chord
+   (d), its length (L: -1 if a point is absent or the segment broken) and its strain L/L0 - 1 (e)
+   (the same expressions: a change there is a change here) */
 static void BoundChordRow(PetscReal L0, PetscInt a, PetscInt b, const PetscReal *restrict xa,
                           const PetscReal *restrict xb, const unsigned char *restrict ea,
                           const unsigned char *restrict eb, const unsigned char *restrict broken,
@@ -622,6 +619,10 @@ static void BoundBlockRow(PetscReal k, PetscInt a, PetscInt b, const PetscReal *
   }
 }
 
+/* The bound's view of the segments from (gxs + li, j) along dir, li in [c0, c1) (-2 <= c0,
+   c1 <= gxm + 2): their length (-1 if absent or broken) and, with traction, their share of each
+   end's block as TractionBoundRow adds it (blocks, L > 0) and of the pull-direction row (dir ==
+   pull_dir) */
 static void BoundSegmentRow(const Patch *p, const PetscReal *x, PetscInt j, int dir, int pull_dir, int blocks,
                             PetscInt c0, PetscInt c1, BoundSegRow *s)
 {
@@ -1512,7 +1513,8 @@ static int ShearInterior(const Patch *p, PetscInt j, PetscInt c0, PetscInt c1, P
 }
 
 /* |s| of row j's shear crossings, local columns [a, b) of its interior (ShearInterior): CrossingShear's
-   own expressions, -PETSC_MAX_REAL where it has no shear (a zero tangent) */
+   own expressions (a change there is a change here), -PETSC_MAX_REAL where it has no shear (a zero
+   tangent) */
 static void ShearCosineRow(const Patch *p, const PetscReal *x, PetscInt j, PetscInt a, PetscInt b,
                            PetscReal *restrict out)
 {
@@ -1528,8 +1530,9 @@ static void ShearCosineRow(const Patch *p, const PetscReal *x, PetscInt j, Petsc
   }
 }
 
-/* row by row: the chords and the interior crossings' cosines by loops that vectorise, the
-   maxima taken in the order of the crossings (as one loop over them) */
+/* row by row: the chords and the interior crossings' cosines by loops that vectorise (in the
+   patch's scratch rows: one call at a time on a patch), the maxima taken in the order of the
+   crossings (as one loop over them) */
 FABRIC_WIDE void WindowRange(const Patch *p, const PetscReal *x, PetscReal r[5])
 {
   const PetscInt n = p->gxm, c0 = p->xs - p->gxs, c1 = c0 + p->xm;
@@ -1578,8 +1581,9 @@ void WindowSet(Patch *p, const PetscReal r[5], PetscReal margin)
 }
 
 /* the shear crossings' bounds (ShearCrossingBound) of row j, local columns [c0, c1): on the
-   row's interior (ShearInterior) one loop of ShearCrossingBound's own expressions (it vectorises;
-   the cosine is not needed), elsewhere crossing by crossing */
+   row's interior (ShearInterior) one loop of CrossingShear's and ShearCrossingBound's own expressions
+   (a change there is a change here; it vectorises, and the cosine is not needed), elsewhere crossing
+   by crossing */
 static void BoundShearRow(const Patch *p, const PetscReal *x, PetscInt j, PetscInt c0, PetscInt c1, PetscReal *sh)
 {
   const PetscInt n = p->gxm, lj = j - p->gys;
