@@ -1228,11 +1228,16 @@ static int ShearInstance(const Patch *p, const PetscReal *x, PetscInt i, PetscIn
 /* Gershgorin contribution of crossing (i,j)'s shear energy to one of its points:
    |E''| |grad s|_a sum_b |grad s|_b + |E'| |hess s| row <= (Ks+Kj)(4 + 12|s|)/tmin^2, for any
    |s| up to the window's win_s; the jamming stiffness counts once the window reaches the lock */
+/* the numerator of ShearCrossingBound, the same at every crossing */
+static inline PetscReal ShearBoundFactor(const Patch *p)
+{
+  return (p->Ks + (p->win_s >= p->s_lock ? p->Kj : 0.0)) * (4.0 + 12.0 * PetscMin(p->win_s, 1.0));
+}
 static PetscReal ShearCrossingBound(const Patch *p, const PetscReal *x, PetscInt i, PetscInt j)
 {
   PetscReal s, tmin;
   if (!CrossingShear(p, x, i, j, &s, &tmin)) return 0.0;
-  return (p->Ks + (p->win_s >= p->s_lock ? p->Kj : 0.0)) * (4.0 + 12.0 * PetscMin(p->win_s, 1.0)) / (tmin * tmin);
+  return ShearBoundFactor(p) / (tmin * tmin);
 }
 
 /* the crossings that involve point (i,j): its four neighbours', and its own at an edge */
@@ -1512,11 +1517,11 @@ static int ShearInterior(const Patch *p, PetscInt j, PetscInt c0, PetscInt c1, P
          AllExist(p->epad + lj * w + *a + 1, *b - *a) && AllExist(p->epad + (lj + 2) * w + *a + 1, *b - *a);
 }
 
-/* |s| of row j's shear crossings, local columns [a, b) of its interior (ShearInterior): CrossingShear's
-   own expressions (a change there is a change here), -PETSC_MAX_REAL where it has no shear (a zero
-   tangent) */
-static void ShearCosineRow(const Patch *p, const PetscReal *x, PetscInt j, PetscInt a, PetscInt b,
-                           PetscReal *restrict out)
+/* CrossingShear on row j's interior crossings, local columns [a, b) (ShearInterior), by its own
+   expressions (a change there is a change here): the tangents' lengths nw, nf and the cosine s
+   (the crossing has no shear unless nw > 0 and nf > 0) */
+static void ShearInteriorRow(const Patch *p, const PetscReal *x, PetscInt j, PetscInt a, PetscInt b,
+                             PetscReal *restrict nw, PetscReal *restrict nf, PetscReal *restrict s)
 {
   const PetscInt n = p->gxm, lj = j - p->gys;
   const PetscReal *restrict xr = x + 3 * lj * n, *restrict xd = xr - 3 * n, *restrict xu = xr + 3 * n;
@@ -1524,9 +1529,8 @@ static void ShearCosineRow(const Patch *p, const PetscReal *x, PetscInt j, Petsc
     const PetscReal wx = xr[3 * li + 3] - xr[3 * li - 3], wy = xr[3 * li + 4] - xr[3 * li - 2],
                     wz = xr[3 * li + 5] - xr[3 * li - 1];
     const PetscReal fx = xu[3 * li] - xd[3 * li], fy = xu[3 * li + 1] - xd[3 * li + 1], fz = xu[3 * li + 2] - xd[3 * li + 2];
-    const PetscReal nw = PetscSqrtReal(wx * wx + wy * wy + wz * wz), nf = PetscSqrtReal(fx * fx + fy * fy + fz * fz);
-    const PetscReal s  = PetscMax(-1.0, PetscMin(1.0, (wx * fx + wy * fy + wz * fz) / (nw * nf)));
-    out[li]            = nw > 0 && nf > 0 ? PetscAbsReal(s) : -PETSC_MAX_REAL;
+    nw[li] = PetscSqrtReal(wx * wx + wy * wy + wz * wz), nf[li] = PetscSqrtReal(fx * fx + fy * fy + fz * fz);
+    s[li]  = PetscMax(-1.0, PetscMin(1.0, (wx * fx + wy * fy + wz * fz) / (nw[li] * nf[li])));
   }
 }
 
@@ -1560,8 +1564,8 @@ FABRIC_WIDE void WindowRange(const Patch *p, const PetscReal *x, PetscReal r[5])
       if (!ShearInterior(p, j, c0, c1, &a, &b)) a = b = c1;
       for (PetscInt li = c0; li < a; li++)
         if (CrossingShear(p, x, p->gxs + li, j, &s, &tmin)) r[4] = PetscMax(r[4], PetscAbsReal(s));
-      ShearCosineRow(p, x, j, a, b, e);
-      for (PetscInt li = a; li < b; li++) r[4] = PetscMax(r[4], e[li]);
+      ShearInteriorRow(p, x, j, a, b, dx, dy, e); /* the scratch rows take nw, nf and s here */
+      for (PetscInt li = a; li < b; li++) r[4] = PetscMax(r[4], dx[li] > 0 && dy[li] > 0 ? PetscAbsReal(e[li]) : -PETSC_MAX_REAL);
       for (PetscInt li = PetscMax(a, b); li < c1; li++)
         if (CrossingShear(p, x, p->gxs + li, j, &s, &tmin)) r[4] = PetscMax(r[4], PetscAbsReal(s));
     }
@@ -1581,28 +1585,21 @@ void WindowSet(Patch *p, const PetscReal r[5], PetscReal margin)
 }
 
 /* the shear crossings' bounds (ShearCrossingBound) of row j, local columns [c0, c1): on the
-   row's interior (ShearInterior) one loop of CrossingShear's and ShearCrossingBound's own expressions
-   (a change there is a change here; it vectorises, and the cosine is not needed), elsewhere crossing
+   row's interior (ShearInterior) by ShearInteriorRow and a loop over the row, elsewhere crossing
    by crossing */
 static void BoundShearRow(const Patch *p, const PetscReal *x, PetscInt j, PetscInt c0, PetscInt c1, PetscReal *sh)
 {
-  const PetscInt n = p->gxm, lj = j - p->gys;
-  PetscInt       a, b;
+  PetscReal *nw = p->bound_row[0], *nf = p->bound_row[1], *cs = p->bound_row[2];
+  PetscInt   a, b;
 
   if (!ShearInterior(p, j, c0, c1, &a, &b)) a = b = c1;
   for (PetscInt li = c0; li < a; li++) sh[li] = ShearCrossingBound(p, x, p->gxs + li, j);
   if (a < b) {
-    const PetscReal K = (p->Ks + (p->win_s >= p->s_lock ? p->Kj : 0.0)) * (4.0 + 12.0 * PetscMin(p->win_s, 1.0));
-    const PetscReal *restrict xr = x + 3 * lj * n, *restrict xd = xr - 3 * n, *restrict xu = xr + 3 * n;
-    PetscReal *restrict       out = sh;
+    const PetscReal K = ShearBoundFactor(p);
+    ShearInteriorRow(p, x, j, a, b, nw, nf, cs);
     for (PetscInt li = a; li < b; li++) {
-      const PetscReal wx = xr[3 * li + 3] - xr[3 * li - 3], wy = xr[3 * li + 4] - xr[3 * li - 2],
-                      wz = xr[3 * li + 5] - xr[3 * li - 1];
-      const PetscReal fx = xu[3 * li] - xd[3 * li], fy = xu[3 * li + 1] - xd[3 * li + 1],
-                      fz = xu[3 * li + 2] - xd[3 * li + 2];
-      const PetscReal nw = PetscSqrtReal(wx * wx + wy * wy + wz * wz), nf = PetscSqrtReal(fx * fx + fy * fy + fz * fz);
-      const PetscReal tmin = PetscMin(nw, nf);
-      out[li]              = nw > 0 && nf > 0 ? K / (tmin * tmin) : 0.0;
+      const PetscReal tmin = PetscMin(nw[li], nf[li]);
+      sh[li]               = nw[li] > 0 && nf[li] > 0 ? K / (tmin * tmin) : 0.0;
     }
   }
   for (PetscInt li = PetscMax(a, b); li < c1; li++) sh[li] = ShearCrossingBound(p, x, p->gxs + li, j);
