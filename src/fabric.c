@@ -17,6 +17,7 @@
 #include <math.h>
 #include <sys/resource.h>
 #include <stdlib.h>
+#include <strings.h> /* strcasecmp */
 #include <unistd.h>
 
 /* Position of crossing (i,j) relative to the grid centre at rest, m. (i - (nx-1)/2) is exact,
@@ -358,6 +359,8 @@ static PetscErrorCode UserRankGrid(PetscInt nx, PetscInt ny, PetscMPIInt size, M
 #define BYTES_PAPER        72.0   /* -integrator paper's x(n-1) and V(n-1) (66 B measured) */
 #define BYTES_EXTRAPOLATE  48.0   /* -predict extrapolate's converged states of the last two load steps */
 #define BYTES_HELP         60.0   /* -help: the grid's DMDA alone (46 B measured on large.yaml, 1 rank) */
+#define BYTES_TE_MEASURE   940.0  /* -te_measure's tangent block rows (936 B, docs/options.md) */
+#define BYTES_STATIC_AIJ   7500.0 /* -static_tangent aij: 7.4 KB measured on large.yaml cut to 481 x 481 (docs/static.md) */
 static double NodeMemory(void)
 {
   FILE  *fp = fopen("/proc/meminfo", "r");
@@ -376,19 +379,23 @@ static PetscErrorCode CheckMemory(Fabric fab, PetscBool help)
   const SceneOutput *o      = &fab->s.out;
   const PetscBool    frames = o->output_dir[0] && (o->output_every > 0 || o->output_te_every > 0 ||
                                                  o->output_tear_every > 0);
-  const double       bytes  = help ? BYTES_HELP
-                                     : (fab->s.num.solver == SOLVER_STATIC ? BYTES_STATIC : BYTES_PER_CROSSING) +
-                                  (frames ? BYTES_FRAMES : 0.0) +
-                                  (fab->s.num.integrator == INTEGRATOR_PAPER ? BYTES_PAPER : 0.0) +
-                                  (fab->s.num.predict == PREDICT_EXTRAPOLATE ? BYTES_EXTRAPOLATE : 0.0);
-  const double       share  = bytes * (double) fab->s.spec.nx * (double) fab->s.spec.ny / fab->size;
   const double       node   = NodeMemory();
+  char               tangent[16] = "";
+  PetscBool          aij = PETSC_FALSE;
+  double             bytes, share, limit = -1;
   struct rlimit      as;
   MPI_Comm           shm;
-  PetscMPIInt        here  = 1;
-  double             limit = -1;
+  PetscMPIInt        here = 1;
 
   PetscFunctionBeginUser;
+  PetscCall(PetscOptionsGetString(NULL, NULL, "-static_tangent", tangent, sizeof tangent, &aij)); /* static.c's */
+  aij   = aij && !strcasecmp(tangent, "aij") ? PETSC_TRUE : PETSC_FALSE;
+  bytes = help ? BYTES_HELP
+               : (fab->s.num.solver == SOLVER_STATIC ? (aij ? BYTES_STATIC_AIJ : BYTES_STATIC) : BYTES_PER_CROSSING) +
+                     (fab->s.num.te_measure > 0 ? BYTES_TE_MEASURE : 0.0) + (frames ? BYTES_FRAMES : 0.0) +
+                     (fab->s.num.integrator == INTEGRATOR_PAPER ? BYTES_PAPER : 0.0) +
+                     (fab->s.num.predict == PREDICT_EXTRAPOLATE ? BYTES_EXTRAPOLATE : 0.0);
+  share = bytes * (double) fab->s.spec.nx * (double) fab->s.spec.ny / fab->size;
   PetscCallMPI(MPI_Comm_split_type(fab->comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &shm));
   PetscCallMPI(MPI_Comm_size(shm, &here));
   PetscCallMPI(MPI_Comm_free(&shm));

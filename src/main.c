@@ -120,27 +120,52 @@ static const char *MpiErrorCause(void)
    MPI error stops every rank, as MPI's own handler did before it was set to return them. */
 static char unsaid[1024]; /* this rank's error, when rank 0 was to say it (StopTogether: if rank 0 did not have it) */
 
+/* a message on one line: a value's line breaks (a YAML block scalar's) shown as \n and \r */
+static void OneLine(char *text, size_t len)
+{
+  char   out[2048];
+  size_t o = 0;
+  for (const char *c = text; *c && o + 2 < sizeof out; c++) {
+    if (*c == '\n' || *c == '\r') out[o++] = '\\', out[o++] = *c == '\n' ? 'n' : 'r';
+    else out[o++] = *c;
+  }
+  if (o > len - 1) o = len - 1; /* cut, as the message was to its buffer */
+  memcpy(text, out, o);
+  text[o] = 0;
+}
+
 static PetscErrorCode OneLineErrorHandler(MPI_Comm comm, int line, const char *fun, const char *file, PetscErrorCode n,
                                           PetscErrorType p, const char *mess, void *ctx)
 {
   PetscMPIInt rank = 0, world = 0;
-  int         says; /* this rank says the error */
+  int         says, oom; /* this rank says the error; out of memory */
   char        text[1024];
   (void) ctx;
   if (p != PETSC_ERROR_INITIAL) return n;
   if (comm != MPI_COMM_NULL) MPI_Comm_rank(comm, &rank);
   MPI_Comm_rank(PETSC_COMM_WORLD, &world);
   if (n == PETSC_ERR_MPI && world) sleep(1); /* rank 0 says it and stops every rank, if it has it too */
-  says = world == 0 || (rank == 0 && (n == PETSC_ERR_MEM || n == PETSC_ERR_PLIB || n == PETSC_ERR_LIB ||
-                                      n == PETSC_ERR_SYS || n == PETSC_ERR_MPI));
+  /* an allocation that failed (the grid's own needs are checked before it is made, fabric.c): PETSc 3.18's
+     PetscMallocAlign raises it with its arguments shifted (the code is its caller's line, the message its name) */
+  oom  = n == PETSC_ERR_MEM || (fun && !strcmp(fun, "PetscMallocAlign"));
+  says = world == 0 || (rank == 0 && (oom || n == PETSC_ERR_PLIB || n == PETSC_ERR_LIB || n == PETSC_ERR_SYS ||
+                                      n == PETSC_ERR_MPI));
+  if (oom)
+    snprintf(text, sizeof text,
+             "out of memory (in %s): this run needs more memory than the node or its limit (ulimit -v) gives a rank; "
+             "run fewer crossings per rank (more ranks or nodes)",
+             fun && strcmp(fun, "PetscMallocAlign") ? fun : mess && mess[0] ? mess : "an allocation");
   if (!says && mess && mess[0] && !unsaid[0]) {
-    NameTheOption(mess, text, sizeof text);
+    if (!oom) NameTheOption(mess, text, sizeof text);
+    OneLine(text, sizeof text);
     snprintf(unsaid, sizeof unsaid, "%s", text);
   }
   if (says) {
     fflush(stdout); /* what it printed (-help's list) first: the error line starts a line of its own */
-    if (mess && mess[0]) {
+    if (oom) fprintf(stderr, "fabric: error: %s\n", text);
+    else if (mess && mess[0]) {
       NameTheOption(mess, text, sizeof text);
+      OneLine(text, sizeof text);
       fprintf(stderr, "fabric: error: %s%s\n", text, n == PETSC_ERR_MPI ? MpiErrorCause() : SolverErrorCause(file));
     } else {
       const char *text = NULL;
@@ -326,6 +351,17 @@ static int FileOptionProblem(int n, char **tok, const char *where)
       fprintf(stderr, "fabric: error: %s %s%s: no such file, or not a readable file\n", tok[k], f, where);
       return 1;
     }
+    if (read && !strcmp(tok[k], "-options_file_yaml")) { /* PETSc refuses a malformed one with a traceback */
+      FILE *fp   = fopen(f, "rb");
+      char *text = fp ? calloc((size_t) st.st_size + 1, 1) : NULL, why[512] = "";
+      if (text && fread(text, 1, (size_t) st.st_size, fp) == (size_t) st.st_size) (void) YamlOptionsProblem(text, why, sizeof why);
+      if (fp) fclose(fp);
+      free(text);
+      if (why[0]) {
+        fprintf(stderr, "fabric: error: %s %s%s: not a valid YAML option file: %s\n", tok[k], f, where, why);
+        return 1;
+      }
+    }
     if (write) { /* -log_trace F and -info F write F.0 first (-info F:classes: the file is F) */
       char path[4096], msg[8192];
       snprintf(path, sizeof path, "%.*s%s", (int) (info ? strcspn(f, ":") : strlen(f)), f, history ? "" : ".0");
@@ -347,6 +383,14 @@ static int InitFileProblem(int argc, char **argv)
   int         n = 0, bad;
 
   if (FileOptionProblem(argc - 1, argv + 1, "")) return 1;
+  { /* PETSc refuses malformed YAML there with a traceback */
+    const char *yaml = getenv("PETSC_OPTIONS_YAML");
+    char        why[512] = "";
+    if (yaml && YamlOptionsProblem(yaml, why, sizeof why)) {
+      fprintf(stderr, "fabric: error: PETSC_OPTIONS_YAML: not valid YAML options: %s\n", why);
+      return 1;
+    }
+  }
   if (!env || !(copy = strdup(env))) return 0;
   for (char *t = strtok(copy, " \t\n"); t && n < 1024; t = strtok(NULL, " \t\n")) tok[n++] = t;
   bad = FileOptionProblem(n, tok, " (in PETSC_OPTIONS)");

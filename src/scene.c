@@ -238,8 +238,8 @@ static const OptionDesc Options[] = {
          "mass-proportional damping as a fraction of critical for the slowest mode along the pull (0 = off)"),
     RANGED("Load program", "elongation_pct", elongation_pct, TDEF(ElongByTest), 0, 100, 0, 0, "in [0,100]",
            "final elongation: grip travel / gauge length (%)"),
-    REAL("", "speed_mm_min", speed_mm_min, DEF(100), POSITIVE, POS_MUST,
-         "test speed of the moving jaw (mm/min); gives time_s"),
+    RANGED("", "speed_mm_min", speed_mm_min, DEF(100), 1e-6, 1e9, 0, 0, "from 1e-6 to 1e9 (tensile testers run 1 to 1000)",
+           "test speed of the moving jaw (mm/min); gives time_s"),
     REALS("", "point_load_N", point_load_N, 3, 0, 0, 0, 3, 3, "three components fx,fy,fz",
           "final point load fx,fy,fz (N), ramped with the load steps"),
     {"",
@@ -786,6 +786,44 @@ static int YamlProblem(const char *text, char *msg, size_t len)
   return bad;
 }
 
+/* What PETSc's YAML option reader (PetscOptionsInsertStringYAML) would refuse in text, said as YamlProblem says it,
+   or that a document is not a mapping of options ("key: value" lines) or has a key that is not a plain name; 0 if
+   neither. Plain C: main.c asks it before PetscInitialize reads -options_file_yaml and PETSC_OPTIONS_YAML (whose
+   refusal there is a traceback and an abort). */
+int YamlOptionsProblem(const char *text, char *msg, size_t len)
+{
+  yaml_parser_t   p;
+  yaml_document_t doc;
+  int             bad = 0, done = 0;
+
+  if (YamlProblem(text, msg, len)) return 1;
+  if (!yaml_parser_initialize(&p)) return 0;
+  yaml_parser_set_input_string(&p, (const unsigned char *) text, strlen(text));
+  while (!done && !bad) {
+    yaml_node_t *root;
+    if (!yaml_parser_load(&p, &doc)) break; /* YamlProblem found nothing: PETSc's own reader decides */
+    root = yaml_document_get_root_node(&doc);
+    done = root == NULL; /* the end of the stream */
+    if (root && !(root->type == YAML_SCALAR_NODE && root->data.scalar.length == 0)) {
+      if (root->type != YAML_MAPPING_NODE) {
+        bad = 1;
+        snprintf(msg, len, "line %lu: not a mapping of options ('key: value' lines)",
+                 (unsigned long) root->start_mark.line + 1);
+      } else
+        for (yaml_node_pair_t *q = root->data.mapping.pairs.start; q < root->data.mapping.pairs.top && !bad; q++) {
+          yaml_node_t *key = yaml_document_get_node(&doc, q->key);
+          if (key && key->type == YAML_SCALAR_NODE) continue;
+          bad = 1;
+          snprintf(msg, len, "line %lu: a key that is not a plain option name",
+                   (unsigned long) (key ? key->start_mark.line : root->start_mark.line) + 1);
+        }
+    }
+    yaml_document_delete(&doc);
+  }
+  yaml_parser_delete(&p);
+  return bad;
+}
+
 /* The first line of a scene file that cannot be a YAML "key: value" line (no colon, or no space
    after the first one), as a hint when the YAML parser refuses the file without saying where.
    0 if none is found. */
@@ -1010,25 +1048,30 @@ static int FindBadKey(const char *file, char *msg, size_t len)
   return bad;
 }
 
-/* PETSC_OPTIONS as rank 0 has it (as PETSc reads it: other ranks may not see the launcher's environment) */
+/* PETSC_OPTIONS and PETSC_OPTIONS_YAML as rank 0 has them (as PETSc reads them: other ranks may not see the launcher's
+   environment), after the scene file, so that they win over it as over the defaults */
 static PetscErrorCode InsertEnvOptions(MPI_Comm comm)
 {
-  const char *env = NULL;
-  char       *text;
-  PetscInt    len = 0;
-  PetscMPIInt rank;
+  static const char *const vars[] = {"PETSC_OPTIONS", "PETSC_OPTIONS_YAML"}; /* PETSc's order */
+  PetscMPIInt              rank;
 
   PetscFunctionBeginUser;
   PetscCall(CommRank(comm, &rank));
-  if (!rank && (env = getenv("PETSC_OPTIONS"))) len = (PetscInt) strlen(env);
-  PetscCall(BroadcastFromRoot(comm, &len, 1, MPIU_INT));
-  if (!len) PetscFunctionReturn(0);
-  PetscCall(PetscMalloc1(len + 1, &text));
-  if (!rank) PetscCall(PetscArraycpy(text, env, len));
-  text[len] = 0;
-  PetscCall(BroadcastFromRoot(comm, text, len, MPI_CHAR));
-  PetscCall(PetscOptionsInsertString(NULL, text));
-  PetscCall(PetscFree(text));
+  for (int q = 0; q < 2; q++) {
+    const char *env = NULL;
+    char       *text;
+    PetscInt    len = 0;
+    if (!rank && (env = getenv(vars[q]))) len = (PetscInt) strlen(env);
+    PetscCall(BroadcastFromRoot(comm, &len, 1, MPIU_INT));
+    if (!len) continue;
+    PetscCall(PetscMalloc1(len + 1, &text));
+    if (!rank) PetscCall(PetscArraycpy(text, env, len));
+    text[len] = 0;
+    PetscCall(BroadcastFromRoot(comm, text, len, MPI_CHAR));
+    if (q == 0) PetscCall(PetscOptionsInsertString(NULL, text));
+    else PetscCall(PetscOptionsInsertStringYAML(NULL, text)); /* checked before PetscInitialize read it (main.c) */
+    PetscCall(PetscFree(text));
+  }
   PetscFunctionReturn(0);
 }
 
@@ -1260,6 +1303,12 @@ static PetscErrorCode DeriveYarn(MPI_Comm comm, const YarnInput *in, const char 
   y->k_comp        = in->compression_ratio;
   y->e_contact     = -in->contact_pct / 100.0;
   y->smoothing     = in->law_smoothing_pct / 100.0;
+  /* a blend's cubic divides by its width squared and cubed: below about 1e-150 % of strain that overflows, and a
+     blend far below the roundoff of a strain (1e-12) is no blend */
+  PetscCheck(in->law_smoothing_pct == 0 || in->law_smoothing_pct >= 1e-6, comm, PETSC_ERR_USER_INPUT,
+             "-%s_law_smoothing_pct %g: a blend this narrow cannot be computed (its cubic overflows) and blends nothing; "
+             "0 for sharp kinks, or at least 1e-6",
+             name, (double) in->law_smoothing_pct);
   y->bending       = in->bending_Nm2;
   y->break_ey      = in->break_pct / 100.0;
   y->decrimp_ratio = in->decrimp_ratio;
@@ -1772,6 +1821,11 @@ PetscErrorCode SceneWidthText(const SceneInput *in, const char *real_fmt, char *
   PetscCall(PetscSNPrintf(fmt, sizeof fmt, "-width_mm %s", real_fmt));
   if (in->test == TEST_STRIP && in->yarns > 0) PetscCall(PetscSNPrintf(text, len, "-yarns %" PetscInt_FMT, in->yarns));
   else PetscCall(PetscSNPrintf(text, len, fmt, (double) in->width_mm));
+  if (in->test == TEST_BIAS) { /* the bias grid holds the jaws too */
+    size_t at = strlen(text);
+    PetscCall(PetscSNPrintf(fmt, sizeof fmt, " -jaw_depth_mm %s", real_fmt));
+    PetscCall(PetscSNPrintf(text + at, len - at, fmt, (double) in->jaw_depth_mm));
+  }
   PetscFunctionReturn(0);
 }
 
