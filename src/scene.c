@@ -1812,7 +1812,8 @@ static PetscErrorCode DeriveOutput(MPI_Comm comm, const SceneInput *in, Scene *s
   PetscFunctionReturn(0);
 }
 
-/* the option that sets the grid's width, and its value: -yarns (the strip's, when given) or -width_mm */
+/* the options that set the grid's width, and their values: -yarns (the strip's, when given) or -width_mm; the bias test's
+   -jaw_depth_mm too (its grid holds the jaws) */
 PetscErrorCode SceneWidthText(const SceneInput *in, const char *real_fmt, char *text, size_t len)
 {
   char fmt[32];
