@@ -32,6 +32,7 @@
  * Convergence: the explicit path's balance test (the largest free force over the larger of the
  * largest yarn tension and the force floor) at -balance_tol.
  */
+#include <petsc/private/pcimpl.h> /* pc->setupcalled: a block preconditioner's blocks exist */
 #include "static.h"
 #include "bodies.h"
 #include "comm.h"
@@ -1244,28 +1245,57 @@ static PetscErrorCode SetPreconditioner(StaticSolver ss, KSP ksp)
   PetscFunctionReturn(0);
 }
 
-/* A retry's LU factors from scratch (a grid too small for multigrid): after MUMPS's numeric factorisation of a
-   singular tangent fails (INFOG(1) = -10: from -snes_shift_start 0 on a slack net), PETSc's MUMPS interface
-   skips every later one on the same pattern ("called after analysis phase fails"), so the stiffer retries
-   failed too and the load step ended unbalanced where one rank's CG (no factor failure) went on */
+/* A retry's factors from scratch, in any preconditioner that factors (LU, ILU, Cholesky, ICC; alone, as the
+   blocks of bjacobi or asm, or inside redundant): after a numeric factorisation of a singular tangent fails
+   (from -snes_shift_start 0 on a slack net), PETSc keeps the failed factor's error on the same pattern and
+   refactors no more (MUMPS says "called after analysis phase fails", ILU and LU skip the numeric step), so
+   the stiffer retries failed too and the load step ended unbalanced with 0 Newton steps. Multigrid keeps
+   its hierarchy (its smoothers do not factor by default). */
+static PetscErrorCode FreshFactorsOf(PC pc)
+{
+  PetscBool factor, redundant, blocks;
+  PetscInt  n = 0;
+  KSP      *sub = NULL, inner;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectTypeCompareAny((PetscObject) pc, &factor, PCLU, PCILU, PCCHOLESKY, PCICC, ""));
+  if (factor) {
+    PetscCall(PCReset(pc));
+    PetscFunctionReturn(0);
+  }
+  if (!pc->setupcalled) PetscFunctionReturn(0); /* nothing factored yet, no blocks to reach */
+  PetscCall(PCSetFailedReason(pc, PC_NOERROR)); /* a block's failure (SUBPC_ERROR) stays set else */
+  PetscCall(PetscObjectTypeCompare((PetscObject) pc, PCREDUNDANT, &redundant));
+  if (redundant) {
+    PC inner_pc;
+    PetscCall(PCRedundantGetKSP(pc, &inner));
+    PetscCall(KSPGetPC(inner, &inner_pc));
+    PetscCall(FreshFactorsOf(inner_pc));
+    PetscFunctionReturn(0);
+  }
+  PetscCall(PetscObjectTypeCompare((PetscObject) pc, PCBJACOBI, &blocks));
+  if (blocks) PetscCall(PCBJacobiGetSubKSP(pc, &n, NULL, &sub));
+  else {
+    PetscCall(PetscObjectTypeCompare((PetscObject) pc, PCASM, &blocks));
+    if (blocks) PetscCall(PCASMGetSubKSP(pc, &n, NULL, &sub));
+  }
+  for (PetscInt i = 0; i < n; i++) {
+    PC sub_pc;
+    PetscCall(KSPGetPC(sub[i], &sub_pc));
+    PetscCall(FreshFactorsOf(sub_pc));
+  }
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode FreshFactors(StaticSolver ss)
 {
-  KSP       ksp;
-  PC        pc;
-  PetscBool lu, redundant;
+  KSP ksp;
+  PC  pc;
 
   PetscFunctionBeginUser;
   PetscCall(SNESGetKSP(ss->snes, &ksp));
   PetscCall(KSPGetPC(ksp, &pc));
-  PetscCall(PetscObjectTypeCompare((PetscObject) pc, PCREDUNDANT, &redundant));
-  if (redundant) {
-    KSP inner;
-    PetscCall(PCSetFailedReason(pc, PC_NOERROR)); /* its inner solve's failure (SUBPC_ERROR) stays set else */
-    PetscCall(PCRedundantGetKSP(pc, &inner));
-    PetscCall(KSPGetPC(inner, &pc));
-  }
-  PetscCall(PetscObjectTypeCompare((PetscObject) pc, PCLU, &lu));
-  if (lu) PetscCall(PCReset(pc));
+  PetscCall(FreshFactorsOf(pc));
   PetscFunctionReturn(0);
 }
 
