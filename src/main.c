@@ -95,7 +95,8 @@ static const char *SolverErrorCause(const char *file)
 
   cause[0] = 0;
   if (!file ||
-      !(strstr(file, "src/ksp/") || strstr(file, "src/snes/") || strstr(file, "src/tao/") || strstr(file, "src/mat/")))
+      !(strstr(file, "src/ksp/") || strstr(file, "src/snes/") || strstr(file, "src/tao/") || strstr(file, "src/mat/") ||
+        strstr(file, "src/dm/")))
     return cause;
   SolverOptionsGiven(given, sizeof given);
   if (given[0]) snprintf(cause, sizeof cause, " (in PETSc's solvers; the solver options given: %s)", given);

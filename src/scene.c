@@ -1489,12 +1489,25 @@ static PetscErrorCode DeriveBodies(MPI_Comm comm, const SceneInput *in, Scene *s
   PetscFunctionReturn(0);
 }
 
+static PetscErrorCode GivenByUser(MPI_Comm comm, const char *opt, PetscBool *user);
+
 /* the options that must agree with the test, the shape and the clamps */
 static PetscErrorCode CheckTestOptions(MPI_Comm comm, const SceneInput *in, const Scene *s)
 {
   const Clamps *c = &s->clamps;
 
   PetscFunctionBeginUser;
+  if (s->test == TEST_STRIP && in->yarns > 0) { /* -yarns sets the width: a -width_mm typed beside it was dropped */
+    PetscBool yarns_typed, width_typed;
+    PetscCall(GivenByUser(comm, "-yarns", &yarns_typed));
+    PetscCall(GivenByUser(comm, "-width_mm", &width_typed));
+    PetscCheck(!(yarns_typed && width_typed), comm, PETSC_ERR_USER_INPUT,
+               "-yarns %" PetscInt_FMT " and -width_mm %g both set the strip's width (%" PetscInt_FMT
+               " yarns at %g threads/cm are %g mm); give one of them",
+               in->yarns, (double) in->width_mm, in->yarns,
+               (double) (s->spec.pull == PULL_WARP ? in->ends_per_cm : in->picks_per_cm),
+               10.0 * (double) in->yarns / (double) (s->spec.pull == PULL_WARP ? in->ends_per_cm : in->picks_per_cm));
+  }
   PetscCheck(c->clamp != CLAMP_RING || (c->ring[0] >= 0 && c->ring[1] > c->ring[0]), comm, PETSC_ERR_USER_INPUT,
              "-clamp ring needs -clamp_ring_mm inner,outer with 0 <= inner < outer, got %g,%g",
              (double) (2e3 * c->ring[0]), (double) (2e3 * c->ring[1]));
@@ -1627,6 +1640,8 @@ static PetscErrorCode CheckOptionsApply(MPI_Comm comm, const Scene *s)
       {"energy_watch", !fire || s->num.energy_watch == 0, "-integrator fire",
        "FIRE stops all motion at an uphill step: its energy cannot grow"},
       {"nu", !fire || tears || s->num.nu == 0, relaxer, "no viscosity there; only a tear's damped scheme reads it"},
+      {"point_load_at", s->load.point_load[0] != 0 || s->load.point_load[1] != 0 || s->load.point_load[2] != 0,
+       "-point_load_N 0,0,0", "there is no point load to place"},
       {"plane_normal", s->bodies.plane, "-plane false", "there is no plane"},
       {"plane_point_mm", s->bodies.plane, "-plane false", "there is no plane"},
       {"pedestal_height_mm", s->bodies.pedestal_radius > 0, "-pedestal_diameter_mm 0", "there is no pedestal"},
@@ -1681,11 +1696,16 @@ static PetscErrorCode CheckSolverOptions(MPI_Comm comm, const SceneInput *in)
              "-checkpoint_every_s %g with -solver static: it checkpoints between load steps only; use -checkpoint_every",
              (double) in->checkpoint_every_s);
   { /* the explicit relaxation's knobs: Newton reads none of them (a tear runs the damped scheme with the tear_*
-       options). Typed by the user, refused; from a scene file (large.yaml's -front), left to the explicit path */
-    static const char *const relaxation[] = {"integrator",   "front",        "sleep_tol",     "kinetic_damping",
+       options, -te, -te_check, -te_strain_window and -max_inner_steps). Typed by the user, refused; from a scene
+       file (large.yaml's -front, every scene's -max_inner_steps), left to the explicit path */
+    static const char *const relaxation[] = {"integrator",    "front",        "sleep_tol",     "kinetic_damping",
                                              "damping_ratio", "balance_hold", "balance_floor", "speed_tol",
-                                             "energy_watch", "early_exit",   "te_safety",     "grip_ramp_steps"};
-    for (size_t k = 0; k < sizeof relaxation / sizeof relaxation[0]; k++) {
+                                             "energy_watch",  "early_exit",   "te_safety",     "grip_ramp_steps",
+                                             /* read by a tear only: refused where no yarn can break */
+                                             "te",            "te_check",     "te_strain_window", "max_inner_steps"};
+    const PetscBool          tears        = in->yarn[0].break_pct > 0 || in->yarn[1].break_pct > 0 ? PETSC_TRUE : PETSC_FALSE;
+    const size_t             n            = sizeof relaxation / sizeof relaxation[0] - (tears ? 4 : 0);
+    for (size_t k = 0; k < n; k++) {
       char      opt[64], value[256] = "";
       PetscBool set, user;
       PetscCall(PetscSNPrintf(opt, sizeof opt, "-%s", relaxation[k]));
@@ -1694,8 +1714,9 @@ static PetscErrorCode CheckSolverOptions(MPI_Comm comm, const SceneInput *in)
       PetscCall(GivenByUser(comm, opt, &user));
       PetscCheck(!user, comm, PETSC_ERR_USER_INPUT,
                  "%s%s%s with -solver static: an option of the explicit relaxation, which the quasi-static solver "
-                 "does not read; leave it out, or use -solver explicit",
-                 opt, value[0] ? " " : "", value);
+                 "does not read%s; leave it out, or use -solver explicit",
+                 opt, value[0] ? " " : "", value,
+                 k >= 12 ? " (a tear reads it, and no yarn can break: -warp_break_pct and -weft_break_pct are 0)" : "");
     }
   }
   PetscFunctionReturn(0);

@@ -1645,21 +1645,32 @@ PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
                " (Newton: newtonls, the default, or newtontr)",
                type);
   }
-  { /* the multigrid's levels are the grid's (MultigridHierarchy): PETSc's -pc_mg_levels, under any prefix
+  { /* the multigrid's levels and coarse tangents are the grid's (MultigridHierarchy): PETSc's -pc_mg_levels and
+       -pc_mg_galerkin, under any prefix
        (-tao_nls_pc_mg_levels), would set others on top of its interpolations (0 crashed PCSetFromOptions,
        also under TAO's prefix); GAMG (its -pc_type given under the same prefix) takes it as its most */
     OptionsGiven g;
     char         msg[512] = "";
     PetscCheck(!OptionsGivenGet(&g), PETSC_COMM_SELF, PETSC_ERR_MEM, "cannot list the options given");
     for (PetscInt q = 0; q < g.n && !msg[0]; q++) {
-      const char *name = g.name[q], *value = g.value[q], *pc = NULL;
-      char        pc_opt[256], *end;
-      const long  levels = strtol(value, &end, 10);
-      if (!OptionIs(name, "pc_mg_levels")) continue;
-      snprintf(pc_opt, sizeof pc_opt, "%.*spc_type", (int) (strlen(name) - strlen("pc_mg_levels")), name);
+      const char     *name = g.name[q], *value = g.value[q], *pc = NULL;
+      char            pc_opt[256], *end;
+      const long      levels   = strtol(value, &end, 10);
+      const PetscBool galerkin = OptionIs(name, "pc_mg_galerkin");
+      if (!OptionIs(name, "pc_mg_levels") && !galerkin) continue;
+      snprintf(pc_opt, sizeof pc_opt, "%.*spc_type",
+               (int) (strlen(name) - strlen(galerkin ? "pc_mg_galerkin" : "pc_mg_levels")), name);
       for (PetscInt r = 0; r < g.n; r++)
         if (!strcmp(g.name[r], pc_opt)) pc = g.value[r]; /* the last given */
-      if (!pc || !strcmp(pc, PCMG))
+      if (galerkin) {
+        /* the coarse tangents are the solver's (Galerkin products, or the stencil's own); with none PETSc
+           asked for coarse matrices nobody gave ("Must call DMShellSetGlobalVector()") after the output opened */
+        if (!pc || !strcmp(pc, PCMG))
+          snprintf(msg, sizeof msg,
+                   "%s %s with -solver static: the multigrid's coarse tangents are the solver's own (Galerkin "
+                   "products of the tangent); leave it unset",
+                   name, value);
+      } else if (!pc || !strcmp(pc, PCMG))
         snprintf(msg, sizeof msg,
                  "%s %s with -solver static: the multigrid's levels come from the grid (coarsened while every rank "
                  "keeps 4 crossings a side); leave it unset",
