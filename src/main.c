@@ -278,6 +278,16 @@ static PetscErrorCode Run(int argc, char **argv)
                           fab->stats.converged         ? "every load step balanced"
                           : fab->s.out.output_dir[0] ? "some load steps did NOT balance (see curve.csv residual)"
                                                      : "some load steps did NOT balance"));
+    if (fab->s.test == TEST_PUSHING && peak == 0) { /* a result, but not a pushing test's */
+      const Bodies *b = &fab->s.bodies;
+      PetscCall(PetscPrintf(PETSC_COMM_WORLD,
+                            "fabric: warning: the ball touched the fabric in no load step (peak force 0 N): its path from "
+                            "-sphere_start_mm %g,%g,%g along -sphere_direction %g,%g,%g for -sphere_travel_mm %g misses "
+                            "the specimen\n",
+                            (double) (1e3 * b->sphere_start[0]), (double) (1e3 * b->sphere_start[1]),
+                            (double) (1e3 * b->sphere_start[2]), (double) b->sphere_dir[0], (double) b->sphere_dir[1],
+                            (double) b->sphere_dir[2], (double) (1e3 * b->sphere_travel)));
+    }
     if (fab->s.num.solver != SOLVER_STATIC) { /* unbalanced below the force test: say what else held them */
       PetscInt n = 0;
       for (PetscInt k = 0; k < K; k++)

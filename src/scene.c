@@ -1461,6 +1461,12 @@ static PetscErrorCode DeriveBodies(MPI_Comm comm, const SceneInput *in, Scene *s
                1e-2 * (double) s->spec.picks_per_m, 2e3 * (double) spacing);
   }
   if (s->test == TEST_DRAPE) { /* the drape coefficient's support disc */
+    /* off (0,0,0) leaves the disc flat, drape coefficient 100 % (the measure's own check, tests/drape.sh) */
+    PetscCheck(in->gravity[2] < 0 || (in->gravity[0] == 0 && in->gravity[1] == 0 && in->gravity[2] == 0), comm,
+               PETSC_ERR_USER_INPUT,
+               "-gravity %g,%g,%g with -test drape: the skirt hangs under gravity, which needs a downward component "
+               "across the fabric (gz < 0; the default 0,0,-9.81), or 0,0,0 for the flat disc",
+               (double) in->gravity[0], (double) in->gravity[1], (double) in->gravity[2]);
     PetscCheck(s->spec.shape == SHAPE_DISC, comm, PETSC_ERR_USER_INPUT,
                "-shape %s with -test drape: the drape coefficient (BS 5058, ISO 9073-9) is that of a disc specimen; "
                "use -shape disc",
