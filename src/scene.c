@@ -2459,6 +2459,16 @@ int OutputDirLock(const char *dir, FILE **take)
 }
 
 /* -output_dir, -positions_out and the viewers' files can be written: rank 0 looks, every rank refuses alike */
+/* PETSc keeps an error message's first 1023 characters: a longer one (a path of a few kB) lost its reason, at its
+   end; its middle goes instead, marked */
+static void FitErrorMessage(char *msg)
+{
+  const size_t n = strlen(msg), keep = 480;
+  if (n <= 2 * keep) return;
+  memmove(msg + keep + 5, msg + n - keep, keep + 1);
+  memcpy(msg + keep, " ... ", 5);
+}
+
 static PetscErrorCode CheckOutputPlaces(MPI_Comm comm, const SceneInput *in, const Scene *s)
 {
   const SceneOutput *o = &s->out;
@@ -2485,6 +2495,7 @@ static PetscErrorCode CheckOutputPlaces(MPI_Comm comm, const SceneInput *in, con
     ProbeFile("positions_out", o->positions_out, o->output_dir, msg, sizeof msg);
   if (!rank && !msg[0]) ProbeViewerFiles(o->output_dir, msg, sizeof msg);
   PetscCall(BroadcastFromRoot(comm, msg, (PetscInt) sizeof msg, MPI_CHAR));
+  FitErrorMessage(msg);
   PetscCheck(!msg[0], comm, PETSC_ERR_FILE_OPEN, "%s", msg);
   PetscFunctionReturn(0);
 }
