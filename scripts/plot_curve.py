@@ -12,6 +12,7 @@ that did not balance (curve.csv's balanced column 0) are not marked: check that 
 import argparse
 import csv
 import json
+import math
 import os
 import sys
 
@@ -67,8 +68,11 @@ def read_measured(path):
                 if not row or row[0].lstrip().startswith("#"):
                     continue
                 try:
-                    x.append(float(row[0]))
-                    y.append(float(row[1]))
+                    xy = float(row[0]), float(row[1])
+                    if not all(math.isfinite(v) for v in xy):  # nan, inf: no point to plot (it was plotted as none)
+                        raise ValueError
+                    x.append(xy[0])
+                    y.append(xy[1])
                 except (ValueError, IndexError):
                     if n == 1 or not x:  # a header line
                         continue
