@@ -100,7 +100,7 @@ static void WriteCurveRow(const Scene *s, FILE *fp, const CurveRow *r)
    or a checkpoint that would not fit is not started: the run stops naming the file, and the last
    complete checkpoint.h5 stays intact (a new one is written aside, then renamed over it). The
    sizes are estimates: the checkpoint written last (or ~200 bytes a crossing for the first), 1.5
-   average frames of fabric.h5 (or ~300 bytes a crossing for the grid and the first frame: a disk too small
+   average frames of fabric.h5 (or ~200 bytes a crossing for the grid and the first frame: a disk too small
    for it stopped in HDF5's own error after a stall, with fabric.h5 half written), and 64 KiB for curve.csv,
    fabric.xmf and summary.json. */
 static PetscErrorCode CheckRoom(Fabric fab)
@@ -123,7 +123,7 @@ static PetscErrorCode CheckRoom(Fabric fab)
     if (IOWritesFrames(io)) {
       PetscCall(PetscSNPrintf(file, sizeof file, "%s/fabric.h5", dir));
       if (io->frames > 0 && !stat(file, &st)) est[2] = 1.5 * (double) st.st_size / (double) io->frames;
-      else est[2] = 300.0 * (double) fab->grid.points + 65536; /* the grid and the first frame: 110-180 measured */
+      else est[2] = 200.0 * (double) fab->grid.points + 65536; /* the grid and the first frame: 124-176 measured */
     }
   }
   PetscCall(BroadcastFromRoot(fab->comm, est, 4, MPI_DOUBLE));
