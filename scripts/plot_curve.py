@@ -69,14 +69,14 @@ def read_measured(path):
                     continue
                 try:
                     xy = float(row[0]), float(row[1])
-                    if not all(math.isfinite(v) for v in xy):  # nan, inf: no point to plot (it was plotted as none)
-                        raise ValueError
-                    x.append(xy[0])
-                    y.append(xy[1])
                 except (ValueError, IndexError):
                     if n == 1 or not x:  # a header line
                         continue
                     sys.exit(f"plot_curve.py: --measured {path} line {n}: expected two numbers (the curves' x, force N), got {row}")
+                if not all(math.isfinite(v) for v in xy):  # nan, inf: no point to plot (it was left out without a word)
+                    sys.exit(f"plot_curve.py: --measured {path} line {n}: expected two finite numbers (the curves' x, force N), got {row}")
+                x.append(xy[0])
+                y.append(xy[1])
     except (OSError, UnicodeDecodeError) as e:
         sys.exit(f"plot_curve.py: --measured {path}: {e.strerror if isinstance(e, OSError) else e}")
     if not x:

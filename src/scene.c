@@ -1503,16 +1503,19 @@ static PetscErrorCode CheckTestOptions(MPI_Comm comm, const SceneInput *in, cons
   const Clamps *c = &s->clamps;
 
   PetscFunctionBeginUser;
-  if (s->test == TEST_STRIP && in->yarns > 0) { /* -yarns sets the width: a -width_mm typed beside it was dropped */
+  if (s->test == TEST_STRIP && in->yarns > 0) { /* -yarns sets the width: a -width_mm typed was dropped */
     PetscBool yarns_typed, width_typed;
     PetscCall(GivenByUser(comm, "-yarns", &yarns_typed));
     PetscCall(GivenByUser(comm, "-width_mm", &width_typed));
+    const PetscReal across = s->spec.pull == PULL_WARP ? in->ends_per_cm : in->picks_per_cm;
     PetscCheck(!(yarns_typed && width_typed), comm, PETSC_ERR_USER_INPUT,
                "-yarns %" PetscInt_FMT " and -width_mm %g both set the strip's width (%" PetscInt_FMT
                " yarns at %g threads/cm are %g mm); give one of them",
-               in->yarns, (double) in->width_mm, in->yarns,
-               (double) (s->spec.pull == PULL_WARP ? in->ends_per_cm : in->picks_per_cm),
-               10.0 * (double) in->yarns / (double) (s->spec.pull == PULL_WARP ? in->ends_per_cm : in->picks_per_cm));
+               in->yarns, (double) in->width_mm, in->yarns, (double) across, 10.0 * (double) in->yarns / (double) across);
+    PetscCheck(!width_typed, comm, PETSC_ERR_USER_INPUT,
+               "-width_mm %g is not read: the scene sets the strip's width in yarns, -yarns %" PetscInt_FMT
+               " (%g mm at %g threads/cm); add -yarns 0 to give it in mm",
+               (double) in->width_mm, in->yarns, 10.0 * (double) in->yarns / (double) across, (double) across);
   }
   PetscCheck(c->clamp != CLAMP_RING || (c->ring[0] >= 0 && c->ring[1] > c->ring[0]), comm, PETSC_ERR_USER_INPUT,
              "-clamp ring needs -clamp_ring_mm inner,outer with 0 <= inner < outer, got %g,%g",
@@ -1683,7 +1686,7 @@ static PetscErrorCode CheckOptionsApply(MPI_Comm comm, const Scene *s)
 }
 
 /* what the quasi-static solver cannot do is refused, naming the option */
-static PetscErrorCode CheckSolverOptions(MPI_Comm comm, const SceneInput *in)
+static PetscErrorCode CheckSolverOptions(MPI_Comm comm, const SceneInput *in, PetscBool coarse)
 {
   PetscFunctionBeginUser;
   if (in->solver != SOLVER_STATIC) PetscFunctionReturn(0);
@@ -1709,8 +1712,9 @@ static PetscErrorCode CheckSolverOptions(MPI_Comm comm, const SceneInput *in)
                                              "energy_watch",  "early_exit",   "te_safety",     "grip_ramp_steps",
                                              /* read by a tear only: refused where no yarn can break */
                                              "te",            "te_check",     "te_strain_window", "max_inner_steps"};
-    const PetscBool          tears        = in->yarn[0].break_pct > 0 || in->yarn[1].break_pct > 0 ? PETSC_TRUE : PETSC_FALSE;
-    const size_t             n            = sizeof relaxation / sizeof relaxation[0] - (tears ? 4 : 0);
+    /* a coarse scene's yarns never break (SceneCoarsen): the fabric's, checked first, decide */
+    const PetscBool tears = coarse || in->yarn[0].break_pct > 0 || in->yarn[1].break_pct > 0 ? PETSC_TRUE : PETSC_FALSE;
+    const size_t    n     = sizeof relaxation / sizeof relaxation[0] - (tears ? 4 : 0);
     for (size_t k = 0; k < n; k++) {
       char      opt[64], value[256] = "";
       PetscBool set, user;
@@ -2459,14 +2463,31 @@ int OutputDirLock(const char *dir, FILE **take)
 }
 
 /* -output_dir, -positions_out and the viewers' files can be written: rank 0 looks, every rank refuses alike */
-/* PETSc keeps an error message's first 1023 characters: a longer one (a path of a few kB) lost its reason, at its
-   end; its middle goes instead, marked */
+/* PETSc keeps an error message's first 1023 characters: a longer one (a path of a few kB, once or twice) lost its
+   reason. Each word longer than 2 x 100 bytes, longest first (a path), keeps its first and last 100 with "..."
+   between, until the message fits (cut at UTF-8 characters' starts); the middle of what is still too long goes */
+static void CutBytes(char *msg, size_t from, size_t to, const char *mark)
+{
+  const size_t n = strlen(msg), m = strlen(mark);
+  while (from > 0 && ((unsigned char) msg[from] & 0xC0) == 0x80) from--; /* not inside a character */
+  while (to < n && ((unsigned char) msg[to] & 0xC0) == 0x80) to++;
+  memmove(msg + from + m, msg + to, n - to + 1);
+  memcpy(msg + from, mark, m);
+}
+
 static void FitErrorMessage(char *msg)
 {
-  const size_t n = strlen(msg), keep = 480;
-  if (n <= 2 * keep) return;
-  memmove(msg + keep + 5, msg + n - keep, keep + 1);
-  memcpy(msg + keep, " ... ", 5);
+  const size_t most = 960, keep = 100;
+  while (strlen(msg) > most) {
+    size_t at = 0, len = 0;
+    for (size_t i = 0, w; msg[i]; i += w ? w : 1) { /* the longest word */
+      w = strcspn(msg + i, " ");
+      if (w > len) at = i, len = w;
+    }
+    if (len <= 2 * keep + 3) break;
+    CutBytes(msg, at + keep, at + len - keep, "...");
+  }
+  if (strlen(msg) > most) CutBytes(msg, most / 2, strlen(msg) - most / 2, " ... ");
 }
 
 static PetscErrorCode CheckOutputPlaces(MPI_Comm comm, const SceneInput *in, const Scene *s)
@@ -2538,7 +2559,7 @@ static PetscErrorCode SceneDerive(MPI_Comm comm, Scene *s, PetscBool coarse)
   PetscCall(DeriveLines(comm, "grip_line_mm", in->grip_line_mm, in->n_grip_line_mm, &s->clamps.grip_lines,
                         s->clamps.grip_line));
   PetscCall(DerivePath(comm, in, s->spec.gauge, &s->load));
-  PetscCall(CheckSolverOptions(comm, in)); /* first: the explicit knobs' own checks would name the wrong cure */
+  PetscCall(CheckSolverOptions(comm, in, coarse)); /* first: the explicit knobs' own checks would name the wrong cure */
   PetscCall(CheckTestOptions(comm, in, s));
   if (!coarse) PetscCall(CheckOptionsApply(comm, s));
   PetscCall(CheckOutputPlaces(comm, in, s));

@@ -1245,57 +1245,56 @@ static PetscErrorCode SetPreconditioner(StaticSolver ss, KSP ksp)
   PetscFunctionReturn(0);
 }
 
-/* A retry's factors from scratch, in any preconditioner that factors (LU, ILU, Cholesky, ICC; alone, as the
-   blocks of bjacobi or asm, or inside redundant): after a numeric factorisation of a singular tangent fails
-   (from -snes_shift_start 0 on a slack net), PETSc keeps the failed factor's error on the same pattern and
-   refactors no more (MUMPS says "called after analysis phase fails", ILU and LU skip the numeric step), so
-   the stiffer retries failed too and the load step ended unbalanced with 0 Newton steps. Multigrid keeps
-   its hierarchy (its smoothers do not factor by default). */
-static PetscErrorCode FreshFactorsOf(PC pc)
+/* A failed factorisation's mark, cleared in pc and the preconditioners inside it (redundant's, bjacobi's and
+   asm's blocks, once set up): PETSc's set-up does not clear it, so a reset preconditioner still failed */
+static PetscErrorCode ClearFailures(PC pc)
 {
-  PetscBool factor, redundant, blocks;
+  PetscBool redundant, blocks;
   PetscInt  n = 0;
   KSP      *sub = NULL, inner;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscObjectTypeCompareAny((PetscObject) pc, &factor, PCLU, PCILU, PCCHOLESKY, PCICC, ""));
-  if (factor) {
-    PetscCall(PCReset(pc));
-    PetscFunctionReturn(0);
-  }
-  if (!pc->setupcalled) PetscFunctionReturn(0); /* nothing factored yet, no blocks to reach */
-  PetscCall(PCSetFailedReason(pc, PC_NOERROR)); /* a block's failure (SUBPC_ERROR) stays set else */
+  PetscCall(PCSetFailedReason(pc, PC_NOERROR));
+  if (!pc->setupcalled) PetscFunctionReturn(0); /* no blocks to reach */
   PetscCall(PetscObjectTypeCompare((PetscObject) pc, PCREDUNDANT, &redundant));
   if (redundant) {
-    PC inner_pc;
     PetscCall(PCRedundantGetKSP(pc, &inner));
-    PetscCall(KSPGetPC(inner, &inner_pc));
-    PetscCall(FreshFactorsOf(inner_pc));
-    PetscFunctionReturn(0);
-  }
-  PetscCall(PetscObjectTypeCompare((PetscObject) pc, PCBJACOBI, &blocks));
-  if (blocks) PetscCall(PCBJacobiGetSubKSP(pc, &n, NULL, &sub));
-  else {
-    PetscCall(PetscObjectTypeCompare((PetscObject) pc, PCASM, &blocks));
-    if (blocks) PetscCall(PCASMGetSubKSP(pc, &n, NULL, &sub));
+    sub = &inner, n = 1;
+  } else {
+    PetscCall(PetscObjectTypeCompare((PetscObject) pc, PCBJACOBI, &blocks));
+    if (blocks) PetscCall(PCBJacobiGetSubKSP(pc, &n, NULL, &sub));
+    else {
+      PetscCall(PetscObjectTypeCompare((PetscObject) pc, PCASM, &blocks));
+      if (blocks) PetscCall(PCASMGetSubKSP(pc, &n, NULL, &sub));
+    }
   }
   for (PetscInt i = 0; i < n; i++) {
     PC sub_pc;
     PetscCall(KSPGetPC(sub[i], &sub_pc));
-    PetscCall(FreshFactorsOf(sub_pc));
+    PetscCall(ClearFailures(sub_pc));
   }
   PetscFunctionReturn(0);
 }
 
+/* A retry's preconditioner from scratch: after a numeric factorisation of a singular tangent fails (from
+   -snes_shift_start 0 on a slack net), PETSc keeps the failed factor on the same pattern and refactors no more
+   (MUMPS says "called after analysis phase fails", ILU and LU skip the numeric step, bjacobi and asm blocks
+   alike), so the stiffer retries failed too and the load step ended unbalanced with 0 Newton steps. Reset
+   whole (the outer preconditioner with its blocks: a block reset alone was left empty where
+   -snes_lag_preconditioner -2 never set the outer one up again), it is set up anew on the next tangent. The
+   multigrid keeps its hierarchy (the grid's interpolations; its smoothers do not factor by default). */
 static PetscErrorCode FreshFactors(StaticSolver ss)
 {
-  KSP ksp;
-  PC  pc;
+  KSP       ksp;
+  PC        pc;
+  PetscBool mg;
 
   PetscFunctionBeginUser;
   PetscCall(SNESGetKSP(ss->snes, &ksp));
   PetscCall(KSPGetPC(ksp, &pc));
-  PetscCall(FreshFactorsOf(pc));
+  PetscCall(ClearFailures(pc));
+  PetscCall(PetscObjectTypeCompare((PetscObject) pc, PCMG, &mg));
+  if (!mg) PetscCall(PCReset(pc));
   PetscFunctionReturn(0);
 }
 
@@ -1667,14 +1666,14 @@ PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
            asked for coarse matrices nobody gave ("Must call DMShellSetGlobalVector()") after the output opened */
         if (!pc || !strcmp(pc, PCMG))
           snprintf(msg, sizeof msg,
-                   "%s %s with -solver static: the multigrid's coarse tangents are the solver's own (Galerkin "
+                   "%s%s%s with -solver static: the multigrid's coarse tangents are the solver's own (Galerkin "
                    "products of the tangent); leave it unset",
-                   name, value);
+                   name, value[0] ? " " : "", value);
       } else if (!pc || !strcmp(pc, PCMG))
         snprintf(msg, sizeof msg,
-                 "%s %s with -solver static: the multigrid's levels come from the grid (coarsened while every rank "
+                 "%s%s%s with -solver static: the multigrid's levels come from the grid (coarsened while every rank "
                  "keeps 4 crossings a side); leave it unset",
-                 name, value);
+                 name, value[0] ? " " : "", value);
       else if (!value[0] || *end || levels < 1)
         snprintf(msg, sizeof msg, "%s %s: the most levels %s %s may make, a whole number, 1 or more", name, value,
                  pc_opt, pc);

@@ -100,10 +100,14 @@ for c in "$work/a/curve.csv $work/p/curve.csv|mix elongation_pct and travel_mm" 
     echo "FAIL plot_curve.py on $files: not refused with '$want':"; cat "$work/plot.log"; fail=1
   else echo "PASS plot_curve.py refused: $(cat "$work/plot.log")"; fi
 done
-# a measured curve with a nan row: refused naming the line (it was plotted without the point)
+# a measured curve with a nan or inf row, after the data or before it: refused naming the line (it was plotted
+# without the point)
 printf "elongation_pct,force_N\n2,0.5\n6,nan\n" >"$work/measured_nan.csv"
-if /usr/bin/python3 "$root/scripts/plot_curve.py" "$work/a/curve.csv" --measured "$work/measured_nan.csv" -o "$work/bad.png" \
-  >"$work/plot.log" 2>&1 || ! grep -q "measured_nan.csv line 3: expected two numbers" "$work/plot.log"; then
-  echo "FAIL plot_curve.py --measured with nan: not refused naming line 3:"; cat "$work/plot.log"; fail=1
-else echo "PASS plot_curve.py refused: $(cat "$work/plot.log")"; fi
+printf "elongation_pct,force_N\ninf,0.5\n6,1\n" >"$work/measured_inf.csv"
+for m in "measured_nan.csv line 3" "measured_inf.csv line 2"; do
+  if /usr/bin/python3 "$root/scripts/plot_curve.py" "$work/a/curve.csv" --measured "$work/${m%% *}" -o "$work/bad.png" \
+    >"$work/plot.log" 2>&1 || ! grep -q "$m: expected two finite numbers" "$work/plot.log"; then
+    echo "FAIL plot_curve.py --measured ${m%% *}: not refused naming ${m#* }:"; cat "$work/plot.log"; fail=1
+  else echo "PASS plot_curve.py refused: $(cat "$work/plot.log")"; fi
+done
 exit $fail
