@@ -2462,7 +2462,6 @@ int OutputDirLock(const char *dir, FILE **take)
   return held;
 }
 
-/* -output_dir, -positions_out and the viewers' files can be written: rank 0 looks, every rank refuses alike */
 /* PETSc keeps an error message's first 1023 characters: a longer one (a path of a few kB, once or twice) lost its
    reason. Each word longer than 2 x 100 bytes, longest first (a path), keeps its first and last 100 with "..."
    between, until the message fits (cut at UTF-8 characters' starts); the middle of what is still too long goes */
@@ -2490,6 +2489,7 @@ static void FitErrorMessage(char *msg)
   if (strlen(msg) > most) CutBytes(msg, most / 2, strlen(msg) - most / 2, " ... ");
 }
 
+/* -output_dir, -positions_out and the viewers' files can be written: rank 0 looks, every rank refuses alike */
 static PetscErrorCode CheckOutputPlaces(MPI_Comm comm, const SceneInput *in, const Scene *s)
 {
   const SceneOutput *o = &s->out;
