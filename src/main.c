@@ -358,18 +358,29 @@ static int FileOptionProblem(int n, char **tok, const char *where)
       fprintf(stderr, "fabric: error: %s needs a file name%s\n", tok[k], where);
       return 1;
     }
-    if (read && (stat(f, &st) || !S_ISREG(st.st_mode) || access(f, R_OK))) {
-      fprintf(stderr, "fabric: error: %s %s%s: no such file, or not a readable file\n", tok[k], f, where);
-      return 1;
-    }
-    if (read && !strcmp(tok[k], "-options_file_yaml")) { /* PETSc refuses a malformed one with a traceback */
-      FILE *fp   = fopen(f, "rb");
-      char *text = fp ? calloc((size_t) st.st_size + 1, 1) : NULL, why[512] = "";
-      if (text && fread(text, 1, (size_t) st.st_size, fp) == (size_t) st.st_size) (void) YamlOptionsProblem(text, why, sizeof why);
+    if (read) { /* -options_file F.yaml (.yml, or F:yaml) is YAML to PETSc, as -options_file_yaml F */
+      const size_t n    = strlen(f);
+      const int    tag  = n > 5 && !strcmp(f + n - 5, ":yaml");
+      const int    yaml = !strcmp(tok[k], "-options_file_yaml") || tag || (n > 4 && !strcmp(f + n - 4, ".yml")) ||
+                       (n > 5 && !strcmp(f + n - 5, ".yaml"));
+      char         name[4096], why[512] = "";
+      FILE        *fp;
+      char        *text;
+      snprintf(name, sizeof name, "%.*s", (int) (tag ? n - 5 : n), f);
+      if (stat(name, &st) || !S_ISREG(st.st_mode) || access(name, R_OK)) {
+        fprintf(stderr, "fabric: error: %s %s%s: no such file, or not a readable file\n", tok[k], f, where);
+        return 1;
+      }
+      /* PETSc refuses a malformed one with a traceback */
+      fp   = fopen(name, "rb");
+      text = fp ? calloc((size_t) st.st_size + 1, 1) : NULL;
+      if (text && fread(text, 1, (size_t) st.st_size, fp) == (size_t) st.st_size)
+        (void) (yaml ? YamlOptionsProblem(text, why, sizeof why) : OptionFileProblem(text, why, sizeof why));
       if (fp) fclose(fp);
       free(text);
       if (why[0]) {
-        fprintf(stderr, "fabric: error: %s %s%s: not a valid YAML option file: %s\n", tok[k], f, where, why);
+        fprintf(stderr, "fabric: error: %s %s%s: not a valid %s option file: %s\n", tok[k], f, where, yaml ? "YAML" : "PETSc",
+                why);
         return 1;
       }
     }

@@ -824,6 +824,65 @@ int YamlOptionsProblem(const char *text, char *msg, size_t len)
   return bad;
 }
 
+/* PETSc's PetscOptionsValidKey: "-name" or "--name", a letter first, and not a number ("-1", "-inf") */
+static int OptionKey(const char *t)
+{
+  char *end;
+  if (t[0] != '-') return 0;
+  if (t[1] == '-') t++;
+  if (!isalpha((unsigned char) t[1])) return 0;
+  (void) strtod(t, &end);
+  return end == t || *end == '_' || isalnum((unsigned char) *end);
+}
+
+/* What PETSc's reader of an option file (PetscOptionsInsertFilePetsc) would refuse in text, with its line; 0 if
+   nothing. Its rules: '#' starts a comment, tabs and carriage returns are spaces, a "quoted" token is one, and a
+   line holds "-option [value]" or "alias -new -old". Plain C: main.c asks it before PetscInitialize reads
+   -options_file (whose refusal there is a traceback). */
+int OptionFileProblem(const char *text, char *msg, size_t len)
+{
+  size_t line = 1;
+
+  for (const char *at = text; *at; line++) {
+    const size_t n = strcspn(at, "\n");
+    char         buf[4096], *tok[4] = {NULL, NULL, NULL, NULL}, *c = buf;
+    int          k = 0;
+    snprintf(buf, sizeof buf, "%.*s", (int) n, at);
+    at += n + (at[n] == '\n');
+    buf[strcspn(buf, "#")] = 0;
+    for (char *q = buf; *q; q++)
+      if (*q == '\t' || *q == '\r') *q = ' ';
+    while (k < 4) { /* PetscTokenFind: spaces separate, a token in double quotes loses them */
+      while (*c == ' ') c++;
+      if (!*c) break;
+      if (*c == '"') {
+        tok[k++] = ++c;
+        c += strcspn(c, "\"");
+      } else {
+        tok[k++] = c;
+        c += strcspn(c, " ");
+      }
+      if (*c) *c++ = 0;
+    }
+    if (!tok[0]) continue;
+    if (tok[0][0] == '-') {
+      if (!OptionKey(tok[0])) snprintf(msg, len, "line %zu: %s is no option name", line, tok[0]);
+      else if (tok[1] && OptionKey(tok[1])) snprintf(msg, len, "line %zu: two options on one line (%s %s)", line, tok[0], tok[1]);
+      else if (tok[2]) snprintf(msg, len, "line %zu: an extra value %s after %s %s (one value an option)", line, tok[2], tok[0], tok[1]);
+      else continue;
+    } else if (!strcasecmp(tok[0], "alias")) {
+      if (!tok[1] || !OptionKey(tok[1]) || !tok[2] || !OptionKey(tok[2]))
+        snprintf(msg, len, "line %zu: alias needs two option names (alias -new -old)", line);
+      else if (tok[3]) snprintf(msg, len, "line %zu: %s after alias %s %s", line, tok[3], tok[1], tok[2]);
+      else continue;
+    } else
+      snprintf(msg, len, "line %zu: %s is no option (an option starts with '-'%s)", line, tok[0],
+               strchr(tok[0], ':') ? "; key: value lines are YAML: name the file .yaml, or give it to -scene" : "");
+    return 1;
+  }
+  return 0;
+}
+
 /* The first line of a scene file that cannot be a YAML "key: value" line (no colon, or no space
    after the first one), as a hint when the YAML parser refuses the file without saying where.
    0 if none is found. */
