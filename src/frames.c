@@ -2,8 +2,8 @@
  *
  * Frames are written collectively into PETSc's HDF5 viewer (ViewDMDA: VecView's layout, without its
  * leak): each rank writes its own patch of the DMDA vectors in the natural (ny, nx, dof) layout,
- * nothing is gathered on one rank, so the file is the same on any number of ranks. fabric.h5 is opened and closed for every frame:
- * between frames it is complete. Rank 0 then adds the frame to fabric.xmf: its entry and the
+ * nothing is gathered on one rank, so the file is the same on any number of ranks. fabric.h5 is
+ * opened and closed for every frame: between frames it is complete. Rank 0 then adds the frame to fabric.xmf: its entry and the
  * closing tags in one write, in place (the whole index, aside and renamed into place, at the
  * first frame and after a restart), so the index names only complete frames and a frame costs
  * its own entry (rewriting the whole index made n frames cost n^2).
@@ -112,7 +112,7 @@ PetscErrorCode ViewDMDA(Vec v, const char *name, PetscViewer viewer)
   PetscInt           M, N, dof, xs, ys, xm, ym;
   hid_t              fid, gid, fspace, mspace, dset, dxpl;
   hsize_t            dims[3], count[3], offset[3] = {0, 0, 0};
-  int                rank;
+  int                ndim;
   const PetscScalar *x;
   herr_t             st;
 
@@ -122,18 +122,18 @@ PetscErrorCode ViewDMDA(Vec v, const char *name, PetscViewer viewer)
   PetscCheck(da, comm, PETSC_ERR_ARG_WRONG, "ViewDMDA: vector for dataset %s has no DMDA", name);
   PetscCall(DMDAGetInfo(da, NULL, &M, &N, NULL, NULL, NULL, NULL, &dof, NULL, NULL, NULL, NULL, NULL));
   PetscCall(DMDAGetCorners(da, &xs, &ys, NULL, &xm, &ym, NULL));
-  rank   = dof > 1 ? 3 : 2;
+  ndim     = dof > 1 ? 3 : 2;
   dims[0] = (hsize_t) N, dims[1] = (hsize_t) M, dims[2] = (hsize_t) dof;
   count[0] = (hsize_t) ym, count[1] = (hsize_t) xm, count[2] = (hsize_t) dof;
   offset[0] = (hsize_t) ys, offset[1] = (hsize_t) xs;
   PetscCall(PetscViewerHDF5OpenGroup(viewer, NULL, &fid, &gid));
-  H5CALL(comm, fspace = H5Screate_simple(rank, dims, NULL), "make the file space", name);
+  H5CALL(comm, fspace = H5Screate_simple(ndim, dims, NULL), "make the file space", name);
   if (H5Lexists(gid, name, H5P_DEFAULT) > 0)
     H5CALL(comm, dset = H5Dopen2(gid, name, H5P_DEFAULT), "open", name);
   else
     H5CALL(comm, dset = H5Dcreate2(gid, name, H5T_IEEE_F64LE, fspace, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
            "create", name);
-  H5CALL(comm, mspace = H5Screate_simple(rank, count, NULL), "make the memory space", name);
+  H5CALL(comm, mspace = H5Screate_simple(ndim, count, NULL), "make the memory space", name);
   if (xm * ym > 0) H5CALL(comm, H5Sselect_hyperslab(fspace, H5S_SELECT_SET, offset, NULL, count, NULL), "select", name);
   else H5CALL(comm, H5Sselect_none(fspace), "select", name);
   H5CALL(comm, dxpl = H5Pcreate(H5P_DATASET_XFER), "make the transfer list", name);

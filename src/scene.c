@@ -866,7 +866,7 @@ int OptionFileProblem(const char *text, char *msg, size_t len)
     }
     if (!tok[0]) continue;
     if (tok[0][0] == '-') {
-      if (!OptionKey(tok[0])) snprintf(msg, len, "line %zu: %s is no option name", line, tok[0]);
+      if (!OptionKey(tok[0])) snprintf(msg, len, "line %zu: \"%s\" is no option name", line, tok[0]);
       else if (tok[1] && OptionKey(tok[1])) snprintf(msg, len, "line %zu: two options on one line (%s %s)", line, tok[0], tok[1]);
       else if (tok[2]) snprintf(msg, len, "line %zu: an extra value %s after %s %s (one value an option)", line, tok[2], tok[0], tok[1]);
       else continue;
@@ -876,7 +876,7 @@ int OptionFileProblem(const char *text, char *msg, size_t len)
       else if (tok[3]) snprintf(msg, len, "line %zu: %s after alias %s %s", line, tok[3], tok[1], tok[2]);
       else continue;
     } else
-      snprintf(msg, len, "line %zu: %s is no option (an option starts with '-'%s)", line, tok[0],
+      snprintf(msg, len, "line %zu: \"%s\" is no option (an option starts with '-'%s)", line, tok[0],
                strchr(tok[0], ':') ? "; key: value lines are YAML: name the file .yaml, or give it to -scene" : "");
     return 1;
   }
