@@ -91,8 +91,8 @@ PetscErrorCode ComputePointFields(const FabricGrid *g, Vec X, Vec Xl, Vec warp_t
 PetscErrorCode FramesWriteXdmf(FabricIO io, MPI_Comm comm, const char *output_dir, PetscInt nx, PetscInt ny);
 /* one more frame in io's list (a restart's frames) */
 PetscErrorCode FramesAppend(FabricIO io, const FrameInfo *f);
-/* DMDA vector v as dataset `name` of the HDF5 viewer's current group, in VecView's layout (ny x nx
-   [x dof] float64), collectively */
+/* DMDA vector v as dataset `name` of the HDF5 viewer's current group, in VecView's shape and type
+   (ny x nx [x dof] float64, stored contiguous), collectively */
 PetscErrorCode ViewDMDA(Vec v, const char *name, PetscViewer viewer);
 
 #endif

@@ -1,6 +1,6 @@
 /* frames.c - the results a user opens in ParaView: DIR/fabric.h5 and DIR/fabric.xmf (layout in frames.h).
  *
- * Frames are written collectively into PETSc's HDF5 viewer (ViewDMDA: VecView's layout, without its
+ * Frames are written collectively into PETSc's HDF5 viewer (ViewDMDA: VecView's shapes, without its
  * leak): each rank writes its own patch of the DMDA vectors in the natural (ny, nx, dof) layout,
  * nothing is gathered on one rank, so the file is the same on any number of ranks. fabric.h5 is
  * opened and closed for every frame: between frames it is complete. Rank 0 then adds the frame to fabric.xmf: its entry and the
@@ -96,13 +96,17 @@ PetscErrorCode ComputePointFields(const FabricGrid *g, Vec X, Vec Xl, Vec warp_t
 
 /* ------------------------------------------------------------------ fabric.h5 */
 
+#if defined(PETSC_USE_COMPLEX) || !defined(PETSC_USE_REAL_DOUBLE)
+  #error "ViewDMDA writes PetscScalar as a real double"
+#endif
+
 /* an HDF5 call of ViewDMDA that failed (a negative id or status): the dataset named */
 #define H5CALL(comm, call, what, name) \
   PetscCheck((call) >= 0, comm, PETSC_ERR_LIB, "HDF5 could not %s of dataset %s", what, name)
 
-/* DMDA vector v as dataset `name` of the viewer's current group, as VecView writes it (float64,
-   ny x nx, or ny x nx x dof; each rank's patch by one collective hyperslab write; a dataset of the
-   name already there is written over). Not VecView: PETSc 3.18's (VecView_MPI_HDF5_DA) leaves each
+/* DMDA vector v as dataset `name` of the viewer's current group, in the shape and type VecView gives
+   it (float64, ny x nx, or ny x nx x dof; contiguous, where VecView chunks it), each rank's patch by
+   one collective hyperslab write; a dataset of the name already there is written over. Not VecView: PETSc 3.18's (VecView_MPI_HDF5_DA) leaves each
    new dataset's creation property list open, about 3 KB held to the end of the run, 20 KB a frame
    (the heap grew from 49 to 111 MB over 3200 frames of a small strip). */
 PetscErrorCode ViewDMDA(Vec v, const char *name, PetscViewer viewer)

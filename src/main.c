@@ -358,11 +358,12 @@ static int FileOptionProblem(int n, char **tok, const char *where)
       fprintf(stderr, "fabric: error: %s needs a file name%s\n", tok[k], where);
       return 1;
     }
-    if (read) { /* -options_file F.yaml (.yml, or F:yaml) is YAML to PETSc, as -options_file_yaml F */
-      const size_t n    = strlen(f);
-      const int    tag  = n > 5 && !strcmp(f + n - 5, ":yaml");
-      const int    yaml = !strcmp(tok[k], "-options_file_yaml") || tag || (n > 4 && !strcmp(f + n - 4, ".yml")) ||
-                       (n > 5 && !strcmp(f + n - 5, ".yaml"));
+    if (read) { /* -options_file F is YAML to PETSc (as -options_file_yaml F) if named F.yaml, F.yml, F.json or
+                   F:yaml, or if it starts with "%YAML " or "---" (PetscOptionsFilename) */
+      const size_t n   = strlen(f);
+      const int    tag = n > 5 && !strcmp(f + n - 5, ":yaml");
+      int          yaml = !strcmp(tok[k], "-options_file_yaml") || tag || (n > 4 && !strcmp(f + n - 4, ".yml")) ||
+                 (n > 5 && !strcmp(f + n - 5, ".yaml")) || (n > 5 && !strcmp(f + n - 5, ".json"));
       char         name[4096], why[512] = "";
       FILE        *fp;
       char        *text;
@@ -374,8 +375,10 @@ static int FileOptionProblem(int n, char **tok, const char *where)
       /* PETSc refuses a malformed one with a traceback */
       fp   = fopen(name, "rb");
       text = fp ? calloc((size_t) st.st_size + 1, 1) : NULL;
-      if (text && fread(text, 1, (size_t) st.st_size, fp) == (size_t) st.st_size)
+      if (text && fread(text, 1, (size_t) st.st_size, fp) == (size_t) st.st_size) {
+        yaml = yaml || !strncmp(text, "%YAML ", 6) || !strncmp(text, "---", 3);
         (void) (yaml ? YamlOptionsProblem(text, why, sizeof why) : OptionFileProblem(text, why, sizeof why));
+      }
       if (fp) fclose(fp);
       free(text);
       if (why[0]) {

@@ -835,52 +835,68 @@ static int OptionKey(const char *t)
   return end == t || *end == '_' || isalnum((unsigned char) *end);
 }
 
+/* PETSc's PetscTokenFind on a line whose separators are spaces: a token ends at a space, and the
+   spaces after it are skipped; one that starts with '"' ends at the next '"' and loses both; a line
+   that starts with a space gives an empty first token. NULL at the end. */
+static char *LineToken(char **at)
+{
+  char *p = *at, *t = p, stop = ' ';
+  if (!p || !*p) return NULL;
+  if (*p == '"') stop = '"', t = ++p;
+  for (;; p++) {
+    if (*p == stop) {
+      *p++ = 0;
+      while (*p == ' ') p++;
+      *at = p;
+      return t;
+    }
+    if (!*p) {
+      *at = NULL;
+      return t;
+    }
+  }
+}
+
 /* What PETSc's reader of an option file (PetscOptionsInsertFilePetsc) would refuse in text, with its line; 0 if
-   nothing. Its rules: '#' starts a comment, tabs and carriage returns are spaces, a "quoted" token is one, and a
-   line holds "-option [value]" or "alias -new -old". Plain C: main.c asks it before PetscInitialize reads
-   -options_file (whose refusal there is a traceback). */
+   nothing. Its rules: '#' starts a comment, tabs and carriage returns are spaces, tokens as LineToken finds them
+   (an empty first one is passed over once), and a line holds "-option [value]" or "alias -new -old". Plain C:
+   main.c asks it before PetscInitialize reads -options_file (whose refusal there is a traceback). */
 int OptionFileProblem(const char *text, char *msg, size_t len)
 {
+  char  *copy = strdup(text), *next = copy;
   size_t line = 1;
+  int    bad  = 0;
 
-  for (const char *at = text; *at; line++) {
-    const size_t n = strcspn(at, "\n");
-    char         buf[4096], *tok[4] = {NULL, NULL, NULL, NULL}, *c = buf;
-    int          k = 0;
-    snprintf(buf, sizeof buf, "%.*s", (int) n, at);
-    at += n + (at[n] == '\n');
-    buf[strcspn(buf, "#")] = 0;
-    for (char *q = buf; *q; q++)
+  if (!copy) return 0;
+  for (; next && *next && !bad; line++) {
+    char *s = next, *at, *tok[4];
+    next    = strchr(s, '\n');
+    if (next) *next++ = 0;
+    s[strcspn(s, "#")] = 0;
+    for (char *q = s; *q; q++)
       if (*q == '\t' || *q == '\r') *q = ' ';
-    while (k < 4) { /* PetscTokenFind: spaces separate, a token in double quotes loses them */
-      while (*c == ' ') c++;
-      if (!*c) break;
-      if (*c == '"') {
-        tok[k++] = ++c;
-        c += strcspn(c, "\"");
-      } else {
-        tok[k++] = c;
-        c += strcspn(c, " ");
-      }
-      if (*c) *c++ = 0;
-    }
+    at     = s;
+    tok[0] = LineToken(&at);
+    if (tok[0] && !tok[0][0]) tok[0] = LineToken(&at);
+    for (int k = 1; k < 4; k++) tok[k] = LineToken(&at);
     if (!tok[0]) continue;
+    bad = 1;
     if (tok[0][0] == '-') {
       if (!OptionKey(tok[0])) snprintf(msg, len, "line %zu: \"%s\" is no option name", line, tok[0]);
       else if (tok[1] && OptionKey(tok[1])) snprintf(msg, len, "line %zu: two options on one line (%s %s)", line, tok[0], tok[1]);
       else if (tok[2]) snprintf(msg, len, "line %zu: an extra value %s after %s %s (one value an option)", line, tok[2], tok[0], tok[1]);
-      else continue;
+      else bad = 0;
     } else if (!strcasecmp(tok[0], "alias")) {
       if (!tok[1] || !OptionKey(tok[1]) || !tok[2] || !OptionKey(tok[2]))
         snprintf(msg, len, "line %zu: alias needs two option names (alias -new -old)", line);
       else if (tok[3]) snprintf(msg, len, "line %zu: %s after alias %s %s", line, tok[3], tok[1], tok[2]);
-      else continue;
+      else bad = 0;
     } else
       snprintf(msg, len, "line %zu: \"%s\" is no option (an option starts with '-'%s)", line, tok[0],
                strchr(tok[0], ':') ? "; key: value lines are YAML: name the file .yaml, or give it to -scene" : "");
-    return 1;
   }
-  return 0;
+  free(copy);
+  return bad;
 }
 
 /* The first line of a scene file that cannot be a YAML "key: value" line (no colon, or no space
