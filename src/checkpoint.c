@@ -557,7 +557,6 @@ static PetscErrorCode WriteState(MPI_Comm comm, const FabricGrid *g, FabricState
     int has = x != NULL;
     if (sv[k].root_flag[0]) PetscCall(PetscViewerHDF5WriteAttribute(v, "/", sv[k].root_flag, PETSC_INT, &has));
     if (!x) continue;
-    PetscCall(PetscObjectSetName((PetscObject) x, sv[k].name));
     PetscCall(ViewDMDA(x, sv[k].name, v));
     PetscCall(GridChecksum(comm, &g->patch, x, &sum));
     PetscCall(PetscSNPrintf(path, sizeof path, "/state/%s", sv[k].name));
@@ -565,14 +564,11 @@ static PetscErrorCode WriteState(MPI_Comm comm, const FabricGrid *g, FabricState
   }
   PetscCall(DMGetGlobalVector(g->da_seg, &B));
   PetscCall(BrokenToVec(&g->patch, B));
-  PetscCall(PetscObjectSetName((PetscObject) B, "broken_segments"));
   PetscCall(ViewDMDA(B, "broken_segments", v));
   PetscCall(GridChecksum(comm, &g->patch, B, &sum));
   PetscCall(WriteChecksum(v, "/state/broken_segments", sum));
   PetscCall(DMRestoreGlobalVector(g->da_seg, &B));
   PetscCall(PetscViewerHDF5PopGroup(v));
-  PetscCall(PetscObjectSetName((PetscObject) st->X, "positions"));
-  PetscCall(PetscObjectSetName((PetscObject) st->V, NULL));
   PetscFunctionReturn(0);
 }
 

@@ -3,10 +3,10 @@
  * Frames are written collectively into PETSc's HDF5 viewer (ViewDMDA: VecView's shapes, without its
  * leak): each rank writes its own patch of the DMDA vectors in the natural (ny, nx, dof) layout,
  * nothing is gathered on one rank, so the file is the same on any number of ranks. fabric.h5 is
- * opened and closed for every frame: between frames it is complete. Rank 0 then adds the frame to fabric.xmf: its entry and the
- * closing tags in one write, in place (the whole index, aside and renamed into place, at the
- * first frame and after a restart), so the index names only complete frames and a frame costs
- * its own entry (rewriting the whole index made n frames cost n^2).
+ * opened and closed for every frame: between frames it is complete. Rank 0 then adds the frame
+ * to fabric.xmf: its entry and the closing tags in one write, in place (the whole index, aside and
+ * renamed into place, at the first frame and after a restart), so the index names only complete
+ * frames and a frame costs its own entry (rewriting the whole index made n frames cost n^2).
  *
  * Frames: the state at the start (rest, load step 0), then every -output_every K load steps and
  * the last load step, at the load step's test time time_s = grip travel / test speed (as in
@@ -106,9 +106,10 @@ PetscErrorCode ComputePointFields(const FabricGrid *g, Vec X, Vec Xl, Vec warp_t
 
 /* DMDA vector v as dataset `name` of the viewer's current group, in the shape and type VecView gives
    it (float64, ny x nx, or ny x nx x dof; contiguous, where VecView chunks it), each rank's patch by
-   one collective hyperslab write; a dataset of the name already there is written over. Not VecView: PETSc 3.18's (VecView_MPI_HDF5_DA) leaves each
-   new dataset's creation property list open, about 3 KB held to the end of the run, 20 KB a frame
-   (the heap grew from 49 to 111 MB over 3200 frames of a small strip). */
+   one collective hyperslab write; a dataset of the name already there is written over. Not VecView:
+   PETSc 3.18's (VecView_MPI_HDF5_DA) leaves each new dataset's creation property list open, about
+   3 KB held to the end of the run, 20 KB a frame (the heap grew from 49 to 111 MB over 3200 frames
+   of a small strip). */
 PetscErrorCode ViewDMDA(Vec v, const char *name, PetscViewer viewer)
 {
   MPI_Comm           comm;
@@ -126,7 +127,7 @@ PetscErrorCode ViewDMDA(Vec v, const char *name, PetscViewer viewer)
   PetscCheck(da, comm, PETSC_ERR_ARG_WRONG, "ViewDMDA: vector for dataset %s has no DMDA", name);
   PetscCall(DMDAGetInfo(da, NULL, &M, &N, NULL, NULL, NULL, NULL, &dof, NULL, NULL, NULL, NULL, NULL));
   PetscCall(DMDAGetCorners(da, &xs, &ys, NULL, &xm, &ym, NULL));
-  ndim     = dof > 1 ? 3 : 2;
+  ndim      = dof > 1 ? 3 : 2;
   dims[0] = (hsize_t) N, dims[1] = (hsize_t) M, dims[2] = (hsize_t) dof;
   count[0] = (hsize_t) ym, count[1] = (hsize_t) xm, count[2] = (hsize_t) dof;
   offset[0] = (hsize_t) ys, offset[1] = (hsize_t) xs;
@@ -154,14 +155,6 @@ PetscErrorCode ViewDMDA(Vec v, const char *name, PetscViewer viewer)
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode ViewAs(Vec v, const char *name, PetscViewer viewer)
-{
-  PetscFunctionBeginUser;
-  PetscCall(PetscObjectSetName((PetscObject) v, name));
-  PetscCall(ViewDMDA(v, name, viewer));
-  PetscFunctionReturn(0);
-}
-
 /* a new fabric.h5: the grid (rest positions, point kinds) and what the file is */
 static PetscErrorCode CreateFile(FabricIO io, const FrameSource *src, const char *file)
 {
@@ -184,8 +177,8 @@ static PetscErrorCode CreateFile(FabricIO io, const FrameSource *src, const char
   PetscCall(VecRestoreArray(kind, &a));
   PetscCall(PetscViewerHDF5Open(src->comm, file, FILE_MODE_WRITE, &v));
   PetscCall(PetscViewerHDF5PushGroup(v, "/grid"));
-  PetscCall(ViewAs(g->X0, "rest_positions", v));
-  PetscCall(ViewAs(kind, "point_kind", v));
+  PetscCall(ViewDMDA(g->X0, "rest_positions", v));
+  PetscCall(ViewDMDA(kind, "point_kind", v));
   PetscCall(PetscViewerHDF5PopGroup(v));
   PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "nx", PETSC_INT, &nx));
   PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "ny", PETSC_INT, &ny));
@@ -193,7 +186,6 @@ static PetscErrorCode CreateFile(FabricIO io, const FrameSource *src, const char
   PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "frames", PETSC_INT, &zero));
   PetscCall(PetscViewerDestroy(&v));
   PetscCall(DMRestoreGlobalVector(io->da1, &kind));
-  PetscCall(PetscObjectSetName((PetscObject) g->X0, NULL));
   PetscFunctionReturn(0);
 }
 
@@ -242,12 +234,12 @@ static PetscErrorCode WriteFrame(FabricIO io, const FrameSource *src, const Fram
   PetscCall(PetscSNPrintf(group, sizeof group, "/frames/%06" PetscInt_FMT, index));
   PetscCall(PetscViewerHDF5Open(src->comm, file, FILE_MODE_APPEND, &v));
   PetscCall(PetscViewerHDF5PushGroup(v, group));
-  PetscCall(ViewAs(src->X, "positions", v));
-  PetscCall(ViewAs(src->V, "velocities", v));
-  PetscCall(ViewAs(disp, "displacement", v));
-  PetscCall(ViewAs(tw, "warp_tension", v));
-  PetscCall(ViewAs(tf, "weft_tension", v));
-  PetscCall(ViewAs(sh, "shear_angle_deg", v));
+  PetscCall(ViewDMDA(src->X, "positions", v));
+  PetscCall(ViewDMDA(src->V, "velocities", v));
+  PetscCall(ViewDMDA(disp, "displacement", v));
+  PetscCall(ViewDMDA(tw, "warp_tension", v));
+  PetscCall(ViewDMDA(tf, "weft_tension", v));
+  PetscCall(ViewDMDA(sh, "shear_angle_deg", v));
   PetscCall(PetscViewerHDF5WriteAttribute(v, NULL, "time_s", PETSC_REAL, &f->time));
   PetscCall(PetscViewerHDF5WriteAttribute(v, NULL, "load_step", PETSC_INT, &load_step));
   PetscCall(PetscViewerHDF5WriteAttribute(v, NULL, "te_step", PETSC_INT, &te_step));
@@ -260,8 +252,6 @@ static PetscErrorCode WriteFrame(FabricIO io, const FrameSource *src, const Fram
   PetscCall(DMRestoreGlobalVector(io->da1, &tf));
   PetscCall(DMRestoreGlobalVector(io->da1, &tw));
   PetscCall(DMRestoreGlobalVector(g->da, &disp));
-  PetscCall(PetscObjectSetName((PetscObject) src->V, NULL));
-  PetscCall(PetscObjectSetName((PetscObject) src->X, "positions"));
   io->frames = index;
   PetscCall(FramesAppend(io, f));
   PetscCall(FramesXdmfLast(io, src->comm, dir, g->patch.nx, g->patch.ny));
