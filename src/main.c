@@ -343,8 +343,13 @@ static void StopTogether(void)
 /* The files PETSc opens within PetscInitialize: -options_file and -options_file_yaml (read, by
    rank 0), -history, -info and -log_trace (written; -log_trace F writes F.0, F.1, ...). A missing one stops
    the run there with PETSc's traceback, or worse (-history: a segmentation fault). Rank 0 looks
-   first, says why, and every rank takes its verdict. */
-static int FileOptionProblem(int n, char **tok, const char *where)
+   first, says why, and every rank takes its verdict. An option file's own options are looked at as
+   the command line's (PETSc reads a -options_file named in one, and one that names itself
+   recursed until it crashed): depth counts the files within files, reading[] holds them. */
+#define OPTION_FILES_NESTED_MAX 64
+static struct stat reading[OPTION_FILES_NESTED_MAX];
+
+static int FileOptionProblem(int n, char **tok, const char *where, int depth)
 {
   for (int k = 0; k < n; k++) {
     const int   read = !strcmp(tok[k], "-options_file") || !strcmp(tok[k], "-options_file_yaml");
@@ -364,7 +369,8 @@ static int FileOptionProblem(int n, char **tok, const char *where)
       const int    tag = n > 5 && !strcmp(f + n - 5, ":yaml");
       int          yaml = !strcmp(tok[k], "-options_file_yaml") || tag || (n > 4 && !strcmp(f + n - 4, ".yml")) ||
                  (n > 5 && !strcmp(f + n - 5, ".yaml")) || (n > 5 && !strcmp(f + n - 5, ".json"));
-      char         name[4096], why[512] = "";
+      char         name[4096], why[512] = "", **opts = NULL;
+      int          nopts = 0, bad = 0;
       FILE        *fp;
       char        *text;
       snprintf(name, sizeof name, "%.*s", (int) (tag ? n - 5 : n), f);
@@ -377,7 +383,7 @@ static int FileOptionProblem(int n, char **tok, const char *where)
       text = fp ? calloc((size_t) st.st_size + 1, 1) : NULL;
       if (text && fread(text, 1, (size_t) st.st_size, fp) == (size_t) st.st_size) {
         yaml = yaml || !strncmp(text, "%YAML ", 6) || !strncmp(text, "---", 3);
-        (void) (yaml ? YamlOptionsProblem(text, why, sizeof why) : OptionFileProblem(text, why, sizeof why));
+        (void) (yaml ? YamlOptionsProblem(text, why, sizeof why) : OptionFileProblem(text, why, sizeof why, &opts, &nopts));
       }
       if (fp) fclose(fp);
       free(text);
@@ -386,6 +392,25 @@ static int FileOptionProblem(int n, char **tok, const char *where)
                 why);
         return 1;
       }
+      for (int d = 0; d < depth && !bad; d++)
+        if (reading[d].st_dev == st.st_dev && reading[d].st_ino == st.st_ino) {
+          fprintf(stderr, "fabric: error: %s %s%s: the file is read within itself (PETSc would read it for ever)\n", tok[k], f,
+                  where);
+          bad = 1;
+        }
+      if (!bad && nopts) { /* the file's own -options_file, -history, ... */
+        char in[8192];
+        snprintf(in, sizeof in, " (in %s%s)", f, where);
+        if (depth + 1 < OPTION_FILES_NESTED_MAX) {
+          reading[depth] = st;
+          bad            = FileOptionProblem(nopts, opts, in, depth + 1);
+        } else {
+          fprintf(stderr, "fabric: error: %s %s: option files nested more than %d deep\n", tok[k], f, OPTION_FILES_NESTED_MAX);
+          bad = 1;
+        }
+      }
+      OptionFileFree(opts, nopts);
+      if (bad) return 1;
     }
     if (write) { /* -log_trace F and -info F write F.0 first (-info F:classes: the file is F) */
       char path[4096], msg[8192];
@@ -407,7 +432,7 @@ static int InitFileProblem(int argc, char **argv)
   char       *copy, *tok[1024];
   int         n = 0, bad;
 
-  if (FileOptionProblem(argc - 1, argv + 1, "")) return 1;
+  if (FileOptionProblem(argc - 1, argv + 1, "", 0)) return 1;
   { /* PETSc refuses malformed YAML there with a traceback */
     const char *yaml = getenv("PETSC_OPTIONS_YAML");
     char        why[512] = "";
@@ -418,7 +443,7 @@ static int InitFileProblem(int argc, char **argv)
   }
   if (!env || !(copy = strdup(env))) return 0;
   for (char *t = strtok(copy, " \t\n"); t && n < 1024; t = strtok(NULL, " \t\n")) tok[n++] = t;
-  bad = FileOptionProblem(n, tok, " (in PETSC_OPTIONS)");
+  bad = FileOptionProblem(n, tok, " (in PETSC_OPTIONS)", 0);
   free(copy);
   return bad;
 }

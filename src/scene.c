@@ -860,14 +860,19 @@ static char *LineToken(char **at)
 /* What PETSc's reader of an option file (PetscOptionsInsertFilePetsc) would refuse in text, with its line; 0 if
    nothing. Its rules: '#' starts a comment, tabs and carriage returns are spaces, tokens as LineToken finds them
    (an empty first one is passed over once), and a line holds "-option [value]" or "alias -new -old". Plain C:
-   main.c asks it before PetscInitialize reads -options_file (whose refusal there is a traceback). */
-int OptionFileProblem(const char *text, char *msg, size_t len)
+   main.c asks it before PetscInitialize reads -options_file (whose refusal there is a traceback).
+   opts (if not NULL): where nothing is refused, the file's options and their values in order, as a
+   command line lists them (calloc'd, each string too: OptionFileFree), in *nopts. */
+int OptionFileProblem(const char *text, char *msg, size_t len, char ***opts, int *nopts)
 {
   char  *copy = strdup(text), *next = copy;
   size_t line = 1;
-  int    bad  = 0;
+  int    bad  = 0, n = 0;
+  char **list = NULL;
 
+  if (opts) *opts = NULL, *nopts = 0;
   if (!copy) return 0;
+  if (opts) list = calloc(2 * strlen(text) + 1, sizeof *list); /* at most two tokens a line, a line at least a byte */
   for (; next && *next && !bad; line++) {
     char *s = next, *at, *tok[4];
     next    = strchr(s, '\n');
@@ -885,7 +890,10 @@ int OptionFileProblem(const char *text, char *msg, size_t len)
       if (!OptionKey(tok[0])) snprintf(msg, len, "line %zu: \"%s\" is no option name", line, tok[0]);
       else if (tok[1] && OptionKey(tok[1])) snprintf(msg, len, "line %zu: two options on one line (%s %s)", line, tok[0], tok[1]);
       else if (tok[2]) snprintf(msg, len, "line %zu: an extra value %s after %s %s (one value an option)", line, tok[2], tok[0], tok[1]);
-      else bad = 0;
+      else {
+        bad = 0;
+        for (int k = 0; k < 2 && list && tok[k]; k++) list[n++] = strdup(tok[k]);
+      }
     } else if (!strcasecmp(tok[0], "alias")) {
       if (!tok[1] || !OptionKey(tok[1]) || !tok[2] || !OptionKey(tok[2]))
         snprintf(msg, len, "line %zu: alias needs two option names (alias -new -old)", line);
@@ -896,7 +904,15 @@ int OptionFileProblem(const char *text, char *msg, size_t len)
                strchr(tok[0], ':') ? "; key: value lines are YAML: name the file .yaml, or give it to -scene" : "");
   }
   free(copy);
+  if (bad || !list) OptionFileFree(list, n);
+  else *opts = list, *nopts = n;
   return bad;
+}
+
+void OptionFileFree(char **opts, int n)
+{
+  for (int k = 0; k < n; k++) free(opts[k]);
+  free(opts);
 }
 
 /* The first line of a scene file that cannot be a YAML "key: value" line (no colon, or no space
