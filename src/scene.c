@@ -1350,6 +1350,11 @@ PetscErrorCode SceneCheckUnused(MPI_Comm comm, PetscBool solver_options_later)
     PetscCheck(solver_options_later || !solver, comm, PETSC_ERR_USER_INPUT,
                "-%s: an option of the quasi-static solver, read with -solver static only (this run is -solver explicit)",
                name);
+    /* an option file named by a YAML key (the scene, -options_file_yaml, PETSC_OPTIONS_YAML) is never read */
+    PetscCheck(strcasecmp(name, "options_file") && strcasecmp(name, "options_file_yaml"), comm, PETSC_ERR_USER_INPUT,
+               "-%s in a YAML option file (the scene, -options_file_yaml or PETSC_OPTIONS_YAML): PETSc reads the option "
+               "files named on the command line, in PETSC_OPTIONS or in a plain -options_file only; give it there",
+               name);
     PetscCheck(!StartupOption(name), comm, PETSC_ERR_USER_INPUT,
                "-%s in the scene file: PETSc reads it as it starts, before the scene; give it on the command line or in "
                "PETSC_OPTIONS",
