@@ -340,21 +340,24 @@ static void StopTogether(void)
   MPI_Abort(MPI_COMM_WORLD, 1);
 }
 
-/* The files PETSc opens within PetscInitialize: -options_file and -options_file_yaml (read, by
-   rank 0), -history, -info and -log_trace (written; -log_trace F writes F.0, F.1, ...). A missing one stops
+/* The files PETSc opens within PetscInitialize: -options_file and -options_file_yaml (read: those of
+   the command line by rank 0, those named in PETSC_OPTIONS or in an option file by every rank),
+   -history, -info and -log_trace (written; -log_trace F writes F.0, F.1, ...). A missing one stops
    the run there with PETSc's traceback, or worse (-history: a segmentation fault). Rank 0 looks
    first, says why, and every rank takes its verdict. An option file's own options are looked at as
    the command line's (PETSc reads a -options_file named in one, and one that names itself
-   recursed until it crashed): depth counts the files within files, reading[] holds them. */
+   recursed until it crashed): depth counts the files within files, reading[] holds them. Option
+   names are PETSc's, whatever their case; a file name with ${...} in it is left to PETSc, which
+   puts in its own and the environment's variables there. */
 #define OPTION_FILES_NESTED_MAX 64
 static struct stat reading[OPTION_FILES_NESTED_MAX];
 
 static int FileOptionProblem(int n, char **tok, const char *where, int depth)
 {
   for (int k = 0; k < n; k++) {
-    const int   read = !strcmp(tok[k], "-options_file") || !strcmp(tok[k], "-options_file_yaml");
-    const int   history = !strcmp(tok[k], "-history"), info = !strcmp(tok[k], "-info");
-    const int   write = history || info || !strcmp(tok[k], "-log_trace");
+    const int   plain = !strcasecmp(tok[k], "-options_file"), read = plain || !strcasecmp(tok[k], "-options_file_yaml");
+    const int   history = !strcasecmp(tok[k], "-history"), info = !strcasecmp(tok[k], "-info");
+    const int   write = history || info || !strcasecmp(tok[k], "-log_trace");
     const char *f = k + 1 < n ? tok[k + 1] : "";
     struct stat st;
     if (!read && !write) continue;
@@ -363,11 +366,13 @@ static int FileOptionProblem(int n, char **tok, const char *where, int depth)
       fprintf(stderr, "fabric: error: %s needs a file name%s\n", tok[k], where);
       return 1;
     }
+    if (strstr(f, "${")) continue; /* PETSc's substitution: its file, not this name */
     if (read) { /* -options_file F is YAML to PETSc (as -options_file_yaml F) if named F.yaml, F.yml, F.json or
-                   F:yaml, or if it starts with "%YAML " or "---" (PetscOptionsFilename) */
+                   F:yaml, or if it starts with "%YAML " or "---" (PetscOptionsFilename; -options_file_yaml F:yaml
+                   is the file of that name) */
       const size_t n   = strlen(f);
-      const int    tag = n > 5 && !strcmp(f + n - 5, ":yaml");
-      int          yaml = !strcmp(tok[k], "-options_file_yaml") || tag || (n > 4 && !strcmp(f + n - 4, ".yml")) ||
+      const int    tag = plain && n > 5 && !strcmp(f + n - 5, ":yaml");
+      int          yaml = !plain || tag || (n > 4 && !strcmp(f + n - 4, ".yml")) ||
                  (n > 5 && !strcmp(f + n - 5, ".yaml")) || (n > 5 && !strcmp(f + n - 5, ".json"));
       char         name[4096], why[512] = "", **opts = NULL;
       int          nopts = 0, bad = 0;
@@ -405,7 +410,7 @@ static int FileOptionProblem(int n, char **tok, const char *where, int depth)
           reading[depth] = st;
           bad            = FileOptionProblem(nopts, opts, in, depth + 1);
         } else {
-          fprintf(stderr, "fabric: error: %s %s: option files nested more than %d deep\n", tok[k], f, OPTION_FILES_NESTED_MAX);
+          fprintf(stderr, "fabric: error: %s %s%s: option files nested %d deep\n", tok[k], f, where, OPTION_FILES_NESTED_MAX);
           bad = 1;
         }
       }

@@ -892,7 +892,11 @@ int OptionFileProblem(const char *text, char *msg, size_t len, char ***opts, int
       else if (tok[2]) snprintf(msg, len, "line %zu: an extra value %s after %s %s (one value an option)", line, tok[2], tok[0], tok[1]);
       else {
         bad = 0;
-        for (int k = 0; k < 2 && list && tok[k]; k++) list[n++] = strdup(tok[k]);
+        for (int k = 0; k < 2 && list && tok[k]; k++)
+          if (!(list[n++] = strdup(tok[k]))) { /* out of memory: no list, the file's own options are not looked at */
+            OptionFileFree(list, n);
+            list = NULL;
+          }
       }
     } else if (!strcasecmp(tok[0], "alias")) {
       if (!tok[1] || !OptionKey(tok[1]) || !tok[2] || !OptionKey(tok[2]))
@@ -1350,10 +1354,10 @@ PetscErrorCode SceneCheckUnused(MPI_Comm comm, PetscBool solver_options_later)
     PetscCheck(solver_options_later || !solver, comm, PETSC_ERR_USER_INPUT,
                "-%s: an option of the quasi-static solver, read with -solver static only (this run is -solver explicit)",
                name);
-    /* an option file named by a YAML key (the scene, -options_file_yaml, PETSC_OPTIONS_YAML) is never read */
+    /* an option file named by a YAML key (the scene, a YAML option file, PETSC_OPTIONS_YAML) is never read */
     PetscCheck(strcasecmp(name, "options_file") && strcasecmp(name, "options_file_yaml"), comm, PETSC_ERR_USER_INPUT,
-               "-%s in a YAML option file (the scene, -options_file_yaml or PETSC_OPTIONS_YAML): PETSc reads the option "
-               "files named on the command line, in PETSC_OPTIONS or in a plain -options_file only; give it there",
+               "-%s in YAML options (the scene, a YAML option file or PETSC_OPTIONS_YAML): PETSc does not read a file "
+               "named by this key; give it on the command line, in PETSC_OPTIONS or in a plain option file",
                name);
     PetscCheck(!StartupOption(name), comm, PETSC_ERR_USER_INPUT,
                "-%s in the scene file: PETSc reads it as it starts, before the scene; give it on the command line or in "
