@@ -65,6 +65,15 @@ case "$case_" in
     LOAD_STEPS=2 expect 1 "bench_static.sh: the run of 11x11 crossings failed: fabric: error: -pc_type cg: Unable to find requested PC type cg (in PETSc's solvers; the solver options given: -pc_type cg)" \
       "$b" -pc_type cg 11
     ;;
+  drape_grid)
+    d="$root/scripts/drape_grid.sh"
+    expect 2 "drape_grid.sh: option -balance_tol without its value (options before the densities are -option value pairs)" "$d" -balance_tol
+    expect 2 "drape_grid.sh: density '0': threads/cm, a number above 0" "$d" 2 0
+    expect 1 "drape_grid.sh: the run at 2 threads/cm failed: fabric: error: -gauge_mm abc: not a number" "$d" -gauge_mm abc 2
+    # a run cut short: its row, read from its summary.json, says it did not balance
+    expect 0 "" "$d" -max_inner_steps 50 2
+    grep -Eq '^2 +61x61 +2821 +[0-9.e+-]+ +50 .* false$' "$work/out" || { echo "FAIL drape_grid.sh printed:"; cat "$work/out"; fail=1; }
+    ;;
   bench_relax)
     b="$root/scripts/bench_relax.sh"
     # --table 3 printed nothing and exited 0; a flag at the end: bash's "$2: unbound variable"
