@@ -893,10 +893,10 @@ int OptionFileProblem(const char *text, char *msg, size_t len, char ***opts, int
       else {
         bad = 0;
         for (int k = 0; k < 2 && list && tok[k]; k++)
-          if (!(list[n++] = strdup(tok[k]))) { /* out of memory: no list, the file's own options are not looked at */
+          if (!(list[n] = strdup(tok[k]))) { /* out of memory: no list, the file's own options are not looked at */
             OptionFileFree(list, n);
-            list = NULL;
-          }
+            list = NULL, n = 0;
+          } else n++;
       }
     } else if (!strcasecmp(tok[0], "alias")) {
       if (!tok[1] || !OptionKey(tok[1]) || !tok[2] || !OptionKey(tok[2]))
