@@ -456,6 +456,8 @@ static PetscErrorCode AdaptShift(SNES snes, PetscInt step)
     ss->h->shift = ss->h->shift / 10.0 < SHIFT_FLOOR ? 0.0 : ss->h->shift / 10.0;
   else if (lambda < 0.25)
     ss->h->shift = PetscMax(4.0 * ss->h->shift, SHIFT_FLOOR);
+  PetscCall(PetscInfo(snes, "Newton step %" PetscInt_FMT ": the last step's line search took %g of it, its linear solve %s; the shift now %g\n",
+                      step, (double) lambda, KSPConvergedReasons[kreason], (double) ss->h->shift));
   PetscFunctionReturn(0);
 }
 

@@ -11,7 +11,9 @@
 #     the static path starts from with a ball, whatever -predict): CG never meets an indefinite preconditioner
 #     (the line smoother's lines carry their other couplings), and the force on the ball at every
 #     load step from 3 mm on is the explicit path's within 2e-6 relative (explicit: FIRE at
-#     -balance_tol 1e-7, 26 589 te steps; measured differences 2.5e-8 to 8.2e-7);
+#     -balance_tol 1e-7, 26 589 te steps; measured differences 2.5e-8 to 8.2e-7); with -info, a line
+#     for each Newton step but a load step's first, with the fraction of the step before that its line
+#     search took, in (0, 1];
 #  4. the square net by TAO's Newton (-static_minimizer tao): the same deflection within 1e-6;
 #  4b. a 7 x 7 net (6 threads/cm: too small for multigrid, each rank's own LU) by TAO's Newton on 2 ranks:
 #     every load step balanced, the deflection SNES's on 1 rank within 1e-6 (it stopped on "Error reported by
@@ -125,8 +127,22 @@ PY
 
 push8=(-scene "$inputs/pushing.yaml" -ends_per_cm 8 -picks_per_cm 8 -sphere_travel_mm 8 -load_steps 8 -solver static
   -balance_tol 1e-9 -output_every 0 -ksp_converged_reason)
-run 2 "${push8[@]}" -output_dir "$work/push"
+run 2 "${push8[@]}" -info :snes -output_dir "$work/push"
 pushing push "static pushing 8 threads/cm"
+# -info: each Newton step after a load step's first says what its line search took of the step before
+# (a fraction in (0, 1]), that step's linear solve, and the shift: one line a Newton step, but for the
+# first of each load step (8 load steps, no retry)
+"$py" - "$work/log" "$work/push/summary.json" <<'PY' || fail=1
+import json, re, sys
+lines = re.findall(r"Newton step (\d+): the last step's line search took (\S+) of it, its linear solve (\w+); the shift now (\S+)",
+                   open(sys.argv[1]).read())
+newton = json.load(open(sys.argv[2]))["nonlinear_iterations"]
+frac = [float(l[1].rstrip(".")) for l in lines]
+ok = newton - 8 <= len(lines) < newton and all(0 < f <= 1 for f in frac) and all(l[2].startswith("CONVERGED") for l in lines)
+print(("PASS" if ok else "FAIL") + f" -info: {len(lines)} Newton step lines for {newton} Newton steps in 8 load steps,"
+      f" line search fractions {min(frac, default=0):.3g} to {max(frac, default=0):.3g} (in (0, 1])")
+sys.exit(0 if ok else 1)
+PY
 run 2 -scene "$inputs/square_net.yaml" -solver static -static_minimizer tao -output_every 0 -output_dir "$work/tao"
 square_net tao "square net by TAO"
 net7=(-scene "$inputs/square_net.yaml" -ends_per_cm 6 -picks_per_cm 6 -load_steps 2 -solver static -output_every 0)
