@@ -11,6 +11,7 @@
  * %, cN/tex, mm) are converted here, once, to SI (SceneDerive).
  */
 #include "scene.h"
+#include <petscsf.h> /* the star forests' type names (CheckStarForest) */
 #include "comm.h"
 
 #include <ctype.h>
@@ -2654,6 +2655,28 @@ static PetscErrorCode DeriveBreaks(MPI_Comm comm, const SceneInput *in, Scene *s
 
 /* everything the scene's options (s->in) give; a coarse scene (SceneCoarsen) is not checked for options that do
    not apply: its options are the fine scene's, checked there (its yarns do not break, its rupture options stand) */
+/* -sf_type, PETSc's type of the star forests every exchange runs on: basic (its default), neighbor, and window (which
+   this MPI may not run: main.c names the option then) serve any graph. The others are for all-to-all patterns: on the
+   grid's halo exchanges allgather and gather corrupted the heap, gatherv and allgatherv crashed and alltoall hung.
+   The static path's line smoother asks its star forests for their leaf ranks, which window does not offer. */
+static PetscErrorCode CheckStarForest(MPI_Comm comm, const SceneInput *in)
+{
+  char      type[64];
+  PetscBool set;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsGetString(NULL, NULL, "-sf_type", type, sizeof type, &set));
+  if (!set) PetscFunctionReturn(0);
+  PetscCheck(!strcmp(type, PETSCSFBASIC) || !strcmp(type, PETSCSFNEIGHBOR) || !strcmp(type, PETSCSFWINDOW), comm,
+             PETSC_ERR_USER_INPUT, "-sf_type %s: the grid's exchanges run on PetscSF's basic (its default), neighbor or window type%s",
+             type,
+             strncmp(type, "all", 3) && strncmp(type, "gather", 6) ? "" : " (this one is for all-to-all patterns, not the grid's)");
+  PetscCheck(in->solver != SOLVER_STATIC || strcmp(type, PETSCSFWINDOW), comm, PETSC_ERR_USER_INPUT,
+             "-sf_type window with -solver static: the multigrid's line smoother asks its exchanges for their ranks, "
+             "which PetscSF's window type does not tell; use basic (the default) or neighbor");
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode SceneDerive(MPI_Comm comm, Scene *s, PetscBool coarse)
 {
   SceneInput *in = &s->in;
@@ -2677,6 +2700,7 @@ static PetscErrorCode SceneDerive(MPI_Comm comm, Scene *s, PetscBool coarse)
   PetscCall(CheckSolverOptions(comm, in, coarse)); /* first: the explicit knobs' own checks would name the wrong cure */
   PetscCall(CheckTestOptions(comm, in, s));
   if (!coarse) PetscCall(CheckOptionsApply(comm, s));
+  if (!coarse) PetscCall(CheckStarForest(comm, in));
   PetscCall(CheckOutputPlaces(comm, in, s));
   PetscFunctionReturn(0);
 }
