@@ -43,6 +43,9 @@
 #include <petscsnes.h>
 #include <petsctao.h>
 
+#include <ctype.h>
+#include <errno.h>
+#include <float.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -50,6 +53,7 @@
 #define SHIFT_CARRY  10.0  /* a later load step starts from this times the last one's final shift (-snes_shift_carry) */
 #define SHIFT_FLOOR  1e-12 /* below this k_s / k_ref the shift is dropped */
 #define GMRES_RESTART_MAX 5000 /* -ksp_gmres_restart at most (StaticOptionsCheck) */
+#define HISTORY_MAX       1000 /* -snes_qn_m, -snes_ngmres_m ... at most: each keeps that many vectors or more */
 #define SNES_TYPES_RUN "newtonls,newtontr,ksponly,qn,ncg,ngmres,anderson,nrichardson,ngs,ms"
 #define MAX_ATTEMPTS 8     /* SNES solves per load step, each after a failed one */
 #define ENERGY_NOISE 1e-10 /* a predicted change of Pi below this fraction of |Pi| is rounding noise */
@@ -1468,6 +1472,17 @@ static PetscErrorCode ReadOptions(MPI_Comm comm, StaticOptions *o)
              "-static_sequence %" PetscInt_FMT ": 0 (none) to 8 coarser fabrics", o->sequence);
   PetscCheck(o->order >= 0 && o->order <= 2, comm, PETSC_ERR_USER_INPUT, "-snes_extrapolate %" PetscInt_FMT ": 0, 1 or 2",
              o->order);
+  { /* below the smallest normal double every product with it loses its digits (the scene's reals are refused so too) */
+    const char *const names[] = {"-snes_shift_start", "-snes_shift_carry", "-mg_line_lump"};
+    const PetscReal   vals[]  = {o->shift_start, o->shift_carry, o->line_lump};
+    for (int k = 0; k < 3; k++) {
+      char text[64] = "";
+      if (vals[k] == 0 || !(PetscAbsReal(vals[k]) < DBL_MIN)) continue;
+      PetscCall(PetscOptionsGetString(NULL, NULL, names[k], text, sizeof text, NULL));
+      SETERRQ(comm, PETSC_ERR_USER_INPUT, "%s %s: too small for a double (non-zero values must exceed 2.2e-308 in magnitude)",
+              names[k], text);
+    }
+  }
   PetscCheck(o->line_lump >= 0 && isfinite(o->line_lump), comm, PETSC_ERR_USER_INPUT,
              "-mg_line_lump %g: must be a finite number, 0 or more", (double) o->line_lump);
   PetscCheck(o->shift_start >= 0 && isfinite(o->shift_start), comm, PETSC_ERR_USER_INPUT,
@@ -1585,11 +1600,50 @@ static PetscErrorCode FindSnesPathOption(char *bad, size_t len)
   PetscFunctionReturn(0);
 }
 
+/* A whole number beyond PETSc's integers (32 bits): PETSc reads it wrapped round (-snes_max_it 4294967296 was 0,
+   -static_sequence 4294967297 was 1), so any option given so is refused, with -solver static (the solvers' options
+   are read then only), but for a tolerance (-ksp_divtol 10000000000 is a real). The scene's own options are checked
+   before, each as its type. */
+static PetscErrorCode CheckWideIntegers(MPI_Comm comm)
+{
+  OptionsGiven g;
+  char         bad[PETSC_MAX_PATH_LEN] = "";
+
+  PetscFunctionBeginUser;
+  PetscCheck(!OptionsGivenGet(&g), PETSC_COMM_SELF, PETSC_ERR_MEM, "cannot list the options given");
+  for (PetscInt q = 0; q < g.n && !bad[0]; q++) {
+    const char *v = g.value[q] + (g.value[q][0] == '-' || g.value[q][0] == '+');
+    char       *end;
+    long long   l;
+    const size_t n = strlen(g.name[q]);
+    if (!isdigit((unsigned char) v[0]) || v[strspn(v, "0123456789")]) continue; /* not a whole number */
+    if (n > 3 && !strcasecmp(g.name[q] + n - 3, "tol")) continue;              /* a tolerance: a real (-ksp_divtol) */
+    errno = 0;
+    l     = strtoll(g.value[q], &end, 10);
+    if (errno == ERANGE || l > PETSC_MAX_INT || l < PETSC_MIN_INT) snprintf(bad, sizeof bad, "%s %s", g.name[q], g.value[q]);
+  }
+  OptionsGivenFree(&g);
+  PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT,
+             "%s: beyond PETSc's integers (%d to %d), which would read it wrapped round (a real number this large: write "
+             "it with an exponent, 1e10)",
+             bad, (int) PETSC_MIN_INT, (int) PETSC_MAX_INT);
+  PetscFunctionReturn(0);
+}
+
+/* a method's history (PETSc's defaults 2 to 30): a whole number from 1 to HISTORY_MAX */
+static PetscBool HistoryOk(const char *value)
+{
+  char      *end;
+  const long v = strtol(value, &end, 10);
+  return value[0] && !*end && v >= 1 && v <= HISTORY_MAX ? PETSC_TRUE : PETSC_FALSE;
+}
+
 PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
 {
   StaticOptions o;
 
   PetscFunctionBeginUser;
+  PetscCall(CheckWideIntegers(comm)); /* before anything reads one */
   PetscCall(ReadOptions(comm, &o));
   { /* a load step converges on the balance test alone: Converged and TaoBalanced take over every other reason */
     const char *const tols[] = {"snes_rtol", "snes_atol", "snes_stol", "tao_gatol", "tao_grtol", "tao_gttol", "tao_fmin"};
@@ -1692,6 +1746,14 @@ PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
                "%s: GMRES's restart, a whole number from 1 to %d (its Hessenberg matrices take 2 (restart + 2)^2 "
                "reals on every rank: %d takes %.0f MB, beside restart + 1 vectors)",
                bad, GMRES_RESTART_MAX, GMRES_RESTART_MAX, 16.0 * PetscSqr(GMRES_RESTART_MAX + 2.0) / 1e6);
+    { /* the vectors a method keeps (-snes_qn_m 1e8 and the like were killed for memory, their files left behind) */
+      const char *const histories[] = {"snes_qn_m", "snes_ngmres_m", "snes_anderson_m", "ksp_gcr_restart", "ksp_bcgsl_ell"};
+      for (int k = 0; k < 5 && !bad[0]; k++) PetscCall(FindBadOption(histories[k], HistoryOk, bad, sizeof bad));
+      PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT,
+                 "%s with -solver static: a method's history, a whole number from 1 to %d (it keeps that many vectors of "
+                 "the grid's size, or twice as many, on every rank)",
+                 bad, HISTORY_MAX);
+    }
     /* the solvers' iteration limits, a count (-snes_max_it -1 stopped the first solve with "Internal error,
        solver returned without setting converged reason"; 0 runs, and the load step does not balance) */
     {
