@@ -2271,7 +2271,12 @@ void ProbeFile(const char *opt, const char *path, const char *output_dir, char *
     unlink(path);
     return;
   }
-  if (errno == EEXIST) fd = open(path, O_WRONLY); /* an older result: written over at the end */
+  if (errno == EEXIST) fd = open(path, O_WRONLY | O_NONBLOCK); /* an older result: written over at the end (a pipe
+                                                                   with no reader: ENXIO, not a wait for ever) */
+  if (fd < 0 && errno == ENXIO) {
+    snprintf(msg, len, "-%s %s: a pipe with no reader (the run would wait for one for ever)", opt, path);
+    return;
+  }
   if (fd >= 0)
     close(fd);
   else
@@ -2628,8 +2633,13 @@ static PetscErrorCode CheckOutputPlaces(MPI_Comm comm, const SceneInput *in, con
   PetscCall(BroadcastFromRoot(comm, msg, (PetscInt) sizeof msg, MPI_CHAR));
   if (!msg[0] && o->output_dir[0]) PetscCall(ProbeShared(comm, o->output_dir, &pm, msg, sizeof msg));
   if (!rank) ProbeUndo(&pm);
-  if (!rank && !msg[0] && o->positions_out[0])
-    ProbeFile("positions_out", o->positions_out, o->output_dir, msg, sizeof msg);
+  if (!rank && !msg[0] && o->positions_out[0]) {
+    struct stat st;
+    if (!stat(o->positions_out, &st) && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode)) /* /dev/full failed after the run */
+      snprintf(msg, sizeof msg, "-positions_out %s: not a regular file (a device, a pipe or a socket); give a file",
+               o->positions_out);
+    else ProbeFile("positions_out", o->positions_out, o->output_dir, msg, sizeof msg);
+  }
   if (!rank && !msg[0]) ProbeViewerFiles(o->output_dir, msg, sizeof msg);
   PetscCall(BroadcastFromRoot(comm, msg, (PetscInt) sizeof msg, MPI_CHAR));
   FitErrorMessage(msg);
