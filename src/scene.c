@@ -2663,8 +2663,6 @@ static PetscErrorCode DeriveBreaks(MPI_Comm comm, const SceneInput *in, Scene *s
   PetscFunctionReturn(0);
 }
 
-/* everything the scene's options (s->in) give; a coarse scene (SceneCoarsen) is not checked for options that do
-   not apply: its options are the fine scene's, checked there (its yarns do not break, its rupture options stand) */
 /* -sf_type, PETSc's type of the star forests every exchange runs on: basic (its default), neighbor, and window (which
    this MPI may not run: main.c names the option then) serve any graph. The others are for all-to-all patterns: on the
    grid's halo exchanges allgather and gather corrupted the heap, gatherv and allgatherv crashed and alltoall hung.
@@ -2687,6 +2685,8 @@ static PetscErrorCode CheckStarForest(MPI_Comm comm, const SceneInput *in)
   PetscFunctionReturn(0);
 }
 
+/* everything the scene's options (s->in) give; a coarse scene (SceneCoarsen) is not checked for options that do
+   not apply: its options are the fine scene's, checked there (its yarns do not break, its rupture options stand) */
 static PetscErrorCode SceneDerive(MPI_Comm comm, Scene *s, PetscBool coarse)
 {
   SceneInput *in = &s->in;
