@@ -2309,9 +2309,10 @@ static void PlaceOf(const char *path, char *out, size_t len)
   snprintf(out, len, "%s", abs);
 }
 
-/* the files a run writes in -output_dir */
+/* the files a run writes in -output_dir, and its lock (OutputDirLock) */
 static const char *const OwnFiles[] = {"curve.csv",     "summary.json",       "fabric.h5",         "fabric.xmf",
-                                       "checkpoint.h5", ".checkpoint.h5.tmp", ".summary.json.tmp", ".fabric.xmf.tmp"};
+                                       "checkpoint.h5", ".checkpoint.h5.tmp", ".summary.json.tmp", ".fabric.xmf.tmp",
+                                       ".fabric.lock"};
 
 /* -positions_out must not be the output directory or a file the run writes in it */
 static void PositionsOutDirClash(const SceneOutput *o, char *msg, size_t len)
