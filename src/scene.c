@@ -1608,6 +1608,24 @@ static PetscErrorCode DeriveBodies(MPI_Comm comm, const SceneInput *in, Scene *s
                1e3 * (double) b->pedestal_top[0], 1e3 * (double) b->pedestal_top[1], 1e3 * (double) b->pedestal_top[2],
                1e3 * (double) b->thickness, 0.5e3 * (double) b->thickness);
   }
+  if (b->sphere_radius > 0 && b->plane) { /* a ball moving towards the plane must stay a fabric's thickness off it: in
+                                             between, the fabric was crushed between two rigid bodies, and their
+                                             penalties' overlap was reported as the force (1563 N, balanced, for 3.2 N
+                                             without the plane). A plane behind the ball holds no fabric against it. */
+    const PetscReal gap = b->sphere_radius + b->thickness, along = -(b->sphere_dir[0] * b->plane_normal[0] + b->sphere_dir[1] * b->plane_normal[1] + b->sphere_dir[2] * b->plane_normal[2]);
+    PetscReal       d0 = 0;
+    for (int d = 0; d < 3; d++) d0 += (b->sphere_start[d] - b->plane_point[d]) * b->plane_normal[d];
+    PetscCheck(!(along > 0) || d0 >= gap, comm, PETSC_ERR_USER_INPUT,
+               "-plane with the pushing test's ball: at its start the ball's centre is %g mm from the plane, within its "
+               "radius and the fabric's thickness (%g mm): the fabric between them would be crushed; move the plane "
+               "(-plane_point_mm, -plane_normal) or the ball (-sphere_start_mm)",
+               1e3 * (double) d0, 1e3 * (double) gap);
+    PetscCheck(!(along > 0) || d0 - b->sphere_travel * along >= gap, comm, PETSC_ERR_USER_INPUT,
+               "-sphere_travel_mm %g with -plane: the ball comes within its radius and the fabric's thickness (%g mm) of "
+               "the plane after %g mm of travel: the fabric between them would be crushed between two rigid bodies, "
+               "which the model has no stiffness for; give at most that travel, or move the plane",
+               1e3 * (double) b->sphere_travel, 1e3 * (double) gap, 1e3 * (double) ((d0 - gap) / along));
+  }
   PetscFunctionReturn(0);
 }
 
