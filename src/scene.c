@@ -389,9 +389,28 @@ static PetscReal DefaultOf(const OptionDesc *o, const SceneInput *in, int yarn)
   return o->def[yarn];
 }
 
+/* PETSc keeps an error message's first 1023 characters: a value or file name of a kilobyte or more took the reason
+   with it. In a message, a text longer than SHOWN_MAX keeps its first and last 100 bytes with "..." between (not
+   inside a UTF-8 character) */
+#define SHOWN_MAX 240
+typedef struct {
+  char text[SHOWN_MAX];
+} Shown;
+static const char *ShowText(const char *text, Shown *sh)
+{
+  const size_t n = strlen(text);
+  size_t       head = 100, tail = n - 100;
+  if (n <= SHOWN_MAX - 1) return text;
+  while (head > 0 && ((unsigned char) text[head] & 0xC0) == 0x80) head--;
+  while (tail < n && ((unsigned char) text[tail] & 0xC0) == 0x80) tail++;
+  snprintf(sh->text, sizeof sh->text, "%.*s...%s", (int) head, text, text + tail);
+  return sh->text;
+}
+
 /* a real number of the option (text as given), or an error naming both */
 static PetscErrorCode ParseReal(MPI_Comm comm, const char *name, const char *text, PetscReal *v)
 {
+  Shown  sh;
   char  *end;
   double d;
 
@@ -399,19 +418,21 @@ static PetscErrorCode ParseReal(MPI_Comm comm, const char *name, const char *tex
   errno = 0;
   d     = strtod(text, &end);
   while (*end == ' ') end++;
-  PetscCheck(end != text && !*end, comm, PETSC_ERR_USER_INPUT, "-%s %s: not a number", name, text);
+  PetscCheck(end != text && !*end, comm, PETSC_ERR_USER_INPUT, "-%s %s: not a number", name, ShowText(text, &sh));
   PetscCheck(isfinite(d) && !(errno == ERANGE && fabs(d) > 1), comm, PETSC_ERR_USER_INPUT,
-             "-%s %s: not a finite number", name, text);
+             "-%s %s: not a finite number", name, ShowText(text, &sh));
   /* strtod flags a result below the smallest normal double (2.2e-308): a value that small makes
      every product with it lose its digits, or vanish */
   PetscCheck(errno != ERANGE, comm, PETSC_ERR_USER_INPUT,
-             "-%s %s: too small for a double (non-zero values must exceed 2.2e-308 in magnitude)", name, text);
+             "-%s %s: too small for a double (non-zero values must exceed 2.2e-308 in magnitude)", name,
+             ShowText(text, &sh));
   *v = (PetscReal) d;
   PetscFunctionReturn(0);
 }
 
 static PetscErrorCode ParseInt(MPI_Comm comm, const char *name, const char *text, PetscInt *v)
 {
+  Shown     sh;
   char     *end;
   long long l;
 
@@ -419,15 +440,16 @@ static PetscErrorCode ParseInt(MPI_Comm comm, const char *name, const char *text
   errno = 0;
   l     = strtoll(text, &end, 10);
   while (*end == ' ') end++;
-  PetscCheck(end != text && !*end, comm, PETSC_ERR_USER_INPUT, "-%s %s: not an integer", name, text);
+  PetscCheck(end != text && !*end, comm, PETSC_ERR_USER_INPUT, "-%s %s: not an integer", name, ShowText(text, &sh));
   PetscCheck(errno != ERANGE && l <= PETSC_MAX_INT && l >= PETSC_MIN_INT, comm, PETSC_ERR_USER_INPUT,
-             "-%s %s: out of range (integers from %d to %d)", name, text, (int) PETSC_MIN_INT, (int) PETSC_MAX_INT);
+             "-%s %s: out of range (integers from %d to %d)", name, ShowText(text, &sh), (int) PETSC_MIN_INT, (int) PETSC_MAX_INT);
   *v = (PetscInt) l;
   PetscFunctionReturn(0);
 }
 
 static PetscErrorCode ParseBool(MPI_Comm comm, const char *name, const char *text, PetscBool *v)
 {
+  Shown       sh;
   const char *yes[] = {"", "1", "true", "yes", "on"}, *no[] = {"0", "false", "no", "off"};
 
   PetscFunctionBeginUser;
@@ -437,12 +459,13 @@ static PetscErrorCode ParseBool(MPI_Comm comm, const char *name, const char *tex
     if (!strcasecmp(text, no[k])) *v = PETSC_FALSE;
   for (int k = 0; k < 5; k++)
     if (!strcasecmp(text, yes[k]) || (k < 4 && !strcasecmp(text, no[k]))) PetscFunctionReturn(0);
-  SETERRQ(comm, PETSC_ERR_USER_INPUT, "-%s %s: not a yes/no value (use 1 or 0, true or false)", name, text);
+  SETERRQ(comm, PETSC_ERR_USER_INPUT, "-%s %s: not a yes/no value (use 1 or 0, true or false)", name, ShowText(text, &sh));
 }
 
 static PetscErrorCode ParseEnum(MPI_Comm comm, const char *name, const char *text, const char *const *choices,
                                 PetscInt *v)
 {
+  Shown sh;
   char list[256] = "";
   int  n         = 0;
 
@@ -456,13 +479,14 @@ static PetscErrorCode ParseEnum(MPI_Comm comm, const char *name, const char *tex
     PetscCall(PetscStrlcat(list, k ? ", " : "", sizeof list));
     PetscCall(PetscStrlcat(list, choices[k], sizeof list));
   }
-  SETERRQ(comm, PETSC_ERR_USER_INPUT, "-%s %s: unknown choice (one of %s)", name, text, list);
+  SETERRQ(comm, PETSC_ERR_USER_INPUT, "-%s %s: unknown choice (one of %s)", name, ShowText(text, &sh), list);
 }
 
 /* comma-separated numbers into v (at most nmax), their count into n */
 static PetscErrorCode ParseArray(MPI_Comm comm, const OptionDesc *o, const char *name, const char *text, void *v,
                                  PetscInt *n)
 {
+  Shown sh;
   char buf[4096], *next = buf;
 
   PetscFunctionBeginUser;
@@ -477,7 +501,7 @@ static PetscErrorCode ParseArray(MPI_Comm comm, const OptionDesc *o, const char 
     PetscCheck(*tok, comm, PETSC_ERR_USER_INPUT,
                "-%s %s: empty field %" PetscInt_FMT " (a comma at the start or the end, or two in a row): give a "
                "number between the commas",
-               name, text, *n + 1);
+               name, ShowText(text, &sh), *n + 1);
     if (*n < o->nmax) {
       if (o->type == OPT_INTS)
         PetscCall(ParseInt(comm, name, tok, (PetscInt *) v + *n));
@@ -673,18 +697,19 @@ int SceneOptionValues(const Scene *s, PetscInt k, char name[64], PetscReal v[], 
 /* FILE (of option OPT) is a readable regular file: a directory said "no such file" */
 static PetscErrorCode CheckReadable(MPI_Comm comm, const char *opt, const char *file)
 {
+  Shown     sh;
   PetscBool exists, dir;
 
   PetscFunctionBeginUser;
   PetscCall(PetscTestDirectory(file, 'r', &dir));
-  PetscCheck(!dir, comm, PETSC_ERR_FILE_OPEN, "%s %s: a directory, not a file", opt, file);
+  PetscCheck(!dir, comm, PETSC_ERR_FILE_OPEN, "%s %s: a directory, not a file", opt, ShowText(file, &sh));
   { /* a device or a pipe (/dev/zero, a shell's <(...)): PETSc's test said "no such file"; it is read more than once */
     struct stat st;
     PetscCheck(stat(file, &st) || S_ISREG(st.st_mode), comm, PETSC_ERR_FILE_OPEN,
-               "%s %s: not a regular file (a device or a pipe: give a file)", opt, file);
+               "%s %s: not a regular file (a device or a pipe: give a file)", opt, ShowText(file, &sh));
   }
   PetscCall(PetscTestFile(file, 'r', &exists));
-  PetscCheck(exists, comm, PETSC_ERR_FILE_OPEN, "%s %s: no such file, or not readable", opt, file);
+  PetscCheck(exists, comm, PETSC_ERR_FILE_OPEN, "%s %s: no such file, or not readable", opt, ShowText(file, &sh));
   PetscFunctionReturn(0);
 }
 
