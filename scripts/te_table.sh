@@ -15,6 +15,7 @@ set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 fabric=${FABRIC:-$here/build/fabric}
 np=${NP:-2}
+[[ $np =~ ^[1-9][0-9]*$ ]] || { echo "te_table.sh: NP '$np': the number of ranks, a positive integer" >&2; exit 2; }
 scenes=()
 while [[ $# -gt 0 && $1 != -- ]]; do
   case $1 in

@@ -68,7 +68,9 @@ case "$case_" in
   drape_grid)
     d="$root/scripts/drape_grid.sh"
     expect 2 "drape_grid.sh: option -balance_tol without its value (options before the densities are -option value pairs)" "$d" -balance_tol
-    expect 2 "drape_grid.sh: density '0': threads/cm, a number above 0" "$d" 2 0
+    expect 2 "drape_grid.sh: density '0': threads/cm, a decimal number above 0 (digits and a point)" "$d" 2 0
+    # ranks from the environment: a word went to mpiexec, which printed its usage
+    expect 2 "drape_grid.sh: RANKS 'abc': the number of ranks, a positive integer" env RANKS=abc "$d" 2
     expect 1 "drape_grid.sh: the run at 2 threads/cm failed: fabric: error: -gauge_mm abc: not a number" "$d" -gauge_mm abc 2
     # a run cut short: its row, read from its summary.json, says it did not balance
     expect 0 "" "$d" -max_inner_steps 50 2
@@ -102,6 +104,8 @@ stability_sweep.py: error: argument --keep: $work/file: not a directory" "$root/
     mkdir own && cp "$root/inputs/bias.yaml" own/
     expect 2 "te_table.sh: scene 'own/bias.yaml': only the scenes of inputs/ (bias, bias.yaml or inputs/bias.yaml)" \
       "$root/scripts/te_table.sh" own/bias.yaml
+    # NP=0 ran and labelled the table "0 ranks"; a word stopped every row with mpiexec's separator line
+    expect 2 "te_table.sh: NP '0': the number of ranks, a positive integer" env NP=0 "$root/scripts/te_table.sh" bias
     ;;
   plot_curve)
     # -o without an extension: matplotlib wrote curve.png, the script printed "curve"
