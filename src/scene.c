@@ -816,6 +816,8 @@ static int YamlProblem(const char *text, char *msg, size_t len)
    or that a document is not a mapping of options ("key: value" lines) or has a key that is not a plain name; 0 if
    neither. Plain C: main.c asks it before PetscInitialize reads -options_file_yaml and PETSC_OPTIONS_YAML (whose
    refusal there is a traceback and an abort). */
+static int FindBadKeyIn(FILE *fp, int options_only, char *msg, size_t len);
+
 int YamlOptionsProblem(const char *text, char *msg, size_t len)
 {
   yaml_parser_t   p;
@@ -847,6 +849,13 @@ int YamlOptionsProblem(const char *text, char *msg, size_t len)
     yaml_document_delete(&doc);
   }
   yaml_parser_delete(&p);
+  if (!bad && text[0]) { /* a key given twice: PETSc keeps the last, silently (as in a scene file) */
+    FILE *fp = fmemopen((void *) text, strlen(text), "r");
+    if (fp) {
+      bad = FindBadKeyIn(fp, 1, msg, len) ? 1 : 0;
+      fclose(fp);
+    }
+  }
   return bad;
 }
 
@@ -1002,13 +1011,14 @@ static char *SceneKey(char *c, char *key, size_t len)
 typedef struct {
   char seen[SCENE_KEYS_MAX][128];
   int  at[SCENE_KEYS_MAX], nseen;
+  int  options_only; /* a YAML option file, not a scene: a 'scene' key is the option's business, not this check's */
   char maps[SCENE_ANCHORS_MAX][64]; /* the anchors of maps: an alias of one hides its keys */
   int  nmaps;
 } SceneKeys;
 
 static int SceneKeyOnce(SceneKeys *k, const char *full, const char *value, int lineno, char *msg, size_t len)
 {
-  if (!strcasecmp(full, "scene")) {
+  if (!k->options_only && !strcasecmp(full, "scene")) {
     snprintf(msg, len, "line %d: 'scene: %.100s': a scene file cannot name another scene", lineno, value);
     return lineno;
   }
@@ -1097,16 +1107,14 @@ static int SceneEmptyKey(SceneKeys *k, char parent[][128], int depth, int at, ch
   return SceneKeyOnce(k, full, "", at, msg, len);
 }
 
-static int FindBadKey(const char *file, char *msg, size_t len)
+static int FindBadKeyIn(FILE *fp, int options_only, char *msg, size_t len)
 {
   static SceneKeys keys;
   char            *line = NULL, parent[8][128];
   size_t           cap  = 0;
   int              indent[8], kids[8], at[8], anchored[8], depth = 0, lineno = 0, bad = 0;
-  FILE            *fp = fopen(file, "r");
 
-  if (!fp) return 0;
-  keys.nseen = keys.nmaps = 0;
+  keys.nseen = keys.nmaps = 0, keys.options_only = options_only;
   while (!bad) { /* whole lines, of any length */
     char   *c, *v, key[128], full[128] = "", anchor[64];
     int     ind;
@@ -1180,6 +1188,15 @@ static int FindBadKey(const char *file, char *msg, size_t len)
       bad = SceneKeyOnce(&keys, full, v, lineno, msg, len);
   }
   free(line);
+  return bad;
+}
+
+static int FindBadKey(const char *file, char *msg, size_t len)
+{
+  FILE *fp = fopen(file, "r");
+  int   bad;
+  if (!fp) return 0;
+  bad = FindBadKeyIn(fp, 0, msg, len);
   fclose(fp);
   return bad;
 }
