@@ -1098,13 +1098,13 @@ static int SceneFlowMap(SceneKeys *k, const char *full, char *v, int lineno, cha
   return 0;
 }
 
-/* the key of level depth - 1 (first at line at), flattened, which has nothing under it: an empty value, which PETSc
-   reads as the option given with no value (a flag's true). Once, as any other key. */
-static int SceneEmptyKey(SceneKeys *k, char parent[][128], int depth, int at, char *msg, size_t len)
+/* the key of level depth - 1 (first at line at), flattened, whose value is not a map: value, on the lines under it,
+   or "" (nothing under it: PETSc reads the option given with no value, a flag's true). Once, as any other key. */
+static int SceneLevelKey(SceneKeys *k, char parent[][128], int depth, int at, const char *value, char *msg, size_t len)
 {
   char full[128] = "";
   for (int d = 0; d < depth; d++) snprintf(full + strlen(full), sizeof full - strlen(full), "%s%.100s", d ? "_" : "", parent[d]);
-  return SceneKeyOnce(k, full, "", at, msg, len);
+  return SceneKeyOnce(k, full, value, at, msg, len);
 }
 
 static int FindBadKeyIn(FILE *fp, int options_only, char *msg, size_t len)
@@ -1127,7 +1127,7 @@ static int FindBadKeyIn(FILE *fp, int options_only, char *msg, size_t len)
     }
     if (got < 0) {
       for (; depth && !bad; depth--) /* the keys still open at the end: an empty one is a key given */
-        if (!kids[depth - 1]) bad = SceneEmptyKey(&keys, parent, depth, at[depth - 1], msg, len);
+        if (!kids[depth - 1]) bad = SceneLevelKey(&keys, parent, depth, at[depth - 1], "", msg, len);
       break;
     }
     if (SkipBOM(line, lineno) != line) memmove(line, line + 3, strlen(line + 3) + 1); /* indents count after it */
@@ -1157,14 +1157,13 @@ static int FindBadKeyIn(FILE *fp, int options_only, char *msg, size_t len)
     }
     ind = (int) (c - line);
     for (; depth && indent[depth - 1] >= ind && !bad; depth--) /* a key closed with nothing under it was given empty */
-      if (!kids[depth - 1]) bad = SceneEmptyKey(&keys, parent, depth, at[depth - 1], msg, len);
+      if (!kids[depth - 1]) bad = SceneLevelKey(&keys, parent, depth, at[depth - 1], "", msg, len);
     if (bad) break;
     if (*c == '-' || *c == '[' || !(v = SceneKey(c, key, sizeof key))) { /* no key (or FindMalformedLine's case) */
       if (depth && !kids[depth - 1]) { /* under a key with no value on its line: that key's value, not a map */
         if (anchored[depth - 1]) keys.nmaps--; /* its anchor, the last taken, names that value: an alias of it is one */
-        for (int d = 0; d < depth; d++) snprintf(full + strlen(full), sizeof full - strlen(full), "%s%.100s", d ? "_" : "", parent[d]);
         if (!(bad = SceneHidden(&keys, parent[depth - 1], c, lineno, msg, len)))
-          bad = SceneKeyOnce(&keys, full, c, at[depth - 1], msg, len);
+          bad = SceneLevelKey(&keys, parent, depth, at[depth - 1], c, msg, len);
         depth--;
       }
       continue;

@@ -1518,12 +1518,15 @@ static PetscBool StencilFits(const StaticOptions *o)
   return o->line_smoother ? PETSC_TRUE : PETSC_FALSE;
 }
 
-static PetscBool GmresRestartOk(const char *value)
+/* a whole number from lo to hi */
+static PetscBool WholeIn(const char *value, long lo, long hi)
 {
   char      *end;
   const long v = strtol(value, &end, 10);
-  return value[0] && !*end && v >= 1 && v <= GMRES_RESTART_MAX ? PETSC_TRUE : PETSC_FALSE;
+  return value[0] && !*end && v >= lo && v <= hi ? PETSC_TRUE : PETSC_FALSE;
 }
+
+static PetscBool GmresRestartOk(const char *value) { return WholeIn(value, 1, GMRES_RESTART_MAX); }
 
 /* an iteration limit: not a negative whole number (PETSc's words, default or DECIDE, are PETSc's to read) */
 static PetscBool CountOk(const char *value)
@@ -1630,13 +1633,8 @@ static PetscErrorCode CheckWideIntegers(MPI_Comm comm)
   PetscFunctionReturn(0);
 }
 
-/* a method's history (PETSc's defaults 2 to 30): a whole number from 1 to HISTORY_MAX */
-static PetscBool HistoryOk(const char *value)
-{
-  char      *end;
-  const long v = strtol(value, &end, 10);
-  return value[0] && !*end && v >= 1 && v <= HISTORY_MAX ? PETSC_TRUE : PETSC_FALSE;
-}
+/* a method's history (PETSc's defaults 2 to 30) */
+static PetscBool HistoryOk(const char *value) { return WholeIn(value, 1, HISTORY_MAX); }
 
 PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
 {
