@@ -182,6 +182,8 @@ static PetscErrorCode OneLineErrorHandler(MPI_Comm comm, int line, const char *f
 /* SIGTERM (a batch system's wall-time limit) or SIGUSR1 (forwarded to the ranks by mpiexec): the run writes
    a checkpoint at its next te step and stops with exit status 3 (checkpoint.c). Only with an output
    directory to write it to; the handler only sets a flag. */
+static int stop_signals_caught; /* CatchStopSignals installed its handler */
+
 static PetscErrorCode CatchStopSignals(Fabric fab)
 {
   struct sigaction sa;
@@ -194,6 +196,7 @@ static PetscErrorCode CatchStopSignals(Fabric fab)
   sigemptyset(&sa.sa_mask);
   PetscCheck(!sigaction(SIGTERM, &sa, NULL) && !sigaction(SIGUSR1, &sa, NULL), PETSC_COMM_SELF, PETSC_ERR_SYS,
              "cannot catch SIGTERM and SIGUSR1");
+  stop_signals_caught = 1;
   PetscFunctionReturn(0);
 }
 
@@ -494,6 +497,10 @@ int main(int argc, char **argv)
   }
   PetscCall(PetscPopErrorHandler());
   PetscCall(PetscFinalize());
+  /* PetscFinalize gives SIGTERM back its default action: a SIGTERM now (a batch system's limit as the
+     run ends) would kill a rank whose run is done, and mpiexec would say it failed. The handler only
+     sets a flag, which nothing reads any more. */
+  if (stop_signals_caught) signal(SIGTERM, CheckpointSignal);
   MPI_Comm_free(&stop_comm);
   MPI_Finalize();
   return ierr ? 1 : CheckpointStopped() ? CHECKPOINT_STOPPED : 0;

@@ -20,11 +20,13 @@ set -u
 fabric="$1"; scene="$2"
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
 # no prediction, a transverse load and a tight balance: each load step runs its 3000 te steps
-# (the jaw ramps over the first 300 of them), with te-step frames
+# (the jaw ramps over the first 300 of them), with te-step frames; 24 load steps, so that the run
+# (about 0.06 s a load step on 2 idle ranks) is still going when the signal comes, 0.1-0.3 s after
+# load step 2
 # the damped scheme: its load steps take long enough for a signal to land within one (FIRE's restarts
 # within a load step: restart_every)
-opts=(-scene "$scene" -quiet -integrator damped -gauge_mm 20 -width_mm 5 -load_steps 8 -elongation_pct 3 -predict none
-      -max_inner_steps 3000 -point_load_N 0,0,0.001 -balance_tol 1e-5 -output_every 1 -output_te_every 700)
+opts=(-scene "$scene" -quiet -integrator damped -gauge_mm 20 -width_mm 5 -load_steps 24 -elongation_pct 3 -predict none
+      -max_inner_steps 3000 -point_load_N 0,0,0.001 -balance_tol 1e-5 -output_every 1 -output_te_every 2100)
 fail=0
 check() { if eval "$1"; then echo "PASS $2"; else echo "FAIL $2"; fail=1; fi; }
 attr() { h5dump -a "$2" "$1" 2>/dev/null | sed -n 's/ *(0): //p'; }
@@ -48,6 +50,10 @@ case_() {
   done
   sleep "$delay"
   local ranks; ranks=$(ps -o pid= --ppid "$pid")
+  if ! kill -0 "$pid" 2>/dev/null; then
+    echo "FAIL $name: the run ended before the signal (${delay} s after load step 2): it is too short for this test"
+    fail=1; return
+  fi
   if [[ $target == ranks ]]; then kill -"$sig" $ranks 2>/dev/null; else kill -"$sig" "$pid"; fi
   wait "$pid"; local rc=$?
   for p in $ranks; do while kill -0 "$p" 2>/dev/null; do sleep 0.05; done; done
@@ -60,7 +66,7 @@ case_() {
   check '[[ "$(attr "$d/checkpoint.h5" /within_load_step)" == 1 && "$(attr "$d/checkpoint.h5" /load_step)" == $((k - 1)) && $((${n:-0} > 0 && ${n:-0} < 3000)) == 1 ]]' "$name: checkpoint.h5 is within load step $k after its te step $n ($(attr "$d/checkpoint.h5" /relax_te_step) te steps of round $(attr "$d/checkpoint.h5" /relax_round); ramp $(attr "$d/checkpoint.h5" /ramp_done)/$(attr "$d/checkpoint.h5" /ramp_steps))"
   mpiexec -n "$np2" "$fabric" "${opts[@]}" -quiet false -output_dir "$d" -positions_out "$d/positions.bin" -restart "$d/checkpoint.h5" >"$work/$name.restart.log" 2>&1
   rc=$?
-  check '[[ $rc -eq 0 ]] && grep -q "restart from .*checkpoint.h5 within load step $k/8, after its te step $n " "$work/$name.restart.log"' "$name: restarted on $np2 rank(s) within load step $k after te step $n, ends normally (exit $rc)"
+  check '[[ $rc -eq 0 ]] && grep -q "restart from .*checkpoint.h5 within load step $k/24, after its te step $n " "$work/$name.restart.log"' "$name: restarted on $np2 rank(s) within load step $k after te step $n, ends normally (exit $rc)"
   local what=""
   cmp -s "$ref/positions.bin" "$d/positions.bin" || what+=" positions"
   cmp -s "$ref/curve.csv" "$d/curve.csv" || what+=" curve.csv"
