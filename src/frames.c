@@ -29,6 +29,7 @@
 #include "frames.h"
 #include "comm.h"
 #include "events.h"
+#include "revision.h"
 
 #include <fcntl.h>
 #include <math.h>
@@ -183,6 +184,7 @@ static PetscErrorCode CreateFile(FabricIO io, const FrameSource *src, const char
   PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "nx", PETSC_INT, &nx));
   PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "ny", PETSC_INT, &ny));
   PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "scene", PETSC_STRING, src->out->name));
+  PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "fabric_revision", PETSC_STRING, FabricRevision()));
   PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "frames", PETSC_INT, &zero));
   PetscCall(PetscViewerDestroy(&v));
   PetscCall(DMRestoreGlobalVector(io->da1, &kind));

@@ -10,6 +10,7 @@
 #include "events.h"
 #include "frames.h"
 #include "load.h"
+#include "revision.h"
 
 #include <errno.h>
 #include <string.h>
@@ -384,6 +385,17 @@ PetscErrorCode OutputSummary(Fabric fab, const char *error)
   PetscCheck(fp, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "-output_dir %s: cannot write summary.json", s->out.output_dir);
   fprintf(fp, "{\n  \"scene\": ");
   JsonString(fp, s->out.name);
+  { /* which solver made the results */
+    char petsc[32], mpi[MPI_MAX_LIBRARY_VERSION_STRING];
+    FabricPetscVersion(petsc, sizeof petsc);
+    FabricMpiLibrary(mpi, sizeof mpi);
+    fprintf(fp, ",\n  \"fabric_revision\": ");
+    JsonString(fp, FabricRevision());
+    fprintf(fp, ",\n  \"petsc_version\": ");
+    JsonString(fp, petsc);
+    fprintf(fp, ",\n  \"mpi_library\": ");
+    JsonString(fp, mpi);
+  }
   fprintf(fp,
           ",\n  \"ranks\": %d,\n  \"grid\": [%" PetscInt_FMT ", %" PetscInt_FMT "],\n  \"points\": %" PetscInt_FMT
           ",\n",
