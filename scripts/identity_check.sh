@@ -59,18 +59,19 @@ cases=(
 ((quick)) && cases=("${cases[@]:0:5}")
 
 fail=0
-# summary.json without its wall-clock figures and the echo of the options
+# summary.json without its wall-clock figures, the echo of the options and the builds' revisions
 strip_json() {
   /usr/bin/python3 -c 'import json, sys
 d = json.load(open(sys.argv[1]))
-for k in ("wall_s", "point_updates_per_s", "options"): d.pop(k, None)
+for k in ("wall_s", "point_updates_per_s", "options", "fabric_revision", "petsc_version", "mpi_library"): d.pop(k, None)
 print(json.dumps(d, sort_keys=True, indent=1))' "$1"
 }
 # exact h5diff, apart from the checkpoint's wall-clock attribute wall_s and the checksum of the
-# attributes, which covers it (every other attribute is compared itself)
+# attributes, which covers it (every other attribute is compared itself), and fabric.h5's
+# fabric_revision (the two builds')
 h5same() {
   diff -q <(h5ls -r "$1" 2>&1) <(h5ls -r "$2" 2>&1) >/dev/null || return 1
-  { h5diff -v "$1" "$2" 2>&1 || true; } | awk '/^attribute: <(wall_s|attributes_checksum) / {skip = 1} /^[1-9][0-9]* differences found/ && !skip {bad = 1}
+  { h5diff -v "$1" "$2" 2>&1 || true; } | awk '/^attribute: <(wall_s|attributes_checksum|fabric_revision) / {skip = 1} /^[1-9][0-9]* differences found/ && !skip {bad = 1}
     /differences found/ {skip = 0} /^(file1|Not comparable|Objects are not)/ {} END {exit bad}'
 }
 compare() { # name dir_ref dir_new
