@@ -622,6 +622,15 @@ static PetscErrorCode ReadOption(MPI_Comm comm, const OptionDesc *o, int yarn, c
   DefaultText(o, f, def, deftext, sizeof deftext);
   if (help) PetscCall(PetscPrintf(comm, "  -%s <%s>: %s\n", name, deftext, o->help));
   snprintf(opt, sizeof opt, "-%s", name);
+  { /* PETSc's reader cuts a value at the buffer's size without a word: a path of 4099 characters named another file */
+    const char *given = NULL;
+    PetscCall(PetscOptionsFindPair(NULL, NULL, opt, &given, &set));
+    if (set && given && strlen(given) >= (o->type == OPT_STRING ? (size_t) PETSC_MAX_PATH_LEN : sizeof text)) {
+      Shown sh;
+      SETERRQ(comm, PETSC_ERR_USER_INPUT, "-%s %s: too long (%zu characters; at most %d)", name, ShowText(given, &sh),
+              strlen(given), (o->type == OPT_STRING ? PETSC_MAX_PATH_LEN : (int) sizeof text) - 1);
+    }
+  }
   PetscCall(PetscOptionsGetString(NULL, NULL, opt, text, sizeof text, &set));
   if (!set) PetscFunctionReturn(0);
   PetscCheck(text[0] || o->type == OPT_BOOL || !strcmp(o->name, "%s_law_csv"), comm, PETSC_ERR_USER_INPUT,
