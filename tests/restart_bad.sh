@@ -164,6 +164,40 @@ done
 if mpiexec -n 2 "$fabric" "${rich[@]}" -output_dir "$work/rich" -restart "$work/rich/checkpoint.h5" >/dev/null 2>&1; then echo "PASS $nflip flips of ${#arrays[@]} arrays refused; the unflipped checkpoint restarts its run"
 else echo "FAIL the unflipped full checkpoint does not restart its run"; fail=1; fi
 
+# a state array whose data cannot be read (its address moved past the file's end; rewritten with h5py's lzf filter,
+# which the HDF5 library lacks): HDF5's error stack from VecLoad on every rank, naming neither -restart nor the file
+unreadable() {
+  /usr/bin/python3 - "$@" <<'PY'
+import sys, struct, h5py
+src, dst, how = sys.argv[1:4]
+if how == "past_end":
+    with h5py.File(src, "r") as f:
+        off = f["state/velocities"].id.get_offset()
+    b = bytearray(open(src, "rb").read())
+    k = b.find(struct.pack("<Q", off))
+    assert k >= 0, "the data address is not in the file"
+    b[k:k + 8] = struct.pack("<Q", off + 10**7)
+    open(dst, "wb").write(b)
+else:
+    import shutil
+    shutil.copy(src, dst)
+    with h5py.File(dst, "r+") as f:
+        d = f["state/velocities"]
+        data, attrs = d[...], dict(d.attrs)
+        del f["state/velocities"]
+        n = f["state"].create_dataset("velocities", data=data, chunks=True, compression="lzf")
+        for k, v in attrs.items():
+            n.attrs[k] = v
+PY
+}
+for how in past_end lzf; do
+  unreadable "$ck" "$work/unreadable.h5" "$how" || { echo "FAIL cannot make the $how checkpoint"; fail=1; continue; }
+  refuse "unreadable_$how" "^fabric: error: -restart .*unreadable.h5: damaged checkpoint: /state/velocities cannot be read$" \
+    "${opts[@]}" -output_dir "$work/run" -restart "$work/unreadable.h5"
+  grep -q "HDF5-DIAG" <<<"$(timeout 30 mpiexec -n 2 "$fabric" "${opts[@]}" -output_dir "$work/run" -restart "$work/unreadable.h5" 2>&1)" &&
+    { echo "FAIL unreadable_$how: HDF5's error stack printed"; fail=1; }
+done
+
 # the checkpoint itself still restarts (so the refusals above were about what they say)
 if mpiexec -n 2 "$fabric" "${opts[@]}" -output_dir "$work/run" -restart "$ck" >/dev/null 2>&1 && [[ $(wc -l <"$work/run/curve.csv") -eq 7 ]]; then echo "PASS the same checkpoint restarts the run it belongs to"
 else echo "FAIL the checkpoint does not restart its own run"; fail=1; fi
