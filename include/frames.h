@@ -42,8 +42,12 @@ struct _p_FabricIO {
   PetscInt    xmf_frames;   /* frames it lists (the same on all ranks) */
   PetscInt64 *xmf_at;       /* rank 0: where frame k's entry begins in it, k <= xmf_frames (the tail's at xmf_frames) */
   PetscInt    xmf_cap;      /* rank 0: xmf_at's length */
+  /* which run the frames are of */
+  char scene_hash[24]; /* fabric.h5's root attribute: a hash of what the run computes with (RestartLoad) */
   /* restart */
   PetscBool restarted;
+  PetscBool frames_file_ours; /* DIR/fabric.h5 holds this run's frames before the checkpoint (rank 0 looked
+                                 before any output was touched; RestartLoad) */
   PetscInt  checkpoints; /* DIR/checkpoint.h5 written by this run, of any kind (-checkpoint_every*, a signal) */
 };
 typedef struct _p_FabricIO *FabricIO;

@@ -68,10 +68,10 @@ print(json.dumps(d, sort_keys=True, indent=1))' "$1"
 }
 # exact h5diff, apart from the checkpoint's wall-clock attribute wall_s and the checksum of the
 # attributes, which covers it (every other attribute is compared itself), and fabric.h5's
-# fabric_revision (the two builds')
+# fabric_revision and scene_hash (the two builds'; scene_hash hashes the option table's keys)
 h5same() {
   diff -q <(h5ls -r "$1" 2>&1) <(h5ls -r "$2" 2>&1) >/dev/null || return 1
-  { h5diff -v "$1" "$2" 2>&1 || true; } | awk '/^attribute: <(wall_s|attributes_checksum|fabric_revision) / {skip = 1} /^[1-9][0-9]* differences found/ && !skip {bad = 1}
+  { h5diff -v "$1" "$2" 2>&1 || true; } | awk '/^attribute: <(wall_s|attributes_checksum|fabric_revision|scene_hash) / {skip = 1} /^[1-9][0-9]* differences found/ && !skip {bad = 1}
     /differences found/ {skip = 0} /^(file1|Not comparable|Objects are not)/ {} END {exit bad}'
 }
 compare() { # name dir_ref dir_new

@@ -109,6 +109,25 @@ static PetscInt SceneKeys(const Scene *s, SceneKey *key)
   return n;
 }
 
+/* fabric.h5's scene_hash: SceneKeys' names and values hashed, 16 hex digits. A restart appends to the fabric.h5 of
+   its own run only: another run's in the same directory, with other options on the same grid, had its frames taken
+   as this run's (CheckFramesFile) */
+static void SceneHash(const Scene *s, char *text, size_t len)
+{
+  SceneKey key[MAX_KEYS];
+  PetscInt n = SceneKeys(s, key);
+  uint64_t h = HASH_GOLDEN;
+
+  for (PetscInt k = 0; k < n; k++) {
+    double   v = key[k].value == 0 ? 0.0 : (double) key[k].value; /* -0 is 0, as SameScene compares */
+    uint64_t bits;
+    for (const char *c = key[k].name; *c; c++) h = Mix64(h ^ (unsigned char) *c);
+    memcpy(&bits, &v, sizeof bits);
+    h = Mix64(h ^ bits);
+  }
+  snprintf(text, len, "%016llx", (unsigned long long) h);
+}
+
 #define LOOK_EVERY 16 /* te steps between looks at the signals and the clock */
 
 /* the run's checkpointing (one fabric per process) */
@@ -1261,64 +1280,101 @@ static PetscErrorCode ReadHeader(Fabric fab, const char *file, Header *h, double
   PetscFunctionReturn(0);
 }
 
-/* Rank 0: does DIR/fabric.h5 hold the frames written before the checkpoint? */
-static void CheckFramesFile(const Scene *s, const char *restart, const double *frames, Header *h)
+/* a string attribute of obj into buf (len bytes, at least 2): 0 if it is missing or longer */
+static int ReadStringAttr(hid_t obj, const char *name, char *buf, size_t len)
 {
-  char        file[PETSC_MAX_PATH_LEN], path[64];
+  hid_t a, t;
+  int   ok = 0;
+  buf[0]   = 0;
+  if (H5Aexists(obj, name) <= 0 || (a = H5Aopen(obj, name, H5P_DEFAULT)) < 0) return 0;
+  t = H5Aget_type(a);
+  if (t >= 0 && H5Tget_class(t) == H5T_STRING && !H5Tis_variable_str(t) && H5Tget_size(t) < len) {
+    memset(buf, 0, len);
+    ok = H5Aread(a, t, buf) >= 0;
+  }
+  if (t >= 0) H5Tclose(t);
+  H5Aclose(a);
+  return ok;
+}
+
+/* Rank 0, before any output is touched: does DIR/fabric.h5 hold this run's frames written before the checkpoint
+   (the grid, scene_hash, the frame count attribute and nothing but frames under /frames, the first
+   h->frames as the checkpoint lists them)? strict (this run writes frames): if not, the restart is refused
+   (h->status, h->msg); else the file is left alone. Returns 1 if it does. */
+static int CheckFramesFile(const Scene *s, const FabricIO io, const double *frames, Header *h, PetscBool strict)
+{
+  const char *restart = io->restart;
+  char        file[PETSC_MAX_PATH_LEN], path[64], hash[sizeof io->scene_hash], why[PETSC_MAX_PATH_LEN + 256] = "";
   H5E_auto2_t efunc;
   void       *edata;
-  hid_t       fid;
-  int         nx = 0, ny = 0;
+  hid_t       fid, g = -1;
+  int         nx = 0, ny = 0, count = 0;
 
   if (snprintf(file, sizeof file, "%s/fabric.h5", s->out.output_dir) >= (int) sizeof file) file[0] = 0;
   H5Eget_auto2(H5E_DEFAULT, &efunc, &edata);
   H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
   fid = H5Fis_hdf5(file) > 0 ? H5Fopen(file, H5F_ACC_RDONLY, H5P_DEFAULT) : -1;
-  if (fid < 0) {
-    h->status = 1;
-    snprintf(
-        h->msg, sizeof h->msg,
-        "-restart %s: %s, which holds the %d frames written before the checkpoint, is missing or cannot be opened "
-        "(damaged); restart into the -output_dir of the checkpointed run, or with -output_every 0 -output_te_every 0 "
-        "-output_tear_every 0",
-        restart, file, h->frames);
-  } else {
-    hid_t g = H5Gopen2(fid, "/", H5P_DEFAULT);
-    if (!ReadAttr(g, "nx", H5T_NATIVE_INT, &nx) || !ReadAttr(g, "ny", H5T_NATIVE_INT, &ny) || nx != s->spec.nx ||
-        ny != s->spec.ny) {
-      h->status = 1;
-      snprintf(h->msg, sizeof h->msg,
-               "-restart %s: %s is not of this grid (%d x %d crossings, this run has %" PetscInt_FMT " x %" PetscInt_FMT
-               ")",
-               restart, file, nx, ny, s->spec.nx, s->spec.ny);
-    }
-    for (int k = 0; k < h->frames && !h->status; k++) {
-      double at[3] = {0, -1, -1}; /* time_s, load_step, te_step: as the checkpoint lists the frame */
-      snprintf(path, sizeof path, "/frames/%06d", k);
-      if (H5Lexists(fid, "/frames", H5P_DEFAULT) <= 0 || H5Lexists(fid, path, H5P_DEFAULT) <= 0) {
-        h->status = 1;
-        snprintf(
-            h->msg, sizeof h->msg,
-            "-restart %s: %s lacks frame %d of the %d written before the checkpoint: it is not the file of this run",
-            restart, file, k, h->frames);
-        break;
+  if (fid < 0)
+    snprintf(why, sizeof why,
+             "-restart %s: %s, which holds the %d frames written before the checkpoint, is missing or cannot be opened "
+             "(damaged); restart into the -output_dir of the checkpointed run, or with -output_every 0 -output_te_every 0 "
+             "-output_tear_every 0",
+             restart, file, h->frames);
+  else if ((g = H5Gopen2(fid, "/", H5P_DEFAULT)) < 0 || !ReadAttr(g, "nx", H5T_NATIVE_INT, &nx) ||
+           !ReadAttr(g, "ny", H5T_NATIVE_INT, &ny) || nx != s->spec.nx || ny != s->spec.ny)
+    snprintf(why, sizeof why,
+             "-restart %s: %s is not of this grid (%d x %d crossings, this run has %" PetscInt_FMT " x %" PetscInt_FMT ")",
+             restart, file, nx, ny, s->spec.nx, s->spec.ny);
+  else if (!ReadStringAttr(g, "scene_hash", hash, sizeof hash) || strcmp(hash, io->scene_hash))
+    snprintf(why, sizeof why,
+             "-restart %s: %s is another run's: its scene_hash %s is not this run's %s (a run of other options wrote "
+             "it): it is not the file of this run",
+             restart, file, hash[0] ? hash : "(none)", io->scene_hash);
+  else if (!ReadAttr(g, "frames", H5T_NATIVE_INT, &count))
+    snprintf(why, sizeof why, "-restart %s: %s has no frames attribute at its root (damaged)", restart, file);
+  else { /* /frames holds frames alone: a link of another name is not this program's */
+    hid_t      fg = H5Lexists(fid, "/frames", H5P_DEFAULT) > 0 ? H5Gopen2(fid, "/frames", H5P_DEFAULT) : -1;
+    H5G_info_t info;
+    if (fg >= 0 && H5Gget_info(fg, &info) >= 0)
+      for (hsize_t l = 0; l < info.nlinks && !why[0]; l++) {
+        char name[64] = "", *end;
+        long index;
+        if (H5Lget_name_by_idx(fg, ".", H5_INDEX_NAME, H5_ITER_INC, l, name, sizeof name, H5P_DEFAULT) < 0) name[0] = 0;
+        index = strtol(name, &end, 10);
+        if (!name[0] || *end || index < 0 || strlen(name) != 6)
+          snprintf(why, sizeof why, "-restart %s: %s holds /frames/%s, which is not a frame: it is not the file of this run",
+                   restart, file, name);
       }
-      hid_t fg = H5Gopen2(fid, path, H5P_DEFAULT);
-      if (fg < 0 || !ReadAttr(fg, "time_s", H5T_NATIVE_DOUBLE, &at[0]) ||
-          !ReadAttr(fg, "load_step", H5T_NATIVE_DOUBLE, &at[1]) || !ReadAttr(fg, "te_step", H5T_NATIVE_DOUBLE, &at[2]) ||
-          at[0] != frames[3 * k] || at[1] != frames[3 * k + 1] || at[2] != frames[3 * k + 2]) {
-        h->status = 1;
-        snprintf(h->msg, sizeof h->msg,
-                 "-restart %s: %s's frame %d (load step %g, te step %g, %.9g s) is not the one written before the "
-                 "checkpoint (load step %g, te step %g, %.9g s): it is not the file of this run",
-                 restart, file, k, at[1], at[2], at[0], frames[3 * k + 1], frames[3 * k + 2], frames[3 * k]);
-      }
-      if (fg >= 0) H5Gclose(fg);
-    }
-    H5Gclose(g);
-    H5Fclose(fid);
+    if (fg >= 0) H5Gclose(fg);
   }
+  for (int k = 0; k < h->frames && !why[0]; k++) {
+    double at[3] = {0, -1, -1}; /* time_s, load_step, te_step: as the checkpoint lists the frame */
+    hid_t  fg;
+    snprintf(path, sizeof path, "/frames/%06d", k);
+    if (H5Lexists(fid, "/frames", H5P_DEFAULT) <= 0 || H5Lexists(fid, path, H5P_DEFAULT) <= 0) {
+      snprintf(why, sizeof why,
+               "-restart %s: %s lacks frame %d of the %d written before the checkpoint: it is not the file of this run",
+               restart, file, k, h->frames);
+      break;
+    }
+    fg = H5Gopen2(fid, path, H5P_DEFAULT);
+    if (fg < 0 || !ReadAttr(fg, "time_s", H5T_NATIVE_DOUBLE, &at[0]) ||
+        !ReadAttr(fg, "load_step", H5T_NATIVE_DOUBLE, &at[1]) || !ReadAttr(fg, "te_step", H5T_NATIVE_DOUBLE, &at[2]) ||
+        at[0] != frames[3 * k] || at[1] != frames[3 * k + 1] || at[2] != frames[3 * k + 2])
+      snprintf(why, sizeof why,
+               "-restart %s: %s's frame %d (load step %g, te step %g, %.9g s) is not the one written before the "
+               "checkpoint (load step %g, te step %g, %.9g s): it is not the file of this run",
+               restart, file, k, at[1], at[2], at[0], frames[3 * k + 1], frames[3 * k + 2], frames[3 * k]);
+    if (fg >= 0) H5Gclose(fg);
+  }
+  if (g >= 0) H5Gclose(g);
+  if (fid >= 0) H5Fclose(fid);
   H5Eset_auto2(H5E_DEFAULT, efunc, edata);
+  if (why[0] && strict) {
+    h->status = 1;
+    snprintf(h->msg, sizeof h->msg, "%s", why);
+  }
+  return !why[0];
 }
 
 /* the run's counters and the relaxation's state from a checkpoint's header */
@@ -1387,14 +1443,17 @@ static PetscErrorCode LoadStateVectors(Fabric fab, const Header *h)
 static PetscErrorCode ReadHistory(Fabric fab, Header *h, double **rows, double **frames)
 {
   FabricIO io = fab->io;
+  int      ours = 0; /* DIR/fabric.h5 is this run's */
 
   PetscFunctionBeginUser;
   if (fab->rank == 0) {
     PetscCall(ReadHeader(fab, io->restart, h, rows, frames));
-    if (!h->status && h->frames > 0 && fab->s.out.output_dir[0] && IOWritesFrames(io))
-      CheckFramesFile(&fab->s, io->restart, *frames, h);
+    if (!h->status && h->frames > 0 && fab->s.out.output_dir[0])
+      ours = CheckFramesFile(&fab->s, io, *frames, h, IOWritesFrames(io));
   }
   PetscCall(BroadcastFromRoot(fab->comm, h, (PetscInt) sizeof *h, MPI_BYTE));
+  PetscCall(BroadcastFromRoot(fab->comm, &ours, 1, MPI_INT));
+  io->frames_file_ours = ours ? PETSC_TRUE : PETSC_FALSE;
   if (h->status) {
     PetscCall(PetscFree(*rows));
     PetscCall(PetscFree(*frames));
@@ -1409,7 +1468,7 @@ static PetscErrorCode ReadHistory(Fabric fab, Header *h, double **rows, double *
   PetscFunctionReturn(0);
 }
 
-/* The start of the run: the clock of -checkpoint_every_s starts; with -restart, the state, counters,
+/* The start of the run: the clock of -checkpoint_every_s starts, fabric.h5's scene_hash is set; with -restart, the state, counters,
    curve rows and frame list of the checkpoint. */
 PetscErrorCode RestartLoad(Fabric fab)
 {
@@ -1420,6 +1479,7 @@ PetscErrorCode RestartLoad(Fabric fab)
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(&ckpt, sizeof ckpt));
   PetscCall(PetscTime(&ckpt.last_wall));
+  if (io) SceneHash(&fab->s, io->scene_hash, sizeof io->scene_hash); /* fabric.h5's, a fresh run's too */
   if (!io || !io->restart[0]) PetscFunctionReturn(0);
   PetscCall(PetscLogEventBegin(EV_Output, 0, 0, 0, 0));
   PetscCall(PetscMemzero(&h, sizeof h));

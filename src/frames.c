@@ -185,6 +185,7 @@ static PetscErrorCode CreateFile(FabricIO io, const FrameSource *src, const char
   PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "ny", PETSC_INT, &ny));
   PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "scene", PETSC_STRING, src->out->name));
   PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "fabric_revision", PETSC_STRING, FabricRevision()));
+  PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "scene_hash", PETSC_STRING, io->scene_hash));
   PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "frames", PETSC_INT, &zero));
   PetscCall(PetscViewerDestroy(&v));
   PetscCall(DMRestoreGlobalVector(io->da1, &kind));
@@ -297,7 +298,8 @@ static PetscErrorCode DropFramesFrom(MPI_Comm comm, const char *restart, const c
               continue;
             }
             index = strtol(name, &end, 10);
-            if (*end || index < first)
+            if (*end || index < 0) continue; /* not a frame (RestartLoad refused such a file) */
+            if (index < first)
               status[0]++;
             else if (H5Ldelete(g, name, H5P_DEFAULT) < 0)
               status[1] = 1;
@@ -320,36 +322,6 @@ static PetscErrorCode DropFramesFrom(MPI_Comm comm, const char *restart, const c
              "-restart %s: cannot remove the frames written after the checkpoint from %s", restart, file);
   *kept = status[0];
   PetscFunctionReturn(0);
-}
-
-/* rank 0: file is HDF5 and its /frames holds frames 0 .. first-1 (a run's own file, perhaps with later ones) */
-static int FramesFileHolds(const char *file, PetscInt first)
-{
-  H5E_auto2_t efunc;
-  void       *edata;
-  hid_t       fid, g;
-  H5G_info_t  info;
-  int         kept = 0;
-
-  H5Eget_auto2(H5E_DEFAULT, &efunc, &edata);
-  H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
-  fid = H5Fis_hdf5(file) > 0 ? H5Fopen(file, H5F_ACC_RDONLY, H5P_DEFAULT) : -1;
-  if (fid >= 0) {
-    if (H5Lexists(fid, "/frames", H5P_DEFAULT) > 0 && (g = H5Gopen2(fid, "/frames", H5P_DEFAULT)) >= 0) {
-      if (H5Gget_info(g, &info) >= 0)
-        for (hsize_t l = 0; l < info.nlinks; l++) {
-          char  name[64], *end;
-          long  index;
-          if (H5Lget_name_by_idx(g, ".", H5_INDEX_NAME, H5_ITER_INC, l, name, sizeof name, H5P_DEFAULT) < 0) continue;
-          index = strtol(name, &end, 10);
-          if (!*end && index >= 0 && index < first) kept++;
-        }
-      H5Gclose(g);
-    }
-    H5Fclose(fid);
-  }
-  H5Eset_auto2(H5E_DEFAULT, efunc, edata);
-  return kept == first;
 }
 
 /* a restart: fabric.h5 and fabric.xmf keep the frames written before the checkpoint, no later one */
@@ -378,14 +350,8 @@ PetscErrorCode FramesOpen(FabricIO io, const FrameSource *src, const FrameInfo *
   if (dir[0]) PetscCall(PetscSNPrintf(file, sizeof file, "%s/fabric.h5", dir));
   if (!FramesOn(io, dir)) { /* a restart that writes no frames: those the stopped run wrote after its checkpoint go,
                                from its own file only (one that is damaged or another run's is left alone) */
-    int ours = 0;
-    if (dir[0] && io->restarted && io->frames > 0) {
-      PetscMPIInt rank;
-      PetscCall(CommRank(src->comm, &rank));
-      if (!rank) ours = FramesFileHolds(file, io->frames);
-      PetscCall(BroadcastFromRoot(src->comm, &ours, 1, MPI_INT));
-    }
-    if (ours) PetscCall(DropFramesAfterCheckpoint(io, src, file));
+    if (dir[0] && io->restarted && io->frames > 0 && io->frames_file_ours)
+      PetscCall(DropFramesAfterCheckpoint(io, src, file));
     PetscFunctionReturn(0);
   }
   PetscCall(PetscLogEventBegin(EV_Output, 0, 0, 0, 0));

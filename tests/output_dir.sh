@@ -8,7 +8,8 @@
 #  3. a restart that turns frames on, from a run that wrote none: frame 0 is the checkpoint's state at
 #     the time_s of its load step in curve.csv (it was that plus the te steps' time);
 #  4. a restart whose fabric.h5 is another run's of the same grid (frames at other times: another
-#     -speed_mm_min) is refused, naming the frame that differs (its frames were mixed in).
+#     -speed_mm_min) is refused by its scene_hash; one of this run's options but frames at other
+#     load steps (-output_every 2), naming the frame that differs (their frames were mixed in).
 #  5. ranks that do not share -output_dir (rank 1 started in another working directory, a relative
 #     -output_dir: as a directory on each node's own disk): refused at once, naming the rank, and nothing
 #     left in either place (the ranks waited in MPI_File_open for ever).
@@ -96,15 +97,20 @@ sys.exit(0 if ok else 1)
 PY
 run 1 "${small[@]}" -output_dir "$work/mixA" -output_every 1 -checkpoint_every 3
 run 1 "${small[@]}" -output_dir "$work/mixB" -output_every 1 -speed_mm_min 50
-cp "$work/mixB/fabric.h5" "$work/mixA/fabric.h5"
-if mpiexec -n 1 "$fabric" "${small[@]}" -output_dir "$work/mixA" -output_every 1 -restart "$work/mixA/checkpoint.h5" \
-  >"$work/log" 2>&1; then
-  echo "FAIL a restart into another run's fabric.h5 was accepted"; fail=1
-elif grep -q "fabric.h5's frame 1 (load step 1, te step .*) is not the one written before the checkpoint" "$work/log"; then
-  echo "PASS a restart into another run's fabric.h5 is refused: $(grep -o "frame 1 (.*checkpoint ([^)]*)" "$work/log")"
-else
-  cat "$work/log"; echo "FAIL a restart into another run's fabric.h5: not the expected message"; fail=1
-fi
+run 1 "${small[@]}" -output_dir "$work/mixC" -output_every 2
+for other in "mixB:fabric.h5 is another run's: its scene_hash [0-9a-f]* is not this run's [0-9a-f]*" \
+             "mixC:fabric.h5's frame 1 (load step 2, te step .*) is not the one written before the checkpoint (load step 1,"; do
+  cp "$work/mixA/fabric.h5" "$work/mixA.keep" && cp "$work/${other%%:*}/fabric.h5" "$work/mixA/fabric.h5"
+  if mpiexec -n 1 "$fabric" "${small[@]}" -output_dir "$work/mixA" -output_every 1 -restart "$work/mixA/checkpoint.h5" \
+    >"$work/log" 2>&1; then
+    echo "FAIL a restart into another run's fabric.h5 (${other%%:*}) was accepted"; fail=1
+  elif grep -q "${other#*:}" "$work/log"; then
+    echo "PASS a restart into another run's fabric.h5 (${other%%:*}) is refused: $(grep -o "fabric.h5.*" "$work/log")"
+  else
+    cat "$work/log"; echo "FAIL a restart into another run's fabric.h5 (${other%%:*}): not the expected message"; fail=1
+  fi
+  mv "$work/mixA.keep" "$work/mixA/fabric.h5"
+done
 mkdir -p "$work/wd0" "$work/wd1"
 scene_abs="$(cd "$(dirname "$scene")" && pwd)/$(basename "$scene")"
 timeout 120 mpiexec -n 1 -wdir "$work/wd0" "$fabric" -scene "$scene_abs" -gauge_mm 20 -width_mm 5 -load_steps 4 -output_dir out \

@@ -198,6 +198,28 @@ for how in past_end lzf; do
     { echo "FAIL unreadable_$how: HDF5's error stack printed"; fail=1; }
 done
 
+# a fabric.h5 that is not this run's, though of its grid with the frames the checkpoint lists: refused before any
+# output is touched. Another run's of other options (its frames had been taken as this run's, the later ones
+# replaced); one with a group under /frames that is not a frame, or without its frame count (the directory was
+# already changed: curve.csv cut, summary.json replaced, frames dropped)
+mpiexec -n 2 "$fabric" "${opts[@]}" -warp_crimp_pct 7 -output_dir "$work/other" >/dev/null || { echo "FAIL the other run failed"; fail=1; }
+h5edit() { /usr/bin/python3 -c "import sys, h5py; f = h5py.File(sys.argv[1], 'r+'); exec(sys.argv[2])" "$@"; }
+for bad in "other_run:is another run's: its scene_hash [0-9a-f]{16} is not this run's [0-9a-f]{16}" \
+           "stray_group:holds /frames/notes, which is not a frame: it is not the file of this run" \
+           "no_count:has no frames attribute at its root"; do
+  name=${bad%%:*} regex=${bad#*:}
+  cp "$work/run/fabric.h5" "$work/run/fabric.keep"
+  case $name in
+    other_run) cp "$work/other/fabric.h5" "$work/run/fabric.h5" ;;
+    stray_group) h5edit "$work/run/fabric.h5" "f['frames'].create_group('notes')" ;;
+    no_count) h5edit "$work/run/fabric.h5" "del f.attrs['frames']" ;;
+  esac
+  before="$(snapshot)"
+  refuse "frames_file_$name" "-restart .*checkpoint.h5: .*/run/fabric.h5 $regex" "${opts[@]}" -output_dir "$work/run" -restart "$ck"
+  mv "$work/run/fabric.keep" "$work/run/fabric.h5"
+done
+before="$(snapshot)"
+
 # the checkpoint itself still restarts (so the refusals above were about what they say)
 if mpiexec -n 2 "$fabric" "${opts[@]}" -output_dir "$work/run" -restart "$ck" >/dev/null 2>&1 && [[ $(wc -l <"$work/run/curve.csv") -eq 7 ]]; then echo "PASS the same checkpoint restarts the run it belongs to"
 else echo "FAIL the checkpoint does not restart its own run"; fail=1; fi

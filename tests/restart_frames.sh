@@ -9,7 +9,8 @@
 # and on the 20 x 5 mm strip to rupture (the checkpoint at load step 60):
 #  4. a restart that writes no frames: fabric.h5 and fabric.xmf keep the frames written before the
 #     checkpoint and no later one (the stopped run's later frames stayed);
-#  5. the same beside a damaged fabric.h5: the run goes on and leaves the file alone.
+#  5. the same beside a damaged fabric.h5: the run goes on and leaves the file alone;
+#  6. the same beside another run's fabric.h5 (other options, the same grid): left alone too.
 set -u
 fabric="$1"; strip="$2"; rupture="$3"
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
@@ -63,4 +64,11 @@ cp -r "$work/full" "$work/bad"; echo "not HDF5" >"$work/bad/fabric.h5"
 "$fabric" "${ropts[@]}" -output_every 0 -output_te_every 0 -output_tear_every 0 -restart "$work/bad/checkpoint.h5" \
   -output_dir "$work/bad" >"$work/bad.log" 2>&1; rc=$?
 check '[[ $rc == 0 && "$(cat "$work/bad/fabric.h5")" == "not HDF5" ]]' "a restart without frames beside a damaged fabric.h5 runs and leaves it alone: $(tail -1 "$work/bad.log")"
+# 6. the same beside another run's fabric.h5, of the same grid and frame times (a tenth of the crimp): left alone
+#    (it was cut to the checkpoint's frames: only the frames' names were looked at)
+"$fabric" "${ropts[@]}" -warp_crimp_pct 7.9 -output_te_every 20 -output_tear_every 10 -output_dir "$work/other" >/dev/null || fail=1
+cp "$work/full/checkpoint.h5" "$work/other/" && sum=$(md5sum <"$work/other/fabric.h5")
+"$fabric" "${ropts[@]}" -output_every 0 -output_te_every 0 -output_tear_every 0 -restart "$work/other/checkpoint.h5" \
+  -output_dir "$work/other" >"$work/other.log" 2>&1; rc=$?
+check '[[ $rc == 0 && "$(md5sum <"$work/other/fabric.h5")" == "$sum" ]]' "a restart without frames beside another run's fabric.h5 (its scene_hash another) runs and leaves it alone ($(h5ls "$work/other/fabric.h5/frames" | wc -l) frames): $(tail -1 "$work/other.log")"
 exit $fail
