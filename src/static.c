@@ -2291,6 +2291,10 @@ PetscErrorCode StaticSolve(StaticSolver ss, StaticResult *r)
     r->nonlinear_iterations = its;
     PetscCall(PetscStrncpy(r->reason, TaoConvergedReasons[treason], sizeof r->reason));
   }
+  /* a direct solve's factors that failed at the last load step (a singular tangent: every yarn of a piece broken)
+     are not factored again on this one's tangent (MUMPS: "called after analysis phase fails"), and its solve then
+     stopped the run with MUMPS's INFOG(1)=-3: each load step's preconditioner starts afresh */
+  if (!ss->tao) PetscCall(FreshFactors(ss));
   for (int attempt = 0; attempt < MAX_ATTEMPTS && !ss->tao; attempt++) { /* a failed solve is retried, stiffer */
     PetscInt  lits;
     PetscReal move;
@@ -2321,13 +2325,20 @@ PetscErrorCode StaticSolve(StaticSolver ss, StaticResult *r)
     char      given[448];
     if (ss->tao) PetscCall(SolveMove(ss, &move));
     SolverOptionsGiven(given, sizeof given);
+    char broken[256] = ""; /* pieces the broken yarns cut loose have no state at rest to find */
+    if (fab->stats.rupture.segments > 0)
+      PetscCall(PetscSNPrintf(broken, sizeof broken,
+                              "; %" PetscInt64_FMT " yarn segments have broken, and a piece they cut loose has no state "
+                              "at rest (-solver explicit follows it; -rupture_drop_pct %g ends the test at the rupture)",
+                              (PetscInt64) fab->stats.rupture.segments,
+                              (double) (fab->s.rupture.drop > 0 ? 100 * fab->s.rupture.drop : 90)));
     PetscCheck(move <= fab->grid.extent && reason != SNES_DIVERGED_FNORM_NAN, fab->comm, PETSC_ERR_FP,
                "numerical failure at load step %" PetscInt_FMT ": the quasi-static solve moved a crossing farther than "
-               "the fabric's size %g m, or to NaN or Inf, or its residual diverged (DIVERGED_DTOL)%s; %s%s%s",
+               "the fabric's size %g m, or to NaN or Inf, or its residual diverged (DIVERGED_DTOL)%s; %s%s%s%s",
                fab->load.load_step, (double) fab->grid.extent,
                ss->tao ? "" : ", each time from the first guess again with a stiffer shift",
                given[0] ? "the solver options given (" : "the solver's defaults fail on this fabric",
-               given, given[0] ? ") may not suit this fabric" : "");
+               given, given[0] ? ") may not suit this fabric" : "", broken);
   }
   /* the state's forces at the solution (the measurements read them) give the balance test */
   {
