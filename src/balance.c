@@ -162,6 +162,10 @@ PetscErrorCode PointLoadHeldCheck(Fabric fab)
     if (i + 1 < p->gxs + p->gxm && p->exists[k + 1] && !p->broken_x[k]) held = PETSC_TRUE;
     if (j > p->gys && p->exists[k - w] && !p->broken_y[k - w]) held = PETSC_TRUE;
     if (j + 1 < p->gys + p->gym && p->exists[k + w] && !p->broken_y[k]) held = PETSC_TRUE;
+    /* a plane or a pedestal may hold it: a tear's te steps end before the crossing lands on one below it (the
+       square net's distance check below stays) */
+    for (PetscInt b = 0; b < fab->bodies.n; b++)
+      if (fab->bodies.body[b].kind == BODY_PLANE || fab->bodies.body[b].kind == BODY_PEDESTAL) held = PETSC_TRUE;
     loose[0] = held ? 0.0 : 1.0;
     PetscCall(VecGetArrayRead(fab->state.X, &x));
     PetscCall(VecGetArrayRead(fab->grid.X0, &x0));
