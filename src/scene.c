@@ -1650,13 +1650,14 @@ static PetscErrorCode DeriveBodies(MPI_Comm comm, const SceneInput *in, Scene *s
     /* A_disc is the pedestal's disc: it must hold the specimen's centre flat, under its centre and touching its
        lower face (a pedestal off-centre or below the fabric gave drape coefficients below 0 or above the truth) */
     PetscCheck(b->pedestal_radius == 0 ||
-                   (b->pedestal_top[0] == 0 && b->pedestal_top[1] == 0 && b->pedestal_top[2] >= -b->thickness),
+                   (b->pedestal_top[0] == 0 && b->pedestal_top[1] == 0 && b->pedestal_top[2] >= -b->thickness &&
+                    b->pedestal_top[2] <= 0), /* above: wholly over the fabric (within it: refused below) */
                comm, PETSC_ERR_USER_INPUT,
                "-pedestal_top_mm %g,%g,%g with -test drape: the drape coefficient's support disc is the pedestal's top "
-               "face under the specimen's centre, touching it (x = y = 0, -%g mm <= z; z = -%g mm, half the "
+               "face under the specimen's centre, touching it (x = y = 0, -%g mm <= z <= -%g mm; z = -%g mm, half the "
                "-thickness_mm, when unset); leave -pedestal_top_mm out or use -pedestal_diameter_mm 0 with -clamp ring",
                1e3 * (double) b->pedestal_top[0], 1e3 * (double) b->pedestal_top[1], 1e3 * (double) b->pedestal_top[2],
-               1e3 * (double) b->thickness, 0.5e3 * (double) b->thickness);
+               1e3 * (double) b->thickness, 0.5e3 * (double) b->thickness, 0.5e3 * (double) b->thickness);
   }
   if (b->sphere_radius > 0 && b->plane) { /* a ball moving towards the plane must stay a fabric's thickness off it: in
                                              between, the fabric was crushed between two rigid bodies, and their
