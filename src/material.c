@@ -31,6 +31,8 @@ static void CheckYarnHeader(const YarnLaw *y, PetscInt lineno, char *p, char *ms
    after count rows, the last of them prev_s, prev_f: the first row 0,0, then strictly increasing
    strains and forces that never fall (a yarn does not soften: there is no softening model) nor
    go negative. Otherwise msg says what is wrong, with the file, the line and the values. */
+#define YARN_STRAIN_PCT_MAX 1e6 /* a table's largest strain, % */
+
 static void CheckYarnRow(const YarnLaw *y, PetscInt lineno, char *p, PetscInt count, double prev_s, double prev_f,
                          double *s, double *f, char *msg, size_t len)
 {
@@ -53,6 +55,9 @@ static void CheckYarnRow(const YarnLaw *y, PetscInt lineno, char *p, PetscInt co
     snprintf(msg, len, "%s: the first row must be 0,0 (no force at zero yarn strain), found %g,%g", at, *s, *f);
   else if (*f < 0)
     snprintf(msg, len, "%s: force %g cN is negative: the law is the tension of a stretched yarn (>= 0)", at, *f);
+  else if (*s > YARN_STRAIN_PCT_MAX) /* the energy's integral of a law over 1e300 % overflowed (the static path) */
+    snprintf(msg, len, "%s: strain %g %% is beyond %g %% (ten thousand times the yarn's length, which no yarn survives): strains are in %%",
+             at, *s, YARN_STRAIN_PCT_MAX);
   else if (count > 0 && *s == prev_s)
     snprintf(msg, len, "%s: strain %g %% repeats the line before: two forces at one strain", at, *s);
   else if (count > 0 && !(*s > prev_s))
