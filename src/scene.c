@@ -648,7 +648,18 @@ static PetscErrorCode ReadOption(MPI_Comm comm, const OptionDesc *o, int yarn, c
   case OPT_BOOL: PetscCall(ParseBool(comm, name, text, (PetscBool *) f)); break;
   case OPT_ENUM: PetscCall(ParseEnum(comm, name, text, o->choices, (PetscInt *) f)); break;
   case OPT_STRING: PetscCall(PetscStrncpy((char *) f, text, PETSC_MAX_PATH_LEN)); break;
-  default: PetscCall(ParseArray(comm, o, name, text, f, (PetscInt *) Field(base, &(OptionDesc){.at = o->at_n})));
+  default: {
+    const PetscInt *n   = (PetscInt *) Field(base, &(OptionDesc){.at = o->at_n});
+    const size_t    len = strlen(name);
+    PetscCall(ParseArray(comm, o, name, text, f, (PetscInt *) n));
+    /* places and lines in mm, as the sizes (a ball started at 1e300 mm never touched the fabric, and the run was
+       reported converged; a plane at 1e308 mm "starts inf mm into the fabric") */
+    for (PetscInt k = 0; o->type == OPT_REALS && len > 3 && !strcmp(name + len - 3, "_mm") && k < PetscMin(*n, o->nmax); k++)
+      PetscCheck(PetscAbsReal(((PetscReal *) f)[k]) <= SIZE_MAX_MM, comm, PETSC_ERR_USER_INPUT,
+                 "-%s: its number %" PetscInt_FMT ", %.15g mm, is beyond the physical range (at most %s mm either way: "
+                 "%s)",
+                 name, k + 1, (double) ((PetscReal *) f)[k], TEXT(SIZE_MAX_MM), SIZE_WHY);
+  }
   }
   PetscFunctionReturn(0);
 }
