@@ -162,12 +162,18 @@ PetscErrorCode PointLoadHeldCheck(Fabric fab)
     if (i + 1 < p->gxs + p->gxm && p->exists[k + 1] && !p->broken_x[k]) held = PETSC_TRUE;
     if (j > p->gys && p->exists[k - w] && !p->broken_y[k - w]) held = PETSC_TRUE;
     if (j + 1 < p->gys + p->gym && p->exists[k + w] && !p->broken_y[k]) held = PETSC_TRUE;
-    /* a plane or a pedestal may hold it: a tear's te steps end before the crossing lands on one below it (the
-       square net's distance check below stays) */
-    for (PetscInt b = 0; b < fab->bodies.n; b++)
-      if (fab->bodies.body[b].kind == BODY_PLANE || fab->bodies.body[b].kind == BODY_PEDESTAL) held = PETSC_TRUE;
-    loose[0] = held ? 0.0 : 1.0;
     PetscCall(VecGetArrayRead(fab->state.X, &x));
+    /* a plane or a pedestal the load presses it onto may hold it (a tear's te steps end before the crossing lands
+       on one below it): a plane facing the load, a pedestal's top under the crossing with the load downwards. The
+       square net's distance check below stays. */
+    for (PetscInt b = 0; b < fab->bodies.n; b++) {
+      const Body *body = &fab->bodies.body[b];
+      if (body->kind == BODY_PLANE && P[0] * body->dir[0] + P[1] * body->dir[1] + P[2] * body->dir[2] < 0) held = PETSC_TRUE;
+      if (body->kind == BODY_PEDESTAL && P[2] < 0 &&
+          PetscSqr(x[3 * q] - body->ref[0]) + PetscSqr(x[3 * q + 1] - body->ref[1]) <= PetscSqr(body->radius + body->reach))
+        held = PETSC_TRUE;
+    }
+    loose[0] = held ? 0.0 : 1.0;
     PetscCall(VecGetArrayRead(fab->grid.X0, &x0));
     loose[1] = PetscSqrtReal(PetscSqr(x[3 * q] - x0[3 * q]) + PetscSqr(x[3 * q + 1] - x0[3 * q + 1]) +
                              PetscSqr(x[3 * q + 2] - x0[3 * q + 2]));

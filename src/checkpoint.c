@@ -1325,11 +1325,13 @@ static int CheckFramesFile(const Scene *s, const FabricIO io, const double *fram
     snprintf(why, sizeof why,
              "-restart %s: %s is not of this grid (%d x %d crossings, this run has %" PetscInt_FMT " x %" PetscInt_FMT ")",
              restart, file, nx, ny, s->spec.nx, s->spec.ny);
-  else if (!ReadStringAttr(g, "scene_hash", hash, sizeof hash) || strcmp(hash, io->scene_hash))
+  else if (ReadStringAttr(g, "scene_hash", hash, sizeof hash) ? strcmp(hash, io->scene_hash) != 0
+                                                                : H5Aexists(g, "scene_hash") > 0) /* none: an earlier
+                                                                  build's file, which the frames below tell */
     snprintf(why, sizeof why,
              "-restart %s: %s is another run's: its scene_hash %s is not this run's %s (a run of other options wrote "
              "it): it is not the file of this run",
-             restart, file, hash[0] ? hash : "(none)", io->scene_hash);
+             restart, file, hash[0] ? hash : "(unreadable)", io->scene_hash);
   else if (!ReadAttr(g, "frames", H5T_NATIVE_INT, &count))
     snprintf(why, sizeof why, "-restart %s: %s has no frames attribute at its root (damaged)", restart, file);
   else { /* /frames holds frames alone: a link of another name is not this program's */
@@ -1341,7 +1343,7 @@ static int CheckFramesFile(const Scene *s, const FabricIO io, const double *fram
         long index;
         if (H5Lget_name_by_idx(fg, ".", H5_INDEX_NAME, H5_ITER_INC, l, name, sizeof name, H5P_DEFAULT) < 0) name[0] = 0;
         index = strtol(name, &end, 10);
-        if (!name[0] || *end || index < 0 || strlen(name) != 6)
+        if (strlen(name) < 6 || strspn(name, "0123456789") != strlen(name) || index < 0) /* %06d: 6 digits or more */
           snprintf(why, sizeof why, "-restart %s: %s holds /frames/%s, which is not a frame: it is not the file of this run",
                    restart, file, name);
       }

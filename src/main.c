@@ -496,11 +496,20 @@ int main(int argc, char **argv)
     PetscCall(PetscOptionsClearValue(NULL, "-log_view")); /* no profile of a failed run */
   }
   PetscCall(PetscPopErrorHandler());
-  PetscCall(PetscFinalize());
-  /* PetscFinalize gives SIGTERM back its default action: a SIGTERM now (a batch system's limit as the
-     run ends) would kill a rank whose run is done, and mpiexec would say it failed. The handler only
-     sets a flag, which nothing reads any more. */
-  if (stop_signals_caught) signal(SIGTERM, CheckpointSignal);
+  { /* PetscFinalize gives SIGTERM back its default action: a SIGTERM then (a batch system's limit as the run
+       ends) would kill a rank whose run is done, and mpiexec would say it failed. The stop signals wait
+       across it and come to the handler again, which only sets a flag, which nothing reads any more. */
+    sigset_t stop, was;
+    sigemptyset(&stop);
+    sigaddset(&stop, SIGTERM);
+    sigaddset(&stop, SIGUSR1);
+    if (stop_signals_caught) sigprocmask(SIG_BLOCK, &stop, &was);
+    PetscCall(PetscFinalize());
+    if (stop_signals_caught) {
+      signal(SIGTERM, CheckpointSignal);
+      sigprocmask(SIG_SETMASK, &was, NULL);
+    }
+  }
   MPI_Comm_free(&stop_comm);
   MPI_Finalize();
   return ierr ? 1 : CheckpointStopped() ? CHECKPOINT_STOPPED : 0;

@@ -654,8 +654,9 @@ static PetscErrorCode ReadOption(MPI_Comm comm, const OptionDesc *o, int yarn, c
     PetscCall(ParseArray(comm, o, name, text, f, (PetscInt *) n));
     /* places and lines in mm, as the sizes (a ball started at 1e300 mm never touched the fabric, and the run was
        reported converged; a plane at 1e308 mm "starts inf mm into the fabric") */
+    const PetscBool lines = strstr(name, "_line_mm") ? PETSC_TRUE : PETSC_FALSE; /* x,y,angle_deg,half_width_mm */
     for (PetscInt k = 0; o->type == OPT_REALS && len > 3 && !strcmp(name + len - 3, "_mm") && k < PetscMin(*n, o->nmax); k++)
-      PetscCheck(PetscAbsReal(((PetscReal *) f)[k]) <= SIZE_MAX_MM, comm, PETSC_ERR_USER_INPUT,
+      PetscCheck((lines && k % 4 == 2) || PetscAbsReal(((PetscReal *) f)[k]) <= SIZE_MAX_MM, comm, PETSC_ERR_USER_INPUT,
                  "-%s: its number %" PetscInt_FMT ", %.15g mm, is beyond the physical range (at most %s mm either way: "
                  "%s)",
                  name, k + 1, (double) ((PetscReal *) f)[k], TEXT(SIZE_MAX_MM), SIZE_WHY);
@@ -1662,7 +1663,7 @@ static PetscErrorCode DeriveBodies(MPI_Comm comm, const SceneInput *in, Scene *s
        lower face (a pedestal off-centre or below the fabric gave drape coefficients below 0 or above the truth) */
     PetscCheck(b->pedestal_radius == 0 ||
                    (b->pedestal_top[0] == 0 && b->pedestal_top[1] == 0 && b->pedestal_top[2] >= -b->thickness &&
-                    b->pedestal_top[2] <= 0), /* above: wholly over the fabric (within it: refused below) */
+                    b->pedestal_top[2] <= -0.5 * b->thickness), /* above: within the fabric, or wholly over it */
                comm, PETSC_ERR_USER_INPUT,
                "-pedestal_top_mm %g,%g,%g with -test drape: the drape coefficient's support disc is the pedestal's top "
                "face under the specimen's centre, touching it (x = y = 0, -%g mm <= z <= -%g mm; z = -%g mm, half the "

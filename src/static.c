@@ -2326,12 +2326,14 @@ PetscErrorCode StaticSolve(StaticSolver ss, StaticResult *r)
     if (ss->tao) PetscCall(SolveMove(ss, &move));
     SolverOptionsGiven(given, sizeof given);
     char broken[256] = ""; /* pieces the broken yarns cut loose have no state at rest to find */
-    if (fab->stats.rupture.segments > 0)
+    if (fab->stats.rupture.segments > 0) /* -rupture_drop_pct: the tests with a force to watch, when it is off */
       PetscCall(PetscSNPrintf(broken, sizeof broken,
                               "; %" PetscInt64_FMT " yarn segments have broken, and a piece they cut loose has no state "
-                              "at rest (-solver explicit follows it; -rupture_drop_pct %g ends the test at the rupture)",
+                              "at rest (-solver explicit follows it%s)",
                               (PetscInt64) fab->stats.rupture.segments,
-                              (double) (fab->s.rupture.drop > 0 ? 100 * fab->s.rupture.drop : 90)));
+                              fab->s.test != TEST_SQUARE && fab->s.test != TEST_DRAPE && !(fab->s.rupture.drop > 0)
+                                ? "; -rupture_drop_pct 90 ends the test at the rupture"
+                                : ""));
     PetscCheck(move <= fab->grid.extent && reason != SNES_DIVERGED_FNORM_NAN, fab->comm, PETSC_ERR_FP,
                "numerical failure at load step %" PetscInt_FMT ": the quasi-static solve moved a crossing farther than "
                "the fabric's size %g m, or to NaN or Inf, or its residual diverged (DIVERGED_DTOL)%s; %s%s%s%s",

@@ -10,7 +10,8 @@
 #  4. a restart that writes no frames: fabric.h5 and fabric.xmf keep the frames written before the
 #     checkpoint and no later one (the stopped run's later frames stayed);
 #  5. the same beside a damaged fabric.h5: the run goes on and leaves the file alone;
-#  6. the same beside another run's fabric.h5 (other options, the same grid): left alone too.
+#  6. the same beside another run's fabric.h5 (other options, the same grid): left alone too;
+#  7. the run's own fabric.h5 of a build before its scene_hash attribute: cut as in 4.
 set -u
 fabric="$1"; strip="$2"; rupture="$3"
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
@@ -71,4 +72,12 @@ cp "$work/full/checkpoint.h5" "$work/other/" && sum=$(md5sum <"$work/other/fabri
 "$fabric" "${ropts[@]}" -output_every 0 -output_te_every 0 -output_tear_every 0 -restart "$work/other/checkpoint.h5" \
   -output_dir "$work/other" >"$work/other.log" 2>&1; rc=$?
 check '[[ $rc == 0 && "$(md5sum <"$work/other/fabric.h5")" == "$sum" ]]' "a restart without frames beside another run's fabric.h5 (its scene_hash another) runs and leaves it alone ($(h5ls "$work/other/fabric.h5/frames" | wc -l) frames): $(tail -1 "$work/other.log")"
+# 7. the run's own fabric.h5 written by a build before scene_hash (the attribute removed): its frames tell it is
+#    this run's, and a restart without frames cuts it to the checkpoint's frames as in 4
+cp -r "$work/full" "$work/old"
+/usr/bin/python3 -c "import sys, h5py; f = h5py.File(sys.argv[1], 'r+'); del f.attrs['scene_hash']" "$work/old/fabric.h5" || fail=1
+"$fabric" "${ropts[@]}" -output_every 0 -output_te_every 0 -output_tear_every 0 -restart "$work/old/checkpoint.h5" \
+  -output_dir "$work/old" >/dev/null 2>&1 || fail=1
+kept=$(h5ls "$work/old/fabric.h5/frames" | wc -l)
+check '[[ $kept == "$ck_frames" ]]' "a restart without frames, its run's fabric.h5 of an earlier build (no scene_hash): cut to the checkpoint's $ck_frames frames ($kept)"
 exit $fail
