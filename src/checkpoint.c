@@ -1339,11 +1339,9 @@ static int CheckFramesFile(const Scene *s, const FabricIO io, const double *fram
     H5G_info_t info;
     if (fg >= 0 && H5Gget_info(fg, &info) >= 0)
       for (hsize_t l = 0; l < info.nlinks && !why[0]; l++) {
-        char name[64] = "", *end;
-        long index;
+        char name[64] = "";
         if (H5Lget_name_by_idx(fg, ".", H5_INDEX_NAME, H5_ITER_INC, l, name, sizeof name, H5P_DEFAULT) < 0) name[0] = 0;
-        index = strtol(name, &end, 10);
-        if (strlen(name) < 6 || strspn(name, "0123456789") != strlen(name) || index < 0) /* %06d: 6 digits or more */
+        if (strlen(name) < 6 || strspn(name, "0123456789") != strlen(name)) /* %06d: 6 digits or more */
           snprintf(why, sizeof why, "-restart %s: %s holds /frames/%s, which is not a frame: it is not the file of this run",
                    restart, file, name);
       }

@@ -179,11 +179,11 @@ static PetscErrorCode OneLineErrorHandler(MPI_Comm comm, int line, const char *f
   return n;
 }
 
+static int stop_signals_caught; /* CatchStopSignals installed its handler */
+
 /* SIGTERM (a batch system's wall-time limit) or SIGUSR1 (forwarded to the ranks by mpiexec): the run writes
    a checkpoint at its next te step and stops with exit status 3 (checkpoint.c). Only with an output
    directory to write it to; the handler only sets a flag. */
-static int stop_signals_caught; /* CatchStopSignals installed its handler */
-
 static PetscErrorCode CatchStopSignals(Fabric fab)
 {
   struct sigaction sa;

@@ -489,8 +489,7 @@ static PetscErrorCode ParseArray(MPI_Comm comm, const OptionDesc *o, const char 
   Shown sh;
   char buf[4096], *next = buf;
 
-  PetscFunctionBeginUser;
-  PetscCheck(strlen(text) < sizeof buf, comm, PETSC_ERR_USER_INPUT, "-%s: value too long", name);
+  PetscFunctionBeginUser; /* text fits: ReadOption refuses a longer value */
   PetscCall(PetscStrncpy(buf, text, sizeof buf));
   *n = 0;
   while (next) { /* every field between commas: an empty one is refused, not skipped */
@@ -577,6 +576,23 @@ static PetscErrorCode CheckReal(MPI_Comm comm, const OptionDesc *o, const char *
   PetscFunctionReturn(0);
 }
 
+/* an array option's places and lines in mm (its name ends in _mm), within the sizes' range either way: a ball started
+   at 1e300 mm never touched the fabric and the run was reported converged; a plane at 1e308 mm "started inf mm into
+   the fabric". A line's angle (x,y,angle_deg,half_width_mm) is not a length. */
+static PetscErrorCode CheckMillimetres(MPI_Comm comm, const char *name, const PetscReal *v, PetscInt n)
+{
+  const size_t    len   = strlen(name);
+  const PetscBool lines = strstr(name, "_line_mm") ? PETSC_TRUE : PETSC_FALSE;
+
+  PetscFunctionBeginUser;
+  if (len < 3 || strcmp(name + len - 3, "_mm")) PetscFunctionReturn(0);
+  for (PetscInt k = 0; k < n; k++)
+    PetscCheck((lines && k % 4 == 2) || PetscAbsReal(v[k]) <= SIZE_MAX_MM, comm, PETSC_ERR_USER_INPUT,
+               "-%s: its number %" PetscInt_FMT ", %.15g mm, is beyond the physical range (at most %s mm either way: %s)",
+               name, k + 1, (double) v[k], TEXT(SIZE_MAX_MM), SIZE_WHY);
+  PetscFunctionReturn(0);
+}
+
 /* the default as -help shows it */
 static void DefaultText(const OptionDesc *o, const void *field, PetscReal def, char *out, size_t len)
 {
@@ -649,17 +665,9 @@ static PetscErrorCode ReadOption(MPI_Comm comm, const OptionDesc *o, int yarn, c
   case OPT_ENUM: PetscCall(ParseEnum(comm, name, text, o->choices, (PetscInt *) f)); break;
   case OPT_STRING: PetscCall(PetscStrncpy((char *) f, text, PETSC_MAX_PATH_LEN)); break;
   default: {
-    const PetscInt *n   = (PetscInt *) Field(base, &(OptionDesc){.at = o->at_n});
-    const size_t    len = strlen(name);
-    PetscCall(ParseArray(comm, o, name, text, f, (PetscInt *) n));
-    /* places and lines in mm, as the sizes (a ball started at 1e300 mm never touched the fabric, and the run was
-       reported converged; a plane at 1e308 mm "starts inf mm into the fabric") */
-    const PetscBool lines = strstr(name, "_line_mm") ? PETSC_TRUE : PETSC_FALSE; /* x,y,angle_deg,half_width_mm */
-    for (PetscInt k = 0; o->type == OPT_REALS && len > 3 && !strcmp(name + len - 3, "_mm") && k < PetscMin(*n, o->nmax); k++)
-      PetscCheck((lines && k % 4 == 2) || PetscAbsReal(((PetscReal *) f)[k]) <= SIZE_MAX_MM, comm, PETSC_ERR_USER_INPUT,
-                 "-%s: its number %" PetscInt_FMT ", %.15g mm, is beyond the physical range (at most %s mm either way: "
-                 "%s)",
-                 name, k + 1, (double) ((PetscReal *) f)[k], TEXT(SIZE_MAX_MM), SIZE_WHY);
+    PetscInt *n = (PetscInt *) Field(base, &(OptionDesc){.at = o->at_n});
+    PetscCall(ParseArray(comm, o, name, text, f, n));
+    if (o->type == OPT_REALS) PetscCall(CheckMillimetres(comm, name, (const PetscReal *) f, *n));
   }
   }
   PetscFunctionReturn(0);

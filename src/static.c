@@ -2291,13 +2291,13 @@ PetscErrorCode StaticSolve(StaticSolver ss, StaticResult *r)
     r->nonlinear_iterations = its;
     PetscCall(PetscStrncpy(r->reason, TaoConvergedReasons[treason], sizeof r->reason));
   }
-  /* a direct solve's factors that failed at the last load step (a singular tangent: every yarn of a piece broken)
-     are not factored again on this one's tangent (MUMPS: "called after analysis phase fails"), and its solve then
-     stopped the run with MUMPS's INFOG(1)=-3: each load step's preconditioner starts afresh */
-  if (!ss->tao) PetscCall(FreshFactors(ss));
   for (int attempt = 0; attempt < MAX_ATTEMPTS && !ss->tao; attempt++) { /* a failed solve is retried, stiffer */
     PetscInt  lits;
     PetscReal move;
+    /* each attempt's preconditioner afresh: a direct solve's factors that failed (a singular tangent: every yarn of
+       a piece broken) are not factored again on the next tangent (MUMPS: "called after analysis phase fails"), and
+       the next load step's solve then stopped the run with MUMPS's INFOG(1)=-3 */
+    PetscCall(FreshFactors(ss));
     PetscCall(SNESSolve(ss->snes, NULL, fab->state.X));
     PetscCall(SNESGetConvergedReason(ss->snes, &reason));
     PetscCall(SNESGetIterationNumber(ss->snes, &its));
@@ -2317,7 +2317,6 @@ PetscErrorCode StaticSolve(StaticSolver ss, StaticResult *r)
                reason != SNES_DIVERGED_TR_DELTA)    /* newtontr's: its trust region shrank to nothing */
       break;
     ss->h->shift = PetscMax(100.0 * ss->h->shift, 1e-6); /* start again from where it stopped, stiffer */
-    PetscCall(FreshFactors(ss));
   }
   if (!ss->tao) PetscCall(PetscStrncpy(r->reason, SNESConvergedReasons[reason], sizeof r->reason));
   {
@@ -2331,7 +2330,7 @@ PetscErrorCode StaticSolve(StaticSolver ss, StaticResult *r)
                               "; %" PetscInt64_FMT " yarn segments have broken, and a piece they cut loose has no state "
                               "at rest (-solver explicit follows it%s)",
                               (PetscInt64) fab->stats.rupture.segments,
-                              fab->s.test != TEST_SQUARE && fab->s.test != TEST_DRAPE && !(fab->s.rupture.drop > 0)
+                              ReactionTest(&fab->s) && !(fab->s.rupture.drop > 0)
                                 ? "; -rupture_drop_pct 90 ends the test at the rupture"
                                 : ""));
     PetscCheck(move <= fab->grid.extent && reason != SNES_DIVERGED_FNORM_NAN, fab->comm, PETSC_ERR_FP,
