@@ -650,7 +650,7 @@ static PetscErrorCode StopNonFinite(Fabric fab)
   PetscCall(InstabilityCause(fab, cause, sizeof cause));
   SETERRQ(fab->comm, PETSC_ERR_FP,
           "numerical instability at load step %" PetscInt_FMT ", te step %" PetscInt64_FMT
-          ": velocities became NaN, Inf or too large to square, first at crossing (%" PetscInt_FMT ", %" PetscInt_FMT
+          " of the run: velocities became NaN, Inf or too large to square, first at crossing (%" PetscInt_FMT ", %" PetscInt_FMT
           ") (te = %g s, stable bound %g s)%s",
           fab->load.load_step, fab->stats.te_steps, (PetscInt) (-first) % p->nx, (PetscInt) (-first) / p->nx,
           (double) fab->step.te, (double) fab->step.te_bound, cause);
@@ -750,7 +750,7 @@ PetscErrorCode TimeStep(Fabric fab, StepStats *out)
     PetscCall(InstabilityCause(fab, cause, sizeof cause));
     SETERRQ(fab->comm, PETSC_ERR_FP,
             "numerical instability at load step %" PetscInt_FMT ", te step %" PetscInt64_FMT
-            ": runaway motion, a point moved %g m in one step, more than the fabric's size %g m (te = %g s, stable "
+            " of the run: runaway motion, a point moved %g m in one step, more than the fabric's size %g m (te = %g s, stable "
             "bound %g s)%s",
             fab->load.load_step, fab->stats.te_steps, (double) (out->speed * fab->step.te), (double) fab->grid.extent,
             (double) fab->step.te, (double) fab->step.te_bound, cause);

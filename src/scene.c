@@ -1821,7 +1821,7 @@ static PetscErrorCode CheckOptionsApply(MPI_Comm comm, const Scene *s)
   const char     *nofire = "FIRE has no damping to set (a tear's is -tear_damping_ratio)";
   const char     *relaxer = s->num.solver == SOLVER_STATIC ? "-solver static and no yarn breaking"
                                                            : "-integrator fire and no yarn breaking";
-  char test[64], shape[64], clamp[64], law[2][PETSC_MAX_PATH_LEN + 16];
+  char test[64], shape[64], clamp[64], law[2][PETSC_MAX_PATH_LEN + 16], te[64];
   struct {
     const char *name;
     PetscBool   applies;
@@ -1866,10 +1866,16 @@ static PetscErrorCode CheckOptionsApply(MPI_Comm comm, const Scene *s)
       {"jam_factor", s->terms.shear, "-shear false", "the shear term is off"},
       {"warp_bending_Nm2", s->terms.bending, "-bending false", "the bending term is off"},
       {"weft_bending_Nm2", s->terms.bending, "-bending false", "the bending term is off"},
+      /* -te sets te itself: no safety is applied to the bound, and -te_check has nothing else to check */
+      {"te_safety", !(s->num.te_user > 0), te, "te is given, not taken from the stable bound"},
+      {"tear_te_safety", !(s->num.te_user > 0), te, "te is given, also a tear's, not taken from the stable bound"},
+      {"te_check", s->num.te_user > 0 || s->num.te_check, "-te unset",
+       "te comes from the stable bound, below it by its safety: there is no -te to check"},
   };
 
   PetscFunctionBeginUser;
   PetscCall(PetscSNPrintf(test, sizeof test, "-test %s", TestNames[s->test]));
+  PetscCall(PetscSNPrintf(te, sizeof te, "-te %g", (double) s->num.te_user));
   PetscCall(PetscSNPrintf(shape, sizeof shape, "-shape %s", ShapeNames[s->spec.shape]));
   PetscCall(PetscSNPrintf(clamp, sizeof clamp, "-clamp %s", ClampNames[s->clamps.clamp]));
   PetscCall(PetscSNPrintf(law[0], sizeof law[0], "-warp_law_csv %s", s->yarns.warp.csv));

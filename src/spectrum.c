@@ -303,7 +303,8 @@ static PetscErrorCode Measure(Fabric fab, PetscReal te_prev, PetscBool last)
   PetscFunctionBeginUser;
   fab->step.te_prev_step = step;
   /* the run's first state (load step 0) is never stepped with: load step 1 takes its te after its grips moved */
-  if (!every || of < 1 || !(of == 1 || of % every == 0 || of == fab->s.load.load_steps)) PetscFunctionReturn(0);
+  /* last: the run's last state, also where it ended before its last load step (a rupture) */
+  if (!every || of < 1 || !(of == 1 || of % every == 0 || of == fab->s.load.load_steps || last)) PetscFunctionReturn(0);
   PetscCall(TangentOmega2Max(fab, &omega2, &its));
   if (!(omega2 > 0)) PetscFunctionReturn(0); /* no stiffness between free crossings: no limit */
   m.load_step = of;

@@ -6,14 +6,18 @@
 #     list of states, within the 6 digits printed;
 #  3. the paper's scheme (-integrator paper) is stable to 1/omega_max, half the 2/omega_max of the
 #     default FIRE (and of the damped scheme): at load step 1's start (the grips moved, no te step taken:
-#     the same state for both) its limit is the FIRE run's / 2, within 1e-5.
+#     the same state for both) its limit is the FIRE run's / 2, within 1e-5;
+#  4. a run that ruptures before its last load step measures its last state: `last` is the end of the
+#     load step it ruptured in (-te_measure 100 measured only load step 1, and `last` named it).
 set -u
 fabric="$1"; inputs="$2"
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
 opts=(-scene "$inputs/strip_warp.yaml" -yarns 4 -gauge_mm 10 -elongation_pct 12 -load_steps 6 -te_measure 1 -quiet)
 mpiexec -n 2 "$fabric" "${opts[@]}" -output_dir "$work/d" -info :sys >"$work/log" 2>&1 || { cat "$work/log"; echo "FAIL the FIRE run"; exit 1; }
 mpiexec -n 2 "$fabric" "${opts[@]}" -output_dir "$work/p" -integrator paper >"$work/paper.log" 2>&1 || { cat "$work/paper.log"; echo "FAIL the paper run"; exit 1; }
-/usr/bin/python3 - "$work/log" "$work/d/summary.json" "$work/p/summary.json" <<'PY'
+"$fabric" -scene "$inputs/strip_warp_rupture.yaml" -ends_per_cm 6 -picks_per_cm 5 -gauge_mm 20 -width_mm 10 -load_steps 8 \
+  -te_measure 100 -quiet -output_dir "$work/r" >"$work/rupture.log" 2>&1 || { cat "$work/rupture.log"; echo "FAIL the rupture run"; exit 1; }
+/usr/bin/python3 - "$work/log" "$work/d/summary.json" "$work/p/summary.json" "$work/r/summary.json" <<'PY'
 import json, re, sys
 states = [(int(m[1]), m[2], float(m[3]), float(m[4]))
           for m in re.finditer(r"\[0\] <sys> Measure\(\): load step (\d+) (start|end): te (\S+) s, stable bound \S+ s, measured limit (\S+) s",
@@ -40,5 +44,9 @@ check(abs(d["worst"]["te_over_limit"] - worst) < 1e-4, f"worst: the largest te /
 r = p["first"]["limit_s"] / d["first"]["limit_s"]
 check(p["first"]["load_step"] == 1 and p["first"]["at"] == "start" and abs(r - 0.5) < 1e-5 * 0.5,
       f"the paper scheme's limit at load step 1's start / FIRE's = {r:.7f} (1/omega_max vs 2/omega_max: 0.5)")
+u = json.load(open(sys.argv[4]))
+t = u["te_measure"]
+check(u["load_steps_done"] < 8 and u["rupture"] is not None and t["states"] == 3 and t["last"]["load_step"] == u["load_steps_done"]
+      and t["last"]["at"] == "end", f"ruptured at load step {u['load_steps_done']} of 8: last measured {t['last']['load_step']} {t['last']['at']}, {t['states']} states")
 sys.exit(fail)
 PY
