@@ -231,12 +231,16 @@ static inline PetscReal DrapeSupportRadius(const Scene *s)
 }
 
 PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv);
-/* what PETSc's YAML option reader would refuse in text, where (msg); 0: nothing (plain C, before PetscInitialize) */
-int YamlOptionsProblem(const char *text, char *msg, size_t len);
+/* what PETSc's YAML option reader would refuse in text, where (msg); 0: nothing (plain C, before PetscInitialize),
+   and then (opts not NULL) the options it would set, with their values, in order (a "$$name: !include F" as
+   -options_file_yaml F), freed by OptionFileFree */
+int YamlOptionsProblem(const char *text, char *msg, size_t len, char ***opts, int *nopts);
 /* what PETSc's reader of a plain option file (-options_file) would refuse in text, where (msg); 0: nothing, and
    then (opts not NULL) the file's options and values in order, freed by OptionFileFree */
 int  OptionFileProblem(const char *text, char *msg, size_t len, char ***opts, int *nopts);
 void OptionFileFree(char **opts, int n);
+/* what PETSc would refuse in the value of a viewer option -name ([type][:file[:format]]), said in msg; 0: nothing */
+int  ViewerValueProblem(const char *name, const char *value, char *msg, size_t len);
 /* an unknown option is an error; with solver_options_later, PETSc's solver options (-snes_*, -ksp_*,
    -pc_*, -mg_*, -mat_*) are left to the quasi-static solver, and SceneWarnUnused names those it has not read
    (when: by when, e.g. "by the solves up to load step 1"), once: a name warned about is marked used */

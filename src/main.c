@@ -364,6 +364,13 @@ static int FileOptionProblem(int n, char **tok, const char *where, int depth)
     const int   write = history || info || !strcasecmp(tok[k], "-log_trace");
     const char *f = k + 1 < n ? tok[k + 1] : "";
     struct stat st;
+    if (!strcasecmp(tok[k], "-log_view") && k + 1 < n && tok[k + 1][0] != '-') { /* parsed by PetscInitialize */
+      char why[1024];
+      if (ViewerValueProblem("log_view", tok[k + 1], why, sizeof why)) {
+        fprintf(stderr, "fabric: error: %s%s\n", why, where);
+        return 1;
+      }
+    }
     if (!read && !write) continue;
     if (!f[0] || f[0] == '-' || (info && f[0] == ':')) { /* -info :sys: classes, no file */
       if (!read) continue; /* -history, -info and -log_trace without one write to PETSc's default */
@@ -392,7 +399,8 @@ static int FileOptionProblem(int n, char **tok, const char *where, int depth)
       text = fp ? calloc((size_t) st.st_size + 1, 1) : NULL;
       if (text && fread(text, 1, (size_t) st.st_size, fp) == (size_t) st.st_size) {
         yaml = yaml || !strncmp(text, "%YAML ", 6) || !strncmp(text, "---", 3);
-        (void) (yaml ? YamlOptionsProblem(text, why, sizeof why) : OptionFileProblem(text, why, sizeof why, &opts, &nopts));
+        (void) (yaml ? YamlOptionsProblem(text, why, sizeof why, &opts, &nopts)
+                     : OptionFileProblem(text, why, sizeof why, &opts, &nopts));
       }
       if (fp) fclose(fp);
       free(text);
@@ -434,7 +442,32 @@ static int FileOptionProblem(int n, char **tok, const char *where, int depth)
   return 0;
 }
 
-/* ... on the command line and in PETSC_OPTIONS */
+/* PETSc's own option files, read at every start unless the command line says -skip_petscrc (alone, or true):
+   ~/.petscrc, then .petscrc and petscrc in the working directory (PetscOptionsInsert); one that is not there,
+   or not a readable file, is passed over */
+static int RcFileProblem(int argc, char **argv)
+{
+  const char *home = getenv("HOME");
+  char        path[3][4096];
+
+  for (int k = 1; k < argc; k++)
+    if (!strcasecmp(argv[k], "-skip_petscrc")) {
+      const char *v = k + 1 < argc ? argv[k + 1] : "";
+      if (!v[0] || v[0] == '-' || !strcasecmp(v, "true") || !strcasecmp(v, "yes") || !strcmp(v, "1")) return 0;
+    }
+  snprintf(path[0], sizeof path[0], "%s/.petscrc", home ? home : "");
+  snprintf(path[1], sizeof path[1], ".petscrc");
+  snprintf(path[2], sizeof path[2], "petscrc");
+  for (int k = home && home[0] ? 0 : 1; k < 3; k++) {
+    struct stat st;
+    char       *tok[2] = {"-options_file", path[k]};
+    if (stat(path[k], &st) || !S_ISREG(st.st_mode) || access(path[k], R_OK)) continue;
+    if (FileOptionProblem(2, tok, " (PETSc reads it at every start; -skip_petscrc leaves it out)", 0)) return 1;
+  }
+  return 0;
+}
+
+/* ... on the command line, in PETSc's own option files and in PETSC_OPTIONS and PETSC_OPTIONS_YAML */
 static int InitFileProblem(int argc, char **argv)
 {
   const char *env = getenv("PETSC_OPTIONS");
@@ -442,13 +475,19 @@ static int InitFileProblem(int argc, char **argv)
   int         n = 0, bad;
 
   if (FileOptionProblem(argc - 1, argv + 1, "", 0)) return 1;
-  { /* PETSc refuses malformed YAML there with a traceback */
+  if (RcFileProblem(argc, argv)) return 1;
+  { /* PETSc refuses malformed YAML there with a traceback; its -history, -info, ... are looked at as the command
+       line's */
     const char *yaml = getenv("PETSC_OPTIONS_YAML");
-    char        why[512] = "";
-    if (yaml && YamlOptionsProblem(yaml, why, sizeof why)) {
+    char        why[512] = "", **opts = NULL;
+    int         nopts = 0;
+    if (yaml && YamlOptionsProblem(yaml, why, sizeof why, &opts, &nopts)) {
       fprintf(stderr, "fabric: error: PETSC_OPTIONS_YAML: not valid YAML options: %s\n", why);
       return 1;
     }
+    bad = FileOptionProblem(nopts, opts, " (in PETSC_OPTIONS_YAML)", 0);
+    OptionFileFree(opts, nopts);
+    if (bad) return 1;
   }
   if (!env || !(copy = strdup(env))) return 0;
   for (char *t = strtok(copy, " \t\n"); t && n < 1024; t = strtok(NULL, " \t\n")) tok[n++] = t;
@@ -493,7 +532,12 @@ int main(int argc, char **argv)
   ierr = Run(argc, argv);
   if (ierr) {
     StopTogether();
-    PetscCall(PetscOptionsClearValue(NULL, "-log_view")); /* no profile of a failed run */
+    /* no profile or report of a failed run (a scene's -memory_view, refused, would stop PetscFinalize too: the
+       memory was never measured) */
+    static const char *const report[] = {"-log_view",    "-log_all",        "-log_summary", "-memory_view",
+                                         "-malloc_view", "-malloc_dump",    "-malloc_info", "-objects_dump",
+                                         "-options_view", "-get_total_flops", "-options_left"};
+    for (size_t k = 0; k < sizeof report / sizeof report[0]; k++) PetscCall(PetscOptionsClearValue(NULL, report[k]));
   }
   PetscCall(PetscPopErrorHandler());
   { /* PetscFinalize gives SIGTERM back its default action: a SIGTERM then (a batch system's limit as the run

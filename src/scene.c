@@ -828,11 +828,14 @@ static int YamlProblem(const char *text, char *msg, size_t len)
       yaml_event_delete(&e);
     }
   }
-  if (bad && p.error == YAML_READER_ERROR) { /* a byte that is not UTF-8: libyaml gives its offset, no mark */
+  if (bad && p.error == YAML_READER_ERROR) { /* a byte that is not UTF-8: libyaml gives its offset, no mark; of a
+                                                  bad trailing byte, the sequence's leading one is named */
     unsigned long line = 1, col = 1;
-    for (size_t k = 0; k < p.problem_offset && text[k]; k++) line += text[k] == '\n', col = text[k] == '\n' ? 1 : col + 1;
+    size_t        lead = p.problem_offset;
+    while (lead > 0 && p.problem_offset - lead < 3 && (unsigned char) text[lead - 1] >= 0x80) lead--;
+    for (size_t k = 0; k < lead && text[k]; k++) line += text[k] == '\n', col = text[k] == '\n' ? 1 : col + 1;
     snprintf(msg, len, "line %lu, column %lu: %s (byte 0x%02x; the file must be UTF-8)", line, col,
-             p.problem ? p.problem : "a byte that cannot be read", (unsigned) (p.problem_value & 0xff));
+             p.problem ? p.problem : "a byte that cannot be read", (unsigned) (unsigned char) text[lead]);
   } else if (bad)
     snprintf(msg, len, "line %lu, column %lu: %s%s%s%s", (unsigned long) p.problem_mark.line + 1,
              (unsigned long) p.problem_mark.column + 1, p.problem ? p.problem : "a YAML error",
@@ -847,12 +850,93 @@ static int YamlProblem(const char *text, char *msg, size_t len)
    refusal there is a traceback and an abort). */
 static int FindBadKeyIn(FILE *fp, int options_only, char *msg, size_t len);
 
-int YamlOptionsProblem(const char *text, char *msg, size_t len)
+typedef struct { /* a list of option names and values (OptionFileFree) */
+  char **v;
+  int    n, cap, failed;
+} OptionList;
+
+static void ListAdd(OptionList *l, const char *a, const char *b)
+{
+  const char *t[2] = {a, b};
+  if (l->failed) return;
+  if (l->n + 2 > l->cap) {
+    char **v = realloc(l->v, (size_t) (2 * l->cap + 16) * sizeof *v);
+    if (!v) {
+      l->failed = 1;
+      return;
+    }
+    l->v = v, l->cap = 2 * l->cap + 16;
+  }
+  for (int k = 0; k < 2; k++)
+    if (!(l->v[l->n] = strdup(t[k]))) l->failed = 1;
+    else l->n++;
+}
+
+/* The options PETSc's YAML reader (PetscParseLayerYAML) sets from a mapping node: "-prefix" "key" for a scalar,
+   the items of a sequence joined by commas, a mapping under the prefix "key_" (also a sequence's mapping items),
+   "<<" merged without a prefix; "$$name: !include F" reads F (here -options_file_yaml F). Keys it cannot take are
+   left to the checks above. */
+static void YamlFlatten(yaml_document_t *doc, yaml_node_t *node, const char *prefix, OptionList *l, int depth)
+{
+  if (!node || node->type != YAML_MAPPING_NODE || depth > 64) return;
+  for (yaml_node_pair_t *q = node->data.mapping.pairs.start; q < node->data.mapping.pairs.top && !l->failed; q++) {
+    yaml_node_t *k = yaml_document_get_node(doc, q->key), *v = yaml_document_get_node(doc, q->value);
+    const char  *key;
+    char         name[4096];
+    if (!k || !v || k->type != YAML_SCALAR_NODE) continue;
+    key = (const char *) k->data.scalar.value;
+    if (!strcmp(key, "<<")) {
+      if (v->type == YAML_MAPPING_NODE) YamlFlatten(doc, v, prefix, l, depth + 1);
+      else if (v->type == YAML_SEQUENCE_NODE)
+        for (yaml_node_item_t *i = v->data.sequence.items.start; i < v->data.sequence.items.top; i++)
+          YamlFlatten(doc, yaml_document_get_node(doc, *i), prefix, l, depth + 1);
+      continue;
+    }
+    if (!prefix[0] && (!strcasecmp(key, "options_file") || !strcasecmp(key, "options_file_yaml")))
+      continue; /* PETSc does not read a file named by a YAML key (SceneCheckUnused says so) */
+    if (!strncmp(key, "$$", 2)) {
+      const char *tag = (const char *) v->tag;
+      size_t      tl  = tag ? strlen(tag) : 0;
+      if (v->type == YAML_SCALAR_NODE && tl >= 8 && !strcmp(tag + tl - 8, "!include"))
+        ListAdd(l, "-options_file_yaml", (const char *) v->data.scalar.value);
+      continue;
+    }
+    snprintf(name, sizeof name, "%s%s", prefix, key);
+    if (v->type == YAML_SCALAR_NODE) {
+      char opt[4100];
+      snprintf(opt, sizeof opt, "-%s", name);
+      ListAdd(l, opt, (const char *) v->data.scalar.value);
+    } else if (v->type == YAML_MAPPING_NODE) {
+      char sub[4100];
+      snprintf(sub, sizeof sub, "%s_", name);
+      YamlFlatten(doc, v, sub, l, depth + 1);
+    } else if (v->type == YAML_SEQUENCE_NODE) { /* the scalar items joined (what -history etc. would get) */
+      char opt[4100], joined[8192] = "";
+      for (yaml_node_item_t *i = v->data.sequence.items.start; i < v->data.sequence.items.top; i++) {
+        yaml_node_t *it = yaml_document_get_node(doc, *i);
+        if (it && it->type == YAML_SCALAR_NODE && it->data.scalar.length) {
+          size_t len = strlen(joined);
+          snprintf(joined + len, sizeof joined - len, "%s%s", len ? "," : "", (const char *) it->data.scalar.value);
+        } else if (it && it->type == YAML_MAPPING_NODE) {
+          char sub[4100];
+          snprintf(sub, sizeof sub, "%s_", name);
+          YamlFlatten(doc, it, sub, l, depth + 1);
+        }
+      }
+      snprintf(opt, sizeof opt, "-%s", name);
+      ListAdd(l, opt, joined);
+    }
+  }
+}
+
+int YamlOptionsProblem(const char *text, char *msg, size_t len, char ***opts, int *nopts)
 {
   yaml_parser_t   p;
   yaml_document_t doc;
   int             bad = 0, done = 0;
+  OptionList      list = {0};
 
+  if (opts) *opts = NULL, *nopts = 0;
   if (YamlProblem(text, msg, len)) return 1;
   if (!yaml_parser_initialize(&p)) return 0;
   yaml_parser_set_input_string(&p, (const unsigned char *) text, strlen(text));
@@ -866,7 +950,7 @@ int YamlOptionsProblem(const char *text, char *msg, size_t len)
         bad = 1;
         snprintf(msg, len, "line %lu: not a mapping of options ('key: value' lines)",
                  (unsigned long) root->start_mark.line + 1);
-      } else
+      } else {
         for (yaml_node_pair_t *q = root->data.mapping.pairs.start; q < root->data.mapping.pairs.top && !bad; q++) {
           yaml_node_t *key = yaml_document_get_node(&doc, q->key);
           if (key && key->type == YAML_SCALAR_NODE) continue;
@@ -874,6 +958,8 @@ int YamlOptionsProblem(const char *text, char *msg, size_t len)
           snprintf(msg, len, "line %lu: a key that is not a plain option name",
                    (unsigned long) (key ? key->start_mark.line : root->start_mark.line) + 1);
         }
+        if (!bad && opts) YamlFlatten(&doc, root, "", &list, 0);
+      }
     }
     yaml_document_delete(&doc);
   }
@@ -885,6 +971,8 @@ int YamlOptionsProblem(const char *text, char *msg, size_t len)
       fclose(fp);
     }
   }
+  if (bad || list.failed || !opts) OptionFileFree(list.v, list.n); /* out of memory: its options are not looked at */
+  else *opts = list.v, *nopts = list.n;
   return bad;
 }
 
@@ -1261,21 +1349,37 @@ static PetscErrorCode ReadSceneText(MPI_Comm comm, const char *file, char **text
 {
   PetscInt    len = 0;
   PetscMPIInt rank;
-  FILE       *fp = NULL;
+  char       *buf = NULL;
 
   PetscFunctionBeginUser;
   PetscCall(CommRank(comm, &rank));
-  if (!rank) len = (fp = fopen(file, "r")) && !fseek(fp, 0, SEEK_END) ? (PetscInt) ftell(fp) : -1;
+  if (!rank) { /* to its end, whatever size the file reports (a file of /proc reports 0) */
+    FILE  *fp  = fopen(file, "r");
+    size_t cap = 0, n = 0, got = 1;
+    len        = fp ? 0 : -1;
+    while (fp && got) {
+      if (n == cap) {
+        char *b = cap < (size_t) PETSC_MAX_INT / 2 ? realloc(buf, cap = 2 * cap + 65536) : NULL;
+        if (!b) {
+          len = -2;
+          break;
+        }
+        buf = b;
+      }
+      got = fread(buf + n, 1, cap - n, fp);
+      n += got;
+    }
+    if (fp && ferror(fp)) len = -1;
+    if (fp) fclose(fp);
+    if (len == 0) len = (PetscInt) n;
+  }
   PetscCall(BroadcastFromRoot(comm, &len, 1, MPIU_INT));
-  if (len < 0 && fp) fclose(fp);
+  if (len < 0) free(buf);
+  PetscCheck(len != -2, comm, PETSC_ERR_MEM, "-scene %s: the file does not fit in memory", file);
   PetscCheck(len >= 0, comm, PETSC_ERR_FILE_OPEN, "-scene %s: cannot read the file", file);
   PetscCall(PetscMalloc1(len + 1, text));
-  if (!rank && fp) {
-    rewind(fp);
-    len = (PetscInt) fread(*text, 1, (size_t) len, fp);
-  }
-  if (fp) fclose(fp);
-  PetscCall(BroadcastFromRoot(comm, &len, 1, MPIU_INT));
+  if (!rank) PetscCall(PetscMemcpy(*text, buf, (size_t) len));
+  free(buf);
   PetscCall(BroadcastFromRoot(comm, *text, len, MPI_CHAR));
   (*text)[len] = 0;
   { /* a NUL byte would end the text there for the YAML parser: the rest of the file would be left unread */
@@ -1407,7 +1511,8 @@ static PetscBool StartupOption(const char *name)
                                         "malloc_debug",     "malloc_dump",       "malloc_view",     "malloc_test",
                                         "memory_view",      "options_file",      "options_file_yaml", "options_monitor",
                                         "on_error_abort",   "on_error_attach_debugger", "start_in_debugger",
-                                        "stop_for_debugger", "no_signal_handler", "skip_petscrc",   "objects_dump"};
+                                        "stop_for_debugger", "no_signal_handler", "skip_petscrc",   "objects_dump",
+                                        "malloc_info"};
   for (size_t q = 0; q < sizeof startup / sizeof startup[0]; q++)
     if (!strcasecmp(name, startup[q])) return PETSC_TRUE;
   return PETSC_FALSE;
@@ -1424,6 +1529,8 @@ PetscErrorCode SceneCheckUnused(MPI_Comm comm, PetscBool solver_options_later)
        that is not finite stops the run by its own checks) */
     PetscBool set, trap = PETSC_FALSE;
     PetscCall(PetscOptionsHasName(NULL, NULL, "-options_left", &set));
+    PetscCall(PetscOptionsHasName(NULL, NULL, "-options_view", &set));
+    PetscCall(PetscOptionsHasName(NULL, NULL, "-get_total_flops", &set));
     PetscCall(PetscOptionsGetBool(NULL, NULL, "-fp_trap", &trap, NULL));
     PetscCheck(!trap, comm, PETSC_ERR_USER_INPUT,
                "-fp_trap: the force kernels evaluate both arms of their selects, so a trap would fire on a value "
@@ -2587,6 +2694,48 @@ PetscBool OptionIs(const char *name, const char *suffix)
              : PETSC_FALSE;
 }
 
+/* an option PETSc reads as a viewer ([type][:file[:format[:mode]]]): -log_view, -X_view and -X_monitor (but PETSc's
+   own switches -options_view, -memory_view, -malloc_view and -options_monitor), -X_converged_reason */
+static int ViewerOption(const char *name)
+{
+  static const char *const plain[] = {"options_view", "memory_view", "malloc_view", "options_monitor"};
+  for (size_t k = 0; k < sizeof plain / sizeof plain[0]; k++)
+    if (!strcmp(name, plain[k])) return 0;
+  return !strcmp(name, "log_view") || OptionIs(name - 1, "view") || OptionIs(name - 1, "monitor") ||
+         OptionIs(name - 1, "converged_reason");
+}
+
+/* What PETSc's viewer parser (PetscOptionsGetViewer) would refuse in the value of option -name, said in msg; 0: nothing,
+   or not a viewer option. Plain C: main.c asks it before PetscInitialize parses -log_view's (a traceback and an abort
+   there, and a value it cannot take stopped the run where it was read: -log_view's at the very end). */
+int ViewerValueProblem(const char *name, const char *value, char *msg, size_t len)
+{
+  static const char *const viewers[] = {"ascii", "binary", "draw", "socket", "matlab", "saws", "vtk", "hdf5",
+                                        "glvis", "exodusii"};
+  const char  *colon = strchr(value, ':'), *fmt = colon ? strchr(colon + 1, ':') : NULL;
+  const size_t tl    = colon ? (size_t) (colon - value) : strlen(value);
+  char         f[256];
+  int          found = tl ? 0 : 1;
+
+  if (!value[0] || !ViewerOption(name)) return 0;
+  for (size_t k = 0; k < sizeof viewers / sizeof viewers[0] && !found; k++) /* PETSc: the type ends with one */
+    found = tl >= strlen(viewers[k]) && !strncmp(value + tl - strlen(viewers[k]), viewers[k], strlen(viewers[k]));
+  if (!found) {
+    snprintf(msg, len, "-%s %s: '%.*s' is not a PETSc viewer (the value is [type][:file[:format]], type ascii, binary, "
+             "draw, vtk or hdf5; -%s alone prints to the screen)", name, value, (int) tl, value, name);
+    return 1;
+  }
+  snprintf(f, sizeof f, "%.*s", fmt ? (int) strcspn(fmt + 1, ":") : 0, fmt ? fmt + 1 : "");
+  if (!f[0]) return 0;
+  found = 0;
+  for (int k = 0; PetscViewerFormats[k] && k < 64 && !found; k++) /* the names, then the enum's name and prefix */
+    found = !strcasecmp(PetscViewerFormats[k], f);
+  if (found) return 0;
+  snprintf(msg, len, "-%s %s: '%s' is not a PETSc viewer format (as default, ascii_info, ascii_info_detail, "
+           "ascii_matlab)", name, value, f);
+  return 1;
+}
+
 /* A PETSc viewer option that names a file ([type]:file[:format], -log_view :log.txt, -snes_monitor
    :snes.txt, -ksp_view_mat binary:A.bin): PETSc opens it only when it first writes, -log_view's at
    the very end of a run, and a rank that cannot open it stops alone, so look now. PETSc opens the
@@ -2604,6 +2753,7 @@ static void ProbeViewerFiles(const char *output_dir, char *msg, size_t len)
     const int   log = !strcmp(name, "log_view");
     char        file[PETSC_MAX_PATH_LEN];
     int         known = 0;
+    if (ViewerValueProblem(name, value, msg, len)) break;
     if (!colon || (!strstr(name, "_view") && !strstr(name, "monitor") && !OptionIs(g.name[q], "converged_reason")))
       continue;
     for (size_t k = 0; k < sizeof types / sizeof types[0]; k++)

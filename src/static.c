@@ -398,10 +398,15 @@ static PetscErrorCode EnergyLineSearch(SNESLineSearch ls, void *ctx)
   StaticSolver ss = (StaticSolver) ctx;
   SNES         snes;
   Vec          X, F, Y, W, G;
-  PetscReal    xnorm, fnorm, ynorm, gnorm = 0, pi0, pi1, slope, lambda = 1.0;
+  PetscReal    xnorm, fnorm, ynorm, gnorm = 0, pi0, pi1, slope, lambda, minlambda;
+  PetscInt     max_it;
   PetscBool    ok = PETSC_FALSE, noise;
 
   PetscFunctionBeginUser;
+  /* PETSc's line-search options: -snes_linesearch_max_it tries (40: SetDefaults), the first step
+     -snes_linesearch_damping (1), none below -snes_linesearch_minlambda (0: SetDefaults) */
+  PetscCall(SNESLineSearchGetTolerances(ls, &minlambda, NULL, NULL, NULL, NULL, &max_it));
+  PetscCall(SNESLineSearchGetDamping(ls, &lambda));
   PetscCall(SNESLineSearchGetSNES(ls, &snes));
   PetscCall(SNESLineSearchGetVecs(ls, &X, &F, &Y, &W, &G));
   PetscCall(SNESLineSearchGetNorms(ls, &xnorm, &fnorm, &ynorm));
@@ -409,7 +414,7 @@ static PetscErrorCode EnergyLineSearch(SNESLineSearch ls, void *ctx)
   PetscCall(VecDot(F, Y, &slope));
   slope = -slope; /* d Pi(X - lambda Y)/d lambda at 0 = -grad Pi . Y */
   noise = !(slope < 0) || -slope < ENERGY_NOISE * PetscAbsReal(pi0);
-  for (int k = 0; k < 40 && !ok; k++) {
+  for (PetscInt k = 0; k < max_it && !ok && lambda >= minlambda; k++) {
     PetscCall(VecWAXPY(W, -lambda, Y, X));
     if (noise) {
       PetscCall(SNESComputeFunction(snes, W, G));
@@ -1314,6 +1319,7 @@ static PetscErrorCode SetDefaults(StaticSolver ss)
   PetscCall(SNESGetLineSearch(ss->snes, &ls));
   PetscCall(SNESLineSearchSetType(ls, SNESLINESEARCHSHELL));
   PetscCall(SNESLineSearchShellSetUserFunc(ls, EnergyLineSearch, ss));
+  PetscCall(SNESLineSearchSetTolerances(ls, 0.0, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, 40));
   PetscCall(SNESSetTolerances(ss->snes, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, 200, 100000));
   /* CG stops at negative curvature with a descent direction (its iterate so far): the line
      search takes it, and AdaptShift stiffens the next tangent */
@@ -1558,6 +1564,16 @@ static PetscBool PcTypeOk(const char *value)
   return strcmp(value, "telescope") && strcmp(value, "patch") ? PETSC_TRUE : PETSC_FALSE;
 }
 
+/* a type PETSc has registered (PCInitializePackage and KSPInitializePackage have run): a typo under a prefix
+   (-mg_levels_pc_type) is read as the multigrid sets up, mid-run, after the output is made */
+static PetscBool InList(PetscFunctionList list, const char *value)
+{
+  void (*f)(void) = NULL;
+  return !PetscFunctionListFind(list, value, &f) && f ? PETSC_TRUE : PETSC_FALSE;
+}
+static PetscBool PcKnown(const char *value) { return InList(PCList, value); }
+static PetscBool KspKnown(const char *value) { return InList(KSPList, value); }
+
 /* The first option given whose name is suffix under any prefix (-ksp_gmres_restart,
    -mg_levels_ksp_gmres_restart, -tao_nls_ksp_gmres_restart ...) and whose value ("" if none) ok()
    refuses: "-name value" into bad, else "". Read without marking any option used (an option no
@@ -1771,6 +1787,14 @@ PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
                "%s with -solver static: GAMG's aggregation (agg) only; classical hung in PETSc's set-up on 2 ranks, "
                "geo needs coordinates it is not given",
                bad);
+    PetscCall(PCInitializePackage());
+    PetscCall(KSPInitializePackage());
+    PetscCall(FindBadOption("pc_type", PcKnown, bad, sizeof bad));
+    PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT, "%s with -solver static: not a preconditioner PETSc knows (see -help)",
+               bad);
+    PetscCall(FindBadOption("ksp_type", KspKnown, bad, sizeof bad));
+    PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT, "%s with -solver static: not a Krylov method PETSc knows (see -help)",
+               bad);
     PetscCall(FindBadOption("pc_type", PcTypeOk, bad, sizeof bad));
     PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT,
                "%s with -solver static: telescope needs the tangent assembled by PETSc on a sub-grid, patch a DMPlex; "
@@ -1800,6 +1824,15 @@ PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
     PetscCall(MatPtAP(A, A, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &C));
     PetscCall(MatDestroy(&C));
     PetscCall(MatDestroy(&A));
+  }
+  { /* ... which the tangent by stencil never forms: its coarse operators are its own (StaticGalerkin) */
+    char      via[64] = "";
+    PetscBool set     = PETSC_FALSE;
+    PetscCall(PetscOptionsGetString(NULL, NULL, "-matptap_via", via, sizeof via, &set));
+    PetscCheck(!set || !(o.tangent == TANGENT_STENCIL && StencilFits(&o)), comm, PETSC_ERR_USER_INPUT,
+               "-matptap_via %s with the tangent stored by stencil: it forms the multigrid's coarse operators itself, "
+               "not by PETSc's Galerkin products; it applies with -static_tangent aij",
+               via);
   }
   PetscFunctionReturn(0);
 }

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # expect_fail.sh REGEX COMMAND...: bad input must give a clear message, a non-zero exit and no
-# output. The message is the one line "fabric: error: ..." and must match REGEX. The command runs
+# output. The message is the one line "fabric: error: ..." and must match REGEX, with no PETSc traceback. The command runs
 # in an empty directory and gets "-output_dir DIR" appended unless it names its own -output_dir;
 # afterwards that directory must not exist (unless it did before) and the working directory must
 # still be empty (no default results/SCENE, no stray file).
@@ -32,6 +32,10 @@ if [[ $rc -eq 0 ]]; then
 fi
 if ! grep '^fabric: error: ' <<<"$log" | grep -Eq -- "$regex"; then
   echo "FAIL: no 'fabric: error:' line matches: $regex"
+  fail=1
+fi
+if grep -q 'PETSC ERROR' <<<"$log"; then
+  echo "FAIL: PETSc's traceback (PETSC ERROR lines) beside the message"
   fail=1
 fi
 if ((!existed)) && [[ -n "$out" && -e "$out" ]]; then
