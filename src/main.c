@@ -450,11 +450,14 @@ static int RcFileProblem(int argc, char **argv)
   const char *home = getenv("HOME");
   char        path[3][4096];
 
-  for (int k = 1; k < argc; k++)
+  int skip = 0;
+  for (int k = 1; k < argc; k++) /* the last one decides; a value as PETSc's PetscOptionsStringToBool reads it */
     if (!strcasecmp(argv[k], "-skip_petscrc")) {
       const char *v = k + 1 < argc ? argv[k + 1] : "";
-      if (!v[0] || v[0] == '-' || !strcasecmp(v, "true") || !strcasecmp(v, "yes") || !strcmp(v, "1")) return 0;
+      skip = !v[0] || v[0] == '-' || !strcasecmp(v, "true") || !strcasecmp(v, "yes") || !strcasecmp(v, "on") ||
+             !strcmp(v, "1");
     }
+  if (skip) return 0;
   snprintf(path[0], sizeof path[0], "%s/.petscrc", home ? home : "");
   snprintf(path[1], sizeof path[1], ".petscrc");
   snprintf(path[2], sizeof path[2], "petscrc");
@@ -462,7 +465,7 @@ static int RcFileProblem(int argc, char **argv)
     struct stat st;
     char       *tok[2] = {"-options_file", path[k]};
     if (stat(path[k], &st) || !S_ISREG(st.st_mode) || access(path[k], R_OK)) continue;
-    if (FileOptionProblem(2, tok, " (PETSc reads it at every start; -skip_petscrc leaves it out)", 0)) return 1;
+    if (FileOptionProblem(2, tok, " (PETSc's own start-up file, read at every start; -skip_petscrc leaves it out)", 0)) return 1;
   }
   return 0;
 }

@@ -832,7 +832,10 @@ static int YamlProblem(const char *text, char *msg, size_t len)
                                                   bad trailing byte, the sequence's leading one is named */
     unsigned long line = 1, col = 1;
     size_t        lead = p.problem_offset;
-    while (lead > 0 && p.problem_offset - lead < 3 && (unsigned char) text[lead - 1] >= 0x80) lead--;
+    if (p.problem && strstr(p.problem, "trailing")) { /* back over the sequence's continuation bytes to its lead */
+      while (lead > 0 && p.problem_offset - lead < 3 && ((unsigned char) text[lead - 1] & 0xC0) == 0x80) lead--;
+      if (lead > 0 && (unsigned char) text[lead - 1] >= 0xC0) lead--;
+    }
     for (size_t k = 0; k < lead && text[k]; k++) line += text[k] == '\n', col = text[k] == '\n' ? 1 : col + 1;
     snprintf(msg, len, "line %lu, column %lu: %s (byte 0x%02x; the file must be UTF-8)", line, col,
              p.problem ? p.problem : "a byte that cannot be read", (unsigned) (unsigned char) text[lead]);
@@ -873,9 +876,9 @@ static void ListAdd(OptionList *l, const char *a, const char *b)
 }
 
 /* The options PETSc's YAML reader (PetscParseLayerYAML) sets from a mapping node: "-prefix" "key" for a scalar,
-   the items of a sequence joined by commas, a mapping under the prefix "key_" (also a sequence's mapping items),
-   "<<" merged without a prefix; "$$name: !include F" reads F (here -options_file_yaml F). Keys it cannot take are
-   left to the checks above. */
+   the items of a sequence joined by commas (of a one-pair mapping item, its key, and the item under the prefix
+   "key_"; a "$$" item skipped), a mapping under the prefix "key_"; "$$name: !include F" reads F (here
+   -options_file_yaml F). A merge key "<<" is refused before (FindBadKeyIn), as keys PETSc cannot take. */
 static void YamlFlatten(yaml_document_t *doc, yaml_node_t *node, const char *prefix, OptionList *l, int depth)
 {
   if (!node || node->type != YAML_MAPPING_NODE || depth > 64) return;
@@ -885,13 +888,6 @@ static void YamlFlatten(yaml_document_t *doc, yaml_node_t *node, const char *pre
     char         name[4096];
     if (!k || !v || k->type != YAML_SCALAR_NODE) continue;
     key = (const char *) k->data.scalar.value;
-    if (!strcmp(key, "<<")) {
-      if (v->type == YAML_MAPPING_NODE) YamlFlatten(doc, v, prefix, l, depth + 1);
-      else if (v->type == YAML_SEQUENCE_NODE)
-        for (yaml_node_item_t *i = v->data.sequence.items.start; i < v->data.sequence.items.top; i++)
-          YamlFlatten(doc, yaml_document_get_node(doc, *i), prefix, l, depth + 1);
-      continue;
-    }
     if (!prefix[0] && (!strcasecmp(key, "options_file") || !strcasecmp(key, "options_file_yaml")))
       continue; /* PETSc does not read a file named by a YAML key (SceneCheckUnused says so) */
     if (!strncmp(key, "$$", 2)) {
@@ -917,8 +913,12 @@ static void YamlFlatten(yaml_document_t *doc, yaml_node_t *node, const char *pre
         if (it && it->type == YAML_SCALAR_NODE && it->data.scalar.length) {
           size_t len = strlen(joined);
           snprintf(joined + len, sizeof joined - len, "%s%s", len ? "," : "", (const char *) it->data.scalar.value);
-        } else if (it && it->type == YAML_MAPPING_NODE) {
-          char sub[4100];
+        } else if (it && it->type == YAML_MAPPING_NODE && it->data.mapping.pairs.top > it->data.mapping.pairs.start) {
+          yaml_node_t *ik = yaml_document_get_node(doc, it->data.mapping.pairs.start->key); /* PETSc: one pair */
+          char         sub[4100];
+          size_t       len = strlen(joined);
+          if (!ik || ik->type != YAML_SCALAR_NODE || !strncmp((const char *) ik->data.scalar.value, "$$", 2)) continue;
+          snprintf(joined + len, sizeof joined - len, "%s%s", len ? "," : "", (const char *) ik->data.scalar.value);
           snprintf(sub, sizeof sub, "%s_", name);
           YamlFlatten(doc, it, sub, l, depth + 1);
         }
@@ -1377,7 +1377,11 @@ static PetscErrorCode ReadSceneText(MPI_Comm comm, const char *file, char **text
   if (len < 0) free(buf);
   PetscCheck(len != -2, comm, PETSC_ERR_MEM, "-scene %s: the file does not fit in memory", file);
   PetscCheck(len >= 0, comm, PETSC_ERR_FILE_OPEN, "-scene %s: cannot read the file", file);
-  PetscCall(PetscMalloc1(len + 1, text));
+  {
+    PetscErrorCode ierr = PetscMalloc1(len + 1, text);
+    if (ierr) free(buf);
+    PetscCall(ierr);
+  }
   if (!rank) PetscCall(PetscMemcpy(*text, buf, (size_t) len));
   free(buf);
   PetscCall(BroadcastFromRoot(comm, *text, len, MPI_CHAR));
@@ -2698,11 +2702,16 @@ PetscBool OptionIs(const char *name, const char *suffix)
    own switches -options_view, -memory_view, -malloc_view and -options_monitor), -X_converged_reason */
 static int ViewerOption(const char *name)
 {
-  static const char *const plain[] = {"options_view", "memory_view", "malloc_view", "options_monitor"};
-  for (size_t k = 0; k < sizeof plain / sizeof plain[0]; k++)
-    if (!strcmp(name, plain[k])) return 0;
-  return !strcmp(name, "log_view") || OptionIs(name - 1, "view") || OptionIs(name - 1, "monitor") ||
-         OptionIs(name - 1, "converged_reason");
+  /* the solvers' viewers and monitors (under any prefix: -mg_levels_ksp_monitor); PETSc has switches that end
+     alike (-snes_qn_monitor, -ksp_gmres_krylov_monitor: true or false), so only these */
+  static const char *const viewer[] = {"snes_view",   "ksp_view",   "pc_view",    "tao_view",   "dm_view",
+                                       "mat_view",    "vec_view",   "snes_monitor", "ksp_monitor", "tao_monitor",
+                                       "snes_monitor_short", "ksp_monitor_short", "ksp_monitor_true_residual",
+                                       "snes_converged_reason", "ksp_converged_reason", "snes_linesearch_monitor"};
+  if (!strcmp(name, "log_view")) return 1;
+  for (size_t k = 0; k < sizeof viewer / sizeof viewer[0]; k++)
+    if (!strcmp(name, viewer[k]) || OptionIs(name, viewer[k])) return 1;
+  return 0;
 }
 
 /* What PETSc's viewer parser (PetscOptionsGetViewer) would refuse in the value of option -name, said in msg; 0: nothing,
@@ -2727,6 +2736,8 @@ int ViewerValueProblem(const char *name, const char *value, char *msg, size_t le
   }
   snprintf(f, sizeof f, "%.*s", fmt ? (int) strcspn(fmt + 1, ":") : 0, fmt ? fmt + 1 : "");
   if (!f[0]) return 0;
+  if (tl >= 4 && !strncmp(value + tl - 4, "draw", 4) && (!strncmp(colon + 1, "tikz:", 5) || !strncmp(colon + 1, "image:", 6)))
+    return 0; /* draw:tikz:FILE, draw:image:FILE: the third field is a file */
   found = 0;
   for (int k = 0; PetscViewerFormats[k] && k < 64 && !found; k++) /* the names, then the enum's name and prefix */
     found = !strcasecmp(PetscViewerFormats[k], f);

@@ -403,9 +403,15 @@ static PetscErrorCode EnergyLineSearch(SNESLineSearch ls, void *ctx)
   PetscBool    ok = PETSC_FALSE, noise;
 
   PetscFunctionBeginUser;
-  /* PETSc's line-search options: -snes_linesearch_max_it tries (40: SetDefaults), the first step
-     -snes_linesearch_damping (1), none below -snes_linesearch_minlambda (0: SetDefaults) */
-  PetscCall(SNESLineSearchGetTolerances(ls, &minlambda, NULL, NULL, NULL, NULL, &max_it));
+  /* PETSc's line-search options: -snes_linesearch_max_it tries (40 here), the first step -snes_linesearch_damping
+     (1), none below -snes_linesearch_minlambda (0 here); read here, so that PETSc's own line searches keep theirs */
+  {
+    const char *prefix;
+    max_it = 40, minlambda = 0;
+    PetscCall(PetscObjectGetOptionsPrefix((PetscObject) ls, &prefix));
+    PetscCall(PetscOptionsGetInt(NULL, prefix, "-snes_linesearch_max_it", &max_it, NULL));
+    PetscCall(PetscOptionsGetReal(NULL, prefix, "-snes_linesearch_minlambda", &minlambda, NULL));
+  }
   PetscCall(SNESLineSearchGetDamping(ls, &lambda));
   PetscCall(SNESLineSearchGetSNES(ls, &snes));
   PetscCall(SNESLineSearchGetVecs(ls, &X, &F, &Y, &W, &G));
@@ -1319,7 +1325,6 @@ static PetscErrorCode SetDefaults(StaticSolver ss)
   PetscCall(SNESGetLineSearch(ss->snes, &ls));
   PetscCall(SNESLineSearchSetType(ls, SNESLINESEARCHSHELL));
   PetscCall(SNESLineSearchShellSetUserFunc(ls, EnergyLineSearch, ss));
-  PetscCall(SNESLineSearchSetTolerances(ls, 0.0, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, 40));
   PetscCall(SNESSetTolerances(ss->snes, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, 200, 100000));
   /* CG stops at negative curvature with a descent direction (its iterate so far): the line
      search takes it, and AdaptShift stiffens the next tangent */
@@ -1572,6 +1577,14 @@ static PetscBool InList(PetscFunctionList list, const char *value)
   return !PetscFunctionListFind(list, value, &f) && f ? PETSC_TRUE : PETSC_FALSE;
 }
 static PetscBool PcKnown(const char *value) { return InList(PCList, value); }
+/* -snes_converged_reason's format ascii_info_detail: PETSc then measures the error against the exact solution of
+   a DMPlex's discretisation (DMComputeL2Diff), which a DMDA has not: a null call, a segmentation fault */
+static PetscBool NotDetail(const char *value)
+{
+  const char *c = strchr(value, ':');
+  c = c ? strchr(c + 1, ':') : NULL;
+  return c && !strncasecmp(c + 1, "ascii_info_detail", 17) && (!c[18] || c[18] == ':') ? PETSC_FALSE : PETSC_TRUE;
+}
 static PetscBool KspKnown(const char *value) { return InList(KSPList, value); }
 
 /* The first option given whose name is suffix under any prefix (-ksp_gmres_restart,
@@ -1791,6 +1804,11 @@ PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
     PetscCall(KSPInitializePackage());
     PetscCall(FindBadOption("pc_type", PcKnown, bad, sizeof bad));
     PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT, "%s with -solver static: not a preconditioner PETSc knows (see -help)",
+               bad);
+    PetscCall(FindBadOption("snes_converged_reason", NotDetail, bad, sizeof bad));
+    PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT,
+               "%s with -solver static: PETSc's detailed reason measures the error against the exact solution of a "
+               "DMPlex discretisation, which the fabric's grid has not (it crashed there); use -snes_converged_reason",
                bad);
     PetscCall(FindBadOption("ksp_type", KspKnown, bad, sizeof bad));
     PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT, "%s with -solver static: not a Krylov method PETSc knows (see -help)",
