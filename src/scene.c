@@ -2734,6 +2734,14 @@ int ViewerValueProblem(const char *name, const char *value, char *msg, size_t le
              "draw, vtk or hdf5; -%s alone prints to the screen)", name, value, (int) tl, value, name);
     return 1;
   }
+  if (tl >= 4 && !strncmp(value + tl - 4, "draw", 4) && !(colon && (!strncmp(colon + 1, "tikz", 4) || !strncmp(colon + 1, "image", 5)))) {
+    const char *display = getenv("DISPLAY"); /* PETSc's X11 window: "Unable to open display", a traceback */
+    if (!(display && display[0])) {
+      snprintf(msg, len, "-%s %s: a draw viewer opens an X window, and DISPLAY is not set; give a display, or "
+               "draw:tikz:FILE or draw:image:FILE", name, value);
+      return 1;
+    }
+  }
   snprintf(f, sizeof f, "%.*s", fmt ? (int) strcspn(fmt + 1, ":") : 0, fmt ? fmt + 1 : "");
   if (!f[0]) return 0;
   if (tl >= 4 && !strncmp(value + tl - 4, "draw", 4) && (!strncmp(colon + 1, "tikz:", 5) || !strncmp(colon + 1, "image:", 6)))

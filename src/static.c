@@ -1805,6 +1805,25 @@ PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
     PetscCall(FindBadOption("pc_type", PcKnown, bad, sizeof bad));
     PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT, "%s with -solver static: not a preconditioner PETSc knows (see -help)",
                bad);
+    PetscCall(FindBadOption("snes_monitor_fields", NeverOk, bad, sizeof bad));
+    PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT,
+               "%s with -solver static: PETSc's monitor by field needs the fields of a DMPlex discretisation, which the "
+               "fabric's grid has not (it crashed there); use -snes_monitor",
+               bad);
+    { /* PETSc's X11 plots without a display: "Unable to open display", a traceback (-draw_type image or tikz
+         draws to files) */
+      const char *display = getenv("DISPLAY");
+      PetscBool   drawtype;
+      PetscCall(PetscOptionsHasName(NULL, NULL, "-draw_type", &drawtype));
+      if (!drawtype && !(display && display[0])) {
+        PetscCall(FindBadOption("ksp_plot_eigenvalues", NeverOk, bad, sizeof bad));
+        if (!bad[0]) PetscCall(FindBadOption("ksp_plot_eigenvalues_explicitly", NeverOk, bad, sizeof bad));
+        PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT,
+                   "%s: PETSc draws it in an X window, and DISPLAY is not set; give a display, or -draw_type image "
+                   "(files)",
+                   bad);
+      }
+    }
     PetscCall(FindBadOption("snes_converged_reason", NotDetail, bad, sizeof bad));
     PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT,
                "%s with -solver static: PETSc's detailed reason measures the error against the exact solution of a "
