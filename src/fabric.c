@@ -596,6 +596,12 @@ static PetscErrorCode CheckStiffnessAndMass(Fabric fab)
     m[1] = PetscMax(m[1], mk);
   }
   PetscCall(GlobalMax(fab->comm, m, 2));
+  /* no crossing has a segment (a disc too small for the grid: none inside it, or one alone) */
+  PetscCheck(m[1] > 0 || s->spec.shape != SHAPE_DISC, fab->comm, PETSC_ERR_USER_INPUT,
+             "-disc_diameter_mm %g at %g x %g threads/cm: the disc holds at most one crossing, no yarn segment",
+             2e3 * (double) s->spec.disc_radius, (double) s->in.ends_per_cm, (double) s->in.picks_per_cm);
+  PetscCheck(m[1] > 0, fab->comm, PETSC_ERR_USER_INPUT, "the specimen holds no yarn segment (-shape %s at %g x %g threads/cm)",
+             ShapeNames[s->spec.shape], (double) s->in.ends_per_cm, (double) s->in.picks_per_cm);
   PetscCheck(m[1] > 0 && isfinite(m[1]) && -m[0] >= DBL_MIN && isfinite(-1.0 / m[0]), fab->comm, PETSC_ERR_USER_INPUT,
              "-warp_tex %g and -weft_tex %g at %g x %g threads/cm give crossing masses from %g to %g kg: too light to "
              "integrate (below 2.2e-308 kg, 1/m overflows)",
@@ -812,6 +818,29 @@ static PetscErrorCode SetUpAnchors(Fabric fab)
   PetscFunctionReturn(0);
 }
 
+/* The pull points from the clamped crossings to the grip (-grip_line_mm may put the grip on either side): a grip
+   whose crossings lie, on average, before the clamped ones along the pull turns it round, so that the grip moves
+   away from the clamps, and the elongation and the reaction are positive in tension */
+static PetscErrorCode PullAwayFromClamps(Fabric fab)
+{
+  const PetscScalar *x0;
+  const PetscReal   *u = fab->grid.pull_dir;
+  PetscReal          sum[4] = {0, 0, 0, 0}; /* along the pull: the grip's, their number, the clamps', theirs */
+
+  PetscFunctionBeginUser;
+  PetscCall(VecGetArrayRead(fab->grid.X0, &x0));
+  for (PetscInt k = 0; k < fab->grid.nloc; k++) {
+    const PetscReal a = x0[3 * k] * u[0] + x0[3 * k + 1] * u[1] + x0[3 * k + 2] * u[2];
+    if (fab->grid.kind[k] == POINT_GRIP) sum[0] += a, sum[1] += 1;
+    else if (fab->grid.kind[k] == POINT_CLAMPED) sum[2] += a, sum[3] += 1;
+  }
+  PetscCall(VecRestoreArrayRead(fab->grid.X0, &x0));
+  PetscCall(GlobalSum(fab->comm, sum, 4));
+  if (sum[1] > 0 && sum[3] > 0 && sum[0] / sum[1] < sum[2] / sum[3])
+    for (int d = 0; d < 3; d++) fab->grid.pull_dir[d] = -fab->grid.pull_dir[d];
+  PetscFunctionReturn(0);
+}
+
 /* the grid, state and set-up of the scene fab->s */
 static PetscErrorCode FabricSetUp(Fabric fab)
 {
@@ -843,6 +872,7 @@ static PetscErrorCode FabricSetUp(Fabric fab)
   for (int d = 0; d < 3; d++) fab->load.gravity_now[d] = s->terms.gravity[d];
   if (s->spec.shape == SHAPE_BIAS)
     fab->grid.pull_dir[0] = fab->grid.pull_dir[1] = 1.0 / PetscSqrtReal(2.0); /* along the specimen */
+  PetscCall(PullAwayFromClamps(fab));
   if (s->num.integrator == INTEGRATOR_PAPER) {
     PetscCall(VecDuplicate(fab->state.X, &fab->state.Xold));
     PetscCall(VecDuplicate(fab->state.X, &fab->state.Vold));

@@ -1768,6 +1768,16 @@ static PetscErrorCode DeriveBodies(MPI_Comm comm, const SceneInput *in, Scene *s
                "-shape %s with -test drape: the drape coefficient (BS 5058, ISO 9073-9) is that of a disc specimen; "
                "use -shape disc",
                ShapeNames[s->spec.shape]);
+    /* the skirt hangs free: held at its rim or along a line through it, the fabric is no drape (a 25 x 25 cm
+       trampoline gave a drape coefficient of 100 %, a line through the skirt 67 %) */
+    PetscCheck(s->clamps.clamp == CLAMP_RING || s->clamps.clamp == CLAMP_NONE, comm, PETSC_ERR_USER_INPUT,
+               "-clamp %s with -test drape: the skirt must hang free; the drape holds its centre (-clamp ring, or a "
+               "pedestal with -clamp none)",
+               ClampNames[s->clamps.clamp]);
+    PetscCheck(in->n_clamp_line_mm == 0 && in->n_grip_line_mm == 0, comm, PETSC_ERR_USER_INPUT,
+               "%s with -test drape: the skirt must hang free; the drape holds its centre (-clamp ring, or a pedestal "
+               "with -clamp none)",
+               in->n_clamp_line_mm ? "-clamp_line_mm" : "-grip_line_mm");
     PetscCheck(DrapeSupportRadius(s) > 0, comm, PETSC_ERR_USER_INPUT,
                "-pedestal_diameter_mm %g with -clamp %s: the drape has no support (a pedestal, or a clamping ring with "
                "-clamp ring): the specimen would fall freely",

@@ -1586,6 +1586,15 @@ static PetscBool NotDetail(const char *value)
   return c && !strncasecmp(c + 1, "ascii_info_detail", 17) && (!c[18] || c[18] == ':') ? PETSC_FALSE : PETSC_TRUE;
 }
 static PetscBool KspKnown(const char *value) { return InList(KSPList, value); }
+/* a matrix type for the multigrid's coarse operators (-mat_type): one PETSc knows, and one the coarsest level's
+   LU factorisation takes (not sbaij, is: "Could not locate a solver type", mid-run) */
+static PetscBool MatOk(const char *value)
+{
+  char seq[64];
+  snprintf(seq, sizeof seq, "seq%s", value); /* aij, baij, dense: root names of seqaij, ... */
+  return (InList(MatList, value) || InList(MatList, seq)) && !strstr(value, "sbaij") && strcmp(value, "is") ? PETSC_TRUE
+                                                                                                      : PETSC_FALSE;
+}
 
 /* The first option given whose name is suffix under any prefix (-ksp_gmres_restart,
    -mg_levels_ksp_gmres_restart, -tao_nls_ksp_gmres_restart ...) and whose value ("" if none) ok()
@@ -1828,6 +1837,20 @@ PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
     PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT,
                "%s with -solver static: PETSc's detailed reason measures the error against the exact solution of a "
                "DMPlex discretisation, which the fabric's grid has not (it crashed there); use -snes_converged_reason",
+               bad);
+    PetscCall(MatInitializePackage());
+    { /* -mat_type itself (-dm_mat_type is the assembled tangent's: DMCreateMatrix checks it as it is made) */
+      OptionsGiven g;
+      bad[0] = 0;
+      PetscCheck(!OptionsGivenGet(&g), PETSC_COMM_SELF, PETSC_ERR_MEM, "cannot list the options given");
+      for (PetscInt q = 0; q < g.n && !bad[0]; q++)
+        if (!strcasecmp(g.name[q], "-mat_type") && !MatOk(g.value[q]))
+          PetscCall(PetscSNPrintf(bad, sizeof bad, "%s %s", g.name[q], g.value[q]));
+      OptionsGivenFree(&g);
+    }
+    PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT,
+               "%s with -solver static: not a matrix type PETSc knows, or one the multigrid's coarsest LU factorisation "
+               "does not take (sbaij, is); aij, baij or dense",
                bad);
     PetscCall(FindBadOption("ksp_type", KspKnown, bad, sizeof bad));
     PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT, "%s with -solver static: not a Krylov method PETSc knows (see -help)",
