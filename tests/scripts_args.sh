@@ -62,7 +62,7 @@ case "$case_" in
     expect 2 "bench_static.sh: option -static_sequence without its value (options before the sizes are -option value pairs)" "$b" -static_sequence
     expect 2 "bench_static.sh: size 'abc': the crossings along a side, a whole number from 3" "$b" 11 abc
     # a run that fails: it was left without a word as well
-    LOAD_STEPS=2 expect 1 "bench_static.sh: the run of 11x11 crossings failed: fabric: error: -pc_type cg: Unable to find requested PC type cg (in PETSc's solvers; the solver options given: -pc_type cg)" \
+    LOAD_STEPS=2 expect 1 "bench_static.sh: the run of 11x11 crossings failed: fabric: error: -pc_type cg with -solver static: not a preconditioner PETSc knows (see -help)" \
       "$b" -pc_type cg 11
     ;;
   drape_grid)
