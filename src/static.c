@@ -1809,16 +1809,33 @@ PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
                "%s with -solver static: GAMG's aggregation (agg) only; classical hung in PETSc's set-up on 2 ranks, "
                "geo needs coordinates it is not given",
                bad);
-    PetscCall(PCInitializePackage());
-    PetscCall(KSPInitializePackage());
-    PetscCall(FindBadOption("pc_type", PcKnown, bad, sizeof bad));
-    PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT, "%s with -solver static: not a preconditioner PETSc knows (see -help)",
-               bad);
-    PetscCall(FindBadOption("snes_monitor_fields", NeverOk, bad, sizeof bad));
-    PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT,
-               "%s with -solver static: PETSc's monitor by field needs the fields of a DMPlex discretisation, which the "
-               "fabric's grid has not (it crashed there); use -snes_monitor",
-               bad);
+    { /* PETSc's solver options whose value this grid or path cannot take, found before any output exists (under a
+         prefix, -mg_levels_pc_type, PETSc reads them as the multigrid sets up, mid-run) */
+      static const struct {
+        const char *suffix;
+        PetscBool (*ok)(const char *);
+        const char *why;
+      } solver[] = {
+          {"pc_type", PcKnown, "not a preconditioner PETSc knows (see -help)"},
+          {"snes_monitor_fields", NeverOk,
+           "PETSc's monitor by field needs the fields of a DMPlex discretisation, which the fabric's grid has not (it "
+           "crashed there); use -snes_monitor"},
+          {"snes_converged_reason", NotDetail,
+           "PETSc's detailed reason measures the error against the exact solution of a DMPlex discretisation, which "
+           "the fabric's grid has not (it crashed there); use -snes_converged_reason"},
+          {"ksp_type", KspKnown, "not a Krylov method PETSc knows (see -help)"},
+          {"pc_type", PcTypeOk,
+           "telescope needs the tangent assembled by PETSc on a sub-grid, patch a DMPlex; the quasi-static path "
+           "assembles its own tangent on the grid's DMDA (use mg, gamg, lu ...)"},
+      };
+      PetscCall(PCInitializePackage());
+      PetscCall(KSPInitializePackage());
+      PetscCall(MatInitializePackage());
+      for (size_t k = 0; k < sizeof solver / sizeof solver[0]; k++) {
+        PetscCall(FindBadOption(solver[k].suffix, solver[k].ok, bad, sizeof bad));
+        PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT, "%s with -solver static: %s", bad, solver[k].why);
+      }
+    }
     { /* PETSc's X11 plots without a display: "Unable to open display", a traceback (-draw_type image or tikz
          draws to files) */
       const char *display = getenv("DISPLAY");
@@ -1833,12 +1850,6 @@ PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
                    bad);
       }
     }
-    PetscCall(FindBadOption("snes_converged_reason", NotDetail, bad, sizeof bad));
-    PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT,
-               "%s with -solver static: PETSc's detailed reason measures the error against the exact solution of a "
-               "DMPlex discretisation, which the fabric's grid has not (it crashed there); use -snes_converged_reason",
-               bad);
-    PetscCall(MatInitializePackage());
     { /* -mat_type itself (-dm_mat_type is the assembled tangent's: DMCreateMatrix checks it as it is made) */
       OptionsGiven g;
       bad[0] = 0;
@@ -1851,14 +1862,6 @@ PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
     PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT,
                "%s with -solver static: not a matrix type PETSc knows, or one the multigrid's coarsest LU factorisation "
                "does not take (sbaij, is); aij, baij or dense",
-               bad);
-    PetscCall(FindBadOption("ksp_type", KspKnown, bad, sizeof bad));
-    PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT, "%s with -solver static: not a Krylov method PETSc knows (see -help)",
-               bad);
-    PetscCall(FindBadOption("pc_type", PcTypeOk, bad, sizeof bad));
-    PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT,
-               "%s with -solver static: telescope needs the tangent assembled by PETSc on a sub-grid, patch a DMPlex; "
-               "the quasi-static path assembles its own tangent on the grid's DMDA (use mg, gamg, lu ...)",
                bad);
   }
   if (o.tao) { /* TAO's Newton line search or trust region, on the unconstrained Pi (the others
