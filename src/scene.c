@@ -853,16 +853,15 @@ static int YamlProblem(const char *text, char *msg, size_t len)
    refusal there is a traceback and an abort). */
 static int FindBadKeyIn(FILE *fp, int options_only, char *msg, size_t len);
 
-typedef struct { /* a list of option names and values (OptionFileFree) */
+typedef struct { /* a list of option names and values, as a command line lists them (OptionFileFree) */
   char **v;
-  int    n, cap, failed;
+  int    n, cap, failed; /* failed: out of memory, the list is incomplete */
 } OptionList;
 
-static void ListAdd(OptionList *l, const char *a, const char *b)
+static void ListAdd(OptionList *l, const char *t)
 {
-  const char *t[2] = {a, b};
   if (l->failed) return;
-  if (l->n + 2 > l->cap) {
+  if (l->n == l->cap) {
     char **v = realloc(l->v, (size_t) (2 * l->cap + 16) * sizeof *v);
     if (!v) {
       l->failed = 1;
@@ -870,9 +869,15 @@ static void ListAdd(OptionList *l, const char *a, const char *b)
     }
     l->v = v, l->cap = 2 * l->cap + 16;
   }
-  for (int k = 0; k < 2; k++)
-    if (!(l->v[l->n] = strdup(t[k]))) l->failed = 1;
-    else l->n++;
+  if (!(l->v[l->n] = strdup(t))) l->failed = 1;
+  else l->n++;
+}
+
+/* the list to the caller (opts not NULL and nothing refused, bad 0) or freed */
+static void ListHand(OptionList *l, int bad, char ***opts, int *nopts)
+{
+  if (bad || l->failed || !opts) OptionFileFree(l->v, l->n); /* out of memory: its options are not looked at */
+  else *opts = l->v, *nopts = l->n;
 }
 
 /* The options PETSc's YAML reader (PetscParseLayerYAML) sets from a mapping node: "-prefix" "key" for a scalar,
@@ -894,14 +899,14 @@ static void YamlFlatten(yaml_document_t *doc, yaml_node_t *node, const char *pre
       const char *tag = (const char *) v->tag;
       size_t      tl  = tag ? strlen(tag) : 0;
       if (v->type == YAML_SCALAR_NODE && tl >= 8 && !strcmp(tag + tl - 8, "!include"))
-        ListAdd(l, "-options_file_yaml", (const char *) v->data.scalar.value);
+        ListAdd(l, "-options_file_yaml"), ListAdd(l, (const char *) v->data.scalar.value);
       continue;
     }
     snprintf(name, sizeof name, "%s%s", prefix, key);
     if (v->type == YAML_SCALAR_NODE) {
       char opt[4100];
       snprintf(opt, sizeof opt, "-%s", name);
-      ListAdd(l, opt, (const char *) v->data.scalar.value);
+      ListAdd(l, opt), ListAdd(l, (const char *) v->data.scalar.value);
     } else if (v->type == YAML_MAPPING_NODE) {
       char sub[4100];
       snprintf(sub, sizeof sub, "%s_", name);
@@ -924,7 +929,7 @@ static void YamlFlatten(yaml_document_t *doc, yaml_node_t *node, const char *pre
         }
       }
       snprintf(opt, sizeof opt, "-%s", name);
-      ListAdd(l, opt, joined);
+      ListAdd(l, opt), ListAdd(l, joined);
     }
   }
 }
@@ -971,8 +976,7 @@ int YamlOptionsProblem(const char *text, char *msg, size_t len, char ***opts, in
       fclose(fp);
     }
   }
-  if (bad || list.failed || !opts) OptionFileFree(list.v, list.n); /* out of memory: its options are not looked at */
-  else *opts = list.v, *nopts = list.n;
+  ListHand(&list, bad, opts, nopts);
   return bad;
 }
 
@@ -1019,12 +1023,11 @@ int OptionFileProblem(const char *text, char *msg, size_t len, char ***opts, int
 {
   char  *copy = strdup(text), *next = copy;
   size_t line = 1;
-  int    bad  = 0, n = 0;
-  char **list = NULL;
+  int        bad  = 0;
+  OptionList list = {0};
 
   if (opts) *opts = NULL, *nopts = 0;
   if (!copy) return 0;
-  if (opts) list = calloc(2 * strlen(text) + 1, sizeof *list); /* at most two tokens a line, a line at least a byte */
   for (; next && *next && !bad; line++) {
     char *s = next, *at, *tok[4];
     next    = strchr(s, '\n');
@@ -1044,11 +1047,7 @@ int OptionFileProblem(const char *text, char *msg, size_t len, char ***opts, int
       else if (tok[2]) snprintf(msg, len, "line %zu: an extra value %s after %s %s (one value an option)", line, tok[2], tok[0], tok[1]);
       else {
         bad = 0;
-        for (int k = 0; k < 2 && list && tok[k]; k++)
-          if (!(list[n] = strdup(tok[k]))) { /* out of memory: no list, the file's own options are not looked at */
-            OptionFileFree(list, n);
-            list = NULL, n = 0;
-          } else n++;
+        for (int k = 0; k < 2 && opts && tok[k]; k++) ListAdd(&list, tok[k]);
       }
     } else if (!strcasecmp(tok[0], "alias")) {
       if (!tok[1] || !OptionKey(tok[1]) || !tok[2] || !OptionKey(tok[2]))
@@ -1060,8 +1059,7 @@ int OptionFileProblem(const char *text, char *msg, size_t len, char ***opts, int
                strchr(tok[0], ':') ? "; key: value lines are YAML: name the file .yaml, or give it to -scene" : "");
   }
   free(copy);
-  if (bad || !list) OptionFileFree(list, n);
-  else *opts = list, *nopts = n;
+  ListHand(&list, bad, opts, nopts);
   return bad;
 }
 
@@ -1768,8 +1766,8 @@ static PetscErrorCode DeriveBodies(MPI_Comm comm, const SceneInput *in, Scene *s
                "-shape %s with -test drape: the drape coefficient (BS 5058, ISO 9073-9) is that of a disc specimen; "
                "use -shape disc",
                ShapeNames[s->spec.shape]);
-    /* the skirt hangs free: held at its rim or along a line through it, the fabric is no drape (a 25 x 25 cm
-       trampoline gave a drape coefficient of 100 %, a line through the skirt 67 %) */
+    /* the skirt hangs free: held at its rim or along a line through it, the fabric is no drape (held at its rim,
+       the disc gave a drape coefficient of 100 %; drape.yaml held along a diameter, 56.94 %) */
     PetscCheck(s->clamps.clamp == CLAMP_RING || s->clamps.clamp == CLAMP_NONE, comm, PETSC_ERR_USER_INPUT,
                "-clamp %s with -test drape: the skirt must hang free; the drape holds its centre (-clamp ring, or a "
                "pedestal with -clamp none)",
@@ -2708,12 +2706,11 @@ PetscBool OptionIs(const char *name, const char *suffix)
              : PETSC_FALSE;
 }
 
-/* an option PETSc reads as a viewer ([type][:file[:format[:mode]]]): -log_view, -X_view and -X_monitor (but PETSc's
-   own switches -options_view, -memory_view, -malloc_view and -options_monitor), -X_converged_reason */
+/* an option PETSc reads as a viewer ([type][:file[:format[:mode]]]): -log_view and the solvers' viewers and
+   monitors, under any prefix (-mg_levels_ksp_monitor); PETSc has switches that end alike (-snes_qn_monitor,
+   -ksp_gmres_krylov_monitor: true or false), so only these */
 static int ViewerOption(const char *name)
 {
-  /* the solvers' viewers and monitors (under any prefix: -mg_levels_ksp_monitor); PETSc has switches that end
-     alike (-snes_qn_monitor, -ksp_gmres_krylov_monitor: true or false), so only these */
   static const char *const viewer[] = {"snes_view",   "ksp_view",   "pc_view",    "tao_view",   "dm_view",
                                        "mat_view",    "vec_view",   "snes_monitor", "ksp_monitor", "tao_monitor",
                                        "snes_monitor_short", "ksp_monitor_short", "ksp_monitor_true_residual",
@@ -2733,6 +2730,8 @@ int ViewerValueProblem(const char *name, const char *value, char *msg, size_t le
                                         "glvis", "exodusii"};
   const char  *colon = strchr(value, ':'), *fmt = colon ? strchr(colon + 1, ':') : NULL;
   const size_t tl    = colon ? (size_t) (colon - value) : strlen(value);
+  const int    draw  = tl >= 4 && !strncmp(value + tl - 4, "draw", 4);
+  const int    drawn = draw && colon && (!strncmp(colon + 1, "tikz", 4) || !strncmp(colon + 1, "image", 5)); /* to a file */
   char         f[256];
   int          found = tl ? 0 : 1;
 
@@ -2744,7 +2743,7 @@ int ViewerValueProblem(const char *name, const char *value, char *msg, size_t le
              "draw, vtk or hdf5; -%s alone prints to the screen)", name, value, (int) tl, value, name);
     return 1;
   }
-  if (tl >= 4 && !strncmp(value + tl - 4, "draw", 4) && !(colon && (!strncmp(colon + 1, "tikz", 4) || !strncmp(colon + 1, "image", 5)))) {
+  if (draw && !drawn) {
     const char *display = getenv("DISPLAY"); /* PETSc's X11 window: "Unable to open display", a traceback */
     if (!(display && display[0])) {
       snprintf(msg, len, "-%s %s: a draw viewer opens an X window, and DISPLAY is not set; give a display, or "
@@ -2753,9 +2752,7 @@ int ViewerValueProblem(const char *name, const char *value, char *msg, size_t le
     }
   }
   snprintf(f, sizeof f, "%.*s", fmt ? (int) strcspn(fmt + 1, ":") : 0, fmt ? fmt + 1 : "");
-  if (!f[0]) return 0;
-  if (tl >= 4 && !strncmp(value + tl - 4, "draw", 4) && (!strncmp(colon + 1, "tikz:", 5) || !strncmp(colon + 1, "image:", 6)))
-    return 0; /* draw:tikz:FILE, draw:image:FILE: the third field is a file */
+  if (!f[0] || drawn) return 0; /* draw:tikz:FILE, draw:image:FILE: the third field is a file */
   found = 0;
   for (int k = 0; PetscViewerFormats[k] && k < 64 && !found; k++) /* the names, then the enum's name and prefix */
     found = !strcasecmp(PetscViewerFormats[k], f);
