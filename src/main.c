@@ -61,6 +61,14 @@ static void NameTheOption(const char *mess, char *out, size_t len)
     if (found[0]) snprintf(out, len, "%s %s: not a yes/no value (use 1 or 0, true or false)", found, value);
     return;
   }
+  if (!strncmp(mess, "Cannot create VECSEQ on more than one process", 45)) { /* -dm_vec_type seq on 2 ranks */
+    if (OptionsGivenGet(&g)) return;
+    for (PetscInt q = 0; q < g.n && !found[0]; q++)
+      if (OptionIs(g.name[q], "vec_type") && !strcasecmp(g.value[q], "seq")) snprintf(found, sizeof found, "%s", g.name[q]);
+    OptionsGivenFree(&g);
+    if (found[0]) snprintf(out, len, "%s seq: a sequential vector lives on one rank, and this run has more (leave %s unset)", found, found);
+    return;
+  }
   if (number)
     snprintf(value, sizeof value, "%.*s", (int) (strstr(mess, post) - mess - strlen(pre)), mess + strlen(pre));
   else if (last && (!strncmp(mess, "Unable to find requested ", 25) || !strncmp(mess, "Unknown ", 8)) &&
@@ -81,7 +89,8 @@ static void NameTheOption(const char *mess, char *out, size_t len)
   }
   OptionsGivenFree(&g);
   if (found[0] && number)
-    snprintf(out, len, "%s %s: %s", found, value, strstr(post, "integer") ? "not an integer" : "not a number");
+    snprintf(out, len, "%s %s: %s", found, value,
+             !strstr(post, "integer") ? "not a number" : strpbrk(value, "eE.") ? "not an integer (integers are read in digits only, with no exponent or decimal point)" : "not an integer");
   else if (found[0]) snprintf(out, len, "%s %s: %s", found, value, mess);
 }
 

@@ -440,7 +440,8 @@ static PetscErrorCode ParseInt(MPI_Comm comm, const char *name, const char *text
   errno = 0;
   l     = strtoll(text, &end, 10);
   while (*end == ' ') end++;
-  PetscCheck(end != text && !*end, comm, PETSC_ERR_USER_INPUT, "-%s %s: not an integer", name, ShowText(text, &sh));
+  PetscCheck(end != text && !*end, comm, PETSC_ERR_USER_INPUT, "-%s %s: not an integer%s", name, ShowText(text, &sh),
+             strpbrk(text, "eE.") ? " (integers are read in digits only, with no exponent or decimal point)" : "");
   PetscCheck(errno != ERANGE && l <= PETSC_MAX_INT && l >= PETSC_MIN_INT, comm, PETSC_ERR_USER_INPUT,
              "-%s %s: out of range (integers from %d to %d)", name, ShowText(text, &sh), (int) PETSC_MIN_INT, (int) PETSC_MAX_INT);
   *v = (PetscInt) l;
@@ -2728,7 +2729,7 @@ int ViewerValueProblem(const char *name, const char *value, char *msg, size_t le
 {
   static const char *const viewers[] = {"ascii", "binary", "draw", "socket", "matlab", "saws", "vtk", "hdf5",
                                         "glvis", "exodusii"};
-  const char  *colon = strchr(value, ':'), *fmt = colon ? strchr(colon + 1, ':') : NULL;
+  const char  *colon = strchr(value, ':'), *fmt = colon ? strchr(colon + 1, ':') : NULL, *mode;
   const size_t tl    = colon ? (size_t) (colon - value) : strlen(value);
   const int    draw  = tl >= 4 && !strncmp(value + tl - 4, "draw", 4);
   const int    drawn = draw && colon && (!strncmp(colon + 1, "tikz", 4) || !strncmp(colon + 1, "image", 5)); /* to a file */
@@ -2752,13 +2753,22 @@ int ViewerValueProblem(const char *name, const char *value, char *msg, size_t le
     }
   }
   snprintf(f, sizeof f, "%.*s", fmt ? (int) strcspn(fmt + 1, ":") : 0, fmt ? fmt + 1 : "");
-  if (!f[0] || drawn) return 0; /* draw:tikz:FILE, draw:image:FILE: the third field is a file */
-  found = 0;
+  if (drawn) return 0; /* draw:tikz:FILE, draw:image:FILE: the third field is a file */
+  found = !f[0];
   for (int k = 0; PetscViewerFormats[k] && k < 64 && !found; k++) /* the names, then the enum's name and prefix */
     found = !strcasecmp(PetscViewerFormats[k], f);
-  if (found) return 0;
-  snprintf(msg, len, "-%s %s: '%s' is not a PETSc viewer format (as default, ascii_info, ascii_info_detail, "
-           "ascii_matlab)", name, value, f);
+  if (!found) {
+    snprintf(msg, len, "-%s %s: '%s' is not a PETSc viewer format (as default, ascii_info, ascii_info_detail, "
+             "ascii_matlab)", name, value, f);
+    return 1;
+  }
+  mode = fmt ? strchr(fmt + 1, ':') : NULL; /* the fourth field, the file's mode: PETSc's "Unknown file mode" named
+                                               no option, and read mode cannot write */
+  if (!mode || !mode[1] || !strcasecmp(mode + 1, "write") || !strcasecmp(mode + 1, "append") ||
+      !strcasecmp(mode + 1, "update") || !strcasecmp(mode + 1, "append_update"))
+    return 0;
+  snprintf(msg, len, "-%s %s: '%s' is not a file mode a viewer can write with (write, the default, or append)", name,
+           value, mode + 1);
   return 1;
 }
 
