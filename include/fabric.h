@@ -73,6 +73,8 @@ typedef struct {         /* the dynamic state */
   PetscInt64 conv_segments; /* yarn segments broken when Xconv was kept */
   Vec anchor[3];         /* friction anchors of the sphere, plane, pedestal (bodies.h), NULL = none */
   Vec watch_x, watch_v;  /* energy watch: x and v before a watched te step (balance.c), NULL until one */
+  Vec Xbelow, Xabove;    /* -break_locate_pct: the last balanced state below every breaking strain, and a trial's
+                            state above (relax.c LocateBreak), NULL until used */
   StaticHistory hist;    /* -solver static */
 } FabricState;
 
@@ -86,6 +88,7 @@ typedef struct { /* where the load program is */
   PetscInt  ramp_steps, ramp_done; /* the ramp of this load step, te steps */
   PetscReal gravity_now[3];        /* m/s^2: gravity of the current load step */
   PetscReal elapsed;               /* s: time since the load step began, the te of its te steps summed */
+  PetscBool left;                  /* the load step has left its own load to locate a break: no checkpoint within it */
 } LoadState;
 
 /* where the grips or the sphere are for a curve row: the load step's travel, or, while a ramp towards it is
@@ -157,6 +160,10 @@ typedef struct {               /* yarn breaking and rupture (relax.c) */
   PetscReal  load_now;         /* the last break check's largest strain / breaking strain of a segment */
   PetscReal  last_load, last_force, last_at; /* the same, the force and where, of the last balanced state
                                                   with no segment past its breaking strain */
+  PetscBool  have_below;       /* state.Xbelow holds such a state with the segments broken now (-break_locate_pct) */
+  PetscReal  below_lambda;     /* its load factor */
+  PetscInt64 located;          /* breaks located (-break_locate_pct) */
+  PetscReal  located_ratio;    /* the largest ratio at the last one located */
   PetscInt   rupture_step;     /* the load step in which the specimen ruptured (0: it has not) */
   PetscReal  rupture_time;     /* s: test time at the end of that load step's tear */
   PetscInt64 tear_te_steps;    /* te steps of tears so far */

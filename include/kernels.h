@@ -153,7 +153,7 @@ typedef struct {      /* the segment a break check found the most strained past 
    segment of the ghosted patch, so that neighbouring ranks agree without messages. Returns the
    segments broken whose first crossing is owned; *site: the most overstrained of those; *load: the
    largest chord strain over breaking strain of any segment checked, broken or not. */
-PetscInt BreakSegments(Patch *p, const PetscReal *x, BreakSite *site, PetscReal *load);
+PetscInt BreakSegments(Patch *p, const PetscReal *x, int apply, BreakSite *site, PetscReal *load);
 
 /* The range of the state a stable-step bound covers (MODEL.md 7.3): over the owned points'
    segments and crossings, r = {-min e_warp, max e_warp, -min e_weft, max e_weft, max |s|}

@@ -6,6 +6,5 @@
 
 PetscErrorCode FabricRun(Fabric fab);
 PetscErrorCode ApplyLoadStep(Fabric fab, PetscInt k);
-PetscErrorCode RelaxLoadStep(Fabric fab, CurveRow *row);
 
 #endif

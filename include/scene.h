@@ -76,7 +76,7 @@ typedef struct {
   PetscInt  n_gravity;
   PetscReal elongation_pct, speed_mm_min, point_load_N[3], grip_path_mm[3 * MAX_WAYPOINTS];
   PetscInt  n_point_load_N, point_load_at[2], n_point_load_at, n_grip_path_mm, load_steps, max_inner_steps;
-  PetscReal break_gauge_mm, rupture_drop_pct, tear_wave_crossings, tear_max_ms, tear_damping_ratio, tear_te_safety;
+  PetscReal break_gauge_mm, rupture_drop_pct, break_locate_pct, tear_wave_crossings, tear_max_ms, tear_damping_ratio, tear_te_safety;
   PetscInt  break_seed, output_tear_every;
   PetscInt  solver, integrator, predict, grip_ramp_steps, te_measure, balance_hold;
   PetscReal te, te_safety, te_strain_window, balance_tol, speed_tol, sleep_tol, balance_floor, energy_watch;
@@ -194,6 +194,8 @@ typedef struct {      /* rupture (relax.c): how a tear is followed and when the 
   PetscReal  crossings; /* a tear ends when no segment broke while a yarn wave crossed the specimen this often */
   PetscReal  max_time; /* s of test time: the longest tear */
   PetscReal  damping;  /* a tear's damping ratio at the slowest mode */
+  PetscReal  locate;   /* a break is located: the load is found at which the largest strain ratio is within (1, 1 + locate]
+                          (0: yarns break on the load step's balanced state) */
 } Rupture;
 
 typedef struct {

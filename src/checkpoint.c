@@ -325,6 +325,7 @@ static PetscInt StateVecs(FabricState *st, StateVec *sv)
   ADD("static_balanced_1", &st->hist.Xh[0], "has_static_balanced_1");
   ADD("static_balanced_2", &st->hist.Xh[1], "has_static_balanced_2");
   ADD("static_balanced_3", &st->hist.Xh[2], "has_static_balanced_3");
+  ADD("below_break_positions", &st->Xbelow, "has_below_break_positions");
 #undef ADD
   return n;
 }
@@ -659,11 +660,12 @@ static PetscErrorCode WriteScene(const Scene *s, PetscViewer v)
 }
 
 /* the rupture state (fabric.h RuptureState) as attributes of / */
-#define RUPTURE_ATTRS 17
+#define RUPTURE_ATTRS 21
 static const char *const RuptureAttr[RUPTURE_ATTRS] = {
     "segments_broken", "first_break_ratio", "first_break_dir", "first_break_i", "first_break_j", "first_break_step",
     "first_break_time_s", "peak_force_N", "at_peak_force", "rupture_step", "rupture_time_s", "tear_te_steps",
-    "break_load", "last_break_load", "last_force_N", "last_at", "peak_force_balanced"};
+    "break_load", "last_break_load", "last_force_N", "last_at", "peak_force_balanced", "below_kept",
+    "below_load_factor", "breaks_located", "located_break_load"};
 
 static void RupturePack(const RuptureState *r, PetscReal a[RUPTURE_ATTRS])
 {
@@ -672,7 +674,8 @@ static void RupturePack(const RuptureState *r, PetscReal a[RUPTURE_ATTRS])
   a[6] = r->first_time, a[7] = r->peak_force, a[8] = r->at_peak, a[9] = (PetscReal) r->rupture_step;
   a[10] = r->rupture_time, a[11] = (PetscReal) r->tear_te_steps;
   a[12] = r->load_now, a[13] = r->last_load, a[14] = r->last_force, a[15] = r->last_at;
-  a[16] = (PetscReal) r->peak_balanced;
+  a[16] = (PetscReal) r->peak_balanced, a[17] = (PetscReal) r->have_below, a[18] = r->below_lambda;
+  a[19] = (PetscReal) r->located, a[20] = r->located_ratio;
 }
 
 static void RuptureUnpack(const double a[RUPTURE_ATTRS], RuptureState *r)
@@ -683,6 +686,8 @@ static void RuptureUnpack(const double a[RUPTURE_ATTRS], RuptureState *r)
   r->rupture_time = a[10], r->tear_te_steps = (PetscInt64) a[11];
   r->load_now = a[12], r->last_load = a[13], r->last_force = a[14], r->last_at = a[15];
   r->peak_balanced = a[16] != 0 ? PETSC_TRUE : PETSC_FALSE;
+  r->have_below = a[17] != 0 ? PETSC_TRUE : PETSC_FALSE, r->below_lambda = a[18];
+  r->located = (PetscInt64) a[19], r->located_ratio = a[20];
 }
 
 /* the counters of the run, as attributes of /; done: the load steps done */
@@ -1110,7 +1115,8 @@ static int RuptureInRange(const Scene *s, const char *file, Header *h)
       {0, 0, 2 * nx * ny, "segments of the grid"}, {2, 0, 1, "0 warp, 1 weft"},
       {3, 0, nx - 1, "crossings in x"},            {4, 0, ny - 1, "crossings in y"},
       {5, 0, in, "load steps"},                    {9, 0, done, "load steps done"},
-      {11, 0, (double) h->te_steps, "te steps"},
+      {11, 0, (double) h->te_steps, "te steps"},   {17, 0, 1, "0 or 1"},
+      {19, 0, 2 * nx * ny, "segments of the grid"},
   };
   for (size_t r = 0; r < sizeof range / sizeof range[0]; r++) {
     const double v = h->rupture[range[r].k];

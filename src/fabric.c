@@ -977,6 +977,8 @@ PetscErrorCode FabricDestroy(Fabric *pfab)
   PetscCall(VecDestroy(&fab->state.Xconv));
   PetscCall(VecDestroy(&fab->state.Xconv_prev));
   PetscCall(VecDestroy(&fab->state.watch_x));
+  PetscCall(VecDestroy(&fab->state.Xbelow));
+  PetscCall(VecDestroy(&fab->state.Xabove));
   PetscCall(VecDestroy(&fab->state.watch_v));
   for (int b = 0; b < 3; b++) PetscCall(VecDestroy(&fab->state.anchor[b]));
   PetscCall(DMDestroy(&fab->grid.da_seg));

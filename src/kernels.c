@@ -716,8 +716,8 @@ FABRIC_WIDE static int64_t BreakRatioRow(PetscInt n, PetscReal L0, const PetscRe
 /* Break every segment of the patch whose yarn strain exceeds its breaking strain
    (MODEL.md 5.1). Called on a balanced state, or within a tear after every te step: each row's
    strains and largest ratio in a pass that vectorises (BreakRatioRow), the rows with a segment
-   past its breaking strain then segment by segment. */
-PetscInt BreakSegments(Patch *p, const PetscReal *x, BreakSite *site, PetscReal *load)
+   past its breaking strain then segment by segment. apply 0: the largest ratio only, nothing breaks. */
+PetscInt BreakSegments(Patch *p, const PetscReal *x, int apply, BreakSite *site, PetscReal *load)
 {
   PetscReal *e = p->break_row, *ebc = p->break_row + p->gxm; /* the strains; a family's constant breaking strain */
   PetscInt   n = 0;
@@ -741,7 +741,7 @@ PetscInt BreakSegments(Patch *p, const PetscReal *x, BreakSite *site, PetscReal 
       const int64_t    t = BreakRatioRow(len, L0, x + 3 * k0, x + 3 * (k0 + step), p->exists + k0,
                                         p->exists + k0 + step, broken + k0, ebr, e, &past);
       top                = t > top ? t : top;
-      if (!past) continue;
+      if (!past || !apply) continue;
       for (PetscInt li = 0; li < len; li++) {
         const PetscInt k = k0 + li;
         if (broken[k] || !p->exists[k] || !p->exists[k + step] || e[li] <= ebr[li]) continue;

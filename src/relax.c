@@ -40,7 +40,7 @@ static PetscErrorCode CheckBreaks(Fabric fab, PetscBool where, PetscInt *broke)
   if (!isfinite(fab->s.yarns.warp.break_e) && !isfinite(fab->s.yarns.weft.break_e)) PetscFunctionReturn(0);
   PetscCall(HaloExchange(fab->grid.da, fab->state.X, fab->state.Xl));
   PetscCall(VecGetArrayRead(fab->state.Xl, &xl));
-  n = BreakSegments(&fab->grid.patch, xl, &site, &load);
+  n = BreakSegments(&fab->grid.patch, xl, 1, &site, &load);
   PetscCall(VecRestoreArrayRead(fab->state.Xl, &xl));
   { /* one reduction when nothing broke (a tear's every te step): the largest load and whether any broke */
     PetscReal red[2] = {load, (PetscReal) n};
@@ -51,6 +51,7 @@ static PetscErrorCode CheckBreaks(Fabric fab, PetscBool where, PetscInt *broke)
   PetscCall(GlobalSumInt(fab->comm, &n, 1));
   *broke = n;
   fab->stats.broken_any = PETSC_TRUE;
+  r->have_below         = PETSC_FALSE; /* the fabric is another: its states below are to be found again */
   r->segments += n;
   if (where || r->first.ratio == 0) { /* the most overstrained segment that broke (the lowest index on a tie) */
     const PetscInt nx = fab->s.spec.nx, ny = fab->s.spec.ny;
@@ -67,6 +68,21 @@ static PetscErrorCode CheckBreaks(Fabric fab, PetscBool where, PetscInt *broke)
     r->first_step  = fab->load.load_step;
     r->first_time  = TestTime(&fab->s, &fab->load);
   }
+  PetscFunctionReturn(0);
+}
+
+/* the largest strain / breaking strain of an unbroken segment now (all ranks alike); nothing breaks */
+static PetscErrorCode BreakRatio(Fabric fab, PetscReal *ratio)
+{
+  const PetscScalar *xl;
+  BreakSite          site;
+
+  PetscFunctionBeginUser;
+  PetscCall(HaloExchange(fab->grid.da, fab->state.X, fab->state.Xl));
+  PetscCall(VecGetArrayRead(fab->state.Xl, &xl));
+  (void) BreakSegments(&fab->grid.patch, xl, 0, &site, ratio);
+  PetscCall(VecRestoreArrayRead(fab->state.Xl, &xl));
+  PetscCall(GlobalMax(fab->comm, ratio, 1));
   PetscFunctionReturn(0);
 }
 
@@ -96,11 +112,11 @@ static PetscErrorCode TeStepFrame(Fabric fab)
   PetscFunctionReturn(0);
 }
 
-/* Load step k of K: move the grips (at once, or start their ramp), predict, take the stable step. */
-PetscErrorCode ApplyLoadStep(Fabric fab, PetscInt k)
+/* The load of load step k at load factor lambda (its own: k / K; a located break's: between two load
+   factors): move the grips (at once, or start their ramp), predict, take the stable step. */
+static PetscErrorCode ApplyLoad(Fabric fab, PetscInt k, PetscReal lambda)
 {
-  const Scene    *s      = &fab->s;
-  const PetscReal lambda = (PetscReal) k / (PetscReal) s->load.load_steps;
+  const Scene    *s    = &fab->s;
   const PetscReal disp = lambda * LoadTravel(s), step = disp - fab->load.travel;
   PetscReal       damp_c, omega1, move[3];
   PetscBool       predicted;
@@ -142,6 +158,57 @@ PetscErrorCode ApplyLoadStep(Fabric fab, PetscInt k)
   PetscCall(StableStep(fab));
   fab->step.damp_c      = damp_c;
   fab->step.bound_fresh = PETSC_FALSE;
+  PetscFunctionReturn(0);
+}
+
+/* Load step k of K */
+PetscErrorCode ApplyLoadStep(Fabric fab, PetscInt k)
+{
+  PetscFunctionBeginUser;
+  fab->load.left = PETSC_FALSE;
+  PetscCall(ApplyLoad(fab, k, (PetscReal) k / (PetscReal) fab->s.load.load_steps));
+  PetscFunctionReturn(0);
+}
+
+/* the balanced state x at load factor lambda, at rest, as the state now (a located break's trials start from
+   one; the grips are where x has them) */
+static PetscErrorCode RestoreAt(Fabric fab, Vec x, PetscReal lambda)
+{
+  const Scene    *s    = &fab->s;
+  const PetscReal disp = lambda * LoadTravel(s);
+
+  PetscFunctionBeginUser;
+  PetscCall(VecCopy(x, fab->state.X));
+  PetscCall(VecZeroEntries(fab->state.V));
+  if (fab->state.Xold) {
+    PetscCall(VecCopy(x, fab->state.Xold));
+    PetscCall(VecZeroEntries(fab->state.Vold));
+  }
+  fab->load.load_factor = lambda;
+  fab->load.travel = fab->load.travel_now = fab->load.travel_from = disp;
+  fab->load.ramp_steps = fab->load.ramp_done = 0;
+  if (s->test == TEST_DRAPE)
+    for (int d = 0; d < 3; d++) fab->load.gravity_now[d] = lambda * s->terms.gravity[d];
+  FrontWakeAll(fab);
+  PetscFunctionReturn(0);
+}
+
+/* -break_locate_pct: keep this balanced state, below every breaking strain (largest ratio `ratio`), as the
+   lower end of the next break's bracket, and its force and place as the reference of PeakAtBreak (row: this
+   state measured) */
+static PetscErrorCode KeepBelow(Fabric fab, PetscReal ratio, const CurveRow *row)
+{
+  RuptureState *r = &fab->stats.rupture;
+
+  PetscFunctionBeginUser;
+  r->last_load  = ratio;
+  r->last_force = row->force;
+  r->last_at    = RowAt(&fab->s, row);
+  if (!(fab->s.rupture.locate > 0)) PetscFunctionReturn(0);
+  if (!fab->state.Xbelow) PetscCall(VecDuplicate(fab->state.X, &fab->state.Xbelow));
+  PetscCall(VecCopy(fab->state.X, fab->state.Xbelow));
+  r->have_below   = PETSC_TRUE;
+  r->below_lambda = fab->load.load_factor;
   PetscFunctionReturn(0);
 }
 
@@ -197,11 +264,7 @@ static PetscErrorCode FinishRow(Fabric fab, PetscReal residual, PetscBool balanc
   if (!measured) PetscCall(MeasureRow(fab, residual, balanced, row)); /* else: this state, measured before CheckBreaks */
   KeepPeak(r, row->force, RowAt(&fab->s, row), balanced);
   if (CanRupture(&fab->s) && fab->stats.broken_any && !r->rupture_step) (void) MarkRupture(fab, row);
-  if (balanced && r->load_now <= 1.0) {
-    r->last_load  = r->load_now;
-    r->last_force = row->force;
-    r->last_at    = RowAt(&fab->s, row);
-  }
+  if (balanced && r->load_now <= 1.0) PetscCall(KeepBelow(fab, r->load_now, row));
   PetscFunctionReturn(0);
 }
 
@@ -386,57 +449,6 @@ static PetscErrorCode PaperAtRest(Fabric fab)
   PetscFunctionReturn(0);
 }
 
-/* Relax the current load step: te steps until balance (early exit) or max_inner_steps. */
-PetscErrorCode RelaxLoadStep(Fabric fab, CurveRow *row)
-{
-  const Scene *s  = &fab->s;
-  StepStats    st       = {0};
-  PetscBool    measured = PETSC_FALSE;
-  PetscInt     n;
-  RelaxPoint   at;
-
-  PetscFunctionBeginUser;
-  CheckpointRelaxStart(&at); /* restarted within this load step: where its checkpoint was taken */
-  row->inner_steps = at.inner_steps;
-  for (PetscInt round = at.round;; round++) {
-    PetscInt  broke;
-    PetscBool ruptured;
-    PetscBool done = PETSC_FALSE;
-    fab->step.torn = round > 0 ? PETSC_TRUE : PETSC_FALSE; /* after a tear (also on a restart within it) */
-    if (!at.te_step) RoundStart(fab); /* else restarted within the round: its state is the checkpoint's */
-    for (n = at.te_step + 1; n <= s->load.max_inner_steps; n++) {
-      PetscBool watched;
-      PetscCall(RampGrips(fab));
-      PetscCall(EnergyWatchBefore(fab, n, &watched));
-      PetscCall(TimeStep(fab, &st));
-      if (watched) PetscCall(EnergyWatchAfter(fab, n));
-      if (fab->io) PetscCall(TeStepFrame(fab)); /* -output_te_every */
-      if (s->num.early_exit) {
-        PetscCall(Balanced(fab, &st, PETSC_FALSE, &done));
-        if (done) break;
-      }
-      if (n < s->load.max_inner_steps) { /* the load step goes on: a checkpoint within it, if due or signalled */
-        const RelaxPoint here = {round, n, row->inner_steps};
-        PetscCall(CheckpointTeStep(fab, &here));
-        if (CheckpointStopped()) PetscFunctionReturn(0);
-      }
-    }
-    at.te_step = 0;
-    row->inner_steps += PetscMin(n, s->load.max_inner_steps);
-    if (!done) PetscCall(Balanced(fab, &st, PETSC_TRUE, &done)); /* the last te step: checked per crossing too */
-    /* yarns start to break on a balanced (quasi-static) state only: the strains of the relaxation
-       transient are artefacts of the load stepping. If one broke, the tear that follows is
-       dynamics; then the specimen has ruptured, or this step relaxes again. */
-    if (!st.balanced) break;
-    PetscCall(BreakAndTear(fab, &st, PETSC_FALSE, row, &measured, &broke, &ruptured));
-    if (ruptured) PetscFunctionReturn(0);
-    if (!broke || round >= MAX_BREAK_ROUNDS) break;
-  }
-  PetscCall(PaperAtRest(fab));
-  PetscCall(FinishRow(fab, st.residual, st.balanced, measured, row));
-  PetscFunctionReturn(0);
-}
-
 /* -static_sequence: load step k solved first on the coarser fabrics, the coarsest first (each
    solve's change is the next finer one's first guess: StaticSolve); their Newton steps add to newton */
 static PetscErrorCode SolveCoarser(StaticSolver ss, PetscInt k, PetscInt64 *newton)
@@ -461,40 +473,188 @@ static PetscErrorCode SolveCoarser(StaticSolver ss, PetscInt k, PetscInt64 *newt
   PetscFunctionReturn(0);
 }
 
-/* Solve the current load step (-solver static): the grips go straight to this load step's
-   position, the prediction is Newton's first guess; re-solved while yarns break. */
-static PetscErrorCode SolveLoadStep(Fabric fab, StaticSolver ss, CurveRow *row)
+/* One relaxation round at the load now: te steps until balance (early exit) or max_inner_steps, from te step
+   at->te_step (a restart within the round) on. *stopped: a signal's checkpoint stopped the run. Within a load
+   step that has left its own load (a located break) no checkpoint is taken and no te-step frame written. */
+static PetscErrorCode RelaxRound(Fabric fab, PetscInt round, RelaxPoint *at, CurveRow *row, StepStats *st,
+                                 PetscBool *stopped)
 {
-  StaticResult r        = {0};
-  PetscBool    measured = PETSC_FALSE;
+  const Scene *s    = &fab->s;
+  PetscBool    done = PETSC_FALSE;
+  PetscInt     n;
 
   PetscFunctionBeginUser;
+  *stopped       = PETSC_FALSE;
+  fab->step.torn = round > 0 ? PETSC_TRUE : PETSC_FALSE; /* after a tear (also on a restart within it) */
+  if (!at->te_step) RoundStart(fab); /* else restarted within the round: its state is the checkpoint's */
+  for (n = at->te_step + 1; n <= s->load.max_inner_steps; n++) {
+    PetscBool watched;
+    PetscCall(RampGrips(fab));
+    PetscCall(EnergyWatchBefore(fab, n, &watched));
+    PetscCall(TimeStep(fab, st));
+    if (watched) PetscCall(EnergyWatchAfter(fab, n));
+    if (fab->io && !fab->load.left) PetscCall(TeStepFrame(fab)); /* -output_te_every */
+    if (s->num.early_exit) {
+      PetscCall(Balanced(fab, st, PETSC_FALSE, &done));
+      if (done) break;
+    }
+    if (n < s->load.max_inner_steps && !fab->load.left) { /* the load step goes on: a checkpoint within it, if due or signalled */
+      const RelaxPoint here = {round, n, row->inner_steps};
+      PetscCall(CheckpointTeStep(fab, &here));
+      if (CheckpointStopped()) {
+        *stopped = PETSC_TRUE;
+        PetscFunctionReturn(0);
+      }
+    }
+  }
+  at->te_step = 0;
+  row->inner_steps += PetscMin(n, s->load.max_inner_steps);
+  if (!done) PetscCall(Balanced(fab, st, PETSC_TRUE, &done)); /* the last te step: checked per crossing too */
+  PetscFunctionReturn(0);
+}
+
+/* The load now balanced by either path: the relaxation's round (explicit), or Newton (ss, -solver static: the
+   grips go straight to their place) */
+static PetscErrorCode Settle(Fabric fab, StaticSolver ss, PetscInt round, CurveRow *row, StepStats *st, PetscBool *stopped)
+{
+  StaticResult   r = {0};
+  PetscErrorCode ierr;
+
+  PetscFunctionBeginUser;
+  *stopped = PETSC_FALSE;
+  if (!ss) {
+    RelaxPoint at = {round, 0, row->inner_steps};
+    PetscCall(RelaxRound(fab, round, &at, row, st, stopped));
+    PetscFunctionReturn(0);
+  }
   if (fab->load.travel_now != fab->load.travel) PetscCall(PlaceGrips(fab, fab->load.travel, PETSC_TRUE));
   fab->load.ramp_done = fab->load.ramp_steps;
-  row->inner_steps    = 0;
-  PetscCall(SolveCoarser(ss, fab->load.load_step, &fab->stats.coarse_nonlinear_iterations));
-  for (PetscInt round = 0;; round++) {
-    PetscInt       broke;
-    PetscBool      ruptured;
-    PetscErrorCode ierr = StaticSolve(ss, &r); /* counted also when it stops the run: summary.json's counts */
-    row->inner_steps += r.nonlinear_iterations;
-    fab->stats.nonlinear_iterations += r.nonlinear_iterations;
-    fab->stats.linear_iterations += r.linear_iterations;
-    PetscCall(ierr);
-    if (!r.balanced) {
-      PetscCall(PetscInfo(NULL, "load step %" PetscInt_FMT ": not balanced (%s), residual %g\n", fab->load.load_step,
-                          r.reason, (double) r.residual));
-      break;
+  ierr                = StaticSolve(ss, &r); /* counted also when it stops the run: summary.json's counts */
+  row->inner_steps += r.nonlinear_iterations;
+  fab->stats.nonlinear_iterations += r.nonlinear_iterations;
+  fab->stats.linear_iterations += r.linear_iterations;
+  PetscCall(ierr);
+  if (!r.balanced)
+    PetscCall(PetscInfo(NULL, "load step %" PetscInt_FMT ": not balanced (%s), residual %g\n", fab->load.load_step,
+                        r.reason, (double) r.residual));
+  st->residual = r.residual;
+  st->speed    = 0;
+  st->balanced = r.balanced;
+  PetscFunctionReturn(0);
+}
+
+#define LOCATE_TRIALS 40 /* solves of a located break, at most (each trial at least halves the bracket's
+                            width in two, Illinois' regula falsi) */
+
+/* -break_locate_pct: this balanced state (load factor lB) has a segment past its breaking strain by more than
+   the tolerance, and a balanced state below every breaking strain, with the segments broken now, was kept at a
+   lower load (lA, state.Xbelow). The break comes between them: regula falsi on the load factor (Illinois),
+   aiming at the largest ratio 1 + tol/2, each trial solved from the state below, until a trial's largest ratio
+   is in (1, 1 + tol]; the load step then goes on from there (RelaxLoadStep). If a trial does not balance, or
+   none comes within the tolerance, the state goes back to this one. */
+static PetscErrorCode LocateBreak(Fabric fab, StaticSolver ss, PetscInt round, CurveRow *row, StepStats *st)
+{
+  const PetscReal tol = fab->s.rupture.locate, target = 1.0 + 0.5 * tol;
+  RuptureState   *r   = &fab->stats.rupture;
+  PetscReal       lA = r->below_lambda, fA = r->last_load - target, lB = fab->load.load_factor, fB;
+  const StepStats stB = *st;
+  PetscInt        side = 0, trial;
+
+  PetscFunctionBeginUser;
+  if (!(tol > 0) || !r->have_below || !(lA < lB)) PetscFunctionReturn(0);
+  PetscCall(BreakRatio(fab, &fB));
+  if (!(fB > 1.0 + tol) || !(fA < 0)) PetscFunctionReturn(0);
+  fB -= target;
+  fab->load.left = PETSC_TRUE;
+  if (!fab->state.Xabove) PetscCall(VecDuplicate(fab->state.X, &fab->state.Xabove));
+  PetscCall(VecCopy(fab->state.X, fab->state.Xabove));
+  for (trial = 1; trial <= LOCATE_TRIALS; trial++) {
+    PetscReal lC = lA - fA * (lB - lA) / (fB - fA), ratio;
+    PetscBool stopped;
+    CurveRow  scratch = *row;
+    if (!(lC > lA && lC < lB)) lC = 0.5 * (lA + lB);
+    PetscCall(RestoreAt(fab, fab->state.Xbelow, lA));
+    PetscCall(ApplyLoad(fab, fab->load.load_step, lC));
+    PetscCall(Settle(fab, ss, round, row, st, &stopped));
+    if (!st->balanced) break;
+    PetscCall(BreakRatio(fab, &ratio));
+    PetscCall(PetscInfo(NULL, "load step %" PetscInt_FMT ": locating a break, trial %" PetscInt_FMT " at load factor %.12g: largest strain ratio %.9g\n",
+                        fab->load.load_step, trial, (double) lC, (double) ratio));
+    if (ratio > 1.0 && ratio <= 1.0 + tol) { /* here */
+      r->located++;
+      r->located_ratio = ratio;
+      PetscFunctionReturn(0);
     }
-    {
-      StepStats st = {r.residual, 0, 0, r.balanced};
-      PetscCall(BreakAndTear(fab, &st, PETSC_TRUE, row, &measured, &broke, &ruptured)); /* the tear: te steps */
+    if (ratio <= 1.0) { /* the new state below */
+      PetscCall(MeasureRow(fab, st->residual, PETSC_TRUE, &scratch));
+      PetscCall(KeepBelow(fab, ratio, &scratch));
+      lA = lC, fA = ratio - target;
+      if (side < 0) fB *= 0.5; /* the same end kept twice: Illinois */
+      side = -1;
+    } else {
+      PetscCall(VecCopy(fab->state.X, fab->state.Xabove));
+      lB = lC, fB = ratio - target;
+      if (side > 0) fA *= 0.5;
+      side = 1;
     }
-    if (ruptured) PetscFunctionReturn(0);
-    if (!broke || round >= MAX_BREAK_ROUNDS) break;
   }
-  fab->step.torn = PETSC_FALSE; /* Newton relaxed after the tears: no te steps to follow */
-  PetscCall(FinishRow(fab, r.residual, r.balanced, measured, row));
+  PetscCall(PetscInfo(NULL, "load step %" PetscInt_FMT ": the break was not located (%s): yarns break at load factor %.12g\n",
+                      fab->load.load_step, trial > LOCATE_TRIALS ? "no trial within the tolerance" : "a trial did not balance",
+                      (double) lB));
+  PetscCall(RestoreAt(fab, fab->state.Xabove, lB));
+  *st = stB;
+  st->balanced = PETSC_TRUE; /* the state it was, balanced */
+  PetscFunctionReturn(0);
+}
+
+/* Balance the current load step (either path: ss, -solver static), break the yarns past their breaking
+   strain and follow each tear: the load step relaxes (or is solved) again while yarns break. A located break
+   (-break_locate_pct) leaves the load step at a lower load; once nothing more breaks there, the load step's own
+   load is applied from that state. */
+static PetscErrorCode BalanceLoadStep(Fabric fab, StaticSolver ss, CurveRow *row)
+{
+  const PetscReal own      = fab->load.load_factor;
+  StepStats       st       = {0};
+  PetscBool       measured = PETSC_FALSE;
+  RelaxPoint      at       = {0, 0, 0};
+
+  PetscFunctionBeginUser;
+  if (ss) {
+    if (fab->load.travel_now != fab->load.travel) PetscCall(PlaceGrips(fab, fab->load.travel, PETSC_TRUE));
+    fab->load.ramp_done = fab->load.ramp_steps;
+    row->inner_steps    = 0;
+    PetscCall(SolveCoarser(ss, fab->load.load_step, &fab->stats.coarse_nonlinear_iterations));
+  } else {
+    CheckpointRelaxStart(&at); /* restarted within this load step: where its checkpoint was taken */
+    row->inner_steps = at.inner_steps;
+  }
+  for (PetscInt round = at.round;; round++) {
+    PetscInt  broke;
+    PetscBool ruptured, stopped;
+    if (ss || round > at.round || !at.te_step) PetscCall(Settle(fab, ss, round, row, &st, &stopped));
+    else PetscCall(RelaxRound(fab, round, &at, row, &st, &stopped)); /* the round a restart is within */
+    if (stopped) PetscFunctionReturn(0);
+    if (!st.balanced) break;
+    PetscCall(LocateBreak(fab, ss, round, row, &st));
+    /* yarns start to break on a balanced (quasi-static) state only: the strains of the relaxation
+       transient are artefacts of the load stepping. If one broke, the tear that follows is
+       dynamics; then the specimen has ruptured, or this step relaxes again. */
+    PetscCall(BreakAndTear(fab, &st, ss ? PETSC_TRUE : PETSC_FALSE, row, &measured, &broke, &ruptured));
+    if (ruptured) PetscFunctionReturn(0);
+    if (round >= MAX_BREAK_ROUNDS) break;
+    if (broke) continue;
+    if (fab->load.load_factor == own) break;
+    { /* a located break's load, held now: on to the load step's own */
+      CurveRow here = *row;
+      if (!measured) PetscCall(MeasureRow(fab, st.residual, PETSC_TRUE, &here));
+      PetscCall(KeepBelow(fab, fab->stats.rupture.load_now, &here));
+      measured = PETSC_FALSE;
+    }
+    PetscCall(ApplyLoad(fab, fab->load.load_step, own));
+  }
+  if (ss) fab->step.torn = PETSC_FALSE; /* Newton relaxed after the tears: no te steps to follow */
+  else PetscCall(PaperAtRest(fab));
+  PetscCall(FinishRow(fab, st.residual, st.balanced, measured, row));
   PetscFunctionReturn(0);
 }
 
@@ -553,10 +713,7 @@ PetscErrorCode FabricRun(Fabric fab)
     CurveRow *row = &fab->stats.curve[k - 1];
     stepped       = PETSC_TRUE;
     if (!CheckpointWithinLoadStep(fab, k)) PetscCall(ApplyLoadStep(fab, k)); /* else restarted within it */
-    if (ss)
-      PetscCall(SolveLoadStep(fab, ss, row));
-    else
-      PetscCall(RelaxLoadStep(fab, row));
+    PetscCall(BalanceLoadStep(fab, ss, row));
     if (CheckpointStopped()) break; /* SIGTERM or SIGUSR1: its checkpoint is written */
     ruptured = fab->stats.rupture.rupture_step == k;
     if (!ruptured) PetscCall(BallPassedCheck(fab)); /* the pushing test: the fabric still before the ball */

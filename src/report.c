@@ -328,6 +328,7 @@ static void SummaryRupture(Fabric fab, FILE *fp)
   if (!isfinite(s->yarns.warp.break_e) && !isfinite(s->yarns.weft.break_e)) return;
   fprintf(fp, "  \"segments_broken\": %" PetscInt64_FMT ",\n  \"tear_te_steps\": %" PetscInt64_FMT ",\n", r->segments,
           r->tear_te_steps);
+  if (s->rupture.locate > 0) fprintf(fp, "  \"breaks_located\": %" PetscInt64_FMT ",\n", r->located);
   if (r->first.ratio > 0) {
     SegmentPlace(fab, &r->first, mm);
     fprintf(fp,

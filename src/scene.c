@@ -328,6 +328,10 @@ static const OptionDesc Options[] = {
            "in [0,100) (at 100 the force of a broken specimen, 0 to rounding, would have to fall below 0)",
            "break detection: once a yarn has broken, the specimen has ruptured and the test ends when the force has "
            "fallen by this % of its maximum (0 = never ends early)"),
+    RANGED("", "break_locate_pct", break_locate_pct, DEF(0.05), 0, 100, 0, 1, "in [0,100)",
+           "locate each break: a balanced state with a segment past its breaking strain by more than this % of it is "
+           "solved again at the load between it and the last state below every breaking strain, until within it, and "
+           "yarns break there (0 = they break on the load step's state)"),
     REAL("", "tear_wave_crossings", tear_wave_crossings, DEF(2), POSITIVE, POS_MUST,
          "a tear (the dynamics after a yarn broke) ends when no segment broke while a yarn's stress wave crossed the "
          "specimen this many times"),
@@ -1828,6 +1832,12 @@ static PetscErrorCode CheckTestOptions(MPI_Comm comm, const SceneInput *in, cons
   const Clamps *c = &s->clamps;
 
   PetscFunctionBeginUser;
+  PetscCheck(!(in->break_locate_pct > 0 && in->friction_mu > 0 && (s->yarns.warp.break_ey > 0 || s->yarns.weft.break_ey > 0)),
+             comm, PETSC_ERR_USER_INPUT,
+             "-break_locate_pct %g with -friction_mu %g and breaking yarns: a located break solves the load again from an "
+             "earlier state, and friction depends on the path taken; add -break_locate_pct 0 (yarns then break on each load "
+             "step's state) or use -friction_mu 0",
+             (double) in->break_locate_pct, (double) in->friction_mu);
   if (s->test == TEST_STRIP && in->yarns > 0) { /* -yarns sets the width: a -width_mm typed was dropped */
     PetscBool yarns_typed, width_typed;
     PetscCall(GivenByUser(comm, "-yarns", &yarns_typed));
@@ -1965,6 +1975,7 @@ static PetscErrorCode CheckOptionsApply(MPI_Comm comm, const Scene *s)
       {"break_seed", tears, nobreak, notear},
       {"rupture_drop_pct", tears || !ReactionTest(s), nobreak, notear}, /* else the entry above */
       {"tear_wave_crossings", tears, nobreak, notear},
+      {"break_locate_pct", tears || s->rupture.locate == 0, nobreak, notear},
       {"tear_max_ms", tears, nobreak, notear},
       {"tear_damping_ratio", tears, nobreak, notear},
       {"tear_te_safety", tears, nobreak, notear},
@@ -2109,6 +2120,7 @@ static void DeriveRupture(const SceneInput *in, Scene *s)
   s->rupture.seed      = in->break_seed;
   s->rupture.drop      = in->rupture_drop_pct / 100.0;
   s->rupture.crossings = in->tear_wave_crossings;
+  s->rupture.locate    = in->break_locate_pct / 100.0;
   s->rupture.max_time  = in->tear_max_ms * 1e-3;
   s->rupture.damping   = in->tear_damping_ratio;
 }

@@ -1340,8 +1340,15 @@ static int CompareBreaks(Patch *p, YarnLaw *warp, YarnLaw *weft, const double *x
   n2 = RefBreakSegments(p, x, &s2, &load2);
   memcpy(ref_x, p->broken_x, NP), memcpy(ref_y, p->broken_y, NP);
   memcpy(p->broken_x, keep_x, NP), memcpy(p->broken_y, keep_y, NP);
-  n1  = BreakSegments(p, x, &s1, &load1);
-  bad = n1 != n2 || memcmp(ref_x, p->broken_x, NP) != 0 || memcmp(ref_y, p->broken_y, NP) != 0 ||
+  { /* apply 0: the same largest ratio, nothing broken */
+    BreakSite  s0;
+    PetscReal  load0;
+    const PetscInt n0 = BreakSegments(p, x, 0, &s0, &load0);
+    bad               = n0 != 0 || memcmp(keep_x, p->broken_x, NP) != 0 || memcmp(keep_y, p->broken_y, NP) != 0 ||
+          memcmp(&load0, &load2, sizeof load0) != 0;
+  }
+  n1  = BreakSegments(p, x, 1, &s1, &load1);
+  bad |= n1 != n2 || memcmp(ref_x, p->broken_x, NP) != 0 || memcmp(ref_y, p->broken_y, NP) != 0 ||
         memcmp(&s1.ratio, &s2.ratio, sizeof s1.ratio) != 0 || memcmp(&load1, &load2, sizeof load1) != 0 ||
         s1.dir != s2.dir || s1.i != s2.i || s1.j != s2.j;
   bad |= n1 == 0; /* the case breaks some */

@@ -1,0 +1,91 @@
+#!/usr/bin/env bash
+# break_locate.sh FABRIC INPUTS: a located break (-break_locate_pct, docs/rupture.md#a-located-break).
+#  1. the ball burst at 6 threads/cm (burst.yaml, -ends_per_cm 6 -picks_per_cm 6), whose first tear leaves the
+#     fabric whole: the bursting force in 15 load steps and in 60 agrees within 1e-3 relative, by the explicit path
+#     and by the static one (each locates at least one break); without the location the two differ (printed);
+#  2. the same in 30 load steps on 1, 2 and 3 ranks: positions bit-identical;
+#  3. identical yarns (-warp_break_cv_pct 0, the 5 mm strip of rupture.sh case 1): one break located, every segment
+#     breaks in its tear, and the maximum force is 12 x (Ec c + EA eb) = 43.056 N at 15.02 % (both within 1e-5);
+#  4. checkpoints: -checkpoint_every_te 300 changes nothing (none is taken within a load step once it has left its
+#     own load); the run of case 2 on 2 ranks with -rupture_drop_pct 0 -checkpoint_every 1, killed once a
+#     checkpoint holds a located break, restarted on 3 ranks, ends bit-identical to the uninterrupted run.
+set -u
+fabric="$1"; inputs="$2"
+. "$(dirname "$0")/runs.sh" # $py, $work, $fail, run NP ARGS...
+burst=(-scene "$inputs/burst.yaml" -ends_per_cm 6 -picks_per_cm 6 -output_every 0)
+
+for k in 15 60; do
+  run 1 "${burst[@]}" -load_steps $k -output_dir "$work/off$k"
+  run 1 "${burst[@]}" -load_steps $k -output_dir "$work/on$k" -break_locate_pct 0.05
+  run 1 "${burst[@]}" -load_steps $k -output_dir "$work/static$k" -break_locate_pct 0.05 -solver static
+done
+"$py" - "$work" <<'PY' || fail=1
+import json, sys
+d = sys.argv[1]
+s = {n: json.load(open(f"{d}/{n}/summary.json")) for n in ("off15", "off60", "on15", "on60", "static15", "static60")}
+bad = 0
+for path in ("on", "static"):
+    a, b = s[f"{path}15"], s[f"{path}60"]
+    ok = abs(a["max_force_N"] / b["max_force_N"] - 1) <= 1e-3 and a["breaks_located"] >= 1 and b["breaks_located"] >= 1
+    bad |= not ok
+    print(("PASS" if ok else "FAIL") + f" {path}: bursting force in 15 load steps {a['max_force_N']:.6f} N, in 60 {b['max_force_N']:.6f} N "
+          f"(tol 1e-3 relative), breaks located {a['breaks_located']}, {b['breaks_located']}")
+print(f"     without the location: {s['off15']['max_force_N']:.6f} N and {s['off60']['max_force_N']:.6f} N")
+sys.exit(bad)
+PY
+
+for np in 1 2 3; do
+  run $np "${burst[@]}" -load_steps 30 -break_locate_pct 0.05 -output_dir "$work/r$np" -positions_out "$work/r$np.bin"
+done
+cmp -s "$work/r1.bin" "$work/r2.bin" && cmp -s "$work/r1.bin" "$work/r3.bin" \
+  && echo "PASS located breaks: positions bit-identical on 1, 2 and 3 ranks" \
+  || { echo "FAIL located breaks: positions differ on 1, 2 and 3 ranks"; fail=1; }
+
+run 1 -scene "$inputs/strip_warp_rupture.yaml" -gauge_mm 20 -width_mm 5 -warp_break_cv_pct 0 -weft_break_cv_pct 0 \
+  -output_every 0 -break_locate_pct 0.05 -output_dir "$work/cv0"
+"$py" - "$work/cv0/summary.json" <<'PY' || fail=1
+import json, sys
+s = json.load(open(sys.argv[1]))
+Ec, c, EA, eb = 0.05 * 52, 0.08, 52.0, 0.065
+exact, at = 12 * (Ec * c + EA * eb), 100 * (c + eb * (1 + c))
+ok = abs(s["max_force_N"] / exact - 1) <= 1e-5 and abs(s["elongation_at_max_force_pct"] / at - 1) <= 1e-5 \
+    and s["breaks_located"] == 1 and s["segments_broken"] == 12 * 48 and s["rupture"] is not None
+print(("PASS" if ok else "FAIL") + f" identical yarns, located: maximum {s['max_force_N']:.7f} N ({exact:.7f}) at "
+      f"{s['elongation_at_max_force_pct']:.7f} % ({at:.4f}), tol 1e-5; {s['breaks_located']} located, "
+      f"{s['segments_broken']} of 576 segments broken, rupture {s['rupture']}")
+sys.exit(0 if ok else 1)
+PY
+
+run 2 "${burst[@]}" -load_steps 30 -break_locate_pct 0.05 -checkpoint_every_te 300 -output_dir "$work/te" \
+  -positions_out "$work/te.bin"
+cmp -s "$work/r1.bin" "$work/te.bin" && echo "PASS -checkpoint_every_te 300 with located breaks changes nothing" \
+  || { echo "FAIL -checkpoint_every_te 300 with located breaks changed the positions"; fail=1; }
+
+opts=("${burst[@]}" -quiet -load_steps 30 -break_locate_pct 0.05 -rupture_drop_pct 0 -checkpoint_every 1)
+a="$work/whole" b="$work/killed"
+mpiexec -n 2 "$fabric" "${opts[@]}" -output_dir "$a" -positions_out "$a/positions.bin" >/dev/null 2>&1 \
+  || { echo "FAIL the uninterrupted run failed"; exit 1; }
+located() { h5dump -a /breaks_located "$1" 2>/dev/null | sed -n 's/ *(0): //p'; }
+mpiexec -n 2 "$fabric" "${opts[@]}" -output_dir "$b" -positions_out "$b/positions.bin" >/dev/null 2>&1 &
+pid=$!
+for ((i = 0; i < 6000; i++)); do
+  [[ -e "$b/checkpoint.h5" && "$(located "$b/checkpoint.h5")" =~ ^[1-9] ]] && break
+  kill -0 "$pid" 2>/dev/null || break
+  sleep 0.01
+done
+ranks=$(ps -o pid= --ppid "$pid")
+kill -KILL $ranks "$pid" 2>/dev/null
+wait "$pid" 2>/dev/null
+for p in $ranks; do while kill -0 "$p" 2>/dev/null; do sleep 0.05; done; done
+ck="$b/checkpoint.h5"
+step=$(h5dump -a /load_step "$ck" 2>/dev/null | sed -n 's/ *(0): //p')
+if [[ -e "$b/summary.json" ]]; then
+  echo "FAIL the run to be killed ended before a checkpoint held a located break"; fail=1
+else
+  mpiexec -n 3 "$fabric" "${opts[@]}" -output_dir "$b" -positions_out "$b/positions.bin" -restart "$ck" >/dev/null 2>&1
+  rc=$?
+  cmp -s "$a/positions.bin" "$b/positions.bin" && cmp -s "$a/curve.csv" "$b/curve.csv" \
+    && echo "PASS restarted on 3 ranks after load step $step (a located break in its checkpoint) == uninterrupted, bit for bit" \
+    || { echo "FAIL restarted after load step $step (exit $rc): positions or curve.csv differ"; fail=1; }
+fi
+exit $fail
