@@ -265,7 +265,7 @@ static PetscErrorCode WriteFrame(FabricIO io, const FrameSource *src, const Fram
 /* After a restart: drop the frames the interrupted run wrote after its checkpoint (they are
    written again) and count the frames before it that the file holds. Rank 0 does it alone,
    through serial HDF5 (metadata only), before the ranks open the file together again. */
-static PetscErrorCode DropFramesFrom(MPI_Comm comm, const char *restart, const char *file, PetscInt first,
+static PetscErrorCode DropFramesFrom(MPI_Comm comm, const char *why, const char *file, PetscInt first,
                                      PetscInt *kept)
 {
   int         status[2] = {0, 0}; /* frames kept, failed */
@@ -318,8 +318,7 @@ static PetscErrorCode DropFramesFrom(MPI_Comm comm, const char *restart, const c
     H5Eset_auto2(H5E_DEFAULT, efunc, edata);
   }
   PetscCall(BroadcastFromRoot(comm, status, 2, MPI_INT));
-  PetscCheck(!status[1], comm, PETSC_ERR_FILE_WRITE,
-             "-restart %s: cannot remove the frames written after the checkpoint from %s", restart, file);
+  PetscCheck(!status[1], comm, PETSC_ERR_FILE_WRITE, "%s: cannot remove them from %s", why, file);
   *kept = status[0];
   PetscFunctionReturn(0);
 }
@@ -328,14 +327,35 @@ static PetscErrorCode DropFramesFrom(MPI_Comm comm, const char *restart, const c
 static PetscErrorCode DropFramesAfterCheckpoint(FabricIO io, const FrameSource *src, const char *file)
 {
   PetscInt kept;
+  char     why[PETSC_MAX_PATH_LEN + 64];
 
   PetscFunctionBeginUser;
-  PetscCall(DropFramesFrom(src->comm, io->restart, file, io->frames, &kept));
+  PetscCall(PetscSNPrintf(why, sizeof why, "-restart %s: the frames written after the checkpoint", io->restart));
+  PetscCall(DropFramesFrom(src->comm, why, file, io->frames, &kept));
   PetscCheck(kept == io->frames, src->comm, PETSC_ERR_FILE_UNEXPECTED,
              "-restart %s: %s holds %" PetscInt_FMT " of the %" PetscInt_FMT
              " frames written before the checkpoint: it is not the file of this run",
              io->restart, file, kept, io->frames);
   PetscCall(FramesWriteXdmf(io, src->comm, src->out->output_dir, src->grid->patch.nx, src->grid->patch.ny));
+  PetscFunctionReturn(0);
+}
+
+/* A load step that leaves its own load to locate a break (relax.c LocateBreak): its te-step frames so far showed
+   the relaxation to a load the break came before, so they go (the frames that follow are of the located path) */
+PetscErrorCode FramesDropLoadStep(FabricIO io, const FrameSource *src, PetscInt load_step)
+{
+  const char *dir   = src->out->output_dir;
+  PetscInt    first = io ? io->frames : 0, kept;
+  char        file[PETSC_MAX_PATH_LEN];
+
+  PetscFunctionBeginUser;
+  if (!io || !FramesOn(io, dir)) PetscFunctionReturn(0);
+  while (first > 0 && io->frame[first - 1].load_step == load_step) first--;
+  if (first == io->frames) PetscFunctionReturn(0);
+  PetscCall(PetscSNPrintf(file, sizeof file, "%s/fabric.h5", dir));
+  PetscCall(DropFramesFrom(src->comm, "a located break: the te-step frames of its load step", file, first, &kept));
+  io->frames = kept;
+  PetscCall(FramesWriteXdmf(io, src->comm, dir, src->grid->patch.nx, src->grid->patch.ny));
   PetscFunctionReturn(0);
 }
 

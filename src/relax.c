@@ -566,6 +566,10 @@ static PetscErrorCode LocateBreak(Fabric fab, StaticSolver ss, PetscInt round, C
   if (!(fB > 1.0 + tol) || !(fA < 0)) PetscFunctionReturn(0);
   fB -= target;
   fab->load.left = PETSC_TRUE;
+  {
+    const FrameSource src = FramesOf(fab);
+    PetscCall(FramesDropLoadStep(fab->io, &src, fab->load.load_step));
+  }
   if (!fab->state.Xabove) PetscCall(VecDuplicate(fab->state.X, &fab->state.Xabove));
   PetscCall(VecCopy(fab->state.X, fab->state.Xabove));
   for (trial = 1; trial <= LOCATE_TRIALS; trial++) {
@@ -634,6 +638,11 @@ static PetscErrorCode BalanceLoadStep(Fabric fab, StaticSolver ss, CurveRow *row
     if (ss || round > at.round || !at.te_step) PetscCall(Settle(fab, ss, round, row, &st, &stopped));
     else PetscCall(RelaxRound(fab, round, &at, row, &st, &stopped)); /* the round a restart is within */
     if (stopped) PetscFunctionReturn(0);
+    if (!st.balanced && fab->load.load_factor != own) { /* not balanced after a located break's tear: the load
+                                                            step's own load is still to come */
+      PetscCall(ApplyLoad(fab, fab->load.load_step, own));
+      continue;
+    }
     if (!st.balanced) break;
     PetscCall(LocateBreak(fab, ss, round, row, &st));
     /* yarns start to break on a balanced (quasi-static) state only: the strains of the relaxation

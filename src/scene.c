@@ -1832,11 +1832,11 @@ static PetscErrorCode CheckTestOptions(MPI_Comm comm, const SceneInput *in, cons
   const Clamps *c = &s->clamps;
 
   PetscFunctionBeginUser;
-  PetscCheck(!(in->break_locate_pct > 0 && in->friction_mu > 0 && (s->yarns.warp.break_ey > 0 || s->yarns.weft.break_ey > 0)),
+  PetscCheck(!(s->rupture.locate > 0 && in->friction_mu > 0 && (s->yarns.warp.break_ey > 0 || s->yarns.weft.break_ey > 0)),
              comm, PETSC_ERR_USER_INPUT,
              "-break_locate_pct %g with -friction_mu %g and breaking yarns: a located break solves the load again from an "
-             "earlier state, and friction depends on the path taken; add -break_locate_pct 0 (yarns then break on each load "
-             "step's state) or use -friction_mu 0",
+             "earlier state, and friction depends on the path taken; leave -break_locate_pct out (with friction yarns break "
+             "on each load step's state) or use -friction_mu 0",
              (double) in->break_locate_pct, (double) in->friction_mu);
   if (s->test == TEST_STRIP && in->yarns > 0) { /* -yarns sets the width: a -width_mm typed was dropped */
     PetscBool yarns_typed, width_typed;
@@ -3001,6 +3001,12 @@ static PetscErrorCode SceneDerive(MPI_Comm comm, Scene *s, PetscBool coarse)
   PetscCall(DeriveLines(comm, "grip_line_mm", in->grip_line_mm, in->n_grip_line_mm, &s->clamps.grip_lines,
                         s->clamps.grip_line));
   PetscCall(DerivePath(comm, in, s->spec.gauge, &s->load));
+  if (s->rupture.locate > 0 && in->friction_mu > 0) { /* friction follows the path: breaks are located only when asked
+                                                         (and then refused, CheckTestOptions) */
+    PetscBool typed;
+    PetscCall(GivenByUser(comm, "-break_locate_pct", &typed));
+    if (!typed) s->rupture.locate = 0;
+  }
   PetscCall(CheckSolverOptions(comm, in, coarse)); /* first: the explicit knobs' own checks would name the wrong cure */
   PetscCall(CheckTestOptions(comm, in, s));
   if (!coarse) PetscCall(CheckOptionsApply(comm, s));

@@ -6,6 +6,8 @@
 #  2. the same in 30 load steps on 1, 2 and 3 ranks: positions bit-identical;
 #  3. identical yarns (-warp_break_cv_pct 0, the 5 mm strip of rupture.sh case 1): one break located, every segment
 #     breaks in its tear, and the maximum force is 12 x (Ec c + EA eb) = 43.056 N at 15.02 % (both within 1e-5);
+#  5. frames: a 30 x 20 mm strip (CV 25 %) with frames every 200 te steps and every 200 te steps of a tear: times
+#     strictly increasing (a load step that locates a break drops its te-step frames of the load it came before);
 #  4. checkpoints: -checkpoint_every_te 300 changes nothing (none is taken within a load step once it has left its
 #     own load); the run of case 2 on 2 ranks with -rupture_drop_pct 0 -checkpoint_every 1, killed once a
 #     checkpoint holds a located break, restarted on 3 ranks, ends bit-identical to the uninterrupted run.
@@ -15,7 +17,7 @@ fabric="$1"; inputs="$2"
 burst=(-scene "$inputs/burst.yaml" -ends_per_cm 6 -picks_per_cm 6 -output_every 0)
 
 for k in 15 60; do
-  run 1 "${burst[@]}" -load_steps $k -output_dir "$work/off$k"
+  run 1 "${burst[@]}" -load_steps $k -output_dir "$work/off$k" -break_locate_pct 0
   run 1 "${burst[@]}" -load_steps $k -output_dir "$work/on$k" -break_locate_pct 0.05
   run 1 "${burst[@]}" -load_steps $k -output_dir "$work/static$k" -break_locate_pct 0.05 -solver static
 done
@@ -88,4 +90,20 @@ else
     && echo "PASS restarted on 3 ranks after load step $step (a located break in its checkpoint) == uninterrupted, bit for bit" \
     || { echo "FAIL restarted after load step $step (exit $rc): positions or curve.csv differ"; fail=1; }
 fi
+run 1 -scene "$inputs/strip_warp_rupture.yaml" -gauge_mm 30 -width_mm 20 -load_steps 30 -warp_break_cv_pct 25 \
+  -output_dir "$work/frames" -output_te_every 200 -output_tear_every 200
+"$py" - "$work/frames" <<'PY' || fail=1
+import h5py, json, sys
+d = sys.argv[1]
+with h5py.File(f"{d}/fabric.h5", "r") as f:
+    t = [tuple(f["frames"][k].attrs[a].item() for a in ("time_s", "load_step", "te_step")) for k in sorted(f["frames"])]
+    n = f.attrs["frames"].item()
+xmf = open(f"{d}/fabric.xmf").read().count("<Time ")
+back = [(a, b) for a, b in zip(t, t[1:]) if b[0] <= a[0]]
+located = json.load(open(f"{d}/summary.json"))["breaks_located"]
+ok = not back and len(t) == n == xmf and located >= 1
+print(("PASS" if ok else "FAIL") + f" frames with {located} located breaks: {len(t)} in fabric.h5 ({n} counted, {xmf} in fabric.xmf), "
+      "times strictly increasing" + ("" if not back else f": not after {back[:3]}"))
+sys.exit(0 if ok else 1)
+PY
 exit $fail

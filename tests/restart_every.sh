@@ -3,7 +3,8 @@
 #   every_te  -checkpoint_every_te 2000 with yarns that break at load step 4, so that load step 4 is
 #             relaxed again (a second round of the break loop, 20000 te steps): every checkpoint
 #             until the end of that round is within it (-rupture_drop_pct 0: the test goes on past
-#             the rupture). Killed with SIGKILL once the first one is
+#             the rupture; yarns breaking on the load step's state, -break_locate_pct 0: a load step that
+#             locates a break writes no checkpoint within it). Killed with SIGKILL once the first one is
 #             there, restarted on 3 ranks from 2: bit-identical to the uninterrupted run.
 #   every_s   -checkpoint_every_s 0.05 on 1 rank (the run takes about 0.25 s): checkpoints within load
 #             steps while the run goes on, which then ends as the run without them; restarted on 2
@@ -31,7 +32,7 @@ where() { echo "load step $(($(attr "$1" /load_step) + $(attr "$1" /within_load_
 
 # ---- every_te: a checkpoint in the second round of the break loop
 opts=(-scene "$scene" -quiet -gauge_mm 20 -width_mm 5 -load_steps 6 -output_every 1 -predict extrapolate
-      -point_load_N 0,0,0.001 -warp_break_pct 0.5 -rupture_drop_pct 0)
+      -point_load_N 0,0,0.001 -warp_break_pct 0.5 -rupture_drop_pct 0 -break_locate_pct 0)
 a="$work/te_whole" b="$work/te_killed"
 mpiexec -n 2 "$fabric" "${opts[@]}" -output_dir "$a" -positions_out "$a/positions.bin" >/dev/null || { echo "FAIL the uninterrupted run failed"; exit 1; }
 mpiexec -n 2 "$fabric" "${opts[@]}" -checkpoint_every_te 2000 -output_dir "$b" -positions_out "$b/positions.bin" >/dev/null 2>&1 &
