@@ -25,9 +25,9 @@
 #define BALANCE_NEED_MAX 512  /* te steps in a row, at most, between two checks per crossing */
 
 /* Break the yarn segments strained past their breaking strain (all ranks agree); *broke: how many
-   broke. Where (where, and at the first break, whose place is kept): the most overstrained segment
+   broke (known: the largest ratio of this state if just measured, else negative). Where (where, and at the first break, whose place is kept): the most overstrained segment
    that broke, the lowest index on a tie, in r->last_break (one more reduction). */
-static PetscErrorCode CheckBreaks(Fabric fab, PetscBool where, PetscInt *broke)
+static PetscErrorCode CheckBreaks(Fabric fab, PetscBool where, PetscReal known, PetscInt *broke)
 {
   RuptureState      *r = &fab->stats.rupture;
   const PetscScalar *xl;
@@ -38,6 +38,10 @@ static PetscErrorCode CheckBreaks(Fabric fab, PetscBool where, PetscInt *broke)
   PetscFunctionBeginUser;
   *broke = 0;
   if (!isfinite(fab->s.yarns.warp.break_e) && !isfinite(fab->s.yarns.weft.break_e)) PetscFunctionReturn(0);
+  if (known >= 0 && known <= 1.0) { /* LocateBreak has just found every segment below its breaking strain */
+    r->load_now = known;
+    PetscFunctionReturn(0);
+  }
   PetscCall(HaloExchange(fab->grid.da, fab->state.X, fab->state.Xl));
   PetscCall(VecGetArrayRead(fab->state.Xl, &xl));
   n = BreakSegments(&fab->grid.patch, xl, 1, &site, &load);
@@ -344,7 +348,7 @@ static PetscErrorCode FollowTear(Fabric fab, StepStats *st, CurveRow *row, Petsc
     PetscInt broke;
     PetscCall(TimeStep(fab, st));
     n++;
-    PetscCall(CheckBreaks(fab, PETSC_FALSE, &broke));
+    PetscCall(CheckBreaks(fab, PETSC_FALSE, -1.0, &broke));
     if (broke) last = n;
     if (fab->io && every && n % every == 0) {
       const FrameSource src = FramesOf(fab);
@@ -372,14 +376,14 @@ static PetscErrorCode FollowTear(Fabric fab, StepStats *st, CurveRow *row, Petsc
    row, or the force at a first break: *measured), then the segments past their breaking strain
    break (*broke) and the tear is followed; *ruptured: the test ends. at_rest: the balanced state
    came from Newton, the velocities of an earlier tear are not its own. */
-static PetscErrorCode BreakAndTear(Fabric fab, StepStats *st, PetscBool at_rest, CurveRow *row, PetscBool *measured,
+static PetscErrorCode BreakAndTear(Fabric fab, StepStats *st, PetscBool at_rest, PetscReal known, CurveRow *row, PetscBool *measured,
                                    PetscInt *broke, PetscBool *ruptured)
 {
   PetscFunctionBeginUser;
   *ruptured = PETSC_FALSE;
   *measured = ReactionTest(&fab->s);
   if (*measured) PetscCall(MeasureRow(fab, st->residual, st->balanced, row));
-  PetscCall(CheckBreaks(fab, *measured, broke));
+  PetscCall(CheckBreaks(fab, *measured, known, broke));
   if (!*broke) PetscFunctionReturn(0);
   if (*measured) PeakAtBreak(fab, row);
   *measured = PETSC_FALSE; /* the row is no longer this state */
@@ -552,7 +556,7 @@ static PetscErrorCode Settle(Fabric fab, StaticSolver ss, PetscInt round, CurveR
    aiming at the largest ratio 1 + tol/2, each trial solved from the state below, until a trial's largest ratio
    is in (1, 1 + tol]; the load step then goes on from there (RelaxLoadStep). If a trial does not balance, or
    none comes within the tolerance, the state goes back to this one. */
-static PetscErrorCode LocateBreak(Fabric fab, StaticSolver ss, PetscInt round, CurveRow *row, StepStats *st)
+static PetscErrorCode LocateBreak(Fabric fab, StaticSolver ss, PetscInt round, CurveRow *row, StepStats *st, PetscReal *known)
 {
   const PetscReal tol = fab->s.rupture.locate, target = 1.0 + 0.5 * tol;
   RuptureState   *r   = &fab->stats.rupture;
@@ -561,9 +565,12 @@ static PetscErrorCode LocateBreak(Fabric fab, StaticSolver ss, PetscInt round, C
   PetscInt        side = 0, trial;
 
   PetscFunctionBeginUser;
+  *known = -1.0;
   if (!(tol > 0) || !r->have_below || !(lA < lB)) PetscFunctionReturn(0);
   PetscCall(BreakRatio(fab, &fB));
+  *known = fB;
   if (!(fB > 1.0 + tol) || !(fA < 0)) PetscFunctionReturn(0);
+  *known = -1.0;
   fB -= target;
   fab->load.left = PETSC_TRUE;
   {
@@ -635,6 +642,7 @@ static PetscErrorCode BalanceLoadStep(Fabric fab, StaticSolver ss, CurveRow *row
   for (PetscInt round = at.round;; round++) {
     PetscInt  broke;
     PetscBool ruptured, stopped;
+    PetscReal known;
     if (ss || round > at.round || !at.te_step) PetscCall(Settle(fab, ss, round, row, &st, &stopped));
     else PetscCall(RelaxRound(fab, round, &at, row, &st, &stopped)); /* the round a restart is within */
     if (stopped) PetscFunctionReturn(0);
@@ -644,11 +652,11 @@ static PetscErrorCode BalanceLoadStep(Fabric fab, StaticSolver ss, CurveRow *row
       continue;
     }
     if (!st.balanced) break;
-    PetscCall(LocateBreak(fab, ss, round, row, &st));
+    PetscCall(LocateBreak(fab, ss, round, row, &st, &known));
     /* yarns start to break on a balanced (quasi-static) state only: the strains of the relaxation
        transient are artefacts of the load stepping. If one broke, the tear that follows is
        dynamics; then the specimen has ruptured, or this step relaxes again. */
-    PetscCall(BreakAndTear(fab, &st, ss ? PETSC_TRUE : PETSC_FALSE, row, &measured, &broke, &ruptured));
+    PetscCall(BreakAndTear(fab, &st, ss ? PETSC_TRUE : PETSC_FALSE, known, row, &measured, &broke, &ruptured));
     if (ruptured) PetscFunctionReturn(0);
     if (round >= MAX_BREAK_ROUNDS) break;
     if (broke) continue;
