@@ -89,6 +89,8 @@ typedef struct { /* where the load program is */
   PetscReal gravity_now[3];        /* m/s^2: gravity of the current load step */
   PetscReal elapsed;               /* s: time since the load step began, the te of its te steps summed */
   PetscBool left;                  /* the load step has left its own load to locate a break: no checkpoint within it */
+  PetscInt  frames_below;          /* frames written up to the load step's start, or up to the state below a located
+                                      break kept within it: a location drops none before (relax.c) */
 } LoadState;
 
 /* where the grips or the sphere are for a curve row: the load step's travel, or, while a ramp towards it is

@@ -95,8 +95,8 @@ PetscErrorCode ComputePointFields(const FabricGrid *g, Vec X, Vec Xl, Vec warp_t
 PetscErrorCode FramesWriteXdmf(FabricIO io, MPI_Comm comm, const char *output_dir, PetscInt nx, PetscInt ny);
 /* one more frame in io's list (a restart's frames) */
 PetscErrorCode FramesAppend(FabricIO io, const FrameInfo *f);
-/* a load step that leaves its own load to locate a break: its te-step frames so far go */
-PetscErrorCode FramesDropLoadStep(FabricIO io, const FrameSource *src, PetscInt load_step);
+/* a load step that leaves its own load to locate a break: its te-step frames from frame `from` on go */
+PetscErrorCode FramesDropLoadStep(FabricIO io, const FrameSource *src, PetscInt load_step, PetscInt from);
 /* DMDA vector v as dataset `name` of the HDF5 viewer's current group, in VecView's shape and type
    (ny x nx [x dof] float64, stored contiguous), collectively */
 PetscErrorCode ViewDMDA(Vec v, const char *name, PetscViewer viewer);

@@ -340,9 +340,10 @@ static PetscErrorCode DropFramesAfterCheckpoint(FabricIO io, const FrameSource *
   PetscFunctionReturn(0);
 }
 
-/* A load step that leaves its own load to locate a break (relax.c LocateBreak): its te-step frames so far showed
-   the relaxation to a load the break came before, so they go (the frames that follow are of the located path) */
-PetscErrorCode FramesDropLoadStep(FabricIO io, const FrameSource *src, PetscInt load_step)
+/* A load step that leaves its own load to locate a break (relax.c LocateBreak): its te-step frames since the state
+   the location starts from (frame `from` on) showed the relaxation to a load the break came before, so they go (the
+   frames that follow are of the located path) */
+PetscErrorCode FramesDropLoadStep(FabricIO io, const FrameSource *src, PetscInt load_step, PetscInt from)
 {
   const char *dir   = src->out->output_dir;
   PetscInt    first = io ? io->frames : 0, kept;
@@ -350,7 +351,7 @@ PetscErrorCode FramesDropLoadStep(FabricIO io, const FrameSource *src, PetscInt 
 
   PetscFunctionBeginUser;
   if (!io || !FramesOn(io, dir)) PetscFunctionReturn(0);
-  while (first > 0 && io->frame[first - 1].load_step == load_step) first--;
+  while (first > from && first > 0 && io->frame[first - 1].load_step == load_step) first--;
   if (first == io->frames) PetscFunctionReturn(0);
   PetscCall(PetscSNPrintf(file, sizeof file, "%s/fabric.h5", dir));
   PetscCall(DropFramesFrom(src->comm, "a located break: the te-step frames of its load step", file, first, &kept));

@@ -169,7 +169,8 @@ static PetscErrorCode ApplyLoad(Fabric fab, PetscInt k, PetscReal lambda)
 PetscErrorCode ApplyLoadStep(Fabric fab, PetscInt k)
 {
   PetscFunctionBeginUser;
-  fab->load.left = PETSC_FALSE;
+  fab->load.left         = PETSC_FALSE;
+  fab->load.frames_below = fab->io ? fab->io->frames : 0;
   PetscCall(ApplyLoad(fab, k, (PetscReal) k / (PetscReal) fab->s.load.load_steps));
   PetscFunctionReturn(0);
 }
@@ -209,6 +210,7 @@ static PetscErrorCode KeepBelow(Fabric fab, PetscReal ratio, const CurveRow *row
   r->last_force = row->force;
   r->last_at    = RowAt(&fab->s, row);
   if (!(fab->s.rupture.locate > 0)) PetscFunctionReturn(0);
+  if (fab->load.left && fab->io) fab->load.frames_below = fab->io->frames; /* a tear's frames before stay */
   if (!fab->state.Xbelow) PetscCall(VecDuplicate(fab->state.X, &fab->state.Xbelow));
   PetscCall(VecCopy(fab->state.X, fab->state.Xbelow));
   r->have_below   = PETSC_TRUE;
@@ -575,7 +577,7 @@ static PetscErrorCode LocateBreak(Fabric fab, StaticSolver ss, PetscInt round, C
   fab->load.left = PETSC_TRUE;
   {
     const FrameSource src = FramesOf(fab);
-    PetscCall(FramesDropLoadStep(fab->io, &src, fab->load.load_step));
+    PetscCall(FramesDropLoadStep(fab->io, &src, fab->load.load_step, fab->load.frames_below));
   }
   if (!fab->state.Xabove) PetscCall(VecDuplicate(fab->state.X, &fab->state.Xabove));
   PetscCall(VecCopy(fab->state.X, fab->state.Xabove));

@@ -8,6 +8,8 @@
 #     breaks in its tear, and the maximum force is 12 x (Ec c + EA eb) = 43.056 N at 15.02 % (both within 1e-5);
 #  5. frames: a 30 x 20 mm strip (CV 25 %) with frames every 200 te steps and every 200 te steps of a tear: times
 #     strictly increasing (a load step that locates a break drops its te-step frames of the load it came before);
+#     with tear frames alone (every 50 te steps), the frame at rest and floor(n / 50) of each tear of n te steps
+#     (-info): a second break located in a load step keeps the frames of the first one's tear;
 #  4. checkpoints: -checkpoint_every_te 300 changes nothing (none is taken within a load step once it has left its
 #     own load); the run of case 2 on 2 ranks with -rupture_drop_pct 0 -checkpoint_every 1, killed once a
 #     checkpoint holds a located break, restarted on 3 ranks, ends bit-identical to the uninterrupted run.
@@ -104,6 +106,23 @@ located = json.load(open(f"{d}/summary.json"))["breaks_located"]
 ok = not back and len(t) == n == xmf and located >= 1
 print(("PASS" if ok else "FAIL") + f" frames with {located} located breaks: {len(t)} in fabric.h5 ({n} counted, {xmf} in fabric.xmf), "
       "times strictly increasing" + ("" if not back else f": not after {back[:3]}"))
+sys.exit(0 if ok else 1)
+PY
+mpiexec -n 2 "$fabric" -quiet -scene "$inputs/strip_warp_rupture.yaml" -gauge_mm 30 -width_mm 20 -load_steps 30 \
+  -warp_break_cv_pct 25 -output_dir "$work/tearframes" -output_every 0 -output_tear_every 50 -info :sys >"$work/info" 2>&1 \
+  || { cat "$work/info"; echo "FAIL the tear-frames run failed"; fail=1; }
+"$py" - "$work/tearframes/fabric.h5" "$work/info" <<'PY' || fail=1
+import h5py, re, sys
+log = open(sys.argv[2]).read()  # -info: every rank's lines, rank 0's counted
+tears = [int(n) for n in re.findall(r"\[0\] <sys> FollowTear\(\): load step \d+: a tear of (\d+) te steps", log)]
+steps = re.findall(r"\[0\] <sys> LocateBreak\(\): load step (\d+): locating a break", log)
+with h5py.File(sys.argv[1], "r") as f:
+    n = len(f["frames"])
+want = 1 + sum(t // 50 for t in tears)
+twice = len(steps) > len(set(steps))
+ok = n == want and twice
+print(("PASS" if ok else "FAIL") + f" tear frames: {n} in fabric.h5, the frame at rest and floor(n / 50) of each tear "
+      f"({tears}): {want}; a load step with two located breaks: {twice}")
 sys.exit(0 if ok else 1)
 PY
 exit $fail
