@@ -351,7 +351,8 @@ PetscErrorCode FramesDropLoadStep(FabricIO io, const FrameSource *src, PetscInt 
 
   PetscFunctionBeginUser;
   if (!io || !FramesOn(io, dir)) PetscFunctionReturn(0);
-  while (first > from && first > 0 && io->frame[first - 1].load_step == load_step) first--;
+  while (first > from && first > 1 && io->frame[first - 1].load_step == load_step) first--; /* frame 0 stays: a restart's
+                                                                                              first, earlier than any */
   if (first == io->frames) PetscFunctionReturn(0);
   PetscCall(PetscSNPrintf(file, sizeof file, "%s/fabric.h5", dir));
   PetscCall(DropFramesFrom(src->comm, "a located break: the te-step frames of its load step", file, first, &kept));

@@ -118,7 +118,7 @@ static PetscErrorCode TeStepFrame(Fabric fab)
 
 /* The load of load step k at load factor lambda (its own: k / K; a located break's: between two load
    factors): move the grips (at once, or start their ramp), predict, take the stable step. */
-static PetscErrorCode ApplyLoad(Fabric fab, PetscInt k, PetscReal lambda)
+static PetscErrorCode ApplyLoad(Fabric fab, PetscInt k, PetscReal lambda, PetscBool start)
 {
   const Scene    *s    = &fab->s;
   const PetscReal disp = lambda * LoadTravel(s), step = disp - fab->load.travel;
@@ -157,7 +157,7 @@ static PetscErrorCode ApplyLoad(Fabric fab, PetscInt k, PetscReal lambda)
   if (!fab->load.ramp_steps) PetscCall(PlaceGrips(fab, disp, PETSC_TRUE));
   PetscCall(PredictLoadStep(fab, step, move, &predicted));
   fab->load.travel           = disp;
-  fab->load.travel_step_prev = step;
+  if (start) fab->load.travel_step_prev = step; /* a load step's whole step: what extrapolation scales by */
   FrontLoadChange(fab, predicted);
   PetscCall(StableStep(fab));
   fab->step.damp_c      = damp_c;
@@ -171,7 +171,7 @@ PetscErrorCode ApplyLoadStep(Fabric fab, PetscInt k)
   PetscFunctionBeginUser;
   fab->load.left         = PETSC_FALSE;
   fab->load.frames_below = fab->io ? fab->io->frames : 0;
-  PetscCall(ApplyLoad(fab, k, (PetscReal) k / (PetscReal) fab->s.load.load_steps));
+  PetscCall(ApplyLoad(fab, k, (PetscReal) k / (PetscReal) fab->s.load.load_steps, PETSC_TRUE));
   PetscFunctionReturn(0);
 }
 
@@ -271,6 +271,7 @@ static PetscErrorCode FinishRow(Fabric fab, PetscReal residual, PetscBool balanc
   KeepPeak(r, row->force, RowAt(&fab->s, row), balanced);
   if (CanRupture(&fab->s) && fab->stats.broken_any && !r->rupture_step) (void) MarkRupture(fab, row);
   if (balanced && r->load_now <= 1.0) PetscCall(KeepBelow(fab, r->load_now, row));
+  if (!balanced) r->have_below = PETSC_FALSE; /* a located break never goes back past this row */
   PetscFunctionReturn(0);
 }
 
@@ -563,7 +564,7 @@ static PetscErrorCode LocateBreak(Fabric fab, StaticSolver ss, PetscInt round, C
   const PetscReal tol = fab->s.rupture.locate, target = 1.0 + 0.5 * tol;
   RuptureState   *r   = &fab->stats.rupture;
   PetscReal       lA = r->below_lambda, fA = r->last_load - target, lB = fab->load.load_factor, fB;
-  const StepStats stB = *st;
+  StepStats       stB = *st; /* of the state above: the load step's, then the lowest trial above */
   PetscInt        side = 0, trial;
 
   PetscFunctionBeginUser;
@@ -586,8 +587,9 @@ static PetscErrorCode LocateBreak(Fabric fab, StaticSolver ss, PetscInt round, C
     PetscBool stopped;
     CurveRow  scratch = *row;
     if (!(lC > lA && lC < lB)) lC = 0.5 * (lA + lB);
+    if (!(lC > lA && lC < lB)) break; /* the bracket is down to rounding */
     PetscCall(RestoreAt(fab, fab->state.Xbelow, lA));
-    PetscCall(ApplyLoad(fab, fab->load.load_step, lC));
+    PetscCall(ApplyLoad(fab, fab->load.load_step, lC, PETSC_FALSE));
     PetscCall(Settle(fab, ss, round, row, st, &stopped));
     if (!st->balanced) break;
     PetscCall(BreakRatio(fab, &ratio));
@@ -606,17 +608,26 @@ static PetscErrorCode LocateBreak(Fabric fab, StaticSolver ss, PetscInt round, C
       side = -1;
     } else {
       PetscCall(VecCopy(fab->state.X, fab->state.Xabove));
+      stB = *st;
       lB = lC, fB = ratio - target;
       if (side > 0) fA *= 0.5;
       side = 1;
     }
   }
-  PetscCall(PetscInfo(NULL, "load step %" PetscInt_FMT ": the break was not located (%s): yarns break at load factor %.12g\n",
-                      fab->load.load_step, trial > LOCATE_TRIALS ? "no trial within the tolerance" : "a trial did not balance",
+  PetscCall(PetscInfo(NULL, "load step %" PetscInt_FMT ": the break was not located (%s): yarns break at load factor %.12g, the lowest balanced above the tolerance\n",
+                      fab->load.load_step, trial > LOCATE_TRIALS ? "no trial within the tolerance" : st->balanced ? "the bracket is down to rounding" : "a trial did not balance",
                       (double) lB));
   PetscCall(RestoreAt(fab, fab->state.Xabove, lB));
-  *st = stB;
-  st->balanced = PETSC_TRUE; /* the state it was, balanced */
+  *st = stB; /* that state's, balanced */
+  PetscFunctionReturn(0);
+}
+
+/* Yarns broke in this load step: the last load step's converged increment is the intact fabric's, not one to
+   extrapolate to the load step's own load (KeepConverged forgets it at the load step's end too) */
+static PetscErrorCode ForgetIncrement(Fabric fab)
+{
+  PetscFunctionBeginUser;
+  if (fab->stats.rupture.segments != fab->state.conv_segments) PetscCall(VecDestroy(&fab->state.Xconv_prev));
   PetscFunctionReturn(0);
 }
 
@@ -650,7 +661,8 @@ static PetscErrorCode BalanceLoadStep(Fabric fab, StaticSolver ss, CurveRow *row
     if (stopped) PetscFunctionReturn(0);
     if (!st.balanced && fab->load.load_factor != own) { /* not balanced after a located break's tear: the load
                                                             step's own load is still to come */
-      PetscCall(ApplyLoad(fab, fab->load.load_step, own));
+      PetscCall(ForgetIncrement(fab));
+      PetscCall(ApplyLoad(fab, fab->load.load_step, own, PETSC_FALSE));
       continue;
     }
     if (!st.balanced) break;
@@ -669,7 +681,8 @@ static PetscErrorCode BalanceLoadStep(Fabric fab, StaticSolver ss, CurveRow *row
       PetscCall(KeepBelow(fab, fab->stats.rupture.load_now, &here));
       measured = PETSC_FALSE;
     }
-    PetscCall(ApplyLoad(fab, fab->load.load_step, own));
+    PetscCall(ForgetIncrement(fab));
+    PetscCall(ApplyLoad(fab, fab->load.load_step, own, PETSC_FALSE));
   }
   if (ss) fab->step.torn = PETSC_FALSE; /* Newton relaxed after the tears: no te steps to follow */
   else PetscCall(PaperAtRest(fab));

@@ -3003,9 +3003,15 @@ static PetscErrorCode SceneDerive(MPI_Comm comm, Scene *s, PetscBool coarse)
   PetscCall(DerivePath(comm, in, s->spec.gauge, &s->load));
   if (s->rupture.locate > 0 && in->friction_mu > 0) { /* friction follows the path: breaks are located only when asked
                                                          (and then refused, CheckTestOptions) */
-    PetscBool typed;
+    PetscBool typed, set;
     PetscCall(GivenByUser(comm, "-break_locate_pct", &typed));
+    PetscCall(PetscOptionsHasName(NULL, NULL, "-break_locate_pct", &set));
     if (!typed) s->rupture.locate = 0;
+    if (!typed && set && (s->yarns.warp.break_ey > 0 || s->yarns.weft.break_ey > 0))
+      PetscCall(PetscPrintf(comm, "fabric: warning: -break_locate_pct %g (from the scene) is not used with -friction_mu %g: "
+                                  "friction depends on the path, and a located break solves the load again from an earlier "
+                                  "state; yarns break on each load step's state\n",
+                            (double) in->break_locate_pct, (double) in->friction_mu));
   }
   PetscCall(CheckSolverOptions(comm, in, coarse)); /* first: the explicit knobs' own checks would name the wrong cure */
   PetscCall(CheckTestOptions(comm, in, s));
