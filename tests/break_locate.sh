@@ -15,6 +15,7 @@
 set -u
 fabric="$1"; inputs="$2"
 . "$(dirname "$0")/runs.sh" # $py, $work, $fail, run NP ARGS...
+. "$(dirname "$0")/kill_run.sh" # wait_for, kill_run
 burst=(-scene "$inputs/burst.yaml" -ends_per_cm 6 -picks_per_cm 6 -output_every 0)
 
 for k in 15 60; do
@@ -66,15 +67,8 @@ mpiexec -n 2 "$fabric" "${opts[@]}" -output_dir "$a" -positions_out "$a/position
 located() { h5dump -a /breaks_located "$1" 2>/dev/null | sed -n 's/ *(0): //p'; }
 mpiexec -n 2 "$fabric" "${opts[@]}" -output_dir "$b" -positions_out "$b/positions.bin" >/dev/null 2>&1 &
 pid=$!
-for ((i = 0; i < 6000; i++)); do
-  [[ -e "$b/checkpoint.h5" && "$(located "$b/checkpoint.h5")" =~ ^[1-9] ]] && break
-  kill -0 "$pid" 2>/dev/null || break
-  sleep 0.01
-done
-ranks=$(ps -o pid= --ppid "$pid")
-kill -KILL $ranks "$pid" 2>/dev/null
-wait "$pid" 2>/dev/null
-for p in $ranks; do while kill -0 "$p" 2>/dev/null; do sleep 0.05; done; done
+wait_for "$pid" '[[ -e "$b/checkpoint.h5" && "$(located "$b/checkpoint.h5")" =~ ^[1-9] ]]'
+kill_run "$pid"
 ck="$b/checkpoint.h5"
 step=$(h5dump -a /load_step "$ck" 2>/dev/null | sed -n 's/ *(0): //p')
 if [[ -e "$b/summary.json" || ! "$(located "$ck")" =~ ^[1-9] ]]; then

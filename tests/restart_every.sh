@@ -14,6 +14,7 @@
 # Compared: final positions, curve.csv, fabric.h5 (h5diff), fabric.xmf, summary.json's counters.
 set -u
 fabric="$1"; scene="$2"
+. "$(dirname "$0")/kill_run.sh" # wait_for, kill_run
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
 fail=0
 check() { if eval "$1"; then echo "PASS $2"; else echo "FAIL $2"; fail=1; fi; }
@@ -37,15 +38,8 @@ a="$work/te_whole" b="$work/te_killed"
 mpiexec -n 2 "$fabric" "${opts[@]}" -output_dir "$a" -positions_out "$a/positions.bin" >/dev/null || { echo "FAIL the uninterrupted run failed"; exit 1; }
 mpiexec -n 2 "$fabric" "${opts[@]}" -checkpoint_every_te 2000 -output_dir "$b" -positions_out "$b/positions.bin" >/dev/null 2>&1 &
 pid=$!
-for ((i = 0; i < 3000; i++)); do
-  [[ -e "$b/checkpoint.h5" ]] && break
-  kill -0 "$pid" 2>/dev/null || break
-  sleep 0.02
-done
-ranks=$(ps -o pid= --ppid "$pid")
-kill -KILL $ranks "$pid" 2>/dev/null
-wait "$pid" 2>/dev/null
-for p in $ranks; do while kill -0 "$p" 2>/dev/null; do sleep 0.05; done; done
+wait_for "$pid" '[[ -e "$b/checkpoint.h5" ]]'
+kill_run "$pid"
 ck="$b/checkpoint.h5"
 check '[[ ! -e $b/summary.json && "$(attr "$ck" /within_load_step)" == 1 && "$(attr "$ck" /load_step)" == 3 && "$(attr "$ck" /relax_round)" == 1 ]]' "every_te: killed with a checkpoint within load step 4, in the second round of its break loop ($(where "$ck"), $(attr "$ck" /te_steps) te steps in all)"
 mpiexec -n 3 "$fabric" "${opts[@]}" -checkpoint_every_te 2000 -output_dir "$b" -positions_out "$b/positions.bin" -restart "$ck" >/dev/null 2>&1
@@ -88,16 +82,9 @@ check '[[ -e "$ck" && "$results" == *", checkpoint.h5)" ]]' "every_s: the restar
 b="$work/s_write"
 mpiexec -n 2 "$fabric" "${opts[@]}" -quiet -checkpoint_every_te 20 -output_dir "$b" -positions_out "$b/positions.bin" >/dev/null 2>&1 &
 pid=$!
-for ((i = 0; i < 3000; i++)); do
-  [[ -e "$b/checkpoint.h5" ]] && break
-  kill -0 "$pid" 2>/dev/null || break
-  sleep 0.02
-done
+wait_for "$pid" '[[ -e "$b/checkpoint.h5" ]]'
 sleep 0.5
-ranks=$(ps -o pid= --ppid "$pid")
-kill -KILL $ranks "$pid" 2>/dev/null
-wait "$pid" 2>/dev/null
-for p in $ranks; do while kill -0 "$p" 2>/dev/null; do sleep 0.05; done; done
+kill_run "$pid"
 tmp="no checkpoint was being written"; [[ -e "$b/.checkpoint.h5.tmp" ]] && tmp="killed while writing .checkpoint.h5.tmp ($(stat -c %s "$b/.checkpoint.h5.tmp") bytes)"
 ck="$b/checkpoint.h5"
 last="$(where "$ck")"

@@ -1,0 +1,20 @@
+# kill_run.sh - sourced by the tests that kill a run midway (restart_every.sh, break_locate.sh):
+#   wait_for PID COND   poll the shell test COND every 0.01 s until it holds (status 0) or the run PID has
+#                       ended or 60 s have passed (status 1)
+#   kill_run PID        SIGKILL to mpiexec (PID) and its ranks, then wait until every rank is gone
+wait_for() {
+  local pid="$1" i
+  for ((i = 0; i < 6000; i++)); do
+    eval "$2" && return 0
+    kill -0 "$pid" 2>/dev/null || return 1
+    sleep 0.01
+  done
+  return 1
+}
+kill_run() {
+  local pid="$1" ranks p
+  ranks=$(ps -o pid= --ppid "$pid")
+  kill -KILL $ranks "$pid" 2>/dev/null
+  wait "$pid" 2>/dev/null
+  for p in $ranks; do while kill -0 "$p" 2>/dev/null; do sleep 0.05; done; done
+}
