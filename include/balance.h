@@ -18,6 +18,11 @@ typedef struct {
 } BalanceCheck;
 PetscErrorCode BalanceCrossings(Fabric fab, BalanceCheck *c);
 
+/* -info, at te steps 1024, 2048, 4096, ... of a relaxation round that has not ended: the te steps' test (residual,
+   largest speed), the fastest free crossing, how many free crossings move faster than the speed test's tolerance
+   (-speed_tol), and the shares of sum |v|^2 along x (warp), y (weft) and z: what holds the round. */
+PetscErrorCode RelaxInfo(Fabric fab, PetscInt round, PetscInt n, const StepStats *st);
+
 /* The pushing test, before a load step's row is written: a free crossing within the ball's silhouette (closer
    to the axis of its path than its radius) and behind its centre along the path, ahead of the ball's start at rest,
    has been passed through (a ball that starts beyond the fabric and moves away from it passes nothing).

@@ -42,6 +42,44 @@ static PetscInt GlobalIndexOf(const Patch *p, PetscInt k)
   return k < 0 ? -1 : (p->ys + k / p->xm) * p->nx + p->xs + k % p->xm;
 }
 
+PetscErrorCode RelaxInfo(Fabric fab, PetscInt round, PetscInt n, const StepStats *st)
+{
+  const Patch       *p = &fab->grid.patch;
+  const PetscReal    tol2 = PetscSqr(fab->s.num.speed_tol);
+  const PetscScalar *v;
+  PetscBool          info;
+  PetscReal          fast = -1, sum[4] = {0, 0, 0, 0}; /* sum v_x^2, v_y^2, v_z^2, points faster than -speed_tol */
+  PetscInt           kfast = -1, where;
+
+  PetscFunctionBeginUser;
+  if (n < 1024 || (n & (n - 1))) PetscFunctionReturn(0);
+  PetscCall(PetscInfoEnabled(PETSC_SMALLEST_CLASSID, &info)); /* PetscInfo(NULL, ...)'s class */
+  if (!info) PetscFunctionReturn(0);
+  PetscCall(VecGetArrayRead(fab->state.V, &v));
+  for (PetscInt k = 0; k < fab->grid.nloc; k++) {
+    const PetscReal *u = v + 3 * k, s2 = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
+    if (!(fab->grid.inv_m[k] > 0)) continue;
+    for (int d = 0; d < 3; d++) sum[d] += u[d] * u[d];
+    sum[3] += s2 > tol2 ? 1.0 : 0.0;
+    if (s2 > fast) fast = s2, kfast = k;
+  }
+  PetscCall(VecRestoreArrayRead(fab->state.V, &v));
+  where = GlobalIndexOf(p, kfast);
+  PetscCall(GlobalArgMax(fab->comm, &fast, &where));
+  PetscCall(GlobalSum(fab->comm, sum, 4));
+  {
+    const PetscReal all = PetscMax(sum[0] + sum[1] + sum[2], PETSC_MIN_REAL);
+    PetscCall(PetscInfo(NULL,
+                        "load step %" PetscInt_FMT ", round %" PetscInt_FMT ", te step %" PetscInt_FMT
+                        " of the round: residual %.3g, speed %.3g m/s (-speed_tol %g), the fastest at crossing (%" PetscInt_FMT
+                        ", %" PetscInt_FMT "); %.0f free crossings faster than -speed_tol; sum |v|^2 along x %.2f, y %.2f, z %.2f\n",
+                        fab->load.load_step, round, n, (double) st->residual, (double) st->speed,
+                        (double) fab->s.num.speed_tol, where < 0 ? -1 : where % p->nx, where < 0 ? -1 : where / p->nx,
+                        (double) sum[3], (double) (sum[0] / all), (double) (sum[1] / all), (double) (sum[2] / all)));
+  }
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode BalanceCrossings(Fabric fab, BalanceCheck *c)
 {
   const Patch       *p = &fab->grid.patch;

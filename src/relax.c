@@ -500,6 +500,7 @@ static PetscErrorCode RelaxRound(Fabric fab, PetscInt round, RelaxPoint *at, Cur
     PetscCall(EnergyWatchBefore(fab, n, &watched));
     PetscCall(TimeStep(fab, st));
     if (watched) PetscCall(EnergyWatchAfter(fab, n));
+    PetscCall(RelaxInfo(fab, round, n, st)); /* -info: what holds a long round */
     if (fab->io && !fab->load.left) PetscCall(TeStepFrame(fab)); /* -output_te_every */
     if (s->num.early_exit) {
       PetscCall(Balanced(fab, st, PETSC_FALSE, &done));
@@ -517,6 +518,9 @@ static PetscErrorCode RelaxRound(Fabric fab, PetscInt round, RelaxPoint *at, Cur
   at->te_step = 0;
   row->inner_steps += PetscMin(n, s->load.max_inner_steps);
   if (!done) PetscCall(Balanced(fab, st, PETSC_TRUE, &done)); /* the last te step: checked per crossing too */
+  PetscCall(PetscInfo(NULL, "load step %" PetscInt_FMT ", round %" PetscInt_FMT " at load factor %.9g: %" PetscInt_FMT
+                            " te steps, %s\n", fab->load.load_step, round, (double) fab->load.load_factor,
+                      PetscMin(n, s->load.max_inner_steps), done ? "balanced" : "not balanced"));
   PetscFunctionReturn(0);
 }
 
