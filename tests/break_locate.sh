@@ -11,7 +11,10 @@
 #     with tear frames alone (every 50 te steps), the frame at rest and floor(n / 50) of each tear of n te steps
 #     (-info): a second break located in a load step keeps the frames of the first one's tear;
 #  4. checkpoints: the run of case 2 on 2 ranks with -rupture_drop_pct 0 -checkpoint_every 1, killed once a
-#     checkpoint holds a located break, restarted on 3 ranks, ends bit-identical to the uninterrupted run.
+#     checkpoint holds a located break, restarted on 3 ranks, ends bit-identical to the uninterrupted run;
+#  6. the same run with -checkpoint_every_te 20, killed at its first checkpoint within a round after which a break is
+#     located in the same load step (the rounds from the uninterrupted run's -info), restarted on 3 ranks: ends
+#     bit-identical (a located break's trials and tear after a restart within its load step).
 set -u
 fabric="$1"; inputs="$2"
 . "$(dirname "$0")/runs.sh" # $py, $work, $fail, run NP ARGS...
@@ -79,6 +82,38 @@ else
   cmp -s "$a/positions.bin" "$b/positions.bin" && cmp -s "$a/curve.csv" "$b/curve.csv" \
     && echo "PASS restarted on 3 ranks after load step $step (a located break in its checkpoint) == uninterrupted, bit for bit" \
     || { echo "FAIL restarted after load step $step (exit $rc): positions or curve.csv differ"; fail=1; }
+fi
+# 6. a checkpoint within a load step that locates a break after it (-checkpoint_every_te), restarted on 3 ranks
+attr() { h5dump -a "$2" "$1" 2>/dev/null | sed -n 's/ *(0): //p'; }
+a="$work/te_whole" b="$work/te_killed"
+mpiexec -n 2 "$fabric" "${opts[@]}" -output_dir "$a" -positions_out "$a/positions.bin" -info :sys >"$work/te_info" 2>&1 \
+  || { echo "FAIL the uninterrupted run (-info) failed"; exit 1; }
+# the rounds (load step:round) after which a break is located in the same load step, from rank 0's -info
+pairs=$("$py" - "$work/te_info" <<'PY'
+import re, sys
+lines = [l for l in open(sys.argv[1]) if l.startswith("[0] <sys> ")]
+pairs = set()
+for k, l in enumerate(lines):
+    m = re.search(r"RelaxRound\(\): load step (\d+), round (\d+) ", l)
+    if m and any(f"LocateBreak(): load step {m.group(1)}: locating a break" in x for x in lines[k:]):
+        pairs.add(f"{m.group(1)}:{m.group(2)}")
+print(" ".join(sorted(pairs)))
+PY
+)
+where() { echo "$(( $(attr "$1" /load_step) + 1 )):$(attr "$1" /relax_round)"; }
+mpiexec -n 2 "$fabric" "${opts[@]}" -checkpoint_every_te 20 -output_dir "$b" -positions_out "$b/positions.bin" >/dev/null 2>&1 &
+pid=$!
+wait_for "$pid" '[[ -e "$b/checkpoint.h5" && "$(attr "$b/checkpoint.h5" /within_load_step)" == 1 && " $pairs " == *" $(where "$b/checkpoint.h5") "* ]]'
+kill_run "$pid"
+ck="$b/checkpoint.h5" at=$(where "$b/checkpoint.h5")
+if [[ -e "$b/summary.json" || $(attr "$ck" /within_load_step) != 1 || " $pairs " != *" $at "* ]]; then
+  echo "FAIL the run to be killed ended, or its checkpoint (load step:round $at) is not one with a break located after it in its load step ($pairs)"; fail=1
+else
+  mpiexec -n 3 "$fabric" "${opts[@]}" -checkpoint_every_te 20 -output_dir "$b" -positions_out "$b/positions.bin" -restart "$ck" >/dev/null 2>&1
+  rc=$?
+  cmp -s "$a/positions.bin" "$b/positions.bin" && cmp -s "$a/curve.csv" "$b/curve.csv" \
+    && echo "PASS restarted on 3 ranks from within load step:round $at (a break located later in that load step) == uninterrupted, bit for bit" \
+    || { echo "FAIL restarted from within load step:round $at (exit $rc): positions or curve.csv differ"; fail=1; }
 fi
 run 1 -scene "$inputs/strip_warp_rupture.yaml" -gauge_mm 30 -width_mm 20 -load_steps 30 -warp_break_cv_pct 25 \
   -output_dir "$work/frames" -output_te_every 200 -output_tear_every 200
