@@ -19,8 +19,10 @@ typedef struct {
 PetscErrorCode BalanceCrossings(Fabric fab, BalanceCheck *c);
 
 /* -info, at te steps 1024, 2048, 4096, ... of a relaxation round that has not ended: the te steps' test (residual,
-   largest speed), the fastest free crossing, how many free crossings move faster than the speed test's tolerance
-   (-speed_tol), and the shares of sum |v|^2 along x (warp), y (weft) and z: what holds the round. */
+   largest speed, on the crossings that te step moved), the fastest free crossing, how many free crossings move faster
+   than the speed test's tolerance (-speed_tol), and the shares of sum |v|^2 along x (warp), y (weft) and z (exact
+   sums: the same on any number of ranks): what holds the round. Sleeping crossings count with the velocity they
+   fell asleep with (at most -speed_tol). */
 PetscErrorCode RelaxInfo(Fabric fab, PetscInt round, PetscInt n, const StepStats *st);
 
 /* The pushing test, before a load step's row is written: a free crossing within the ball's silhouette (closer

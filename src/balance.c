@@ -46,36 +46,39 @@ PetscErrorCode RelaxInfo(Fabric fab, PetscInt round, PetscInt n, const StepStats
 {
   const Patch       *p = &fab->grid.patch;
   const PetscReal    tol2 = PetscSqr(fab->s.num.speed_tol);
+  const PetscInt     nl   = fab->grid.nloc;
   const PetscScalar *v;
   PetscBool          info;
-  PetscReal          fast = -1, sum[4] = {0, 0, 0, 0}; /* sum v_x^2, v_y^2, v_z^2, points faster than -speed_tol */
+  PetscReal          fast = -1, sum[4], *terms; /* sums of v_x^2, v_y^2, v_z^2 and of the points faster than -speed_tol */
   PetscInt           kfast = -1, where;
 
   PetscFunctionBeginUser;
   if (n < 1024 || (n & (n - 1))) PetscFunctionReturn(0);
   PetscCall(PetscInfoEnabled(PETSC_SMALLEST_CLASSID, &info)); /* PetscInfo(NULL, ...)'s class */
   if (!info) PetscFunctionReturn(0);
+  PetscCall(PetscMalloc1(4 * nl, &terms));
   PetscCall(VecGetArrayRead(fab->state.V, &v));
-  for (PetscInt k = 0; k < fab->grid.nloc; k++) {
-    const PetscReal *u = v + 3 * k, s2 = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
-    if (!(fab->grid.inv_m[k] > 0)) continue;
-    for (int d = 0; d < 3; d++) sum[d] += u[d] * u[d];
-    sum[3] += s2 > tol2 ? 1.0 : 0.0;
-    if (s2 > fast) fast = s2, kfast = k;
+  for (PetscInt k = 0; k < nl; k++) {
+    const PetscReal *u = v + 3 * k, s2 = u[0] * u[0] + u[1] * u[1] + u[2] * u[2], w = fab->grid.inv_m[k] > 0 ? 1.0 : 0.0;
+    for (int d = 0; d < 3; d++) terms[d * nl + k] = w * u[d] * u[d];
+    terms[3 * nl + k] = s2 > tol2 ? w : 0.0;
+    if (w > 0 && s2 > fast) fast = s2, kfast = k;
   }
   PetscCall(VecRestoreArrayRead(fab->state.V, &v));
+  PetscCall(GlobalSumsExact(fab->comm, 4, terms, nl, sum)); /* exact: the same shares on any number of ranks */
+  PetscCall(PetscFree(terms));
   where = GlobalIndexOf(p, kfast);
   PetscCall(GlobalArgMax(fab->comm, &fast, &where));
-  PetscCall(GlobalSum(fab->comm, sum, 4));
   {
     const PetscReal all = PetscMax(sum[0] + sum[1] + sum[2], PETSC_MIN_REAL);
     PetscCall(PetscInfo(NULL,
-                        "load step %" PetscInt_FMT ", round %" PetscInt_FMT ", te step %" PetscInt_FMT
+                        "load step %" PetscInt_FMT ", round %" PetscInt_FMT " at load factor %.9g, te step %" PetscInt_FMT
                         " of the round: residual %.3g, speed %.3g m/s (-speed_tol %g), the fastest at crossing (%" PetscInt_FMT
                         ", %" PetscInt_FMT "); %.0f free crossings faster than -speed_tol; sum |v|^2 along x %.2f, y %.2f, z %.2f\n",
-                        fab->load.load_step, round, n, (double) st->residual, (double) st->speed,
-                        (double) fab->s.num.speed_tol, where < 0 ? -1 : where % p->nx, where < 0 ? -1 : where / p->nx,
-                        (double) sum[3], (double) (sum[0] / all), (double) (sum[1] / all), (double) (sum[2] / all)));
+                        fab->load.load_step, round, (double) fab->load.load_factor, n, (double) st->residual,
+                        (double) st->speed, (double) fab->s.num.speed_tol, where < 0 ? -1 : where % p->nx,
+                        where < 0 ? -1 : where / p->nx, (double) sum[3], (double) (sum[0] / all), (double) (sum[1] / all),
+                        (double) (sum[2] / all)));
   }
   PetscFunctionReturn(0);
 }

@@ -500,12 +500,12 @@ static PetscErrorCode RelaxRound(Fabric fab, PetscInt round, RelaxPoint *at, Cur
     PetscCall(EnergyWatchBefore(fab, n, &watched));
     PetscCall(TimeStep(fab, st));
     if (watched) PetscCall(EnergyWatchAfter(fab, n));
-    PetscCall(RelaxInfo(fab, round, n, st)); /* -info: what holds a long round */
     if (fab->io && !fab->load.left) PetscCall(TeStepFrame(fab)); /* -output_te_every */
     if (s->num.early_exit) {
       PetscCall(Balanced(fab, st, PETSC_FALSE, &done));
       if (done) break;
     }
+    if (n < s->load.max_inner_steps) PetscCall(RelaxInfo(fab, round, n, st)); /* -info: what holds a long round */
     if (n < s->load.max_inner_steps && !fab->load.left) { /* the load step goes on: a checkpoint within it, if due or signalled */
       const RelaxPoint here = {round, n, row->inner_steps};
       PetscCall(CheckpointTeStep(fab, &here));
