@@ -74,14 +74,18 @@ wait_for "$pid" '[[ -e "$b/checkpoint.h5" && "$(located "$b/checkpoint.h5")" =~ 
 kill_run "$pid"
 ck="$b/checkpoint.h5"
 step=$(h5dump -a /load_step "$ck" 2>/dev/null | sed -n 's/ *(0): //p')
+# restarted A B WHAT: the killed run B restarted on 3 ranks from its checkpoint ends as the uninterrupted run A, bit for bit
+restarted() {
+  mpiexec -n 3 "$fabric" "${opts[@]}" -output_dir "$2" -positions_out "$2/positions.bin" -restart "$2/checkpoint.h5" >/dev/null 2>&1
+  local rc=$?
+  cmp -s "$1/positions.bin" "$2/positions.bin" && cmp -s "$1/curve.csv" "$2/curve.csv" \
+    && echo "PASS restarted on 3 ranks $3 == uninterrupted, bit for bit" \
+    || { echo "FAIL restarted $3 (exit $rc): positions or curve.csv differ"; fail=1; }
+}
 if [[ -e "$b/summary.json" || ! "$(located "$ck")" =~ ^[1-9] ]]; then
   echo "FAIL the run to be killed ended, or was stopped, before a checkpoint held a located break"; fail=1
 else
-  mpiexec -n 3 "$fabric" "${opts[@]}" -output_dir "$b" -positions_out "$b/positions.bin" -restart "$ck" >/dev/null 2>&1
-  rc=$?
-  cmp -s "$a/positions.bin" "$b/positions.bin" && cmp -s "$a/curve.csv" "$b/curve.csv" \
-    && echo "PASS restarted on 3 ranks after load step $step (a located break in its checkpoint) == uninterrupted, bit for bit" \
-    || { echo "FAIL restarted after load step $step (exit $rc): positions or curve.csv differ"; fail=1; }
+  restarted "$a" "$b" "after load step $step (a located break in its checkpoint)"
 fi
 # 5. a checkpoint within a load step that locates a break after it (-checkpoint_every_te), restarted on 3 ranks
 a="$work/te_whole" b="$work/te_killed"
@@ -113,15 +117,11 @@ for try in 1 2 3; do # a poll that misses every qualifying checkpoint (a busy ma
   kill_run "$pid"
   [[ ! -e "$b/summary.json" && " $pairs " == *" $(within "$b/checkpoint.h5") "* ]] && break
 done
-ck="$b/checkpoint.h5" at=$(within "$b/checkpoint.h5")
+at=$(within "$b/checkpoint.h5")
 if [[ -e "$b/summary.json" || " $pairs " != *" $at "* ]]; then
   echo "FAIL the run to be killed ended, or its checkpoint (load step:round $at) is not one with a break located after it in its load step ($pairs)"; fail=1
 else
-  mpiexec -n 3 "$fabric" "${opts[@]}" -output_dir "$b" -positions_out "$b/positions.bin" -restart "$ck" >/dev/null 2>&1
-  rc=$?
-  cmp -s "$a/positions.bin" "$b/positions.bin" && cmp -s "$a/curve.csv" "$b/curve.csv" \
-    && echo "PASS restarted on 3 ranks from within load step:round $at (a break located later in that load step) == uninterrupted, bit for bit" \
-    || { echo "FAIL restarted from within load step:round $at (exit $rc): positions or curve.csv differ"; fail=1; }
+  restarted "$a" "$b" "from within load step:round $at (a break located later in that load step)"
 fi
 run 1 -scene "$inputs/strip_warp_rupture.yaml" -gauge_mm 30 -width_mm 20 -load_steps 30 -warp_break_cv_pct 25 \
   -output_dir "$work/frames" -output_te_every 200 -output_tear_every 200
