@@ -647,10 +647,8 @@ static PetscErrorCode BalanceLoadStep(Fabric fab, StaticSolver ss, CurveRow *row
   RelaxPoint      at       = {0, 0, 0};
 
   PetscFunctionBeginUser;
-  if (ss) {
-    if (fab->load.travel_now != fab->load.travel) PetscCall(PlaceGrips(fab, fab->load.travel, PETSC_TRUE));
-    fab->load.ramp_done = fab->load.ramp_steps;
-    row->inner_steps    = 0;
+  if (ss) { /* the grips go to their place in Settle */
+    row->inner_steps = 0;
     PetscCall(SolveCoarser(ss, fab->load.load_step, &fab->stats.coarse_nonlinear_iterations));
   } else {
     CheckpointRelaxStart(&at); /* restarted within this load step: where its checkpoint was taken */
