@@ -505,22 +505,24 @@ static PetscErrorCode RelaxRound(Fabric fab, PetscInt round, RelaxPoint *at, Cur
       PetscCall(Balanced(fab, st, PETSC_FALSE, &done));
       if (done) break;
     }
-    if (n < s->load.max_inner_steps) PetscCall(RelaxInfo(fab, round, n, st)); /* -info: what holds a long round */
-    if (n < s->load.max_inner_steps && !fab->load.left) { /* the load step goes on: a checkpoint within it, if due or signalled */
+    if (n < s->load.max_inner_steps) { /* the round goes on: -info says what holds it; a checkpoint within the load
+                                          step, if due or signalled */
       const RelaxPoint here = {round, n, row->inner_steps};
-      PetscCall(CheckpointTeStep(fab, &here));
+      PetscCall(RelaxInfo(fab, round, n, st));
+      if (!fab->load.left) PetscCall(CheckpointTeStep(fab, &here));
       if (CheckpointStopped()) {
         *stopped = PETSC_TRUE;
         PetscFunctionReturn(0);
       }
     }
   }
+  n           = PetscMin(n, s->load.max_inner_steps); /* the round's te steps */
   at->te_step = 0;
-  row->inner_steps += PetscMin(n, s->load.max_inner_steps);
+  row->inner_steps += n;
   if (!done) PetscCall(Balanced(fab, st, PETSC_TRUE, &done)); /* the last te step: checked per crossing too */
   PetscCall(PetscInfo(NULL, "load step %" PetscInt_FMT ", round %" PetscInt_FMT " at load factor %.9g: %" PetscInt_FMT
-                            " te steps, %s\n", fab->load.load_step, round, (double) fab->load.load_factor,
-                      PetscMin(n, s->load.max_inner_steps), done ? "balanced" : "not balanced"));
+                            " te steps, %s\n", fab->load.load_step, round, (double) fab->load.load_factor, n,
+                      done ? "balanced" : "not balanced"));
   PetscFunctionReturn(0);
 }
 

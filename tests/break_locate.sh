@@ -18,7 +18,7 @@
 set -u
 fabric="$1"; inputs="$2"
 . "$(dirname "$0")/runs.sh" # $py, $work, $fail, run NP ARGS...
-. "$(dirname "$0")/kill_run.sh" # wait_for, kill_run
+. "$(dirname "$0")/kill_run.sh" # wait_for, kill_run, attr
 burst=(-scene "$inputs/burst.yaml" -ends_per_cm 6 -picks_per_cm 6 -output_every 0)
 
 for k in 15 60; do
@@ -67,13 +67,13 @@ opts=("${burst[@]}" -quiet -load_steps 30 -break_locate_pct 0.05 -rupture_drop_p
 a="$work/whole" b="$work/killed"
 mpiexec -n 2 "$fabric" "${opts[@]}" -output_dir "$a" -positions_out "$a/positions.bin" >/dev/null 2>&1 \
   || { echo "FAIL the uninterrupted run failed"; exit 1; }
-located() { h5dump -a /breaks_located "$1" 2>/dev/null | sed -n 's/ *(0): //p'; }
+located() { attr "$1" /breaks_located; }
 mpiexec -n 2 "$fabric" "${opts[@]}" -output_dir "$b" -positions_out "$b/positions.bin" >/dev/null 2>&1 &
 pid=$!
 wait_for "$pid" '[[ -e "$b/checkpoint.h5" && "$(located "$b/checkpoint.h5")" =~ ^[1-9] ]]'
 kill_run "$pid"
 ck="$b/checkpoint.h5"
-step=$(h5dump -a /load_step "$ck" 2>/dev/null | sed -n 's/ *(0): //p')
+step=$(attr "$ck" /load_step)
 # restarted A B WHAT: the killed run B restarted on 3 ranks from its checkpoint ends as the uninterrupted run A, bit for bit
 restarted() {
   mpiexec -n 3 "$fabric" "${opts[@]}" -output_dir "$2" -positions_out "$2/positions.bin" -restart "$2/checkpoint.h5" >/dev/null 2>&1
@@ -103,10 +103,9 @@ for k, l in enumerate(lines):
 print(" ".join(sorted(pairs)))
 PY
 )
-# a checkpoint within a load step: "S:R" (its load step and round), read in one h5dump (checkpoints are renamed into
-# place, so the three attributes are of one checkpoint); else "-"
+# a checkpoint within a load step: "S:R" (its load step and round); else "-"
 within() {
-  local a; a=($(h5dump -a /within_load_step -a /load_step -a /relax_round "$1" 2>/dev/null | sed -n 's/ *(0): //p'))
+  local a; a=($(attr "$1" /within_load_step /load_step /relax_round))
   [[ ${#a[@]} == 3 && ${a[0]} == 1 ]] && echo "$((a[1] + 1)):${a[2]}" || echo -
 }
 for try in 1 2 3; do # a poll that misses every qualifying checkpoint (a busy machine) tries again

@@ -2,6 +2,8 @@
 #   wait_for PID COND   poll the shell test COND every 0.01 s until it holds (status 0) or the run PID has
 #                       ended or 60 s have passed (status 1)
 #   kill_run PID        SIGKILL to mpiexec (PID) and its ranks, then wait until every rank is gone
+#   attr FILE NAME...   the values of the attributes /NAME... of checkpoint FILE, in one h5dump (checkpoints are
+#                       renamed into place, so the values are of one checkpoint), separated by spaces
 wait_for() {
   local pid="$1" i
   for ((i = 0; i < 6000; i++)); do
@@ -17,4 +19,9 @@ kill_run() {
   kill -KILL $ranks "$pid" 2>/dev/null
   wait "$pid" 2>/dev/null
   for p in $ranks; do while kill -0 "$p" 2>/dev/null; do sleep 0.05; done; done
+}
+attr() {
+  local f="$1" a=() n; shift
+  for n in "$@"; do a+=(-a "$n"); done
+  h5dump "${a[@]}" "$f" 2>/dev/null | sed -n 's/ *(0): //p' | paste -sd' '
 }

@@ -14,11 +14,10 @@
 # Compared: final positions, curve.csv, fabric.h5 (h5diff), fabric.xmf, summary.json's counters.
 set -u
 fabric="$1"; scene="$2"
-. "$(dirname "$0")/kill_run.sh" # wait_for, kill_run
+. "$(dirname "$0")/kill_run.sh" # wait_for, kill_run, attr
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
 fail=0
 check() { if eval "$1"; then echo "PASS $2"; else echo "FAIL $2"; fail=1; fi; }
-attr() { h5dump -a "$2" "$1" 2>/dev/null | sed -n 's/ *(0): //p'; }
 counters() { /usr/bin/python3 -c "import json; s = json.load(open('$1')); print(s['te_steps'], s['point_updates'], s['load_steps_done'], s['converged'])" 2>/dev/null; }
 same() { # same REF DIR: what differs, "" if nothing
   local what=""
