@@ -265,6 +265,9 @@ PetscInt SceneOptionCapacity(PetscInt k);
 /* every option as JSON members "name": value, one a line after indent (summary.json's "options") */
 void SceneOptionsJson(const Scene *s, FILE *fp, const char *indent);
 void JsonString(FILE *fp, const char *str); /* a JSON string literal of str (escaped, valid UTF-8) */
+/* the quasi-static path's and PETSc's solver options given (-static_minimizer, -snes_*, -tao_nls_*, ...), as JSON
+   members "name": "value as given" one a line after indent, none if none (summary.json's "solver_options") */
+void SolverOptionsJson(FILE *fp, const char *indent);
 
 /* The options given, in PETSc's database: each name (with its '-') and value ("" if none), read
    from the database's text, which marks nothing used. OptionsGivenGet: 0, or non-zero if PETSc

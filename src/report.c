@@ -434,6 +434,8 @@ PetscErrorCode OutputSummary(Fabric fab, const char *error)
             fab->meas.folds);
   fprintf(fp, "  \"options\": {\n");
   SceneOptionsJson(s, fp, "    ");
+  fprintf(fp, "  },\n  \"solver_options\": {\n");
+  SolverOptionsJson(fp, "    ");
   fprintf(fp, "  },\n");
   fprintf(fp, "  \"converged\": %s", (fab->stats.converged && !error && (done == s->load.load_steps || fab->stats.rupture.rupture_step))
                                         ? "true"

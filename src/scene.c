@@ -790,9 +790,15 @@ static PetscErrorCode CheckSceneHasOptions(MPI_Comm comm, const char *file)
   int    found = 0, lineno = 0;
   ssize_t got = 0;
   FILE  *fp    = fopen(file, "r");
+  unsigned char bom[2] = {0, 0};
 
   PetscFunctionBeginUser;
   PetscCheck(fp, comm, PETSC_ERR_FILE_OPEN, "-scene %s: no such file, or not readable", file);
+  if (fread(bom, 1, 2, fp) == 2 && ((bom[0] == 0xFF && bom[1] == 0xFE) || (bom[0] == 0xFE && bom[1] == 0xFF))) {
+    fclose(fp); /* UTF-16: "holds no option", which did not say why */
+    SETERRQ(comm, PETSC_ERR_USER_INPUT, "-scene %s: a UTF-16 file (its first bytes are UTF-16's byte-order mark); save it as UTF-8", file);
+  }
+  rewind(fp);
   while (!found && (got = SceneGetLine(&line, &cap, fp)) >= 0) { /* whole lines, of any length */
     const char *c = SkipBOM(line, ++lineno);
     while (*c == ' ' || *c == '\t') c++;
@@ -2789,8 +2795,42 @@ int ViewerValueProblem(const char *name, const char *value, char *msg, size_t le
    the very end of a run, and a rank that cannot open it stops alone, so look now. PETSc opens the
    others as the grid and the solvers are made, before the run makes its output directory: only
    -log_view's file may be in it. msg: "" or why a file cannot be written. */
-static void ProbeViewerFiles(const char *output_dir, char *msg, size_t len)
+/* a file PETSc's viewers would write (-log_view :FILE, -snes_monitor :FILE, ...) that is one the run writes in
+   -output_dir, one of its input files or -positions_out: written over, the results were PETSc's text (curve.csv a
+   profile, fabric.h5 no HDF5), with the run's end line saying all was well */
+static void ViewerFileClash(const Scene *s, const char *name, const char *value, const char *file, char *msg,
+                            size_t len)
 {
+  const SceneOutput *o = &s->out;
+  InputFile          input[INPUT_FILES];
+  char               f[3 * PETSC_MAX_PATH_LEN];
+
+  if (o->output_dir[0])
+    for (size_t q = 0; q < sizeof OwnFiles / sizeof OwnFiles[0]; q++) {
+      snprintf(f, sizeof f, "%s/%s", o->output_dir, OwnFiles[q]);
+      if (SameFile(file, f)) {
+        snprintf(msg, len, "-%s %.1024s: the run writes its %s there (-output_dir %.1024s); give another file", name,
+                 value, OwnFiles[q], o->output_dir);
+        return;
+      }
+    }
+  InputFiles(s, input);
+  for (size_t k = 0; k < INPUT_FILES; k++) {
+    snprintf(f, sizeof f, "%s/checkpoint.h5", input[k].file); /* -restart DIR */
+    if (SameFile(file, input[k].file) || (k == INPUT_FILES - 1 && input[k].file[0] && SameFile(file, f))) {
+      snprintf(msg, len, "-%s %.1024s: is the run's input file -%s %.1024s: it would be written over; give another file",
+               name, value, input[k].opt, input[k].file);
+      return;
+    }
+  }
+  if (SameFile(file, o->positions_out))
+    snprintf(msg, len, "-%s %.1024s: the run writes its final positions there (-positions_out); give another file", name,
+             value);
+}
+
+static void ProbeViewerFiles(const Scene *s, char *msg, size_t len)
+{
+  const char *output_dir = s->out.output_dir;
   static const char *const types[] = {"", "ascii", "binary", "hdf5", "vtk"};
   OptionsGiven             g;
 
@@ -2813,6 +2853,8 @@ static void ProbeViewerFiles(const char *output_dir, char *msg, size_t len)
     }
     snprintf(file, sizeof file, "%.*s", (int) strcspn(colon + 1, ":"), colon + 1);
     if (!known || !file[0] || !strcmp(file, "stdout") || !strcmp(file, "stderr")) continue; /* ascii's streams */
+    ViewerFileClash(s, name, value, file, msg, len);
+    if (msg[0]) break;
     ProbeFile(name, file, log ? output_dir : "", msg, len);
     if (msg[0] && !log && InOutputDir(file, output_dir))
       snprintf(msg + strlen(msg), len - strlen(msg),
@@ -2934,7 +2976,7 @@ static PetscErrorCode CheckOutputPlaces(MPI_Comm comm, const SceneInput *in, con
                o->positions_out);
     else ProbeFile("positions_out", o->positions_out, o->output_dir, msg, sizeof msg);
   }
-  if (!rank && !msg[0]) ProbeViewerFiles(o->output_dir, msg, sizeof msg);
+  if (!rank && !msg[0]) ProbeViewerFiles(s, msg, sizeof msg);
   PetscCall(BroadcastFromRoot(comm, msg, (PetscInt) sizeof msg, MPI_CHAR));
   FitErrorMessage(msg);
   PetscCheck(!msg[0], comm, PETSC_ERR_FILE_OPEN, "%s", msg);
@@ -3152,6 +3194,25 @@ void SceneOptionsJson(const Scene *s, FILE *fp, const char *indent)
     }
   }
   fprintf(fp, "\n");
+}
+
+void SolverOptionsJson(FILE *fp, const char *indent)
+{
+  OptionsGiven g;
+  int          first = 1;
+
+  if (OptionsGivenGet(&g)) return;
+  for (PetscInt q = 0; q < g.n; q++) {
+    const char *name = g.name[q] + 1;
+    if (!SolverOption(name) && strncmp(name, "static_", 7)) continue;
+    fprintf(fp, "%s%s", first ? "" : ",\n", indent);
+    JsonString(fp, name);
+    fprintf(fp, ": ");
+    JsonString(fp, g.value[q]);
+    first = 0;
+  }
+  if (!first) fprintf(fp, "\n");
+  OptionsGivenFree(&g);
 }
 
 PetscInt SceneOptionCapacity(PetscInt k)

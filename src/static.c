@@ -1556,6 +1556,29 @@ static PetscBool RtolOk(const char *value)
   return end != value && !*end && !(v >= 0 && v < 1) ? PETSC_FALSE : PETSC_TRUE;
 }
 
+/* the line search's options (EnergyLineSearch, and PETSc's own line searches): its first step, a fraction of
+   Newton's step above 0 and at most 2; the smallest it tries, from 0 to below 1; its tries, 1 or more (damping nan,
+   -1 or inf, minlambda nan, 2 or inf and max_it -1 ran every load step unbalanced with zero Newton steps, and
+   damping 0 took 600 steps of length 0) */
+static PetscBool LineDampingOk(const char *value)
+{
+  char        *end;
+  const double v = strtod(value, &end);
+  return end != value && !*end && !(v > 0 && v <= 2) ? PETSC_FALSE : PETSC_TRUE;
+}
+static PetscBool LineMinOk(const char *value)
+{
+  char        *end;
+  const double v = strtod(value, &end);
+  return end != value && !*end && !(v >= 0 && v < 1) ? PETSC_FALSE : PETSC_TRUE;
+}
+static PetscBool LineTriesOk(const char *value)
+{
+  char      *end;
+  const long v = strtol(value, &end, 10);
+  return end != value && !*end && v < 1 ? PETSC_FALSE : PETSC_TRUE;
+}
+
 static PetscBool GamgTypeOk(const char *value)
 {
   return !strcmp(value, PCGAMGAGG) ? PETSC_TRUE : PETSC_FALSE;
@@ -1618,6 +1641,46 @@ static PetscBool NeverOk(const char *value)
 {
   (void) value;
   return PETSC_FALSE;
+}
+
+/* With -static_minimizer tao, no factors by MUMPS under TAO's prefix: given (-tao_nls_pc_factor_mat_solver_type mumps), or
+   PETSc's choice for LU and Cholesky on more than one rank (-tao_nls_pc_type lu). TAO's Newton factors the tangent
+   unshifted first; on a slack fabric it is singular, MUMPS's factorisation fails, and MUMPS then factors no more:
+   TAO's shifted retries failed too, and on 2 ranks the square net ran 2 400 Newton steps with no load step balanced
+   (1 rank: PETSc's own LU, balanced in 45); given on 1 rank, the run stopped in MUMPS's solve (INFOG(1)=-3). */
+static PetscErrorCode CheckTaoFactors(MPI_Comm comm)
+{
+  OptionsGiven g;
+  PetscMPIInt  size;
+  char         bad[PETSC_MAX_PATH_LEN] = "";
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  PetscCheck(!OptionsGivenGet(&g), PETSC_COMM_SELF, PETSC_ERR_MEM, "cannot list the options given");
+  for (PetscInt q = 0; q < g.n && !bad[0]; q++) {
+    const char *name = g.name[q], *value = g.value[q];
+    if (strncmp(name, "-tao_", 5)) continue;
+    if (OptionIs(name, "pc_factor_mat_solver_type") && !strcasecmp(value, MATSOLVERMUMPS))
+      snprintf(bad, sizeof bad, "%s %s", name, value);
+    else if (size > 1 && OptionIs(name, "pc_type") && (!strcasecmp(value, PCLU) || !strcasecmp(value, PCCHOLESKY)) &&
+             strchr(name + 5, '_') == name + strlen(name) - strlen("_pc_type")) { /* TAO's own (-tao_nls_pc_type), not
+                                                                                      a block's or redundant's, which
+                                                                                      factor on one rank */
+      const size_t head = strlen(name) - strlen("pc_type"); /* the option's prefix, with its '-' */
+      PetscBool    chosen = PETSC_FALSE;
+      for (PetscInt r = 0; r < g.n; r++)
+        chosen |= !strncmp(g.name[r], name, head) && !strcmp(g.name[r] + head, "pc_factor_mat_solver_type");
+      if (!chosen) snprintf(bad, sizeof bad, "%s %s (on %d ranks PETSc factors it by MUMPS)", name, value, (int) size);
+    }
+  }
+  OptionsGivenFree(&g);
+  PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT,
+             "%s with -static_minimizer tao: TAO's Newton factors a slack fabric's tangent unshifted first, MUMPS's "
+             "factorisation of it fails, and MUMPS then factors no more, so no load step balances; give LU by another "
+             "package (-tao_nls_pc_type lu -tao_nls_pc_factor_mat_solver_type superlu_dist, under TAO's prefix), or "
+             "leave TAO's preconditioner to the default",
+             bad);
+  PetscFunctionReturn(0);
 }
 
 /* With -static_minimizer tao, the options of the SNES path, which its solves never read (TAO's Newton reads
@@ -1797,6 +1860,21 @@ PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
       for (int k = 0; k < 3 && !bad[0]; k++) PetscCall(FindBadOption(limits[k], CountOk, bad, sizeof bad));
       PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT, "%s with -solver static: an iteration limit, 0 or more", bad);
     }
+    { /* the line search's */
+      static const struct {
+        const char *suffix;
+        PetscBool (*ok)(const char *);
+        const char *what;
+      } line[] = {
+          {"snes_linesearch_damping",   LineDampingOk, "the line search's first step, a fraction of Newton's step above 0 and at most 2"},
+          {"snes_linesearch_minlambda", LineMinOk,     "the smallest step the line search tries, from 0 to below 1"},
+          {"snes_linesearch_max_it",    LineTriesOk,   "the line search's tries, 1 or more"},
+      };
+      for (size_t k = 0; k < sizeof line / sizeof line[0]; k++) {
+        PetscCall(FindBadOption(line[k].suffix, line[k].ok, bad, sizeof bad));
+        PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT, "%s with -solver static: %s", bad, line[k].what);
+      }
+    }
     PetscCall(FindBadOption("ksp_rtol", RtolOk, bad, sizeof bad));
     PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT,
                "%s with -solver static: a linear solve's relative tolerance, from 0 to below 1 (at 1 or more the first "
@@ -1864,6 +1942,7 @@ PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
                "does not take (sbaij, is); aij, baij or dense",
                bad);
   }
+  if (o.tao) PetscCall(CheckTaoFactors(comm));
   if (o.tao) { /* TAO's Newton line search or trust region, on the unconstrained Pi (the others
                   crashed or ran out of memory on the pushing test: ntl, ipm, pdipm) */
     char      type[64] = TAONLS;

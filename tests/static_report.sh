@@ -7,7 +7,7 @@
 #     (not the last), elongation_at_max_force_pct that row's elongation, max_force_balanced that row's
 #     balanced; nonlinear_iterations is the sum of inner_steps; every row's balanced is its residual
 #     <= -balance_tol (rows within 1e-5 relative of the tolerance skipped: %.6e rounding); converged
-#     is every row balanced;
+#     is every row balanced; solver_options holds -snes_max_it 3 in the run given it and nothing in the other;
 #  2. runs cut by -checkpoint_every and restarted end as the uninterrupted ones: final positions bit for
 #     bit, curve.csv identical and summary.json the same but for wall_s, point_updates_per_s: the unbalanced
 #     run of 1 cut after its maximum force (whether it balanced: max_force_balanced false), the pull out and
@@ -64,6 +64,10 @@ invariants unbal "-snes_max_it 3"
 "$py" -c "import json, sys; s = json.load(open(sys.argv[1])); sys.exit(not (s['converged'] is False and s['max_force_balanced'] is False))" \
   "$work/unbal/summary.json" && echo "PASS -snes_max_it 3: converged false, max_force_balanced false" \
   || { echo "FAIL -snes_max_it 3: not the unbalanced run this test needs"; fail=1; }
+# the solver options given are in summary.json (the scene's options hold none of them), and none where none was given
+"$py" -c "import json, sys; a, b = (json.load(open(f))['solver_options'] for f in sys.argv[1:3]); print(a, b); sys.exit(not (a == {'snes_max_it': '3'} and b == {}))" \
+  "$work/unbal/summary.json" "$work/out_back/summary.json" && echo "PASS solver_options: -snes_max_it 3 in the run given it, none in the other" \
+  || { echo "FAIL solver_options: not the solver options given"; fail=1; }
 
 # 2. restarted runs end as the uninterrupted ones
 same_after_restart() { # NAME CUT LABEL OPTIONS...: the run whole, and cut by -checkpoint_every CUT and restarted
