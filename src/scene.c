@@ -2790,11 +2790,6 @@ int ViewerValueProblem(const char *name, const char *value, char *msg, size_t le
   return 1;
 }
 
-/* A PETSc viewer option that names a file ([type]:file[:format], -log_view :log.txt, -snes_monitor
-   :snes.txt, -ksp_view_mat binary:A.bin): PETSc opens it only when it first writes, -log_view's at
-   the very end of a run, and a rank that cannot open it stops alone, so look now. PETSc opens the
-   others as the grid and the solvers are made, before the run makes its output directory: only
-   -log_view's file may be in it. msg: "" or why a file cannot be written. */
 /* a file PETSc's viewers would write (-log_view :FILE, -snes_monitor :FILE, ...) that is one the run writes in
    -output_dir, one of its input files or -positions_out: written over, the results were PETSc's text (curve.csv a
    profile, fabric.h5 no HDF5), with the run's end line saying all was well */
@@ -2828,6 +2823,11 @@ static void ViewerFileClash(const Scene *s, const char *name, const char *value,
              value);
 }
 
+/* A PETSc viewer option that names a file ([type]:file[:format], -log_view :log.txt, -snes_monitor
+   :snes.txt, -ksp_view_mat binary:A.bin): PETSc opens it only when it first writes, -log_view's at
+   the very end of a run, and a rank that cannot open it stops alone, so look now. PETSc opens the
+   others as the grid and the solvers are made, before the run makes its output directory: only
+   -log_view's file may be in it. msg: "" or why a file cannot be written. */
 static void ProbeViewerFiles(const Scene *s, char *msg, size_t len)
 {
   const char *output_dir = s->out.output_dir;

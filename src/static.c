@@ -1547,13 +1547,20 @@ static PetscBool CountOk(const char *value)
   return end != value && !*end && v < 0 ? PETSC_FALSE : PETSC_TRUE;
 }
 
+/* value is a real number and nothing else (into v); not one, PETSc's words (default, DECIDE) are PETSc's to read */
+static PetscBool WholeReal(const char *value, double *v)
+{
+  char *end;
+  *v = strtod(value, &end);
+  return end != value && !*end ? PETSC_TRUE : PETSC_FALSE;
+}
+
 /* a linear solve's relative tolerance: from 0 to below 1 (PETSc's words, default or DECIDE, are PETSc's to read);
    -ksp_rtol 2 let the first residual pass, every Newton step was zero and no load step balanced, and -1 ran */
 static PetscBool RtolOk(const char *value)
 {
-  char        *end;
-  const double v = strtod(value, &end);
-  return end != value && !*end && !(v >= 0 && v < 1) ? PETSC_FALSE : PETSC_TRUE;
+  double v;
+  return !WholeReal(value, &v) || (v >= 0 && v < 1) ? PETSC_TRUE : PETSC_FALSE;
 }
 
 /* the line search's options (EnergyLineSearch, and PETSc's own line searches): its first step, a fraction of
@@ -1562,16 +1569,10 @@ static PetscBool RtolOk(const char *value)
    damping 0 took 600 steps of length 0) */
 static PetscBool LineDampingOk(const char *value)
 {
-  char        *end;
-  const double v = strtod(value, &end);
-  return end != value && !*end && !(v > 0 && v <= 2) ? PETSC_FALSE : PETSC_TRUE;
+  double v;
+  return !WholeReal(value, &v) || (v > 0 && v <= 2) ? PETSC_TRUE : PETSC_FALSE;
 }
-static PetscBool LineMinOk(const char *value)
-{
-  char        *end;
-  const double v = strtod(value, &end);
-  return end != value && !*end && !(v >= 0 && v < 1) ? PETSC_FALSE : PETSC_TRUE;
-}
+static PetscBool LineMinOk(const char *value) { return RtolOk(value); } /* the same range */
 static PetscBool LineTriesOk(const char *value)
 {
   char      *end;
@@ -1942,7 +1943,6 @@ PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
                "does not take (sbaij, is); aij, baij or dense",
                bad);
   }
-  if (o.tao) PetscCall(CheckTaoFactors(comm));
   if (o.tao) { /* TAO's Newton line search or trust region, on the unconstrained Pi (the others
                   crashed or ran out of memory on the pushing test: ntl, ipm, pdipm) */
     char      type[64] = TAONLS;
@@ -1953,6 +1953,7 @@ PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
                "-tao_type %s with -static_minimizer tao: the quasi-static path runs TAO's Newton line search or "
                "trust region (-tao_type nls, ntr or bnls)",
                type);
+    PetscCall(CheckTaoFactors(comm));
   }
   { /* PETSc reads -matptap_via when the multigrid first forms its Galerkin products, mid-run: a
        product of small matrices of the tangent's type (AIJ on this communicator) reads it now */
