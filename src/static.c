@@ -1861,21 +1861,6 @@ PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
       for (int k = 0; k < 3 && !bad[0]; k++) PetscCall(FindBadOption(limits[k], CountOk, bad, sizeof bad));
       PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT, "%s with -solver static: an iteration limit, 0 or more", bad);
     }
-    { /* the line search's */
-      static const struct {
-        const char *suffix;
-        PetscBool (*ok)(const char *);
-        const char *what;
-      } line[] = {
-          {"snes_linesearch_damping",   LineDampingOk, "the line search's first step, a fraction of Newton's step above 0 and at most 2"},
-          {"snes_linesearch_minlambda", LineMinOk,     "the smallest step the line search tries, from 0 to below 1"},
-          {"snes_linesearch_max_it",    LineTriesOk,   "the line search's tries, 1 or more"},
-      };
-      for (size_t k = 0; k < sizeof line / sizeof line[0]; k++) {
-        PetscCall(FindBadOption(line[k].suffix, line[k].ok, bad, sizeof bad));
-        PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT, "%s with -solver static: %s", bad, line[k].what);
-      }
-    }
     PetscCall(FindBadOption("ksp_rtol", RtolOk, bad, sizeof bad));
     PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT,
                "%s with -solver static: a linear solve's relative tolerance, from 0 to below 1 (at 1 or more the first "
@@ -1903,6 +1888,10 @@ PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
            "PETSc's detailed reason measures the error against the exact solution of a DMPlex discretisation, which "
            "the fabric's grid has not (it crashed there); use -snes_converged_reason"},
           {"ksp_type", KspKnown, "not a Krylov method PETSc knows (see -help)"},
+          {"snes_linesearch_damping", LineDampingOk,
+           "the line search's first step, a fraction of Newton's step above 0 and at most 2"},
+          {"snes_linesearch_minlambda", LineMinOk, "the smallest step the line search tries, from 0 to below 1"},
+          {"snes_linesearch_max_it", LineTriesOk, "the line search's tries, 1 or more"},
           {"pc_type", PcTypeOk,
            "telescope needs the tangent assembled by PETSc on a sub-grid, patch a DMPlex; the quasi-static path "
            "assembles its own tangent on the grid's DMDA (use mg, gamg, lu ...)"},
