@@ -1564,21 +1564,15 @@ static PetscBool RtolOk(const char *value)
 }
 
 /* the line search's options (EnergyLineSearch, and PETSc's own line searches): its first step, a fraction of
-   Newton's step above 0 and at most 2; the smallest it tries, from 0 to below 1; its tries, 1 or more (damping nan,
-   -1 or inf, minlambda nan, 2 or inf and max_it -1 ran every load step unbalanced with zero Newton steps, and
-   damping 0 took 600 steps of length 0) */
+   Newton's step above 0 and at most 2; the smallest it tries, from 0 to below 1 (damping nan, -1 or inf and
+   minlambda nan, 2 or inf ran every load step unbalanced with zero Newton steps, and damping 0 took 600 steps of
+   length 0); its tries are an iteration limit (-1 ran as 0) */
 static PetscBool LineDampingOk(const char *value)
 {
   double v;
   return !WholeReal(value, &v) || (v > 0 && v <= 2) ? PETSC_TRUE : PETSC_FALSE;
 }
 static PetscBool LineMinOk(const char *value) { return RtolOk(value); } /* the same range */
-static PetscBool LineTriesOk(const char *value)
-{
-  char      *end;
-  const long v = strtol(value, &end, 10);
-  return end != value && !*end && v < 1 ? PETSC_FALSE : PETSC_TRUE;
-}
 
 static PetscBool GamgTypeOk(const char *value)
 {
@@ -1857,8 +1851,8 @@ PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
     /* the solvers' iteration limits, a count (-snes_max_it -1 stopped the first solve with "Internal error,
        solver returned without setting converged reason"; 0 runs, and the load step does not balance) */
     {
-      const char *const limits[] = {"snes_max_it", "tao_max_it", "ksp_max_it"};
-      for (int k = 0; k < 3 && !bad[0]; k++) PetscCall(FindBadOption(limits[k], CountOk, bad, sizeof bad));
+      const char *const limits[] = {"snes_max_it", "tao_max_it", "ksp_max_it", "snes_linesearch_max_it"};
+      for (int k = 0; k < 4 && !bad[0]; k++) PetscCall(FindBadOption(limits[k], CountOk, bad, sizeof bad));
       PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT, "%s with -solver static: an iteration limit, 0 or more", bad);
     }
     PetscCall(FindBadOption("ksp_rtol", RtolOk, bad, sizeof bad));
@@ -1891,7 +1885,6 @@ PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
           {"snes_linesearch_damping", LineDampingOk,
            "the line search's first step, a fraction of Newton's step above 0 and at most 2"},
           {"snes_linesearch_minlambda", LineMinOk, "the smallest step the line search tries, from 0 to below 1"},
-          {"snes_linesearch_max_it", LineTriesOk, "the line search's tries, 1 or more"},
           {"pc_type", PcTypeOk,
            "telescope needs the tangent assembled by PETSc on a sub-grid, patch a DMPlex; the quasi-static path "
            "assembles its own tangent on the grid's DMDA (use mg, gamg, lu ...)"},
