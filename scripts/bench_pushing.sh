@@ -5,6 +5,7 @@
 # 15 mm of travel and its largest relative force error against the reference from 5 mm on, and
 # the wall-time ratio of the explicit path as shipped to the row.
 # usage: scripts/bench_pushing.sh [extra options for every run, e.g. -ends_per_cm 8 -picks_per_cm 8]
+case "${1:-}" in -h | --help) sed -n '2,/^set /{/^set /d;s/^# \{0,1\}//;p}' "$0"; exit 0 ;; esac
 set -eu
 here="$(cd "$(dirname "$0")/.." && pwd)"
 fabric="${FABRIC:-$here/build/fabric}"
