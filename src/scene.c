@@ -2547,30 +2547,6 @@ static const char *const OwnFiles[] = {"curve.csv",     "summary.json",       "f
                                        "checkpoint.h5", ".checkpoint.h5.tmp", ".summary.json.tmp", ".fabric.xmf.tmp",
                                        ".fabric.lock"};
 
-/* -positions_out must not be the output directory or a file the run writes in it */
-static void PositionsOutDirClash(const SceneOutput *o, char *msg, size_t len)
-{
-  const char *const *own = OwnFiles;
-  char               p[2 * PETSC_MAX_PATH_LEN], d[2 * PETSC_MAX_PATH_LEN], f[3 * PETSC_MAX_PATH_LEN];
-
-  if (!o->output_dir[0] || !o->positions_out[0]) return;
-  PlaceOf(o->positions_out, p, sizeof p);
-  PlaceOf(o->output_dir, d, sizeof d);
-  if (!strcmp(p, d)) {
-    snprintf(msg, len, "-positions_out %s: is the output directory (-output_dir %s); give a file", o->positions_out,
-             o->output_dir);
-    return;
-  }
-  for (size_t k = 0; k < sizeof OwnFiles / sizeof OwnFiles[0]; k++) {
-    snprintf(f, sizeof f, "%s/%s", d, own[k]);
-    if (!strcmp(p, f)) {
-      snprintf(msg, len, "-positions_out %s: the run writes its %s there (-output_dir %s); give another file",
-               o->positions_out, own[k], o->output_dir);
-      return;
-    }
-  }
-}
-
 /* path and other are one file: the same device and inode when both exist (any spelling, a link),
    else the same place (PlaceOf) */
 static int SameFile(const char *path, const char *other)
@@ -2640,23 +2616,42 @@ static void OwnFileIsDirectory(const SceneOutput *o, char *msg, size_t len)
   }
 }
 
-/* -positions_out must not be one of the run's input files (written over at the end), the output
-   directory or a file the run writes in it */
-static void PositionsOutClash(const Scene *s, char *msg, size_t len)
+/* a file the run or PETSc writes (-positions_out, a viewer's -log_view :FILE, -snes_monitor :FILE, ...), given as
+   -opt value, must not be one of the run's input files (written over), the output directory, a file the run writes in
+   it, or the run's -positions_out: written over, curve.csv was PETSc's profile and fabric.h5 no HDF5, with the run's
+   end line saying all was well */
+static void WrittenFileClash(const Scene *s, const char *opt, const char *value, const char *file, char *msg, size_t len)
 {
   const SceneOutput *o = &s->out;
   InputFile          input[INPUT_FILES];
+  char               p[2 * PETSC_MAX_PATH_LEN], d[2 * PETSC_MAX_PATH_LEN], f[3 * PETSC_MAX_PATH_LEN];
 
-  if (!o->positions_out[0]) return;
   InputFiles(s, input);
   for (size_t k = 0; k < INPUT_FILES; k++)
-    if (SameFile(o->positions_out, input[k].file)) {
-      snprintf(msg, len,
-               "-positions_out %s: is the run's input file -%s %s: it would be written over; give another file",
-               o->positions_out, input[k].opt, input[k].file);
+    if (SameFile(file, input[k].file)) {
+      snprintf(msg, len, "-%s %s: is the run's input file -%s %s: it would be written over; give another file", opt,
+               value, input[k].opt, input[k].file);
       return;
     }
-  PositionsOutDirClash(o, msg, len);
+  if (o->output_dir[0]) {
+    PlaceOf(file, p, sizeof p);
+    PlaceOf(o->output_dir, d, sizeof d);
+    if (!strcmp(p, d)) {
+      snprintf(msg, len, "-%s %s: is the output directory (-output_dir %s); give a file", opt, value, o->output_dir);
+      return;
+    }
+    for (size_t k = 0; k < sizeof OwnFiles / sizeof OwnFiles[0]; k++) {
+      snprintf(f, sizeof f, "%s/%s", d, OwnFiles[k]);
+      if (!strcmp(p, f)) {
+        snprintf(msg, len, "-%s %s: the run writes its %s there (-output_dir %s); give another file", opt, value,
+                 OwnFiles[k], o->output_dir);
+        return;
+      }
+    }
+  }
+  if (strcmp(opt, "positions_out") && SameFile(file, o->positions_out))
+    snprintf(msg, len, "-%s %s: the run writes its final positions there (-positions_out); give another file", opt,
+             value);
 }
 
 /* an option's name, not a value (PETSc's rule: "-5" and "-.5" are values) */
@@ -2790,39 +2785,6 @@ int ViewerValueProblem(const char *name, const char *value, char *msg, size_t le
   return 1;
 }
 
-/* a file PETSc's viewers would write (-log_view :FILE, -snes_monitor :FILE, ...) that is one the run writes in
-   -output_dir, one of its input files or -positions_out: written over, the results were PETSc's text (curve.csv a
-   profile, fabric.h5 no HDF5), with the run's end line saying all was well */
-static void ViewerFileClash(const Scene *s, const char *name, const char *value, const char *file, char *msg,
-                            size_t len)
-{
-  const SceneOutput *o = &s->out;
-  InputFile          input[INPUT_FILES];
-  char               f[3 * PETSC_MAX_PATH_LEN];
-
-  if (o->output_dir[0])
-    for (size_t q = 0; q < sizeof OwnFiles / sizeof OwnFiles[0]; q++) {
-      snprintf(f, sizeof f, "%s/%s", o->output_dir, OwnFiles[q]);
-      if (SameFile(file, f)) {
-        snprintf(msg, len, "-%s %.1024s: the run writes its %s there (-output_dir %.1024s); give another file", name,
-                 value, OwnFiles[q], o->output_dir);
-        return;
-      }
-    }
-  InputFiles(s, input);
-  for (size_t k = 0; k < INPUT_FILES; k++) {
-    snprintf(f, sizeof f, "%s/checkpoint.h5", input[k].file); /* -restart DIR */
-    if (SameFile(file, input[k].file) || (k == INPUT_FILES - 1 && input[k].file[0] && SameFile(file, f))) {
-      snprintf(msg, len, "-%s %.1024s: is the run's input file -%s %.1024s: it would be written over; give another file",
-               name, value, input[k].opt, input[k].file);
-      return;
-    }
-  }
-  if (SameFile(file, o->positions_out))
-    snprintf(msg, len, "-%s %.1024s: the run writes its final positions there (-positions_out); give another file", name,
-             value);
-}
-
 /* A PETSc viewer option that names a file ([type]:file[:format], -log_view :log.txt, -snes_monitor
    :snes.txt, -ksp_view_mat binary:A.bin): PETSc opens it only when it first writes, -log_view's at
    the very end of a run, and a rank that cannot open it stops alone, so look now. PETSc opens the
@@ -2853,7 +2815,7 @@ static void ProbeViewerFiles(const Scene *s, char *msg, size_t len)
     }
     snprintf(file, sizeof file, "%.*s", (int) strcspn(colon + 1, ":"), colon + 1);
     if (!known || !file[0] || !strcmp(file, "stdout") || !strcmp(file, "stderr")) continue; /* ascii's streams */
-    ViewerFileClash(s, name, value, file, msg, len);
+    WrittenFileClash(s, name, value, file, msg, len);
     if (msg[0]) break;
     ProbeFile(name, file, log ? output_dir : "", msg, len);
     if (msg[0] && !log && InOutputDir(file, output_dir))
@@ -2960,7 +2922,8 @@ static PetscErrorCode CheckOutputPlaces(MPI_Comm comm, const SceneInput *in, con
   if (help) PetscFunctionReturn(0); /* -help writes nothing */
   PetscCall(CommRank(comm, &rank));
   if (!rank) ViewerNameClash(o, in->output_dir, msg, sizeof msg);
-  if (!rank && !msg[0]) PositionsOutClash(s, msg, sizeof msg);
+  if (!rank && !msg[0] && o->positions_out[0])
+    WrittenFileClash(s, "positions_out", o->positions_out, o->positions_out, msg, sizeof msg);
   if (!rank && !msg[0]) InputOutputClash(s, msg, sizeof msg);
   if (!rank && !msg[0]) OwnFileIsDirectory(o, msg, sizeof msg);
   if (!rank && !msg[0] && o->output_dir[0] && OutputDirLock(o->output_dir, NULL))
