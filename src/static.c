@@ -2026,11 +2026,13 @@ static PetscErrorCode CreateTao(StaticSolver ss)
   PetscCall(TaoSetMaximumIterations(ss->tao, 200));
   PetscCall(TaoSetFromOptions(ss->tao)); /* first: a -tao_type replaces the KSP */
   /* the KSP of the type chosen (options prefix -tao_nls_, -tao_ntr_ ...): the SNES path's
-     tolerances and preconditioner, then its options */
+     tolerance and preconditioner, at most 100 iterations (TAO's Newton step is a truncated CG:
+     one cut short is still a descent direction; the drape by -tao_type ntr spent most of its CG
+     iterations in the few steps that ran past 100, docs/static.md), then its options */
   PetscCall(TaoGetKSP(ss->tao, &ksp)); /* a type without one is refused by StaticOptionsCheck */
   PetscCall(KSPSetDM(ksp, ss->dm));
   PetscCall(KSPSetDMActive(ksp, PETSC_FALSE));
-  PetscCall(KSPSetTolerances(ksp, 1e-3, PETSC_DEFAULT, PETSC_DEFAULT, 1000));
+  PetscCall(KSPSetTolerances(ksp, 1e-3, PETSC_DEFAULT, PETSC_DEFAULT, 100));
   PetscCall(SetPreconditioner(ss, ksp));
   PetscCall(KSPSetFromOptions(ksp));
   PetscFunctionReturn(0);
