@@ -2624,7 +2624,7 @@ static void WrittenFileClash(const Scene *s, const char *opt, const char *value,
 {
   const SceneOutput *o = &s->out;
   InputFile          input[INPUT_FILES];
-  char               p[2 * PETSC_MAX_PATH_LEN], d[2 * PETSC_MAX_PATH_LEN], f[3 * PETSC_MAX_PATH_LEN];
+  char               f[3 * PETSC_MAX_PATH_LEN];
 
   InputFiles(s, input);
   for (size_t k = 0; k < INPUT_FILES; k++)
@@ -2634,15 +2634,13 @@ static void WrittenFileClash(const Scene *s, const char *opt, const char *value,
       return;
     }
   if (o->output_dir[0]) {
-    PlaceOf(file, p, sizeof p);
-    PlaceOf(o->output_dir, d, sizeof d);
-    if (!strcmp(p, d)) {
+    if (SameFile(file, o->output_dir)) {
       snprintf(msg, len, "-%s %s: is the output directory (-output_dir %s); give a file", opt, value, o->output_dir);
       return;
     }
     for (size_t k = 0; k < sizeof OwnFiles / sizeof OwnFiles[0]; k++) {
-      snprintf(f, sizeof f, "%s/%s", d, OwnFiles[k]);
-      if (!strcmp(p, f)) {
+      snprintf(f, sizeof f, "%s/%s", o->output_dir, OwnFiles[k]);
+      if (SameFile(file, f)) {
         snprintf(msg, len, "-%s %s: the run writes its %s there (-output_dir %s); give another file", opt, value,
                  OwnFiles[k], o->output_dir);
         return;
