@@ -10,17 +10,8 @@ log="$("$@" 2>&1)"
 rc=$?
 echo "$log" | tail -5
 fail=0
-if [[ $rc -ne 0 ]]; then
-  echo "FAIL: exit code $rc, expected 0"
-  fail=1
-fi
-if ! grep -Eq -- "$regex" <<<"$log"; then
-  echo "FAIL: no line matches: $regex"
-  fail=1
-fi
-if grep -Eq 'fabric: error|PETSC ERROR' <<<"$log"; then
-  echo "FAIL: an error beside the run's output"
-  fail=1
-fi
+((rc == 0)) || { echo "FAIL: exit code $rc, expected 0"; fail=1; }
+grep -Eq -- "$regex" <<<"$log" || { echo "FAIL: no line matches: $regex"; fail=1; }
+! grep -Eq 'fabric: error|PETSC ERROR' <<<"$log" || { echo "FAIL: an error beside the run's output"; fail=1; }
 ((fail == 0)) && echo "PASS: exit 0, the output matches, no error"
 exit $fail
