@@ -6,9 +6,10 @@
  * -checkpoint_every_te K te steps and once -checkpoint_every_s S seconds of wall-clock time have
  * passed since the last one; and on SIGTERM or SIGUSR1 (a batch system's wall-time limit), after
  * which the run stops with exit status 3. Within a load step it is taken after a te step that the
- * relaxation continues from. Signals and the clock are looked at every LOOK_EVERY te steps, with
- * one small max-reduction (rank 0's clock decides), so all ranks take the same decision at the
- * same te step. It holds everything the run depends on:
+ * relaxation continues from. Signals and the clock are looked at every LOOK_EVERY te steps (and at
+ * a load step's end once as many have passed), with one small max-reduction (rank 0's clock
+ * decides), so all ranks take the same decision at the same te step. It holds everything the run
+ * depends on:
  *   /state    positions, velocities, the paper integrator's positions_old and velocities_old,
  *             the extrapolation history converged_positions(_prev) when allocated, and the
  *             broken segments (dof 2 on the grid: segment to i+1 and to j+1 of each point),
@@ -866,18 +867,32 @@ PetscErrorCode CheckpointTeStep(Fabric fab, const RelaxPoint *at)
   PetscFunctionReturn(0);
 }
 
-/* At the end of a load step of the static path, which takes no te steps: on SIGTERM or SIGUSR1, a
-   checkpoint of the load step (one max-reduction: every rank alike), then the run stops */
-PetscErrorCode CheckpointLoadStepSignal(Fabric fab)
+/* At the end of a load step that continues: on SIGTERM or SIGUSR1 a checkpoint of the load step, then the run
+   stops; the explicit path also checkpoints there once -checkpoint_every_s seconds have passed. One
+   max-reduction: every rank alike. The static path, which takes no te steps, looks at every load step's end; the
+   explicit path, which looks within its rounds (CheckpointTeStep), looks here too once LOOK_EVERY te steps have
+   passed since its last look: its rounds of one te step (-max_inner_steps 1, or a prediction that balances at
+   once) never look within, and a run of such load steps heard no signal. */
+PetscErrorCode CheckpointLoadStepSignal(Fabric fab, PetscBool static_path)
 {
-  PetscReal look = (PetscReal) caught_signal;
+  PetscReal look[2] = {(PetscReal) caught_signal, 0}; /* the signal caught, rank 0's clock says a checkpoint is due */
 
   PetscFunctionBeginUser;
   if (!fab->s.out.output_dir[0]) PetscFunctionReturn(0);
-  PetscCall(GlobalMax(fab->comm, &look, 1));
-  if (!(look > 0)) PetscFunctionReturn(0);
+  if (!static_path) {
+    if (fab->stats.te_steps - ckpt.last_look < LOOK_EVERY) PetscFunctionReturn(0);
+    ckpt.last_look = fab->stats.te_steps;
+    if (fab->rank == 0 && fab->s.out.checkpoint_every_s > 0) {
+      PetscLogDouble now;
+      PetscCall(PetscTime(&now));
+      look[1] = now - ckpt.last_wall >= fab->s.out.checkpoint_every_s ? 1.0 : 0.0;
+    }
+  }
+  PetscCall(GlobalMax(fab->comm, look, 2));
+  if (!(look[0] > 0) && !(look[1] > 0)) PetscFunctionReturn(0);
   PetscCall(CheckpointWrite(fab, NULL));
-  ckpt.stopped_by = (int) look;
+  if (!(look[0] > 0)) PetscFunctionReturn(0);
+  ckpt.stopped_by = (int) look[0];
   PetscCall(PetscPrintf(fab->comm,
                         "fabric: %s: checkpoint written at the end of load step %" PetscInt_FMT
                         ": restart with -restart %s/checkpoint.h5\n",

@@ -13,6 +13,8 @@
 #include "report.h"
 #include "scene.h"
 
+#include <ctype.h>
+#include <math.h> /* isfinite */
 #include <signal.h>
 #include <stdlib.h>
 #include <string.h>
@@ -380,6 +382,16 @@ static int FileOptionProblem(int n, char **tok, const char *where, int depth)
         return 1;
       }
     }
+    if (!strcasecmp(tok[k], "-petsc_sleep")) { /* PetscInitialize sleeps that long: NaN for ever */
+      const char  *v = k + 1 < n && !(tok[k + 1][0] == '-' && isalpha((unsigned char) tok[k + 1][1])) ? tok[k + 1] : "";
+      char        *end;
+      const double s = strtod(v, &end);
+      if (end == v || *end || !isfinite(s)) {
+        fprintf(stderr, "fabric: error: -petsc_sleep '%s'%s: PetscInitialize sleeps that many seconds: give a finite number\n",
+                v, where);
+        return 1;
+      }
+    }
     if (!read && !write) continue;
     if (!f[0] || f[0] == '-' || (info && f[0] == ':')) { /* -info :sys: classes, no file */
       if (!read) continue; /* -history, -info and -log_trace without one write to PETSc's default */
@@ -407,9 +419,14 @@ static int FileOptionProblem(int n, char **tok, const char *where, int depth)
       fp   = fopen(name, "rb");
       text = fp ? calloc((size_t) st.st_size + 1, 1) : NULL;
       if (text && fread(text, 1, (size_t) st.st_size, fp) == (size_t) st.st_size) {
-        yaml = yaml || !strncmp(text, "%YAML ", 6) || !strncmp(text, "---", 3);
-        (void) (yaml ? YamlOptionsProblem(text, why, sizeof why, &opts, &nopts)
-                     : OptionFileProblem(text, why, sizeof why, &opts, &nopts));
+        const char *nul = memchr(text, '\0', (size_t) st.st_size); /* PETSc reads the file as a string: up to it */
+        yaml            = yaml || !strncmp(text, "%YAML ", 6) || !strncmp(text, "---", 3);
+        if (nul)
+          snprintf(why, sizeof why, "byte %ld is a NUL (a binary file?); PETSc would read nothing after it",
+                   (long) (nul - text) + 1);
+        else
+          (void) (yaml ? YamlOptionsProblem(text, why, sizeof why, &opts, &nopts)
+                       : OptionFileProblem(text, why, sizeof why, &opts, &nopts));
       }
       if (fp) fclose(fp);
       free(text);

@@ -771,8 +771,9 @@ PetscErrorCode FabricRun(Fabric fab)
     }
     PetscCall(CheckpointLoadStep(fab));
     if (ruptured) break; /* the test ends: the specimen has broken */
-    if (ss && k < s->load.load_steps) { /* a signal: the load step's checkpoint, then stop (the explicit path looks within load steps) */
-      PetscCall(CheckpointLoadStepSignal(fab));
+    if (k < s->load.load_steps) { /* a signal: the load step's checkpoint, then stop (the explicit path looks within
+                                     load steps too) */
+      PetscCall(CheckpointLoadStepSignal(fab, ss ? PETSC_TRUE : PETSC_FALSE));
       if (CheckpointStopped()) break;
     }
   }
