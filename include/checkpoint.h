@@ -16,7 +16,7 @@ typedef struct {        /* where the relaxation of a load step is (RelaxLoadStep
 
 PetscErrorCode CheckpointLoadStep(Fabric fab);
 PetscErrorCode CheckpointTeStep(Fabric fab, const RelaxPoint *at);
-PetscErrorCode CheckpointLoadStepSignal(Fabric fab, PetscBool static_path);
+PetscErrorCode CheckpointLoadStepLook(Fabric fab, PetscBool static_path);
 PetscErrorCode RestartLoad(Fabric fab);
 PetscBool      CheckpointWithinLoadStep(Fabric fab, PetscInt k); /* restarted within load step k: the load step set */
 PetscBool      CheckpointResumesLoadStep(void);                    /* restarted within a load step (no side effect) */

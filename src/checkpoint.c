@@ -830,6 +830,25 @@ static const char *SignalName(int sig)
   return sig == SIGTERM ? "SIGTERM" : sig == SIGUSR1 ? "SIGUSR1" : "signal";
 }
 
+/* A look at the signal caught and rank 0's clock (look[1]: -checkpoint_every_s has passed since the last
+   checkpoint), reduced in one max-reduction: every rank takes the same decision */
+static PetscErrorCode Look(Fabric fab, PetscReal look[2])
+{
+  const PetscReal every_s = fab->s.out.checkpoint_every_s;
+
+  PetscFunctionBeginUser;
+  ckpt.last_look = fab->stats.te_steps;
+  look[0]        = (PetscReal) caught_signal;
+  look[1]        = 0;
+  if (fab->rank == 0 && every_s > 0) {
+    PetscLogDouble now;
+    PetscCall(PetscTime(&now));
+    look[1] = now - ckpt.last_wall >= every_s ? 1.0 : 0.0;
+  }
+  PetscCall(GlobalMax(fab->comm, look, 2));
+  PetscFunctionReturn(0);
+}
+
 /* After te step `at` of a load step that continues: a checkpoint every -checkpoint_every_te te steps, once
    -checkpoint_every_s seconds have passed, or on SIGTERM or SIGUSR1, after which the run stops
    (CheckpointStopped). Signals and rank 0's clock are looked at every LOOK_EVERY te steps, in one
@@ -844,14 +863,7 @@ PetscErrorCode CheckpointTeStep(Fabric fab, const RelaxPoint *at)
   if (!o->output_dir[0]) PetscFunctionReturn(0);
   due = o->checkpoint_every_te > 0 && fab->stats.te_steps - ckpt.last_te >= o->checkpoint_every_te;
   if (fab->stats.te_steps - ckpt.last_look >= LOOK_EVERY) {
-    ckpt.last_look = fab->stats.te_steps;
-    look[0]        = (PetscReal) caught_signal;
-    if (fab->rank == 0 && o->checkpoint_every_s > 0) {
-      PetscLogDouble now;
-      PetscCall(PetscTime(&now));
-      look[1] = now - ckpt.last_wall >= o->checkpoint_every_s ? 1.0 : 0.0;
-    }
-    PetscCall(GlobalMax(fab->comm, look, 2));
+    PetscCall(Look(fab, look));
     due = due || look[0] > 0 || look[1] > 0;
   }
   if (!due) PetscFunctionReturn(0);
@@ -868,27 +880,19 @@ PetscErrorCode CheckpointTeStep(Fabric fab, const RelaxPoint *at)
 }
 
 /* At the end of a load step that continues: on SIGTERM or SIGUSR1 a checkpoint of the load step, then the run
-   stops; the explicit path also checkpoints there once -checkpoint_every_s seconds have passed. One
-   max-reduction: every rank alike. The static path, which takes no te steps, looks at every load step's end; the
-   explicit path, which looks within its rounds (CheckpointTeStep), looks here too once LOOK_EVERY te steps have
-   passed since its last look: its rounds of one te step (-max_inner_steps 1, or a prediction that balances at
-   once) never look within, and a run of such load steps heard no signal. */
-PetscErrorCode CheckpointLoadStepSignal(Fabric fab, PetscBool static_path)
+   stops; once -checkpoint_every_s seconds have passed (the explicit path: the static path refuses it), a
+   checkpoint. The static path, which takes no te steps, looks at every load step's end; the explicit path, which
+   looks within its rounds (CheckpointTeStep), looks here too once LOOK_EVERY te steps have passed since its last
+   look: its rounds of one te step (-max_inner_steps 1, or a prediction that balances at once) never look within,
+   and a run of such load steps heard no signal. */
+PetscErrorCode CheckpointLoadStepLook(Fabric fab, PetscBool static_path)
 {
-  PetscReal look[2] = {(PetscReal) caught_signal, 0}; /* the signal caught, rank 0's clock says a checkpoint is due */
+  PetscReal look[2]; /* the signal caught, rank 0's clock says a checkpoint is due */
 
   PetscFunctionBeginUser;
   if (!fab->s.out.output_dir[0]) PetscFunctionReturn(0);
-  if (!static_path) {
-    if (fab->stats.te_steps - ckpt.last_look < LOOK_EVERY) PetscFunctionReturn(0);
-    ckpt.last_look = fab->stats.te_steps;
-    if (fab->rank == 0 && fab->s.out.checkpoint_every_s > 0) {
-      PetscLogDouble now;
-      PetscCall(PetscTime(&now));
-      look[1] = now - ckpt.last_wall >= fab->s.out.checkpoint_every_s ? 1.0 : 0.0;
-    }
-  }
-  PetscCall(GlobalMax(fab->comm, look, 2));
+  if (!static_path && fab->stats.te_steps - ckpt.last_look < LOOK_EVERY) PetscFunctionReturn(0);
+  PetscCall(Look(fab, look));
   if (!(look[0] > 0) && !(look[1] > 0)) PetscFunctionReturn(0);
   PetscCall(CheckpointWrite(fab, NULL));
   if (!(look[0] > 0)) PetscFunctionReturn(0);

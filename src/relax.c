@@ -773,7 +773,7 @@ PetscErrorCode FabricRun(Fabric fab)
     if (ruptured) break; /* the test ends: the specimen has broken */
     if (k < s->load.load_steps) { /* a signal: the load step's checkpoint, then stop (the explicit path looks within
                                      load steps too) */
-      PetscCall(CheckpointLoadStepSignal(fab, ss ? PETSC_TRUE : PETSC_FALSE));
+      PetscCall(CheckpointLoadStepLook(fab, ss ? PETSC_TRUE : PETSC_FALSE));
       if (CheckpointStopped()) break;
     }
   }
