@@ -27,8 +27,23 @@ void StaticCoarser(StaticSolver ss, Fabric *cfab, StaticSolver *coarse);
    -mg_line_smoother, -mg_line_lump, -snes_convex_tangent): listed under -help, and their values
    checked before a run writes anything */
 PetscErrorCode StaticOptionsCheck(MPI_Comm comm);
+typedef struct {         /* a solve under way, after one of its Newton steps */
+  PetscInt  attempt_its; /* Newton steps of the current attempt (a failed attempt is retried, stiffer) */
+  PetscInt  its, lits;   /* Newton steps and Krylov iterations of the solve so far, every attempt */
+  PetscReal next_shift;  /* the shift the next Newton step takes */
+} StaticProgress;
+
+typedef struct { /* the driver's look after each Newton step of a solve that goes on (signals, the clock's
+                    checkpoints); *stop ends the solve */
+  PetscErrorCode (*look)(void *ctx, const StaticProgress *p, PetscBool *stop);
+  void *ctx;
+} StaticWatch;
+
 /* balance the current load step from the current positions (the prediction is the first guess),
-   with the crossings of inv_m = 0 held where they are */
-PetscErrorCode StaticSolve(StaticSolver ss, StaticResult *r);
+   with the crossings of inv_m = 0 held where they are; watch (or NULL) looks after each Newton step */
+PetscErrorCode StaticSolve(StaticSolver ss, const StaticWatch *watch, StaticResult *r);
+/* a restart within a solve: the next StaticSolve goes on from the current positions (a checkpoint's
+   iterate, its next shift restored), its attempt already `attempt_its` Newton steps in */
+void StaticResume(StaticSolver ss, PetscInt attempt_its);
 
 #endif

@@ -6,7 +6,7 @@
  * -checkpoint_every_te K te steps and once -checkpoint_every_s S seconds of wall-clock time have
  * passed since the last one; and on SIGTERM or SIGUSR1 (a batch system's wall-time limit), after
  * which the run stops with exit status 3. Within a load step it is taken after a te step that the
- * relaxation continues from. Signals and the clock are looked at every LOOK_EVERY te steps (and at
+ * relaxation continues from (-solver static: after a Newton step that the solve continues from). Signals and the clock are looked at every LOOK_EVERY te steps (and at
  * a load step's end once as many have passed), with one small max-reduction (rank 0's clock
  * decides), so all ranks take the same decision at the same te step. It holds everything the run
  * depends on:
@@ -343,7 +343,7 @@ typedef struct {
   double win_lo[2], win_hi[2], win_s;
   double travel_from, travel_now, te, te_bound, omega_max, damp_c, omega1, last_residual, last_speed, gravity[3];
   double fire_dt, fire_alpha, fire_scale[3], watch_h0, watch_hmin, watch_kmax;
-  long   static_nhist, nonlinear_iterations, linear_iterations; /* -solver static */
+  long   static_nhist, nonlinear_iterations, linear_iterations, static_newton; /* -solver static */
   double static_lh[3], static_shift;
   double elapsed;
   long   coarse_nonlinear_iterations, conv_segments, static_segments;
@@ -387,6 +387,7 @@ static int RelaxAttrs(RelaxState *r, Attr *a)
   ATTR_L("static_balanced_count", static_nhist), ATTR_D("static_load_factor_1", static_lh[0]);
   ATTR_D("static_load_factor_2", static_lh[1]), ATTR_D("static_load_factor_3", static_lh[2]);
   ATTR_D("static_shift", static_shift), ATTR_L("nonlinear_iterations", nonlinear_iterations);
+  ATTR_L("static_newton_steps", static_newton);
   ATTR_L("linear_iterations", linear_iterations), ATTR_D("load_step_elapsed_s", elapsed);
   ATTR_L("coarse_nonlinear_iterations", coarse_nonlinear_iterations), ATTR_L("converged_positions_segments", conv_segments);
   ATTR_L("static_balanced_segments", static_segments);
@@ -413,6 +414,7 @@ static void RelaxStatePack(Fabric fab, const RelaxPoint *at, RelaxState *r)
   r->within        = at != NULL;
   r->round         = at ? (long) at->round : 0;
   r->te_step       = at ? (long) at->te_step : 0;
+  r->static_newton = at ? (long) at->newton : 0;
   r->inner_steps   = at ? (long) at->inner_steps : 0;
   r->ramp_steps    = (long) fab->load.ramp_steps;
   r->ramp_done     = (long) fab->load.ramp_done;
@@ -806,8 +808,9 @@ static PetscErrorCode CheckpointWrite(Fabric fab, const RelaxPoint *at)
   PetscCall(PetscLogEventEnd(EV_Output, 0, 0, 0, 0));
   if (fab->s.out.quiet) PetscFunctionReturn(0);
   if (at)
-    PetscCall(PetscPrintf(fab->comm, "checkpoint at load step %" PetscInt_FMT ", te step %" PetscInt_FMT ": %s\n",
-                          fab->load.load_step, at->inner_steps + at->te_step, file));
+    PetscCall(PetscPrintf(fab->comm, "checkpoint at load step %" PetscInt_FMT ", %s step %" PetscInt_FMT ": %s\n",
+                          fab->load.load_step, at->newton ? "Newton" : "te", at->inner_steps + at->te_step + at->newton,
+                          file));
   else
     PetscCall(PetscPrintf(fab->comm, "checkpoint at load step %" PetscInt_FMT ": %s\n", fab->load.load_step, file));
   PetscFunctionReturn(0);
@@ -879,9 +882,31 @@ PetscErrorCode CheckpointTeStep(Fabric fab, const RelaxPoint *at)
   PetscFunctionReturn(0);
 }
 
+/* -solver static, after Newton step `at` of a solve that goes on (not a located break's trial): on SIGTERM or
+   SIGUSR1 a checkpoint of the iterate, after which the run stops (CheckpointStopped); once -checkpoint_every_s
+   seconds have passed, a checkpoint. Each Newton step looks (one small max-reduction, against a Newton step's
+   tangent and linear solve): a load step's solve can take hours (the drape at 24 threads/cm, docs/static.md). */
+PetscErrorCode CheckpointNewtonStep(Fabric fab, const RelaxPoint *at)
+{
+  PetscReal look[2]; /* the signal caught, rank 0's clock says a checkpoint is due */
+
+  PetscFunctionBeginUser;
+  if (!fab->s.out.output_dir[0]) PetscFunctionReturn(0);
+  PetscCall(Look(fab, look));
+  if (!(look[0] > 0) && !(look[1] > 0)) PetscFunctionReturn(0);
+  PetscCall(CheckpointWrite(fab, at));
+  if (!(look[0] > 0)) PetscFunctionReturn(0);
+  ckpt.stopped_by = (int) look[0];
+  PetscCall(PetscPrintf(fab->comm,
+                        "fabric: %s: checkpoint written at load step %" PetscInt_FMT ", Newton step %" PetscInt_FMT
+                        ": restart with -restart %s/checkpoint.h5\n",
+                        SignalName(ckpt.stopped_by), fab->load.load_step, at->inner_steps + at->newton,
+                        fab->s.out.output_dir));
+  PetscFunctionReturn(0);
+}
+
 /* At the end of a load step that continues: on SIGTERM or SIGUSR1 a checkpoint of the load step, then the run
-   stops; once -checkpoint_every_s seconds have passed (the explicit path: the static path refuses it), a
-   checkpoint. The static path, which takes no te steps, looks at every load step's end; the explicit path, which
+   stops; once -checkpoint_every_s seconds have passed, a checkpoint. The static path, which takes no te steps, looks at every load step's end; the explicit path, which
    looks within its rounds (CheckpointTeStep), looks here too once LOOK_EVERY te steps have passed since its last
    look: its rounds of one te step (-max_inner_steps 1, or a prediction that balances at once) never look within,
    and a run of such load steps heard no signal. */
@@ -1111,7 +1136,16 @@ static int ReadRelaxState(const Scene *s, hid_t g, const char *file, Header *h)
         !(r->tm_limit[q] > 0) || r->tm_te[q] < 0 || r->tm_bound[q] < 0)
       return REFUSE("-restart %s: damaged checkpoint: te_measure record %d: load step %ld, end %ld, te %g s, bound %g s, "
                     "limit %g s", file, q, r->tm_step[q], r->tm_end[q], r->tm_te[q], r->tm_bound[q], r->tm_limit[q]);
-  if (r->within && (r->te_step < 1 || r->te_step >= s->load.max_inner_steps || r->round < 0 || r->inner_steps < 0))
+  if (r->static_newton < 0 || r->static_newton > PETSC_MAX_INT || (r->static_newton > 0 && !r->within))
+    return REFUSE("-restart %s: damaged checkpoint: static_newton_steps = %ld at a load step's %s", file, r->static_newton,
+                  r->within ? "Newton step" : "end");
+  if (r->within && r->static_newton > 0 && (r->te_step != 0 || r->round < 0 || r->inner_steps < 0))
+    return REFUSE("-restart %s: damaged checkpoint: Newton step %ld of round %ld with te step %ld", file, r->static_newton,
+                  r->round, r->te_step);
+  if (r->within && r->static_newton > 0 && s->num.solver != SOLVER_STATIC) /* the scene keys hold the solver */
+    return REFUSE("-restart %s: damaged checkpoint: a Newton step's checkpoint of an explicit run", file);
+  if (r->within && !r->static_newton &&
+      (r->te_step < 1 || r->te_step >= s->load.max_inner_steps || r->round < 0 || r->inner_steps < 0))
     return REFUSE(
         "-restart %s: damaged checkpoint: te step %ld of round %ld within a load step of at most %" PetscInt_FMT
         " te steps",
@@ -1425,6 +1459,7 @@ static void RestoreCounters(Fabric fab, const Header *hp)
   ckpt.at.round       = (PetscInt) h.relax.round;
   ckpt.at.te_step     = (PetscInt) h.relax.te_step;
   ckpt.at.inner_steps = (PetscInt) h.relax.inner_steps;
+  ckpt.at.newton      = (PetscInt) h.relax.static_newton;
 }
 
 /* the state vectors and the broken segments, read collectively, each checked against its checksum */
@@ -1528,10 +1563,10 @@ PetscErrorCode RestartLoad(Fabric fab)
   if (ckpt.resume)
     PetscCall(PetscPrintf(fab->comm,
                           "fabric: restart from %s within load step %" PetscInt_FMT "/%" PetscInt_FMT
-                          ", after its te step %" PetscInt_FMT " (%" PetscInt64_FMT " te steps, %" PetscInt_FMT
+                          ", after its %s step %" PetscInt_FMT " (%" PetscInt64_FMT " te steps, %" PetscInt_FMT
                           " frames so far)\n",
-                          io->restart, fab->load.load_step + 1, fab->s.load.load_steps,
-                          ckpt.at.inner_steps + ckpt.at.te_step, fab->stats.te_steps, io->frames));
+                          io->restart, fab->load.load_step + 1, fab->s.load.load_steps, ckpt.at.newton ? "Newton" : "te",
+                          ckpt.at.inner_steps + ckpt.at.te_step + ckpt.at.newton, fab->stats.te_steps, io->frames));
   else
     PetscCall(PetscPrintf(fab->comm,
                           "fabric: restart from %s at load step %" PetscInt_FMT "/%" PetscInt_FMT " (%" PetscInt64_FMT
@@ -1581,7 +1616,7 @@ PetscBool CheckpointWithinLoadStep(Fabric fab, PetscInt k)
 /* RelaxLoadStep, at its start: where it continues from (restarted within the load step), else its start */
 void CheckpointRelaxStart(RelaxPoint *at)
 {
-  const RelaxPoint start = {0, 0, 0};
+  const RelaxPoint start = {0, 0, 0, 0};
   *at                    = ckpt.resume ? ckpt.at : start;
   ckpt.resume            = PETSC_FALSE;
 }

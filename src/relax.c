@@ -471,7 +471,7 @@ static PetscErrorCode SolveCoarser(StaticSolver ss, PetscInt k, PetscInt64 *newt
   if (cf->load.travel_now != cf->load.travel) PetscCall(PlaceGrips(cf, cf->load.travel, PETSC_TRUE));
   cf->load.ramp_done = cf->load.ramp_steps;
   PetscCall(SolveCoarser(cs, k, newton));
-  PetscCall(StaticSolve(cs, &r));
+  PetscCall(StaticSolve(cs, NULL, &r));
   *newton += r.nonlinear_iterations;
   PetscCall(PetscInfo(NULL, "load step %" PetscInt_FMT ": the %" PetscInt_FMT " x %" PetscInt_FMT
                             " coarse fabric %s in %" PetscInt_FMT " Newton steps, residual %g\n",
@@ -507,7 +507,7 @@ static PetscErrorCode RelaxRound(Fabric fab, PetscInt round, RelaxPoint *at, Cur
     }
     if (n < s->load.max_inner_steps) { /* the round goes on: -info says what holds it; a checkpoint within the load
                                           step, if due or signalled */
-      const RelaxPoint here = {round, n, row->inner_steps};
+      const RelaxPoint here = {round, n, row->inner_steps, 0};
       PetscCall(RelaxInfo(fab, round, n, st));
       if (!fab->load.left) PetscCall(CheckpointTeStep(fab, &here));
       if (CheckpointStopped()) {
@@ -528,25 +528,61 @@ static PetscErrorCode RelaxRound(Fabric fab, PetscInt round, RelaxPoint *at, Cur
 
 /* The load now balanced by either path: the relaxation's round (explicit), or Newton (ss, -solver static: the
    grips go straight to their place) */
+typedef struct { /* a static solve's place in its load step (NewtonLook) */
+  Fabric   fab;
+  PetscInt round, inner_steps; /* the break round, the Newton steps of the rounds before */
+} NewtonWhere;
+
+/* after a Newton step of a solve that goes on (not a located break's trial): signals and the clock's checkpoint.
+   The checkpoint holds the solve's counts so far and the shift the next Newton step takes, so that a restart goes
+   on with the Newton steps the run would have taken (StaticResume). */
+static PetscErrorCode NewtonLook(void *ctx, const StaticProgress *p, PetscBool *stop)
+{
+  const NewtonWhere *w   = (const NewtonWhere *) ctx;
+  Fabric             fab = w->fab;
+  const RelaxPoint   at  = {w->round, 0, w->inner_steps + p->its - p->attempt_its, p->attempt_its};
+  const PetscReal    shift = fab->state.hist.shift;
+  PetscErrorCode     ierr;
+
+  PetscFunctionBeginUser;
+  *stop = PETSC_FALSE;
+  if (fab->load.left) PetscFunctionReturn(0);
+  fab->stats.nonlinear_iterations += p->its, fab->stats.linear_iterations += p->lits;
+  fab->state.hist.shift = p->next_shift;
+  ierr                  = CheckpointNewtonStep(fab, &at);
+  fab->stats.nonlinear_iterations -= p->its, fab->stats.linear_iterations -= p->lits;
+  fab->state.hist.shift = shift;
+  PetscCall(ierr);
+  *stop = CheckpointStopped();
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode Settle(Fabric fab, StaticSolver ss, PetscInt round, CurveRow *row, StepStats *st, PetscBool *stopped)
 {
-  StaticResult   r = {0};
-  PetscErrorCode ierr;
+  StaticResult      r = {0};
+  PetscErrorCode    ierr;
+  NewtonWhere       where;
+  const StaticWatch watch = {NewtonLook, &where};
 
   PetscFunctionBeginUser;
   *stopped = PETSC_FALSE;
   if (!ss) {
-    RelaxPoint at = {round, 0, row->inner_steps};
+    RelaxPoint at = {round, 0, row->inner_steps, 0};
     PetscCall(RelaxRound(fab, round, &at, row, st, stopped));
     PetscFunctionReturn(0);
   }
   if (fab->load.travel_now != fab->load.travel) PetscCall(PlaceGrips(fab, fab->load.travel, PETSC_TRUE));
   fab->load.ramp_done = fab->load.ramp_steps;
-  ierr                = StaticSolve(ss, &r); /* counted also when it stops the run: summary.json's counts */
+  where               = (NewtonWhere){fab, round, row->inner_steps};
+  ierr                = StaticSolve(ss, fab->io ? &watch : NULL, &r); /* counted also when it stops the run: summary.json's counts */
   row->inner_steps += r.nonlinear_iterations;
   fab->stats.nonlinear_iterations += r.nonlinear_iterations;
   fab->stats.linear_iterations += r.linear_iterations;
   PetscCall(ierr);
+  if (CheckpointStopped()) { /* SIGTERM or SIGUSR1 within the solve: its checkpoint is written */
+    *stopped = PETSC_TRUE;
+    PetscFunctionReturn(0);
+  }
   if (!r.balanced)
     PetscCall(PetscInfo(NULL, "load step %" PetscInt_FMT ": not balanced (%s), residual %g\n", fab->load.load_step,
                         r.reason, (double) r.residual));
@@ -646,16 +682,13 @@ static PetscErrorCode BalanceLoadStep(Fabric fab, StaticSolver ss, CurveRow *row
   const PetscReal own      = fab->load.load_factor;
   StepStats       st       = {0};
   PetscBool       measured = PETSC_FALSE;
-  RelaxPoint      at       = {0, 0, 0};
+  RelaxPoint      at       = {0, 0, 0, 0};
 
   PetscFunctionBeginUser;
-  if (ss) { /* the grips go to their place in Settle */
-    row->inner_steps = 0;
-    PetscCall(SolveCoarser(ss, fab->load.load_step, &fab->stats.coarse_nonlinear_iterations));
-  } else {
-    CheckpointRelaxStart(&at); /* restarted within this load step: where its checkpoint was taken */
-    row->inner_steps = at.inner_steps;
-  }
+  CheckpointRelaxStart(&at); /* restarted within this load step: where its checkpoint was taken */
+  row->inner_steps = at.inner_steps + at.newton;
+  if (ss && at.newton) StaticResume(ss, at.newton); /* from the checkpoint's Newton iterate */
+  else if (ss) PetscCall(SolveCoarser(ss, fab->load.load_step, &fab->stats.coarse_nonlinear_iterations)); /* the grips go to their place in Settle */
   for (PetscInt round = at.round;; round++) {
     PetscInt  broke;
     PetscBool ruptured, stopped;

@@ -2046,12 +2046,9 @@ static PetscErrorCode CheckSolverOptions(MPI_Comm comm, const SceneInput *in, Pe
              "-output_te_every %" PetscInt_FMT " with -solver static: it takes no te steps; use -output_every",
              in->output_te_every);
   PetscCheck(in->checkpoint_every_te == 0, comm, PETSC_ERR_USER_INPUT,
-             "-checkpoint_every_te %" PetscInt_FMT " with -solver static: it checkpoints between load steps only; use "
-             "-checkpoint_every",
+             "-checkpoint_every_te %" PetscInt_FMT " with -solver static: it takes no te steps; use -checkpoint_every or "
+             "-checkpoint_every_s",
              in->checkpoint_every_te);
-  PetscCheck(in->checkpoint_every_s == 0, comm, PETSC_ERR_USER_INPUT,
-             "-checkpoint_every_s %g with -solver static: it checkpoints between load steps only; use -checkpoint_every",
-             (double) in->checkpoint_every_s);
   { /* the explicit relaxation's knobs: Newton reads none of them (a tear runs the damped scheme with the tear_*
        options, -te, -te_check, -te_strain_window and -max_inner_steps). Typed by the user, refused; from a scene
        file (large.yaml's -front, every scene's -max_inner_steps), left to the explicit path */

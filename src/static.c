@@ -115,6 +115,12 @@ struct _p_StaticSolver {
   PetscBool      guess_rest;   /* the first guess had no balanced state behind it (the rest state) */
   PetscInt       solved_at;    /* the load step last solved, -1: none */
   PetscBool      solved_balanced;
+  /* the solve under way (StaticSolve) */
+  const StaticWatch *watch;       /* the driver's look after each Newton step (NULL: none) */
+  PetscInt           done_its;    /* Newton steps of the solve's earlier attempts */
+  PetscInt           done_lits;   /* their Krylov iterations */
+  PetscInt           resume;      /* StaticResume: the Newton steps the checkpoint's attempt had taken, 0: none */
+  PetscBool          watch_stop;  /* the look ended the solve */
 };
 
 /* gravity on the free owned points and the residual rows of the held ones */
@@ -416,6 +422,15 @@ static PetscErrorCode EnergyLineSearch(SNESLineSearch ls, void *ctx)
   PetscCall(SNESLineSearchGetSNES(ls, &snes));
   PetscCall(SNESLineSearchGetVecs(ls, &X, &F, &Y, &W, &G));
   PetscCall(SNESLineSearchGetNorms(ls, &xnorm, &fnorm, &ynorm));
+  { /* the held crossings stay exactly where the load step put them (Xbc): the linear solve leaves rounding noise
+       in their rows (their residual is 0), which moved them by 1e-50 m, so that a restart within the solve, whose
+       Xbc is the checkpoint's iterate, did not take the same steps */
+    PetscScalar *y;
+    PetscCall(VecGetArray(Y, &y));
+    for (PetscInt k = 0; k < ss->fab->grid.nloc; k++)
+      if (!(ss->fab->grid.inv_m[k] > 0)) y[3 * k] = y[3 * k + 1] = y[3 * k + 2] = 0;
+    PetscCall(VecRestoreArray(Y, &y));
+  }
   PetscCall(FormObjective(snes, X, &pi0, ss));
   PetscCall(VecDot(F, Y, &slope));
   slope = -slope; /* d Pi(X - lambda Y)/d lambda at 0 = -grad Pi . Y */
@@ -449,28 +464,42 @@ static PetscErrorCode EnergyLineSearch(SNESLineSearch ls, void *ctx)
   PetscFunctionReturn(0);
 }
 
+/* the shift for the Newton step after one whose line search took lambda of it and whose linear solve ended
+   kreason */
+static PetscReal NextShift(PetscReal shift, PetscReal lambda, KSPConvergedReason kreason)
+{
+  if (kreason < 0) return PetscMax(10.0 * shift, 1e-6); /* an indefinite tangent (CG met negative curvature): stiffer */
+  if (lambda >= 1.0) return shift / 10.0 < SHIFT_FLOOR ? 0.0 : shift / 10.0;
+  if (lambda < 0.25) return PetscMax(4.0 * shift, SHIFT_FLOOR);
+  return shift;
+}
+
+/* how the last Newton step went: its line search's fraction and its linear solve's end */
+static PetscErrorCode LastStep(SNES snes, PetscReal *lambda, KSPConvergedReason *kreason)
+{
+  SNESLineSearch ls;
+  KSP            ksp;
+
+  PetscFunctionBeginUser;
+  PetscCall(SNESGetLineSearch(snes, &ls));
+  PetscCall(SNESLineSearchGetLambda(ls, lambda));
+  PetscCall(SNESGetKSP(snes, &ksp));
+  PetscCall(KSPGetConvergedReason(ksp, kreason));
+  PetscFunctionReturn(0);
+}
+
 /* before each Newton step: adapt the shift to how the last step went */
 static PetscErrorCode AdaptShift(SNES snes, PetscInt step)
 {
   StaticSolver       ss;
-  SNESLineSearch     ls;
   PetscReal          lambda;
-  KSP                ksp;
   KSPConvergedReason kreason;
 
   PetscFunctionBeginUser;
   PetscCall(SNESGetApplicationContext(snes, &ss));
-  if (step == 0) PetscFunctionReturn(0);
-  PetscCall(SNESGetLineSearch(snes, &ls));
-  PetscCall(SNESLineSearchGetLambda(ls, &lambda));
-  PetscCall(SNESGetKSP(snes, &ksp));
-  PetscCall(KSPGetConvergedReason(ksp, &kreason));
-  if (kreason < 0) /* an indefinite tangent (CG met negative curvature): stiffen the shift */
-    ss->h->shift = PetscMax(10.0 * ss->h->shift, 1e-6);
-  else if (lambda >= 1.0)
-    ss->h->shift = ss->h->shift / 10.0 < SHIFT_FLOOR ? 0.0 : ss->h->shift / 10.0;
-  else if (lambda < 0.25)
-    ss->h->shift = PetscMax(4.0 * ss->h->shift, SHIFT_FLOOR);
+  if (step == 0) PetscFunctionReturn(0); /* a restart within a solve: the checkpoint's shift is NextShift's */
+  PetscCall(LastStep(snes, &lambda, &kreason));
+  ss->h->shift = NextShift(ss->h->shift, lambda, kreason);
   PetscCall(PetscInfo(snes, "Newton step %" PetscInt_FMT ": the last step's line search took %g of it, its linear solve %s; the shift now %g\n",
                       step, (double) lambda, KSPConvergedReasons[kreason], (double) ss->h->shift));
   PetscFunctionReturn(0);
@@ -510,6 +539,21 @@ static PetscErrorCode Converged(SNES snes, PetscInt it, PetscReal xnorm, PetscRe
   PetscCall(FreeForceMax(ss, R, &fmax));
   *reason = fmax <= fab->s.num.balance_tol * PetscMax(ss->tmax, fab->step.force_floor) ? SNES_CONVERGED_FNORM_ABS
                                                                                        : SNES_CONVERGED_ITERATING;
+  if (*reason == SNES_CONVERGED_ITERATING && it > 0 && ss->watch) { /* the solve goes on: the driver's look */
+    StaticProgress     p;
+    PetscReal          lambda;
+    KSPConvergedReason kreason;
+    PetscInt           lits, lag;
+    /* at a Newton step whose next one forms its preconditioner afresh (-snes_lag_preconditioner, 2 here): a
+       restart, whose first step forms one, then takes the same steps (a lagged one is not in the checkpoint) */
+    PetscCall(SNESGetLagPreconditioner(snes, &lag));
+    if (lag > 1 && it % lag) PetscFunctionReturn(0);
+    PetscCall(LastStep(snes, &lambda, &kreason));
+    PetscCall(SNESGetLinearSolveIterations(snes, &lits));
+    p = (StaticProgress){it, ss->done_its + it, ss->done_lits + lits, NextShift(ss->h->shift, lambda, kreason)};
+    PetscCall(ss->watch->look(ss->watch->ctx, &p, &ss->watch_stop));
+    if (ss->watch_stop) *reason = SNES_DIVERGED_MAX_IT; /* stopped here (PETSc 3.18 has no DIVERGED_USER) */
+  }
   PetscFunctionReturn(0);
 }
 
@@ -2007,7 +2051,15 @@ static PetscErrorCode TaoBalanced(Tao tao, void *ctx)
   }
   PetscCall(TaoDefaultConvergenceTest(tao, NULL)); /* NaN, iteration and evaluation limits */
   PetscCall(TaoGetConvergedReason(tao, &reason));
-  if (reason > 0) PetscCall(TaoSetConvergedReason(tao, TAO_CONTINUE_ITERATING)); /* only the balance test converges */
+  if (reason > 0) PetscCall(TaoSetConvergedReason(tao, reason = TAO_CONTINUE_ITERATING)); /* only the balance test converges */
+  if (reason == TAO_CONTINUE_ITERATING && ss->watch) { /* the solve goes on: the driver's look */
+    StaticProgress p = {0, 0, 0, 0};
+    PetscCall(TaoGetIterationNumber(tao, &p.attempt_its));
+    PetscCall(TaoGetLinearSolveIterations(tao, &p.lits));
+    p.its = p.attempt_its;
+    if (p.attempt_its > 0) PetscCall(ss->watch->look(ss->watch->ctx, &p, &ss->watch_stop));
+    if (ss->watch_stop) PetscCall(TaoSetConvergedReason(tao, TAO_DIVERGED_USER));
+  }
   PetscFunctionReturn(0);
 }
 
@@ -2415,15 +2467,18 @@ static PetscErrorCode SolveMove(StaticSolver ss, PetscReal *move)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode StaticSolve(StaticSolver ss, StaticResult *r)
+void StaticResume(StaticSolver ss, PetscInt attempt_its)
 {
-  Fabric              fab    = ss->fab;
-  SNESConvergedReason reason = SNES_CONVERGED_ITERATING;
-  PetscInt            its;
+  ss->resume = attempt_its;
+}
+
+/* the first guess: the positions now, extrapolated from the last balanced states, out of the ball, corrected
+   by the coarser fabrics' solve; the shift to start from */
+static PetscErrorCode FirstGuess(StaticSolver ss)
+{
+  Fabric fab = ss->fab;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscMemzero(r, sizeof *r));
-  PetscCall(VecCopy(fab->state.X, ss->Xbc));
   PetscCall(Extrapolate(ss));
   if (fab->s.num.predict == PREDICT_NONE && !(ss->h->nhist > 0 && fab->load.load_factor == ss->h->lh[0]))
     PetscCall(LeaveSphere(ss)); /* the ball moved (not a re-solve after yarns broke) */
@@ -2441,10 +2496,36 @@ PetscErrorCode StaticSolve(StaticSolver ss, StaticResult *r)
   ss->h->shift = ss->h->nhist ? PetscMin(ss->opt.shift_start, ss->opt.shift_carry * ss->h->shift) : ss->opt.shift_start;
   if (ss->corrected_at == fab->load.load_step) /* from the coarse solution: from where its shift ended */
     ss->h->shift = PetscMin(ss->opt.shift_start, ss->opt.shift_carry * ss->coarse->h->shift);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode StaticSolve(StaticSolver ss, const StaticWatch *watch, StaticResult *r)
+{
+  Fabric              fab    = ss->fab;
+  SNESConvergedReason reason = SNES_CONVERGED_ITERATING;
+  PetscInt            its, max_it = 0, resume = ss->resume;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(r, sizeof *r));
+  PetscCall(VecCopy(fab->state.X, ss->Xbc));
+  ss->resume = 0;
+  /* a restart within the solve goes on from the checkpoint's iterate and shift, with the Newton steps its attempt
+     had left; a failed attempt is then retried from that iterate */
+  if (!resume) PetscCall(FirstGuess(ss));
   PetscCall(VecCopy(fab->state.X, ss->Xstart));
+  ss->watch      = watch;
+  ss->watch_stop = PETSC_FALSE;
+  ss->done_its = ss->done_lits = 0;
+  if (resume) {
+    if (ss->tao) PetscCall(TaoGetMaximumIterations(ss->tao, &max_it));
+    else PetscCall(SNESGetTolerances(ss->snes, NULL, NULL, NULL, &max_it, NULL));
+    if (ss->tao) PetscCall(TaoSetMaximumIterations(ss->tao, PetscMax(max_it - resume, 0)));
+    else PetscCall(SNESSetTolerances(ss->snes, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, PetscMax(max_it - resume, 0), PETSC_DEFAULT));
+  }
   if (ss->tao) { /* TAO's Newton: one solve */
     TaoConvergedReason treason;
     PetscCall(TaoSolve(ss->tao));
+    if (resume) PetscCall(TaoSetMaximumIterations(ss->tao, max_it));
     PetscCall(TaoGetConvergedReason(ss->tao, &treason));
     PetscCall(TaoGetIterationNumber(ss->tao, &its));
     PetscCall(TaoGetLinearSolveIterations(ss->tao, &r->linear_iterations));
@@ -2458,12 +2539,15 @@ PetscErrorCode StaticSolve(StaticSolver ss, StaticResult *r)
        a piece broken) are not factored again on the next tangent (MUMPS: "called after analysis phase fails"), and
        the next load step's solve then stopped the run with MUMPS's INFOG(1)=-3 */
     PetscCall(FreshFactors(ss));
+    ss->done_its = r->nonlinear_iterations, ss->done_lits = r->linear_iterations;
     PetscCall(SNESSolve(ss->snes, NULL, fab->state.X));
+    if (resume && attempt == 0) PetscCall(SNESSetTolerances(ss->snes, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, max_it, PETSC_DEFAULT));
     PetscCall(SNESGetConvergedReason(ss->snes, &reason));
     PetscCall(SNESGetIterationNumber(ss->snes, &its));
     PetscCall(SNESGetLinearSolveIterations(ss->snes, &lits));
     r->nonlinear_iterations += its;
     r->linear_iterations += lits;
+    if (ss->watch_stop) break; /* the run stops (a signal): its checkpoint holds the iterate */
     PetscCall(SolveMove(ss, &move));
     if (!(move <= fab->grid.extent) || reason == SNES_DIVERGED_FNORM_NAN ||
         reason == SNES_DIVERGED_DTOL) { /* NaN, Inf, runaway or a residual grown 1e4-fold: again from the first
@@ -2479,6 +2563,8 @@ PetscErrorCode StaticSolve(StaticSolver ss, StaticResult *r)
     ss->h->shift = PetscMax(100.0 * ss->h->shift, 1e-6); /* start again from where it stopped, stiffer */
   }
   if (!ss->tao) PetscCall(PetscStrncpy(r->reason, SNESConvergedReasons[reason], sizeof r->reason));
+  ss->watch = NULL;
+  if (ss->watch_stop) PetscFunctionReturn(0); /* not balanced: the run stops after the iterate's checkpoint */
   {
     PetscReal move = 0;
     char      given[448];

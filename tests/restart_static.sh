@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
-# restart_static.sh FABRIC NET_SCENE: the static path (-solver static) on SIGTERM. It takes no te
-# steps, so the signal is looked at the end of each load step: the run writes that load step's
-# checkpoint, says "fabric: SIGTERM: checkpoint written at the end of load step K: restart with
-# -restart DIR/checkpoint.h5" and exits with status 3; restarted from it (on 2 ranks, as it ran),
-# it ends as the uninterrupted run: final positions bit for bit, curve.csv, and the Newton and
-# Krylov counts of summary.json (the first guesses, the shift and the counts are in the checkpoint).
+# restart_static.sh FABRIC NET_SCENE: the static path (-solver static) on SIGTERM, sent once load
+# step 1 is done. The signal is looked at every second Newton step of a solve and at the end of
+# each load step: the run writes the checkpoint of the iterate or of the load step, says "fabric:
+# SIGTERM: checkpoint written at load step K, Newton step N: restart with -restart
+# DIR/checkpoint.h5" (or "at the end of load step K") and exits with status 3; restarted from it (on
+# 2 ranks, as it ran), it ends as the uninterrupted run: final positions bit for bit, curve.csv, and
+# the Newton and Krylov counts of summary.json (the first guesses, the shift and the counts are in
+# the checkpoint). restart_newton.sh stops a run within a solve for certain.
 set -u
 fabric="$1"; scene="$2"
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
@@ -30,8 +32,8 @@ kill -TERM $ranks 2>/dev/null # the ranks, as a batch system signals every proce
 wait "$pid"; rc=$?
 for p in $ranks; do while kill -0 "$p" 2>/dev/null; do sleep 0.05; done; done
 check "[[ $rc == 3 ]]" "SIGTERM to the ranks: exit status 3 (got $rc)"
-check "grep -q 'fabric: SIGTERM: checkpoint written at the end of load step [0-9]*: restart with -restart $d/checkpoint.h5' '$work/cut.log'" \
-  "the message names the load step and the checkpoint"
+check "grep -Eq 'fabric: SIGTERM: checkpoint written at (the end of load step [0-9]+|load step [0-9]+, Newton step [0-9]+): restart with -restart $d/checkpoint.h5' '$work/cut.log'" \
+  "the message names the load step and the checkpoint: $(grep -o 'written at [^:]*' "$work/cut.log")"
 check "[[ -s $d/checkpoint.h5 && ! -e $d/summary.json ]]" "a checkpoint, no summary yet"
 mpiexec -n 2 "$fabric" "${opts[@]}" -output_dir "$d" -restart "$d/checkpoint.h5" -positions_out "$d.bin" >/dev/null 2>&1 \
   || { echo "FAIL the restarted run failed"; fail=1; }
