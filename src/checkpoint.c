@@ -882,50 +882,51 @@ PetscErrorCode CheckpointTeStep(Fabric fab, const RelaxPoint *at)
   PetscFunctionReturn(0);
 }
 
-/* -solver static, after Newton step `at` of a solve that goes on (not a located break's trial): on SIGTERM or
-   SIGUSR1 a checkpoint of the iterate, after which the run stops (CheckpointStopped); once -checkpoint_every_s
-   seconds have passed, a checkpoint. Each Newton step looks (one small max-reduction, against a Newton step's
-   tangent and linear solve): a load step's solve can take hours (the drape at 24 threads/cm, docs/static.md). */
-PetscErrorCode CheckpointNewtonStep(Fabric fab, const RelaxPoint *at)
+/* A look (Look); on a signal or when the clock says so, the checkpoint of the load step's end (at = NULL) or of
+   the Newton iterate at `at`; on a signal the run then stops (CheckpointStopped) */
+static PetscErrorCode LookAndWrite(Fabric fab, const RelaxPoint *at)
 {
   PetscReal look[2]; /* the signal caught, rank 0's clock says a checkpoint is due */
+  char      where[96];
 
   PetscFunctionBeginUser;
-  if (!fab->s.out.output_dir[0]) PetscFunctionReturn(0);
   PetscCall(Look(fab, look));
   if (!(look[0] > 0) && !(look[1] > 0)) PetscFunctionReturn(0);
   PetscCall(CheckpointWrite(fab, at));
   if (!(look[0] > 0)) PetscFunctionReturn(0);
   ckpt.stopped_by = (int) look[0];
-  PetscCall(PetscPrintf(fab->comm,
-                        "fabric: %s: checkpoint written at load step %" PetscInt_FMT ", Newton step %" PetscInt_FMT
-                        ": restart with -restart %s/checkpoint.h5\n",
-                        SignalName(ckpt.stopped_by), fab->load.load_step, at->inner_steps + at->newton,
-                        fab->s.out.output_dir));
+  if (at)
+    PetscCall(PetscSNPrintf(where, sizeof where, "at load step %" PetscInt_FMT ", Newton step %" PetscInt_FMT,
+                            fab->load.load_step, at->inner_steps + at->newton));
+  else PetscCall(PetscSNPrintf(where, sizeof where, "at the end of load step %" PetscInt_FMT, fab->load.load_step));
+  PetscCall(PetscPrintf(fab->comm, "fabric: %s: checkpoint written %s: restart with -restart %s/checkpoint.h5\n",
+                        SignalName(ckpt.stopped_by), where, fab->s.out.output_dir));
+  PetscFunctionReturn(0);
+}
+
+/* -solver static, after Newton step `at` of a solve that goes on (not a located break's trial): on SIGTERM or
+   SIGUSR1 a checkpoint of the iterate, after which the run stops; once -checkpoint_every_s seconds have passed, a
+   checkpoint. Each such Newton step looks (one small max-reduction, against a Newton step's tangent and linear
+   solve): a load step's solve can take hours (the drape at 24 threads/cm, docs/static.md). */
+PetscErrorCode CheckpointNewtonStep(Fabric fab, const RelaxPoint *at)
+{
+  PetscFunctionBeginUser;
+  if (fab->s.out.output_dir[0]) PetscCall(LookAndWrite(fab, at));
   PetscFunctionReturn(0);
 }
 
 /* At the end of a load step that continues: on SIGTERM or SIGUSR1 a checkpoint of the load step, then the run
-   stops; once -checkpoint_every_s seconds have passed, a checkpoint. The static path, which takes no te steps, looks at every load step's end; the explicit path, which
-   looks within its rounds (CheckpointTeStep), looks here too once LOOK_EVERY te steps have passed since its last
-   look: its rounds of one te step (-max_inner_steps 1, or a prediction that balances at once) never look within,
-   and a run of such load steps heard no signal. */
+   stops; once -checkpoint_every_s seconds have passed, a checkpoint. The static path looks at every load step's
+   end (and within its solves, CheckpointNewtonStep); the explicit path, which looks within its rounds
+   (CheckpointTeStep), looks here too once LOOK_EVERY te steps have passed since its last look: its rounds of one
+   te step (-max_inner_steps 1, or a prediction that balances at once) never look within, and a run of such load
+   steps heard no signal. */
 PetscErrorCode CheckpointLoadStepLook(Fabric fab, PetscBool static_path)
 {
-  PetscReal look[2]; /* the signal caught, rank 0's clock says a checkpoint is due */
-
   PetscFunctionBeginUser;
   if (!fab->s.out.output_dir[0]) PetscFunctionReturn(0);
   if (!static_path && fab->stats.te_steps - ckpt.last_look < LOOK_EVERY) PetscFunctionReturn(0);
-  PetscCall(Look(fab, look));
-  if (!(look[0] > 0) && !(look[1] > 0)) PetscFunctionReturn(0);
-  PetscCall(CheckpointWrite(fab, NULL));
-  if (!(look[0] > 0)) PetscFunctionReturn(0);
-  ckpt.stopped_by = (int) look[0];
-  PetscCall(PetscPrintf(fab->comm,
-                        "fabric: %s: checkpoint written at the end of load step %" PetscInt_FMT
-                        ": restart with -restart %s/checkpoint.h5\n",
-                        SignalName(ckpt.stopped_by), fab->load.load_step, fab->s.out.output_dir));
+  PetscCall(LookAndWrite(fab, NULL));
   PetscFunctionReturn(0);
 }
 

@@ -13,6 +13,7 @@
 set -u
 fabric="$1"; scene="$2"
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
+. "$(dirname "$0")/kill_run.sh" # wait_for, term_ranks
 opts=(-scene "$scene" -solver static -gauge_mm 80 -width_mm 80 -balance_tol 1e-9 -output_every 0 -load_steps 1)
 fail=0
 check() { if eval "$1"; then echo "PASS $2"; else echo "FAIL $2"; fail=1; fi; }
@@ -24,15 +25,8 @@ mpiexec -n 2 "$fabric" "${opts[@]}" -quiet -output_dir "$work/whole" -positions_
 d="$work/cut"
 mpiexec -n 2 "$fabric" "${opts[@]}" -checkpoint_every_s 1e-9 -output_dir "$d" -positions_out "$d.bin" >"$work/cut.log" 2>&1 &
 pid=$!
-for ((i = 0; i < 3000; i++)); do # until the first checkpoint (Newton step 2) is in place
-  [[ -e "$d/checkpoint.h5" ]] && break
-  kill -0 "$pid" 2>/dev/null || break
-  sleep 0.01
-done
-ranks=$(ps -o pid= --ppid "$pid")
-kill -TERM $ranks 2>/dev/null # the ranks, as a batch system signals every process of the job
-wait "$pid"; rc=$?
-for p in $ranks; do while kill -0 "$p" 2>/dev/null; do sleep 0.05; done; done
+wait_for "$pid" "[[ -e $d/checkpoint.h5 ]]" # the first checkpoint (Newton step 2) is in place
+term_ranks "$pid"; rc=$?
 check "[[ $rc == 3 ]]" "SIGTERM to the ranks within the solve: exit status 3 (got $rc)"
 check "grep -q 'fabric: SIGTERM: checkpoint written at load step 1, Newton step [0-9]*: restart with -restart $d/checkpoint.h5' '$work/cut.log'" \
   "the message names the Newton step and the checkpoint: $(grep -o 'Newton step [0-9]*: restart' "$work/cut.log")"

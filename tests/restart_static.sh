@@ -10,6 +10,7 @@
 set -u
 fabric="$1"; scene="$2"
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
+. "$(dirname "$0")/kill_run.sh" # wait_for, term_ranks
 # the square net at 80 mm (193 x 193 crossings): each of its 12 load steps takes about a second
 opts=(-scene "$scene" -quiet -solver static -gauge_mm 80 -width_mm 80 -balance_tol 1e-9 -output_every 0)
 fail=0
@@ -22,15 +23,8 @@ mpiexec -n 2 "$fabric" "${opts[@]}" -output_dir "$work/whole" -positions_out "$w
 d="$work/cut"
 mpiexec -n 2 "$fabric" "${opts[@]}" -output_dir "$d" -positions_out "$d.bin" >"$work/cut.log" 2>&1 &
 pid=$!
-for ((i = 0; i < 3000; i++)); do # until load step 1 is done
-  [[ -e "$d/curve.csv" && $(wc -l <"$d/curve.csv") -ge 2 ]] && break
-  kill -0 "$pid" 2>/dev/null || break
-  sleep 0.02
-done
-ranks=$(ps -o pid= --ppid "$pid")
-kill -TERM $ranks 2>/dev/null # the ranks, as a batch system signals every process of the job
-wait "$pid"; rc=$?
-for p in $ranks; do while kill -0 "$p" 2>/dev/null; do sleep 0.05; done; done
+wait_for "$pid" "[[ -e $d/curve.csv && \$(wc -l <$d/curve.csv) -ge 2 ]]" # load step 1 is done
+term_ranks "$pid"; rc=$?
 check "[[ $rc == 3 ]]" "SIGTERM to the ranks: exit status 3 (got $rc)"
 check "grep -Eq 'fabric: SIGTERM: checkpoint written at (the end of load step [0-9]+|load step [0-9]+, Newton step [0-9]+): restart with -restart $d/checkpoint.h5' '$work/cut.log'" \
   "the message names the load step and the checkpoint: $(grep -o 'written at [^:]*' "$work/cut.log")"
