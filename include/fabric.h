@@ -63,6 +63,7 @@ typedef struct { /* -solver static: what a load step's solve starts from (static
   PetscReal lh[3]; /* their load factors */
   PetscInt  nhist;
   PetscReal shift; /* the pretension shift k_s / k_ref where the last solve ended */
+  PetscReal rnorm0; /* a checkpoint within a solve: its attempt's first residual norm (SNES's divergence test) */
   PetscInt64 segments; /* yarn segments broken when the latest was kept */
 } StaticHistory;
 

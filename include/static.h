@@ -31,6 +31,7 @@ typedef struct {         /* a solve under way, after one of its Newton steps */
   PetscInt  attempt_its; /* Newton steps of the current attempt (a failed attempt is retried, stiffer) */
   PetscInt  its, lits;   /* Newton steps and Krylov iterations of the solve so far, every attempt */
   PetscReal next_shift;  /* the shift the next Newton step takes */
+  PetscReal rnorm0;      /* the attempt's first residual norm (SNES's divergence test is relative to it) */
 } StaticProgress;
 
 typedef struct { /* the driver's look after each Newton step of a solve that goes on (signals, the clock's

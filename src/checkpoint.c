@@ -344,7 +344,7 @@ typedef struct {
   double travel_from, travel_now, te, te_bound, omega_max, damp_c, omega1, last_residual, last_speed, gravity[3];
   double fire_dt, fire_alpha, fire_scale[3], watch_h0, watch_hmin, watch_kmax;
   long   static_nhist, nonlinear_iterations, linear_iterations, static_newton; /* -solver static */
-  double static_lh[3], static_shift;
+  double static_lh[3], static_shift, static_rnorm0;
   double elapsed;
   long   coarse_nonlinear_iterations, conv_segments, static_segments;
   long   te_measured, te_prev_step, tm_step[4], tm_end[4]; /* -te_measure: its count and its four records */
@@ -387,7 +387,7 @@ static int RelaxAttrs(RelaxState *r, Attr *a)
   ATTR_L("static_balanced_count", static_nhist), ATTR_D("static_load_factor_1", static_lh[0]);
   ATTR_D("static_load_factor_2", static_lh[1]), ATTR_D("static_load_factor_3", static_lh[2]);
   ATTR_D("static_shift", static_shift), ATTR_L("nonlinear_iterations", nonlinear_iterations);
-  ATTR_L("static_newton_steps", static_newton);
+  ATTR_L("static_newton_steps", static_newton), ATTR_D("static_residual_norm0", static_rnorm0);
   ATTR_L("linear_iterations", linear_iterations), ATTR_D("load_step_elapsed_s", elapsed);
   ATTR_L("coarse_nonlinear_iterations", coarse_nonlinear_iterations), ATTR_L("converged_positions_segments", conv_segments);
   ATTR_L("static_balanced_segments", static_segments);
@@ -445,6 +445,7 @@ static void RelaxStatePack(Fabric fab, const RelaxPoint *at, RelaxState *r)
   for (int q = 0; q < 3; q++) r->fire_scale[q] = fab->step.fire_scale[q];
   r->static_nhist       = (long) fab->state.hist.nhist;
   r->static_shift       = fab->state.hist.shift;
+  r->static_rnorm0      = fab->state.hist.rnorm0;
   for (int q = 0; q < 3; q++) r->static_lh[q] = fab->state.hist.lh[q];
   r->nonlinear_iterations = (long) fab->stats.nonlinear_iterations;
   r->linear_iterations    = (long) fab->stats.linear_iterations;
@@ -501,6 +502,7 @@ static void RelaxStateUnpack(const RelaxState *r, Fabric fab)
   for (int q = 0; q < 3; q++) fab->step.fire_scale[q] = r->fire_scale[q];
   fab->state.hist.nhist = (PetscInt) r->static_nhist;
   fab->state.hist.shift = r->static_shift;
+  fab->state.hist.rnorm0 = r->static_rnorm0;
   for (int q = 0; q < 3; q++) fab->state.hist.lh[q] = r->static_lh[q];
   fab->stats.nonlinear_iterations = (PetscInt64) r->nonlinear_iterations;
   fab->stats.linear_iterations    = (PetscInt64) r->linear_iterations;
@@ -1137,14 +1139,18 @@ static int ReadRelaxState(const Scene *s, hid_t g, const char *file, Header *h)
         !(r->tm_limit[q] > 0) || r->tm_te[q] < 0 || r->tm_bound[q] < 0)
       return REFUSE("-restart %s: damaged checkpoint: te_measure record %d: load step %ld, end %ld, te %g s, bound %g s, "
                     "limit %g s", file, q, r->tm_step[q], r->tm_end[q], r->tm_te[q], r->tm_bound[q], r->tm_limit[q]);
-  if (r->static_newton < 0 || r->static_newton > PETSC_MAX_INT || (r->static_newton > 0 && !r->within))
-    return REFUSE("-restart %s: damaged checkpoint: static_newton_steps = %ld at a load step's %s", file, r->static_newton,
-                  r->within ? "Newton step" : "end");
-  if (r->within && r->static_newton > 0 && (r->te_step != 0 || r->round < 0 || r->inner_steps < 0))
-    return REFUSE("-restart %s: damaged checkpoint: Newton step %ld of round %ld with te step %ld", file, r->static_newton,
-                  r->round, r->te_step);
-  if (r->within && r->static_newton > 0 && s->num.solver != SOLVER_STATIC) /* the scene keys hold the solver */
-    return REFUSE("-restart %s: damaged checkpoint: a Newton step's checkpoint of an explicit run", file);
+  if (r->static_newton < 0 || r->static_newton > PETSC_MAX_INT || (r->static_newton > 0 && !r->within) ||
+      r->static_rnorm0 < 0)
+    return REFUSE("-restart %s: damaged checkpoint: static_newton_steps = %ld, static_residual_norm0 = %g at a load "
+                  "step's %s", file, r->static_newton, r->static_rnorm0, r->within ? "Newton step" : "end");
+  if (r->within && r->static_newton > 0 &&
+      (r->te_step != 0 || r->round < 0 || r->inner_steps < 0 || r->inner_steps > PETSC_MAX_INT - r->static_newton))
+    return REFUSE("-restart %s: damaged checkpoint: Newton step %ld of round %ld, after %ld Newton steps, with te step %ld",
+                  file, r->static_newton, r->round, r->inner_steps, r->te_step);
+  if (r->within && (r->static_newton > 0) != (s->num.solver == SOLVER_STATIC)) /* the scene keys hold the solver */
+    return REFUSE("-restart %s: damaged checkpoint: %s within a load step of a%s run", file,
+                  r->static_newton > 0 ? "a Newton step's checkpoint" : "a te step's checkpoint",
+                  s->num.solver == SOLVER_STATIC ? " -solver static" : "n explicit");
   if (r->within && !r->static_newton &&
       (r->te_step < 1 || r->te_step >= s->load.max_inner_steps || r->round < 0 || r->inner_steps < 0))
     return REFUSE(

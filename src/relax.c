@@ -541,17 +541,17 @@ static PetscErrorCode NewtonLook(void *ctx, const StaticProgress *p, PetscBool *
   const NewtonWhere *w   = (const NewtonWhere *) ctx;
   Fabric             fab = w->fab;
   const RelaxPoint   at  = {w->round, 0, w->inner_steps + p->its - p->attempt_its, p->attempt_its};
-  const PetscReal    shift = fab->state.hist.shift;
+  const PetscReal    shift = fab->state.hist.shift, rnorm0 = fab->state.hist.rnorm0;
   PetscErrorCode     ierr;
 
   PetscFunctionBeginUser;
   *stop = PETSC_FALSE;
   if (fab->load.left) PetscFunctionReturn(0);
   fab->stats.nonlinear_iterations += p->its, fab->stats.linear_iterations += p->lits;
-  fab->state.hist.shift = p->next_shift;
+  fab->state.hist.shift = p->next_shift, fab->state.hist.rnorm0 = p->rnorm0;
   ierr                  = CheckpointNewtonStep(fab, &at);
   fab->stats.nonlinear_iterations -= p->its, fab->stats.linear_iterations -= p->lits;
-  fab->state.hist.shift = shift;
+  fab->state.hist.shift = shift, fab->state.hist.rnorm0 = rnorm0;
   PetscCall(ierr);
   *stop = CheckpointStopped();
   PetscFunctionReturn(0);

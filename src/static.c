@@ -33,6 +33,7 @@
  * largest yarn tension and the force floor) at -balance_tol.
  */
 #include <petsc/private/pcimpl.h> /* pc->setupcalled: a block preconditioner's blocks exist */
+#include <petsc/private/snesimpl.h> /* snes->rnorm0: a restart within a solve keeps its divergence test's reference */
 #include "static.h"
 #include "bodies.h"
 #include "comm.h"
@@ -120,6 +121,8 @@ struct _p_StaticSolver {
   PetscInt           done_its;    /* Newton steps of the solve's earlier attempts */
   PetscInt           done_lits;   /* their Krylov iterations */
   PetscInt           resume;      /* StaticResume: the Newton steps the checkpoint's attempt had taken, 0: none */
+  PetscInt           base;        /* the Newton steps of the current attempt before a restart (its first attempt) */
+  PetscReal          rnorm0;      /* that attempt's first residual norm, restored (0: none) */
   PetscBool          watch_stop;  /* the look ended the solve */
 };
 
@@ -534,6 +537,8 @@ static PetscErrorCode Converged(SNES snes, PetscInt it, PetscReal xnorm, PetscRe
 
   PetscFunctionBeginUser;
   PetscCall(SNESConvergedDefault(snes, it, xnorm, snorm, fnorm, reason, NULL));
+  if (it == 0 && ss->rnorm0 > 0) snes->rnorm0 = ss->rnorm0; /* a restart within the attempt: its divergence test's
+                                                               reference is the attempt's first residual */
   if (*reason < 0) PetscFunctionReturn(0); /* diverged: NaN, too many evaluations or iterations */
   PetscCall(SNESGetFunction(snes, &R, NULL, NULL));
   PetscCall(FreeForceMax(ss, R, &fmax));
@@ -543,14 +548,18 @@ static PetscErrorCode Converged(SNES snes, PetscInt it, PetscReal xnorm, PetscRe
     StaticProgress     p;
     PetscReal          lambda;
     KSPConvergedReason kreason;
-    PetscInt           lits, lag;
-    /* at a Newton step whose next one forms its preconditioner afresh (-snes_lag_preconditioner, 2 here): a
-       restart, whose first step forms one, then takes the same steps (a lagged one is not in the checkpoint) */
-    PetscCall(SNESGetLagPreconditioner(snes, &lag));
-    if (lag > 1 && it % lag) PetscFunctionReturn(0);
+    PetscInt           lits, lag[2], max_it;
+    /* at a Newton step whose next one forms its tangent and preconditioner afresh (-snes_lag_jacobian,
+       -snes_lag_preconditioner: 2 here): a restart, whose first step forms both, then takes the same steps (a
+       lagged one is not in the checkpoint); not after the attempt's last step (SNES tests it, then stops) */
+    PetscCall(SNESGetLagJacobian(snes, &lag[0]));
+    PetscCall(SNESGetLagPreconditioner(snes, &lag[1]));
+    PetscCall(SNESGetTolerances(snes, NULL, NULL, NULL, &max_it, NULL));
+    if ((lag[0] > 1 && it % lag[0]) || (lag[1] > 1 && it % lag[1]) || it >= max_it) PetscFunctionReturn(0);
     PetscCall(LastStep(snes, &lambda, &kreason));
     PetscCall(SNESGetLinearSolveIterations(snes, &lits));
-    p = (StaticProgress){it, ss->done_its + it, ss->done_lits + lits, NextShift(ss->h->shift, lambda, kreason)};
+    p = (StaticProgress){ss->base + it, ss->done_its + it, ss->done_lits + lits, NextShift(ss->h->shift, lambda, kreason),
+                         snes->rnorm0};
     PetscCall(ss->watch->look(ss->watch->ctx, &p, &ss->watch_stop));
     if (ss->watch_stop) *reason = SNES_DIVERGED_MAX_IT; /* stopped here (PETSc 3.18 has no DIVERGED_USER) */
   }
@@ -2053,11 +2062,11 @@ static PetscErrorCode TaoBalanced(Tao tao, void *ctx)
   PetscCall(TaoGetConvergedReason(tao, &reason));
   if (reason > 0) PetscCall(TaoSetConvergedReason(tao, reason = TAO_CONTINUE_ITERATING)); /* only the balance test converges */
   if (reason == TAO_CONTINUE_ITERATING && ss->watch) { /* the solve goes on: the driver's look */
-    StaticProgress p = {0, 0, 0, 0};
-    PetscCall(TaoGetIterationNumber(tao, &p.attempt_its));
+    StaticProgress p = {0, 0, 0, 0, 0};
+    PetscCall(TaoGetIterationNumber(tao, &p.its));
     PetscCall(TaoGetLinearSolveIterations(tao, &p.lits));
-    p.its = p.attempt_its;
-    if (p.attempt_its > 0) PetscCall(ss->watch->look(ss->watch->ctx, &p, &ss->watch_stop));
+    p.attempt_its = ss->base + p.its;
+    if (p.its > 0) PetscCall(ss->watch->look(ss->watch->ctx, &p, &ss->watch_stop));
     if (ss->watch_stop) PetscCall(TaoSetConvergedReason(tao, TAO_DIVERGED_USER));
   }
   PetscFunctionReturn(0);
@@ -2516,6 +2525,9 @@ PetscErrorCode StaticSolve(StaticSolver ss, const StaticWatch *watch, StaticResu
   ss->watch      = watch;
   ss->watch_stop = PETSC_FALSE;
   ss->done_its = ss->done_lits = 0;
+  ss->base   = resume;                        /* the first attempt's steps before the restart */
+  ss->rnorm0 = resume ? ss->h->rnorm0 : 0.0;  /* and its first residual norm */
+  ss->h->rnorm0 = 0;
   if (resume) {
     if (ss->tao) PetscCall(TaoGetMaximumIterations(ss->tao, &max_it));
     else PetscCall(SNESGetTolerances(ss->snes, NULL, NULL, NULL, &max_it, NULL));
@@ -2542,6 +2554,7 @@ PetscErrorCode StaticSolve(StaticSolver ss, const StaticWatch *watch, StaticResu
     ss->done_its = r->nonlinear_iterations, ss->done_lits = r->linear_iterations;
     PetscCall(SNESSolve(ss->snes, NULL, fab->state.X));
     if (resume && attempt == 0) PetscCall(SNESSetTolerances(ss->snes, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, max_it, PETSC_DEFAULT));
+    ss->base = 0, ss->rnorm0 = 0; /* a retry is an attempt of its own */
     PetscCall(SNESGetConvergedReason(ss->snes, &reason));
     PetscCall(SNESGetIterationNumber(ss->snes, &its));
     PetscCall(SNESGetLinearSolveIterations(ss->snes, &lits));

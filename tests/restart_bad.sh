@@ -87,7 +87,11 @@ done
 refuse other_grid_length "-restart .*checkpoint.h5: the checkpoint is of another grid: 49 x 12 crossings there .*, [0-9]+ x 12 here" "${opts[@]}" -gauge_mm 25 -output_dir "$work/run" -restart "$ck"
 for bad in "load_step_0|load step 0 of 6|load_step 0" "load_step_6_within|load step 7 of 6|load_step 6 within_load_step 1 relax_te_step 5" \
            "within_2|within_load_step = 2|within_load_step 2" "te_step_0|te step 0 of round 0 within a load step of at most [0-9]+ te steps|within_load_step 1 relax_te_step 0 relax_round 0" \
-           "te_step_max|te step 20000 of round 0 within a load step of at most 20000 te steps|within_load_step 1 relax_te_step 20000 relax_round 0"; do
+           "te_step_max|te step 20000 of round 0 within a load step of at most 20000 te steps|within_load_step 1 relax_te_step 20000 relax_round 0" \
+           "newton_explicit|a Newton step's checkpoint within a load step of an explicit run|within_load_step 1 relax_te_step 0 static_newton_steps 3" \
+           "newton_at_end|static_newton_steps = 3, static_residual_norm0 = 0 at a load step's end|static_newton_steps 3" \
+           "newton_negative|static_newton_steps = -1, static_residual_norm0 = 0 at a load step's end|static_newton_steps -1" \
+           "newton_te_step|Newton step 3 of round 0, after 0 Newton steps, with te step 5|within_load_step 1 relax_te_step 5 static_newton_steps 3"; do
   IFS='|' read -r name what pairs <<<"$bad"
   cp "$ck" "$work/attr.h5" && setattrs "$work/attr.h5" $pairs || { echo "FAIL cannot set $pairs"; fail=1; continue; }
   refuse "attr_$name" "-restart .*attr.h5: damaged checkpoint: $what" "${opts[@]}" -output_dir "$work/run" -restart "$work/attr.h5"

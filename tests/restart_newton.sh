@@ -6,7 +6,7 @@
 # SIGTERM: checkpoint written at load step 1, Newton step N: restart with -restart
 # DIR/checkpoint.h5" and exits with status 3, with no summary yet. Restarted on 2 ranks, it ends as
 # the uninterrupted run: final positions bit for bit, curve.csv, and the Newton and Krylov counts.
-# Then TAO's trust region (-static_minimizer tao -tao_type ntr), whose own state within a solve
+# Cut twice within one attempt (-snes_max_it), the same. Then TAO's trust region (-static_minimizer tao -tao_type ntr), whose own state within a solve
 # (its radius) is not in the checkpoint: its restart from Newton step 5 (-tao_max_it 6 stops the
 # first run) balances to the uninterrupted run's force, and its positions within 1e-9 of the net's
 # size (balance_tol 1e-9).
@@ -38,6 +38,22 @@ check "cmp -s '$work/whole.bin' '$d.bin'" "restarted: final positions bit-identi
 check "cmp -s '$work/whole/curve.csv' '$d/curve.csv'" "restarted: curve.csv identical"
 check "[[ \"$(counts "$work/whole/summary.json")\" == \"$(counts "$d/summary.json" 2>/dev/null)\" ]]" \
   "restarted: Newton and Krylov counts, load steps done, converged: $(counts "$d/summary.json" 2>/dev/null)"
+
+# cut twice within one attempt, 1 rank, -snes_max_it 6 (the uninterrupted solve stops there, unbalanced): the last
+# checkpoint of -snes_max_it 3 is at Newton step 2 (none after an attempt's last step), restarted with -snes_max_it 5 the
+# last is at step 4 (the first attempt's steps, counted across the restart); restarted again: 6 Newton steps in all and
+# the uninterrupted run's positions
+six=("${opts[@]}" -quiet -snes_max_it 6)
+"$fabric" "${six[@]}" -output_dir "$work/six_whole" -positions_out "$work/six_whole.bin" >/dev/null || { echo "FAIL the -snes_max_it 6 run failed"; fail=1; }
+s="$work/six"
+"$fabric" "${six[@]}" -checkpoint_every_s 1e-9 -snes_max_it 3 -output_dir "$s" >/dev/null 2>&1
+n1=$(h5dump -a static_newton_steps "$s/checkpoint.h5" 2>/dev/null | sed -n 's/ *(0): //p')
+"$fabric" "${six[@]}" -checkpoint_every_s 1e-9 -snes_max_it 5 -output_dir "$s" -restart "$s/checkpoint.h5" >/dev/null 2>&1
+n2=$(h5dump -a static_newton_steps "$s/checkpoint.h5" 2>/dev/null | sed -n 's/ *(0): //p')
+"$fabric" "${six[@]}" -output_dir "$s" -restart "$s/checkpoint.h5" -positions_out "$s.bin" >/dev/null 2>&1 || { echo "FAIL the second restart failed"; fail=1; }
+check "[[ '$n1 $n2' == '2 4' ]]" "the checkpoints of the attempt: at Newton steps 2, then 4 (got $n1, $n2)"
+check "cmp -s '$work/six_whole.bin' '$s.bin' && [[ \"\$(counts '$work/six_whole/summary.json')\" == \"\$(counts '$s/summary.json')\" ]]" \
+  "restarted twice: the positions and counts of the uninterrupted run: $(counts "$s/summary.json" 2>/dev/null)"
 
 # TAO: the checkpoint at Newton step 5, then the restart to the end
 tao=(-static_minimizer tao -tao_type ntr)
