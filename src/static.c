@@ -537,8 +537,11 @@ static PetscErrorCode Converged(SNES snes, PetscInt it, PetscReal xnorm, PetscRe
 
   PetscFunctionBeginUser;
   PetscCall(SNESConvergedDefault(snes, it, xnorm, snorm, fnorm, reason, NULL));
-  if (it == 0 && ss->rnorm0 > 0) snes->rnorm0 = ss->rnorm0; /* a restart within the attempt: its divergence test's
-                                                               reference is the attempt's first residual */
+  if (it == 0 && ss->rnorm0 > 0) { /* a restart within the attempt: its relative tests' reference is the attempt's
+                                      first residual */
+    snes->rnorm0 = ss->rnorm0;
+    snes->ttol   = ss->rnorm0 * snes->rtol;
+  }
   if (*reason < 0) PetscFunctionReturn(0); /* diverged: NaN, too many evaluations or iterations */
   PetscCall(SNESGetFunction(snes, &R, NULL, NULL));
   PetscCall(FreeForceMax(ss, R, &fmax));
