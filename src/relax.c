@@ -526,8 +526,6 @@ static PetscErrorCode RelaxRound(Fabric fab, PetscInt round, RelaxPoint *at, Cur
   PetscFunctionReturn(0);
 }
 
-/* The load now balanced by either path: the relaxation's round (explicit), or Newton (ss, -solver static: the
-   grips go straight to their place) */
 typedef struct { /* a static solve's place in its load step (NewtonLook) */
   Fabric   fab;
   PetscInt round, inner_steps; /* the break round, the Newton steps of the rounds before */
@@ -557,6 +555,8 @@ static PetscErrorCode NewtonLook(void *ctx, const StaticProgress *p, PetscBool *
   PetscFunctionReturn(0);
 }
 
+/* The load now balanced by either path: the relaxation's round (explicit), or Newton (ss, -solver static: the
+   grips go straight to their place) */
 static PetscErrorCode Settle(Fabric fab, StaticSolver ss, PetscInt round, CurveRow *row, StepStats *st, PetscBool *stopped)
 {
   StaticResult      r = {0};
