@@ -121,6 +121,26 @@ stability_sweep.py: error: argument --keep: $work/file: not a directory" "$root/
       echo "PASS plot_curve.py without -o wrote and printed run/curve.png"
     else echo "FAIL plot_curve.py without -o printed '$(cat "$work/out")', wrote: $(ls run)"; fail=1; fi
     ;;
+  slack_census)
+    c="$root/scripts/slack_census.py"
+    expect 1 "slack_census.py: no.h5: no such file" /usr/bin/python3 "$c" no.h5
+    expect 1 "slack_census.py: $work: a directory" /usr/bin/python3 "$c" "$work"
+    printf 'x\n' >x.h5
+    expect 1 "slack_census.py: x.h5: not an HDF5 file" /usr/bin/python3 "$c" x.h5
+    # the square net (25 x 25 crossings, its four edges clamped): 2 x 25 x 24 segments, less the
+    # 4 x 24 along the edges, have a free end; at rest (frame 0) every chord strain is exactly 0
+    "$FABRIC" -scene "$root/inputs/square_net.yaml" -solver static -load_steps 2 -quiet -output_dir run >/dev/null 2>&1 ||
+      { echo "FAIL the square net's run failed"; fail=1; }
+    expect 1 "slack_census.py: --frame 3: not in run/fabric.h5 (its frames: 0 to 2)" /usr/bin/python3 "$c" run/fabric.h5 --frame 3
+    expect 1 "slack_census.py: run/curve.csv: not an HDF5 file" /usr/bin/python3 "$c" run/curve.csv
+    expect 0 "" /usr/bin/python3 "$c" run/fabric.h5 --frame 0
+    want="frame 0: 1104 segments with a free end, 0 compressed (e < 0); |e| < 0.0001: 1104, |e| < 1e-05: 1104, |e| < 1e-06: 1104, |e| < 1e-07: 1104"
+    [[ "$(cat "$work/out")" == "$want" ]] && echo "PASS slack_census.py at rest: $want" || { echo "FAIL slack_census.py at rest printed: $(cat "$work/out")"; fail=1; }
+    # the net stretched under its load: every segment taut, none compressed, the last frame by default
+    expect 0 "" /usr/bin/python3 "$c" run/fabric.h5
+    grep -Eq '^frame 2: 1104 segments with a free end, 0 compressed \(e < 0\); ' "$work/out" &&
+      echo "PASS slack_census.py: the last frame, taut" || { echo "FAIL slack_census.py loaded printed: $(cat "$work/out")"; fail=1; }
+    ;;
   bias_table)
     # a run that stopped on an error after two load steps: its table ended as a whole run's, with exit 0
     mkdir run && printf 'load_step,time_s,travel_mm,force_N,inner_steps,residual,balanced,center_shear_deg\n1,1,1,0.5,10,0,1,2.0\n2,2,2,0.9,12,0,1,4.1\n' >run/curve.csv
