@@ -9,7 +9,7 @@ frame's positions, L0 from /grid/rest_positions (the model's rest chord). Prints
 frame, the number of segments, how many are compressed (e < 0: the law's stiffness k_comp EA, the
 yarn buckling) and how many have |e| below 1e-4, 1e-5, 1e-6 and 1e-7. The law's stiffness jumps at
 e = 0 (docs/static.md, where it still fails: a drape at rest has many segments there). Default
-frame: the last one written.
+frame: the last one written whole (a run stopped while writing a frame leaves it without its fields).
 """
 import argparse
 import os
@@ -37,26 +37,40 @@ def census(x, rest, kind):
 def main():
     p = argparse.ArgumentParser(description="A frame's yarn segments by chord strain (slack, near zero).")
     p.add_argument("h5", help="a run's fabric.h5")
-    p.add_argument("--frame", type=int, help="the frame's number (default: the last)")
+    p.add_argument("--frame", type=int, help="the frame's number (default: the last one written whole)")
     a = p.parse_args()
     if not os.path.isfile(a.h5):
-        sys.exit(f"slack_census.py: {a.h5}: {'a directory' if os.path.isdir(a.h5) else 'no such file'}")
+        what = "a directory" if os.path.isdir(a.h5) else "not a regular file" if os.path.exists(a.h5) else "no such file"
+        sys.exit(f"slack_census.py: {a.h5}: {what}")
     try:
         f = h5py.File(a.h5, "r")
     except OSError as e:
-        sys.exit(f"slack_census.py: {a.h5}: {e.strerror or 'not an HDF5 file'}")
+        sys.exit(f"slack_census.py: {a.h5}: {'a truncated HDF5 file' if 'truncated' in str(e) else e.strerror or 'not an HDF5 file'}")
     with f:
-        if "frames" not in f or "grid/rest_positions" not in f or "grid/point_kind" not in f:
+        if not all(isinstance(f.get(n), t) for n, t in (("frames", h5py.Group), ("grid/rest_positions", h5py.Dataset),
+                                                         ("grid/point_kind", h5py.Dataset))):
             sys.exit(f"slack_census.py: {a.h5}: not a fabric.h5 (expected /frames, /grid/rest_positions and /grid/point_kind)")
-        frames = sorted(f["frames"], key=int)
+        # a frame is whole once the root attribute "frames" counts it (fabric writes it after the frame's fields)
+        whole = int(f.attrs.get("frames", 0))
+        frames = sorted(int(n) for n in f["frames"] if n.isdigit() and int(n) < whole and "positions" in f["frames"][n])
         if not frames:
-            sys.exit(f"slack_census.py: {a.h5}: no frame in it")
-        name = frames[-1] if a.frame is None else f"{a.frame:06d}"
-        if name not in f["frames"]:
-            sys.exit(f"slack_census.py: --frame {a.frame}: not in {a.h5} (its frames: {int(frames[0])} to {int(frames[-1])})")
-        e = census(f[f"frames/{name}/positions"][:], f["grid/rest_positions"][:], f["grid/point_kind"][:])
+            sys.exit(f"slack_census.py: {a.h5}: no frame written whole in it")
+        index = frames[-1] if a.frame is None else a.frame
+        if index not in frames:
+            sys.exit(f"slack_census.py: --frame {a.frame}: not in {a.h5} (its frames written whole: {frames[0]} to {frames[-1]})")
+        try:
+            x, rest, kind = f[f"frames/{index:06d}/positions"][:], f["grid/rest_positions"][:], f["grid/point_kind"][:]
+        except (KeyError, OSError) as e:
+            sys.exit(f"slack_census.py: {a.h5}: frame {index}: cannot be read ({e})")
+    if x.ndim != 3 or x.shape != rest.shape or kind.shape != x.shape[:2] or x.shape[2] != 3:
+        sys.exit(f"slack_census.py: {a.h5}: frame {index}: positions {x.shape}, rest positions {rest.shape} and point kinds "
+                 f"{kind.shape} do not make one grid")
+    e = census(x, rest, kind)
+    bad = int(np.sum(~np.isfinite(e)))
+    if bad:
+        sys.exit(f"slack_census.py: {a.h5}: frame {index}: {bad} segments with a strain that is not a number (a run that diverged?)")
     near = ", ".join(f"|e| < {t:g}: {int(np.sum(np.abs(e) < t))}" for t in THRESHOLDS)
-    print(f"frame {int(name)}: {e.size} segments with a free end, {int(np.sum(e < 0))} compressed (e < 0); {near}")
+    print(f"frame {index}: {e.size} segments with a free end, {int(np.sum(e < 0))} compressed (e < 0); {near}")
 
 
 if __name__ == "__main__":

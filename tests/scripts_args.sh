@@ -127,18 +127,39 @@ stability_sweep.py: error: argument --keep: $work/file: not a directory" "$root/
     expect 1 "slack_census.py: $work: a directory" /usr/bin/python3 "$c" "$work"
     printf 'x\n' >x.h5
     expect 1 "slack_census.py: x.h5: not an HDF5 file" /usr/bin/python3 "$c" x.h5
+    # a grid of 3 rows by 4 columns, spacing 1 along x and 2 along y, with absent (-1), clamped (1), free (0)
+    # and grip (2) crossings, stretched by 1.5 along x and 0.5 along y: 6 x segments (strain +0.5) and 5 y
+    # segments (-0.5) have a free end and no absent one (counted by hand); frame 1 was cut short
+    /usr/bin/python3 - <<'PY' || { echo "FAIL could not write the test's fabric.h5"; fail=1; }
+import h5py, numpy as np
+kind = np.array([[-1, 1, 0, 2], [0, 0, 0, 1], [1, 0, -1, 0]], dtype=float)
+j, i = np.mgrid[0:3, 0:4]
+rest = np.stack([i * 1.0, j * 2.0, 0 * i], axis=2)
+with h5py.File("grid.h5", "w") as f:
+    f["grid/point_kind"], f["grid/rest_positions"] = kind, rest
+    f["frames/000000/positions"] = rest * np.array([1.5, 0.5, 1.0])
+    f.create_group("frames/000001")
+    f.attrs["frames"] = 1
+PY
+    expect 0 "" /usr/bin/python3 "$c" grid.h5
+    want="frame 0: 11 segments with a free end, 5 compressed (e < 0); |e| < 0.0001: 0, |e| < 1e-05: 0, |e| < 1e-06: 0, |e| < 1e-07: 0"
+    [[ "$(cat "$work/out")" == "$want" ]] && echo "PASS slack_census.py on the 3 x 4 grid: $want" || { echo "FAIL slack_census.py on the 3 x 4 grid printed: $(cat "$work/out")"; fail=1; }
+    expect 1 "slack_census.py: --frame 1: not in grid.h5 (its frames written whole: 0 to 0)" /usr/bin/python3 "$c" grid.h5 --frame 1
     # the square net (25 x 25 crossings, its four edges clamped): 2 x 25 x 24 segments, less the
     # 4 x 24 along the edges, have a free end; at rest (frame 0) every chord strain is exactly 0
-    "$FABRIC" -scene "$root/inputs/square_net.yaml" -solver static -load_steps 2 -quiet -output_dir run >/dev/null 2>&1 ||
-      { echo "FAIL the square net's run failed"; fail=1; }
-    expect 1 "slack_census.py: --frame 3: not in run/fabric.h5 (its frames: 0 to 2)" /usr/bin/python3 "$c" run/fabric.h5 --frame 3
+    "$FABRIC" -scene "$root/inputs/square_net.yaml" -solver static -load_steps 2 -quiet -output_dir run >run.log 2>&1 ||
+      { echo "FAIL the square net's run failed:"; cat run.log; fail=1; }
+    expect 1 "slack_census.py: --frame 3: not in run/fabric.h5 (its frames written whole: 0 to 2)" /usr/bin/python3 "$c" run/fabric.h5 --frame 3
     expect 1 "slack_census.py: run/curve.csv: not an HDF5 file" /usr/bin/python3 "$c" run/curve.csv
+    head -c 1000 run/fabric.h5 >cut.h5
+    expect 1 "slack_census.py: cut.h5: a truncated HDF5 file" /usr/bin/python3 "$c" cut.h5
     expect 0 "" /usr/bin/python3 "$c" run/fabric.h5 --frame 0
     want="frame 0: 1104 segments with a free end, 0 compressed (e < 0); |e| < 0.0001: 1104, |e| < 1e-05: 1104, |e| < 1e-06: 1104, |e| < 1e-07: 1104"
     [[ "$(cat "$work/out")" == "$want" ]] && echo "PASS slack_census.py at rest: $want" || { echo "FAIL slack_census.py at rest printed: $(cat "$work/out")"; fail=1; }
-    # the net stretched under its load: every segment taut, none compressed, the last frame by default
+    # the net stretched under its load, the last frame by default: every segment taut (the least strain
+    # about 2e-5), none compressed
     expect 0 "" /usr/bin/python3 "$c" run/fabric.h5
-    grep -Eq '^frame 2: 1104 segments with a free end, 0 compressed \(e < 0\); ' "$work/out" &&
+    grep -Eq '^frame 2: 1104 segments with a free end, 0 compressed \(e < 0\); .*\|e\| < 1e-06: 0, \|e\| < 1e-07: 0$' "$work/out" &&
       echo "PASS slack_census.py: the last frame, taut" || { echo "FAIL slack_census.py loaded printed: $(cat "$work/out")"; fail=1; }
     ;;
   bias_table)
