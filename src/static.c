@@ -53,6 +53,7 @@
 #define SHIFT_START  1e-2  /* k_s / k_ref at the first Newton step of the run (-snes_shift_start) */
 #define SHIFT_CARRY  10.0  /* a later load step starts from this times the last one's final shift (-snes_shift_carry) */
 #define SHIFT_FLOOR  1e-12 /* below this k_s / k_ref the shift is dropped */
+#define EXACT_BELOW  0.1   /* the exact tangent below this balance ratio (-static_exact_tangent) */
 #define GMRES_RESTART_MAX 5000 /* -ksp_gmres_restart at most (StaticOptionsCheck) */
 #define HISTORY_MAX       1000 /* -snes_qn_m, -snes_ngmres_m ... at most: each keeps that many vectors or more */
 #define SNES_TYPES_RUN "newtonls,newtontr,ksponly,qn,ncg,ngmres,anderson,nrichardson,ngs,ms"
@@ -69,6 +70,7 @@ typedef struct {                          /* the solver's own options (ReadOptio
   PetscInt  tangent;                  /* the tangent's storage: TANGENT_STENCIL or TANGENT_AIJ (-static_tangent) */
   PetscBool tangent_set;              /* given by the user */
   PetscInt  sequence;                 /* coarser fabrics a load step is solved on first (-static_sequence) */
+  PetscReal exact_below;              /* the exact tangent once the balance ratio is below this (-static_exact_tangent) */
 } StaticOptions;
 
 enum { TANGENT_STENCIL, TANGENT_AIJ };
@@ -349,6 +351,33 @@ static void AddPointBlocks(StaticSolver ss, const PetscScalar *u, const PetscRea
   }
 }
 
+static PetscErrorCode FreeForceMax(StaticSolver ss, Vec R, PetscReal *fmax);
+
+/* The tangent's geometric part of a compressed segment: dropped (the tension field, max(T,0)/L: positive
+   semi-definite, so CG and the line search work far from balance), or kept (the exact Hessian) once the
+   iterate's balance ratio, its largest free force over the balance test's scale, is below
+   -static_exact_tangent: on a mostly slack fabric near rest the tension field's Newton converges only linearly,
+   the exact Hessian's quadratically. Decided from the iterate alone, so that a restart takes the same steps. */
+static PetscErrorCode ChooseTangent(StaticSolver ss, Vec U)
+{
+  Fabric    fab = ss->fab;
+  Vec       R;
+  PetscReal fmax, ratio;
+
+  PetscFunctionBeginUser;
+  fab->grid.patch.tension_field = PETSC_TRUE;
+  if (!(ss->opt.exact_below > 0)) PetscFunctionReturn(0);
+  PetscCall(DMGetGlobalVector(fab->grid.da, &R));
+  PetscCall(FormFunction(NULL, U, R, ss));
+  PetscCall(FreeForceMax(ss, R, &fmax));
+  PetscCall(DMRestoreGlobalVector(fab->grid.da, &R));
+  ratio = fmax / PetscMax(ss->tmax, fab->step.force_floor);
+  if (ratio < ss->opt.exact_below) fab->grid.patch.tension_field = PETSC_FALSE;
+  PetscCall(PetscInfo(NULL, "tangent at balance ratio %g: %s\n", (double) ratio,
+                      fab->grid.patch.tension_field ? "tension field" : "exact"));
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode FormJacobian(SNES snes, Vec U, Mat A, Mat P, void *ctx)
 {
   StaticSolver       ss  = (StaticSolver) ctx;
@@ -368,6 +397,7 @@ static PetscErrorCode FormJacobian(SNES snes, Vec U, Mat A, Mat P, void *ctx)
             "a solver asked for the tangent in a matrix of its own; the quasi-static solver assembles only its own%s%s%s",
             given[0] ? " (the solver options given: " : "", given, given[0] ? ")" : "");
   }
+  PetscCall(ChooseTangent(ss, U));
   PetscCall(MatZeroEntries(P));
   ss->tangents++;
   PetscCall(HaloExchange(fab->grid.da, U, fab->state.Xl));
@@ -1487,9 +1517,11 @@ static PetscErrorCode ReadOptions(MPI_Comm comm, StaticOptions *o)
   o->tangent       = TANGENT_STENCIL;
   o->tangent_set   = PETSC_FALSE;
   o->sequence      = 0;
+  o->exact_below   = EXACT_BELOW;
   { /* a value left out (-static_sequence $N with N unset): PETSc's readers keep the default without a word */
     static const char *const valued[] = {"-snes_shift_start", "-snes_shift_carry", "-snes_extrapolate", "-mg_line_lump",
-                                         "-static_minimizer", "-static_tangent",   "-static_sequence"};
+                                         "-static_minimizer", "-static_tangent",   "-static_sequence",
+                                         "-static_exact_tangent"};
     for (size_t k = 0; k < sizeof valued / sizeof valued[0]; k++) {
       char      value[8] = "";
       PetscBool set;
@@ -1534,7 +1566,13 @@ static PetscErrorCode ReadOptions(MPI_Comm comm, StaticOptions *o)
                             "solve each load step first on this many coarser fabrics (half the thread density each, "
                             "yarns of twice the tex), the coarsest first: each one's change is the next one's first guess",
                             NULL, o->sequence, &o->sequence, NULL));
+  PetscCall(PetscOptionsReal("-static_exact_tangent",
+                             "the exact tangent (compressed yarns' negative geometric part kept) once the largest free "
+                             "force is below this times the balance test's scale (0: never, the tension field throughout)",
+                             NULL, o->exact_below, &o->exact_below, NULL));
   PetscOptionsEnd();
+  PetscCheck(o->exact_below >= 0 && isfinite(o->exact_below), comm, PETSC_ERR_USER_INPUT,
+             "-static_exact_tangent %.6g: must be a finite number, 0 or more", (double) o->exact_below);
   PetscCheck(o->sequence >= 0 && o->sequence <= 8, comm, PETSC_ERR_USER_INPUT,
              "-static_sequence %" PetscInt_FMT ": 0 (none) to 8 coarser fabrics", o->sequence);
   PetscCheck(o->order >= 0 && o->order <= 2, comm, PETSC_ERR_USER_INPUT, "-snes_extrapolate %" PetscInt_FMT ": 0, 1 or 2",

@@ -44,6 +44,13 @@ case "$case_" in
     expect 1 "bench_pushing.sh: run static_1e-8 failed: fabric: error: -gauge_mm abc: not a number" \
       "$root/scripts/bench_pushing.sh" -gauge_mm abc
     ;;
+  bench_drape_static)
+    # a run that fails says fabric's message (not mpiexec's footer), and the row's options
+    expect 1 "bench_drape_static.sh: run 1 (-snes_max_it 1000) failed: fabric: error: -gauge_mm abc: not a number" \
+      "$root/scripts/bench_drape_static.sh" -gauge_mm abc
+    expect 0 "" "$root/scripts/bench_drape_static.sh" --help
+    grep -q "^The drape (inputs/drape.yaml, 2 threads/cm" "$work/out" || { echo "FAIL bench_drape_static.sh --help printed: $(head -1 "$work/out")"; fail=1; }
+    ;;
   plot_tradeoff)
     printf 'knob,value,balanced,wall_s,te_steps,force_err_pct\nreference,static 1e-8,true,1.98,-,0.0000\nbase,-,true,0.41,973,0.0001\n' >t.csv
     # an image that cannot be written: matplotlib's traceback

@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# The drape (inputs/drape.yaml, 2 threads/cm, one load step) by the quasi-static path, in one run of
+# this script: SNES and TAO's trust region, the tangent's compressed segments by the tension field
+# throughout (-static_exact_tangent 0), exact near balance (the default 0.1) or exact throughout
+# (1e9), by multigrid or LU. Each row: its ranks and options, whether the load step balanced, its
+# Newton and Krylov iterations, wall time, drape coefficient and folds.
+# usage: scripts/bench_drape_static.sh [extra options for every run, e.g. -snes_max_it 2000]
+case "${1:-}" in -h | --help) sed -n '2,/^set /{/^set /d;s/^# \{0,1\}//;p}' "$0"; exit 0 ;; esac
+set -eu
+here="$(cd "$(dirname "$0")/.." && pwd)"
+fabric="${FABRIC:-$here/build/fabric}"
+[[ -x "$fabric" ]] || bash "$here/scripts/setup.sh" >/dev/null
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
+extra=("$@")
+
+snes="-snes_max_it 1000"
+lu="-snes_max_it 1000 -static_tangent aij -pc_type lu"
+tao="-static_minimizer tao -tao_type ntr -tao_max_it 3000"
+# ranks|options
+runs=("1|$snes" "1|$snes -static_exact_tangent 0" "1|$snes -static_exact_tangent 1e9"
+      "2|$snes" "2|$snes -static_exact_tangent 0" "2|$snes -static_exact_tangent 1e9"
+      "1|$lu" "1|$lu -static_exact_tangent 0"
+      "1|$tao" "1|$tao -static_exact_tangent 0")
+key() { sed -n "s/^ *\"$2\": \\([^,]*\\),*$/\\1/p" "$work/$1/summary.json" | head -1; }
+
+printf '%5s %-70s %8s %7s %8s %8s %7s %5s\n' ranks options balanced newton krylov wall_s DC_pct folds
+k=0
+for r in "${runs[@]}"; do
+  k=$((k + 1))
+  n="${r%%|*}" opts="${r#*|}"
+  # shellcheck disable=SC2086
+  mpiexec -n "$n" "$fabric" -scene "$here/inputs/drape.yaml" -solver static -output_every 0 -quiet \
+    -output_dir "$work/$k" $opts "${extra[@]}" >"$work/$k.log" 2>&1 || {
+    # fabric's own message, not mpiexec's footer after it
+    echo "bench_drape_static.sh: run $k ($opts) failed: $(grep -m1 '^fabric: error' "$work/$k.log" || tail -1 "$work/$k.log")" >&2
+    exit 1
+  }
+  printf '%5s %-70s %8s %7s %8s %8.1f %7s %5s\n' "$n" "$opts" "$(key $k converged)" "$(key $k nonlinear_iterations)" \
+    "$(key $k linear_iterations)" "$(key $k wall_s)" "$(key $k drape_coefficient_pct)" "$(key $k folds)"
+done
