@@ -4,7 +4,7 @@
 # throughout (-static_exact_tangent 0), exact near balance (the default 0.1) or exact throughout
 # (1e9), by multigrid or LU. Each row: its ranks and options, whether the load step balanced, its
 # Newton and Krylov iterations, wall time, drape coefficient and folds.
-# usage: scripts/bench_drape_static.sh [extra options for every run, e.g. -snes_max_it 2000]
+# usage: scripts/bench_drape_static.sh [extra options for every run, e.g. -contact_stiffness_N_m 200]
 case "${1:-}" in -h | --help) sed -n '2,/^set /{/^set /d;s/^# \{0,1\}//;p}' "$0"; exit 0 ;; esac
 set -eu
 here="$(cd "$(dirname "$0")/.." && pwd)"

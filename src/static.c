@@ -354,27 +354,27 @@ static void AddPointBlocks(StaticSolver ss, const PetscScalar *u, const PetscRea
 static PetscErrorCode FreeForceMax(StaticSolver ss, Vec R, PetscReal *fmax);
 
 /* The tangent's geometric part of a compressed segment: dropped (the tension field, max(T,0)/L: positive
-   semi-definite, so CG and the line search work far from balance), or kept (the exact Hessian) once the
+   semi-definite, so CG and the line search work far from balance), or kept (the exact Hessian) where the
    iterate's balance ratio, its largest free force over the balance test's scale, is below
    -static_exact_tangent: on a mostly slack fabric near rest the tension field's Newton converges only linearly,
-   the exact Hessian's quadratically. Decided from the iterate alone, so that a restart takes the same steps. */
-static PetscErrorCode ChooseTangent(StaticSolver ss, Vec U)
+   the exact Hessian's quadratically. Decided afresh at each tangent from its iterate alone, so that a restart
+   takes the same steps. -snes_convex_tangent drops the part in any case. */
+static PetscErrorCode ChooseTangent(StaticSolver ss, Vec U, PetscBool *exact)
 {
   Fabric    fab = ss->fab;
   Vec       R;
   PetscReal fmax, ratio;
 
   PetscFunctionBeginUser;
-  fab->grid.patch.tension_field = PETSC_TRUE;
-  if (!(ss->opt.exact_below > 0)) PetscFunctionReturn(0);
+  *exact = PETSC_FALSE;
+  if (!(ss->opt.exact_below > 0) || ss->opt.convex) PetscFunctionReturn(0);
   PetscCall(DMGetGlobalVector(fab->grid.da, &R));
   PetscCall(FormFunction(NULL, U, R, ss));
   PetscCall(FreeForceMax(ss, R, &fmax));
   PetscCall(DMRestoreGlobalVector(fab->grid.da, &R));
-  ratio = fmax / PetscMax(ss->tmax, fab->step.force_floor);
-  if (ratio < ss->opt.exact_below) fab->grid.patch.tension_field = PETSC_FALSE;
-  PetscCall(PetscInfo(NULL, "tangent at balance ratio %g: %s\n", (double) ratio,
-                      fab->grid.patch.tension_field ? "tension field" : "exact"));
+  ratio  = fmax / PetscMax(ss->tmax, fab->step.force_floor);
+  *exact = ratio < ss->opt.exact_below ? PETSC_TRUE : PETSC_FALSE;
+  PetscCall(PetscInfo(NULL, "tangent at balance ratio %g: %s\n", (double) ratio, *exact ? "exact" : "tension field"));
   PetscFunctionReturn(0);
 }
 
@@ -386,6 +386,7 @@ static PetscErrorCode FormJacobian(SNES snes, Vec U, Mat A, Mat P, void *ctx)
   RowRing           *rr  = &ss->ring;
   const PetscScalar *xl, *u;
   PetscReal          c[BODY_KINDS][3];
+  PetscBool          exact;
 
   PetscFunctionBeginUser;
   (void) snes;
@@ -397,7 +398,7 @@ static PetscErrorCode FormJacobian(SNES snes, Vec U, Mat A, Mat P, void *ctx)
             "a solver asked for the tangent in a matrix of its own; the quasi-static solver assembles only its own%s%s%s",
             given[0] ? " (the solver options given: " : "", given, given[0] ? ")" : "");
   }
-  PetscCall(ChooseTangent(ss, U));
+  PetscCall(ChooseTangent(ss, U, &exact));
   PetscCall(MatZeroEntries(P));
   ss->tangents++;
   PetscCall(HaloExchange(fab->grid.da, U, fab->state.Xl));
@@ -406,6 +407,7 @@ static PetscErrorCode FormJacobian(SNES snes, Vec U, Mat A, Mat P, void *ctx)
   for (int q = 0; q < 3; q++) PetscCall(PetscArrayzero(rr->buf[q], 9 * ROW_SLOTS * (p->xm + 2)));
   PetscCall(VecGetArrayRead(fab->state.Xl, &xl));
   PetscCall(VecGetArrayRead(U, &u));
+  fab->grid.patch.tension_field = !exact; /* for this tangent only: the stable step's measure reads it too */
   for (PetscInt j = p->ys; j < p->ys + p->ym; j++) { /* the ring holds rows j-1, j, j+1 */
     const PetscInt row[4] = {p->xs, p->xs + p->xm, j, j + 1};
     rr->jo                = j;
@@ -414,6 +416,7 @@ static PetscErrorCode FormJacobian(SNES snes, Vec U, Mat A, Mat P, void *ctx)
     AddPointBlocks(ss, u, (const PetscReal(*)[3]) c, j);
     PetscCall(FlushRow(ss, j - 1)); /* complete: its buffer becomes row j+2's */
   }
+  fab->grid.patch.tension_field = PETSC_TRUE;
   PetscCall(FlushRow(ss, p->ys + p->ym - 1));
   PetscCall(FlushRow(ss, p->ys + p->ym));
   PetscCall(VecRestoreArrayRead(U, &u));
