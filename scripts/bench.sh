@@ -19,7 +19,7 @@
 #   flops: + - * / sqrt of the expressions on an interior point, the yarn law on its linear
 #     de-crimping branch: 2 segments x 22, 2 bending centres x 35, 1 shear crossing 65, the
 #     gathers 45, the damped update 45 = 269 (compares, selects, max not counted).
-case "${1:-}" in -h | --help) sed -n '2,/^set /{/^set /d;s/^# \{0,1\}//;p}' "$0"; exit 0 ;; esac
+case "${1:-}" in -h | --help) sed -n '2,/^[^#]/{/^[^#]/d;s/^# \{0,1\}//;p}' "$0"; exit 0 ;; esac
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 source "$ROOT/scripts/setup.sh"

@@ -5,12 +5,7 @@
 # (1e9), by multigrid or LU. Each row: its ranks and options, whether the load step balanced, its
 # Newton and Krylov iterations, wall time, drape coefficient and folds.
 # usage: scripts/bench_drape_static.sh [extra options for every run, e.g. -contact_stiffness_N_m 200]
-case "${1:-}" in -h | --help) sed -n '2,/^set /{/^set /d;s/^# \{0,1\}//;p}' "$0"; exit 0 ;; esac
-set -eu
-here="$(cd "$(dirname "$0")/.." && pwd)"
-fabric="${FABRIC:-$here/build/fabric}"
-[[ -x "$fabric" ]] || bash "$here/scripts/setup.sh" >/dev/null
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+source "$(dirname "$0")/bench_env.sh"
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
 extra=("$@")
 

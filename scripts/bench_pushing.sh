@@ -5,12 +5,7 @@
 # 15 mm of travel and its largest relative force error against the reference from 5 mm on, and
 # the wall-time ratio of the explicit path as shipped to the row.
 # usage: scripts/bench_pushing.sh [extra options for every run, e.g. -ends_per_cm 8 -picks_per_cm 8]
-case "${1:-}" in -h | --help) sed -n '2,/^set /{/^set /d;s/^# \{0,1\}//;p}' "$0"; exit 0 ;; esac
-set -eu
-here="$(cd "$(dirname "$0")/.." && pwd)"
-fabric="${FABRIC:-$here/build/fabric}"
-[[ -x "$fabric" ]] || bash "$here/scripts/setup.sh" >/dev/null
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+source "$(dirname "$0")/bench_env.sh"
 ranks="${RANKS:-2}"
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
 extra=("$@")

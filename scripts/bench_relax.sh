@@ -7,12 +7,7 @@
 #           the damping (and te safety) the scenes carried before FIRE.
 # te steps do not depend on the machine; compare wall times only within one run of the script.
 # usage: [KEEP=DIR] scripts/bench_relax.sh [--table 1|2] [--np N]   (about 15 minutes on 2 idle cores)
-case "${1:-}" in -h | --help) sed -n '2,/^set /{/^set /d;s/^# \{0,1\}//;p}' "$0"; exit 0 ;; esac
-set -eu
-here="$(cd "$(dirname "$0")/.." && pwd)"
-fabric="${FABRIC:-$here/build/fabric}"
-[[ -x "$fabric" ]] || bash "$here/scripts/setup.sh" >/dev/null
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+source "$(dirname "$0")/bench_env.sh"
 tables="1 2"; np=2
 while (($#)); do
   case "$1" in

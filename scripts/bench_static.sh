@@ -7,12 +7,7 @@
 # Options before the sizes go to every run (for example -static_sequence 3: grid sequencing); the
 # column coarse_newton counts the Newton steps on its coarser nets.
 # usage: scripts/bench_static.sh [-option value ...] [N ...]   (default 101 201 401; add 801 1601 for the full study)
-case "${1:-}" in -h | --help) sed -n '2,/^set /{/^set /d;s/^# \{0,1\}//;p}' "$0"; exit 0 ;; esac
-set -eu
-here="$(cd "$(dirname "$0")/.." && pwd)"
-fabric="${FABRIC:-$here/build/fabric}"
-[[ -x "$fabric" ]] || bash "$here/scripts/setup.sh" >/dev/null
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+source "$(dirname "$0")/bench_env.sh"
 opts=()
 while (($#)) && [[ $1 == -* ]]; do
   (($# >= 2)) || { echo "bench_static.sh: option $1 without its value (options before the sizes are -option value pairs)" >&2; exit 2; }

@@ -9,7 +9,7 @@
 # (34) the glass-like yarns did not balance within 200000 te steps per load step.
 #   scripts/bias_convergence.sh [threads/cm ...]   (default: 4.243 5.657 8 11.314; NP=ranks, default 1)
 set -euo pipefail
-case "${1:-}" in -h | --help) sed -n '2,/^set /{/^set /d;s/^# \{0,1\}//;p}' "$0"; exit 0 ;; esac
+case "${1:-}" in -h | --help) sed -n '2,/^[^#]/{/^[^#]/d;s/^# \{0,1\}//;p}' "$0"; exit 0 ;; esac
 for n in "$@"; do # each argument a density: it went to fabric as -ends_per_cm, which named it, not the script's argument
   [[ $n =~ ^[0-9]*[.]?[0-9]+$ && ! $n =~ ^[0.]*$ ]] ||
     { echo "bias_convergence.sh: '$n': not a thread density (a number of threads/cm above 0; --help)" >&2; exit 2; }

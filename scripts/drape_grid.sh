@@ -8,12 +8,7 @@
 # Options before the densities go to every run. The runs may take up to -max_inner_steps 3000000 te
 # steps (the scene's 300 000 are for 2 threads/cm; the te steps to rest grow with the density).
 # usage: scripts/drape_grid.sh [-option value ...] [threads/cm ...]   (default 2 3 4 6)
-case "${1:-}" in -h | --help) sed -n '2,/^set /{/^set /d;s/^# \{0,1\}//;p}' "$0"; exit 0 ;; esac
-set -eu
-here="$(cd "$(dirname "$0")/.." && pwd)"
-fabric="${FABRIC:-$here/build/fabric}"
-[[ -x "$fabric" ]] || bash "$here/scripts/setup.sh" >/dev/null
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+source "$(dirname "$0")/bench_env.sh"
 opts=()
 while (($#)) && [[ $1 == -* ]]; do
   (($# >= 2)) || { echo "drape_grid.sh: option $1 without its value (options before the densities are -option value pairs)" >&2; exit 2; }

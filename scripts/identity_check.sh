@@ -11,7 +11,7 @@ ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 rev="" quick=0
 for a in "$@"; do
   case "$a" in
-    -h | --help) sed -n '2,/^set /{/^set /d;s/^# \{0,1\}//;p}' "$0"; exit 0 ;;
+    -h | --help) sed -n '2,/^[^#]/{/^[^#]/d;s/^# \{0,1\}//;p}' "$0"; exit 0 ;;
     -quick) quick=1 ;;
     -*) echo "identity_check: unknown option '$a' (usage: scripts/identity_check.sh [REV] [-quick] [-h])" >&2; exit 2 ;;
     *) [[ -z "$rev" ]] || { echo "identity_check: revision '$a': one revision only (already $rev)" >&2; exit 2; }

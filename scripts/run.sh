@@ -4,7 +4,7 @@
 # Installs and builds what is missing first. Results go to results/<scene name>/.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-case "${1:-}" in -h | --help) sed -n '2,/^set /{/^set /d;s/^# \{0,1\}//;p}' "$0"; exit 0 ;; esac
+case "${1:-}" in -h | --help) sed -n '2,/^[^#]/{/^[^#]/d;s/^# \{0,1\}//;p}' "$0"; exit 0 ;; esac
 source "$ROOT/scripts/setup.sh"
 scene="$ROOT/inputs/strip_warp.yaml"
 if [[ $# -gt 0 && $1 != -* ]]; then scene="$1"; shift; fi

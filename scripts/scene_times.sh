@@ -9,7 +9,7 @@
 # Run it on an otherwise idle machine: the times are wall clock.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-case "${1:-}" in -h | --help) sed -n '2,/^set /{/^set /d;s/^# \{0,1\}//;p}' "$0"; exit 0 ;; esac
+case "${1:-}" in -h | --help) sed -n '2,/^[^#]/{/^[^#]/d;s/^# \{0,1\}//;p}' "$0"; exit 0 ;; esac
 scenes=("$@")
 [[ ${#scenes[@]} -gt 0 ]] || scenes=(strip_warp strip_weft strip_warp_rupture strip_weft_rupture square_net pushing burst bias
   drape square_1000@1 local_2000@1)

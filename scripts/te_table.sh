@@ -19,7 +19,7 @@ np=${NP:-2}
 scenes=()
 while [[ $# -gt 0 && $1 != -- ]]; do
   case $1 in
-    -h | --help) sed -n '2,/^set /{/^set /d;s/^# \{0,1\}//;p}' "$0"; exit 0 ;;
+    -h | --help) sed -n '2,/^[^#]/{/^[^#]/d;s/^# \{0,1\}//;p}' "$0"; exit 0 ;;
     -*) echo "te_table.sh: unknown option '$1' (fabric options go after --)" >&2; exit 2 ;;
   esac
   # inputs/bias.yaml from any directory (from another it was refused as not a scene of inputs/)

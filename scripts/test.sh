@@ -6,7 +6,7 @@
 # sanitizer report fails (docs/reliability.md). Exits non-zero if anything fails.
 #   scripts/test.sh -R NAME   both stages, only the tests matching NAME (any ctest option)
 #   FABRIC_SANITIZE=0 scripts/test.sh   the Release suite only
-case "${1:-}" in -h | --help) sed -n '2,/^set /{/^set /d;s/^# \{0,1\}//;p}' "$0"; exit 0 ;; esac
+case "${1:-}" in -h | --help) sed -n '2,/^[^#]/{/^[^#]/d;s/^# \{0,1\}//;p}' "$0"; exit 0 ;; esac
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 source "$ROOT/scripts/setup.sh"

@@ -18,7 +18,7 @@
 # /usr/bin/python3 scripts/plot_tradeoff.py table.csv -o figure.png draws error against time.
 set -eu
 case "${1:-}" in
-  -h | --help) sed -n '2,/^set /{/^set /d;s/^# \{0,1\}//;p}' "$0"; exit 0 ;;
+  -h | --help) sed -n '2,/^[^#]/{/^[^#]/d;s/^# \{0,1\}//;p}' "$0"; exit 0 ;;
   "") echo "scripts/tradeoff.sh: usage: scripts/tradeoff.sh pushing|bias|drape [table.csv [options...]] (--help)" >&2; exit 2 ;;
 esac
 here="$(cd "$(dirname "$0")/.." && pwd)"

@@ -50,6 +50,9 @@ case "$case_" in
       "$root/scripts/bench_drape_static.sh" -gauge_mm abc
     expect 0 "" "$root/scripts/bench_drape_static.sh" --help
     grep -q "^The drape (inputs/drape.yaml, 2 threads/cm" "$work/out" || { echo "FAIL bench_drape_static.sh --help printed: $(head -1 "$work/out")"; fail=1; }
+    # the header only, its usage line last (the help of the benchmark scripts printed their own "case" line after it)
+    [[ "$(tail -1 "$work/out")" == "usage: scripts/bench_drape_static.sh [extra options for every run, e.g. -contact_stiffness_N_m 200]" ]] ||
+      { echo "FAIL bench_drape_static.sh --help ended with: $(tail -1 "$work/out")"; fail=1; }
     ;;
   plot_tradeoff)
     printf 'knob,value,balanced,wall_s,te_steps,force_err_pct\nreference,static 1e-8,true,1.98,-,0.0000\nbase,-,true,0.41,973,0.0001\n' >t.csv
