@@ -100,7 +100,8 @@ typedef struct {
   PetscReal win_k[2]; /* the largest yarn tangent (N) within each family's window, over L0 (WindowSet) */
   int       left_window;
   PetscBool tension_field;  /* the traction tangent drops a compressed segment's geometric part, max(T,0)/L:
-                               a positive semi-definite Newton matrix (the quasi-static path); else exact */
+                               a positive semi-definite Newton matrix (set by the quasi-static path around its
+                               tangent's assembly only); else exact */
   /* ghosted per-point and per-segment state */
   unsigned char *exists;              /* point exists (inside the shape), ghosted */
   unsigned char *broken_x, *broken_y; /* segment (i,j)-(i+1,j) / (i,j)-(i,j+1) broke */

@@ -17,7 +17,6 @@ runs=("1|$snes" "1|$snes -static_exact_tangent 0" "1|$snes -static_exact_tangent
       "2|$snes" "2|$snes -static_exact_tangent 0" "2|$snes -static_exact_tangent 1e9"
       "1|$lu" "1|$lu -static_exact_tangent 0"
       "1|$tao" "1|$tao -static_exact_tangent 0")
-key() { sed -n "s/^ *\"$2\": \\([^,]*\\),*$/\\1/p" "$work/$1/summary.json" | head -1; }
 
 printf '%5s %-70s %8s %7s %8s %8s %7s %5s\n' ranks options balanced newton krylov wall_s DC_pct folds
 k=0
@@ -27,10 +26,9 @@ for r in "${runs[@]}"; do
   # shellcheck disable=SC2086
   mpiexec -n "$n" "$fabric" -scene "$here/inputs/drape.yaml" -solver static -output_every 0 -quiet \
     -output_dir "$work/$k" $opts "${extra[@]}" >"$work/$k.log" 2>&1 || {
-    # fabric's own message, not mpiexec's footer after it
-    echo "bench_drape_static.sh: run $k ($opts) failed: $(grep -m1 '^fabric: error' "$work/$k.log" || tail -1 "$work/$k.log")" >&2
+    echo "bench_drape_static.sh: run $k ($opts) failed: $(fabric_error "$work/$k.log")" >&2
     exit 1
   }
-  printf '%5s %-70s %8s %7s %8s %8.1f %7s %5s\n' "$n" "$opts" "$(key $k converged)" "$(key $k nonlinear_iterations)" \
-    "$(key $k linear_iterations)" "$(key $k wall_s)" "$(key $k drape_coefficient_pct)" "$(key $k folds)"
+  printf '%5s %-70s %8s %7s %8s %8.1f %7s %5s\n' "$n" "$opts" "$(summary_key "$work/$k" converged)" "$(summary_key "$work/$k" nonlinear_iterations)" \
+    "$(summary_key "$work/$k" linear_iterations)" "$(summary_key "$work/$k" wall_s)" "$(summary_key "$work/$k" drape_coefficient_pct)" "$(summary_key "$work/$k" folds)"
 done

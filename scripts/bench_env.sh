@@ -1,10 +1,14 @@
 # bench_env.sh: the start of the benchmark scripts, sourced with their arguments: --help prints the
 # script's header (its comment lines after the first); strict mode; here (the repository) and fabric
 # (FABRIC, else build/fabric, built by scripts/setup.sh when missing); Open MPI allowed to run as
-# root and more ranks than cores.
+# root and more ranks than cores; fabric_error LOG [LINES] (fabric's own error line from a run's log, not
+# mpiexec's footer after it, else its last LINES lines, 1 by default) and summary_key DIR KEY (KEY's value in
+# DIR/summary.json: a number, true or false).
 case "${1:-}" in -h | --help) sed -n '2,/^[^#]/{/^[^#]/d;s/^# \{0,1\}//;p}' "$0"; exit 0 ;; esac
 set -eu
 here="$(cd "$(dirname "$0")/.." && pwd)"
 fabric="${FABRIC:-$here/build/fabric}"
 [[ -x "$fabric" ]] || bash "$here/scripts/setup.sh" >/dev/null
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+fabric_error() { grep -m1 '^fabric: error' "$1" || tail -"${2:-1}" "$1"; }
+summary_key() { sed -n "s/^ *\"$2\": \\([^,]*\\),*$/\\1/p" "$1/summary.json" | head -1; }

@@ -14,12 +14,10 @@ run() { # name, options...
   local name="$1"; shift
   mpiexec -n "$ranks" "$fabric" -scene "$here/inputs/pushing.yaml" -output_every 0 -quiet -output_dir "$work/$name" \
     "${extra[@]}" "$@" >"$work/$name.log" 2>&1 || {
-    # fabric's own message, not mpiexec's footer after it
-    echo "bench_pushing.sh: run $name failed: $(grep -m1 '^fabric: error' "$work/$name.log" || tail -1 "$work/$name.log")" >&2
+    echo "bench_pushing.sh: run $name failed: $(fabric_error "$work/$name.log")" >&2
     exit 1
   }
 }
-key() { sed -n "s/^ *\"$2\": \\([^,]*\\),*$/\\1/p" "$work/$1/summary.json" | head -1; }
 
 # name|options; the first row is the reference
 runs=("static_1e-8|-solver static -balance_tol 1e-8" "static|-solver static" "explicit|"
@@ -37,10 +35,10 @@ for r in "${runs[@]}"; do
 done
 
 printf '%-17s %8s %9s %8s %7s %10s %10s %10s %10s %9s %9s\n' run balanced wall_s te_steps newton krylov F5_N F10_N F15_N err_5mm+ speedup
-t_ref="$(key explicit wall_s)"
+t_ref="$(summary_key "$work/explicit" wall_s)"
 for r in "${rows[@]}"; do
-  /usr/bin/python3 - "$work/static_1e-8/curve.csv" "$work/$r/curve.csv" "$r" "$(key "$r" wall_s)" "$(key "$r" te_steps)" \
-    "$(key "$r" nonlinear_iterations)" "$(key "$r" linear_iterations)" "$(key "$r" converged)" "$t_ref" <<'PY'
+  /usr/bin/python3 - "$work/static_1e-8/curve.csv" "$work/$r/curve.csv" "$r" "$(summary_key "$work/$r" wall_s)" "$(summary_key "$work/$r" te_steps)" \
+    "$(summary_key "$work/$r" nonlinear_iterations)" "$(summary_key "$work/$r" linear_iterations)" "$(summary_key "$work/$r" converged)" "$t_ref" <<'PY'
 import csv, sys
 ref = {round(float(r["travel_mm"]), 6): float(r["force_N"]) for r in csv.DictReader(open(sys.argv[1]))}
 rows = {round(float(r["travel_mm"]), 6): float(r["force_N"]) for r in csv.DictReader(open(sys.argv[2]))}

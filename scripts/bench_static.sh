@@ -26,7 +26,7 @@ for n in "${sizes[@]}"; do
   mm="$(awk -v n="$n" 'BEGIN{printf "%.10g", (n - 1) * 10 / 24}')" # 24 threads/cm: (n-1) spacings
   mpiexec -n "$ranks" "$fabric" -scene "$here/inputs/square_net.yaml" -solver static -gauge_mm "$mm" -width_mm "$mm" \
     -balance_tol 1e-8 -load_steps "$steps" -output_every 0 -quiet -output_dir "$work/n$n" -memory_view ${opts[@]+"${opts[@]}"} >"$work/log$n" 2>&1 ||
-    { echo "bench_static.sh: the run of ${n}x${n} crossings failed: $(grep -m1 '^fabric: error' "$work/log$n" || tail -3 "$work/log$n")" >&2; exit 1; }
+    { echo "bench_static.sh: the run of ${n}x${n} crossings failed: $(fabric_error "$work/log$n" 3)" >&2; exit 1; }
   t="$(sed -n 's/.*"wall_s": \([0-9.e+-]*\).*/\1/p' "$work/n$n/summary.json")"
   nl="$(sed -n 's/.*"nonlinear_iterations": \([0-9]*\).*/\1/p' "$work/n$n/summary.json")"
   li="$(sed -n 's/.*"linear_iterations": \([0-9]*\).*/\1/p' "$work/n$n/summary.json")"

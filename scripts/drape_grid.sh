@@ -29,7 +29,7 @@ for d in "${dens[@]}"; do
   out="$work/d$d"
   mpiexec -n "$ranks" "$fabric" -scene "$here/inputs/drape.yaml" -ends_per_cm "$d" -picks_per_cm "$d" \
     -max_inner_steps 3000000 -output_every 0 -quiet -output_dir "$out" ${opts[@]+"${opts[@]}"} >"$work/log$d" 2>&1 ||
-    { echo "drape_grid.sh: the run at $d threads/cm failed: $(grep -m1 '^fabric: error' "$work/log$d" || tail -3 "$work/log$d")" >&2; exit 1; }
+    { echo "drape_grid.sh: the run at $d threads/cm failed: $(fabric_error "$work/log$d" 3)" >&2; exit 1; }
   s="$out/summary.json"
   grid="$(sed -n 's/.*"grid": \[\([0-9]*\), \([0-9]*\)\].*/\1x\2/p' "$s")"
   te_steps="$(key te_steps "$s")"; wall="$(key wall_s "$s")"

@@ -75,13 +75,11 @@ static PetscErrorCode AssembleRows(Tangent *t)
 {
   Fabric             fab = t->fab;
   const Patch       *p   = &fab->grid.patch;
-  const PetscBool    tension_field = p->tension_field; /* the quasi-static path's Newton matrix: not K here */
   const PetscScalar *xl, *x;
   PetscReal          c[BODY_KINDS][3];
   TermInstance       inst;
 
   PetscFunctionBeginUser;
-  fab->grid.patch.tension_field = PETSC_FALSE;
   PetscCall(HaloExchange(fab->grid.da, fab->state.X, fab->state.Xl));
   PetscCall(VecGetArrayRead(fab->state.Xl, &xl));
   PetscCall(VecGetArrayRead(fab->state.X, &x));
@@ -123,7 +121,6 @@ static PetscErrorCode AssembleRows(Tangent *t)
   }
   PetscCall(VecRestoreArrayRead(fab->state.X, &x));
   PetscCall(VecRestoreArrayRead(fab->state.Xl, &xl));
-  fab->grid.patch.tension_field = tension_field;
   PetscFunctionReturn(0);
 }
 

@@ -407,7 +407,7 @@ static PetscErrorCode FormJacobian(SNES snes, Vec U, Mat A, Mat P, void *ctx)
   for (int q = 0; q < 3; q++) PetscCall(PetscArrayzero(rr->buf[q], 9 * ROW_SLOTS * (p->xm + 2)));
   PetscCall(VecGetArrayRead(fab->state.Xl, &xl));
   PetscCall(VecGetArrayRead(U, &u));
-  fab->grid.patch.tension_field = !exact; /* for this tangent only: the stable step's measure reads it too */
+  fab->grid.patch.tension_field = !exact; /* for this tangent only: else the kernels' Hessians are exact */
   for (PetscInt j = p->ys; j < p->ys + p->ym; j++) { /* the ring holds rows j-1, j, j+1 */
     const PetscInt row[4] = {p->xs, p->xs + p->xm, j, j + 1};
     rr->jo                = j;
@@ -416,7 +416,7 @@ static PetscErrorCode FormJacobian(SNES snes, Vec U, Mat A, Mat P, void *ctx)
     AddPointBlocks(ss, u, (const PetscReal(*)[3]) c, j);
     PetscCall(FlushRow(ss, j - 1)); /* complete: its buffer becomes row j+2's */
   }
-  fab->grid.patch.tension_field = PETSC_TRUE;
+  fab->grid.patch.tension_field = PETSC_FALSE;
   PetscCall(FlushRow(ss, p->ys + p->ym - 1));
   PetscCall(FlushRow(ss, p->ys + p->ym));
   PetscCall(VecRestoreArrayRead(U, &u));
@@ -2205,8 +2205,7 @@ static PetscErrorCode StaticCreateLevel(Fabric fab, PetscInt sequence, StaticSol
   PetscCall(DMRestoreGlobalVector(fab->grid.da, &flag));
   /* a segment's stiffness, from the stable step's bound: omega_max^2 m ~ 8 k for four springs */
   PetscCall(GlobalMax(fab->comm, &mmax, 1));
-  ss->k_ref                     = PetscMax(fab->step.omega_max * fab->step.omega_max * mmax / 8.0, PETSC_SMALL);
-  fab->grid.patch.tension_field = PETSC_TRUE;
+  ss->k_ref = PetscMax(fab->step.omega_max * fab->step.omega_max * mmax / 8.0, PETSC_SMALL);
   PetscCall(SNESCreate(fab->comm, &ss->snes));
   PetscCall(SNESSetDM(ss->snes, ss->dm));
   PetscCall(SNESSetApplicationContext(ss->snes, ss));
@@ -2404,7 +2403,6 @@ PetscErrorCode StaticDestroy(StaticSolver *pss)
   PetscCall(VecDestroy(&ss->guess));
   PetscCall(PetscFree(ss->free_g));
   for (int q = 0; q < 3; q++) PetscCall(PetscFree(ss->ring.buf[q]));
-  ss->fab->grid.patch.tension_field = PETSC_FALSE;
   PetscCall(PetscFree(ss));
   *pss = NULL;
   PetscFunctionReturn(0);
