@@ -27,11 +27,9 @@ for n in "${sizes[@]}"; do
   mpiexec -n "$ranks" "$fabric" -scene "$here/inputs/square_net.yaml" -solver static -gauge_mm "$mm" -width_mm "$mm" \
     -balance_tol 1e-8 -load_steps "$steps" -output_every 0 -quiet -output_dir "$work/n$n" -memory_view ${opts[@]+"${opts[@]}"} >"$work/log$n" 2>&1 ||
     { echo "bench_static.sh: the run of ${n}x${n} crossings failed: $(fabric_error "$work/log$n" 3)" >&2; exit 1; }
-  t="$(sed -n 's/.*"wall_s": \([0-9.e+-]*\).*/\1/p' "$work/n$n/summary.json")"
-  nl="$(sed -n 's/.*"nonlinear_iterations": \([0-9]*\).*/\1/p' "$work/n$n/summary.json")"
-  li="$(sed -n 's/.*"linear_iterations": \([0-9]*\).*/\1/p' "$work/n$n/summary.json")"
-  ci="$(sed -n 's/.*"coarse_nonlinear_iterations": \([0-9]*\).*/\1/p' "$work/n$n/summary.json")"
-  conv="$(sed -n 's/.*"converged": \([a-z]*\).*/\1/p' "$work/n$n/summary.json")"
+  t="$(summary_key "$work/n$n" wall_s)"; nl="$(summary_key "$work/n$n" nonlinear_iterations)"
+  li="$(summary_key "$work/n$n" linear_iterations)"; ci="$(summary_key "$work/n$n" coarse_nonlinear_iterations)"
+  conv="$(summary_key "$work/n$n" converged)"
   mem="$(awk '/^Maximum \(over computational time\) process memory/ {for (i=1;i<NF;i++) if ($i == "total") v=$(i+1)} END {printf "%.0f", v/1048576}' "$work/log$n")"
   w="$(tail -1 "$work/n$n/curve.csv" | cut -d, -f3)"
   ratio="-"; p="-"

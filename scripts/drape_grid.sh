@@ -24,7 +24,6 @@ ranks="${RANKS:-2}"
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
 ((${#opts[@]})) && echo "options: ${opts[*]}"
 printf '%-8s %-9s %8s %10s %10s %9s %10s %7s %6s %8s %9s\n' tpc grid points te_s te_steps wall_s us_per_te dc_pct folds drop_mm balanced
-key() { sed -n "s/.*\"$1\": \\([^,]*\\),*$/\\1/p" "$2" | head -1; }
 for d in "${dens[@]}"; do
   out="$work/d$d"
   mpiexec -n "$ranks" "$fabric" -scene "$here/inputs/drape.yaml" -ends_per_cm "$d" -picks_per_cm "$d" \
@@ -32,8 +31,8 @@ for d in "${dens[@]}"; do
     { echo "drape_grid.sh: the run at $d threads/cm failed: $(fabric_error "$work/log$d" 3)" >&2; exit 1; }
   s="$out/summary.json"
   grid="$(sed -n 's/.*"grid": \[\([0-9]*\), \([0-9]*\)\].*/\1x\2/p' "$s")"
-  te_steps="$(key te_steps "$s")"; wall="$(key wall_s "$s")"
-  printf '%-8s %-9s %8s %10.3e %10s %9.1f %10.1f %7.2f %6s %8.2f %9s\n' "$d" "$grid" "$(key points "$s")" "$(key te_s "$s")" \
+  te_steps="$(summary_key "$out" te_steps)"; wall="$(summary_key "$out" wall_s)"
+  printf '%-8s %-9s %8s %10.3e %10s %9.1f %10.1f %7.2f %6s %8.2f %9s\n' "$d" "$grid" "$(summary_key "$out" points)" "$(summary_key "$out" te_s)" \
     "$te_steps" "$wall" "$(awk -v w="$wall" -v n="$te_steps" 'BEGIN{print (n > 0 ? 1e6 * w / n : 0)}')" \
-    "$(key drape_coefficient_pct "$s")" "$(key folds "$s")" "$(tail -1 "$out/curve.csv" | cut -d, -f3)" "$(key converged "$s")"
+    "$(summary_key "$out" drape_coefficient_pct)" "$(summary_key "$out" folds)" "$(tail -1 "$out/curve.csv" | cut -d, -f3)" "$(summary_key "$out" converged)"
 done
