@@ -107,6 +107,13 @@ stability_sweep.py: error: argument --keep: $work/file: not a directory" "$root/
     mkdir own && cp "$root/inputs/bias.yaml" own/
     expect 2 "scene_times.sh: scene 'own/bias.yaml@1': only the scenes of inputs/ (strip_warp, strip_warp.yaml or inputs/strip_warp.yaml)" \
       "$root/scripts/scene_times.sh" strip_warp own/bias.yaml@1
+    # --static: the quasi-static row after the explicit one, both at the 25 x 25 net's deflection
+    # under 0.5 N, 0.564165069 mm (docs/static.md), to the 5 digits printed
+    expect 0 "" "$root/scripts/scene_times.sh" --static square_net@1
+    rows="$(awk '$1 == "square_net" {print $2, $9, $10, $11, ($2 == "static" && $7 > 0 ? "newton" : "-")}' "$work/out")"
+    want="$(printf 'explicit yes 0.56417 mm -\nstatic yes 0.56417 mm newton')"
+    [[ $rows == "$want" ]] && echo "PASS scene_times.sh --static: $(tr '\n' ';' <<<"$rows")" ||
+      { echo "FAIL scene_times.sh --static printed:"; cat "$work/out"; fail=1; }
     ;;
   te_table)
     # inputs/NAME.yaml from a directory other than the root: refused as not a scene of inputs/
