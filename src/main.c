@@ -363,9 +363,40 @@ static void StopTogether(void)
    the command line's (PETSc reads a -options_file named in one, and one that names itself
    recursed until it crashed): depth counts the files within files, reading[] holds them. Option
    names are PETSc's, whatever their case; a file name with ${...} in it is left to PETSc, which
-   puts in its own and the environment's variables there. */
+   puts in its own and the environment's variables there. The -scene file, which PETSc reads after its start
+   (SceneInsertFile), is looked at here for its "$$name: !include F" only: F is read as -options_file_yaml F, and
+   a scene that included itself recursed until it crashed; the rest of it is SceneInsertFile's to judge. */
 #define OPTION_FILES_NESTED_MAX 64
 static struct stat reading[OPTION_FILES_NESTED_MAX];
+
+static int FileOptionProblem(int n, char **tok, const char *where, int depth);
+
+/* the -options_file_yaml F of the scene's !include lines, looked at with the scene file as the one being read */
+static int SceneIncludeProblem(const char *file)
+{
+  struct stat st;
+  FILE       *fp;
+  char       *text, **opts = NULL, **inc, why[512] = "", in[4200];
+  int         nopts = 0, ninc = 0, bad = 0;
+
+  if (stat(file, &st) || !S_ISREG(st.st_mode) || !(fp = fopen(file, "rb"))) return 0; /* SceneInsertFile says so */
+  text = calloc((size_t) st.st_size + 1, 1);
+  if (text && fread(text, 1, (size_t) st.st_size, fp) == (size_t) st.st_size && !memchr(text, '\0', (size_t) st.st_size))
+    (void) YamlOptionsProblem(text, why, sizeof why, &opts, &nopts); /* a malformed scene: SceneInsertFile says where */
+  fclose(fp);
+  free(text);
+  inc = nopts ? calloc((size_t) nopts, sizeof *inc) : NULL;
+  for (int k = 0; inc && k + 1 < nopts; k += 2)
+    if (!strcmp(opts[k], "-options_file_yaml")) inc[ninc++] = opts[k], inc[ninc++] = opts[k + 1];
+  if (ninc) {
+    snprintf(in, sizeof in, " (a !include of -scene %.4000s)", file);
+    reading[0] = st;
+    bad        = FileOptionProblem(ninc, inc, in, 1);
+  }
+  free(inc);
+  OptionFileFree(opts, nopts);
+  return bad;
+}
 
 static int FileOptionProblem(int n, char **tok, const char *where, int depth)
 {
@@ -392,6 +423,7 @@ static int FileOptionProblem(int n, char **tok, const char *where, int depth)
         return 1;
       }
     }
+    if (depth == 0 && !where[0] && !strcasecmp(tok[k], "-scene") && f[0] && SceneIncludeProblem(f)) return 1;
     if (!read && !write) continue;
     if (!f[0] || f[0] == '-' || (info && f[0] == ':')) { /* -info :sys: classes, no file */
       if (!read) continue; /* -history, -info and -log_trace without one write to PETSc's default */
