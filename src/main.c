@@ -371,27 +371,91 @@ static struct stat reading[OPTION_FILES_NESTED_MAX];
 
 static int FileOptionProblem(int n, char **tok, const char *where, int depth);
 
-/* the -options_file_yaml F of the scene's !include lines, looked at with the scene file as the one being read */
+/* a YAML file's options as PETSc would set them (YamlOptionsProblem); none if it cannot be read or is malformed (the
+   reader of the file says why) */
+static void ReadYamlOptions(const char *file, struct stat *st, char ***opts, int *nopts)
+{
+  FILE *fp;
+  char *text, why[512];
+
+  *opts = NULL, *nopts = 0;
+  if (stat(file, st) || !S_ISREG(st->st_mode) || !(fp = fopen(file, "rb"))) return;
+  text = calloc((size_t) st->st_size + 1, 1);
+  if (text && fread(text, 1, (size_t) st->st_size, fp) == (size_t) st->st_size && !memchr(text, '\0', (size_t) st->st_size))
+    (void) YamlOptionsProblem(text, why, sizeof why, opts, nopts);
+  fclose(fp);
+  free(text);
+}
+
+typedef struct { /* the options a scene and its !include files set so far, and the file of each */
+  char **name, **file;
+  int    n, cap;
+} KeysSeen;
+
+/* an option the scene and a file it includes (or two such files) both set: PETSc keeps the one it reads last, and
+   which that is depends on where the !include line stands; an included file's scene: key, which PETSc would read
+   as -scene and never look at */
+static int IncludedKeysProblem(const char *scene, const char *file, char **opts, int nopts, KeysSeen *seen, int depth)
+{
+  for (int k = 0; k + 1 < nopts; k += 2) {
+    if (!strcmp(opts[k], "-options_file_yaml")) {
+      struct stat st;
+      char      **sub;
+      int         nsub, bad;
+      if (strstr(opts[k + 1], "${") || depth + 1 >= OPTION_FILES_NESTED_MAX) continue; /* PETSc's; a loop: said before */
+      ReadYamlOptions(opts[k + 1], &st, &sub, &nsub);
+      bad = IncludedKeysProblem(scene, opts[k + 1], sub, nsub, seen, depth + 1);
+      OptionFileFree(sub, nsub);
+      if (bad) return 1;
+      continue;
+    }
+    if (depth > 0 && !strcasecmp(opts[k], "-scene")) {
+      fprintf(stderr, "fabric: error: -scene %s: its !include %s names a scene (scene: %s); a scene file cannot name another scene\n",
+              scene, file, opts[k + 1]);
+      return 1;
+    }
+    for (int q = 0; q < seen->n; q++)
+      if (!strcasecmp(seen->name[q], opts[k])) {
+        fprintf(stderr,
+                "fabric: error: -scene %s: %s is set in %s and again in %s (a file it includes): PETSc would keep the one it "
+                "reads last; set it once\n",
+                scene, opts[k], seen->file[q], file);
+        return 1;
+      }
+    if (seen->n == seen->cap) {
+      char **n2 = realloc(seen->name, (size_t) (2 * seen->cap + 16) * sizeof *n2), **f2;
+      if (!n2) return 0; /* out of memory: not looked at */
+      seen->name = n2;
+      if (!(f2 = realloc(seen->file, (size_t) (2 * seen->cap + 16) * sizeof *f2))) return 0;
+      seen->file = f2, seen->cap = 2 * seen->cap + 16;
+    }
+    seen->name[seen->n] = strdup(opts[k]), seen->file[seen->n] = strdup(file);
+    if (!seen->name[seen->n] || !seen->file[seen->n]) return 0;
+    seen->n++;
+  }
+  return 0;
+}
+
+/* the scene's !include lines (each "$$name: !include F" is -options_file_yaml F to PETSc): looked at as option files
+   within the scene file, then for options set twice across the files */
 static int SceneIncludeProblem(const char *file)
 {
   struct stat st;
-  FILE       *fp;
-  char       *text, **opts = NULL, **inc, why[512] = "", in[4200];
-  int         nopts = 0, ninc = 0, bad = 0;
+  char      **opts, **inc, in[4200];
+  int         nopts, ninc = 0, bad = 0;
 
-  if (stat(file, &st) || !S_ISREG(st.st_mode) || !(fp = fopen(file, "rb"))) return 0; /* SceneInsertFile says so */
-  text = calloc((size_t) st.st_size + 1, 1);
-  if (text && fread(text, 1, (size_t) st.st_size, fp) == (size_t) st.st_size && !memchr(text, '\0', (size_t) st.st_size))
-    (void) YamlOptionsProblem(text, why, sizeof why, &opts, &nopts); /* a malformed scene: SceneInsertFile says where */
-  fclose(fp);
-  free(text);
+  ReadYamlOptions(file, &st, &opts, &nopts); /* a malformed scene: SceneInsertFile says where */
   inc = nopts ? calloc((size_t) nopts, sizeof *inc) : NULL;
   for (int k = 0; inc && k + 1 < nopts; k += 2)
     if (!strcmp(opts[k], "-options_file_yaml")) inc[ninc++] = opts[k], inc[ninc++] = opts[k + 1];
   if (ninc) {
+    KeysSeen seen = {0};
     snprintf(in, sizeof in, " (a !include of -scene %.4000s)", file);
     reading[0] = st;
     bad        = FileOptionProblem(ninc, inc, in, 1);
+    if (!bad) bad = IncludedKeysProblem(file, file, opts, nopts, &seen, 0);
+    for (int q = 0; q < seen.n; q++) free(seen.name[q]), free(seen.file[q]);
+    free(seen.name), free(seen.file);
   }
   free(inc);
   OptionFileFree(opts, nopts);
