@@ -235,7 +235,8 @@ static inline PetscReal DrapeSupportRadius(const Scene *s)
 PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv);
 /* what PETSc's YAML option reader would refuse in text, where (msg); 0: nothing (plain C, before PetscInitialize),
    and then (opts not NULL) the options it would set, with their values, in order (a "$$name: !include F" as
-   -options_file_yaml F), freed by OptionFileFree */
+   -options_file_yaml F, then "-$$prefix" P under a key's mapping, whose prefix P PETSc reads F's options under), freed
+   by OptionFileFree */
 int YamlOptionsProblem(const char *text, char *msg, size_t len, char ***opts, int *nopts);
 /* what PETSc's reader of a plain option file (-options_file) would refuse in text, where (msg); 0: nothing, and
    then (opts not NULL) the file's options and values in order, freed by OptionFileFree */

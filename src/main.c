@@ -363,99 +363,137 @@ static void StopTogether(void)
    the command line's (PETSc reads a -options_file named in one, and one that names itself
    recursed until it crashed): depth counts the files within files, reading[] holds them. Option
    names are PETSc's, whatever their case; a file name with ${...} in it is left to PETSc, which
-   puts in its own and the environment's variables there. The -scene file, which PETSc reads after its start
-   (SceneInsertFile), is looked at here for its "$$name: !include F" only: F is read as -options_file_yaml F, and
-   a scene that included itself recursed until it crashed; the rest of it is SceneInsertFile's to judge. */
+   puts in its own and the environment's variables there. A -scene file (wherever named), which PETSc reads after its
+   start (SceneInsertFile), is looked at here for its "$$name: !include F" lines only (SceneIncludeProblem); the rest
+   of it is SceneInsertFile's to judge. */
 #define OPTION_FILES_NESTED_MAX 64
 static struct stat reading[OPTION_FILES_NESTED_MAX];
+static int         scene_include; /* looking at a scene's !include files: only as files to read (PETSc reads none of
+                                     their start-up options, -history ..., which SceneCheckUnused refuses) */
 
 static int FileOptionProblem(int n, char **tok, const char *where, int depth);
 
-/* a YAML file's options as PETSc would set them (YamlOptionsProblem); none if it cannot be read or is malformed (the
-   reader of the file says why) */
-static void ReadYamlOptions(const char *file, struct stat *st, char ***opts, int *nopts)
+/* a YAML file's options as PETSc would set them (YamlOptionsProblem), none if it cannot be read; why: its problem
+   ("" if none, or if it cannot be read: its reader says why) */
+static void ReadYamlOptions(const char *file, struct stat *st, char ***opts, int *nopts, char *why, size_t len, int *include)
 {
   FILE *fp;
-  char *text, why[512];
+  char *text;
 
-  *opts = NULL, *nopts = 0;
+  *opts = NULL, *nopts = 0, why[0] = 0, *include = 0;
   if (stat(file, st) || !S_ISREG(st->st_mode) || !(fp = fopen(file, "rb"))) return;
   text = calloc((size_t) st->st_size + 1, 1);
-  if (text && fread(text, 1, (size_t) st->st_size, fp) == (size_t) st->st_size && !memchr(text, '\0', (size_t) st->st_size))
-    (void) YamlOptionsProblem(text, why, sizeof why, opts, nopts);
+  if (text && fread(text, 1, (size_t) st->st_size, fp) == (size_t) st->st_size && !memchr(text, '\0', (size_t) st->st_size)) {
+    (void) YamlOptionsProblem(text, why, len, opts, nopts);
+    *include = strstr(text, "!include") != NULL;
+  }
   fclose(fp);
   free(text);
 }
 
-typedef struct { /* the options a scene and its !include files set so far, and the file of each */
+typedef struct { /* the options a scene and its !include files set so far, the file of each, and the files read */
   char **name, **file;
   int    n, cap;
 } KeysSeen;
 
-/* an option the scene and a file it includes (or two such files) both set: PETSc keeps the one it reads last, and
-   which that is depends on where the !include line stands; an included file's scene: key, which PETSc would read
-   as -scene and never look at */
-static int IncludedKeysProblem(const char *scene, const char *file, char **opts, int nopts, KeysSeen *seen, int depth)
+static int KeysAdd(KeysSeen *seen, const char *name, const char *file)
+{
+  char *a, *b;
+  if (seen->n == seen->cap) {
+    const int cap = 2 * seen->cap + 16;
+    char    **n2  = realloc(seen->name, (size_t) cap * sizeof *n2), **f2;
+    if (!n2) return 1;
+    seen->name = n2;
+    if (!(f2 = realloc(seen->file, (size_t) cap * sizeof *f2))) return 1;
+    seen->file = f2, seen->cap = cap;
+  }
+  a = strdup(name), b = strdup(file);
+  if (!a || !b) {
+    free(a), free(b);
+    return 1;
+  }
+  seen->name[seen->n] = a, seen->file[seen->n] = b, seen->n++;
+  return 0;
+}
+
+/* An option that the scene and a file it includes (or two such files) both set: PETSc keeps the one it reads last,
+   which depends on where the !include lines stand. An included file's scene: key, which PETSc would read as -scene
+   and never look at. A "$$name: !include F" under a key's mapping reads F's options under that key's prefix
+   (YamlFlatten gives it as -options_file_yaml F, "-$$prefix" P); a file read again under the same prefix adds
+   nothing to look at (its own lines were looked at the first time). Out of memory: nothing more is looked at. */
+static int IncludedKeysProblem(const char *scene, const char *file, const char *prefix, char **opts, int nopts, KeysSeen *seen,
+                               KeysSeen *files, int depth)
 {
   for (int k = 0; k + 1 < nopts; k += 2) {
+    if (!strcmp(opts[k], "-$$prefix")) continue;
     if (!strcmp(opts[k], "-options_file_yaml")) {
       struct stat st;
-      char      **sub;
-      int         nsub, bad;
+      char      **sub, id[4200], why[512], pre[4200];
+      int         nsub, bad, include;
+      snprintf(pre, sizeof pre, "%s%s", prefix, k + 3 < nopts && !strcmp(opts[k + 2], "-$$prefix") ? opts[k + 3] : "");
       if (strstr(opts[k + 1], "${") || depth + 1 >= OPTION_FILES_NESTED_MAX) continue; /* PETSc's; a loop: said before */
-      ReadYamlOptions(opts[k + 1], &st, &sub, &nsub);
-      bad = IncludedKeysProblem(scene, opts[k + 1], sub, nsub, seen, depth + 1);
+      if (stat(opts[k + 1], &st)) continue;
+      snprintf(id, sizeof id, "%lu:%lu:%.4000s", (unsigned long) st.st_dev, (unsigned long) st.st_ino, pre);
+      for (int q = 0; q < files->n; q++)
+        if (!strcmp(files->name[q], id)) id[0] = 0;
+      if (!id[0]) continue;
+      if (KeysAdd(files, id, opts[k + 1])) return 0;
+      ReadYamlOptions(opts[k + 1], &st, &sub, &nsub, why, sizeof why, &include);
+      bad = IncludedKeysProblem(scene, opts[k + 1], pre, sub, nsub, seen, files, depth + 1);
       OptionFileFree(sub, nsub);
       if (bad) return 1;
       continue;
     }
-    if (depth > 0 && !strcasecmp(opts[k], "-scene")) {
-      fprintf(stderr, "fabric: error: -scene %s: its !include %s names a scene (scene: %s); a scene file cannot name another scene\n",
-              scene, file, opts[k + 1]);
-      return 1;
-    }
-    for (int q = 0; q < seen->n; q++)
-      if (!strcasecmp(seen->name[q], opts[k])) {
-        fprintf(stderr,
-                "fabric: error: -scene %s: %s is set in %s and again in %s (a file it includes): PETSc would keep the one it "
-                "reads last; set it once\n",
-                scene, opts[k], seen->file[q], file);
+    {
+      char name[4200];
+      snprintf(name, sizeof name, "-%s%s", prefix, opts[k] + 1);
+      if (depth > 0 && !strcasecmp(name, "-scene")) {
+        fprintf(stderr, "fabric: error: -scene %s: its !include %s names a scene (scene: %s); a scene file cannot name another scene\n",
+                scene, file, opts[k + 1]);
         return 1;
       }
-    if (seen->n == seen->cap) {
-      char **n2 = realloc(seen->name, (size_t) (2 * seen->cap + 16) * sizeof *n2), **f2;
-      if (!n2) return 0; /* out of memory: not looked at */
-      seen->name = n2;
-      if (!(f2 = realloc(seen->file, (size_t) (2 * seen->cap + 16) * sizeof *f2))) return 0;
-      seen->file = f2, seen->cap = 2 * seen->cap + 16;
+      for (int q = 0; q < seen->n; q++)
+        if (!strcasecmp(seen->name[q], name)) {
+          fprintf(stderr, "fabric: error: -scene %s: %s is set twice, in %s and in %s (the scene and the files it includes): PETSc keeps the one it reads last; set it once\n",
+                  scene, name, seen->file[q], file);
+          return 1;
+        }
+      if (KeysAdd(seen, name, file)) return 0;
     }
-    seen->name[seen->n] = strdup(opts[k]), seen->file[seen->n] = strdup(file);
-    if (!seen->name[seen->n] || !seen->file[seen->n]) return 0;
-    seen->n++;
   }
   return 0;
 }
 
-/* the scene's !include lines (each "$$name: !include F" is -options_file_yaml F to PETSc): looked at as option files
-   within the scene file, then for options set twice across the files */
-static int SceneIncludeProblem(const char *file)
+/* A scene's "$$name: !include F" lines: PETSc reads each as -options_file_yaml F, so they are looked at as option
+   files within the scene file (a scene that included itself recursed until it crashed), then for options set twice
+   across the files. A scene that PETSc would refuse as malformed is SceneInsertFile's to judge, unless it includes:
+   PETSc reads a YAML file a document at a time, and followed the includes of the documents before the malformed one. */
+static int SceneIncludeProblem(const char *file, const char *where, int depth)
 {
   struct stat st;
-  char      **opts, **inc, in[4200];
-  int         nopts, ninc = 0, bad = 0;
+  char      **opts, **inc, in[8400], why[512];
+  int         nopts, ninc = 0, bad = 0, include;
 
-  ReadYamlOptions(file, &st, &opts, &nopts); /* a malformed scene: SceneInsertFile says where */
+  if (depth + 1 >= OPTION_FILES_NESTED_MAX) return 0; /* FileOptionProblem says so */
+  ReadYamlOptions(file, &st, &opts, &nopts, why, sizeof why, &include);
+  if (why[0] && include) {
+    fprintf(stderr, "fabric: error: -scene %s%s: not a valid YAML option file: %s\n", file, where, why);
+    return 1;
+  }
   inc = nopts ? calloc((size_t) nopts, sizeof *inc) : NULL;
   for (int k = 0; inc && k + 1 < nopts; k += 2)
     if (!strcmp(opts[k], "-options_file_yaml")) inc[ninc++] = opts[k], inc[ninc++] = opts[k + 1];
   if (ninc) {
-    KeysSeen seen = {0};
-    snprintf(in, sizeof in, " (a !include of -scene %.4000s)", file);
-    reading[0] = st;
-    bad        = FileOptionProblem(ninc, inc, in, 1);
-    if (!bad) bad = IncludedKeysProblem(file, file, opts, nopts, &seen, 0);
+    KeysSeen seen = {0}, files = {0};
+    snprintf(in, sizeof in, " (a !include of -scene %.4000s%.4000s)", file, where);
+    reading[depth] = st;
+    scene_include  = 1;
+    bad            = FileOptionProblem(ninc, inc, in, depth + 1);
+    scene_include  = 0;
+    if (!bad) bad = IncludedKeysProblem(file, file, "", opts, nopts, &seen, &files, 0);
     for (int q = 0; q < seen.n; q++) free(seen.name[q]), free(seen.file[q]);
-    free(seen.name), free(seen.file);
+    for (int q = 0; q < files.n; q++) free(files.name[q]), free(files.file[q]);
+    free(seen.name), free(seen.file), free(files.name), free(files.file);
   }
   free(inc);
   OptionFileFree(opts, nopts);
@@ -470,6 +508,7 @@ static int FileOptionProblem(int n, char **tok, const char *where, int depth)
     const int   write = history || info || !strcasecmp(tok[k], "-log_trace");
     const char *f = k + 1 < n ? tok[k + 1] : "";
     struct stat st;
+    if (scene_include && !read) continue;
     if (!strcasecmp(tok[k], "-log_view") && k + 1 < n && tok[k + 1][0] != '-') { /* parsed by PetscInitialize */
       char why[1024];
       if (ViewerValueProblem("log_view", tok[k + 1], why, sizeof why)) {
@@ -487,7 +526,8 @@ static int FileOptionProblem(int n, char **tok, const char *where, int depth)
         return 1;
       }
     }
-    if (depth == 0 && !where[0] && !strcasecmp(tok[k], "-scene") && f[0] && SceneIncludeProblem(f)) return 1;
+    if (!scene_include && !strcasecmp(tok[k], "-scene") && f[0] && f[0] != '-' && SceneIncludeProblem(f, where, depth))
+      return 1;
     if (!read && !write) continue;
     if (!f[0] || f[0] == '-' || (info && f[0] == ':')) { /* -info :sys: classes, no file */
       if (!read) continue; /* -history, -info and -log_trace without one write to PETSc's default */

@@ -894,7 +894,8 @@ static void ListHand(OptionList *l, int bad, char ***opts, int *nopts)
 /* The options PETSc's YAML reader (PetscParseLayerYAML) sets from a mapping node: "-prefix" "key" for a scalar,
    the items of a sequence joined by commas (of a one-pair mapping item, its key, and the item under the prefix
    "key_"; a "$$" item skipped), a mapping under the prefix "key_"; "$$name: !include F" reads F (here
-   -options_file_yaml F). A merge key "<<" is refused before (FindBadKeyIn), as keys PETSc cannot take. */
+   -options_file_yaml F, then "-$$prefix" P if under the prefix P, which PETSc reads F's options under). A merge key
+   "<<" is refused before (FindBadKeyIn), as keys PETSc cannot take. */
 static void YamlFlatten(yaml_document_t *doc, yaml_node_t *node, const char *prefix, OptionList *l, int depth)
 {
   if (!node || node->type != YAML_MAPPING_NODE || depth > 64) return;
@@ -909,8 +910,10 @@ static void YamlFlatten(yaml_document_t *doc, yaml_node_t *node, const char *pre
     if (!strncmp(key, "$$", 2)) {
       const char *tag = (const char *) v->tag;
       size_t      tl  = tag ? strlen(tag) : 0;
-      if (v->type == YAML_SCALAR_NODE && tl >= 8 && !strcmp(tag + tl - 8, "!include"))
+      if (v->type == YAML_SCALAR_NODE && tl >= 8 && !strcmp(tag + tl - 8, "!include")) {
         ListAdd(l, "-options_file_yaml"), ListAdd(l, (const char *) v->data.scalar.value);
+        if (prefix[0]) ListAdd(l, "-$$prefix"), ListAdd(l, prefix); /* PETSc reads F's options under it */
+      }
       continue;
     }
     snprintf(name, sizeof name, "%s%s", prefix, key);
