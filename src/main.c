@@ -363,13 +363,20 @@ static void StopTogether(void)
    the command line's (PETSc reads a -options_file named in one, and one that names itself
    recursed until it crashed): depth counts the files within files, reading[] holds them. Option
    names are PETSc's, whatever their case; a file name with ${...} in it is left to PETSc, which
-   puts in its own and the environment's variables there. A -scene file (wherever named), which PETSc reads after its
-   start (SceneInsertFile), is looked at here for its "$$name: !include F" lines only (SceneIncludeProblem); the rest
-   of it is SceneInsertFile's to judge. */
+   puts in its own and the environment's variables there. The -scene file that PETSc will read after its start
+   (SceneInsertFile) is looked at here for its "$$name: !include F" lines only (SceneIncludeProblem, once every source
+   of options has been walked); the rest of it is SceneInsertFile's to judge. */
 #define OPTION_FILES_NESTED_MAX 64
 static struct stat reading[OPTION_FILES_NESTED_MAX];
-static int         scene_include; /* looking at a scene's !include files: only as files to read (PETSc reads none of
-                                     their start-up options, -history ..., which SceneCheckUnused refuses) */
+static int         only_files; /* within a scene's !include files, or a YAML file included under a key's prefix:
+                                  only the files read are looked at (PETSc takes no start-up option, -history ...,
+                                  from a scene, and an included file's keys under a prefix are other options) */
+static struct {    /* the -scene PETSc will take: the last of the strongest source (InitFileProblem's passes) */
+  char file[4096], where[4096];
+  int  source, given;
+} scene_named;
+static int option_source; /* the pass under way: 0 PETSc's start-up files, 1 PETSC_OPTIONS, 2 PETSC_OPTIONS_YAML,
+                             3 the command line (PETSc's order: each later one wins) */
 
 static int FileOptionProblem(int n, char **tok, const char *where, int depth);
 
@@ -435,7 +442,7 @@ static int IncludedKeysProblem(const char *scene, const char *file, const char *
       if (stat(opts[k + 1], &st)) continue;
       snprintf(id, sizeof id, "%lu:%lu:%.4000s", (unsigned long) st.st_dev, (unsigned long) st.st_ino, pre);
       for (int q = 0; q < files->n; q++)
-        if (!strcmp(files->name[q], id)) id[0] = 0;
+        if (!strcasecmp(files->name[q], id)) id[0] = 0; /* an option's name, and so a prefix, has no case */
       if (!id[0]) continue;
       if (KeysAdd(files, id, opts[k + 1])) return 0;
       ReadYamlOptions(opts[k + 1], &st, &sub, &nsub, why, sizeof why, &include);
@@ -468,13 +475,12 @@ static int IncludedKeysProblem(const char *scene, const char *file, const char *
    files within the scene file (a scene that included itself recursed until it crashed), then for options set twice
    across the files. A scene that PETSc would refuse as malformed is SceneInsertFile's to judge, unless it includes:
    PETSc reads a YAML file a document at a time, and followed the includes of the documents before the malformed one. */
-static int SceneIncludeProblem(const char *file, const char *where, int depth)
+static int SceneIncludeProblem(const char *file, const char *where)
 {
   struct stat st;
   char      **opts, **inc, in[8400], why[512];
   int         nopts, ninc = 0, bad = 0, include;
 
-  if (depth + 1 >= OPTION_FILES_NESTED_MAX) return 0; /* FileOptionProblem says so */
   ReadYamlOptions(file, &st, &opts, &nopts, why, sizeof why, &include);
   if (why[0] && include) {
     fprintf(stderr, "fabric: error: -scene %s%s: not a valid YAML option file: %s\n", file, where, why);
@@ -486,10 +492,10 @@ static int SceneIncludeProblem(const char *file, const char *where, int depth)
   if (ninc) {
     KeysSeen seen = {0}, files = {0};
     snprintf(in, sizeof in, " (a !include of -scene %.4000s%.4000s)", file, where);
-    reading[depth] = st;
-    scene_include  = 1;
-    bad            = FileOptionProblem(ninc, inc, in, depth + 1);
-    scene_include  = 0;
+    reading[0] = st;
+    only_files++;
+    bad = FileOptionProblem(ninc, inc, in, 1);
+    only_files--;
     if (!bad) bad = IncludedKeysProblem(file, file, "", opts, nopts, &seen, &files, 0);
     for (int q = 0; q < seen.n; q++) free(seen.name[q]), free(seen.file[q]);
     for (int q = 0; q < files.n; q++) free(files.name[q]), free(files.file[q]);
@@ -506,9 +512,10 @@ static int FileOptionProblem(int n, char **tok, const char *where, int depth)
     const int   plain = !strcasecmp(tok[k], "-options_file"), read = plain || !strcasecmp(tok[k], "-options_file_yaml");
     const int   history = !strcasecmp(tok[k], "-history"), info = !strcasecmp(tok[k], "-info");
     const int   write = history || info || !strcasecmp(tok[k], "-log_trace");
-    const char *f = k + 1 < n ? tok[k + 1] : "";
+    const char *f        = k + 1 < n ? tok[k + 1] : "";
+    const int   prefixed = read && k + 3 < n && !strcmp(tok[k + 2], "-$$prefix"); /* a YAML !include under a key */
     struct stat st;
-    if (scene_include && !read) continue;
+    if (only_files && !read) continue;
     if (!strcasecmp(tok[k], "-log_view") && k + 1 < n && tok[k + 1][0] != '-') { /* parsed by PetscInitialize */
       char why[1024];
       if (ViewerValueProblem("log_view", tok[k + 1], why, sizeof why)) {
@@ -526,8 +533,11 @@ static int FileOptionProblem(int n, char **tok, const char *where, int depth)
         return 1;
       }
     }
-    if (!scene_include && !strcasecmp(tok[k], "-scene") && f[0] && f[0] != '-' && SceneIncludeProblem(f, where, depth))
-      return 1;
+    if (!strcasecmp(tok[k], "-scene") && f[0] && f[0] != '-' && option_source >= scene_named.source) {
+      snprintf(scene_named.file, sizeof scene_named.file, "%s", f);
+      snprintf(scene_named.where, sizeof scene_named.where, "%s", where);
+      scene_named.source = option_source, scene_named.given = 1;
+    }
     if (!read && !write) continue;
     if (!f[0] || f[0] == '-' || (info && f[0] == ':')) { /* -info :sys: classes, no file */
       if (!read) continue; /* -history, -info and -log_trace without one write to PETSc's default */
@@ -582,7 +592,9 @@ static int FileOptionProblem(int n, char **tok, const char *where, int depth)
         snprintf(in, sizeof in, " (in %s%s)", f, where);
         if (depth + 1 < OPTION_FILES_NESTED_MAX) {
           reading[depth] = st;
-          bad            = FileOptionProblem(nopts, opts, in, depth + 1);
+          only_files += prefixed;
+          bad = FileOptionProblem(nopts, opts, in, depth + 1);
+          only_files -= prefixed;
         } else {
           fprintf(stderr, "fabric: error: %s %s%s: option files nested %d deep\n", tok[k], f, where, OPTION_FILES_NESTED_MAX);
           bad = 1;
@@ -639,8 +651,11 @@ static int InitFileProblem(int argc, char **argv)
   char       *copy, *tok[1024];
   int         n = 0, bad;
 
+  option_source = 3;
   if (FileOptionProblem(argc - 1, argv + 1, "", 0)) return 1;
+  option_source = 0;
   if (RcFileProblem(argc, argv)) return 1;
+  option_source = 2;
   { /* PETSc refuses malformed YAML there with a traceback; its -history, -info, ... are looked at as the command
        line's */
     const char *yaml = getenv("PETSC_OPTIONS_YAML");
@@ -654,11 +669,14 @@ static int InitFileProblem(int argc, char **argv)
     OptionFileFree(opts, nopts);
     if (bad) return 1;
   }
-  if (!env || !(copy = strdup(env))) return 0;
-  for (char *t = strtok(copy, " \t\n"); t && n < 1024; t = strtok(NULL, " \t\n")) tok[n++] = t;
-  bad = FileOptionProblem(n, tok, " (in PETSC_OPTIONS)", 0);
-  free(copy);
-  return bad;
+  option_source = 1;
+  if (env && (copy = strdup(env))) {
+    for (char *t = strtok(copy, " \t\n"); t && n < 1024; t = strtok(NULL, " \t\n")) tok[n++] = t;
+    bad = FileOptionProblem(n, tok, " (in PETSC_OPTIONS)", 0);
+    free(copy);
+    if (bad) return 1;
+  }
+  return scene_named.given ? SceneIncludeProblem(scene_named.file, scene_named.where) : 0;
 }
 
 int main(int argc, char **argv)

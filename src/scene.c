@@ -917,6 +917,7 @@ static void YamlFlatten(yaml_document_t *doc, yaml_node_t *node, const char *pre
       continue;
     }
     snprintf(name, sizeof name, "%s%s", prefix, key);
+    if (!strcasecmp(name, "options_file") || !strcasecmp(name, "options_file_yaml")) continue; /* options: {file: F} too */
     if (v->type == YAML_SCALAR_NODE) {
       char opt[4100];
       snprintf(opt, sizeof opt, "-%s", name);
