@@ -427,7 +427,8 @@ static int KeysAdd(KeysSeen *seen, const char *name, const char *file)
    which depends on where the !include lines stand. An included file's scene: key, which PETSc would read as -scene
    and never look at. A "$$name: !include F" under a key's mapping reads F's options under that key's prefix
    (YamlFlatten gives it as -options_file_yaml F, "-$$prefix" P); a file read again under the same prefix adds
-   nothing to look at (its own lines were looked at the first time). Out of memory: nothing more is looked at. */
+   nothing to look at (its own lines were looked at the first time). Out of memory: the rest of this file is not
+   looked at. */
 static int IncludedKeysProblem(const char *scene, const char *file, const char *prefix, char **opts, int nopts, KeysSeen *seen,
                                KeysSeen *files, int depth)
 {
