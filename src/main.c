@@ -371,30 +371,39 @@ static struct stat reading[OPTION_FILES_NESTED_MAX];
 static int         only_files; /* within a scene's !include files, or a YAML file included under a key's prefix:
                                   only the files read are looked at (PETSc takes no start-up option, -history ...,
                                   from a scene, and an included file's keys under a prefix are other options) */
-static struct {    /* the -scene PETSc will take: the last of the strongest source (InitFileProblem's passes) */
+static struct {    /* the -scene PETSc will take: the last of the strongest source (InitFileProblem's passes);
+                      file "" if none */
   char file[4096], where[4096];
-  int  source, given;
+  int  source;
 } scene_named;
 static int option_source; /* the pass under way: 0 PETSc's start-up files, 1 PETSC_OPTIONS, 2 PETSC_OPTIONS_YAML,
                              3 the command line (PETSc's order: each later one wins) */
 
 static int FileOptionProblem(int n, char **tok, const char *where, int depth);
 
+/* a file's size bytes and a NUL after them, NULL if they cannot be read; the caller frees it */
+static char *ReadText(const char *file, off_t size)
+{
+  FILE *fp   = fopen(file, "rb");
+  char *text = fp ? calloc((size_t) size + 1, 1) : NULL;
+  if (text && fread(text, 1, (size_t) size, fp) != (size_t) size) free(text), text = NULL;
+  if (fp) fclose(fp);
+  return text;
+}
+
 /* a YAML file's options as PETSc would set them (YamlOptionsProblem), none if it cannot be read; why: its problem
    ("" if none, or if it cannot be read: its reader says why) */
 static void ReadYamlOptions(const char *file, struct stat *st, char ***opts, int *nopts, char *why, size_t len, int *include)
 {
-  FILE *fp;
   char *text;
 
   *opts = NULL, *nopts = 0, why[0] = 0, *include = 0;
-  if (stat(file, st) || !S_ISREG(st->st_mode) || !(fp = fopen(file, "rb"))) return;
-  text = calloc((size_t) st->st_size + 1, 1);
-  if (text && fread(text, 1, (size_t) st->st_size, fp) == (size_t) st->st_size && !memchr(text, '\0', (size_t) st->st_size)) {
+  if (stat(file, st) || !S_ISREG(st->st_mode)) return;
+  text = ReadText(file, st->st_size);
+  if (text && !memchr(text, '\0', (size_t) st->st_size)) {
     (void) YamlOptionsProblem(text, why, len, opts, nopts);
     *include = strstr(text, "!include") != NULL;
   }
-  fclose(fp);
   free(text);
 }
 
@@ -445,7 +454,7 @@ static int IncludedKeysProblem(const char *scene, const char *file, const char *
       for (int q = 0; q < files->n; q++)
         if (!strcasecmp(files->name[q], id)) id[0] = 0; /* an option's name, and so a prefix, has no case */
       if (!id[0]) continue;
-      if (KeysAdd(files, id, opts[k + 1])) return 0;
+      if (KeysAdd(files, id, "")) return 0; /* the file and its prefix: its name is not needed again */
       ReadYamlOptions(opts[k + 1], &st, &sub, &nsub, why, sizeof why, &include);
       bad = IncludedKeysProblem(scene, opts[k + 1], pre, sub, nsub, seen, files, depth + 1);
       OptionFileFree(sub, nsub);
@@ -537,7 +546,7 @@ static int FileOptionProblem(int n, char **tok, const char *where, int depth)
     if (!strcasecmp(tok[k], "-scene") && f[0] && f[0] != '-' && option_source >= scene_named.source) {
       snprintf(scene_named.file, sizeof scene_named.file, "%s", f);
       snprintf(scene_named.where, sizeof scene_named.where, "%s", where);
-      scene_named.source = option_source, scene_named.given = 1;
+      scene_named.source = option_source;
     }
     if (!read && !write) continue;
     if (!f[0] || f[0] == '-' || (info && f[0] == ':')) { /* -info :sys: classes, no file */
@@ -555,7 +564,6 @@ static int FileOptionProblem(int n, char **tok, const char *where, int depth)
                  (n > 5 && !strcmp(f + n - 5, ".yaml")) || (n > 5 && !strcmp(f + n - 5, ".json"));
       char         name[4096], why[512] = "", **opts = NULL;
       int          nopts = 0, bad = 0;
-      FILE        *fp;
       char        *text;
       snprintf(name, sizeof name, "%.*s", (int) (tag ? n - 5 : n), f);
       if (stat(name, &st) || !S_ISREG(st.st_mode) || access(name, R_OK)) {
@@ -563,9 +571,7 @@ static int FileOptionProblem(int n, char **tok, const char *where, int depth)
         return 1;
       }
       /* PETSc refuses a malformed one with a traceback */
-      fp   = fopen(name, "rb");
-      text = fp ? calloc((size_t) st.st_size + 1, 1) : NULL;
-      if (text && fread(text, 1, (size_t) st.st_size, fp) == (size_t) st.st_size) {
+      if ((text = ReadText(name, st.st_size))) {
         const char *nul = memchr(text, '\0', (size_t) st.st_size); /* PETSc reads the file as a string: up to it */
         yaml            = yaml || !strncmp(text, "%YAML ", 6) || !strncmp(text, "---", 3);
         if (nul)
@@ -575,7 +581,6 @@ static int FileOptionProblem(int n, char **tok, const char *where, int depth)
           (void) (yaml ? YamlOptionsProblem(text, why, sizeof why, &opts, &nopts)
                        : OptionFileProblem(text, why, sizeof why, &opts, &nopts));
       }
-      if (fp) fclose(fp);
       free(text);
       if (why[0]) {
         fprintf(stderr, "fabric: error: %s %s%s: not a valid %s option file: %s\n", tok[k], f, where, yaml ? "YAML" : "PETSc",
@@ -677,7 +682,7 @@ static int InitFileProblem(int argc, char **argv)
     free(copy);
     if (bad) return 1;
   }
-  return scene_named.given ? SceneIncludeProblem(scene_named.file, scene_named.where) : 0;
+  return scene_named.file[0] ? SceneIncludeProblem(scene_named.file, scene_named.where) : 0;
 }
 
 int main(int argc, char **argv)

@@ -905,8 +905,6 @@ static void YamlFlatten(yaml_document_t *doc, yaml_node_t *node, const char *pre
     char         name[4096];
     if (!k || !v || k->type != YAML_SCALAR_NODE) continue;
     key = (const char *) k->data.scalar.value;
-    if (!prefix[0] && (!strcasecmp(key, "options_file") || !strcasecmp(key, "options_file_yaml")))
-      continue; /* PETSc does not read a file named by a YAML key (SceneCheckUnused says so) */
     if (!strncmp(key, "$$", 2)) {
       const char *tag = (const char *) v->tag;
       size_t      tl  = tag ? strlen(tag) : 0;
@@ -917,7 +915,8 @@ static void YamlFlatten(yaml_document_t *doc, yaml_node_t *node, const char *pre
       continue;
     }
     snprintf(name, sizeof name, "%s%s", prefix, key);
-    if (!strcasecmp(name, "options_file") || !strcasecmp(name, "options_file_yaml")) continue; /* options: {file: F} too */
+    if (!strcasecmp(name, "options_file") || !strcasecmp(name, "options_file_yaml"))
+      continue; /* PETSc does not read a file named by a YAML key, options: {file: F} neither (SceneCheckUnused says so) */
     if (v->type == YAML_SCALAR_NODE) {
       char opt[4100];
       snprintf(opt, sizeof opt, "-%s", name);
