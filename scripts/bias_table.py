@@ -6,9 +6,13 @@ Reads RUN_DIR/curve.csv and RUN_DIR/summary.json (gauge_mm and width_mm: the spe
 grid has it, its outline on the grid diagonals) and prints, per load step: the jaw travel d,
 the pin-jointed-net formula gamma = 90 - 2 acos((D + d)/(sqrt(2) D)) degrees, D = gauge - width
 ("-" past d = (sqrt(2) - 1) D, where it reaches 90 degrees), the central zone's measured shear
-angle, their difference, the force and the te steps of the load step (N'); then whether every load
-step balanced (summary.json "converged"). A run that stopped on an error (summary.json "error") gets
-its table up to where it stopped, then the error on stderr and exit status 1.
+angle, their difference, the force and the te steps of the load step (N', with a * if the load step
+did not balance); then whether every load step balanced (curve.csv's balanced column) and, if the
+specimen ruptured (summary.json "rupture"), where, and its maximum force: the load step of a rupture
+is a tear, not a sheared specimen, so it gets no difference from the formula and is not counted as
+a load step that did not balance. A run that stopped on an error
+(summary.json "error") gets its table up to where it stopped, then the error on stderr and exit
+status 1.
 """
 import argparse
 import csv
@@ -48,16 +52,25 @@ def main():
         print("|" + "---:|" * len(head))
     else:
         print(" ".join(f"{h:>11}" for h in head))
-    for r in rows:
+    rupture = summary.get("rupture") or {}
+    for step, r in enumerate(rows, start=1):
+        torn = step == rupture.get("load_step")
         d, centre = float(r["travel_mm"]), float(r["center_shear_deg"])
         c = (D + d) / (math.sqrt(2) * D)
         formula = 90 - 2 * math.degrees(math.acos(c)) if c <= 1 else None
         cells = [f"{d:.2f}", f"{formula:.2f}" if formula is not None else "-", f"{centre:.2f}",
-                 f"{centre - formula:+.2f}" if formula is not None else "-", f"{float(r['force_N']):.4g}", r["inner_steps"]]
+                 f"{centre - formula:+.2f}" if formula is not None and not torn else "-", f"{float(r['force_N']):.4g}",
+                 r["inner_steps"] + ("" if r.get("balanced", "1") == "1" else "*")]
         print("| " + " | ".join(cells) + " |" if a.markdown else " ".join(f"{x:>11}" for x in cells))
     if summary.get("error"):  # the table is the run's first load steps only
         sys.exit(f"bias_table.py: {a.run}: the run stopped after {len(rows)} load steps: {summary['error']}")
-    print(f"every load step balanced: {'yes' if summary.get('converged') else 'NO'}; D = {D:.3f} mm")
+    balanced = all(r.get("balanced", "1") == "1" for k, r in enumerate(rows, start=1) if k != rupture.get("load_step"))
+    print(f"every load step{' before the rupture' if rupture else ''} balanced: {'yes' if balanced else 'NO (*)'}; "
+          f"D = {D:.3f} mm")
+    if rupture:
+        print(f"ruptured in load step {rupture.get('load_step')}, at {rupture.get('elongation_pct', 0):.4g} % elongation "
+              f"(its row: the tear's end); maximum force {summary.get('max_force_N', 0):.4g} N at "
+              f"{summary.get('elongation_at_max_force_pct', 0):.4g} %")
 
 
 if __name__ == "__main__":

@@ -5,9 +5,12 @@
 
 Each curve.csv is one line (elongation_pct, force_N; a pushing run's travel_mm, force_N),
 labelled with its run directory's name (or --labels). Where the run's summary.json (next to its
-curve.csv) reports a maximum force and a rupture, the maximum is marked and the legend says it. --measured overlays a measured curve: a CSV whose first two columns are
-the curves' x (elongation %, or travel mm) and force (N), with or without a header line; it is drawn as points. Load steps
-that did not balance (curve.csv's balanced column 0) are not marked: check that column. Default output: curve.png next to the first curve.csv. Prints the file it wrote.
+curve.csv) reports a maximum force and a rupture, or a maximum above every row of the curve (a
+located break's, between two load steps), the maximum is marked and the legend says it. --measured
+overlays a measured curve: a CSV whose first two columns are the curves' x (elongation %, or travel
+mm) and force (N), with or without a header line; it is drawn as points. Load steps that did not
+balance (curve.csv's balanced column 0) are not marked: check that column. Default output:
+curve.png next to the first curve.csv; -o DIR writes DIR/curve.png. Prints the file it wrote.
 """
 import argparse
 import csv
@@ -44,14 +47,17 @@ def read_run(path):
         sys.exit(f"plot_curve.py: {path}: a row whose {col} or force_N is not a number")
 
 
-def read_maximum(path):
-    """(x, force, text) of the run's maximum force from summary.json next to curve.csv, or None"""
+def read_maximum(path, forces):
+    """(x, force, text) of the run's maximum force from summary.json next to curve.csv, if it ruptured or the
+    maximum is none of the curve's forces; else None"""
     summary = os.path.join(os.path.dirname(os.path.abspath(path)), "summary.json")
     try:
         s = json.load(open(summary))
     except (OSError, ValueError):
         return None
-    if "max_force_N" not in s or not s.get("rupture"):
+    if not isinstance(s.get("max_force_N"), (int, float)):
+        return None
+    if not s.get("rupture") and s["max_force_N"] <= max(forces):
         return None
     if "elongation_at_max_force_pct" in s:
         x, unit = s["elongation_at_max_force_pct"], "%"
@@ -67,6 +73,9 @@ def read_measured(path):
             for n, row in enumerate(csv.reader(f), 1):
                 if not row or row[0].lstrip().startswith("#"):
                     continue
+                if n == 1 and row[0].strip() == "load_step":  # its columns 1 and 2 are load_step and time_s
+                    sys.exit(f"plot_curve.py: --measured {path}: a fabric curve.csv, not a measured curve "
+                             "(x, force N): give it as a curve, before the options")
                 try:
                     xy = float(row[0]), float(row[1])
                 except (ValueError, IndexError):
@@ -107,7 +116,7 @@ def main():
     col = cols.pop()
     for path, label, (x, y, _) in zip(a.curves, labels, runs):
         line = ax.plot(x, y, "-", marker=".", label=label)[0]
-        peak = read_maximum(path)
+        peak = read_maximum(path, y)
         if peak:
             ax.plot([peak[0]], [peak[1]], "*", ms=12, color=line.get_color(), label=f"{label}: {peak[2]}")
     if a.measured:
@@ -120,6 +129,8 @@ def main():
     ax.grid(True, alpha=0.3)
     ax.legend()
     out = a.out or os.path.join(os.path.dirname(os.path.abspath(a.curves[0])), "curve.png")
+    if os.path.isdir(out):  # it wrote DIR.png beside the directory
+        out = os.path.join(out, "curve.png")
     if not os.path.splitext(out)[1][1:]:  # matplotlib adds .png to a name without one: print the file it writes
         out = out.rstrip(".") + "." + plt.rcParams["savefig.format"]
     fig.tight_layout()

@@ -137,6 +137,19 @@ stability_sweep.py: error: argument --keep: $work/file: not a directory" "$root/
     if [[ "$(cat "$work/out")" == "$PWD/run/curve.png" && -s run/curve.png && "$(ls run)" == "$(printf 'curve.csv\ncurve.png')" ]]; then
       echo "PASS plot_curve.py without -o wrote and printed run/curve.png"
     else echo "FAIL plot_curve.py without -o printed '$(cat "$work/out")', wrote: $(ls run)"; fail=1; fi
+    # -o DIR: DIR/curve.png (it wrote DIR.png beside it)
+    mkdir figs && expect 0 "" /usr/bin/python3 "$root/scripts/plot_curve.py" c.csv -o figs
+    [[ "$(cat "$work/out")" == figs/curve.png && -s figs/curve.png && ! -e figs.png ]] && echo "PASS plot_curve.py -o figs wrote figs/curve.png" ||
+      { echo "FAIL plot_curve.py -o figs printed '$(cat "$work/out")', wrote: $(ls)"; fail=1; }
+    # a fabric curve.csv as --measured: its load_step and time_s were plotted as measured points
+    expect 1 "plot_curve.py: --measured run/curve.csv: a fabric curve.csv, not a measured curve (x, force N): give it as a curve, before the options" \
+      /usr/bin/python3 "$root/scripts/plot_curve.py" c.csv --measured run/curve.csv
+    # the maximum marked when summary.json's is above every row (a located break between two load steps, no
+    # rupture: it was marked only with a rupture), and not when it is the curve's own largest force
+    printf '{"max_force_N": 1.5, "travel_at_max_force_mm": 0.8, "rupture": null}\n' >run/summary.json
+    here="$PWD"; got="$(cd "$root/scripts" && PYTHONDONTWRITEBYTECODE=1 /usr/bin/python3 -c "import plot_curve; print(plot_curve.read_maximum('$here/run/curve.csv', [0.0, 1.0]), plot_curve.read_maximum('$here/run/curve.csv', [0.0, 1.5]))")"
+    [[ "$got" == "(0.8, 1.5, 'maximum 1.5 N at 0.8 mm') None" ]] && echo "PASS plot_curve.py marks a maximum above the rows: $got" ||
+      { echo "FAIL plot_curve.py read_maximum gave: $got"; fail=1; }
     ;;
   slack_census)
     c="$root/scripts/slack_census.py"
@@ -192,6 +205,16 @@ PY
     printf '3,3,3,1.2' >>run/curve.csv
     expect 1 "bias_table.py: run/curve.csv: line 4 is not a whole row of numbers (a run stopped while writing it?): 3,3,3,1.2" \
       /usr/bin/python3 "$root/scripts/bias_table.py" run
+    # a rupture in load step 3 (its row the tear's, not balanced): it said "every load step balanced: yes" from
+    # summary.json's converged (every load step before the rupture) and compared the tear with the formula
+    mkdir torn && head -n 3 run/curve.csv >torn/curve.csv && printf '3,3,3,0.4,99,0.5,0,5.0\n' >>torn/curve.csv
+    printf '{"gauge_mm": 150, "width_mm": 50, "converged": true, "max_force_N": 0.95, "elongation_at_max_force_pct": 2.9, "rupture": {"load_step": 3, "time_s": 3, "elongation_pct": 3, "force_N": 0.4}}\n' >torn/summary.json
+    expect 0 "" /usr/bin/python3 "$root/scripts/bias_table.py" torn
+    want="$(printf '%11s %11s %11s %11s %11s %11s' 3.00 3.49 5.00 - 0.4 '99*')
+every load step before the rupture balanced: yes; D = 100.000 mm
+ruptured in load step 3, at 3 % elongation (its row: the tear's end); maximum force 0.95 N at 2.9 %"
+    [[ "$(tail -n 3 "$work/out")" == "$want" ]] && echo "PASS bias_table.py on a rupture: its row marked, no difference" ||
+      { echo "FAIL bias_table.py on a rupture printed:"; cat "$work/out"; echo "expected the last lines:"; echo "$want"; fail=1; }
     ;;
   bias_convergence)
     # its arguments are densities: a bad one named as the script's (it went to fabric: "-ends_per_cm abc: not a number")
