@@ -601,6 +601,10 @@ PetscErrorCode IODescribe(FabricIO io, const char *output_dir, PetscBool kept_ch
   if (FramesOn(io, output_dir)) {
     PetscCall(PetscStrlen(buf, &n));
     PetscCall(PetscSNPrintf(buf + n, len - n, ", fabric.h5 and fabric.xmf (%" PetscInt_FMT " frames)", io->frames));
+  } else if (io && output_dir[0] && io->restarted && io->frames > 0 && io->frames_file_ours) { /* FramesOpen kept them */
+    PetscCall(PetscStrlen(buf, &n));
+    PetscCall(PetscSNPrintf(buf + n, len - n, ", fabric.h5 and fabric.xmf (%" PetscInt_FMT " frames, from before the checkpoint)",
+                            io->frames));
   }
   if (kept_checkpoint || (io && io->checkpoints)) { /* one this run wrote (also by -checkpoint_every_te or _s), or
                                                       the restart's own: not a -checkpoint_every past the last load step */
