@@ -118,6 +118,9 @@ def main():
         for k in frames:
             reader.UpdatePipeline(times[k])
             arr = reader.PointData[a.field]
+            if arr is None:  # its arrays past what the file holds: a run killed while writing it
+                sys.exit(f"render.py: frame {k} of {xmf}: {a.field} cannot be read from {h5} (a run killed while writing "
+                         "that frame?); choose others with --frames")
             r = arr.GetRange(-1 if arr.GetNumberOfComponents() > 1 else 0)  # a vector is coloured by its magnitude
             lo, hi = min(lo, r[0]), max(hi, r[1])
         if hi <= lo:
@@ -194,6 +197,9 @@ def main():
     for k in frames:
         view.ViewTime = times[k]
         reader.UpdatePipeline(times[k])
+        if reader.PointData[a.field] is None:  # with --range: the frames were not read before
+            stop(f"render.py: frame {k} of {xmf}: {a.field} cannot be read from {h5} (a run killed while writing "
+                 "that frame?); choose others with --frames")
         step = f"load step {info[k]}, " if k in info else ""
         label.Text = f"frame {k}: {step}t = {times[k]:.6g} s"
         if not a.panel:

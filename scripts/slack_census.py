@@ -34,6 +34,14 @@ def census(x, rest, kind):
     return np.concatenate(strains)
 
 
+def whole(frames, name, count):
+    """frame `name` is counted by the root attribute "frames" and its group opens with its positions"""
+    try:
+        return name.isdigit() and int(name) < count and "positions" in frames[name]
+    except (KeyError, OSError):  # a group that a run killed while writing it left unreadable
+        return False
+
+
 def main():
     p = argparse.ArgumentParser(description="A frame's yarn segments by chord strain (slack, near zero).")
     p.add_argument("h5", help="a run's fabric.h5")
@@ -51,8 +59,8 @@ def main():
                                                          ("grid/point_kind", h5py.Dataset))):
             sys.exit(f"slack_census.py: {a.h5}: not a fabric.h5 (expected /frames, /grid/rest_positions and /grid/point_kind)")
         # a frame is whole once the root attribute "frames" counts it (fabric writes it after the frame's fields)
-        whole = int(f.attrs.get("frames", 0))
-        frames = sorted(int(n) for n in f["frames"] if n.isdigit() and int(n) < whole and "positions" in f["frames"][n])
+        count = int(f.attrs.get("frames", 0))
+        frames = sorted(int(n) for n in f["frames"] if whole(f["frames"], n, count))
         if not frames:
             sys.exit(f"slack_census.py: {a.h5}: no frame written whole in it")
         index = frames[-1] if a.frame is None else a.frame

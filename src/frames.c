@@ -3,7 +3,9 @@
  * Frames are written collectively into PETSc's HDF5 viewer (ViewDMDA: VecView's shapes, without its
  * leak): each rank writes its own patch of the DMDA vectors in the natural (ny, nx, dof) layout,
  * nothing is gathered on one rank, so the file is the same on any number of ranks. fabric.h5 is
- * opened and closed for every frame: between frames it is complete. Rank 0 then adds the frame
+ * opened and closed for every frame: between frames it is complete. A frame's fields are flushed to
+ * the file before the root attribute "frames" counts it: a run killed while writing one leaves the
+ * count at the frames written whole (HDF5 orders its writes only at a flush). Rank 0 then adds the frame
  * to fabric.xmf: its entry and the closing tags in one write, in place (the whole index, aside and
  * renamed into place, at the first frame and after a restart), so the index names only complete
  * frames and a frame costs its own entry (rewriting the whole index made n frames cost n^2).
@@ -219,6 +221,7 @@ static PetscErrorCode WriteFrame(FabricIO io, const FrameSource *src, const Fram
   Vec               disp, tw, tf, sh;
   char              file[PETSC_MAX_PATH_LEN], group[64];
   PetscInt          index = io->frames;
+  hid_t             fid;
   int               count, load_step = (int) f->load_step, te_step = (int) f->te_step;
 
   PetscFunctionBeginUser;
@@ -247,6 +250,9 @@ static PetscErrorCode WriteFrame(FabricIO io, const FrameSource *src, const Fram
   PetscCall(PetscViewerHDF5WriteAttribute(v, NULL, "load_step", PETSC_INT, &load_step));
   PetscCall(PetscViewerHDF5WriteAttribute(v, NULL, "te_step", PETSC_INT, &te_step));
   PetscCall(PetscViewerHDF5PopGroup(v));
+  PetscCall(PetscViewerHDF5GetFileId(v, &fid));
+  PetscCheck(H5Fflush(fid, H5F_SCOPE_GLOBAL) >= 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "-output_dir %s: cannot write %s",
+             dir, file);
   count = (int) index + 1;
   PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "frames", PETSC_INT, &count));
   PetscCall(PetscViewerDestroy(&v));
