@@ -10,6 +10,8 @@ frame, the number of segments, how many are compressed (e < 0: the law's stiffne
 yarn buckling) and how many have |e| below 1e-4, 1e-5, 1e-6 and 1e-7. The law's stiffness jumps at
 e = 0 (docs/static.md, where it still fails: a drape at rest has many segments there). Default
 frame: the last one written whole (a run stopped while writing a frame leaves it without its fields).
+A broken segment (a run with yarn breaking) is counted as the others, with its chord strain:
+fabric.h5 does not say which segments broke.
 """
 import argparse
 import os
