@@ -29,7 +29,33 @@ static const char help[] = "fabric: woven-fabric mechanics at the yarn-crossing 
    KSP type abc", "Unknown vector type: abc" and "Unknown logical value: 2" do not say which option:
    find the one given that value, of the class the message names where it names one (-ksp_type cg
    -pc_type cg: the PC's); a yes/no value, a solver's option first (a name holding snes_, ksp_, pc_,
-   ... anywhere: -sub_pc_ too), since the fabric's own yes/no options say their errors themselves. */
+   ... anywhere: -sub_pc_ too), since the fabric's own yes/no options say their errors themselves. PETSc's
+   "Newly set value -1 less than allowed bound 0" (-da_refine -1, -da_overlap -1): the option given that
+   integer, a PETSc option first likewise. */
+static int PetscsOwn(const char *nm)
+{
+  static const char *const part[] = {"snes_", "ksp_", "pc_", "mg_", "tao_", "mat_", "da_", "dm_"};
+  for (size_t k = 0; k < sizeof part / sizeof part[0]; k++)
+    if (strstr(nm, part[k])) return 1;
+  return 0;
+}
+
+/* the given option whose value is the integer v (as PETSc reads one), a PETSc option first; "" if none */
+static void GivenInteger(long long v, char *found, size_t len)
+{
+  OptionsGiven g;
+  found[0] = 0;
+  if (OptionsGivenGet(&g)) return;
+  for (int pass = 0; pass < 2 && !found[0]; pass++)
+    for (PetscInt q = 0; q < g.n && !found[0]; q++) {
+      char     *end;
+      long long w = strtoll(g.value[q], &end, 10);
+      if (end == g.value[q] || *end || w != v || (!pass && !PetscsOwn(g.name[q]))) continue;
+      snprintf(found, len, "%s", g.name[q]);
+    }
+  OptionsGivenFree(&g);
+}
+
 static void NameTheOption(const char *mess, char *out, size_t len)
 {
   static const char *const classes[][2] = {
@@ -54,14 +80,23 @@ static void NameTheOption(const char *mess, char *out, size_t len)
       for (PetscInt q = 0; q < g.n && !found[0]; q++) {
         const char *nm = g.name[q];
         if (strcmp(g.value[q], value)) continue;
-        if (!pass && !(strstr(nm, "snes_") || strstr(nm, "ksp_") || strstr(nm, "pc_") || strstr(nm, "mg_") ||
-                       strstr(nm, "tao_") || strstr(nm, "mat_")))
-          continue;
+        if (!pass && !PetscsOwn(nm)) continue;
         snprintf(found, sizeof found, "%s", nm);
       }
     OptionsGivenFree(&g);
     if (found[0]) snprintf(out, len, "%s %s: not a yes/no value (use 1 or 0, true or false)", found, value);
     return;
+  }
+  {
+    long long v, bound;
+    char      rel[16];
+    if (sscanf(mess, "Newly set value %lld %15s than allowed bound %lld", &v, rel, &bound) == 3) {
+      GivenInteger(v, found, sizeof found);
+      if (found[0])
+        snprintf(out, len, "%s %lld: PETSc takes %s %lld for it", found, v, strcmp(rel, "less") ? "at most" : "at least",
+                 bound);
+      return;
+    }
   }
   if (!strncmp(mess, "Cannot create VECSEQ on more than one process", 45)) { /* -dm_vec_type seq on 2 ranks */
     if (OptionsGivenGet(&g)) return;

@@ -1552,6 +1552,15 @@ PetscErrorCode SceneCheckUnused(MPI_Comm comm, PetscBool solver_options_later)
                "-fp_trap: the force kernels evaluate both arms of their selects, so a trap would fire on a value "
                "they discard; a value that is not finite stops the run with its own message");
   }
+  { /* -dm_mat_type: DMSetFromOptions takes it (any value), and no matrix of the fabric's is made from it */
+    char      type[256] = "";
+    PetscBool set;
+    PetscCall(PetscOptionsGetString(NULL, NULL, "-dm_mat_type", type, sizeof type, &set));
+    PetscCheck(!set, comm, PETSC_ERR_USER_INPUT,
+               "-dm_mat_type %s: not read: the fabric makes its matrices itself (the quasi-static tangent's storage: "
+               "-static_tangent stencil or aij)",
+               type);
+  }
   PetscCall(PetscOptionsLeftGet(NULL, &n, &names, &values));
   for (PetscInt q = 0; q < n; q++) {
     char name[256];

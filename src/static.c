@@ -2008,7 +2008,7 @@ PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
                    bad);
       }
     }
-    { /* -mat_type itself (-dm_mat_type is the assembled tangent's: DMCreateMatrix checks it as it is made) */
+    { /* -mat_type itself (-dm_mat_type is refused: SceneCheckUnused) */
       OptionsGiven g;
       bad[0] = 0;
       PetscCheck(!OptionsGivenGet(&g), PETSC_COMM_SELF, PETSC_ERR_MEM, "cannot list the options given");
