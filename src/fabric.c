@@ -776,6 +776,25 @@ static PetscErrorCode CheckBodiesAtRest(Fabric fab, const DMDALocalInfo *info)
         if (p > deep) deep = p, at = j * fab->s.spec.nx + i;
       }
     PetscCall(GlobalArgMax(fab->comm, &deep, &at));
+    if (b->kind == BODY_PEDESTAL) { /* the fabric's only support (a drape without a clamp, a net resting on it): a
+                                       pedestal between crossings held none, and the fabric fell past it */
+      const Clamps *cl   = &fab->s.clamps;
+      PetscInt      over = 0;
+      if (cl->clamp == CLAMP_NONE && !cl->clamp_lines && !cl->grip_lines && !sb->plane) {
+        for (PetscInt j = info->ys; j < info->ys + info->ym; j++)
+          for (PetscInt i = info->xs; i < info->xs + info->xm; i++) {
+            const PetscScalar *xk = x0 + 3 * ((j - info->ys) * info->xm + i - info->xs);
+            over += PointExists(&fab->s, i, j) && PetscSqr(xk[0] - c[0]) + PetscSqr(xk[1] - c[1]) <= PetscSqr(b->radius);
+          }
+        PetscCall(GlobalSumInt(fab->comm, &over, 1));
+        if (!over) PetscCall(VecRestoreArrayRead(fab->grid.X0, &x0));
+        PetscCheck(over > 0, fab->comm, PETSC_ERR_USER_INPUT,
+                   "-pedestal_diameter_mm %g: no crossing lies over the pedestal (yarn spacing %g x %g mm), and nothing "
+                   "else holds the fabric (-clamp none): it would fall past it; widen the pedestal or use a denser grid",
+                   (double) (2e3 * sb->pedestal_radius), 1e3 / (double) fab->s.spec.ends_per_m,
+                   1e3 / (double) fab->s.spec.picks_per_m);
+      }
+    }
     if (deep > 1e-6 * b->reach) PetscCall(VecRestoreArrayRead(fab->grid.X0, &x0)); /* refused below: X0 unlocked */
     if (b->kind == BODY_PLANE)
       PetscCheck(!(deep > 1e-6 * b->reach), fab->comm, PETSC_ERR_USER_INPUT,

@@ -206,9 +206,9 @@ static void ShadowSegment(const PetscReal a[2], const PetscReal b[2], PetscReal 
 }
 
 /* the outline r(theta) of the positions X seen from above (DRAPE_RAYS rays), the area it
-   encloses and the largest drop of a crossing */
-static PetscErrorCode Outline(MPI_Comm comm, const FabricGrid *g, Vec X, PetscReal r[DRAPE_RAYS], PetscReal *area,
-                              PetscReal *drop)
+   encloses and the largest drop of a crossing; within > 0: of the crossings that far from the centre at most */
+static PetscErrorCode Outline(MPI_Comm comm, const FabricGrid *g, Vec X, PetscReal within, PetscReal r[DRAPE_RAYS],
+                              PetscReal *area, PetscReal *drop)
 {
   const Patch       *p = &g->patch;
   const PetscScalar *x;
@@ -225,11 +225,13 @@ static PetscErrorCode Outline(MPI_Comm comm, const FabricGrid *g, Vec X, PetscRe
       const PetscInt li = i - p->gxs, lj = j - p->gys, k = lj * p->gxm + li;
       if (!p->exists[k]) continue;
       const PetscReal a[2] = {x[3 * k] - g->centre[0], x[3 * k + 1] - g->centre[1]};
+      if (within > 0 && a[0] * a[0] + a[1] * a[1] > within * within * (1 + 1e-12)) continue;
       *drop                = PetscMax(*drop, -x[3 * k + 2]);
       for (int dir = 0; dir < 2; dir++) { /* the segments to the +x and +y neighbours */
         const PetscInt n = dir == 0 ? k + 1 : k + p->gxm;
         if ((dir == 0 ? li + 1 >= p->gxm : lj + 1 >= p->gym) || !p->exists[n]) continue;
         const PetscReal b[2] = {x[3 * n] - g->centre[0], x[3 * n + 1] - g->centre[1]};
+        if (within > 0 && b[0] * b[0] + b[1] * b[1] > within * within * (1 + 1e-12)) continue;
         ShadowSegment(a, b, r);
       }
     }
@@ -247,7 +249,7 @@ PetscErrorCode DrapeSetUp(Fabric fab)
   PetscReal    r[DRAPE_RAYS], drop, a_disc = PETSC_PI * PetscSqr(DrapeSupportRadius(s));
 
   PetscFunctionBeginUser;
-  PetscCall(Outline(fab->comm, &fab->grid, fab->grid.X0, r, &fab->meas.drape_flat_area, &drop));
+  PetscCall(Outline(fab->comm, &fab->grid, fab->grid.X0, 0, r, &fab->meas.drape_flat_area, &drop));
   PetscCheck(a_disc < fab->meas.drape_flat_area, fab->comm, PETSC_ERR_USER_INPUT,
              "%s %g mm: the support covers the specimen's flat outline on this grid (the area of a %g mm disc; the grid's "
              "edge lies inside the nominal %g mm disc): nothing hangs over it, and the drape coefficient (A_shadow - "
@@ -256,6 +258,19 @@ PetscErrorCode DrapeSetUp(Fabric fab)
                                                                : "-pedestal_diameter_mm",
              2e3 * (double) DrapeSupportRadius(s), 2e3 * (double) PetscSqrtReal(fab->meas.drape_flat_area / PETSC_PI),
              2e3 * (double) s->spec.disc_radius);
+  { /* the support as the grid has it: the outline of its crossings within the support's radius. On a coarse grid
+       it falls well inside the nominal disc, the skirt hangs inside A_disc, and the drape coefficient came out below
+       0 (-30 % at 0.2 threads/cm) */
+    PetscReal held;
+    PetscCall(Outline(fab->comm, &fab->grid, fab->grid.X0, DrapeSupportRadius(s), r, &held, &drop));
+    PetscCheck(held >= 0.75 * a_disc, fab->comm, PETSC_ERR_USER_INPUT,
+               "-ends_per_cm %g -picks_per_cm %g: too coarse a grid for the drape's %g mm support: its crossings there "
+               "span %.0f mm^2, %.0f %% of the nominal disc's %.0f mm^2 (A_disc of the drape coefficient), so the skirt "
+               "can hang inside that disc and the drape coefficient has no meaning (it can come out below 0); use a "
+               "denser grid (at least 75 %%: 2 threads/cm give 92 %%)",
+               (double) (s->spec.ends_per_m / 100), (double) (s->spec.picks_per_m / 100), 2e3 * (double) DrapeSupportRadius(s),
+               1e6 * (double) held, 100 * (double) (held / a_disc), 1e6 * (double) a_disc);
+  }
   PetscFunctionReturn(0);
 }
 
@@ -270,8 +285,8 @@ PetscErrorCode DrapeOutline(Fabric fab, CurveRow *row)
      outline of the grid's edge lies inside the nominal circle, so the flat specimen gives
      DC = 100 % */
   if (fab->meas.drape_flat_area <= 0)
-    PetscCall(Outline(fab->comm, &fab->grid, fab->grid.X0, r, &fab->meas.drape_flat_area, &drop));
-  PetscCall(Outline(fab->comm, &fab->grid, fab->state.X, r, &area, &drop));
+    PetscCall(Outline(fab->comm, &fab->grid, fab->grid.X0, 0, r, &fab->meas.drape_flat_area, &drop));
+  PetscCall(Outline(fab->comm, &fab->grid, fab->state.X, 0, r, &area, &drop));
   a_disc = PETSC_PI * PetscSqr(DrapeSupportRadius(s));
   fab->meas.drape_pct =
       100.0 * ((area - a_disc) / (fab->meas.drape_flat_area - a_disc)); /* the flat specimen: 100 * 1 exactly */
