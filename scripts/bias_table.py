@@ -41,7 +41,7 @@ def main():
         sys.exit(f"bias_table.py: {a.run}/curve.csv: no load step (the run stopped before its first){why}")
     for k, r in enumerate(rows, start=2):  # a row cut short (a run stopped while writing it) or not numbers
         try:
-            [float(r[c]) for c in ("travel_mm", "center_shear_deg", "force_N")]
+            [float(r[c]) for c in ("load_step", "travel_mm", "center_shear_deg", "force_N")]
         except (TypeError, ValueError):
             sys.exit(f"bias_table.py: {a.run}/curve.csv: line {k} is not a whole row of numbers "
                      f"(a run stopped while writing it?): {','.join(v for v in r.values() if isinstance(v, str))}")
@@ -53,8 +53,8 @@ def main():
     else:
         print(" ".join(f"{h:>11}" for h in head))
     rupture = summary.get("rupture") or {}
-    for step, r in enumerate(rows, start=1):
-        torn = step == rupture.get("load_step")
+    for r in rows:
+        torn = int(float(r.get("load_step") or 0)) == rupture.get("load_step")
         d, centre = float(r["travel_mm"]), float(r["center_shear_deg"])
         c = (D + d) / (math.sqrt(2) * D)
         formula = 90 - 2 * math.degrees(math.acos(c)) if c <= 1 else None
@@ -64,7 +64,8 @@ def main():
         print("| " + " | ".join(cells) + " |" if a.markdown else " ".join(f"{x:>11}" for x in cells))
     if summary.get("error"):  # the table is the run's first load steps only
         sys.exit(f"bias_table.py: {a.run}: the run stopped after {len(rows)} load steps: {summary['error']}")
-    balanced = all(r.get("balanced", "1") == "1" for k, r in enumerate(rows, start=1) if k != rupture.get("load_step"))
+    balanced = all(r.get("balanced", "1") == "1" for r in rows
+                   if int(float(r.get("load_step") or 0)) != rupture.get("load_step"))
     print(f"every load step{' before the rupture' if rupture else ''} balanced: {'yes' if balanced else 'NO (*)'}; "
           f"D = {D:.3f} mm")
     if rupture:

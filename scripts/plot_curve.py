@@ -55,14 +55,12 @@ def read_maximum(path, forces):
         s = json.load(open(summary))
     except (OSError, ValueError):
         return None
-    if not isinstance(s.get("max_force_N"), (int, float)):
+    x = s.get("elongation_at_max_force_pct", s.get("travel_at_max_force_mm"))
+    if not isinstance(s.get("max_force_N"), (int, float)) or not isinstance(x, (int, float)):
         return None
     if not s.get("rupture") and s["max_force_N"] <= max(forces):
         return None
-    if "elongation_at_max_force_pct" in s:
-        x, unit = s["elongation_at_max_force_pct"], "%"
-    else:
-        x, unit = s["travel_at_max_force_mm"], "mm"
+    unit = "%" if "elongation_at_max_force_pct" in s else "mm"
     return x, s["max_force_N"], f"maximum {s['max_force_N']:.4g} N at {x:.4g} {unit}"
 
 
@@ -106,6 +104,8 @@ def main():
     if len(labels) != len(a.curves):
         sys.exit(f"plot_curve.py: --labels gives {len(labels)} labels for {len(a.curves)} curves")
     fig, ax = plt.subplots(figsize=(8, 5.5), dpi=120)
+    if a.out and os.path.isdir(a.out):  # it wrote DIR.png beside the directory (DIR.v2: "unknown image format")
+        a.out = os.path.join(a.out, "curve.png")
     ext = os.path.splitext(a.out or "")[1][1:].lower()
     if ext and ext not in fig.canvas.get_supported_filetypes():
         p.error(f"argument -o/--out: {a.out}: unknown image format '.{ext}' (png, pdf, svg, ...)")
@@ -129,8 +129,6 @@ def main():
     ax.grid(True, alpha=0.3)
     ax.legend()
     out = a.out or os.path.join(os.path.dirname(os.path.abspath(a.curves[0])), "curve.png")
-    if os.path.isdir(out):  # it wrote DIR.png beside the directory
-        out = os.path.join(out, "curve.png")
     if not os.path.splitext(out)[1][1:]:  # matplotlib adds .png to a name without one: print the file it writes
         out = out.rstrip(".") + "." + plt.rcParams["savefig.format"]
     fig.tight_layout()

@@ -222,7 +222,7 @@ static PetscErrorCode WriteFrame(FabricIO io, const FrameSource *src, const Fram
   char              file[PETSC_MAX_PATH_LEN], group[64];
   PetscInt          index = io->frames;
   hid_t             fid;
-  int               count, load_step = (int) f->load_step, te_step = (int) f->te_step;
+  int               flushed, count, load_step = (int) f->load_step, te_step = (int) f->te_step;
 
   PetscFunctionBeginUser;
   if (io->frames && io->frame[io->frames - 1].load_step == f->load_step &&
@@ -251,8 +251,9 @@ static PetscErrorCode WriteFrame(FabricIO io, const FrameSource *src, const Fram
   PetscCall(PetscViewerHDF5WriteAttribute(v, NULL, "te_step", PETSC_INT, &te_step));
   PetscCall(PetscViewerHDF5PopGroup(v));
   PetscCall(PetscViewerHDF5GetFileId(v, &fid));
-  PetscCheck(H5Fflush(fid, H5F_SCOPE_GLOBAL) >= 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "-output_dir %s: cannot write %s",
-             dir, file);
+  flushed = H5Fflush(fid, H5F_SCOPE_GLOBAL) >= 0;
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &flushed, 1, MPI_INT, MPI_MIN, src->comm));
+  PetscCheck(flushed, src->comm, PETSC_ERR_FILE_WRITE, "-output_dir %s: cannot write %s", dir, file);
   count = (int) index + 1;
   PetscCall(PetscViewerHDF5WriteAttribute(v, "/", "frames", PETSC_INT, &count));
   PetscCall(PetscViewerDestroy(&v));
@@ -387,6 +388,14 @@ PetscErrorCode FramesOpen(FabricIO io, const FrameSource *src, const FrameInfo *
   if (io->restarted && io->frames > 0) PetscCall(DropFramesAfterCheckpoint(io, src, file));
   else {
     io->frames = 0;
+    PetscMPIInt rank;
+    PetscCall(CommRank(src->comm, &rank));
+    if (rank == 0) { /* the earlier run's index goes with its fabric.h5, which CreateFile replaces: this run writes its
+                         own after its first frame, and one stopped before it left that index beside its new file */
+      char xmf[PETSC_MAX_PATH_LEN];
+      PetscCall(PetscSNPrintf(xmf, sizeof xmf, "%s/fabric.xmf", dir));
+      (void) unlink(xmf);
+    }
     PetscCall(CreateFile(io, src, file));
     PetscCall(WriteFrame(io, src, start));
   }

@@ -267,7 +267,7 @@ PetscErrorCode DrapeSetUp(Fabric fab)
                "-ends_per_cm %g -picks_per_cm %g: too coarse a grid for the drape's %g mm support: its crossings there "
                "span %.0f mm^2, %.0f %% of the nominal disc's %.0f mm^2 (A_disc of the drape coefficient), so the skirt "
                "can hang inside that disc and the drape coefficient has no meaning (it can come out below 0); use a "
-               "denser grid (at least 75 %%: 2 threads/cm give 92 %%)",
+               "denser grid or a wider support (at least 75 %%)",
                (double) (s->spec.ends_per_m / 100), (double) (s->spec.picks_per_m / 100), 2e3 * (double) DrapeSupportRadius(s),
                1e6 * (double) held, 100 * (double) (held / a_disc), 1e6 * (double) a_disc);
   }

@@ -193,12 +193,6 @@ PetscErrorCode OutputOpen(Fabric fab)
       if (!RestartsFrom(dir, fab->s.out.restart)) RemoveStale(dir, "checkpoint.h5", "fabric_checkpoint");
       if (!fab->s.out.restart[0] && !IOWritesFrames(fab->io) && RemoveStale(dir, "fabric.h5", "frames"))
         RemoveStale(dir, "fabric.xmf", NULL); /* its index */
-      if (!fab->s.out.restart[0] && IOWritesFrames(fab->io)) { /* this run writes both anew, the index after its first
-                                                                  frame: a run stopped before it left the earlier run's
-                                                                  index beside its own fabric.h5 */
-        PetscCall(PetscSNPrintf(file, sizeof file, "%s/fabric.xmf", dir));
-        (void) unlink(file);
-      }
     }
     if (!status[0]) {
       PetscCall(PetscSNPrintf(file, sizeof file, "%s/curve.csv", dir));
