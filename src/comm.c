@@ -281,18 +281,23 @@ PetscErrorCode GlobalSumsExactScaled(MPI_Comm comm, PetscInt m, const PetscReal 
     if (!(scale[c] > 0) || !isfinite(scale[c])) continue; /* all zero (or a NaN the caller's watch reports) */
     const PetscReal inv_q = ldexp(1.0, EXACT_SUM_BITS) / scale[c], *t = terms + c * n;
     if (isfinite(inv_q)) isum[c] = (long long) QuantisedSum(t, n, inv_q);
-    else { /* a subnormal scale: y = +-inf or NaN, llround's LLONG_MIN each */
+    else { /* a scale below 2^40 / DBL_MAX (about 6e-297): 1/q overflows, so each term is scaled by a power of two,
+              exactly, onto the grid q = 2^(e - 40), |t| < 2^e (it gave LLONG_MIN for every term: wrong sums, and an
+              overflow in RoundHalfAway) */
+      const int          e = ilogb(scale[c]) + 1;
       unsigned long long s = 0;
-      for (PetscInt k = 0; k < n; k++) s += (unsigned long long) RoundHalfAway(t[k] * inv_q);
+      for (PetscInt k = 0; k < n; k++) s += (unsigned long long) RoundHalfAway(ldexp(t[k], EXACT_SUM_BITS - e));
       isum[c] = (long long) s;
     }
   }
   PetscCall(PetscLogEventBegin(EV_Reduce, 0, 0, 0, 0));
   PetscCallMPI(MPI_Allreduce(isum, total, count, MPI_LONG_LONG, MPI_SUM, comm));
   PetscCall(PetscLogEventEnd(EV_Reduce, 0, 0, 0, 0));
-  for (PetscInt c = 0; c < m; c++)
-    sums[c] = (scale[c] > 0 && isfinite(scale[c])) ? (PetscReal) total[c] * (scale[c] / ldexp(1.0, EXACT_SUM_BITS))
-                                                   : (scale[c] > 0 ? scale[c] : 0.0);
+  for (PetscInt c = 0; c < m; c++) {
+    if (!(scale[c] > 0 && isfinite(scale[c]))) sums[c] = scale[c] > 0 ? scale[c] : 0.0;
+    else if (isfinite(ldexp(1.0, EXACT_SUM_BITS) / scale[c])) sums[c] = (PetscReal) total[c] * (scale[c] / ldexp(1.0, EXACT_SUM_BITS));
+    else sums[c] = ldexp((PetscReal) total[c], ilogb(scale[c]) + 1 - EXACT_SUM_BITS); /* the grid of the tiny scale */
+  }
   PetscFunctionReturn(0);
 }
 

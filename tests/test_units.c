@@ -1296,6 +1296,18 @@ static PetscErrorCode TestSetUp(void)
     PetscCall(ExpectReal("GlobalSumsExact, each rank's largest term its last: ranks x (1 + 2^20)", sums[1],
                          size * (1.0 + big), 0));
   }
+  { /* a scale below 2^40 / DBL_MAX: 2^40 / scale overflows (every term became LLONG_MIN: the sums were garbage, and
+       RoundHalfAway overflowed a signed integer); the same powers of 2 times 2^-1000 and 2^-1070 (subnormal) */
+    for (int e = 1000; e <= 1070; e += 70) {
+      PetscReal terms[10] = {0, 0, 0, 0, ldexp(1.0, rank - e), ldexp(1.0, 20 - e), 0, 0, 0, -ldexp(1.0, 21 - e)}, sums[2];
+      char      what[128];
+      PetscCall(GlobalSumsExact(PETSC_COMM_WORLD, 2, terms, 5, sums));
+      PetscCall(PetscSNPrintf(what, sizeof what, "GlobalSumsExact of terms 2^-%d times 2^rank: (2^ranks - 1) 2^-%d", e, e));
+      PetscCall(ExpectReal(what, sums[0], ldexp(ldexp(1.0, size) - 1, -e), 0));
+      PetscCall(PetscSNPrintf(what, sizeof what, "GlobalSumsExact of 2^(20-%d) - 2^(21-%d) a rank: -ranks 2^(20-%d)", e, e, e));
+      PetscCall(ExpectReal(what, sums[1], -size * ldexp(1.0, 20 - e), 0));
+    }
+  }
   PetscFunctionReturn(0);
 }
 
