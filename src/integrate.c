@@ -599,6 +599,18 @@ static PetscErrorCode InstabilityCause(Fabric fab, char *cause, size_t len)
                               (double) load, (double) (load * inv_m_load * te2)));
       PetscFunctionReturn(0);
     }
+    if (load * inv_m_load * te2 > PetscMin(fab->grid.patch.ax, fab->grid.patch.ay)) { /* a soft de-crimping branch
+                                                                                          sets te, the load's jump
+                                                                                          lands on the stiff one */
+      PetscCall(PetscSNPrintf(cause, len,
+                              "; the point load (-point_load_N, %g N at this load step) moves its crossing %g m in one "
+                              "te step, more than a yarn spacing (%g m): past the yarn law's soft part (de-crimping) "
+                              "onto its stiff one, whose stable step is shorter; more load steps (-load_steps), a "
+                              "smaller -te_safety, or -solver static",
+                              (double) load, (double) (load * inv_m_load * te2),
+                              (double) PetscMin(fab->grid.patch.ax, fab->grid.patch.ay)));
+      PetscFunctionReturn(0);
+    }
   }
   if (fab->step.te <= fab->step.te_bound && !fab->s.bodies.plane && fab->s.bodies.pedestal_radius == 0 &&
       fab->s.bodies.sphere_radius == 0) { /* yarns that cannot carry the fabric's own weight (no body does): a yarn
@@ -746,7 +758,7 @@ PetscErrorCode TimeStep(Fabric fab, StepStats *out)
   out->tension_max = red[2];
   out->residual    = PetscSqrtReal(red[0]) / PetscMax(red[2], fab->step.force_floor);
   if (!(out->speed * fab->step.te <= fab->grid.extent)) { /* every rank: the speed is reduced */
-    char cause[320];
+    char cause[512];
     PetscCall(InstabilityCause(fab, cause, sizeof cause));
     SETERRQ(fab->comm, PETSC_ERR_FP,
             "numerical instability at load step %" PetscInt_FMT ", te step %" PetscInt64_FMT
