@@ -53,8 +53,8 @@ def main():
     else:
         print(" ".join(f"{h:>11}" for h in head))
     rupture = summary.get("rupture") or {}
-    for r in rows:
-        torn = int(float(r.get("load_step") or 0)) == rupture.get("load_step")
+    torn_row = [int(float(r["load_step"])) == rupture.get("load_step") for r in rows]  # the rupture's: its tear
+    for r, torn in zip(rows, torn_row):
         d, centre = float(r["travel_mm"]), float(r["center_shear_deg"])
         c = (D + d) / (math.sqrt(2) * D)
         formula = 90 - 2 * math.degrees(math.acos(c)) if c <= 1 else None
@@ -64,8 +64,7 @@ def main():
         print("| " + " | ".join(cells) + " |" if a.markdown else " ".join(f"{x:>11}" for x in cells))
     if summary.get("error"):  # the table is the run's first load steps only
         sys.exit(f"bias_table.py: {a.run}: the run stopped after {len(rows)} load steps: {summary['error']}")
-    balanced = all(r.get("balanced", "1") == "1" for r in rows
-                   if int(float(r.get("load_step") or 0)) != rupture.get("load_step"))
+    balanced = all(r.get("balanced", "1") == "1" for r, torn in zip(rows, torn_row) if not torn)
     print(f"every load step{' before the rupture' if rupture else ''} balanced: {'yes' if balanced else 'NO (*)'}; "
           f"D = {D:.3f} mm")
     if rupture:

@@ -111,6 +111,10 @@ def main():
         sys.exit(f"render.py: {xmf} and {h5} give no field: damaged or cut short (a run stopped while writing them?)")
     if a.field not in names:
         sys.exit(f"render.py: --field {a.field}: not a field of {xmf} (it has {', '.join(names)})")
+    def unreadable(k):
+        return (f"render.py: frame {k} of {xmf}: {a.field} cannot be read from {h5} (a run killed while writing that "
+                "frame?); choose others with --frames")
+
     if a.range:
         lo, hi = a.range
     else:
@@ -119,8 +123,7 @@ def main():
             reader.UpdatePipeline(times[k])
             arr = reader.PointData[a.field]
             if arr is None:  # its arrays past what the file holds: a run killed while writing it
-                sys.exit(f"render.py: frame {k} of {xmf}: {a.field} cannot be read from {h5} (a run killed while writing "
-                         "that frame?); choose others with --frames")
+                sys.exit(unreadable(k))
             r = arr.GetRange(-1 if arr.GetNumberOfComponents() > 1 else 0)  # a vector is coloured by its magnitude
             lo, hi = min(lo, r[0]), max(hi, r[1])
         if hi <= lo:
@@ -198,8 +201,7 @@ def main():
         view.ViewTime = times[k]
         reader.UpdatePipeline(times[k])
         if reader.PointData[a.field] is None:  # with --range: the frames were not read before
-            stop(f"render.py: frame {k} of {xmf}: {a.field} cannot be read from {h5} (a run killed while writing "
-                 "that frame?); choose others with --frames")
+            stop(unreadable(k))
         step = f"load step {info[k]}, " if k in info else ""
         label.Text = f"frame {k}: {step}t = {times[k]:.6g} s"
         if not a.panel:

@@ -573,19 +573,6 @@ static PetscErrorCode CheckStiffnessAndMass(Fabric fab)
   PetscReal       m[2] = {0, 0}; /* minus the lightest and the heaviest positive point mass */
 
   PetscFunctionBeginUser;
-  for (int y = 0; y < 2; y++) { /* warp segments span the weft spacing, weft segments the warp spacing */
-    const PetscReal k = law[y]->EA / L0[y];
-    const char     *n = law[y]->name, *spacing = y ? "ends" : "picks";
-    PetscCheck(isnormal(k) || law[y]->csv[0], fab->comm, PETSC_ERR_USER_INPUT,
-               "the %s yarn segments' stiffness EA/L0 is %g N/m, not a normal positive number: -%s_tex %g x "
-               "-%s_modulus_cN_tex %g at %g %s/cm",
-               n, (double) k, n, (double) law[y]->tex, n, (double) s->in.yarn[y].modulus_cN_tex, (double) density[y],
-               spacing);
-    PetscCheck(isnormal(k), fab->comm, PETSC_ERR_USER_INPUT,
-               "the %s yarn segments' stiffness EA/L0 is %g N/m, not a normal positive number: -%s_law_csv %s at %g "
-               "%s/cm",
-               n, (double) k, n, law[y]->csv, (double) density[y], spacing);
-  }
   for (int q = 0; q < p->ncb; q++) kcontact += p->cb[q].k;
   PetscCheck(isfinite(p->kbx) && isfinite(p->kby) && isfinite(p->Ks) && isfinite(p->Kj) && isfinite(kcontact),
              fab->comm, PETSC_ERR_USER_INPUT,
@@ -609,20 +596,23 @@ static PetscErrorCode CheckStiffnessAndMass(Fabric fab)
              "integrate (below 2.2e-308 kg, 1/m overflows)",
              (double) s->in.yarn[0].tex, (double) s->in.yarn[1].tex, (double) s->in.ends_per_cm,
              (double) s->in.picks_per_cm, (double) -m[0], (double) m[1]);
-  for (int y = 0; y < 2; y++) { /* at least YARN_K_MIN (after the masses: their message says more of a tiny tex): a
-                                   yarn so soft that its forces' squares underflow gave the balance test norms of 0,
-                                   and a strip 18 % off its force was reported balanced (-warp_modulus_cN_tex 5e-290) */
+  for (int y = 0; y < 2; y++) { /* warp segments span the weft spacing, weft segments the warp spacing; after the
+                                   masses, whose message says more of a tiny tex. At least YARN_K_MIN: a yarn so soft
+                                   that its forces' squares underflow gave the balance test norms of 0, and a strip
+                                   18 % off its force was reported balanced (-warp_modulus_cN_tex 5e-290) */
     const PetscReal k = law[y]->EA / L0[y];
     const char     *n = law[y]->name, *spacing = y ? "ends" : "picks";
-    PetscCheck(k >= YARN_K_MIN || law[y]->csv[0], fab->comm, PETSC_ERR_USER_INPUT,
-               "the %s yarn segments' stiffness EA/L0 is %g N/m: -%s_tex %g x -%s_modulus_cN_tex %g at %g %s/cm (at "
-               "least %g N/m: smaller forces underflow in the balance test's sums of squares)",
-               n, (double) k, n, (double) law[y]->tex, n, (double) s->in.yarn[y].modulus_cN_tex, (double) density[y],
-               spacing, YARN_K_MIN);
-    PetscCheck(k >= YARN_K_MIN, fab->comm, PETSC_ERR_USER_INPUT,
-               "the %s yarn segments' stiffness EA/L0 is %g N/m: -%s_law_csv %s at %g %s/cm (at least %g N/m: smaller "
-               "forces underflow in the balance test's sums of squares)",
-               n, (double) k, n, law[y]->csv, (double) density[y], spacing, YARN_K_MIN);
+    char            what[128];
+    PetscCall(PetscSNPrintf(what, sizeof what, isnormal(k) ? "below %g N/m, where smaller forces underflow in the balance "
+                                                             "test's sums of squares" : "not a normal positive number",
+                            YARN_K_MIN));
+    PetscCheck((isnormal(k) && k >= YARN_K_MIN) || law[y]->csv[0], fab->comm, PETSC_ERR_USER_INPUT,
+               "the %s yarn segments' stiffness EA/L0 is %g N/m, %s: -%s_tex %g x -%s_modulus_cN_tex %g at %g %s/cm", n,
+               (double) k, what, n, (double) law[y]->tex, n, (double) s->in.yarn[y].modulus_cN_tex, (double) density[y],
+               spacing);
+    PetscCheck(isnormal(k) && k >= YARN_K_MIN, fab->comm, PETSC_ERR_USER_INPUT,
+               "the %s yarn segments' stiffness EA/L0 is %g N/m, %s: -%s_law_csv %s at %g %s/cm", n, (double) k, what, n,
+               law[y]->csv, (double) density[y], spacing);
   }
   PetscFunctionReturn(0);
 }

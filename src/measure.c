@@ -263,6 +263,8 @@ PetscErrorCode DrapeSetUp(Fabric fab)
        0 (-30 % at 0.2 threads/cm) */
     PetscReal held;
     PetscCall(Outline(fab->comm, &fab->grid, fab->grid.X0, DrapeSupportRadius(s), r, &held, &drop));
+    PetscCall(PetscInfo(NULL, "drape: the support's crossings span %.0f mm^2, %.1f %% of the nominal disc's %.0f mm^2\n",
+                        1e6 * (double) held, 100 * (double) (held / a_disc), 1e6 * (double) a_disc));
     PetscCheck(held >= 0.75 * a_disc, fab->comm, PETSC_ERR_USER_INPUT,
                "-ends_per_cm %g -picks_per_cm %g: too coarse a grid for the drape's %g mm support: its crossings there "
                "span %.0f mm^2, %.0f %% of the nominal disc's %.0f mm^2 (A_disc of the drape coefficient), so the skirt "
