@@ -1671,6 +1671,10 @@ static PetscBool LineDampingOk(const char *value)
 }
 static PetscBool LineMinOk(const char *value) { return RtolOk(value); } /* the same range */
 
+/* the multigrid's cycles per application: a whole number, 1 or more (0, -1 and PETSc's word "default", read as -2,
+   made a zero preconditioner; no load step balanced) */
+static PetscBool CyclesOk(const char *value) { return WholeIn(value, 1, PETSC_MAX_INT); }
+
 static PetscBool GamgTypeOk(const char *value)
 {
   return !strcmp(value, PCGAMGAGG) ? PETSC_TRUE : PETSC_FALSE;
@@ -1982,6 +1986,9 @@ PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
           {"snes_linesearch_damping", LineDampingOk,
            "the line search's first step, a fraction of Newton's step above 0 and at most 2"},
           {"snes_linesearch_minlambda", LineMinOk, "the smallest step the line search tries, from 0 to below 1"},
+          {"pc_mg_multiplicative_cycles", CyclesOk,
+           "the multigrid's cycles each time it is applied, a whole number, 1 or more (with none it gives zero and no "
+           "load step balances)"},
           {"pc_type", PcTypeOk,
            "telescope needs the tangent assembled by PETSc on a sub-grid, patch a DMPlex; the quasi-static path "
            "assembles its own tangent on the grid's DMDA (use mg, gamg, lu ...)"},
