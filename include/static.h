@@ -23,10 +23,6 @@ PetscErrorCode StaticDestroy(StaticSolver *ss);
    driver brings it to the load step and solves it (its coarser ones first) before this one's solve,
    which starts from the coarse change interpolated */
 void StaticCoarser(StaticSolver ss, Fabric *cfab, StaticSolver *coarse);
-/* the solver's own options (-snes_shift_start, -snes_shift_carry, -snes_extrapolate,
-   -mg_line_smoother, -mg_line_lump, -snes_convex_tangent): listed under -help, and their values
-   checked before a run writes anything */
-PetscErrorCode StaticOptionsCheck(MPI_Comm comm);
 typedef struct {         /* a solve under way, after one of its Newton steps */
   PetscInt  attempt_its; /* Newton steps of the current attempt (a failed attempt is retried, stiffer) */
   PetscInt  its, lits;   /* Newton steps and Krylov iterations of the solve so far, every attempt */

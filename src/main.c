@@ -6,6 +6,7 @@
  */
 #include "relax.h"
 #include "static.h"
+#include "static_options.h"
 #include "checkpoint.h"
 #include "frames.h"
 #include "load.h"
