@@ -18,6 +18,7 @@ runs=("1|$snes" "1|$snes -static_exact_tangent 0" "1|$snes -static_exact_tangent
       "1|$lu" "1|$lu -static_exact_tangent 0"
       "1|$tao" "1|$tao -static_exact_tangent 0")
 
+((${#extra[@]})) && echo "options of every run, after the row's (they win): ${extra[*]}"
 printf '%5s %-70s %8s %7s %8s %8s %7s %5s\n' ranks options balanced newton krylov wall_s DC_pct folds
 k=0
 for r in "${runs[@]}"; do

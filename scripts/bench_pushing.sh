@@ -6,7 +6,7 @@
 # the wall-time ratio of the explicit path as shipped to the row.
 # usage: scripts/bench_pushing.sh [extra options for every run, e.g. -ends_per_cm 8 -picks_per_cm 8]
 source "$(dirname "$0")/bench_env.sh"
-ranks="${RANKS:-2}"
+ranks="${RANKS:-2}"; positive_ranks RANKS "$ranks"
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
 extra=("$@")
 
@@ -44,7 +44,7 @@ ref = {round(float(r["travel_mm"]), 6): float(r["force_N"]) for r in csv.DictRea
 rows = {round(float(r["travel_mm"]), 6): float(r["force_N"]) for r in csv.DictReader(open(sys.argv[2]))}
 name, wall, te, nl, li, conv, t_ref = sys.argv[3:10]
 err = max(abs(f - ref[t]) / abs(ref[t]) for t, f in rows.items() if t >= 5 - 1e-9)
-at = lambda mm: f"{rows.get(float(mm), float('nan')):.4f}"
+at = lambda mm: f"{rows[float(mm)]:.4f}" if float(mm) in rows else "-"  # no load step at that travel
 te = te if te not in ("", "0") else "-"
 print(f"{name:<17} {conv or '-':>8} {float(wall):9.2f} {te:>8} {nl or '-':>7} {li or '-':>10} {at(5):>10} {at(10):>10} "
       f"{at(15):>10} {100 * err:8.3f}% {float(t_ref) / float(wall):9.2f}")

@@ -20,7 +20,10 @@ while (($#)); do
   esac
 done
 # KEEP=DIR keeps every run's output in DIR/<case>/
-if [[ -n "${KEEP:-}" ]]; then work="$KEEP"; mkdir -p "$work"; else work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT; fi
+if [[ -n "${KEEP:-}" ]]; then # an absolute path: the runs go on from the repository
+  work="$(mkdir -p -- "$KEEP" 2>/dev/null && cd -- "$KEEP" && pwd)" ||
+    { echo "bench_relax.sh: KEEP '$KEEP': cannot make that directory" >&2; exit 2; }
+else work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT; fi
 cd "$here"
 
 # run NAME OPTIONS...: one run on $np ranks; prints te_steps wall_s converged and the last curve row
@@ -49,15 +52,21 @@ print("%d %.1f %s %s" % (s["te_steps"], t1 - t0, "yes" if s["converged"] else "N
 PY
 }
 
+# row NAME OPTIONS...: run into n w c r; a run that left no results (not a stop the solver reports) ends the script
+row() {
+  read -r n w c r < <(run "$@")
+  [[ $c != failed ]] || { echo "bench_relax.sh: run $1 left no results: $(fabric_error "$work/$1.log" 3)" >&2; exit 1; }
+}
+
 if [[ " $tables " == *" 1 "* ]]; then
   echo "Table 1: square net 101 x 101, one load step of 0.5 N, -balance_tol 1e-6 (np $np)"
   printf '%-22s %10s %8s %9s  %s\n' relaxation te_steps wall_s balanced result
   net=(-scene inputs/square_net.yaml -gauge_mm 41.6666667 -width_mm 41.6666667 -load_steps 1 -max_inner_steps 400000)
   for d in 0.02 0.03 0.05 0.1 0.2; do
-    read -r n w c r < <(run "net_d$d" "${net[@]}" -integrator damped -damping_ratio "$d")
+    row "net_d$d" "${net[@]}" -integrator damped -damping_ratio "$d"
     printf '%-22s %10s %8s %9s  %s\n' "damped $d" "$n" "$w" "$c" "$r"
   done
-  read -r n w c r < <(run net_fire "${net[@]}")
+  row net_fire "${net[@]}"
   printf '%-22s %10s %8s %9s  %s\n' "fire (default)" "$n" "$w" "$c" "$r"
 fi
 
@@ -72,9 +81,9 @@ if [[ " $tables " == *" 2 "* ]]; then
              "drape|-damping_ratio 0.003 -te_safety 0.75 -te_strain_window 0.03 -balance_tol 1e-3" "pushing|-damping_ratio 1"; do
     sc="${row%%|*}"; old="${row#*|}"
     # shellcheck disable=SC2086
-    read -r n w c r < <(run "${sc}_damped" -scene "inputs/$sc.yaml" -integrator damped $old)
+    row "${sc}_damped" -scene "inputs/$sc.yaml" -integrator damped $old
     printf '%-12s %-44s %10s %8s %9s  %s\n' "$sc" "damped $old" "$n" "$w" "$c" "$r"
-    read -r n w c r < <(run "${sc}_fire" -scene "inputs/$sc.yaml")
+    row "${sc}_fire" -scene "inputs/$sc.yaml"
     printf '%-12s %-44s %10s %8s %9s  %s\n' "$sc" "fire (as shipped)" "$n" "$w" "$c" "$r"
     [[ $sc == drape ]] || /usr/bin/python3 - "$work/${sc}_damped/curve.csv" "$work/${sc}_fire/curve.csv" <<'PY'
 import csv, sys

@@ -17,7 +17,7 @@ sizes=("$@"); ((${#sizes[@]})) || sizes=(101 201 401)
 for n in "${sizes[@]}"; do
   [[ $n =~ ^[0-9]+$ ]] && ((10#$n >= 3)) || { echo "bench_static.sh: size '$n': the crossings along a side, a whole number from 3" >&2; exit 2; }
 done
-ranks="${RANKS:-2}"; steps="${LOAD_STEPS:-12}"
+ranks="${RANKS:-2}"; steps="${LOAD_STEPS:-12}"; positive_ranks RANKS "$ranks"
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
 ((${#opts[@]})) && echo "options: ${opts[*]}"
 printf '%-11s %9s %8s %8s %13s %8s %10s %8s %6s\n' crossings wall_s newton krylov coarse_newton mem_MiB deflect_mm ratio p
@@ -33,7 +33,7 @@ for n in "${sizes[@]}"; do
   mem="$(awk '/^Maximum \(over computational time\) process memory/ {for (i=1;i<NF;i++) if ($i == "total") v=$(i+1)} END {printf "%.0f", v/1048576}' "$work/log$n")"
   w="$(tail -1 "$work/n$n/curve.csv" | cut -d, -f3)"
   ratio="-"; p="-"
-  if [[ -n "$prev_t" ]]; then
+  if [[ -n "$prev_t" && $((10#$n)) != $((10#$prev_n)) ]]; then # (the same size again: no exponent)
     ratio="$(awk -v a="$t" -v b="$prev_t" 'BEGIN{printf "%.2f", a / b}')"
     p="$(awk -v a="$t" -v b="$prev_t" -v n="$n" -v m="$prev_n" 'BEGIN{printf "%.2f", log(a / b) / log((n * n) / (m * m))}')"
   fi

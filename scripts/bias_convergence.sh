@@ -14,9 +14,11 @@ for n in "$@"; do # each argument a density: it went to fabric as -ends_per_cm, 
   [[ $n =~ ^[0-9]*[.]?[0-9]+$ && ! $n =~ ^[0.]*$ ]] ||
     { echo "bias_convergence.sh: '$n': not a thread density (a number of threads/cm above 0; --help)" >&2; exit 2; }
 done
+[[ ${NP:-1} =~ ^[1-9][0-9]*$ ]] || { echo "bias_convergence.sh: NP '${NP}': the number of ranks, a positive integer" >&2; exit 2; }
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 source "$ROOT/scripts/setup.sh"
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
+trap 'echo "bias_convergence.sh: interrupted" >&2; exit 130' INT TERM
 densities=("$@"); ((${#densities[@]})) || densities=(4.243 5.657 8 11.314)
 printf "%10s %14s %10s %12s %14s %10s %14s %10s\n" threads_cm free_segments travel_mm formula_deg centre_2600 err_2600 centre_260 err_260
 for n in "${densities[@]}"; do
@@ -40,6 +42,6 @@ PY
   done
   read -r segs travel formula c1 e1 b1 <<<"${row[0]}"
   read -r _ _ _ c2 e2 b2 <<<"${row[1]}"
-  [[ $b1 == balanced && $b2 == balanced ]] || echo "warning: $n threads/cm: a load step did not balance ($b1, $b2)" >&2
-  printf "%10s %14s %10s %12s %14s %10s %14s %10s\n" "$n" "$segs" "$travel" "$formula" "$c1" "$e1" "$c2" "$e2"
+  flag=""; [[ $b1 == balanced && $b2 == balanced ]] || flag="  (a load step did not balance: 2600 $b1, 260 $b2)"
+  printf "%10s %14s %10s %12s %14s %10s %14s %10s%s\n" "$n" "$segs" "$travel" "$formula" "$c1" "$e1" "$c2" "$e2" "$flag"
 done

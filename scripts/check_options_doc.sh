@@ -7,12 +7,13 @@
 # row of those tables must be an option -help lists (a -weft_... twin of a listed -warp_...
 # option is allowed). Prints each mismatch; exits 1 if there is any, 0 if none.
 set -euo pipefail
+case "${1:-}" in -h | --help) sed -n '2,/^[^#]/{/^[^#]/d;s/^# \{0,1\}//;p}' "$0"; exit 0 ;; esac
 if (($# != 2)); then
   echo "usage: $0 FABRIC DOC" >&2
   exit 2
 fi
 fabric=$1 doc=$2
-[[ -r $doc ]] || { echo "check_options_doc: $doc: no such file" >&2; exit 2; }
+[[ -f $doc && -r $doc ]] || { echo "check_options_doc: DOC '$doc': not a readable file" >&2; exit 2; }
 help=$(mktemp)
 trap 'rm -f "$help"' EXIT
 if ! "$fabric" -help >"$help" 2>&1; then

@@ -20,7 +20,7 @@ for d in "${dens[@]}"; do
     { echo "drape_grid.sh: density '$d': threads/cm, a decimal number above 0 (digits and a point)" >&2; exit 2; }
 done
 ranks="${RANKS:-2}"
-[[ $ranks =~ ^[1-9][0-9]*$ ]] || { echo "drape_grid.sh: RANKS '$ranks': the number of ranks, a positive integer" >&2; exit 2; }
+positive_ranks RANKS "$ranks"
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
 ((${#opts[@]})) && echo "options: ${opts[*]}"
 printf '%-8s %-9s %8s %10s %10s %9s %10s %7s %6s %8s %9s\n' tpc grid points te_s te_steps wall_s us_per_te dc_pct folds drop_mm balanced

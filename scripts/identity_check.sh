@@ -23,15 +23,17 @@ source "$ROOT/scripts/setup.sh"
 
 # one source and build folder per revision (git archive keeps the commit's file times, so a
 # folder shared between revisions would keep stale objects)
-hash="$(git -C "$ROOT" rev-parse --short "$rev")" || { echo "identity_check: no revision $rev" >&2; exit 1; }
+hash="$(git -C "$ROOT" rev-parse -q --short --verify "$rev^{commit}")" || { echo "identity_check: no revision (commit) $rev" >&2; exit 1; }
 ref_src="$ROOT/build-ref/$hash/src" ref_build="$ROOT/build-ref/$hash/build"
 if [[ ! -x "$ref_build/fabric" ]]; then
   rm -rf "$ROOT/build-ref/$hash"; mkdir -p "$ref_src"
   git -C "$ROOT" archive "$rev" | tar -x -C "$ref_src" || { echo "identity_check: cannot export $rev" >&2; exit 1; }
-  cmake -S "$ref_src" -B "$ref_build" -DCMAKE_BUILD_TYPE=Release >/dev/null
-  cmake --build "$ref_build" -j "$(nproc)" --target fabric >/dev/null || { echo "identity_check: $rev does not build" >&2; exit 1; }
+  { cmake -S "$ref_src" -B "$ref_build" -DCMAKE_BUILD_TYPE=Release >/dev/null &&
+    cmake --build "$ref_build" -j "$(nproc)" --target fabric >/dev/null; } ||
+    { rm -rf "$ROOT/build-ref/$hash"; echo "identity_check: $rev does not build" >&2; exit 1; }
 fi
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
+trap 'echo "identity_check: interrupted: no verdict" >&2; exit 130' INT TERM # an interrupted run is no case that passed
 # copies, so that a rebuild while the cases run does not mix binaries
 cp "$ref_build/fabric" "$work/fabric.ref"; cp "$ROOT/build/fabric" "$work/fabric.new"
 ref="$work/fabric.ref"; new="$work/fabric.new"

@@ -27,6 +27,7 @@ fi
 # every entry checked before the first run: scene name and ranks
 names=() ranks=()
 for entry in "${scenes[@]}"; do
+  [[ $entry != -* ]] || { echo "scene_times.sh: unknown option '$entry' (--static, first, is the only one; --help)" >&2; exit 2; }
   sc=${entry%@*} np=2
   [[ $entry == *@* ]] && np=${entry##*@}
   # a scene elsewhere (a user's own bias.yaml) is not timed as the shipped one of that name
@@ -40,6 +41,7 @@ for entry in "${scenes[@]}"; do
 done
 source "$ROOT/scripts/setup.sh"
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
+trap 'echo "scene_times.sh: interrupted" >&2; exit 130' INT TERM
 cd "$ROOT"
 printf "%-20s %-8s %-6s %5s %9s %10s %7s %7s %9s %10s\n" scene solver frames ranks wall_s te_steps newton krylov balanced result
 run() { # scene, ranks, frames (yes/no), options...
@@ -66,7 +68,8 @@ else:
 ratio = f"  ({wall / float(open(ref).read()):.2f} x explicit)" if static and os.path.exists(ref) else ""
 if not static and frames == 'no':
     open(ref, 'w').write(f"{wall:.6f}")
-print(f"{scene:<20} {s['solver']:<8} {frames:<6} {s['ranks']:5d} {wall:9.2f} {s['te_steps']:10d} {its}"
+te = f"{s['te_steps']:10d}" if not static else f"{'-':>10}"  # the static path takes no te step
+print(f"{scene:<20} {s['solver']:<8} {frames:<6} {s['ranks']:5d} {wall:9.2f} {te} {its}"
       f" {'yes' if s['converged'] else 'NO':>9} {result:>10}{ratio}")
 EOF
   rm -rf "${work:?}/$scene"

@@ -14,6 +14,11 @@
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 fabric=${FABRIC:-$here/build/fabric}
+if [[ -n ${FABRIC:-} ]]; then # the user's binary, as given
+  [[ -f $FABRIC && -x $FABRIC ]] || { echo "te_table.sh: FABRIC '$FABRIC': not an executable file" >&2; exit 2; }
+elif [[ ! -x $fabric ]]; then
+  bash "$here/scripts/setup.sh" >/dev/null
+fi
 np=${NP:-2}
 [[ $np =~ ^[1-9][0-9]*$ ]] || { echo "te_table.sh: NP '$np': the number of ranks, a positive integer" >&2; exit 2; }
 scenes=()
@@ -40,6 +45,7 @@ export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_
 tmp=$(mktemp -d)
 stopped=()
 trap 'rm -rf "$tmp"' EXIT
+trap 'echo "te_table.sh: interrupted" >&2; exit 130' INT TERM # after the run it stopped: not a "(stopped)" row
 echo "| scene | state | te s | stable bound s | measured limit s | te / limit | bound / limit |"
 echo "|---|---|---:|---:|---:|---:|---:|"
 for sc in "${scenes[@]}"; do

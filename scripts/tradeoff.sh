@@ -45,12 +45,16 @@ fi
 base=("${@:3}")
 ranks="${RANKS:-2}"
 limit="${LIMIT_S:-300}" # seconds a run may take
+[[ $ranks =~ ^[1-9][0-9]*$ ]] || { echo "scripts/tradeoff.sh: RANKS '$ranks': the number of ranks, a positive integer" >&2; exit 2; }
+[[ $limit =~ ^[0-9]*\.?[0-9]+$ && ! $limit =~ ^0*\.?0*$ ]] ||
+  { echo "scripts/tradeoff.sh: LIMIT_S '$limit': a run's time limit in seconds, a positive number" >&2; exit 2; }
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
+trap 'echo "scripts/tradeoff.sh: interrupted" >&2; exit 130' INT TERM
 
 run() { # name, options...: a run that the solver stops (its message in NAME.error), or that
-         # passes the time limit, is a row too
+         # passes the time limit, is a row too (timeout in the foreground: Ctrl-C reaches the run)
   local name="$1" rc=0; shift
-  timeout "$limit" mpiexec -n "$ranks" "$fabric" -scene "$here/inputs/$scene.yaml" -output_every 0 -quiet \
+  timeout --foreground "$limit" mpiexec -n "$ranks" "$fabric" -scene "$here/inputs/$scene.yaml" -output_every 0 -quiet \
     -output_dir "$work/$name" "${base[@]}" "$@" >"$work/$name.log" 2>&1 || rc=$?
   ((rc == 0)) && return
   if ((rc == 124)); then echo "fabric: stopped by the script's time limit of $limit s" >"$work/$name.error"; return; fi
@@ -151,7 +155,9 @@ for i, r in enumerate(runs):
         row += [f"{abs(s['drape_coefficient_pct'] - ref_s['drape_coefficient_pct']):.3f}", str(s["folds"]),
                 f"{abs(float(rows[-1]['drop_mm']) - float(ref[-1]['drop_mm'])):.3f}"]
     else:
-        ferr = max(abs(float(a["force_N"]) - float(b["force_N"])) / abs(float(b["force_N"])) for a, b in pairs)
+        # relative to the reference's force; where that is 0, a force that is not 0 has no finite error
+        rel = lambda a, b: (abs(a - b) / abs(b) if b else (0.0 if a == b else float("inf")))
+        ferr = max((rel(float(a["force_N"]), float(b["force_N"])) for a, b in pairs), default=0.0)
         row.append(f"{100 * ferr:.4f}")
     if scene == "bias":
         row.append(f"{max(abs(float(a['center_shear_deg']) - float(b['center_shear_deg'])) for a, b in pairs):.5f}")

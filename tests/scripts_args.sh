@@ -36,6 +36,9 @@ case "$case_" in
     # a pushing test that stops before 5 mm: max() of no row, a traceback after every run
     expect 1 "scripts/tradeoff.sh: the reference run (-solver static -balance_tol 1e-8 ${small_pushing[*]}) reaches no load step at 5 mm of travel or more (the force error is taken from 5 mm on); nothing to measure against" \
       "$t" pushing "" "${small_pushing[@]}"
+    # LIMIT_S=0 took off the limit, a word failed every run with timeout's message; RANKS=0 ran on every slot
+    expect 2 "scripts/tradeoff.sh: LIMIT_S '0': a run's time limit in seconds, a positive number" env LIMIT_S=0 "$t" bias
+    expect 2 "scripts/tradeoff.sh: RANKS '0': the number of ranks, a positive integer" env RANKS=0 "$t" bias
     ;;
   bench_pushing)
     expect 1 "bench_pushing.sh: the reference run reaches no load step at 5 mm of travel or more: no force error from 5 mm on" \
@@ -43,6 +46,9 @@ case "$case_" in
     # a run that fails says fabric's message (it said mpiexec's footer: "Process name: ... Exit code: 1")
     expect 1 "bench_pushing.sh: run static_1e-8 failed: fabric: error: -gauge_mm abc: not a number" \
       "$root/scripts/bench_pushing.sh" -gauge_mm abc
+    # RANKS=0 ran on every slot; a FABRIC that is no program: every run failed to start, FABRIC unnamed
+    expect 2 "bench_pushing.sh: RANKS '0': the number of ranks, a positive integer" env RANKS=0 "$root/scripts/bench_pushing.sh"
+    expect 2 "bench_pushing.sh: FABRIC '$work': not an executable file" env FABRIC="$work" "$root/scripts/bench_pushing.sh"
     ;;
   bench_drape_static)
     # a run that fails says fabric's message (not mpiexec's footer), and the row's options
@@ -74,6 +80,10 @@ case "$case_" in
     # a run that fails: it was left without a word as well
     LOAD_STEPS=2 expect 1 "bench_static.sh: the run of 11x11 crossings failed: fabric: error: -pc_type cg with -solver static: not a preconditioner PETSc knows (see -help)" \
       "$b" -pc_type cg 11
+    # the same size twice: p = log(t2/t1)/log(1) printed as -inf or nan
+    LOAD_STEPS=1 expect 0 "" "$b" 9 9
+    [[ "$(awk '$1 == "9x9" {print $(NF - 1), $NF}' "$work/out" | tr '\n' ' ')" == "- - - - " ]] && echo "PASS bench_static.sh 9 9: no ratio, no p" ||
+      { echo "FAIL bench_static.sh 9 9 printed:"; cat "$work/out"; fail=1; }
     ;;
   drape_grid)
     d="$root/scripts/drape_grid.sh"
@@ -92,6 +102,11 @@ case "$case_" in
     expect 2 "bench_relax.sh: --table '3': 1 or 2" "$b" --table 3
     expect 2 "bench_relax.sh: --table without its value (--table 1|2, --np N)" "$b" --np 1 --table
     expect 2 "bench_relax.sh: --np 'x': a positive number of ranks" "$b" --np x
+    # a run that leaves no results: a "failed" row and exit 0; KEEP a file: mkdir's own words
+    printf '#!/bin/sh\necho "fabric: error: planted" >&2\nexit 1\n' >fake && chmod +x fake
+    expect 1 "bench_relax.sh: run net_d0.02 left no results: fabric: error: planted" env FABRIC="$work/fake" "$b" --table 1 --np 1
+    echo text >file
+    expect 2 "bench_relax.sh: KEEP 'file': cannot make that directory" env KEEP=file "$b" --table 1
     ;;
   stability_sweep)
     # --keep naming a file: a traceback from the first case (FileExistsError)
@@ -107,6 +122,7 @@ stability_sweep.py: error: argument --keep: $work/file: not a directory" "$root/
     mkdir own && cp "$root/inputs/bias.yaml" own/
     expect 2 "scene_times.sh: scene 'own/bias.yaml@1': only the scenes of inputs/ (strip_warp, strip_warp.yaml or inputs/strip_warp.yaml)" \
       "$root/scripts/scene_times.sh" strip_warp own/bias.yaml@1
+    expect 2 "scene_times.sh: unknown option '-x' (--static, first, is the only one; --help)" "$root/scripts/scene_times.sh" -x
     # --static: the quasi-static row after the explicit one, both at the 25 x 25 net's deflection
     # under 0.5 N, 0.564165069 mm (docs/static.md), to the 5 digits printed
     expect 0 "" "$root/scripts/scene_times.sh" --static square_net@1
@@ -123,6 +139,29 @@ stability_sweep.py: error: argument --keep: $work/file: not a directory" "$root/
       "$root/scripts/te_table.sh" own/bias.yaml
     # NP=0 ran and labelled the table "0 ranks"; a word stopped every row with mpiexec's separator line
     expect 2 "te_table.sh: NP '0': the number of ranks, a positive integer" env NP=0 "$root/scripts/te_table.sh" bias
+    # a FABRIC that is no program: a "(stopped)" row per scene, each with mpiexec's "failed to start"
+    expect 2 "te_table.sh: FABRIC '$work': not an executable file" env FABRIC="$work" "$root/scripts/te_table.sh" bias
+    ;;
+  interrupt)
+    # Ctrl-C (SIGINT to the script's process group, as a terminal sends it) stops the script at once, with its
+    # runs: te_table.sh went on to the next scene after a "(stopped)" row, tradeoff.sh (its runs under timeout,
+    # in a group of their own) ran every row; exit 130, "interrupted", no process of it left, no table file
+    for s in "te_table.sh strip_warp square_net" "tradeoff.sh bias $work/t.csv" "bench_pushing.sh"; do
+      read -ra cmd <<<"$s"
+      /usr/bin/python3 -c 'import os, signal, sys; signal.signal(signal.SIGINT, signal.SIG_DFL); os.setsid(); os.execvp(sys.argv[1], sys.argv[1:])' \
+        "$root/scripts/${cmd[0]}" "${cmd[@]:1}" >"$work/out" 2>"$work/err" &
+      pid=$!
+      sleep 2.5; kill -INT -- -"$pid"; wait "$pid"; rc=$?
+      # its ranks stop at their next step (a SIGTERM from mpiexec): within 5 s (zombies are dead, not yet reaped by init)
+      for _ in 1 2 3 4 5 6 7 8 9 10; do left="$(ps -o stat= -s "$pid" | grep -vc '^Z')"; ((left == 0)) && break; sleep 0.5; done
+      if [[ $rc == 130 && "$(tail -1 "$work/err")" == *"${cmd[0]}: interrupted" && $left == 0 && ! -e $work/t.csv ]] &&
+        ! grep -q '(stopped)' "$work/out"; then
+        echo "PASS ${cmd[0]} interrupted: exit 130, nothing left"
+      else
+        echo "FAIL ${cmd[0]} interrupted: exit $rc, $left processes left; stdout:"; cat "$work/out"; echo "stderr:"; cat "$work/err"; fail=1
+      fi
+      pkill -KILL -s "$pid" 2>/dev/null
+    done
     ;;
   plot_curve)
     # -o without an extension: matplotlib wrote curve.png, the script printed "curve"
@@ -235,6 +274,7 @@ ruptured in load step 3, at 3 % elongation (its row: the tear's end); maximum fo
     # its arguments are densities: a bad one named as the script's (it went to fabric: "-ends_per_cm abc: not a number")
     expect 2 "bias_convergence.sh: 'abc': not a thread density (a number of threads/cm above 0; --help)" "$root/scripts/bias_convergence.sh" abc
     expect 2 "bias_convergence.sh: '0': not a thread density (a number of threads/cm above 0; --help)" "$root/scripts/bias_convergence.sh" 4 0
+    expect 2 "bias_convergence.sh: NP '0': the number of ranks, a positive integer" env NP=0 "$root/scripts/bias_convergence.sh" 4
     expect 0 "" "$root/scripts/bias_convergence.sh" --help
     grep -q "^Grid convergence of the bias extension test" "$work/out" || { echo "FAIL bias_convergence.sh --help printed: $(head -2 "$work/out")"; fail=1; }
     ;;
