@@ -238,6 +238,36 @@ ruptured in load step 3, at 3 % elongation (its row: the tear's end); maximum fo
     expect 0 "" "$root/scripts/bias_convergence.sh" --help
     grep -q "^Grid convergence of the bias extension test" "$work/out" || { echo "FAIL bias_convergence.sh --help printed: $(head -2 "$work/out")"; fail=1; }
     ;;
+  stability_sweep_stop)
+    usage="$("$root/scripts/stability_sweep.sh" -h | sed -n '1,/^$/p' | sed '$d')"
+    # a directory as --fabric passed an os.access(X_OK) check: every case was then BAD
+    expect 2 "$usage
+stability_sweep.py: error: argument --fabric: $work: a directory, not an executable" "$root/scripts/stability_sweep.sh" -fast --fabric "$work"
+    # Ctrl-C (SIGINT to the terminal's foreground process group) during a 2-rank run: it gave a
+    # KeyboardInterrupt traceback and left mpiexec and the ranks running, orphans writing into the
+    # removed temporary directory. The run (365 s whole) is interrupted once its ranks have started.
+    mkdir tmp
+    TMPDIR="$work/tmp" /usr/bin/python3 -c 'import os, signal, sys; signal.signal(2, signal.SIG_DFL); os.setsid(); os.execvp(sys.argv[1], sys.argv[1:])' \
+      "$root/scripts/stability_sweep.sh" --only "energy watch off" --fabric "$FABRIC" >"$work/out" 2>"$work/err" &
+    pid=$!
+    runs() { pgrep -d, -f -- "-output_dir $work/tmp/"; }
+    for _ in $(seq 300); do [[ $(pgrep -c -f -- "^$FABRIC .*-output_dir $work/tmp/") -ge 2 ]] && break; sleep 0.1; done
+    [[ -n "$(runs)" ]] || echo "FAIL the sweep's run did not start within 30 s"
+    kill -INT -- "-$pid"; t0=$SECONDS
+    wait "$pid"; rc=$?
+    if [[ $rc -eq 130 && "$(cat "$work/err")" == "stability_sweep: interrupted" ]]; then
+      echo "PASS stability_sweep.sh interrupted: exit 130 in $((SECONDS - t0)) s, stability_sweep: interrupted"
+    else echo "FAIL stability_sweep.sh interrupted: exit $rc (expected 130); stderr:"; cat "$work/err"; fail=1; fi
+    sleep 1; left="$(runs)"
+    if [[ -n $left ]]; then
+      echo "FAIL stability_sweep.sh interrupted left its run going:"; ps -o pid,ppid,args -p "$left" | cut -c1-120; fail=1
+      kill ${left//,/ } 2>/dev/null; sleep 2; left="$(runs)"; [[ -z $left ]] || kill -KILL ${left//,/ } 2>/dev/null
+    else echo "PASS stability_sweep.sh interrupted: no mpiexec or rank left"; fi
+    # (Open MPI keeps its own session directory, ompi.*, in TMPDIR)
+    left="$(cd tmp && ls -d stability_sweep.* 2>/dev/null)"
+    [[ -z $left ]] && echo "PASS stability_sweep.sh interrupted: its temporary directory removed" ||
+      { echo "FAIL stability_sweep.sh interrupted left: $left"; fail=1; }
+    ;;
   *) echo "scripts_args.sh: unknown case $case_"; exit 2 ;;
 esac
 exit $fail
