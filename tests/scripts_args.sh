@@ -320,6 +320,31 @@ stability_sweep.py: error: argument --fabric: $work: a directory, not an executa
     else echo "PASS bench_speedups.py interrupted: no mpiexec or rank left"; fi
     no_tmp "interrupted"
     ;;
+  plot_tradeoff_input)
+    p="$root/scripts/plot_tradeoff.py"
+    head='knob,value,balanced,wall_s,te_steps,force_err_pct'
+    printf '%s\nreference,static 1e-8,true,1.98,-,0.0000\nbase,-,true,0.41,973,0.0001\nbalance_tol,1e-2,false,0.20,500,0.5\n' "$head" >t.csv
+    # -o DIR: it wrote DIR.png beside the directory, without a word; now DIR/tradeoff_TABLE.png
+    mkdir figs && expect 0 "" /usr/bin/python3 "$p" t.csv -o figs
+    [[ "$(cat "$work/out")" == figs/tradeoff_t.png && -s figs/tradeoff_t.png && ! -e figs.png ]] && echo "PASS plot_tradeoff.py -o figs wrote figs/tradeoff_t.png" ||
+      { echo "FAIL plot_tradeoff.py -o figs printed '$(cat "$work/out")', wrote: $(ls)"; fail=1; }
+    # -o without an extension: matplotlib wrote noext.png, and nothing said so
+    expect 0 "" /usr/bin/python3 "$p" t.csv -o noext
+    [[ "$(cat "$work/out")" == noext.png && -s noext.png && ! -e noext ]] && echo "PASS plot_tradeoff.py -o noext printed noext.png, the file it wrote" ||
+      { echo "FAIL plot_tradeoff.py -o noext printed '$(cat "$work/out")', wrote: $(ls)"; fail=1; }
+    # every row but the reference stopped (tradeoff.sh's '-' in every column after balanced): an empty plot, exit 0
+    printf '%s\nreference,static 1e-8,true,1.98,-,0.0000\nbase,-,stopped,-,-,-\nte_safety,0.9,timeout,-,-,-\n' "$head" >stopped.csv
+    expect 1 "plot_tradeoff.py: stopped.csv: no row but the reference ran (every one stopped, was refused or ran out of time: wall_s '-'): nothing to plot" \
+      /usr/bin/python3 "$p" stopped.csv -o s.png
+    # not numbers where the plot needs them, no knob column: ValueError and KeyError tracebacks
+    printf '%s\nreference,static 1e-8,true,1.98,-,0.0000\nbase,-,true,abc,973,0.0001\n' "$head" >wall.csv
+    expect 1 "plot_tradeoff.py: wall.csv line 3 (knob base): wall_s 'abc': not a number above 0" /usr/bin/python3 "$p" wall.csv -o w.png
+    printf '%s\nreference,static 1e-8,true,1.98,-,0.0000\nbase,-,true,0.41,973,-\n' "$head" >dash.csv
+    expect 1 "plot_tradeoff.py: dash.csv line 3 (knob base): force_err_pct '-': not a number of 0 or more" /usr/bin/python3 "$p" dash.csv -o d.png
+    printf 'value,balanced,wall_s,te_steps,force_err_pct\nstatic 1e-8,true,1.98,-,0.0000\n' >noknob.csv
+    expect 1 "plot_tradeoff.py: noknob.csv: no knob column (not a table of scripts/tradeoff.sh)" /usr/bin/python3 "$p" noknob.csv -o k.png
+    [[ -z "$(ls s.png w.png d.png k.png 2>/dev/null)" ]] || { echo "FAIL plot_tradeoff.py wrote a figure of a table it refused: $(ls)"; fail=1; }
+    ;;
   *) echo "scripts_args.sh: unknown case $case_"; exit 2 ;;
 esac
 exit $fail
