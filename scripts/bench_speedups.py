@@ -5,16 +5,20 @@ Table 1: the strip tests (inputs/strip_warp.yaml, strip_weft.yaml, narrowed to 2
          so that plain multi-sampling is affordable; the strip's per-yarn response does not
          depend on its width) with every combination of the switches: configuration, wall
          time, te steps, point updates, and the largest force error along the curve in % of
-         the peak force against a tight-tolerance reference. Plain multi-sampling (no early
-         exit) uses the smallest fixed N that reaches 1 % (found by a sweep, printed first).
+         the peak force against a tight-tolerance reference, and whether every load step
+         balanced. Plain multi-sampling (no early exit) uses the smallest fixed N that reaches
+         1 % (found by a sweep, printed first).
 Table 2: balance tolerance x te_safety sweep (early exit, no prediction; the speed tolerance
          is the test speed times balance_tol / 1e-3): error vs time, and
          results/bench/speedups_trade.png.
 Table 3: a local load in a 2000 x 2000 fabric (inputs/local_2000.yaml): point updates with
          the front and sleeping vs the fraction of the fabric that actually moves.
+The reference (linear prediction, -balance_tol 1e-8 -speed_tol 1e-8, up to 400 000 te steps
+per load step) must balance every load step: one that does not stops the script (exit 1).
 Options: --quick (smaller sweeps), --np N (ranks, default 1), --tables 1,2,3 (which to run).
+Ctrl-C stops the current run (mpiexec and its ranks), removes the temporary outputs, exit 130.
 """
-import argparse, csv, itertools, json, os, shutil, struct, subprocess, sys, tempfile, time
+import argparse, csv, itertools, json, os, shutil, signal, struct, subprocess, sys, tempfile, time
 
 
 def tables(text):
@@ -47,11 +51,51 @@ FABRIC = os.path.join(ROOT, "build", "fabric")
 NP = ARGS.np
 QUICK = ARGS.quick
 TABLES = ARGS.tables
-WORK = tempfile.mkdtemp(prefix="bench_speedups_")
+WORK = None  # the runs' outputs: a temporary directory, made once results/bench is known to be usable
 OUT = os.path.join(ROOT, "results", "bench")
-os.makedirs(OUT, exist_ok=True)
 ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMPI_MCA_rmaps_base_oversubscribe="1")
 _count = [0]
+
+
+def session_pids(sid):
+    """the live processes of session sid: a run started in a session of its own, with everything it
+    started (mpiexec gives its ranks process groups of their own, in the same session)"""
+    pids = []
+    for d in os.listdir("/proc"):
+        if not d.isdigit():
+            continue
+        try:
+            with open("/proc/%s/stat" % d) as f:
+                st = f.read()
+        except OSError:
+            continue
+        fields = st[st.rindex(")") + 2:].split()  # state, ppid, pgrp, session, ...
+        if fields[0] != "Z" and int(fields[3]) == sid:
+            pids.append(int(d))
+    return pids
+
+
+def stop_run(p, grace=10.0):
+    """stop a run started with start_new_session=True, and all it started: SIGTERM to its process
+    group (mpiexec stops its ranks), then SIGKILL to whatever of its session is left after grace s"""
+    for sig in (signal.SIGTERM, signal.SIGKILL):
+        try:
+            os.killpg(p.pid, sig)
+        except OSError:
+            pass
+        if sig == signal.SIGKILL:
+            for pid in session_pids(p.pid):
+                try:
+                    os.kill(pid, sig)
+                except OSError:
+                    pass
+        deadline = time.time() + grace
+        while time.time() < deadline:
+            p.poll()
+            if p.returncode is not None and not session_pids(p.pid):
+                return
+            time.sleep(0.1)
+    p.wait()
 
 
 def run(scene, opts):
@@ -61,12 +105,42 @@ def run(scene, opts):
     # the paper's speed-ups on the damped scheme, the paper's kind of relaxation (FIRE, the default: docs/relaxation.md)
     cmd = ["mpiexec", "-n", str(NP), FABRIC, "-scene", os.path.join(ROOT, "inputs", scene), "-output_dir", out, "-quiet", "-output_every", "0",
            "-integrator", "damped"] + opts
-    r = subprocess.run(cmd, env=ENV, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-    if r.returncode != 0:
-        sys.stderr.write(r.stderr)
-        sys.exit("bench_speedups: this run stopped (exit %d), no table: %s" % (r.returncode, " ".join(cmd)))
+    # a session of its own: Ctrl-C reaches this script alone, which stops the run whole (stop_run)
+    p = subprocess.Popen(cmd, env=ENV, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, start_new_session=True)
+    try:
+        err = p.communicate()[1]
+    except BaseException:
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+        stop_run(p)
+        raise
+    if p.returncode != 0:
+        sys.stderr.write(err)
+        sys.exit("bench_speedups: this run stopped (exit %d), no table: %s" % (p.returncode, " ".join(cmd)))
     rows = list(csv.DictReader(open(os.path.join(out, "curve.csv"))))
     return rows, json.load(open(os.path.join(out, "summary.json")))
+
+
+# the reference: tight tolerances, and te steps enough to reach them (the default -max_inner_steps
+# 20000 left the strips' first load step unbalanced)
+REF_OPTS = ["-predict", "linear", "-balance_tol", "1e-8", "-speed_tol", "1e-8", "-max_inner_steps", "400000"]
+
+
+def reference(scene):
+    """the reference's curve rows; a reference that did not balance every load step stops the script"""
+    rows, s = run(scene, strip + REF_OPTS)
+    if not s.get("converged"):
+        bad = [r["load_step"] for r in rows if r.get("balanced") not in ("1", "true")]
+        sys.exit("bench_speedups: the reference of %s (%s) did not balance %s: no reference to measure errors against, no table" % (
+            scene, " ".join(strip + REF_OPTS),
+            "load step%s %s of %d" % ("s" if len(bad) > 1 else "", ", ".join(bad[:5]) + (", ..." if len(bad) > 5 else ""), len(rows))
+            if bad else "every load step"))
+    return rows
+
+
+def balanced(s, early_exit="1"):
+    """the balanced column: summary.json's converged; a fixed N te steps per load step (no early exit)
+    balances nothing by design"""
+    return "fixed N" if early_exit == "0" else str(bool(s.get("converged"))).lower()
 
 
 def error_pct(rows, ref):
@@ -88,18 +162,19 @@ strip = ["-width_mm", "2"]
 def table1():
     scenes = ["strip_warp.yaml", "strip_weft.yaml"]
     for scene in scenes:
-        ref, _ = run(scene, strip + ["-predict", "linear", "-balance_tol", "1e-8", "-speed_tol", "1e-8"])
+        ref = reference(scene)
         # plain multi-sampling: smallest fixed N that reaches 1 % of the peak force
         sweep = [2000, 4000, 8000, 16000] if QUICK else [1000, 2000, 4000, 8000, 16000, 32000]
         lines, n_plain = [], None
         for n in sweep:
             rows, s = run(scene, strip + ["-predict", "none", "-early_exit", "0", "-front", "0", "-max_inner_steps", str(n)])
             e = error_pct(rows, ref)
-            lines.append([n, "%.2f" % s["wall_s"], s["te_steps"], s["point_updates"], "%.3f" % e])
+            lines.append([n, "%.2f" % s["wall_s"], s["te_steps"], s["point_updates"], "%.3f" % e, balanced(s, "0")])
             if e <= 1.0 and n_plain is None:
                 n_plain = n
                 break
-        table("%s: plain multi-sampling (no prediction, no early exit), error vs fixed N" % scene, ["N", "wall_s", "te_steps", "point_updates", "err_%peak"], lines)
+        table("%s: plain multi-sampling (no prediction, no early exit), error vs fixed N (balanced: fixed N, N te steps per load step whatever the balance)" % scene,
+              ["N", "wall_s", "te_steps", "point_updates", "err_%peak", "balanced"], lines)
         if n_plain is None:
             n_plain = sweep[-1]
             print("plain multi-sampling did not reach 1 %% with N <= %d; using N = %d" % (n_plain, n_plain))
@@ -115,9 +190,11 @@ def table1():
             if base_wall is None:
                 base_wall = s["wall_s"]
             nmax = max(int(r["inner_steps"]) for r in rows)
-            lines.append(["predict=%s early_exit=%s front=%s sleep=%s" % (predict, early, front, sleep), "%.2f" % s["wall_s"], "%.1f" % (base_wall / s["wall_s"]), s["te_steps"], nmax, s["point_updates"], "%.3f" % e])
-        table("%s (5 yarns, 50 load steps): every combination; plain multi-sampling N = %d; speed-up vs the first row" % (scene, n_plain),
-              ["configuration", "wall_s", "speedup", "te_steps", "max_N'", "point_updates", "err_%peak"], lines)
+            lines.append(["predict=%s early_exit=%s front=%s sleep=%s" % (predict, early, front, sleep), "%.2f" % s["wall_s"], "%.1f" % (base_wall / s["wall_s"]), s["te_steps"], nmax, s["point_updates"], "%.3f" % e,
+                          balanced(s, early)])
+        table("%s (5 yarns, 50 load steps): every combination; plain multi-sampling N = %d; speed-up vs the first row; "
+              "balanced: every load step (false: some stopped at the te steps allowed), fixed N without early exit" % (scene, n_plain),
+              ["configuration", "wall_s", "speedup", "te_steps", "max_N'", "point_updates", "err_%peak", "balanced"], lines)
 
 
 
@@ -125,15 +202,16 @@ def table2():
     # Table 2: the trade for early exit without prediction
     scene = "strip_warp.yaml"
     pts, lines = [], []
-    ref, _ = run(scene, strip + ["-predict", "linear", "-balance_tol", "1e-8", "-speed_tol", "1e-8"])
+    ref = reference(scene)
     for tol in (["1e-2", "1e-3", "1e-4"] if QUICK else ["1e-1", "1e-2", "1e-3", "1e-4", "1e-5"]):
         for safety in ["0.5", "0.9"]:
             speed_tol = "%g" % (100e-3 / 60 * float(tol) / 1e-3)  # the test speed at tol 1e-3, scaled with tol
             rows, s = run(scene, strip + ["-predict", "none", "-balance_tol", tol, "-speed_tol", speed_tol, "-te_safety", safety, "-max_inner_steps", "100000"])
             e = error_pct(rows, ref)
-            lines.append([tol, safety, "%.2f" % s["wall_s"], s["te_steps"], max(int(r["inner_steps"]) for r in rows), "%.4f" % e])
+            lines.append([tol, safety, "%.2f" % s["wall_s"], s["te_steps"], max(int(r["inner_steps"]) for r in rows), "%.4f" % e, balanced(s)])
             pts.append((float(tol), float(safety), s["wall_s"], e))
-    table("strip_warp (5 yarns): early exit without prediction, balance tolerance x te_safety", ["balance_tol", "te_safety", "wall_s", "te_steps", "max_N'", "err_%peak"], lines)
+    table("strip_warp (5 yarns): early exit without prediction, balance tolerance x te_safety; balanced: every load step "
+          "(false: some stopped at the 100000 te steps allowed)", ["balance_tol", "te_safety", "wall_s", "te_steps", "max_N'", "err_%peak", "balanced"], lines)
     try:
         import matplotlib
         matplotlib.use("Agg")
@@ -151,7 +229,10 @@ def table2():
         ax.legend()
         fig.tight_layout()
         png = os.path.join(OUT, "speedups_trade.png")
-        fig.savefig(png, dpi=120)
+        try:
+            fig.savefig(png, dpi=120)
+        except OSError as e:
+            sys.exit("bench_speedups: %s: %s" % (png, e.strerror))
         print("wrote %s" % png)
     except ImportError:
         print("matplotlib not available: no PNG")
@@ -190,12 +271,30 @@ def table3():
     table("local_2000 (point load at the centre, %s te steps): fraction of the point updates vs fraction of the fabric that moves (|u| above 1e-3 / 1e-6 of the largest); position error vs all points, relative to the largest |u|" % steps,
           ["configuration", "wall_s", "te_steps", "point_updates", "updates/(steps*points)", "moved>1e-3", "moved>1e-6", "max_err"], lines)
 
+# results/bench, for Table 2's PNG: a file there was a FileExistsError traceback (and the temporary
+# directory, made before, was left behind); checked before anything is made
+if "2" in TABLES:
+    try:
+        os.makedirs(OUT, exist_ok=True)
+    except OSError as e:
+        sys.exit("bench_speedups: %s: %s (Table 2 writes its PNG there)" % (OUT, "not a directory" if os.path.exists(OUT) else e.strerror))
+interrupted = False
 try:
+    WORK = tempfile.mkdtemp(prefix="bench_speedups_")
     if "1" in TABLES:
         table1()
     if "2" in TABLES:
         table2()
     if "3" in TABLES:
         table3()
+except KeyboardInterrupt:  # the current run is stopped (run); no more tables
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    interrupted = True
 finally:
-    shutil.rmtree(WORK, ignore_errors=True)
+    if WORK:
+        shutil.rmtree(WORK, ignore_errors=True)
+if interrupted:
+    sys.stdout.flush()
+    print("bench_speedups: interrupted", file=sys.stderr)
+    sys.exit(130)
+

@@ -25,6 +25,8 @@ import math
 import os
 import re
 import shlex
+import shutil
+import signal
 import subprocess
 import sys
 import tempfile
@@ -523,6 +525,49 @@ def merge(*lists):
     return [t for item in out for t in item]
 
 
+def session_pids(sid):
+    """the live processes of session sid: a run started in a session of its own, with everything it
+    started (mpiexec gives its ranks process groups of their own, in the same session)"""
+    pids = []
+    for d in os.listdir("/proc"):
+        if not d.isdigit():
+            continue
+        try:
+            with open("/proc/%s/stat" % d) as f:
+                st = f.read()
+        except OSError:
+            continue
+        fields = st[st.rindex(")") + 2:].split()  # state, ppid, pgrp, session, ...
+        if fields[0] != "Z" and int(fields[3]) == sid:
+            pids.append(int(d))
+    return pids
+
+
+def stop_run(p, grace=10.0):
+    """stop a run started with start_new_session=True, and all it started: SIGTERM to its process
+    group (timeout and mpiexec, which stops its ranks), then SIGKILL to whatever of its session is
+    left after grace seconds. (Killing timeout alone, SIGKILL, passed nothing on: mpiexec and the
+    ranks ran on, orphans.)"""
+    for sig in (signal.SIGTERM, signal.SIGKILL):
+        try:
+            os.killpg(p.pid, sig)
+        except OSError:
+            pass
+        if sig == signal.SIGKILL:
+            for pid in session_pids(p.pid):
+                try:
+                    os.kill(pid, sig)
+                except OSError:
+                    pass
+        deadline = time.time() + grace
+        while time.time() < deadline:
+            p.poll()
+            if p.returncode is not None and not session_pids(p.pid):
+                return
+            time.sleep(0.1)
+    p.wait()
+
+
 def run_case(case, fabric, work, nice, results):
     try:
         extra = resolve(case["extra"], results)
@@ -547,11 +592,20 @@ def run_case(case, fabric, work, nice, results):
     cmd_shown = " ".join(shlex.quote(a) for a in launch + [fab_shown] + shown)
     cmd = ["timeout", "-k", "10", str(case["limit"])] + (["nice", "-n", str(nice)] if nice else []) + launch + [fabric] + args
     t0 = time.time()
+    # a session of its own: on Ctrl-C or the time limit the whole run is stopped (stop_run), and the
+    # terminal's Ctrl-C reaches this script alone
+    p = subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, start_new_session=True)
     try:
-        p = subprocess.run(cmd, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, timeout=case["limit"] + 60)
-        rc, out = p.returncode, p.stdout.decode(errors="replace")
-    except subprocess.TimeoutExpired as e:
-        rc, out = 124, (e.stdout or b"").decode(errors="replace")
+        out = p.communicate(timeout=case["limit"] + 60)[0]
+        rc = p.returncode
+    except subprocess.TimeoutExpired:
+        stop_run(p)
+        rc, out = 124, p.communicate()[0]
+    except BaseException:  # Ctrl-C: stop the run, then let main say so
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+        stop_run(p)
+        raise
+    out = (out or b"").decode(errors="replace")
     wall = time.time() - t0
     res = dict(cmd=cmd_shown, wall=wall, args=args, rc=rc, figure="", value=None, expected=None, err=None, detail="")
     curve, summary = os.path.join(outdir, "curve.csv"), os.path.join(outdir, "summary.json")
@@ -652,14 +706,15 @@ def fmt(v):
 def main():
     ap = argparse.ArgumentParser(description="stability sweep of build/fabric (docs/stability.md)")
     ap.add_argument("-fast", "--fast", action="store_true", help="only the fast cases (the test suite's)")
-    ap.add_argument("--fabric", default=os.path.join(ROOT, "build", "fabric"))
+    ap.add_argument("--fabric", help="the fabric executable (default: build/fabric)")
     ap.add_argument("--only", default="", help="regular expression on the case names")
     ap.add_argument("--keep", default="", help="keep the outputs in this directory (default: a temporary one, removed)")
     ap.add_argument("--nice", type=int, default=10, help="nice level of the runs (0: none)")
     ap.add_argument("--list", action="store_true", help="list the cases and exit")
     a = ap.parse_args()
     # the runs' working directory is ROOT: paths given relative to the caller's one are made absolute
-    a.fabric = os.path.abspath(a.fabric)
+    fabric_given = a.fabric
+    a.fabric = os.path.abspath(a.fabric or os.path.join(ROOT, "build", "fabric"))
     if a.keep:
         a.keep = os.path.abspath(a.keep)
     try:
@@ -679,12 +734,18 @@ def main():
             os.makedirs(a.keep, exist_ok=True)
         except OSError as e:
             ap.error("argument --keep: %s: %s" % (a.keep, "not a directory" if os.path.exists(a.keep) else e.strerror))
-    if not os.access(a.fabric, os.X_OK):
-        sys.exit("stability_sweep: %s is not an executable: build first (bash scripts/setup.sh)" % a.fabric)
+    # a regular executable file (a directory passes os.access X_OK: every case was then BAD)
+    why = ("no such file" if not os.path.exists(a.fabric) else "a directory, not an executable" if os.path.isdir(a.fabric) else
+           "not a regular file" if not os.path.isfile(a.fabric) else "not executable" if not os.access(a.fabric, os.X_OK) else "")
+    if why and fabric_given is not None:
+        ap.error("argument --fabric: %s: %s" % (fabric_given, why))
+    if why:
+        sys.exit("stability_sweep: %s: %s: build first (bash scripts/setup.sh)" % (a.fabric, why))
     self_check()
     work = a.keep or tempfile.mkdtemp(prefix="stability_sweep.")
     results = {}
     t0 = time.time()
+    interrupted = False
     try:
         # cases that a later one depends on run first
         order = sorted(todo, key=lambda c: 0 if c["name"] in ("te_safety 0.9 damped", "te_safety 0.9 paper") else 1)
@@ -693,9 +754,15 @@ def main():
             results[c["name"]] = r
             print("[%5.1f s] %-52s %-21s %6.1f s  %s" % (time.time() - t0, c["name"], r["outcome"], r["wall"], r["detail"][:110]),
                   file=sys.stderr, flush=True)
+    except KeyboardInterrupt:  # the current case's run is stopped (run_case); no table
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+        interrupted = True
     finally:
         if not a.keep:
-            subprocess.run(["rm", "-rf", work])
+            shutil.rmtree(work, ignore_errors=True)
+    if interrupted:
+        print("stability_sweep: interrupted%s" % (" (the outputs so far are in %s)" % work if a.keep else ""), file=sys.stderr)
+        return 130
     total = time.time() - t0
 
     print("## Stability sweep%s\n" % (" (-fast)" if a.fast else ""))
@@ -730,4 +797,9 @@ def main():
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    try:
+        sys.exit(main())
+    except KeyboardInterrupt:  # before the first run or after the last
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+        print("stability_sweep: interrupted", file=sys.stderr)
+        sys.exit(130)

@@ -278,6 +278,113 @@ ruptured in load step 3, at 3 % elongation (its row: the tear's end); maximum fo
     expect 0 "" "$root/scripts/bias_convergence.sh" --help
     grep -q "^Grid convergence of the bias extension test" "$work/out" || { echo "FAIL bias_convergence.sh --help printed: $(head -2 "$work/out")"; fail=1; }
     ;;
+  stability_sweep_stop)
+    usage="$("$root/scripts/stability_sweep.sh" -h | sed -n '1,/^$/p' | sed '$d')"
+    # a directory as --fabric passed an os.access(X_OK) check: every case was then BAD
+    expect 2 "$usage
+stability_sweep.py: error: argument --fabric: $work: a directory, not an executable" "$root/scripts/stability_sweep.sh" -fast --fabric "$work"
+    # Ctrl-C (SIGINT to the terminal's foreground process group) during a 2-rank run: it gave a
+    # KeyboardInterrupt traceback and left mpiexec and the ranks running, orphans writing into the
+    # removed temporary directory. The run (365 s whole) is interrupted once its ranks have started.
+    mkdir tmp
+    TMPDIR="$work/tmp" /usr/bin/python3 -c 'import os, signal, sys; signal.signal(2, signal.SIG_DFL); os.setsid(); os.execvp(sys.argv[1], sys.argv[1:])' \
+      "$root/scripts/stability_sweep.sh" --only "energy watch off" --fabric "$FABRIC" >"$work/out" 2>"$work/err" &
+    pid=$!
+    runs() { pgrep -d, -f -- "-output_dir $work/tmp/"; }
+    for _ in $(seq 300); do [[ $(pgrep -c -f -- "^$FABRIC .*-output_dir $work/tmp/") -ge 2 ]] && break; sleep 0.1; done
+    [[ -n "$(runs)" ]] || echo "FAIL the sweep's run did not start within 30 s"
+    kill -INT -- "-$pid"; t0=$SECONDS
+    wait "$pid"; rc=$?
+    if [[ $rc -eq 130 && "$(cat "$work/err")" == "stability_sweep: interrupted" ]]; then
+      echo "PASS stability_sweep.sh interrupted: exit 130 in $((SECONDS - t0)) s, stability_sweep: interrupted"
+    else echo "FAIL stability_sweep.sh interrupted: exit $rc (expected 130); stderr:"; cat "$work/err"; fail=1; fi
+    sleep 1; left="$(runs)"
+    if [[ -n $left ]]; then
+      echo "FAIL stability_sweep.sh interrupted left its run going:"; ps -o pid,ppid,args -p "$left" | cut -c1-120; fail=1
+      kill ${left//,/ } 2>/dev/null; sleep 2; left="$(runs)"; [[ -z $left ]] || kill -KILL ${left//,/ } 2>/dev/null
+    else echo "PASS stability_sweep.sh interrupted: no mpiexec or rank left"; fi
+    # (Open MPI keeps its own session directory, ompi.*, in TMPDIR)
+    left="$(cd tmp && ls -d stability_sweep.* 2>/dev/null)"
+    [[ -z $left ]] && echo "PASS stability_sweep.sh interrupted: its temporary directory removed" ||
+      { echo "FAIL stability_sweep.sh interrupted left: $left"; fail=1; }
+    ;;
+  bench_speedups)
+    # in a tree of its own (the script writes ROOT/results/bench): its inputs, and as build/fabric FABRIC
+    # with -max_inner_steps 50 added (the last given wins) to every run, or to every run but the reference
+    mkdir -p repo/scripts repo/build tmp && cp "$root/scripts/bench_speedups.py" repo/scripts/ && ln -s "$root/inputs" repo/inputs
+    py="$work/repo/scripts/bench_speedups.py"
+    cut() { # all | not_reference
+      printf '#!/bin/bash\n' >repo/build/fabric
+      [[ $1 == all ]] && printf 'set -- "$@" -max_inner_steps 50\n' >>repo/build/fabric ||
+        printf '[[ " $* " == *" -balance_tol 1e-8 "* ]] || set -- "$@" -max_inner_steps 50\n' >>repo/build/fabric
+      printf 'exec %q "$@"\n' "$FABRIC" >>repo/build/fabric; chmod +x repo/build/fabric
+    }
+    no_tmp() { # the temporary outputs removed
+      local left; left="$(cd tmp && ls -d bench_speedups_* 2>/dev/null)"
+      [[ -z $left ]] && echo "PASS bench_speedups.py $1: nothing left in TMPDIR" || { echo "FAIL bench_speedups.py $1 left: $left"; fail=1; }
+    }
+    # results/bench a file: a FileExistsError traceback, and the temporary directory (made first) left behind
+    mkdir repo/results && : >repo/results/bench
+    expect 1 "bench_speedups: $work/repo/results/bench: not a directory (Table 2 writes its PNG there)" env TMPDIR="$work/tmp" /usr/bin/python3 "$py" --quick --tables 2
+    no_tmp "with results/bench a file"
+    rm repo/results/bench
+    # a reference that does not balance: its errors were taken as the truth (it hit the default
+    # -max_inner_steps 20000 in load step 1; it now has 400000, and is checked)
+    cut all
+    expect 1 "bench_speedups: the reference of strip_warp.yaml (-width_mm 2 -predict linear -balance_tol 1e-8 -speed_tol 1e-8 -max_inner_steps 400000) did not balance load steps 1, 2, 3, 4, 5, ... of 50: no reference to measure errors against, no table" \
+      env TMPDIR="$work/tmp" /usr/bin/python3 "$py" --quick --tables 2
+    # Table 2 says which rows balanced: here none (50 te steps per load step), each flagged false
+    cut not_reference
+    expect 0 "" env TMPDIR="$work/tmp" /usr/bin/python3 "$py" --quick --tables 2
+    if grep -Eq "^balance_tol +te_safety +wall_s +te_steps +max_N' +err_%peak +balanced$" "$work/out" &&
+       [[ $(grep -Ec '^ *1e-[234] +0\.[59] .* 50 +[0-9.]+ +false$' "$work/out") -eq 6 && -s repo/results/bench/speedups_trade.png ]]; then
+      echo "PASS bench_speedups.py --quick --tables 2: 6 rows, each balanced false"
+    else echo "FAIL bench_speedups.py --quick --tables 2 printed:"; cat "$work/out"; fail=1; fi
+    no_tmp "--quick --tables 2"
+    # Ctrl-C during the reference's run: a KeyboardInterrupt traceback
+    TMPDIR="$work/tmp" /usr/bin/python3 -c 'import os, signal, sys; signal.signal(2, signal.SIG_DFL); os.setsid(); os.execvp(sys.argv[1], sys.argv[1:])' \
+      /usr/bin/python3 "$py" --quick --tables 2 >"$work/out" 2>"$work/err" &
+    pid=$!
+    runs() { pgrep -d, -f -- "-output_dir $work/tmp/"; }
+    for _ in $(seq 300); do [[ $(pgrep -c -f -- "^$FABRIC .*-output_dir $work/tmp/") -ge 1 ]] && break; sleep 0.1; done
+    [[ -n "$(runs)" ]] || echo "FAIL bench_speedups.py's run did not start within 30 s"
+    kill -INT -- "-$pid"; t0=$SECONDS
+    wait "$pid"; rc=$?
+    if [[ $rc -eq 130 && "$(cat "$work/err")" == "bench_speedups: interrupted" ]]; then
+      echo "PASS bench_speedups.py interrupted: exit 130 in $((SECONDS - t0)) s, bench_speedups: interrupted"
+    else echo "FAIL bench_speedups.py interrupted: exit $rc (expected 130); stderr:"; cat "$work/err"; fail=1; fi
+    sleep 1; left="$(runs)"
+    if [[ -n $left ]]; then
+      echo "FAIL bench_speedups.py interrupted left its run going:"; ps -o pid,ppid,args -p "$left" | cut -c1-120; fail=1
+      kill ${left//,/ } 2>/dev/null; sleep 2; left="$(runs)"; [[ -z $left ]] || kill -KILL ${left//,/ } 2>/dev/null
+    else echo "PASS bench_speedups.py interrupted: no mpiexec or rank left"; fi
+    no_tmp "interrupted"
+    ;;
+  plot_tradeoff_input)
+    p="$root/scripts/plot_tradeoff.py"
+    head='knob,value,balanced,wall_s,te_steps,force_err_pct'
+    printf '%s\nreference,static 1e-8,true,1.98,-,0.0000\nbase,-,true,0.41,973,0.0001\nbalance_tol,1e-2,false,0.20,500,0.5\n' "$head" >t.csv
+    # -o DIR: it wrote DIR.png beside the directory, without a word; now DIR/tradeoff_TABLE.png
+    mkdir figs && expect 0 "" /usr/bin/python3 "$p" t.csv -o figs
+    [[ "$(cat "$work/out")" == figs/tradeoff_t.png && -s figs/tradeoff_t.png && ! -e figs.png ]] && echo "PASS plot_tradeoff.py -o figs wrote figs/tradeoff_t.png" ||
+      { echo "FAIL plot_tradeoff.py -o figs printed '$(cat "$work/out")', wrote: $(ls)"; fail=1; }
+    # -o without an extension: matplotlib wrote noext.png, and nothing said so
+    expect 0 "" /usr/bin/python3 "$p" t.csv -o noext
+    [[ "$(cat "$work/out")" == noext.png && -s noext.png && ! -e noext ]] && echo "PASS plot_tradeoff.py -o noext printed noext.png, the file it wrote" ||
+      { echo "FAIL plot_tradeoff.py -o noext printed '$(cat "$work/out")', wrote: $(ls)"; fail=1; }
+    # every row but the reference stopped (tradeoff.sh's '-' in every column after balanced): an empty plot, exit 0
+    printf '%s\nreference,static 1e-8,true,1.98,-,0.0000\nbase,-,stopped,-,-,-\nte_safety,0.9,timeout,-,-,-\n' "$head" >stopped.csv
+    expect 1 "plot_tradeoff.py: stopped.csv: no row but the reference ran (every one stopped, was refused or ran out of time: wall_s '-'): nothing to plot" \
+      /usr/bin/python3 "$p" stopped.csv -o s.png
+    # not numbers where the plot needs them, no knob column: ValueError and KeyError tracebacks
+    printf '%s\nreference,static 1e-8,true,1.98,-,0.0000\nbase,-,true,abc,973,0.0001\n' "$head" >wall.csv
+    expect 1 "plot_tradeoff.py: wall.csv line 3 (knob base): wall_s 'abc': not a number above 0" /usr/bin/python3 "$p" wall.csv -o w.png
+    printf '%s\nreference,static 1e-8,true,1.98,-,0.0000\nbase,-,true,0.41,973,-\n' "$head" >dash.csv
+    expect 1 "plot_tradeoff.py: dash.csv line 3 (knob base): force_err_pct '-': not a number of 0 or more" /usr/bin/python3 "$p" dash.csv -o d.png
+    printf 'value,balanced,wall_s,te_steps,force_err_pct\nstatic 1e-8,true,1.98,-,0.0000\n' >noknob.csv
+    expect 1 "plot_tradeoff.py: noknob.csv: no knob column (not a table of scripts/tradeoff.sh)" /usr/bin/python3 "$p" noknob.csv -o k.png
+    [[ -z "$(ls s.png w.png d.png k.png 2>/dev/null)" ]] || { echo "FAIL plot_tradeoff.py wrote a figure of a table it refused: $(ls)"; fail=1; }
+    ;;
   *) echo "scripts_args.sh: unknown case $case_"; exit 2 ;;
 esac
 exit $fail
