@@ -72,6 +72,11 @@ for knob in dict.fromkeys(r["knob"] for r, _, _ in pts if r["knob"] != "referenc
     for r, w, e in kp:
         if r["value"] not in ("-", None):
             ax.annotate(r["value"], (w, e), fontsize=7, xytext=(3, 3), textcoords="offset points")
+# a row whose run left a load step unbalanced: ringed in red (the table's balanced column says false)
+loose = [(w, max(e, floor)) for r, w, e in pts if r["knob"] != "reference" and r.get("balanced") == "false"]
+if loose:
+    ax.scatter([w for w, _ in loose], [e for _, e in loose], s=160, facecolors="none", edgecolors="red", lw=1.2,
+               label="a load step did not balance")
 ref = [(r, w) for r, w, _ in pts if r["knob"] == "reference"]
 if ref:
     ax.axvline(ref[0][1], color="gray", ls="--", lw=1, label=f"{ref[0][0]['value']} (reference)")
