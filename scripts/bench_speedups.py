@@ -110,7 +110,7 @@ def run(scene, opts):
     try:
         err = p.communicate()[1]
     except BaseException:
-        signal.signal(signal.SIGINT, signal.SIG_IGN)
+        signal.signal(signal.SIGINT, signal.SIG_IGN); signal.signal(signal.SIGTERM, signal.SIG_IGN)
         stop_run(p)
         raise
     if p.returncode != 0:
@@ -278,6 +278,11 @@ if "2" in TABLES:
         os.makedirs(OUT, exist_ok=True)
     except OSError as e:
         sys.exit("bench_speedups: %s: %s (Table 2 writes its PNG there)" % (OUT, "not a directory" if os.path.exists(OUT) else e.strerror))
+def _stop(signum, frame):  # SIGTERM (kill, a batch system, ctest's timeout) stops the script as Ctrl-C does
+    raise KeyboardInterrupt
+
+
+signal.signal(signal.SIGTERM, _stop)
 interrupted = False
 try:
     WORK = tempfile.mkdtemp(prefix="bench_speedups_")
@@ -288,7 +293,7 @@ try:
     if "3" in TABLES:
         table3()
 except KeyboardInterrupt:  # the current run is stopped (run); no more tables
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGINT, signal.SIG_IGN); signal.signal(signal.SIGTERM, signal.SIG_IGN)
     interrupted = True
 finally:
     if WORK:

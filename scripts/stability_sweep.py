@@ -602,7 +602,7 @@ def run_case(case, fabric, work, nice, results):
         stop_run(p)
         rc, out = 124, p.communicate()[0]
     except BaseException:  # Ctrl-C: stop the run, then let main say so
-        signal.signal(signal.SIGINT, signal.SIG_IGN)
+        signal.signal(signal.SIGINT, signal.SIG_IGN); signal.signal(signal.SIGTERM, signal.SIG_IGN)
         stop_run(p)
         raise
     out = (out or b"").decode(errors="replace")
@@ -755,7 +755,7 @@ def main():
             print("[%5.1f s] %-52s %-21s %6.1f s  %s" % (time.time() - t0, c["name"], r["outcome"], r["wall"], r["detail"][:110]),
                   file=sys.stderr, flush=True)
     except KeyboardInterrupt:  # the current case's run is stopped (run_case); no table
-        signal.signal(signal.SIGINT, signal.SIG_IGN)
+        signal.signal(signal.SIGINT, signal.SIG_IGN); signal.signal(signal.SIGTERM, signal.SIG_IGN)
         interrupted = True
     finally:
         if not a.keep:
@@ -796,10 +796,15 @@ def main():
     return 1 if bad else 0
 
 
+def _stop(signum, frame):  # SIGTERM (kill, a batch system, ctest's timeout) stops the script as Ctrl-C does
+    raise KeyboardInterrupt
+
+
 if __name__ == "__main__":
+    signal.signal(signal.SIGTERM, _stop)
     try:
         sys.exit(main())
     except KeyboardInterrupt:  # before the first run or after the last
-        signal.signal(signal.SIGINT, signal.SIG_IGN)
+        signal.signal(signal.SIGINT, signal.SIG_IGN); signal.signal(signal.SIGTERM, signal.SIG_IGN)
         print("stability_sweep: interrupted", file=sys.stderr)
         sys.exit(130)
