@@ -232,23 +232,20 @@ static inline PetscReal DrapeSupportRadius(const Scene *s)
   return PetscMax(s->bodies.pedestal_radius, s->clamps.clamp == CLAMP_RING ? s->clamps.ring[1] : 0.0);
 }
 
-PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv);
-/* what PETSc's YAML option reader would refuse in text, where (msg); 0: nothing (plain C, before PetscInitialize),
-   and then (opts not NULL) the options it would set, with their values, in order (a "$$name: !include F" as
-   -options_file_yaml F, then "-$$prefix" P under a key's mapping, whose prefix P PETSc reads F's options under), freed
-   by OptionFileFree */
-int YamlOptionsProblem(const char *text, char *msg, size_t len, char ***opts, int *nopts);
-/* what PETSc's reader of a plain option file (-options_file) would refuse in text, where (msg); 0: nothing, and
-   then (opts not NULL) the file's options and values in order, freed by OptionFileFree */
-int  OptionFileProblem(const char *text, char *msg, size_t len, char ***opts, int *nopts);
-void OptionFileFree(char **opts, int n);
 /* what PETSc would refuse in the value of a viewer option -name ([type][:file[:format]]), said in msg; 0: nothing */
 int  ViewerValueProblem(const char *name, const char *value, char *msg, size_t len);
-/* an unknown option is an error; with solver_options_later, PETSc's solver options (-snes_*, -ksp_*,
-   -pc_*, -mg_*, -mat_*) are left to the quasi-static solver, and SceneWarnUnused names those it has not read
-   (when: by when, e.g. "by the solves up to load step 1"), once: a name warned about is marked used */
-PetscErrorCode SceneCheckUnused(MPI_Comm comm, PetscBool solver_options_later);
-PetscErrorCode SceneWarnUnused(MPI_Comm comm, const char *when);
+/* a text in a message: one longer than SHOWN_MAX keeps its first and last 100 bytes, "..." between (PETSc keeps a
+   message's first 1023 characters) */
+#define SHOWN_MAX 240
+typedef struct {
+  char text[SHOWN_MAX];
+} Shown;
+const char *ShowText(const char *text, Shown *sh);
+/* an option of PETSc's solvers (name without its '-': snes_, ksp_, pc_, mg_, mat_, tao_ ...), read when the
+   quasi-static solver sets itself up */
+PetscBool SceneSolverOption(const char *name);
+/* OPT's FILE is a readable regular file (not a directory, device or pipe), or an error naming both */
+PetscErrorCode SceneCheckReadable(MPI_Comm comm, const char *opt, const char *file);
 PetscErrorCode SceneLoad(MPI_Comm comm, Scene *s);
 PetscErrorCode SceneWidthText(const SceneInput *in, const char *real_fmt, char *text, size_t len);
 /* the same fabric at half the thread density (-solver static's grid sequencing): each coarse yarn

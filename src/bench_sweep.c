@@ -21,6 +21,7 @@
 #include "hash.h"
 #include "kernels.h"
 #include "scene.h"
+#include "scenefile.h"
 
 #include <math.h>
 #include <stdlib.h>

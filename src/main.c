@@ -13,6 +13,7 @@
 #include "measure.h"
 #include "report.h"
 #include "scene.h"
+#include "scenefile.h"
 
 #include <ctype.h>
 #include <math.h> /* isfinite */

@@ -6,6 +6,7 @@
  * have run. The measured response is the reaction on the grips.
  */
 #include "relax.h"
+#include "scenefile.h" /* SceneWarnUnused */
 #include "balance.h"
 #include "checkpoint.h"
 #include "comm.h"
