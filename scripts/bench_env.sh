@@ -4,8 +4,9 @@
 # root and more ranks than cores; fabric_error LOG [LINES] (fabric's own error line from a run's log, not
 # mpiexec's footer after it, else its last LINES lines, 1 by default), summary_key DIR KEY (KEY's value in
 # DIR/summary.json: a number, true or false) and positive_ranks NAME VALUE (an environment variable's
-# rank count, a positive integer, else a message and exit 2). Ctrl-C (SIGINT) or SIGTERM stops the
-# script with "interrupted" and exit 130, its runs with it (mpiexec is in its process group).
+# rank count, a positive integer, else a message and exit 2). Ctrl-C (SIGINT to the process group, as a
+# terminal sends it, or SIGTERM to the group) stops the script with "interrupted" and exit 130, its runs
+# with it (mpiexec is in its group); a signal to the script alone stops it after its current run.
 case "${1:-}" in -h | --help) sed -n '2,/^[^#]/{/^[^#]/d;s/^# \{0,1\}//;p}' "$0"; exit 0 ;; esac
 set -eu
 here="$(cd "$(dirname "$0")/.." && pwd)"

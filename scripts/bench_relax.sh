@@ -54,7 +54,9 @@ PY
 
 # row NAME OPTIONS...: run into n w c r; a run that left no results (not a stop the solver reports) ends the script
 row() {
-  read -r n w c r < <(run "$@")
+  local out
+  out="$(run "$@")" # (not a process substitution: the shell waits for it, and Ctrl-C reaches it)
+  read -r n w c r <<<"$out"
   [[ $c != failed ]] || { echo "bench_relax.sh: run $1 left no results: $(fabric_error "$work/$1.log" 3)" >&2; exit 1; }
 }
 

@@ -23,7 +23,12 @@ case "${1:-}" in
 esac
 here="$(cd "$(dirname "$0")/.." && pwd)"
 fabric="${FABRIC:-$here/build/fabric}"
-[[ -x "$fabric" ]] || bash "$here/scripts/setup.sh" >/dev/null
+if [[ -n "${FABRIC:-}" ]]; then # the user's binary, as given
+  [[ -f "$FABRIC" && -x "$FABRIC" ]] || { echo "scripts/tradeoff.sh: FABRIC '$FABRIC': not an executable file" >&2; exit 2; }
+  fabric="$(cd "$(dirname "$FABRIC")" && pwd)/$(basename "$FABRIC")"
+elif [[ ! -x "$fabric" ]]; then
+  bash "$here/scripts/setup.sh" >/dev/null
+fi
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
 scene="$1"
 case "$scene" in pushing | bias | drape) ;; *) echo "scripts/tradeoff.sh: scene '$scene': one of pushing, bias, drape" >&2; exit 2 ;; esac
@@ -46,15 +51,16 @@ base=("${@:3}")
 ranks="${RANKS:-2}"
 limit="${LIMIT_S:-300}" # seconds a run may take
 [[ $ranks =~ ^[1-9][0-9]*$ ]] || { echo "scripts/tradeoff.sh: RANKS '$ranks': the number of ranks, a positive integer" >&2; exit 2; }
-[[ $limit =~ ^[0-9]*\.?[0-9]+$ && ! $limit =~ ^0*\.?0*$ ]] ||
-  { echo "scripts/tradeoff.sh: LIMIT_S '$limit': a run's time limit in seconds, a positive number" >&2; exit 2; }
+# as timeout reads it (a number, an exponent, a unit s, m, h or d); 0 would be no limit at all
+[[ $limit =~ ^([0-9]+\.?[0-9]*|\.[0-9]+)([eE][+-]?[0-9]+)?[smhd]?$ ]] && awk -v v="${limit%[smhd]}" 'BEGIN {exit !(v + 0 > 0)}' ||
+  { echo "scripts/tradeoff.sh: LIMIT_S '$limit': a run's time limit, a positive number of seconds (or with a unit: 5m)" >&2; exit 2; }
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
 trap 'echo "scripts/tradeoff.sh: interrupted" >&2; exit 130' INT TERM
 
 run() { # name, options...: a run that the solver stops (its message in NAME.error), or that
-         # passes the time limit, is a row too (timeout in the foreground: Ctrl-C reaches the run)
+         # passes the time limit, is a row too (timeout in the foreground: Ctrl-C reaches the run; a run still there 30 s after its limit is killed)
   local name="$1" rc=0; shift
-  timeout --foreground "$limit" mpiexec -n "$ranks" "$fabric" -scene "$here/inputs/$scene.yaml" -output_every 0 -quiet \
+  timeout --foreground -k 30 "$limit" mpiexec -n "$ranks" "$fabric" -scene "$here/inputs/$scene.yaml" -output_every 0 -quiet \
     -output_dir "$work/$name" "${base[@]}" "$@" >"$work/$name.log" 2>&1 || rc=$?
   ((rc == 0)) && return
   if ((rc == 124)); then echo "fabric: stopped by the script's time limit of $limit s" >"$work/$name.error"; return; fi

@@ -7,13 +7,10 @@
 #include "comm.h"
 
 #include <ctype.h>
-#include <errno.h>
-#include <limits.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
-#include <sys/stat.h>
-#include <unistd.h>
+#include <sys/types.h> /* ssize_t */
 #include <yaml.h>
 
 /* the next line of a scene file into *line (as getline, its line end kept): a line ends at LF, CR LF or a CR alone,

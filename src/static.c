@@ -45,7 +45,6 @@
 #include <petscsnes.h>
 #include <petsctao.h>
 
-#include <float.h>
 #include <stdlib.h>
 #include <string.h>
 

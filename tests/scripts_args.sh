@@ -37,8 +37,13 @@ case "$case_" in
     expect 1 "scripts/tradeoff.sh: the reference run (-solver static -balance_tol 1e-8 ${small_pushing[*]}) reaches no load step at 5 mm of travel or more (the force error is taken from 5 mm on); nothing to measure against" \
       "$t" pushing "" "${small_pushing[@]}"
     # LIMIT_S=0 took off the limit, a word failed every run with timeout's message; RANKS=0 ran on every slot
-    expect 2 "scripts/tradeoff.sh: LIMIT_S '0': a run's time limit in seconds, a positive number" env LIMIT_S=0 "$t" bias
+    expect 2 "scripts/tradeoff.sh: LIMIT_S '0': a run's time limit, a positive number of seconds (or with a unit: 5m)" env LIMIT_S=0 "$t" bias
     expect 2 "scripts/tradeoff.sh: RANKS '0': the number of ranks, a positive integer" env RANKS=0 "$t" bias
+    expect 2 "scripts/tradeoff.sh: LIMIT_S '5x': a run's time limit, a positive number of seconds (or with a unit: 5m)" env LIMIT_S=5x "$t" bias
+    expect 2 "scripts/tradeoff.sh: FABRIC '$work': not an executable file" env FABRIC="$work" "$t" bias
+    # timeout's own forms run (an exponent, a unit): the reference's error, not the limit's
+    expect 1 "scripts/tradeoff.sh: the reference run (-solver static -balance_tol 1e-8 -gauge_mm abc) stopped: fabric: error: -gauge_mm abc: not a number; nothing to measure against" \
+      env LIMIT_S=1e1m "$t" bias "" -gauge_mm abc
     ;;
   bench_pushing)
     expect 1 "bench_pushing.sh: the reference run reaches no load step at 5 mm of travel or more: no force error from 5 mm on" \
@@ -146,7 +151,7 @@ stability_sweep.py: error: argument --keep: $work/file: not a directory" "$root/
     # Ctrl-C (SIGINT to the script's process group, as a terminal sends it) stops the script at once, with its
     # runs: te_table.sh went on to the next scene after a "(stopped)" row, tradeoff.sh (its runs under timeout,
     # in a group of their own) ran every row; exit 130, "interrupted", no process of it left, no table file
-    for s in "te_table.sh strip_warp square_net" "tradeoff.sh bias $work/t.csv" "bench_pushing.sh"; do
+    for s in "te_table.sh strip_warp square_net" "tradeoff.sh bias $work/t.csv" "bench_pushing.sh" "bench_relax.sh --table 1 --np 1"; do
       read -ra cmd <<<"$s"
       /usr/bin/python3 -c 'import os, signal, sys; signal.signal(signal.SIGINT, signal.SIG_DFL); os.setsid(); os.execvp(sys.argv[1], sys.argv[1:])' \
         "$root/scripts/${cmd[0]}" "${cmd[@]:1}" >"$work/out" 2>"$work/err" &
@@ -292,7 +297,7 @@ stability_sweep.py: error: argument --fabric: $work: a directory, not an executa
     pid=$!
     runs() { pgrep -d, -f -- "-output_dir $work/tmp/"; }
     for _ in $(seq 300); do [[ $(pgrep -c -f -- "^$FABRIC .*-output_dir $work/tmp/") -ge 2 ]] && break; sleep 0.1; done
-    [[ -n "$(runs)" ]] || echo "FAIL the sweep's run did not start within 30 s"
+    [[ -n "$(runs)" ]] || { echo "FAIL the sweep's run did not start within 30 s"; fail=1; }
     kill -INT -- "-$pid"; t0=$SECONDS
     wait "$pid"; rc=$?
     if [[ $rc -eq 130 && "$(cat "$work/err")" == "stability_sweep: interrupted" ]]; then
@@ -347,7 +352,7 @@ stability_sweep.py: error: argument --fabric: $work: a directory, not an executa
     pid=$!
     runs() { pgrep -d, -f -- "-output_dir $work/tmp/"; }
     for _ in $(seq 300); do [[ $(pgrep -c -f -- "^$FABRIC .*-output_dir $work/tmp/") -ge 1 ]] && break; sleep 0.1; done
-    [[ -n "$(runs)" ]] || echo "FAIL bench_speedups.py's run did not start within 30 s"
+    [[ -n "$(runs)" ]] || { echo "FAIL bench_speedups.py's run did not start within 30 s"; fail=1; }
     kill -INT -- "-$pid"; t0=$SECONDS
     wait "$pid"; rc=$?
     if [[ $rc -eq 130 && "$(cat "$work/err")" == "bench_speedups: interrupted" ]]; then
