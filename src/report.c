@@ -429,9 +429,11 @@ PetscErrorCode OutputSummary(Fabric fab, const char *error)
   SummaryTeMeasure(fab, fp);
   if (s->num.kinetic_damping)
     fprintf(fp, "  \"kinetic_damping_resets\": %" PetscInt64_FMT ",\n", (PetscInt64) fab->step.ke_resets);
-  if (s->test == TEST_DRAPE)
+  if (s->test == TEST_DRAPE && done > 0)
     fprintf(fp, "  \"drape_coefficient_pct\": %.6g,\n  \"folds\": %" PetscInt_FMT ",\n", (double) fab->meas.drape_pct,
             fab->meas.folds);
+  else if (s->test == TEST_DRAPE) /* no load step ended: nothing was measured (0 read as a result) */
+    fprintf(fp, "  \"drape_coefficient_pct\": null,\n  \"folds\": null,\n");
   fprintf(fp, "  \"options\": {\n");
   SceneOptionsJson(s, fp, "    ");
   fprintf(fp, "  },\n  \"solver_options\": {\n");

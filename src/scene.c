@@ -1870,7 +1870,9 @@ static int ViewerOption(const char *name)
   static const char *const viewer[] = {"snes_view",   "ksp_view",   "pc_view",    "tao_view",   "dm_view",
                                        "mat_view",    "vec_view",   "snes_monitor", "ksp_monitor", "tao_monitor",
                                        "snes_monitor_short", "ksp_monitor_short", "ksp_monitor_true_residual",
-                                       "snes_converged_reason", "ksp_converged_reason", "snes_linesearch_monitor"};
+                                       "snes_converged_reason", "ksp_converged_reason", "snes_linesearch_monitor",
+                                       "snes_monitor_solution", "snes_monitor_solution_update", "snes_monitor_residual",
+                                       "ksp_monitor_solution"};
   if (!strcmp(name, "log_view")) return 1;
   for (size_t k = 0; k < sizeof viewer / sizeof viewer[0]; k++)
     if (!strcmp(name, viewer[k]) || OptionIs(name, viewer[k])) return 1;

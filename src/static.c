@@ -1377,7 +1377,9 @@ static PetscErrorCode FreshFactors(StaticSolver ss)
   PetscCall(KSPGetPC(ksp, &pc));
   PetscCall(ClearFailures(pc));
   PetscCall(PetscObjectTypeCompare((PetscObject) pc, PCMG, &mg));
-  if (!mg) PetscCall(PCReset(pc));
+  /* one never set up has nothing to reset (and SuperLU_DIST's reset then read a communicator attribute it had not made:
+     MPI_ERR_KEYVAL, an abort) */
+  if (!mg && pc->setupcalled) PetscCall(PCReset(pc));
   PetscFunctionReturn(0);
 }
 
@@ -1649,9 +1651,16 @@ static PetscErrorCode StaticCreateLevel(Fabric fab, PetscInt sequence, StaticSol
     else PetscCall(SNESGetKSP(ss->snes, &ksp));
     PetscCall(KSPGetPC(ksp, &pc));
     PetscCall(PetscObjectTypeCompare((PetscObject) pc, PCMG, &mg));
-    PetscCheck(mg, fab->comm, PETSC_ERR_USER_INPUT,
-               "-static_tangent stencil: the tangent by stencil needs the multigrid preconditioner (mg); add "
-               "-static_tangent aij for another one");
+    if (!mg) { /* a Krylov method that brings its own preconditioner (-ksp_type fetidp) set another */
+      PCType type;
+      char   given[512];
+      PetscCall(PCGetType(pc, &type));
+      SolverOptionsGiven(given, sizeof given);
+      SETERRQ(fab->comm, PETSC_ERR_USER_INPUT,
+              "the solver options given (%s) set the preconditioner %s; the tangent stored by stencil (the default, "
+              "-static_tangent stencil) needs the multigrid (mg): add -static_tangent aij for another one",
+              given, type ? type : "none");
+    }
   }
   PetscCall(SequenceSetUp(ss));
   *out = ss;

@@ -10,6 +10,7 @@
 #include <ctype.h>
 #include <errno.h>
 #include <float.h>
+#include <limits.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -106,7 +107,7 @@ PetscErrorCode StaticOptionsRead(MPI_Comm comm, StaticOptions *o)
     }
   }
   PetscCheck(o->line_lump >= 0 && isfinite(o->line_lump), comm, PETSC_ERR_USER_INPUT,
-             "-mg_line_lump %g: must be a finite number, 0 or more", (double) o->line_lump);
+             "-mg_line_lump %.6g: must be a finite number, 0 or more", (double) o->line_lump);
   PetscCheck(o->shift_start >= 0 && isfinite(o->shift_start), comm, PETSC_ERR_USER_INPUT,
              "-snes_shift_start %.6g: must be a finite number, 0 or more", (double) o->shift_start);
   PetscCheck(o->shift_carry >= 0 && isfinite(o->shift_carry), comm, PETSC_ERR_USER_INPUT,
@@ -150,15 +151,18 @@ static PetscBool WholeIn(const char *value, long lo, long hi)
 
 static PetscBool GmresRestartOk(const char *value) { return WholeIn(value, 1, GMRES_RESTART_MAX); }
 
-/* an iteration limit: not a negative whole number (PETSc's words, default or DECIDE, are PETSc's to read) */
+/* an iteration limit: a whole number, 0 or more. PETSc 3.18 reads its words default and DECIDE as -2 and -1, which
+   it took for limits (-snes_max_it default stopped the first solve on "Internal error", -ksp_max_it default ran as
+   0: no load step balanced) */
 static PetscBool CountOk(const char *value)
 {
   char      *end;
   const long v = strtol(value, &end, 10);
+  if (isalpha((unsigned char) value[0])) return PETSC_FALSE; /* a word (1e3 is PETSc's to refuse: digits only) */
   return end != value && !*end && v < 0 ? PETSC_FALSE : PETSC_TRUE;
 }
 
-/* value is a real number and nothing else (into v); not one, PETSc's words (default, DECIDE) are PETSc's to read */
+/* value is a real number and nothing else (into v); a word (PETSc's default, DECIDE: -2, -1) is none */
 static PetscBool WholeReal(const char *value, double *v)
 {
   char *end;
@@ -166,23 +170,27 @@ static PetscBool WholeReal(const char *value, double *v)
   return end != value && !*end ? PETSC_TRUE : PETSC_FALSE;
 }
 
-/* a linear solve's relative tolerance: from 0 to below 1 (PETSc's words, default or DECIDE, are PETSc's to read);
-   -ksp_rtol 2 let the first residual pass, every Newton step was zero and no load step balanced, and -1 ran */
+/* a linear solve's relative tolerance: a number from 0 to below 1; -ksp_rtol 2 let the first residual pass, every
+   Newton step was zero and no load step balanced, and -1 ran */
 static PetscBool RtolOk(const char *value)
 {
   double v;
-  return !WholeReal(value, &v) || (v >= 0 && v < 1) ? PETSC_TRUE : PETSC_FALSE;
+  return WholeReal(value, &v) && v >= 0 && v < 1 ? PETSC_TRUE : PETSC_FALSE;
 }
 
 /* the line search's options (EnergyLineSearch, and PETSc's own line searches): its first step, a fraction of
    Newton's step above 0 and at most 2; the smallest it tries, from 0 to below 1 (damping nan, -1 or inf and
    minlambda nan, 2 or inf ran every load step unbalanced with zero Newton steps, and damping 0 took 600 steps of
-   length 0); its tries are an iteration limit (-1 ran as 0) */
+   length 0; default, read as -2, zero Newton steps too); its tries are an iteration limit (-1 ran as 0) */
 static PetscBool LineDampingOk(const char *value)
 {
   double v;
-  return !WholeReal(value, &v) || (v > 0 && v <= 2) ? PETSC_TRUE : PETSC_FALSE;
+  return WholeReal(value, &v) && v > 0 && v <= 2 ? PETSC_TRUE : PETSC_FALSE;
 }
+
+/* a lag (-snes_lag_jacobian, -snes_lag_preconditioner): a whole number, PETSc judges which (default, read as -2,
+   froze the tangent: 200 Newton steps, unbalanced) */
+static PetscBool LagOk(const char *value) { return WholeIn(value, LONG_MIN, LONG_MAX); }
 static PetscBool LineMinOk(const char *value) { return RtolOk(value); } /* the same range */
 
 /* the multigrid's cycles per application: a whole number, 1 or more (0, -1 and PETSc's word "default", read as -2,
@@ -468,7 +476,14 @@ PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
     {
       const char *const limits[] = {"snes_max_it", "tao_max_it", "ksp_max_it", "snes_linesearch_max_it"};
       for (int k = 0; k < 4 && !bad[0]; k++) PetscCall(FindBadOption(limits[k], CountOk, bad, sizeof bad));
-      PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT, "%s with -solver static: an iteration limit, 0 or more", bad);
+      PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT, "%s with -solver static: an iteration limit, a whole number, 0 or more",
+                 bad);
+      const char *const lags[] = {"snes_lag_jacobian", "snes_lag_preconditioner"};
+      for (int k = 0; k < 2 && !bad[0]; k++) PetscCall(FindBadOption(lags[k], LagOk, bad, sizeof bad));
+      PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT,
+                 "%s with -solver static: a lag, a whole number (PETSc reads the word as -2 or -1: a tangent never "
+                 "formed again)",
+                 bad);
     }
     PetscCall(FindBadOption("ksp_rtol", RtolOk, bad, sizeof bad));
     PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT,
@@ -542,6 +557,28 @@ PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
                "%s with -solver static: not a matrix type PETSc knows, or one the multigrid's coarsest LU factorisation "
                "does not take (sbaij, is); aij, baij or dense",
                bad);
+  }
+  { /* block counts PETSc checks against the ranks as the preconditioner sets up, on some ranks only (the others
+       waited, and the run was stopped 10 s later, the option unnamed): -pc_asm_blocks below the ranks,
+       -pc_redundant_number above them (under any prefix) */
+    OptionsGiven g;
+    PetscMPIInt  size;
+    char         msg[512] = "";
+    PetscCallMPI(MPI_Comm_size(comm, &size));
+    PetscCheck(!OptionsGivenGet(&g), PETSC_COMM_SELF, PETSC_ERR_MEM, "cannot list the options given");
+    for (PetscInt q = 0; q < g.n && !msg[0]; q++) {
+      const PetscBool asm_ = OptionIs(g.name[q], "pc_asm_blocks"), red = OptionIs(g.name[q], "pc_redundant_number");
+      char           *end;
+      const long      v = strtol(g.value[q], &end, 10);
+      if (!asm_ && !red) continue;
+      if (!g.value[q][0] || *end || (asm_ && v < size) || (red && (v < 1 || v > size)))
+        snprintf(msg, sizeof msg, "%s %s with -solver static on %d rank%s: %s", g.name[q], g.value[q], size,
+                 size > 1 ? "s" : "",
+                 asm_ ? "the additive Schwarz blocks in all, a whole number, at least one a rank"
+                      : "the redundant solves, a whole number from 1 to the ranks");
+    }
+    OptionsGivenFree(&g);
+    PetscCheck(!msg[0], comm, PETSC_ERR_USER_INPUT, "%s", msg);
   }
   if (o.tao) { /* TAO's Newton line search or trust region, on the unconstrained Pi (the others
                   crashed or ran out of memory on the pushing test: ntl, ipm, pdipm) */
