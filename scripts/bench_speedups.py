@@ -20,6 +20,8 @@ Ctrl-C stops the current run (mpiexec and its ranks), removes the temporary outp
 """
 import argparse, csv, itertools, json, os, shutil, signal, struct, subprocess, sys, tempfile, time
 
+from runstop import stop_run  # scripts/runstop.py
+
 
 def tables(text):
     """--tables: a comma-separated list of 1, 2, 3"""
@@ -55,47 +57,6 @@ WORK = None  # the runs' outputs: a temporary directory, made once results/bench
 OUT = os.path.join(ROOT, "results", "bench")
 ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMPI_MCA_rmaps_base_oversubscribe="1")
 _count = [0]
-
-
-def session_pids(sid):
-    """the live processes of session sid: a run started in a session of its own, with everything it
-    started (mpiexec gives its ranks process groups of their own, in the same session)"""
-    pids = []
-    for d in os.listdir("/proc"):
-        if not d.isdigit():
-            continue
-        try:
-            with open("/proc/%s/stat" % d) as f:
-                st = f.read()
-        except OSError:
-            continue
-        fields = st[st.rindex(")") + 2:].split()  # state, ppid, pgrp, session, ...
-        if fields[0] != "Z" and int(fields[3]) == sid:
-            pids.append(int(d))
-    return pids
-
-
-def stop_run(p, grace=10.0):
-    """stop a run started with start_new_session=True, and all it started: SIGTERM to its process
-    group (mpiexec stops its ranks), then SIGKILL to whatever of its session is left after grace s"""
-    for sig in (signal.SIGTERM, signal.SIGKILL):
-        try:
-            os.killpg(p.pid, sig)
-        except OSError:
-            pass
-        if sig == signal.SIGKILL:
-            for pid in session_pids(p.pid):
-                try:
-                    os.kill(pid, sig)
-                except OSError:
-                    pass
-        deadline = time.time() + grace
-        while time.time() < deadline:
-            p.poll()
-            if p.returncode is not None and not session_pids(p.pid):
-                return
-            time.sleep(0.1)
-    p.wait()
 
 
 def run(scene, opts):

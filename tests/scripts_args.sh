@@ -20,6 +20,28 @@ expect() { # RC MESSAGE COMMAND...: exit status RC, and MESSAGE the whole of std
     echo "expected stderr: $want"; fail=1
   fi
 }
+# stopped_whole NAME RANKS MESSAGE COMMAND...: COMMAND (a Python script whose runs have sessions of their own) started in
+# a session of its own, SIGINT at its default, and sent SIGINT to its group once RANKS of its ranks run, as a terminal's
+# Ctrl-C: exit 130, MESSAGE its whole stderr, and no run of it (mpiexec, ranks) left a second later
+stopped_whole() {
+  local name="$1" ranks="$2" msg="$3" pid rc t0 left; shift 3
+  runs() { pgrep -d, -f -- "-output_dir $work/tmp/"; }
+  TMPDIR="$work/tmp" /usr/bin/python3 -c 'import os, signal, sys; signal.signal(2, signal.SIG_DFL); os.setsid(); os.execvp(sys.argv[1], sys.argv[1:])' \
+    "$@" >"$work/out" 2>"$work/err" &
+  pid=$!
+  for _ in $(seq 300); do [[ $(pgrep -c -f -- "^$FABRIC .*-output_dir $work/tmp/") -ge $ranks ]] && break; sleep 0.1; done
+  [[ -n "$(runs)" ]] || { echo "FAIL $name's run did not start within 30 s"; fail=1; }
+  kill -INT -- "-$pid"; t0=$SECONDS
+  wait "$pid"; rc=$?
+  if [[ $rc -eq 130 && "$(cat "$work/err")" == "$msg" ]]; then
+    echo "PASS $name interrupted: exit 130 in $((SECONDS - t0)) s, $msg"
+  else echo "FAIL $name interrupted: exit $rc (expected 130); stderr:"; cat "$work/err"; fail=1; fi
+  sleep 1; left="$(runs)"
+  if [[ -n $left ]]; then
+    echo "FAIL $name interrupted left its run going:"; ps -o pid,ppid,args -p "$left" | cut -c1-120; fail=1
+    kill ${left//,/ } 2>/dev/null; sleep 2; left="$(runs)"; [[ -z $left ]] || kill -KILL ${left//,/ } 2>/dev/null
+  else echo "PASS $name interrupted: no mpiexec or rank left"; fi
+}
 small_pushing=(-ends_per_cm 4 -picks_per_cm 4 -load_steps 2 -sphere_travel_mm 3)
 case "$case_" in
   tradeoff)
@@ -292,22 +314,7 @@ stability_sweep.py: error: argument --fabric: $work: a directory, not an executa
     # KeyboardInterrupt traceback and left mpiexec and the ranks running, orphans writing into the
     # removed temporary directory. The run (365 s whole) is interrupted once its ranks have started.
     mkdir tmp
-    TMPDIR="$work/tmp" /usr/bin/python3 -c 'import os, signal, sys; signal.signal(2, signal.SIG_DFL); os.setsid(); os.execvp(sys.argv[1], sys.argv[1:])' \
-      "$root/scripts/stability_sweep.sh" --only "energy watch off" --fabric "$FABRIC" >"$work/out" 2>"$work/err" &
-    pid=$!
-    runs() { pgrep -d, -f -- "-output_dir $work/tmp/"; }
-    for _ in $(seq 300); do [[ $(pgrep -c -f -- "^$FABRIC .*-output_dir $work/tmp/") -ge 2 ]] && break; sleep 0.1; done
-    [[ -n "$(runs)" ]] || { echo "FAIL the sweep's run did not start within 30 s"; fail=1; }
-    kill -INT -- "-$pid"; t0=$SECONDS
-    wait "$pid"; rc=$?
-    if [[ $rc -eq 130 && "$(cat "$work/err")" == "stability_sweep: interrupted" ]]; then
-      echo "PASS stability_sweep.sh interrupted: exit 130 in $((SECONDS - t0)) s, stability_sweep: interrupted"
-    else echo "FAIL stability_sweep.sh interrupted: exit $rc (expected 130); stderr:"; cat "$work/err"; fail=1; fi
-    sleep 1; left="$(runs)"
-    if [[ -n $left ]]; then
-      echo "FAIL stability_sweep.sh interrupted left its run going:"; ps -o pid,ppid,args -p "$left" | cut -c1-120; fail=1
-      kill ${left//,/ } 2>/dev/null; sleep 2; left="$(runs)"; [[ -z $left ]] || kill -KILL ${left//,/ } 2>/dev/null
-    else echo "PASS stability_sweep.sh interrupted: no mpiexec or rank left"; fi
+    stopped_whole stability_sweep.sh 2 "stability_sweep: interrupted" "$root/scripts/stability_sweep.sh" --only "energy watch off" --fabric "$FABRIC"
     # (Open MPI keeps its own session directory, ompi.*, in TMPDIR)
     left="$(cd tmp && ls -d stability_sweep.* 2>/dev/null)"
     [[ -z $left ]] && echo "PASS stability_sweep.sh interrupted: its temporary directory removed" ||
@@ -316,7 +323,7 @@ stability_sweep.py: error: argument --fabric: $work: a directory, not an executa
   bench_speedups)
     # in a tree of its own (the script writes ROOT/results/bench): its inputs, and as build/fabric FABRIC
     # with -max_inner_steps 50 added (the last given wins) to every run, or to every run but the reference
-    mkdir -p repo/scripts repo/build tmp && cp "$root/scripts/bench_speedups.py" repo/scripts/ && ln -s "$root/inputs" repo/inputs
+    mkdir -p repo/scripts repo/build tmp && cp "$root/scripts/bench_speedups.py" "$root/scripts/runstop.py" repo/scripts/ && ln -s "$root/inputs" repo/inputs
     py="$work/repo/scripts/bench_speedups.py"
     cut() { # all | not_reference
       printf '#!/bin/bash\n' >repo/build/fabric
@@ -347,22 +354,7 @@ stability_sweep.py: error: argument --fabric: $work: a directory, not an executa
     else echo "FAIL bench_speedups.py --quick --tables 2 printed:"; cat "$work/out"; fail=1; fi
     no_tmp "--quick --tables 2"
     # Ctrl-C during the reference's run: a KeyboardInterrupt traceback
-    TMPDIR="$work/tmp" /usr/bin/python3 -c 'import os, signal, sys; signal.signal(2, signal.SIG_DFL); os.setsid(); os.execvp(sys.argv[1], sys.argv[1:])' \
-      /usr/bin/python3 "$py" --quick --tables 2 >"$work/out" 2>"$work/err" &
-    pid=$!
-    runs() { pgrep -d, -f -- "-output_dir $work/tmp/"; }
-    for _ in $(seq 300); do [[ $(pgrep -c -f -- "^$FABRIC .*-output_dir $work/tmp/") -ge 1 ]] && break; sleep 0.1; done
-    [[ -n "$(runs)" ]] || { echo "FAIL bench_speedups.py's run did not start within 30 s"; fail=1; }
-    kill -INT -- "-$pid"; t0=$SECONDS
-    wait "$pid"; rc=$?
-    if [[ $rc -eq 130 && "$(cat "$work/err")" == "bench_speedups: interrupted" ]]; then
-      echo "PASS bench_speedups.py interrupted: exit 130 in $((SECONDS - t0)) s, bench_speedups: interrupted"
-    else echo "FAIL bench_speedups.py interrupted: exit $rc (expected 130); stderr:"; cat "$work/err"; fail=1; fi
-    sleep 1; left="$(runs)"
-    if [[ -n $left ]]; then
-      echo "FAIL bench_speedups.py interrupted left its run going:"; ps -o pid,ppid,args -p "$left" | cut -c1-120; fail=1
-      kill ${left//,/ } 2>/dev/null; sleep 2; left="$(runs)"; [[ -z $left ]] || kill -KILL ${left//,/ } 2>/dev/null
-    else echo "PASS bench_speedups.py interrupted: no mpiexec or rank left"; fi
+    stopped_whole bench_speedups.py 1 "bench_speedups: interrupted" /usr/bin/python3 "$py" --quick --tables 2
     no_tmp "interrupted"
     ;;
   plot_tradeoff_input)
