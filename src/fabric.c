@@ -958,8 +958,7 @@ PetscErrorCode FabricCreateCoarse(Fabric fine, Fabric *out)
     PetscCall(PetscErrorMessage(ierr, &text, &specific));
     PetscCheck(ierr == PETSC_ERR_USER_INPUT, fine->comm, ierr, "the coarser fabric of -static_sequence: %s",
                specific && specific[0] ? specific : text); /* the handler above printed nothing */
-    if (!fine->s.out.quiet)
-      PetscCall(PetscPrintf(fine->comm,
+    PetscCall(PetscPrintf(fine->comm, /* with -quiet too: the option given does not act */
                             "fabric: -static_sequence: no coarser fabric below %" PetscInt_FMT " x %" PetscInt_FMT
                             ": at half the density this scene does not fit (%s); solved without it\n",
                             fine->s.spec.nx, fine->s.spec.ny, specific && specific[0] ? specific : text));

@@ -1596,7 +1596,7 @@ static PetscErrorCode StaticCreateLevel(Fabric fab, PetscInt sequence, StaticSol
   PetscCall(MultigridHierarchy(ss->dm, &ss->levels, ss->dms, ss->Ps));
   ss->stencil = ss->opt.tangent == TANGENT_STENCIL && StaticOptionsStencilFits(&ss->opt) && ss->levels > 1 ? PETSC_TRUE
                                                                                                 : PETSC_FALSE;
-  if (sequence < 0 && ss->opt.tangent_set && ss->opt.tangent == TANGENT_STENCIL && ss->levels < 2 && !fab->s.out.quiet) {
+  if (sequence < 0 && ss->opt.tangent_set && ss->opt.tangent == TANGENT_STENCIL && ss->levels < 2) { /* said with -quiet too: not a progress line */
     PetscBool mumps;
     PetscCall(PetscHasExternalPackage("mumps", &mumps));
     PetscCall(PetscPrintf(fab->comm,
@@ -1680,7 +1680,7 @@ PetscErrorCode StaticCreate(Fabric fab, StaticSolver *out)
     PetscCall(PetscSNPrintf(list + len, sizeof list - len, "%s%" PetscInt_FMT " x %" PetscInt_FMT, used ? ", " : "",
                             c->fab->s.spec.nx, c->fab->s.spec.ny));
   }
-  if ((*out)->opt.sequence > used && !fab->s.out.quiet) /* say so: the option asked for more */
+  if ((*out)->opt.sequence > used) /* say so, with -quiet too: the option asked for more */
     PetscCall(PetscPrintf(fab->comm,
                           "fabric: -static_sequence %" PetscInt_FMT ": %" PetscInt_FMT " coarser fabric%s%s%s%s (a coarser one "
                           "needs an odd number of crossings a side, multigrid levels on %d ranks and a ball at least two of its yarn spacings "
