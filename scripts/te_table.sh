@@ -11,16 +11,10 @@
 # state (load step 1 after its grips moved), the last, the tightest (smallest limit) and the worst
 # (largest te / limit), each once. A run that stops gets a "(stopped)" row and the table goes on;
 # the script then exits 1.
+source "$(dirname "$0")/bench_env.sh" # here, fabric (FABRIC checked, or built), Ctrl-C, positive_ranks
 set -euo pipefail
-here=$(cd "$(dirname "$0")/.." && pwd)
-fabric=${FABRIC:-$here/build/fabric}
-if [[ -n ${FABRIC:-} ]]; then # the user's binary, as given
-  [[ -f $FABRIC && -x $FABRIC ]] || { echo "te_table.sh: FABRIC '$FABRIC': not an executable file" >&2; exit 2; }
-elif [[ ! -x $fabric ]]; then
-  bash "$here/scripts/setup.sh" >/dev/null
-fi
 np=${NP:-2}
-[[ $np =~ ^[1-9][0-9]*$ ]] || { echo "te_table.sh: NP '$np': the number of ranks, a positive integer" >&2; exit 2; }
+positive_ranks NP "$np"
 scenes=()
 while [[ $# -gt 0 && $1 != -- ]]; do
   case $1 in
@@ -41,11 +35,9 @@ extra=("$@")
 # -load_steps among the extra options replaces the scene's (the last one given counts)
 steps_opt=""
 for ((k = 0; k + 1 < ${#extra[@]}; k++)); do [[ ${extra[k]} == -load_steps ]] && steps_opt=${extra[k + 1]}; done
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
 tmp=$(mktemp -d)
 stopped=()
 trap 'rm -rf "$tmp"' EXIT
-trap 'echo "te_table.sh: interrupted" >&2; exit 130' INT TERM # after the run it stopped: not a "(stopped)" row
 echo "| scene | state | te s | stable bound s | measured limit s | te / limit | bound / limit |"
 echo "|---|---|---:|---:|---:|---:|---:|"
 for sc in "${scenes[@]}"; do
