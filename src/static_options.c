@@ -355,6 +355,325 @@ static PetscErrorCode CheckWideIntegers(MPI_Comm comm)
 /* a method's history (PETSc's defaults 2 to 30) */
 static PetscBool HistoryOk(const char *value) { return WholeIn(value, 1, HISTORY_MAX); }
 
+/* a load step converges on the balance test alone: Converged and TaoBalanced take over every other reason */
+static PetscErrorCode CheckBalanceTestOnly(MPI_Comm comm)
+{
+  const char *const tols[] = {"snes_rtol", "snes_atol", "snes_stol", "tao_gatol", "tao_grtol", "tao_gttol", "tao_fmin"};
+  char              bad[PETSC_MAX_PATH_LEN] = "";
+
+  PetscFunctionBeginUser;
+  for (size_t k = 0; k < sizeof tols / sizeof tols[0] && !bad[0]; k++)
+    PetscCall(FindBadOption(tols[k], NeverOk, bad, sizeof bad));
+  PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT,
+             "%s: the quasi-static solver converges a load step on the balance test alone, as the explicit path does; "
+             "set -balance_tol",
+             bad);
+  PetscFunctionReturn(0);
+}
+
+/* with -static_minimizer tao: no option of the SNES path, which TAO's Newton does not read */
+static PetscErrorCode CheckTaoReadsNoSnes(MPI_Comm comm)
+{
+  char bad[PETSC_MAX_PATH_LEN];
+
+  PetscFunctionBeginUser;
+  PetscCall(FindSnesPathOption(bad, sizeof bad));
+  PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT,
+             "%s with -static_minimizer tao: an option of the SNES path, which TAO's Newton does not read; give its "
+             "linear solver's options under its prefix (-tao_nls_ksp_type, -tao_nls_pc_type ... for -tao_type nls)",
+             bad);
+  PetscFunctionReturn(0);
+}
+
+/* PETSc's finite-difference operator with the assembled tangent as preconditioner: the
+   multigrid forms its Galerkin products from the operator, and the energy line search never
+   sets the difference's base, so it fails mid-run; -snes_mf (no preconditioner) runs */
+static PetscErrorCode CheckMfOperator(MPI_Comm comm)
+{
+  PetscBool mfop = PETSC_FALSE;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsGetBool(NULL, NULL, "-snes_mf_operator", &mfop, NULL));
+  PetscCheck(!mfop, comm, PETSC_ERR_USER_INPUT,
+             "-snes_mf_operator with -solver static: its multigrid and line search need the assembled tangent as "
+             "the operator; leave it out (or use -snes_mf: finite differences, no preconditioner)");
+  PetscFunctionReturn(0);
+}
+
+/* PETSc's finite-difference Jacobians set the tangent's entries one by one: the tangent by
+   stencil is a shell, which failed on one rank and left the other waiting */
+static PetscErrorCode CheckFiniteDifferences(MPI_Comm comm)
+{
+  const char *fd[] = {"-snes_fd", "-snes_fd_color"};
+
+  PetscFunctionBeginUser;
+  for (int k = 0; k < 2; k++) {
+    PetscBool on = PETSC_FALSE;
+    PetscCall(PetscOptionsGetBool(NULL, NULL, fd[k], &on, NULL));
+    PetscCheck(!on, comm, PETSC_ERR_USER_INPUT,
+               "%s with -solver static: the quasi-static path assembles its own tangent; leave it out (or use "
+               "-snes_mf: finite differences, no preconditioner)",
+               fd[k]);
+  }
+  PetscFunctionReturn(0);
+}
+
+/* PETSc's nonlinear solvers that run on this problem (Newton's line search and trust region converge; the
+   others end unbalanced or stop on the numerical failure check); the rest failed mid-run, after the output
+   was opened, with PETSc's words (vinewton*: a shell tangent or an unset product; fas, nasm: their own
+   matrices; composite, patch, shell, ksptransposeonly, aspin: what this problem does not give them) */
+static PetscErrorCode CheckSnesType(MPI_Comm comm)
+{
+  char      type[64] = SNESNEWTONLS;
+  PetscBool runs;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsGetString(NULL, NULL, "-snes_type", type, sizeof type, NULL));
+  PetscCall(PetscStrInList(type, SNES_TYPES_RUN, ',', &runs));
+  PetscCheck(runs, comm, PETSC_ERR_USER_INPUT,
+             "-snes_type %s with -solver static: the quasi-static path runs one of " SNES_TYPES_RUN
+             " (Newton: newtonls, the default, or newtontr)",
+             type);
+  PetscFunctionReturn(0);
+}
+
+/* the multigrid's levels and coarse tangents are the grid's (MultigridHierarchy): PETSc's -pc_mg_levels and
+   -pc_mg_galerkin, under any prefix
+   (-tao_nls_pc_mg_levels), would set others on top of its interpolations (0 crashed PCSetFromOptions,
+   also under TAO's prefix); GAMG (its -pc_type given under the same prefix) takes it as its most */
+static PetscErrorCode CheckMultigridLevels(MPI_Comm comm)
+{
+  OptionsGiven g;
+  char         msg[512] = "";
+
+  PetscFunctionBeginUser;
+  PetscCheck(!OptionsGivenGet(&g), PETSC_COMM_SELF, PETSC_ERR_MEM, "cannot list the options given");
+  for (PetscInt q = 0; q < g.n && !msg[0]; q++) {
+    const char     *name = g.name[q], *value = g.value[q], *pc = NULL;
+    char            pc_opt[256], *end;
+    const long      levels   = strtol(value, &end, 10);
+    const PetscBool galerkin = OptionIs(name, "pc_mg_galerkin");
+    if (!OptionIs(name, "pc_mg_levels") && !galerkin) continue;
+    snprintf(pc_opt, sizeof pc_opt, "%.*spc_type",
+             (int) (strlen(name) - strlen(galerkin ? "pc_mg_galerkin" : "pc_mg_levels")), name);
+    for (PetscInt r = 0; r < g.n; r++)
+      if (!strcmp(g.name[r], pc_opt)) pc = g.value[r]; /* the last given */
+    if (galerkin) {
+      /* the coarse tangents are the solver's (Galerkin products, or the stencil's own); with none PETSc
+         asked for coarse matrices nobody gave ("Must call DMShellSetGlobalVector()") after the output opened */
+      if (!pc || !strcmp(pc, PCMG))
+        snprintf(msg, sizeof msg,
+                 "%s%s%s with -solver static: the multigrid's coarse tangents are the solver's own (Galerkin "
+                 "products of the tangent); leave it unset",
+                 name, value[0] ? " " : "", value);
+    } else if (!pc || !strcmp(pc, PCMG))
+      snprintf(msg, sizeof msg,
+               "%s%s%s with -solver static: the multigrid's levels come from the grid (coarsened while every rank "
+               "keeps 4 crossings a side); leave it unset",
+               name, value[0] ? " " : "", value);
+    else if (!value[0] || *end || levels < 1)
+      snprintf(msg, sizeof msg, "%s %s: the most levels %s %s may make, a whole number, 1 or more", name, value,
+               pc_opt, pc);
+  }
+  OptionsGivenFree(&g);
+  PetscCheck(!msg[0], comm, PETSC_ERR_USER_INPUT, "%s", msg);
+  PetscFunctionReturn(0);
+}
+
+/* PETSc's counts, limits and tolerances that this path cannot take, under any prefix */
+static PetscErrorCode CheckSolverCounts(MPI_Comm comm)
+{
+  char bad[PETSC_MAX_PATH_LEN];
+
+  PetscFunctionBeginUser;
+  /* GMRES keeps its Hessenberg matrices, 2 (restart + 2)^2 reals, on every rank beside its restart + 1
+     vectors: PETSc's allocation overflowed at 1e8 (a segfault) and failed at 40 000 with a line that named
+     no option */
+  PetscCall(FindBadOption("ksp_gmres_restart", GmresRestartOk, bad, sizeof bad));
+  PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT,
+             "%s: GMRES's restart, a whole number from 1 to %d (its Hessenberg matrices take 2 (restart + 2)^2 "
+             "reals on every rank: %d takes %.0f MB, beside restart + 1 vectors)",
+             bad, GMRES_RESTART_MAX, GMRES_RESTART_MAX, 16.0 * PetscSqr(GMRES_RESTART_MAX + 2.0) / 1e6);
+  { /* the vectors a method keeps (-snes_qn_m 1e8 and the like were killed for memory, their files left behind) */
+    const char *const histories[] = {"snes_qn_m", "snes_ngmres_m", "snes_anderson_m", "ksp_gcr_restart", "ksp_bcgsl_ell"};
+    for (int k = 0; k < 5 && !bad[0]; k++) PetscCall(FindBadOption(histories[k], HistoryOk, bad, sizeof bad));
+    PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT,
+               "%s with -solver static: a method's history, a whole number from 1 to %d (it keeps that many vectors of "
+               "the grid's size, or twice as many, on every rank)",
+               bad, HISTORY_MAX);
+  }
+  /* the solvers' iteration limits, a count (-snes_max_it -1 stopped the first solve with "Internal error,
+     solver returned without setting converged reason"; 0 runs, and the load step does not balance) */
+  {
+    const char *const limits[] = {"snes_max_it", "tao_max_it", "ksp_max_it", "snes_linesearch_max_it"};
+    for (int k = 0; k < 4 && !bad[0]; k++) PetscCall(FindBadOption(limits[k], CountOk, bad, sizeof bad));
+    PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT, "%s with -solver static: an iteration limit, a whole number, 0 or more",
+               bad);
+    const char *const lags[] = {"snes_lag_jacobian", "snes_lag_preconditioner"};
+    for (int k = 0; k < 2 && !bad[0]; k++) PetscCall(FindBadOption(lags[k], LagOk, bad, sizeof bad));
+    PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT,
+               "%s with -solver static: a lag, a whole number (PETSc reads the word as -2 or -1: a tangent never "
+               "formed again)",
+               bad);
+  }
+  PetscCall(FindBadOption("ksp_rtol", RtolOk, bad, sizeof bad));
+  PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT,
+             "%s with -solver static: a linear solve's relative tolerance, from 0 to below 1 (at 1 or more the first "
+             "residual passes and Newton's steps are zero)",
+             bad);
+  PetscFunctionReturn(0);
+}
+
+/* PETSc's methods, monitors and matrix types that this grid or path cannot take, under any prefix */
+static PetscErrorCode CheckSolverTypes(MPI_Comm comm)
+{
+  char bad[PETSC_MAX_PATH_LEN];
+
+  PetscFunctionBeginUser;
+  /* GAMG's aggregation only: its classical coarsening hung in PETSc's set-up on 2 ranks (on the 25 x 25
+     net), and its geometric one needs the crossings' coordinates, which it is not given */
+  PetscCall(FindBadOption("pc_gamg_type", GamgTypeOk, bad, sizeof bad));
+  PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT,
+             "%s with -solver static: GAMG's aggregation (agg) only; classical hung in PETSc's set-up on 2 ranks, "
+             "geo needs coordinates it is not given",
+             bad);
+  { /* PETSc's solver options whose value this grid or path cannot take, found before any output exists (under a
+       prefix, -mg_levels_pc_type, PETSc reads them as the multigrid sets up, mid-run) */
+    static const struct {
+      const char *suffix;
+      PetscBool (*ok)(const char *);
+      const char *why;
+    } solver[] = {
+        {"pc_type", PcKnown, "not a preconditioner PETSc knows (see -help)"},
+        {"snes_monitor_fields", NeverOk,
+         "PETSc's monitor by field needs the fields of a DMPlex discretisation, which the fabric's grid has not (it "
+         "crashed there); use -snes_monitor"},
+        {"snes_converged_reason", NotDetail,
+         "PETSc's detailed reason measures the error against the exact solution of a DMPlex discretisation, which "
+         "the fabric's grid has not (it crashed there); use -snes_converged_reason"},
+        {"ksp_type", KspKnown, "not a Krylov method PETSc knows (see -help)"},
+        {"snes_linesearch_damping", LineDampingOk,
+         "the line search's first step, a fraction of Newton's step above 0 and at most 2"},
+        {"snes_linesearch_minlambda", LineMinOk, "the smallest step the line search tries, from 0 to below 1"},
+        {"pc_mg_multiplicative_cycles", CyclesOk,
+         "the multigrid's cycles each time it is applied, a whole number, 1 or more (with none it gives zero and no "
+         "load step balances)"},
+        {"pc_type", PcTypeOk,
+         "telescope needs the tangent assembled by PETSc on a sub-grid, patch a DMPlex; the quasi-static path "
+         "assembles its own tangent on the grid's DMDA (use mg, gamg, lu ...)"},
+    };
+    PetscCall(PCInitializePackage());
+    PetscCall(KSPInitializePackage());
+    PetscCall(MatInitializePackage());
+    for (size_t k = 0; k < sizeof solver / sizeof solver[0]; k++) {
+      PetscCall(FindBadOption(solver[k].suffix, solver[k].ok, bad, sizeof bad));
+      PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT, "%s with -solver static: %s", bad, solver[k].why);
+    }
+  }
+  { /* PETSc's X11 plots without a display: "Unable to open display", a traceback (-draw_type image or tikz
+       draws to files) */
+    const char *display = getenv("DISPLAY");
+    PetscBool   drawtype;
+    PetscCall(PetscOptionsHasName(NULL, NULL, "-draw_type", &drawtype));
+    if (!drawtype && !(display && display[0])) {
+      PetscCall(FindBadOption("ksp_plot_eigenvalues", NeverOk, bad, sizeof bad));
+      if (!bad[0]) PetscCall(FindBadOption("ksp_plot_eigenvalues_explicitly", NeverOk, bad, sizeof bad));
+      PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT,
+                 "%s: PETSc draws it in an X window, and DISPLAY is not set; give a display, or -draw_type image "
+                 "(files)",
+                 bad);
+    }
+  }
+  { /* -mat_type itself (-dm_mat_type is refused: SceneCheckUnused) */
+    OptionsGiven g;
+    bad[0] = 0;
+    PetscCheck(!OptionsGivenGet(&g), PETSC_COMM_SELF, PETSC_ERR_MEM, "cannot list the options given");
+    for (PetscInt q = 0; q < g.n && !bad[0]; q++)
+      if (!strcasecmp(g.name[q], "-mat_type") && !MatOk(g.value[q]))
+        PetscCall(PetscSNPrintf(bad, sizeof bad, "%s %s", g.name[q], g.value[q]));
+    OptionsGivenFree(&g);
+  }
+  PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT,
+             "%s with -solver static: not a matrix type PETSc knows, or one the multigrid's coarsest LU factorisation "
+             "does not take (sbaij, is); aij, baij or dense",
+             bad);
+  PetscFunctionReturn(0);
+}
+
+/* block counts PETSc checks against the ranks as the preconditioner sets up, on some ranks only (the others
+   waited, and the run was stopped 10 s later, the option unnamed): -pc_asm_blocks below the ranks,
+   -pc_redundant_number above them (under any prefix) */
+static PetscErrorCode CheckBlockCounts(MPI_Comm comm)
+{
+  OptionsGiven g;
+  PetscMPIInt  size;
+  char         msg[512] = "";
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  PetscCheck(!OptionsGivenGet(&g), PETSC_COMM_SELF, PETSC_ERR_MEM, "cannot list the options given");
+  for (PetscInt q = 0; q < g.n && !msg[0]; q++) {
+    const PetscBool asm_ = OptionIs(g.name[q], "pc_asm_blocks"), red = OptionIs(g.name[q], "pc_redundant_number");
+    char           *end;
+    const long      v = strtol(g.value[q], &end, 10);
+    if (!asm_ && !red) continue;
+    if (!g.value[q][0] || *end || (asm_ && v < size) || (red && (v < 1 || v > size)))
+      snprintf(msg, sizeof msg, "%s %s with -solver static on %d rank%s: %s", g.name[q], g.value[q], size,
+               size > 1 ? "s" : "",
+               asm_ ? "the additive Schwarz blocks in all, a whole number, at least one a rank"
+                    : "the redundant solves, a whole number from 1 to the ranks");
+  }
+  OptionsGivenFree(&g);
+  PetscCheck(!msg[0], comm, PETSC_ERR_USER_INPUT, "%s", msg);
+  PetscFunctionReturn(0);
+}
+
+/* TAO's Newton line search or trust region, on the unconstrained Pi (the others
+   crashed or ran out of memory on the pushing test: ntl, ipm, pdipm) */
+static PetscErrorCode CheckTaoType(MPI_Comm comm)
+{
+  char      type[64] = TAONLS;
+  PetscBool newton;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsGetString(NULL, NULL, "-tao_type", type, sizeof type, NULL));
+  PetscCall(PetscStrInList(type, TAONLS "," TAONTR "," TAOBNLS, ',', &newton));
+  PetscCheck(newton, comm, PETSC_ERR_USER_INPUT,
+             "-tao_type %s with -static_minimizer tao: the quasi-static path runs TAO's Newton line search or "
+             "trust region (-tao_type nls, ntr or bnls)",
+             type);
+  PetscCall(CheckTaoFactors(comm));
+  PetscFunctionReturn(0);
+}
+
+/* PETSc reads -matptap_via when the multigrid first forms its Galerkin products, mid-run: a
+   product of small matrices of the tangent's type (AIJ on this communicator) reads it now */
+static PetscErrorCode CheckPtapVia(MPI_Comm comm, const StaticOptions *o)
+{
+  Mat      A, C;
+  PetscInt r0;
+
+  PetscFunctionBeginUser;
+  PetscCall(MatCreateAIJ(comm, 1, 1, PETSC_DETERMINE, PETSC_DETERMINE, 1, NULL, 0, NULL, &A));
+  PetscCall(MatGetOwnershipRange(A, &r0, NULL));
+  PetscCall(MatSetValue(A, r0, r0, 1.0, INSERT_VALUES));
+  PetscCall(MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatPtAP(A, A, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &C));
+  PetscCall(MatDestroy(&C));
+  PetscCall(MatDestroy(&A));
+  { /* ... which the tangent by stencil never forms: its coarse operators are its own (StaticGalerkin) */
+    char      via[64] = "";
+    PetscBool set     = PETSC_FALSE;
+    PetscCall(PetscOptionsGetString(NULL, NULL, "-matptap_via", via, sizeof via, &set));
+    PetscCheck(!set || !(o->tangent == TANGENT_STENCIL && StaticOptionsStencilFits(o)), comm, PETSC_ERR_USER_INPUT,
+               "-matptap_via %s with the tangent stored by stencil: it forms the multigrid's coarse operators itself, "
+               "not by PETSc's Galerkin products; it applies with -static_tangent aij",
+               via);
+  }
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
 {
   StaticOptions o;
@@ -362,257 +681,19 @@ PetscErrorCode StaticOptionsCheck(MPI_Comm comm)
   PetscFunctionBeginUser;
   PetscCall(CheckWideIntegers(comm)); /* before anything reads one */
   PetscCall(StaticOptionsRead(comm, &o));
-  { /* a load step converges on the balance test alone: Converged and TaoBalanced take over every other reason */
-    const char *const tols[] = {"snes_rtol", "snes_atol", "snes_stol", "tao_gatol", "tao_grtol", "tao_gttol", "tao_fmin"};
-    char              bad[PETSC_MAX_PATH_LEN] = "";
-    for (size_t k = 0; k < sizeof tols / sizeof tols[0] && !bad[0]; k++)
-      PetscCall(FindBadOption(tols[k], NeverOk, bad, sizeof bad));
-    PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT,
-               "%s: the quasi-static solver converges a load step on the balance test alone, as the explicit path does; "
-               "set -balance_tol",
-               bad);
-  }
-  if (o.tao) {
-    char bad[PETSC_MAX_PATH_LEN];
-    PetscCall(FindSnesPathOption(bad, sizeof bad));
-    PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT,
-               "%s with -static_minimizer tao: an option of the SNES path, which TAO's Newton does not read; give its "
-               "linear solver's options under its prefix (-tao_nls_ksp_type, -tao_nls_pc_type ... for -tao_type nls)",
-               bad);
-  }
+  PetscCall(CheckBalanceTestOnly(comm));
+  if (o.tao) PetscCall(CheckTaoReadsNoSnes(comm));
   PetscCheck(!(o.tangent_set && o.tangent == TANGENT_STENCIL && !StaticOptionsStencilFits(&o)), comm, PETSC_ERR_USER_INPUT,
              "-static_tangent stencil: the tangent by stencil needs the multigrid preconditioner with the line "
              "smoother (-pc_type mg, -mg_line_smoother 1); use -static_tangent aij with another");
-  { /* PETSc's finite-difference operator with the assembled tangent as preconditioner: the
-       multigrid forms its Galerkin products from the operator, and the energy line search never
-       sets the difference's base, so it fails mid-run; -snes_mf (no preconditioner) runs */
-    PetscBool mfop = PETSC_FALSE;
-    PetscCall(PetscOptionsGetBool(NULL, NULL, "-snes_mf_operator", &mfop, NULL));
-    PetscCheck(!mfop, comm, PETSC_ERR_USER_INPUT,
-               "-snes_mf_operator with -solver static: its multigrid and line search need the assembled tangent as "
-               "the operator; leave it out (or use -snes_mf: finite differences, no preconditioner)");
-  }
-  { /* PETSc's finite-difference Jacobians set the tangent's entries one by one: the tangent by
-       stencil is a shell, which failed on one rank and left the other waiting */
-    const char *fd[] = {"-snes_fd", "-snes_fd_color"};
-    for (int k = 0; k < 2; k++) {
-      PetscBool on = PETSC_FALSE;
-      PetscCall(PetscOptionsGetBool(NULL, NULL, fd[k], &on, NULL));
-      PetscCheck(!on, comm, PETSC_ERR_USER_INPUT,
-                 "%s with -solver static: the quasi-static path assembles its own tangent; leave it out (or use "
-                 "-snes_mf: finite differences, no preconditioner)",
-                 fd[k]);
-    }
-  }
-  { /* PETSc's nonlinear solvers that run on this problem (Newton's line search and trust region converge; the
-       others end unbalanced or stop on the numerical failure check); the rest failed mid-run, after the output
-       was opened, with PETSc's words (vinewton*: a shell tangent or an unset product; fas, nasm: their own
-       matrices; composite, patch, shell, ksptransposeonly, aspin: what this problem does not give them) */
-    char      type[64] = SNESNEWTONLS;
-    PetscBool runs;
-    PetscCall(PetscOptionsGetString(NULL, NULL, "-snes_type", type, sizeof type, NULL));
-    PetscCall(PetscStrInList(type, SNES_TYPES_RUN, ',', &runs));
-    PetscCheck(runs, comm, PETSC_ERR_USER_INPUT,
-               "-snes_type %s with -solver static: the quasi-static path runs one of " SNES_TYPES_RUN
-               " (Newton: newtonls, the default, or newtontr)",
-               type);
-  }
-  { /* the multigrid's levels and coarse tangents are the grid's (MultigridHierarchy): PETSc's -pc_mg_levels and
-       -pc_mg_galerkin, under any prefix
-       (-tao_nls_pc_mg_levels), would set others on top of its interpolations (0 crashed PCSetFromOptions,
-       also under TAO's prefix); GAMG (its -pc_type given under the same prefix) takes it as its most */
-    OptionsGiven g;
-    char         msg[512] = "";
-    PetscCheck(!OptionsGivenGet(&g), PETSC_COMM_SELF, PETSC_ERR_MEM, "cannot list the options given");
-    for (PetscInt q = 0; q < g.n && !msg[0]; q++) {
-      const char     *name = g.name[q], *value = g.value[q], *pc = NULL;
-      char            pc_opt[256], *end;
-      const long      levels   = strtol(value, &end, 10);
-      const PetscBool galerkin = OptionIs(name, "pc_mg_galerkin");
-      if (!OptionIs(name, "pc_mg_levels") && !galerkin) continue;
-      snprintf(pc_opt, sizeof pc_opt, "%.*spc_type",
-               (int) (strlen(name) - strlen(galerkin ? "pc_mg_galerkin" : "pc_mg_levels")), name);
-      for (PetscInt r = 0; r < g.n; r++)
-        if (!strcmp(g.name[r], pc_opt)) pc = g.value[r]; /* the last given */
-      if (galerkin) {
-        /* the coarse tangents are the solver's (Galerkin products, or the stencil's own); with none PETSc
-           asked for coarse matrices nobody gave ("Must call DMShellSetGlobalVector()") after the output opened */
-        if (!pc || !strcmp(pc, PCMG))
-          snprintf(msg, sizeof msg,
-                   "%s%s%s with -solver static: the multigrid's coarse tangents are the solver's own (Galerkin "
-                   "products of the tangent); leave it unset",
-                   name, value[0] ? " " : "", value);
-      } else if (!pc || !strcmp(pc, PCMG))
-        snprintf(msg, sizeof msg,
-                 "%s%s%s with -solver static: the multigrid's levels come from the grid (coarsened while every rank "
-                 "keeps 4 crossings a side); leave it unset",
-                 name, value[0] ? " " : "", value);
-      else if (!value[0] || *end || levels < 1)
-        snprintf(msg, sizeof msg, "%s %s: the most levels %s %s may make, a whole number, 1 or more", name, value,
-                 pc_opt, pc);
-    }
-    OptionsGivenFree(&g);
-    PetscCheck(!msg[0], comm, PETSC_ERR_USER_INPUT, "%s", msg);
-  }
-  { /* GMRES keeps its Hessenberg matrices, 2 (restart + 2)^2 reals, on every rank beside its restart + 1
-       vectors: PETSc's allocation overflowed at 1e8 (a segfault) and failed at 40 000 with a line that named
-       no option */
-    char bad[PETSC_MAX_PATH_LEN];
-    PetscCall(FindBadOption("ksp_gmres_restart", GmresRestartOk, bad, sizeof bad));
-    PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT,
-               "%s: GMRES's restart, a whole number from 1 to %d (its Hessenberg matrices take 2 (restart + 2)^2 "
-               "reals on every rank: %d takes %.0f MB, beside restart + 1 vectors)",
-               bad, GMRES_RESTART_MAX, GMRES_RESTART_MAX, 16.0 * PetscSqr(GMRES_RESTART_MAX + 2.0) / 1e6);
-    { /* the vectors a method keeps (-snes_qn_m 1e8 and the like were killed for memory, their files left behind) */
-      const char *const histories[] = {"snes_qn_m", "snes_ngmres_m", "snes_anderson_m", "ksp_gcr_restart", "ksp_bcgsl_ell"};
-      for (int k = 0; k < 5 && !bad[0]; k++) PetscCall(FindBadOption(histories[k], HistoryOk, bad, sizeof bad));
-      PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT,
-                 "%s with -solver static: a method's history, a whole number from 1 to %d (it keeps that many vectors of "
-                 "the grid's size, or twice as many, on every rank)",
-                 bad, HISTORY_MAX);
-    }
-    /* the solvers' iteration limits, a count (-snes_max_it -1 stopped the first solve with "Internal error,
-       solver returned without setting converged reason"; 0 runs, and the load step does not balance) */
-    {
-      const char *const limits[] = {"snes_max_it", "tao_max_it", "ksp_max_it", "snes_linesearch_max_it"};
-      for (int k = 0; k < 4 && !bad[0]; k++) PetscCall(FindBadOption(limits[k], CountOk, bad, sizeof bad));
-      PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT, "%s with -solver static: an iteration limit, a whole number, 0 or more",
-                 bad);
-      const char *const lags[] = {"snes_lag_jacobian", "snes_lag_preconditioner"};
-      for (int k = 0; k < 2 && !bad[0]; k++) PetscCall(FindBadOption(lags[k], LagOk, bad, sizeof bad));
-      PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT,
-                 "%s with -solver static: a lag, a whole number (PETSc reads the word as -2 or -1: a tangent never "
-                 "formed again)",
-                 bad);
-    }
-    PetscCall(FindBadOption("ksp_rtol", RtolOk, bad, sizeof bad));
-    PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT,
-               "%s with -solver static: a linear solve's relative tolerance, from 0 to below 1 (at 1 or more the first "
-               "residual passes and Newton's steps are zero)",
-               bad);
-    /* GAMG's aggregation only: its classical coarsening hung in PETSc's set-up on 2 ranks (on the 25 x 25
-       net), and its geometric one needs the crossings' coordinates, which it is not given */
-    PetscCall(FindBadOption("pc_gamg_type", GamgTypeOk, bad, sizeof bad));
-    PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT,
-               "%s with -solver static: GAMG's aggregation (agg) only; classical hung in PETSc's set-up on 2 ranks, "
-               "geo needs coordinates it is not given",
-               bad);
-    { /* PETSc's solver options whose value this grid or path cannot take, found before any output exists (under a
-         prefix, -mg_levels_pc_type, PETSc reads them as the multigrid sets up, mid-run) */
-      static const struct {
-        const char *suffix;
-        PetscBool (*ok)(const char *);
-        const char *why;
-      } solver[] = {
-          {"pc_type", PcKnown, "not a preconditioner PETSc knows (see -help)"},
-          {"snes_monitor_fields", NeverOk,
-           "PETSc's monitor by field needs the fields of a DMPlex discretisation, which the fabric's grid has not (it "
-           "crashed there); use -snes_monitor"},
-          {"snes_converged_reason", NotDetail,
-           "PETSc's detailed reason measures the error against the exact solution of a DMPlex discretisation, which "
-           "the fabric's grid has not (it crashed there); use -snes_converged_reason"},
-          {"ksp_type", KspKnown, "not a Krylov method PETSc knows (see -help)"},
-          {"snes_linesearch_damping", LineDampingOk,
-           "the line search's first step, a fraction of Newton's step above 0 and at most 2"},
-          {"snes_linesearch_minlambda", LineMinOk, "the smallest step the line search tries, from 0 to below 1"},
-          {"pc_mg_multiplicative_cycles", CyclesOk,
-           "the multigrid's cycles each time it is applied, a whole number, 1 or more (with none it gives zero and no "
-           "load step balances)"},
-          {"pc_type", PcTypeOk,
-           "telescope needs the tangent assembled by PETSc on a sub-grid, patch a DMPlex; the quasi-static path "
-           "assembles its own tangent on the grid's DMDA (use mg, gamg, lu ...)"},
-      };
-      PetscCall(PCInitializePackage());
-      PetscCall(KSPInitializePackage());
-      PetscCall(MatInitializePackage());
-      for (size_t k = 0; k < sizeof solver / sizeof solver[0]; k++) {
-        PetscCall(FindBadOption(solver[k].suffix, solver[k].ok, bad, sizeof bad));
-        PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT, "%s with -solver static: %s", bad, solver[k].why);
-      }
-    }
-    { /* PETSc's X11 plots without a display: "Unable to open display", a traceback (-draw_type image or tikz
-         draws to files) */
-      const char *display = getenv("DISPLAY");
-      PetscBool   drawtype;
-      PetscCall(PetscOptionsHasName(NULL, NULL, "-draw_type", &drawtype));
-      if (!drawtype && !(display && display[0])) {
-        PetscCall(FindBadOption("ksp_plot_eigenvalues", NeverOk, bad, sizeof bad));
-        if (!bad[0]) PetscCall(FindBadOption("ksp_plot_eigenvalues_explicitly", NeverOk, bad, sizeof bad));
-        PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT,
-                   "%s: PETSc draws it in an X window, and DISPLAY is not set; give a display, or -draw_type image "
-                   "(files)",
-                   bad);
-      }
-    }
-    { /* -mat_type itself (-dm_mat_type is refused: SceneCheckUnused) */
-      OptionsGiven g;
-      bad[0] = 0;
-      PetscCheck(!OptionsGivenGet(&g), PETSC_COMM_SELF, PETSC_ERR_MEM, "cannot list the options given");
-      for (PetscInt q = 0; q < g.n && !bad[0]; q++)
-        if (!strcasecmp(g.name[q], "-mat_type") && !MatOk(g.value[q]))
-          PetscCall(PetscSNPrintf(bad, sizeof bad, "%s %s", g.name[q], g.value[q]));
-      OptionsGivenFree(&g);
-    }
-    PetscCheck(!bad[0], comm, PETSC_ERR_USER_INPUT,
-               "%s with -solver static: not a matrix type PETSc knows, or one the multigrid's coarsest LU factorisation "
-               "does not take (sbaij, is); aij, baij or dense",
-               bad);
-  }
-  { /* block counts PETSc checks against the ranks as the preconditioner sets up, on some ranks only (the others
-       waited, and the run was stopped 10 s later, the option unnamed): -pc_asm_blocks below the ranks,
-       -pc_redundant_number above them (under any prefix) */
-    OptionsGiven g;
-    PetscMPIInt  size;
-    char         msg[512] = "";
-    PetscCallMPI(MPI_Comm_size(comm, &size));
-    PetscCheck(!OptionsGivenGet(&g), PETSC_COMM_SELF, PETSC_ERR_MEM, "cannot list the options given");
-    for (PetscInt q = 0; q < g.n && !msg[0]; q++) {
-      const PetscBool asm_ = OptionIs(g.name[q], "pc_asm_blocks"), red = OptionIs(g.name[q], "pc_redundant_number");
-      char           *end;
-      const long      v = strtol(g.value[q], &end, 10);
-      if (!asm_ && !red) continue;
-      if (!g.value[q][0] || *end || (asm_ && v < size) || (red && (v < 1 || v > size)))
-        snprintf(msg, sizeof msg, "%s %s with -solver static on %d rank%s: %s", g.name[q], g.value[q], size,
-                 size > 1 ? "s" : "",
-                 asm_ ? "the additive Schwarz blocks in all, a whole number, at least one a rank"
-                      : "the redundant solves, a whole number from 1 to the ranks");
-    }
-    OptionsGivenFree(&g);
-    PetscCheck(!msg[0], comm, PETSC_ERR_USER_INPUT, "%s", msg);
-  }
-  if (o.tao) { /* TAO's Newton line search or trust region, on the unconstrained Pi (the others
-                  crashed or ran out of memory on the pushing test: ntl, ipm, pdipm) */
-    char      type[64] = TAONLS;
-    PetscBool newton;
-    PetscCall(PetscOptionsGetString(NULL, NULL, "-tao_type", type, sizeof type, NULL));
-    PetscCall(PetscStrInList(type, TAONLS "," TAONTR "," TAOBNLS, ',', &newton));
-    PetscCheck(newton, comm, PETSC_ERR_USER_INPUT,
-               "-tao_type %s with -static_minimizer tao: the quasi-static path runs TAO's Newton line search or "
-               "trust region (-tao_type nls, ntr or bnls)",
-               type);
-    PetscCall(CheckTaoFactors(comm));
-  }
-  { /* PETSc reads -matptap_via when the multigrid first forms its Galerkin products, mid-run: a
-       product of small matrices of the tangent's type (AIJ on this communicator) reads it now */
-    Mat      A, C;
-    PetscInt r0;
-    PetscCall(MatCreateAIJ(comm, 1, 1, PETSC_DETERMINE, PETSC_DETERMINE, 1, NULL, 0, NULL, &A));
-    PetscCall(MatGetOwnershipRange(A, &r0, NULL));
-    PetscCall(MatSetValue(A, r0, r0, 1.0, INSERT_VALUES));
-    PetscCall(MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY));
-    PetscCall(MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY));
-    PetscCall(MatPtAP(A, A, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &C));
-    PetscCall(MatDestroy(&C));
-    PetscCall(MatDestroy(&A));
-  }
-  { /* ... which the tangent by stencil never forms: its coarse operators are its own (StaticGalerkin) */
-    char      via[64] = "";
-    PetscBool set     = PETSC_FALSE;
-    PetscCall(PetscOptionsGetString(NULL, NULL, "-matptap_via", via, sizeof via, &set));
-    PetscCheck(!set || !(o.tangent == TANGENT_STENCIL && StaticOptionsStencilFits(&o)), comm, PETSC_ERR_USER_INPUT,
-               "-matptap_via %s with the tangent stored by stencil: it forms the multigrid's coarse operators itself, "
-               "not by PETSc's Galerkin products; it applies with -static_tangent aij",
-               via);
-  }
+  PetscCall(CheckMfOperator(comm));
+  PetscCall(CheckFiniteDifferences(comm));
+  PetscCall(CheckSnesType(comm));
+  PetscCall(CheckMultigridLevels(comm));
+  PetscCall(CheckSolverCounts(comm));
+  PetscCall(CheckSolverTypes(comm));
+  PetscCall(CheckBlockCounts(comm));
+  if (o.tao) PetscCall(CheckTaoType(comm));
+  PetscCall(CheckPtapVia(comm, &o));
   PetscFunctionReturn(0);
 }
