@@ -1683,10 +1683,10 @@ PetscErrorCode StaticCreate(Fabric fab, StaticSolver *out)
   if ((*out)->opt.sequence > used) /* say so, with -quiet too: the option asked for more */
     PetscCall(PetscPrintf(fab->comm,
                           "fabric: -static_sequence %" PetscInt_FMT ": %" PetscInt_FMT " coarser fabric%s%s%s%s (a coarser one "
-                          "needs an odd number of crossings a side, multigrid levels on %d ranks and a ball at least two of its yarn spacings "
-                          "wide; not the strip or bias test)\n",
+                          "needs an odd number of crossings a side, a point load on an even crossing, multigrid levels on %d rank%s and a "
+                          "ball at least two of its yarn spacings wide; not the strip or bias test)\n",
                           (*out)->opt.sequence, used, used == 1 ? "" : "s", used ? " (" : "", list, used ? ")" : "",
-                          fab->size));
+                          fab->size, fab->size == 1 ? "" : "s"));
   PetscFunctionReturn(0);
 }
 
@@ -2036,6 +2036,21 @@ PetscErrorCode StaticSolve(StaticSolver ss, const StaticWatch *watch, StaticResu
     r->nonlinear_iterations += its;
     r->linear_iterations += lits;
     if (ss->watch_stop) break; /* the run stops (a signal): its checkpoint holds the iterate */
+    if (reason == SNES_CONVERGED_SNORM_RELATIVE) { /* PETSc's step-length test, which the balance test does not
+                                                      override: after a failed linear solve (CG at an indefinite
+                                                      preconditioner) the step was next to nothing, and the load step
+                                                      ended unbalanced where a stiffer shift balances it */
+      KSP                ksp;
+      KSPConvergedReason kreason;
+      Vec                R;
+      PetscReal          fmax;
+      PetscCall(SNESGetKSP(ss->snes, &ksp));
+      PetscCall(KSPGetConvergedReason(ksp, &kreason));
+      PetscCall(SNESGetFunction(ss->snes, &R, NULL, NULL));
+      PetscCall(FreeForceMax(ss, R, &fmax));
+      if (kreason < 0 && !(fmax <= fab->s.num.balance_tol * PetscMax(ss->tmax, fab->step.force_floor)))
+        reason = SNES_DIVERGED_LINEAR_SOLVE;
+    }
     PetscCall(SolveMove(ss, &move));
     if (!(move <= fab->grid.extent) || reason == SNES_DIVERGED_FNORM_NAN ||
         reason == SNES_DIVERGED_DTOL) { /* NaN, Inf, runaway or a residual grown 1e4-fold: again from the first
@@ -2069,11 +2084,13 @@ PetscErrorCode StaticSolve(StaticSolver ss, const StaticWatch *watch, StaticResu
                                 : ""));
     PetscCheck(move <= fab->grid.extent && reason != SNES_DIVERGED_FNORM_NAN, fab->comm, PETSC_ERR_FP,
                "numerical failure at load step %" PetscInt_FMT ": the quasi-static solve moved a crossing farther than "
-               "the fabric's size %g m, or to NaN or Inf, or its residual diverged (DIVERGED_DTOL)%s; %s%s%s%s",
+               "the fabric's size %g m, or to NaN or Inf, or its residual diverged (DIVERGED_DTOL)%s; %s%s%s, or the "
+               "load step is too large a step from its first guess (more -load_steps than %" PetscInt_FMT
+               " make each smaller)%s",
                fab->load.load_step, (double) fab->grid.extent,
                ss->tao ? "" : ", each time from the first guess again with a stiffer shift",
                given[0] ? "the solver options given (" : "the solver's defaults fail on this fabric",
-               given, given[0] ? ") may not suit this fabric" : "", broken);
+               given, given[0] ? ") may not suit this fabric" : "", fab->s.load.load_steps, broken);
   }
   /* the state's forces at the solution (the measurements read them) give the balance test */
   {
