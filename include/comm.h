@@ -25,6 +25,8 @@ PetscErrorCode GlobalArgMax(MPI_Comm comm, PetscReal *value, PetscInt *index);
 /* exact, rank-independent sums of m <= 4 quantities over all ranks (fixed point): quantity c's n local
    terms at terms[c n ...], its sum into sums[c] */
 PetscErrorCode GlobalSumsExact(MPI_Comm comm, PetscInt m, const PetscReal *terms, PetscInt n, PetscReal *sums);
+/* the same, or the plain sums (Inf or NaN as they are) where one is not finite */
+PetscErrorCode GlobalPointSums(MPI_Comm comm, PetscInt m, const PetscReal *terms, PetscInt n, PetscReal *sums);
 /* the same in two parts, so that a caller's own maxima share the first reduction: the local
    max |term| of each quantity into scale[c] (no communication); then, with scale[] the global
    maxima (GlobalMax of the local ones), the sums (one reduction) */

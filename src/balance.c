@@ -269,37 +269,41 @@ PetscErrorCode EnergyWatchBefore(Fabric fab, PetscInt n, PetscBool *due)
   PetscFunctionReturn(0);
 }
 
-/* this rank's part of Pi at positions X (up to a constant): the internal terms, the bodies'
-   penalty, minus the work of gravity and of the point load; *A: the sum of those parts'
-   magnitudes (the scale of Pi's rounding) */
+/* each owned crossing's part of Pi at positions X (up to a constant) into E[k]: the internal terms
+   it owns, the bodies' penalty, minus the work of gravity and of the point load; A[k]: the sum of
+   those parts' magnitudes (the scale of Pi's rounding). Per crossing, in a fixed order: summed
+   exactly over the ranks (GlobalPointSums), the watch is the same on any number of ranks. */
 static PetscErrorCode PotentialEnergy(Fabric fab, Vec X, PetscReal *E, PetscReal *A)
 {
-  const Patch       *p      = &fab->grid.patch;
-  const PetscInt     all[4] = {p->xs, p->xs + p->xm, p->ys, p->ys + p->ym};
-  const PetscReal   *g      = fab->load.gravity_now;
+  const Patch       *p = &fab->grid.patch;
+  const PetscReal   *g = fab->load.gravity_now;
   const PetscScalar *xl, *x;
   PetscReal          c[BODY_KINDS][3];
 
   PetscFunctionBeginUser;
   PetscCall(HaloExchange(fab->grid.da, X, fab->state.Xl));
   PetscCall(VecGetArrayRead(fab->state.Xl, &xl));
-  *E = InternalEnergy(p, xl, all);
-  *A = PetscAbsReal(*E);
+  for (PetscInt k = 0; k < fab->grid.nloc; k++) {
+    const PetscInt i = p->xs + k % p->xm, j = p->ys + k / p->xm, own[4] = {i, i + 1, j, j + 1};
+    E[k] = InternalEnergy(p, xl, own);
+    A[k] = PetscAbsReal(E[k]);
+  }
   PetscCall(VecRestoreArrayRead(fab->state.Xl, &xl));
   for (PetscInt q = 0; q < fab->bodies.n; q++) BodyPosition(&fab->bodies.body[q], fab->load.travel_now, c[q]);
   PetscCall(VecGetArrayRead(X, &x));
   for (PetscInt k = 0; k < fab->grid.nloc; k++) {
     if (!(fab->grid.inv_m[k] > 0)) continue;
-    for (int d = 0; d < 3; d++) *E -= fab->grid.mass[k] * g[d] * x[3 * k + d], *A += PetscAbsReal(fab->grid.mass[k] * g[d] * x[3 * k + d]);
+    for (int d = 0; d < 3; d++) E[k] -= fab->grid.mass[k] * g[d] * x[3 * k + d], A[k] += PetscAbsReal(fab->grid.mass[k] * g[d] * x[3 * k + d]);
     for (PetscInt q = 0; q < fab->bodies.n; q++) {
       PetscReal gb[3], Kb[9], eb = BodyEnergy(&fab->bodies.body[q], c[q], x + 3 * k, gb, Kb);
-      *E += eb, *A += PetscAbsReal(eb);
+      E[k] += eb, A[k] += PetscAbsReal(eb);
     }
   }
   if (fab->grid.load_index >= 0)
     for (int d = 0; d < 3; d++) {
-      const PetscReal w = fab->load.load_factor * fab->s.load.point_load[d] * x[3 * fab->grid.load_index + d];
-      *E -= w, *A += PetscAbsReal(w);
+      const PetscInt  k = fab->grid.load_index;
+      const PetscReal w = fab->load.load_factor * fab->s.load.point_load[d] * x[3 * k + d];
+      E[k] -= w, A[k] += PetscAbsReal(w);
     }
   PetscCall(VecRestoreArrayRead(X, &x));
   PetscFunctionReturn(0);
@@ -387,25 +391,30 @@ static PetscErrorCode StopPumping(Fabric fab, PetscInt n, PetscReal h0, PetscRea
 PetscErrorCode EnergyWatchAfter(Fabric fab, PetscInt n)
 {
   const PetscScalar *v0, *v1;
+  const PetscInt     n_ = fab->grid.nloc;
   PetscReal          e[3]; /* H, the kinetic energy 1/2 sum m v(n+1/2)^2, and the magnitudes H sums */
+  PetscReal         *t;    /* their parts per crossing: t[0..n_) H, t[n_..2n_) kinetic, t[2n_..3n_) magnitudes */
   StepControl       *c = &fab->step;
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(EV_Check, 0, 0, 0, 0));
-  PetscCall(PotentialEnergy(fab, fab->state.watch_x, &e[0], &e[2]));
-  e[1] = 0;
+  PetscCall(PetscMalloc1(3 * n_ + 1, &t));
+  PetscCall(PotentialEnergy(fab, fab->state.watch_x, t, t + 2 * n_));
   PetscCall(VecGetArrayRead(fab->state.watch_v, &v0));
   PetscCall(VecGetArrayRead(fab->state.V, &v1));
-  for (PetscInt k = 0; k < fab->grid.nloc; k++)
+  for (PetscInt k = 0; k < n_; k++) {
+    t[n_ + k] = 0;
     if (fab->grid.inv_m[k] > 0) {
       const PetscReal m = fab->grid.mass[k];
       const PetscReal kin = 0.5 * m * (v0[3 * k] * v1[3 * k] + v0[3 * k + 1] * v1[3 * k + 1] + v0[3 * k + 2] * v1[3 * k + 2]);
-      e[0] += kin, e[2] += PetscAbsReal(kin);
-      e[1] += 0.5 * m * (v1[3 * k] * v1[3 * k] + v1[3 * k + 1] * v1[3 * k + 1] + v1[3 * k + 2] * v1[3 * k + 2]);
+      t[k] += kin, t[2 * n_ + k] += PetscAbsReal(kin);
+      t[n_ + k] = 0.5 * m * (v1[3 * k] * v1[3 * k] + v1[3 * k + 1] * v1[3 * k + 1] + v1[3 * k + 2] * v1[3 * k + 2]);
     }
+  }
   PetscCall(VecRestoreArrayRead(fab->state.V, &v1));
   PetscCall(VecRestoreArrayRead(fab->state.watch_v, &v0));
-  PetscCall(GlobalSum(fab->comm, e, 3));
+  PetscCall(GlobalPointSums(fab->comm, 3, t, n_, e));
+  PetscCall(PetscFree(t));
   PetscCall(PetscLogEventEnd(EV_Check, 0, 0, 0, 0));
   if (!c->watch_checks++) c->watch_h0 = c->watch_hmin = e[0], c->watch_kmax = 0, c->watch_held = 0;
   c->watch_kmax = PetscMax(c->watch_kmax, e[1]);
@@ -413,8 +422,8 @@ PetscErrorCode EnergyWatchAfter(Fabric fab, PetscInt n)
                       fab->load.load_step, n, (double) e[0], (double) c->watch_h0, (double) c->watch_hmin, (double) e[1], (double) c->watch_kmax));
   /* grown by more than the fraction of what the round released and of the largest kinetic energy
      (the scale of what H's kinetic part can swing by on a nonlinear chain), and by more than
-     H's rounding: H is a sum of parts of magnitude e[2] whose order depends on the ranks (near
-     balance the round releases almost nothing and a rise of 1e-17 J is rounding) */
+     H's rounding: H is a sum of parts of magnitude e[2], each part rounded and the sum quantised on
+     the largest (near balance the round releases almost nothing and a rise of 1e-17 J is rounding) */
   if (e[0] - c->watch_hmin > fab->s.num.energy_watch * (c->watch_h0 - c->watch_hmin + c->watch_kmax) &&
       e[0] - c->watch_hmin > ENERGY_WATCH_ROUNDING * e[2])
     PetscCall(StopPumping(fab, n, c->watch_h0, c->watch_hmin, e[0], 0));

@@ -314,6 +314,25 @@ PetscErrorCode GlobalSumsExact(MPI_Comm comm, PetscInt m, const PetscReal *terms
   PetscFunctionReturn(0);
 }
 
+/* Sums over every rank's points of m quantities, quantity c's n local terms at t[c n ...]: exact and
+   rank-independent (GlobalSumsExact); if one is not finite, the plain sums, Inf or NaN as they are
+   (the exact sums quantise the terms on the largest) */
+PetscErrorCode GlobalPointSums(MPI_Comm comm, PetscInt m, const PetscReal *t, PetscInt n, PetscReal *sums)
+{
+  PetscReal plain[EXACT_SUMS_MAX] = {0};
+  PetscBool finite = PETSC_TRUE;
+
+  PetscFunctionBeginUser;
+  for (PetscInt c = 0; c < m; c++)
+    for (PetscInt k = 0; k < n; k++) plain[c] += t[c * n + k];
+  PetscCall(GlobalSum(comm, plain, m)); /* the same on every rank: all take the same branch */
+  for (PetscInt c = 0; c < m; c++) finite = finite && isfinite(plain[c]);
+  if (finite) PetscCall(GlobalSumsExact(comm, m, t, n, sums));
+  else
+    for (PetscInt c = 0; c < m; c++) sums[c] = plain[c];
+  PetscFunctionReturn(0);
+}
+
 /* The reduction of ExactParts: sums added, maxima taken, all EXACT_SUMS_MAX slots (unused ones are
    0 on every rank). Integer operations: exact, in any order and any grouping. */
 static void ExactPartsCombine(void *in, void *inout, int *len, MPI_Datatype *type)

@@ -8,27 +8,8 @@
 
 #include <math.h>
 
-/* Sums over every rank's points of m quantities, quantity c's n local terms at t[c n ...]: exact and
-   rank-independent (GlobalSumsExact); if one is not finite, the plain sums, Inf or NaN as they are
-   (the exact sums quantise the terms on the largest) */
-static PetscErrorCode PointSums(MPI_Comm comm, PetscInt m, const PetscReal *t, PetscInt n, PetscReal *sums)
-{
-  PetscReal plain[EXACT_SUMS_MAX] = {0};
-  PetscBool finite = PETSC_TRUE;
-
-  PetscFunctionBeginUser;
-  for (PetscInt c = 0; c < m; c++)
-    for (PetscInt k = 0; k < n; k++) plain[c] += t[c * n + k];
-  PetscCall(GlobalSum(comm, plain, m)); /* the same on every rank: all take the same branch */
-  for (PetscInt c = 0; c < m; c++) finite = finite && isfinite(plain[c]);
-  if (finite) PetscCall(GlobalSumsExact(comm, m, t, n, sums));
-  else
-    for (PetscInt c = 0; c < m; c++) sums[c] = plain[c];
-  PetscFunctionReturn(0);
-}
-
 /* Reaction on the moving jaw: minus the sum of the internal forces on the grip points,
-   projected on the pull direction (positive in tension). An exact sum (PointSums): the same
+   projected on the pull direction (positive in tension). An exact sum (GlobalPointSums): the same
    on any number of ranks and any split, as the break detection that reads it must be. */
 static PetscErrorCode GripReaction(MPI_Comm comm, const FabricGrid *g, const PetscScalar *f, PetscReal *force)
 {
@@ -40,7 +21,7 @@ static PetscErrorCode GripReaction(MPI_Comm comm, const FabricGrid *g, const Pet
     t[k] = g->kind[k] == POINT_GRIP
              ? -(f[3 * k] * g->pull_dir[0] + f[3 * k + 1] * g->pull_dir[1] + f[3 * k + 2] * g->pull_dir[2])
              : 0.0;
-  PetscCall(PointSums(comm, 1, t, g->nloc, force));
+  PetscCall(GlobalPointSums(comm, 1, t, g->nloc, force));
   PetscCall(PetscFree(t));
   PetscFunctionReturn(0);
 }
@@ -74,7 +55,7 @@ static PetscErrorCode BodyContactTerms(Fabric fab, BodyKind kind, const PetscSca
 
 /* Pushing: the reaction on the sphere is minus the sum of the contact forces on the fabric;
    force_N is its component against the travel (positive while the fabric resists). An exact sum
-   (PointSums) of each crossing's contact force along the path: the same on any number of ranks and
+   (GlobalPointSums) of each crossing's contact force along the path: the same on any number of ranks and
    any split, as the break detection that reads it (a ball burst) must be. */
 static PetscErrorCode SphereReaction(Fabric fab, const PetscScalar *x, const PetscReal dir[3], PetscReal travel,
                                      CurveRow *row)
@@ -86,7 +67,7 @@ static PetscErrorCode SphereReaction(Fabric fab, const PetscScalar *x, const Pet
   PetscCall(PetscMalloc1(3 * n, &t));
   PetscCall(BodyContactTerms(fab, BODY_SPHERE, x, t));
   for (PetscInt k = 0; k < n; k++) t[k] = t[3 * k] * dir[0] + t[3 * k + 1] * dir[1] + t[3 * k + 2] * dir[2];
-  PetscCall(PointSums(fab->comm, 1, t, n, &row->force));
+  PetscCall(GlobalPointSums(fab->comm, 1, t, n, &row->force));
   PetscCall(PetscFree(t));
   row->travel = travel;
   PetscFunctionReturn(0);
@@ -98,7 +79,7 @@ static PetscErrorCode SphereReaction(Fabric fab, const PetscScalar *x, const Pet
    (they hold it too); and the specimen's weight. At rest the free crossings balance, and the
    internal forces sum to zero over the fabric, so plane + pedestal + clamp = weight, up to
    the residual forces of the balance test. Sums over points: reported, never fed back; exact
-   (PointSums), the same on any number of ranks and any split, as curve.csv must be. */
+   (GlobalPointSums), the same on any number of ranks and any split, as curve.csv must be. */
 static PetscErrorCode SupportReactions(Fabric fab, const PetscScalar *x, const PetscScalar *f, CurveRow *row)
 {
   const FabricGrid *g = &fab->grid;
@@ -112,7 +93,7 @@ static PetscErrorCode SupportReactions(Fabric fab, const PetscScalar *x, const P
     PetscCall(BodyContactTerms(fab, q == 0 ? BODY_PLANE : BODY_PEDESTAL, x, b));
     for (PetscInt k = 0; k < g->nloc; k++)
       for (int d = 0; d < 3; d++) t[d * g->nloc + k] = -b[3 * k + d];
-    PetscCall(PointSums(fab->comm, 3, t, g->nloc, acc + 3 * q));
+    PetscCall(GlobalPointSums(fab->comm, 3, t, g->nloc, acc + 3 * q));
   }
   PetscCall(PetscFree2(b, t));
   PetscCall(PetscCalloc1(6 * g->nloc, &t)); /* held crossings' forces and every crossing's weight: exact sums */
@@ -126,8 +107,8 @@ static PetscErrorCode SupportReactions(Fabric fab, const PetscScalar *x, const P
         t[(3 + d) * g->nloc + k] = w;
       }
     }
-  PetscCall(PointSums(fab->comm, 3, t, g->nloc, acc + 6));
-  PetscCall(PointSums(fab->comm, 3, t + 3 * g->nloc, g->nloc, acc + 9));
+  PetscCall(GlobalPointSums(fab->comm, 3, t, g->nloc, acc + 6));
+  PetscCall(GlobalPointSums(fab->comm, 3, t + 3 * g->nloc, g->nloc, acc + 9));
   PetscCall(PetscFree(t));
   for (int d = 0; d < 3; d++) {
     row->plane_force[d]    = acc[d];
@@ -161,7 +142,7 @@ static PetscErrorCode CenterShear(MPI_Comm comm, const Scene *s, const Patch *p,
       t[k]     = PetscAsinReal(c) * 180.0 / PETSC_PI;
       t[n + k] = 1;
     }
-  PetscCall(PointSums(comm, 2, t, n, acc));
+  PetscCall(GlobalPointSums(comm, 2, t, n, acc));
   PetscCall(PetscFree(t));
   row->center_shear = acc[1] > 0 ? acc[0] / acc[1] : 0.0;
   PetscFunctionReturn(0);
