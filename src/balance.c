@@ -270,10 +270,12 @@ PetscErrorCode EnergyWatchBefore(Fabric fab, PetscInt n, PetscBool *due)
 }
 
 /* each owned crossing's part of Pi at positions X (up to a constant) into E[k]: the internal terms
-   it owns, the bodies' penalty, minus the work of gravity and of the point load; A[k]: the sum of
-   those parts' magnitudes (the scale of Pi's rounding). Per crossing, in a fixed order: summed
-   exactly over the ranks (GlobalPointSums), the watch is the same on any number of ranks. */
-static PetscErrorCode PotentialEnergy(Fabric fab, Vec X, PetscReal *E, PetscReal *A)
+   it owns, the bodies' penalty, minus the work of gravity; A[k]: the sum of those parts' magnitudes
+   (the scale of Pi's rounding). Per crossing, in a fixed order: summed exactly over the ranks
+   (GlobalPointSums), the watch is the same on any number of ranks. The point load's work, on one
+   crossing and often the largest part, apart in load[0] (its magnitude load[1]): the exact sum
+   quantises every part on the largest. */
+static PetscErrorCode PotentialEnergy(Fabric fab, Vec X, PetscReal *E, PetscReal *A, PetscReal load[2])
 {
   const Patch       *p = &fab->grid.patch;
   const PetscReal   *g = fab->load.gravity_now;
@@ -299,11 +301,11 @@ static PetscErrorCode PotentialEnergy(Fabric fab, Vec X, PetscReal *E, PetscReal
       E[k] += eb, A[k] += PetscAbsReal(eb);
     }
   }
+  load[0] = load[1] = 0;
   if (fab->grid.load_index >= 0)
     for (int d = 0; d < 3; d++) {
-      const PetscInt  k = fab->grid.load_index;
-      const PetscReal w = fab->load.load_factor * fab->s.load.point_load[d] * x[3 * k + d];
-      E[k] -= w, A[k] += PetscAbsReal(w);
+      const PetscReal w = fab->load.load_factor * fab->s.load.point_load[d] * x[3 * fab->grid.load_index + d];
+      load[0] -= w, load[1] += PetscAbsReal(w);
     }
   PetscCall(VecRestoreArrayRead(X, &x));
   PetscFunctionReturn(0);
@@ -394,12 +396,13 @@ PetscErrorCode EnergyWatchAfter(Fabric fab, PetscInt n)
   const PetscInt     n_ = fab->grid.nloc;
   PetscReal          e[3]; /* H, the kinetic energy 1/2 sum m v(n+1/2)^2, and the magnitudes H sums */
   PetscReal         *t;    /* their parts per crossing: t[0..n_) H, t[n_..2n_) kinetic, t[2n_..3n_) magnitudes */
+  PetscReal          load[2]; /* the point load's part of H and its magnitude: on one rank, summed exactly */
   StepControl       *c = &fab->step;
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(EV_Check, 0, 0, 0, 0));
   PetscCall(PetscMalloc1(3 * n_ + 1, &t));
-  PetscCall(PotentialEnergy(fab, fab->state.watch_x, t, t + 2 * n_));
+  PetscCall(PotentialEnergy(fab, fab->state.watch_x, t, t + 2 * n_, load));
   PetscCall(VecGetArrayRead(fab->state.watch_v, &v0));
   PetscCall(VecGetArrayRead(fab->state.V, &v1));
   for (PetscInt k = 0; k < n_; k++) {
@@ -415,6 +418,8 @@ PetscErrorCode EnergyWatchAfter(Fabric fab, PetscInt n)
   PetscCall(VecRestoreArrayRead(fab->state.watch_v, &v0));
   PetscCall(GlobalPointSums(fab->comm, 3, t, n_, e));
   PetscCall(PetscFree(t));
+  PetscCall(GlobalSum(fab->comm, load, 2)); /* one rank's value and zeros: exact */
+  e[0] += load[0], e[2] += load[1];
   PetscCall(PetscLogEventEnd(EV_Check, 0, 0, 0, 0));
   if (!c->watch_checks++) c->watch_h0 = c->watch_hmin = e[0], c->watch_kmax = 0, c->watch_held = 0;
   c->watch_kmax = PetscMax(c->watch_kmax, e[1]);

@@ -323,6 +323,8 @@ PetscErrorCode GlobalPointSums(MPI_Comm comm, PetscInt m, const PetscReal *t, Pe
   PetscBool finite = PETSC_TRUE;
 
   PetscFunctionBeginUser;
+  PetscCheck(m >= 1 && m <= EXACT_SUMS_MAX, comm, PETSC_ERR_ARG_OUTOFRANGE, "%" PetscInt_FMT " exact sums at once, at most %d",
+             m, EXACT_SUMS_MAX);
   for (PetscInt c = 0; c < m; c++)
     for (PetscInt k = 0; k < n; k++) plain[c] += t[c * n + k];
   PetscCall(GlobalSum(comm, plain, m)); /* the same on every rank: all take the same branch */

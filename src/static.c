@@ -465,7 +465,12 @@ static PetscErrorCode EnergyLineSearch(SNESLineSearch ls, void *ctx)
       lambda              = (isfinite(fit) && fit > 0.1 * lambda && fit < 0.5 * lambda) ? fit : 0.5 * lambda;
     }
   }
-  if (!ok) {
+  if (!ok) { /* the norms of this step, not of the last one that succeeded: newtonls's step-length test reads them
+                after a failed search (a stale small step ended the solve, unbalanced, and a restart, whose norms
+                start fresh, went on) */
+    PetscCall(VecNorm(X, NORM_2, &xnorm));
+    PetscCall(VecNorm(Y, NORM_2, &ynorm));
+    PetscCall(SNESLineSearchSetNorms(ls, xnorm, fnorm, ynorm));
     PetscCall(SNESLineSearchSetReason(ls, SNES_LINESEARCH_FAILED_REDUCT));
     PetscFunctionReturn(0);
   }
@@ -2046,10 +2051,16 @@ PetscErrorCode StaticSolve(StaticSolver ss, const StaticWatch *watch, StaticResu
       PetscReal          fmax;
       PetscCall(SNESGetKSP(ss->snes, &ksp));
       PetscCall(KSPGetConvergedReason(ksp, &kreason));
-      PetscCall(SNESGetFunction(ss->snes, &R, NULL, NULL));
+      PetscCall(DMGetGlobalVector(fab->grid.da, &R)); /* the residual and the largest tension at the iterate (the
+                                                         last evaluation may be a trial point the search refused) */
+      PetscCall(FormFunction(NULL, fab->state.X, R, ss));
       PetscCall(FreeForceMax(ss, R, &fmax));
-      if (kreason < 0 && !(fmax <= fab->s.num.balance_tol * PetscMax(ss->tmax, fab->step.force_floor)))
+      PetscCall(DMRestoreGlobalVector(fab->grid.da, &R));
+      if (kreason < 0 && !(fmax <= fab->s.num.balance_tol * PetscMax(ss->tmax, fab->step.force_floor))) {
+        PetscCall(PetscInfo(NULL, "load step %" PetscInt_FMT ": the step-length test ended the solve after a failed linear solve (%s), unbalanced: retried as a failed linear solve\n",
+                            fab->load.load_step, KSPConvergedReasons[kreason]));
         reason = SNES_DIVERGED_LINEAR_SOLVE;
+      }
     }
     PetscCall(SolveMove(ss, &move));
     if (!(move <= fab->grid.extent) || reason == SNES_DIVERGED_FNORM_NAN ||
