@@ -21,6 +21,7 @@ int OutputDirLock(const char *dir, FILE **take);
 
 #define MAX_LINES     8  /* -clamp_line_mm, -grip_line_mm */
 #define MAX_WAYPOINTS 32 /* -grip_path_mm */
+#define MAX_LOAD_STEPS 10000000 /* curve.csv's rows are kept in memory, one per load step */
 
 typedef enum { PULL_WARP, PULL_WEFT } PullAxis;
 typedef enum { SOLVER_EXPLICIT, SOLVER_STATIC } SolverType;

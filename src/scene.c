@@ -77,7 +77,6 @@ typedef struct {
   }
 #define TEXT_(x)       #x
 #define TEXT(x)        TEXT_(x)
-#define MAX_LOAD_STEPS 10000000 /* curve.csv's rows are kept in memory, one per load step */
 #define INT_TO(g, n, f, d, lo, hi, must, help)                                 \
   {                                                                            \
     g, n, OPT_INT, IN(f), d, RANGE, lo, hi, 0, 0, must, NULL, 0, 0, NULL, help \

@@ -2093,15 +2093,19 @@ PetscErrorCode StaticSolve(StaticSolver ss, const StaticWatch *watch, StaticResu
                               ReactionTest(&fab->s) && !(fab->s.rupture.drop > 0)
                                 ? "; -rupture_drop_pct 90 ends the test at the rupture"
                                 : ""));
+    char smaller[160] = ""; /* more load steps make each smaller, up to their limit */
+    if (fab->s.load.load_steps < MAX_LOAD_STEPS)
+      PetscCall(PetscSNPrintf(smaller, sizeof smaller,
+                              ", or the load step is too large a step from its first guess (more -load_steps than %" PetscInt_FMT
+                              " make each smaller)",
+                              fab->s.load.load_steps));
     PetscCheck(move <= fab->grid.extent && reason != SNES_DIVERGED_FNORM_NAN, fab->comm, PETSC_ERR_FP,
                "numerical failure at load step %" PetscInt_FMT ": the quasi-static solve moved a crossing farther than "
-               "the fabric's size %g m, or to NaN or Inf, or its residual diverged (DIVERGED_DTOL)%s; %s%s%s, or the "
-               "load step is too large a step from its first guess (more -load_steps than %" PetscInt_FMT
-               " make each smaller)%s",
+               "the fabric's size %g m, or to NaN or Inf, or its residual diverged (DIVERGED_DTOL)%s; %s%s%s%s%s",
                fab->load.load_step, (double) fab->grid.extent,
                ss->tao ? "" : ", each time from the first guess again with a stiffer shift",
                given[0] ? "the solver options given (" : "the solver's defaults fail on this fabric",
-               given, given[0] ? ") may not suit this fabric" : "", fab->s.load.load_steps, broken);
+               given, given[0] ? ") may not suit this fabric" : "", smaller, broken);
   }
   /* the state's forces at the solution (the measurements read them) give the balance test */
   {
