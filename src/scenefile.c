@@ -508,6 +508,8 @@ static int FindBadKeyIn(FILE *fp, int options_only, char *msg, size_t len)
   char            *line = NULL, parent[8][128];
   size_t           cap  = 0;
   int              indent[8], kids[8], at[8], anchored[8], depth = 0, lineno = 0, bad = 0;
+  int              scalar_ind = -1, scalar_at = 0; /* a key's value on the lines under it: that key's indent, line */
+  char             scalar[64] = "";
 
   keys.nseen = keys.nmaps = 0, keys.options_only = options_only;
   while (!bad) { /* whole lines, of any length */
@@ -551,6 +553,13 @@ static int FindBadKeyIn(FILE *fp, int options_only, char *msg, size_t len)
       }
     }
     ind = (int) (c - line);
+    if (scalar_ind >= 0 && ind <= scalar_ind) scalar_ind = -1; /* the value under a key has ended */
+    if (scalar_ind >= 0 && *c != '-' && *c != '[' && SceneKey(c, key, sizeof key)) {
+      /* a key among the lines of a value: the line above was meant as a key, not a value ("tex 20" for "tex: 20") */
+      snprintf(msg, len, "not a valid YAML option file: line %d, '%s': expected 'key: value'", scalar_at, scalar);
+      bad = scalar_at;
+      break;
+    }
     for (; depth && indent[depth - 1] >= ind && !bad; depth--) /* a key closed with nothing under it was given empty */
       if (!kids[depth - 1]) bad = SceneLevelKey(&keys, parent, depth, at[depth - 1], "", msg, len);
     if (bad) break;
@@ -560,6 +569,8 @@ static int FindBadKeyIn(FILE *fp, int options_only, char *msg, size_t len)
         if (!(bad = SceneHidden(&keys, parent[depth - 1], c, lineno, msg, len)))
           bad = SceneLevelKey(&keys, parent, depth, at[depth - 1], c, msg, len);
         depth--;
+        scalar_ind = indent[depth], scalar_at = lineno;
+        snprintf(scalar, sizeof scalar, "%.60s", c);
       }
       continue;
     }
