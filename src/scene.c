@@ -2143,6 +2143,13 @@ static PetscErrorCode SceneDerive(MPI_Comm comm, Scene *s, PetscBool coarse)
   PetscCall(DeriveGrid(comm, in, s));
   DeriveRupture(in, s);
   PetscCall(DeriveBreaks(comm, in, s));
+  for (int f = 0; f < 2 && !coarse; f++) /* a fraction typed for a percentage (0.065 for 6.5 %) runs, and breaks early */
+    if (in->yarn[f].break_pct > 0 && in->yarn[f].break_pct < 0.3)
+      PetscCall(PetscPrintf(comm,
+                            "fabric: warning: -%s_break_pct %g is a breaking strain of %g %%, below any textile yarn's "
+                            "(high-modulus carbon, the lowest, breaks at 0.3 to 0.5 %%, glass at 2 to 5 %%, cotton at 5 to "
+                            "10 %%); the option is in %% (6.5 for 6.5 %%)\n",
+                            f ? "weft" : "warp", (double) in->yarn[f].break_pct, (double) in->yarn[f].break_pct));
   PetscCall(DeriveBodies(comm, in, s));
   PetscCall(DeriveLines(comm, "clamp_line_mm", in->clamp_line_mm, in->n_clamp_line_mm, &s->clamps.clamp_lines,
                         s->clamps.clamp_line));
