@@ -3,6 +3,10 @@
 # then configure and build into build/. Sourced by run.sh, test.sh and bench.sh.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+if [[ ${BASH_SOURCE[0]} == "$0" && $# -gt 0 ]]; then # run itself, not sourced: it takes no argument
+  case "$1" in -h | --help) sed -n '2,/^[^#]/{/^[^#]/d;s/^# \{0,1\}//;p}' "$0"; exit 0 ;; esac
+  echo "setup.sh: usage: scripts/setup.sh (no arguments; --help)" >&2; exit 2
+fi
 
 # Open MPI refuses root and more ranks than cores unless told (CI runs as root on 2 cores)
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1

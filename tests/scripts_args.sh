@@ -305,6 +305,12 @@ ruptured in load step 3, at 3 % elongation (its row: the tear's end); maximum fo
     expect 0 "" "$root/scripts/bias_convergence.sh" --help
     grep -q "^Grid convergence of the bias extension test" "$work/out" || { echo "FAIL bias_convergence.sh --help printed: $(head -2 "$work/out")"; fail=1; }
     ;;
+  setup)
+    # it ran the install and the build whatever it was given (--help too)
+    expect 2 "setup.sh: usage: scripts/setup.sh (no arguments; --help)" "$root/scripts/setup.sh" --prefix /tmp
+    expect 0 "" "$root/scripts/setup.sh" --help
+    grep -q "^Install what is missing" "$work/out" || { echo "FAIL setup.sh --help printed: $(head -2 "$work/out")"; fail=1; }
+    ;;
   stability_sweep_stop)
     usage="$("$root/scripts/stability_sweep.sh" -h | sed -n '1,/^$/p' | sed '$d')"
     # a directory as --fabric passed an os.access(X_OK) check: every case was then BAD
