@@ -737,6 +737,13 @@ int main(int argc, char **argv)
   setenv("OMPI_MCA_sharedfp", "^lockedfile", 0);
 #endif
   if (MPI_Init(&argc, &argv) != MPI_SUCCESS) return 1;
+  for (int k = 1; k < argc; k++) { /* the usual spellings of PETSc's -help: "unknown option --help" helped no one */
+    static char help_option[] = "-help";
+    if (!strcmp(argv[k], "--help") || !strcmp(argv[k], "-h")) argv[k] = help_option;
+    /* PetscInitialize prints the help with its signal handler on: a reader that has read enough (fabric -help | head)
+       would get "Caught signal number 13 Broken Pipe" and an MPI_ABORT. A help run has nothing else to catch. */
+    if (!strcasecmp(argv[k], "-help") && PetscOptionsSetValue(NULL, "-no_signal_handler", NULL)) return 1;
+  }
   MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN);
   MPI_Comm_set_errhandler(MPI_COMM_SELF, MPI_ERRORS_RETURN);
   MPI_Comm_dup(MPI_COMM_WORLD, &stop_comm);
@@ -754,6 +761,9 @@ int main(int argc, char **argv)
   /* an error within PetscInitialize (an option file's content) gets PETSc's own message; rank 0
      reads an option file alone while the others wait for it, so every rank stops */
   if (PetscInitialize(&argc, &argv, NULL, help)) MPI_Abort(MPI_COMM_WORLD, 1);
+  /* a reader that has read enough (fabric ... | head): end quietly, as any Unix tool does, not with PETSc's "Caught
+     signal number 13 Broken Pipe" and an MPI_ABORT */
+  signal(SIGPIPE, SIG_DFL);
   PetscCall(PetscPushErrorHandler(OneLineErrorHandler, NULL));
   ierr = Run(argc, argv);
   if (ierr) {
