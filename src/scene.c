@@ -509,6 +509,17 @@ static PetscErrorCode ParseArray(MPI_Comm comm, const OptionDesc *o, const char 
   char buf[4096], *next = buf;
 
   PetscFunctionBeginUser; /* text fits: ReadOption refuses a longer value */
+  if (strpbrk(text, "[]")) { /* YAML's list on the command line: the numbers alone are meant */
+    Shown  sh2;
+    size_t m = 0;
+    for (const char *c = text; *c && m + 1 < sizeof buf; c++)
+      if (*c != '[' && *c != ']' && *c != ' ') buf[m++] = *c;
+    buf[m] = 0;
+    SETERRQ(comm, PETSC_ERR_USER_INPUT,
+            "-%s %s: a bracket: give the numbers joined by commas alone (-%s %s; a scene file may write them as a YAML "
+            "list in brackets, the command line may not)",
+            name, ShowText(text, &sh), name, ShowText(buf, &sh2));
+  }
   PetscCall(PetscStrncpy(buf, text, sizeof buf));
   *n = 0;
   while (next) { /* every field between commas: an empty one is refused, not skipped */
