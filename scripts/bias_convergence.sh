@@ -5,8 +5,7 @@
 # (MODEL.md 11) at the last step, for glass-like yarns (2600 cN/tex, as the test) and for the
 # shirting's 260 cN/tex (yarns 10 times more extensible).
 # The default densities keep the grid's specimen at length/width 2 exactly (its outline is
-# rounded to the grid diagonals: 15 mm / (spacing / sqrt(2)) = 9, 12, 17, 24). At 16 threads/cm
-# (34) the glass-like yarns did not balance within 200000 te steps per load step.
+# rounded to the grid diagonals: 15 mm / (spacing / sqrt(2)) = 9, 12, 17, 24).
 #   scripts/bias_convergence.sh [threads/cm ...]   (default: 4.243 5.657 8 11.314; NP=ranks, default 1)
 set -euo pipefail
 case "${1:-}" in -h | --help) sed -n '2,/^[^#]/{/^[^#]/d;s/^# \{0,1\}//;p}' "$0"; exit 0 ;; esac
