@@ -128,7 +128,7 @@ static int YamlProblem(const char *text, char *msg, size_t len)
    or that a document is not a mapping of options ("key: value" lines) or has a key that is not a plain name; 0 if
    neither. Plain C: main.c asks it before PetscInitialize reads -options_file_yaml and PETSC_OPTIONS_YAML (whose
    refusal there is a traceback and an abort). */
-static int FindBadKeyIn(FILE *fp, int options_only, char *msg, size_t len);
+static int FindBadKeyIn(FILE *fp, int options_only, char *msg, size_t len, int *suspect);
 
 typedef struct { /* a list of option names and values, as a command line lists them (OptionFileFree) */
   char **v;
@@ -252,7 +252,7 @@ int YamlOptionsProblem(const char *text, char *msg, size_t len, char ***opts, in
   if (!bad && text[0]) { /* a key given twice: PETSc keeps the last, silently (as in a scene file) */
     FILE *fp = fmemopen((void *) text, strlen(text), "r");
     if (fp) {
-      bad = FindBadKeyIn(fp, 1, msg, len) ? 1 : 0;
+      bad = FindBadKeyIn(fp, 1, msg, len, NULL) ? 1 : 0;
       fclose(fp);
     }
   }
@@ -502,16 +502,20 @@ static int SceneLevelKey(SceneKeys *k, char parent[][128], int depth, int at, co
   return SceneKeyOnce(k, full, value, at, msg, len);
 }
 
-static int FindBadKeyIn(FILE *fp, int options_only, char *msg, size_t len)
+/* *suspect (if given): the line of a key's value on the line under it, when key lines follow that value within its
+   block: YAML reads such lines as the value's continuation, or refuses the file ("tex 20" typed for "tex: 20" under
+   "warp:"), where this line-by-line check took them for keys of the level above; its finding is then libyaml's to
+   confirm (SceneInsertFile) */
+static int FindBadKeyIn(FILE *fp, int options_only, char *msg, size_t len, int *suspect)
 {
   static SceneKeys keys;
   char            *line = NULL, parent[8][128];
   size_t           cap  = 0;
   int              indent[8], kids[8], at[8], anchored[8], depth = 0, lineno = 0, bad = 0;
   int              scalar_ind = -1, scalar_at = 0; /* a key's value on the lines under it: that key's indent, line */
-  char             scalar[64] = "";
 
   keys.nseen = keys.nmaps = 0, keys.options_only = options_only;
+  if (suspect) *suspect = 0;
   while (!bad) { /* whole lines, of any length */
     char   *c, *v, key[128], full[128] = "", anchor[64];
     int     ind;
@@ -554,12 +558,8 @@ static int FindBadKeyIn(FILE *fp, int options_only, char *msg, size_t len)
     }
     ind = (int) (c - line);
     if (scalar_ind >= 0 && ind <= scalar_ind) scalar_ind = -1; /* the value under a key has ended */
-    if (scalar_ind >= 0 && *c != '-' && *c != '[' && SceneKey(c, key, sizeof key)) {
-      /* a key among the lines of a value: the line above was meant as a key, not a value ("tex 20" for "tex: 20") */
-      snprintf(msg, len, "not a valid YAML option file: line %d, '%s': expected 'key: value'", scalar_at, scalar);
-      bad = scalar_at;
-      break;
-    }
+    if (scalar_ind >= 0 && suspect && !*suspect && *c != '-' && *c != '[' && SceneKey(c, key, sizeof key))
+      *suspect = scalar_at; /* a key line among the lines of a value */
     for (; depth && indent[depth - 1] >= ind && !bad; depth--) /* a key closed with nothing under it was given empty */
       if (!kids[depth - 1]) bad = SceneLevelKey(&keys, parent, depth, at[depth - 1], "", msg, len);
     if (bad) break;
@@ -570,7 +570,6 @@ static int FindBadKeyIn(FILE *fp, int options_only, char *msg, size_t len)
           bad = SceneLevelKey(&keys, parent, depth, at[depth - 1], c, msg, len);
         depth--;
         scalar_ind = indent[depth], scalar_at = lineno;
-        snprintf(scalar, sizeof scalar, "%.60s", c);
       }
       continue;
     }
@@ -596,12 +595,12 @@ static int FindBadKeyIn(FILE *fp, int options_only, char *msg, size_t len)
   return bad;
 }
 
-static int FindBadKey(const char *file, char *msg, size_t len)
+static int FindBadKey(const char *file, char *msg, size_t len, int *suspect)
 {
   FILE *fp = fopen(file, "r");
   int   bad;
   if (!fp) return 0;
-  bad = FindBadKeyIn(fp, 0, msg, len);
+  bad = FindBadKeyIn(fp, 0, msg, len, suspect);
   fclose(fp);
   return bad;
 }
@@ -750,12 +749,16 @@ PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv)
   PetscCheck(file[0], comm, PETSC_ERR_USER_INPUT, "-scene needs a file name");
   PetscCall(SceneCheckReadable(comm, "-scene", file));
   PetscCall(CheckSceneHasOptions(comm, file));
+  char deferred[512] = ""; /* the check's finding in a file whose lines it may have misread: libyaml's verdict first */
   {
     char        msg[512] = "";
     PetscMPIInt rank;
+    int         suspect = 0;
     PetscCall(CommRank(comm, &rank));
-    if (!rank) (void) FindBadKey(file, msg, sizeof msg); /* rank 0 reads, every rank refuses alike */
+    if (!rank) (void) FindBadKey(file, msg, sizeof msg, &suspect); /* rank 0 reads, every rank refuses alike */
+    if (suspect && msg[0]) memcpy(deferred, msg, sizeof msg), msg[0] = 0;
     PetscCall(BroadcastFromRoot(comm, msg, (PetscInt) sizeof msg, MPI_CHAR));
+    PetscCall(BroadcastFromRoot(comm, deferred, (PetscInt) sizeof deferred, MPI_CHAR));
     PetscCheck(!msg[0], comm, PETSC_ERR_USER_INPUT, "-scene %s: %s", file, msg);
   }
   PetscCall(ReadSceneText(comm, file, &text));
@@ -779,6 +782,7 @@ PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv)
     SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED, "-scene %s: not a valid YAML option file: %s", file, msg);
   }
   PetscCall(PetscFree(text));
+  PetscCheck(!deferred[0], comm, PETSC_ERR_USER_INPUT, "-scene %s: %s", file, deferred); /* YAML as libyaml reads it */
   PetscCall(InsertEnvOptions(comm));
   PetscCall(PetscOptionsInsertArgs(NULL, argc - 1, argv + 1));
   PetscFunctionReturn(0);
