@@ -152,20 +152,23 @@ static PetscErrorCode StableBound(Fabric fab, PetscReal omega2[2])
       p->cb[q].span = PetscAbsReal(fab->load.travel - fab->load.travel_now);
     }
   omega2[0] = StableOmega2(p, xl, fab->grid.inv_m, s->spec.pull == PULL_WARP ? 0 : 1, &omega2[1], &at);
+  PetscCall(VecRestoreArrayRead(fab->state.Xl, &xl));
+  PetscCall(PetscLogEventEnd(EV_Bound, 0, 0, 0, 0));
   PetscCall(GlobalMax(fab->comm, omega2, 2));
+  PetscCall(BoundInfo(fab, &at));
   if (s->num.te_user > 0 && s->num.te_check && omega2[0] > 0 && s->num.te_user > (PaperSteps(fab) ? 1.0 : 2.0) / PetscSqrtReal(omega2[0])) {
-    /* the user's te is refused: its message gives the bound over the whole yarn law too, which holds as the yarns
-       straighten (the bound of this state falls as they do). The run stops, so the window is not set back. */
+    /* the user's te is refused: its message gives the bound over the whole yarn law at this shape of the fabric,
+       which the yarns' straightening does not lower (this state's window does). The run stops: the window is not
+       set back. */
     PetscReal whole[2];
     BoundRow  w;
+    PetscCall(VecGetArrayRead(fab->state.Xl, &xl));
     WindowSet(p, r, 1);
     whole[0] = StableOmega2(p, xl, fab->grid.inv_m, s->spec.pull == PULL_WARP ? 0 : 1, &whole[1], &w);
+    PetscCall(VecRestoreArrayRead(fab->state.Xl, &xl));
     PetscCall(GlobalMax(fab->comm, whole, 2));
     fab->step.te_whole_law = whole[0] > omega2[0] ? (PaperSteps(fab) ? 1.0 : 2.0) / PetscSqrtReal(whole[0]) : 0;
   }
-  PetscCall(VecRestoreArrayRead(fab->state.Xl, &xl));
-  PetscCall(PetscLogEventEnd(EV_Bound, 0, 0, 0, 0));
-  PetscCall(BoundInfo(fab, &at));
   if (omega2[0] == 0 && fab->stats.rupture.segments > 0 && fab->step.omega_max > 0) {
     /* every segment that held a free crossing has broken (a strip one yarn wide): its pieces move free of any
        spring, and any te is stable for them; the te of the bound before goes on */
@@ -189,7 +192,10 @@ static PetscErrorCode StableBound(Fabric fab, PetscReal omega2[2])
                (double) s->num.te_user, (double) fab->step.te_bound, fab->load.load_step, scheme,
                (double) fab->step.omega_max,
                (double) ((whole ? fab->step.te_whole_law : fab->step.te_bound) * (1 - 1e-5)), /* printed, not above it */
-               whole ? " (the bound over the whole yarn law: this state's falls as the yarns straighten)" : "");
+               whole ? " (the bound over the whole yarn law at this shape of the fabric: this state's falls as the "
+                       "yarns straighten; it may fall further as the fabric deforms, and a -te above it then stops the "
+                       "run there)"
+                     : "");
     fab->step.te = s->num.te_user;
   } else
     fab->step.te = (fab->step.tear ? s->num.te_safety_tear : s->num.te_safety) * fab->step.te_bound;
