@@ -516,9 +516,10 @@ static PetscErrorCode ParseArray(MPI_Comm comm, const OptionDesc *o, const char 
       if (*c != '[' && *c != ']' && *c != ' ') buf[m++] = *c;
     buf[m] = 0;
     SETERRQ(comm, PETSC_ERR_USER_INPUT,
-            "-%s %s: a bracket: give the numbers joined by commas alone (-%s %s; a scene file may write them as a YAML "
-            "list in brackets, the command line may not)",
-            name, ShowText(text, &sh), name, ShowText(buf, &sh2));
+            "-%s %s: a bracket: give the numbers alone, joined by commas%s%s%s%s%s; brackets make a YAML list only in a "
+            "scene file, unquoted",
+            name, ShowText(text, &sh), buf[0] ? " (-" : "", buf[0] ? name : "", buf[0] ? " " : "",
+            buf[0] ? ShowText(buf, &sh2) : "", buf[0] ? ")" : "");
   }
   PetscCall(PetscStrncpy(buf, text, sizeof buf));
   *n = 0;
