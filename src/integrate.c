@@ -624,10 +624,11 @@ static PetscErrorCode InstabilityCause(Fabric fab, char *cause, size_t len)
       PetscCall(PetscSNPrintf(cause, len,
                               "; the point load (-point_load_N, %g N at this load step) moves its crossing %g m in one "
                               "te step, more than a yarn spacing (%g m): past the yarn law's soft part (de-crimping) "
-                              "onto its stiff one, whose stable step is shorter; more load steps (-load_steps), a "
-                              "smaller -te_safety, or -solver static",
+                              "onto its stiff one, whose stable step is shorter; %sa smaller -te_safety, or -solver "
+                              "static",
                               (double) load, (double) (load * inv_m_load * te2),
-                              (double) PetscMin(fab->grid.patch.ax, fab->grid.patch.ay)));
+                              (double) PetscMin(fab->grid.patch.ax, fab->grid.patch.ay),
+                              fab->s.load.load_steps < MAX_LOAD_STEPS ? "more load steps (-load_steps), " : ""));
       PetscFunctionReturn(0);
     }
   }
