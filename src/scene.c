@@ -515,11 +515,12 @@ static PetscErrorCode ParseArray(MPI_Comm comm, const OptionDesc *o, const char 
     for (const char *c = text; *c && m + 1 < sizeof buf; c++)
       if (*c != '[' && *c != ']' && *c != ' ') buf[m++] = *c;
     buf[m] = 0;
+    const int ex = strpbrk(buf, "0123456789") != NULL; /* an example with numbers in it: "[]" and "[,]" have none */
     SETERRQ(comm, PETSC_ERR_USER_INPUT,
             "-%s %s: a bracket: give the numbers alone, joined by commas%s%s%s%s%s; brackets make a YAML list only in a "
             "scene file, unquoted",
-            name, ShowText(text, &sh), buf[0] ? " (-" : "", buf[0] ? name : "", buf[0] ? " " : "",
-            buf[0] ? ShowText(buf, &sh2) : "", buf[0] ? ")" : "");
+            name, ShowText(text, &sh), ex ? " (-" : "", ex ? name : "", ex ? " " : "", ex ? ShowText(buf, &sh2) : "",
+            ex ? ")" : "");
   }
   PetscCall(PetscStrncpy(buf, text, sizeof buf));
   *n = 0;

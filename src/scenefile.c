@@ -128,7 +128,12 @@ static int YamlProblem(const char *text, char *msg, size_t len)
    or that a document is not a mapping of options ("key: value" lines) or has a key that is not a plain name; 0 if
    neither. Plain C: main.c asks it before PetscInitialize reads -options_file_yaml and PETSC_OPTIONS_YAML (whose
    refusal there is a traceback and an abort). */
-static int FindBadKeyIn(FILE *fp, int options_only, char *msg, size_t len, int *suspect);
+typedef struct { /* a key's value on the line under the key, with key lines after it within its block */
+  int  line;     /* 0: none */
+  int  key_line; /* the first of those key lines */
+  char text[104];
+} Suspect;
+static int FindBadKeyIn(FILE *fp, int options_only, char *msg, size_t len, Suspect *suspect);
 
 typedef struct { /* a list of option names and values, as a command line lists them (OptionFileFree) */
   char **v;
@@ -502,20 +507,21 @@ static int SceneLevelKey(SceneKeys *k, char parent[][128], int depth, int at, co
   return SceneKeyOnce(k, full, value, at, msg, len);
 }
 
-/* *suspect (if given): the line of a key's value on the line under it, when key lines follow that value within its
+/* *suspect (if given): the first key's value on the line under the key, when key lines follow that value within its
    block: YAML reads such lines as the value's continuation, or refuses the file ("tex 20" typed for "tex: 20" under
    "warp:"), where this line-by-line check took them for keys of the level above; its finding is then libyaml's to
-   confirm (SceneInsertFile) */
-static int FindBadKeyIn(FILE *fp, int options_only, char *msg, size_t len, int *suspect)
+   confirm, and that line the one to name if libyaml refuses (SceneInsertFile) */
+static int FindBadKeyIn(FILE *fp, int options_only, char *msg, size_t len, Suspect *suspect)
 {
   static SceneKeys keys;
   char            *line = NULL, parent[8][128];
   size_t           cap  = 0;
   int              indent[8], kids[8], at[8], anchored[8], depth = 0, lineno = 0, bad = 0;
   int              scalar_ind = -1, scalar_at = 0; /* a key's value on the lines under it: that key's indent, line */
+  char             scalar[104] = "";
 
   keys.nseen = keys.nmaps = 0, keys.options_only = options_only;
-  if (suspect) *suspect = 0;
+  if (suspect) suspect->line = suspect->key_line = 0, suspect->text[0] = 0;
   while (!bad) { /* whole lines, of any length */
     char   *c, *v, key[128], full[128] = "", anchor[64];
     int     ind;
@@ -558,8 +564,10 @@ static int FindBadKeyIn(FILE *fp, int options_only, char *msg, size_t len, int *
     }
     ind = (int) (c - line);
     if (scalar_ind >= 0 && ind <= scalar_ind) scalar_ind = -1; /* the value under a key has ended */
-    if (scalar_ind >= 0 && suspect && !*suspect && *c != '-' && *c != '[' && SceneKey(c, key, sizeof key))
-      *suspect = scalar_at; /* a key line among the lines of a value */
+    if (scalar_ind >= 0 && suspect && !suspect->line && *c != '-' && *c != '[' && SceneKey(c, key, sizeof key)) {
+      suspect->line = scalar_at, suspect->key_line = lineno; /* a key line among the lines of a value */
+      memcpy(suspect->text, scalar, sizeof scalar);
+    }
     for (; depth && indent[depth - 1] >= ind && !bad; depth--) /* a key closed with nothing under it was given empty */
       if (!kids[depth - 1]) bad = SceneLevelKey(&keys, parent, depth, at[depth - 1], "", msg, len);
     if (bad) break;
@@ -570,6 +578,7 @@ static int FindBadKeyIn(FILE *fp, int options_only, char *msg, size_t len, int *
           bad = SceneLevelKey(&keys, parent, depth, at[depth - 1], c, msg, len);
         depth--;
         scalar_ind = indent[depth], scalar_at = lineno;
+        snprintf(scalar, sizeof scalar, "%.100s", c);
       }
       continue;
     }
@@ -595,7 +604,7 @@ static int FindBadKeyIn(FILE *fp, int options_only, char *msg, size_t len, int *
   return bad;
 }
 
-static int FindBadKey(const char *file, char *msg, size_t len, int *suspect)
+static int FindBadKey(const char *file, char *msg, size_t len, Suspect *suspect)
 {
   FILE *fp = fopen(file, "r");
   int   bad;
@@ -749,16 +758,17 @@ PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv)
   PetscCheck(file[0], comm, PETSC_ERR_USER_INPUT, "-scene needs a file name");
   PetscCall(SceneCheckReadable(comm, "-scene", file));
   PetscCall(CheckSceneHasOptions(comm, file));
-  char deferred[512] = ""; /* the check's finding in a file whose lines it may have misread: libyaml's verdict first */
+  char    deferred[512] = ""; /* the check's finding in a file whose lines it may have misread: libyaml's verdict first */
+  Suspect suspect         = {0, 0, ""};
   {
     char        msg[512] = "";
     PetscMPIInt rank;
-    int         suspect = 0;
     PetscCall(CommRank(comm, &rank));
     if (!rank) (void) FindBadKey(file, msg, sizeof msg, &suspect); /* rank 0 reads, every rank refuses alike */
-    if (suspect && msg[0]) memcpy(deferred, msg, sizeof msg), msg[0] = 0;
+    if (suspect.line && msg[0]) memcpy(deferred, msg, sizeof msg), msg[0] = 0;
     PetscCall(BroadcastFromRoot(comm, msg, (PetscInt) sizeof msg, MPI_CHAR));
     PetscCall(BroadcastFromRoot(comm, deferred, (PetscInt) sizeof deferred, MPI_CHAR));
+    PetscCall(BroadcastFromRoot(comm, &suspect, (PetscInt) sizeof suspect, MPI_CHAR));
     PetscCheck(!msg[0], comm, PETSC_ERR_USER_INPUT, "-scene %s: %s", file, msg);
   }
   PetscCall(ReadSceneText(comm, file, &text));
@@ -771,7 +781,14 @@ PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv)
     char       *specific = NULL;
     char        bad[256], where[512] = "";
     const char *why    = NULL;
-    int         lineno = FindMalformedLine(file, bad, sizeof bad, &why);
+    int         lineno = 0, at = 0;
+    if (suspect.line && YamlProblem(text, where, sizeof where) && sscanf(where, "line %d", &at) == 1 &&
+        at == suspect.key_line) { /* libyaml refuses the first key line after a value: that value's line lost its colon */
+      lineno = suspect.line, why = "expected 'key: value'";
+      PetscCall(PetscStrncpy(bad, suspect.text, sizeof bad));
+    }
+    where[0] = 0;
+    if (!lineno) lineno = FindMalformedLine(file, bad, sizeof bad, &why);
     if (!lineno) (void) YamlProblem(text, where, sizeof where); /* where stays "" if libyaml finds nothing */
     PetscCall(PetscFree(text));
     PetscCall(PetscErrorMessage(ierr, &msg, &specific));
