@@ -111,7 +111,6 @@ typedef struct {       /* te against the measured stable limit at one state (-te
 
 typedef struct { /* the time step, damping and the balance test's scales */
   PetscReal  te, te_bound, omega_max, damp_c;
-  PetscReal  te_whole_law; /* the bound over the whole yarn law, when a -te above te_bound is refused (0: none lower) */
   PetscReal  omega1;      /* slowest mode along the pull (estimate), rad/s */
   PetscBool  bound_fresh; /* the stable step was just taken at the current state */
   PetscBool  tear;        /* a tear is followed (relax.c FollowTear): no kinetic damping */

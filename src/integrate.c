@@ -156,19 +156,6 @@ static PetscErrorCode StableBound(Fabric fab, PetscReal omega2[2])
   PetscCall(PetscLogEventEnd(EV_Bound, 0, 0, 0, 0));
   PetscCall(GlobalMax(fab->comm, omega2, 2));
   PetscCall(BoundInfo(fab, &at));
-  if (s->num.te_user > 0 && s->num.te_check && omega2[0] > 0 && s->num.te_user > (PaperSteps(fab) ? 1.0 : 2.0) / PetscSqrtReal(omega2[0])) {
-    /* the user's te is refused: its message gives the bound over the whole yarn law at this shape of the fabric,
-       which the yarns' straightening does not lower (this state's window does). The run stops: the window is not
-       set back. */
-    PetscReal whole[2];
-    BoundRow  w;
-    PetscCall(VecGetArrayRead(fab->state.Xl, &xl));
-    WindowSet(p, r, 1);
-    whole[0] = StableOmega2(p, xl, fab->grid.inv_m, s->spec.pull == PULL_WARP ? 0 : 1, &whole[1], &w);
-    PetscCall(VecRestoreArrayRead(fab->state.Xl, &xl));
-    PetscCall(GlobalMax(fab->comm, whole, 2));
-    fab->step.te_whole_law = whole[0] > omega2[0] ? (PaperSteps(fab) ? 1.0 : 2.0) / PetscSqrtReal(whole[0]) : 0;
-  }
   if (omega2[0] == 0 && fab->stats.rupture.segments > 0 && fab->step.omega_max > 0) {
     /* every segment that held a free crossing has broken (a strip one yarn wide): its pieces move free of any
        spring, and any te is stable for them; the te of the bound before goes on */
@@ -185,14 +172,26 @@ static PetscErrorCode StableBound(Fabric fab, PetscReal omega2[2])
   if (s->num.te_user > 0) {
     char scheme[64] = "a tear's damped scheme over the whole yarn law"; /* a tear's te: -te too */
     if (!fab->step.tear) PetscCall(PetscSNPrintf(scheme, sizeof scheme, "%s integrator", IntegratorNames[s->num.integrator]));
-    const PetscBool whole = fab->step.te_whole_law > 0; /* the whole yarn law's bound is below this state's */
+    PetscReal te_whole = 0; /* the bound over the whole yarn law, where it is below this state's */
+    if (s->num.te_check && s->num.te_user > fab->step.te_bound) {
+      /* refused: the message gives the bound over the whole yarn law at this shape of the fabric, which the yarns'
+         straightening does not lower (this state's window does). The run stops: the window is not set back. */
+      PetscReal whole[2];
+      BoundRow  w;
+      PetscCall(VecGetArrayRead(fab->state.Xl, &xl));
+      WindowSet(p, r, 1);
+      whole[0] = StableOmega2(p, xl, fab->grid.inv_m, s->spec.pull == PULL_WARP ? 0 : 1, &whole[1], &w);
+      PetscCall(VecRestoreArrayRead(fab->state.Xl, &xl));
+      PetscCall(GlobalMax(fab->comm, whole, 2));
+      if (whole[0] > omega2[0]) te_whole = (PaperSteps(fab) ? 1.0 : 2.0) / PetscSqrtReal(whole[0]);
+    }
     PetscCheck(!s->num.te_check || s->num.te_user <= fab->step.te_bound, fab->comm, PETSC_ERR_USER_INPUT,
                "-te %g s is above the stable bound %g s at load step %" PetscInt_FMT
                " (%s, omega_max = %g rad/s): use -te %g or less%s, or leave -te unset",
                (double) s->num.te_user, (double) fab->step.te_bound, fab->load.load_step, scheme,
                (double) fab->step.omega_max,
-               (double) ((whole ? fab->step.te_whole_law : fab->step.te_bound) * (1 - 1e-5)), /* printed, not above it */
-               whole ? " (the bound over the whole yarn law at this shape of the fabric: this state's falls as the "
+               (double) ((te_whole > 0 ? te_whole : fab->step.te_bound) * (1 - 1e-5)), /* printed, not above it */
+               te_whole > 0 ? " (the bound over the whole yarn law at this shape of the fabric: this state's falls as the "
                        "yarns straighten; it may fall further as the fabric deforms, and a -te above it then stops the "
                        "run there)"
                      : "");

@@ -758,18 +758,16 @@ PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv)
   PetscCheck(file[0], comm, PETSC_ERR_USER_INPUT, "-scene needs a file name");
   PetscCall(SceneCheckReadable(comm, "-scene", file));
   PetscCall(CheckSceneHasOptions(comm, file));
-  char    deferred[512] = ""; /* the check's finding in a file whose lines it may have misread: libyaml's verdict first */
-  Suspect suspect         = {0, 0, ""};
+  char    found[512] = ""; /* the key check's finding */
+  Suspect suspect    = {0, 0, ""};
   {
-    char        msg[512] = "";
     PetscMPIInt rank;
     PetscCall(CommRank(comm, &rank));
-    if (!rank) (void) FindBadKey(file, msg, sizeof msg, &suspect); /* rank 0 reads, every rank refuses alike */
-    if (suspect.line && msg[0]) memcpy(deferred, msg, sizeof msg), msg[0] = 0;
-    PetscCall(BroadcastFromRoot(comm, msg, (PetscInt) sizeof msg, MPI_CHAR));
-    PetscCall(BroadcastFromRoot(comm, deferred, (PetscInt) sizeof deferred, MPI_CHAR));
+    if (!rank) (void) FindBadKey(file, found, sizeof found, &suspect); /* rank 0 reads, every rank refuses alike */
+    PetscCall(BroadcastFromRoot(comm, found, (PetscInt) sizeof found, MPI_CHAR));
     PetscCall(BroadcastFromRoot(comm, &suspect, (PetscInt) sizeof suspect, MPI_CHAR));
-    PetscCheck(!msg[0], comm, PETSC_ERR_USER_INPUT, "-scene %s: %s", file, msg);
+    /* in a file whose lines the check may have misread (a suspect line), libyaml's verdict first */
+    PetscCheck(!found[0] || suspect.line, comm, PETSC_ERR_USER_INPUT, "-scene %s: %s", file, found);
   }
   PetscCall(ReadSceneText(comm, file, &text));
   PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
@@ -799,7 +797,7 @@ PetscErrorCode SceneInsertFile(MPI_Comm comm, int argc, char **argv)
     SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED, "-scene %s: not a valid YAML option file: %s", file, msg);
   }
   PetscCall(PetscFree(text));
-  PetscCheck(!deferred[0], comm, PETSC_ERR_USER_INPUT, "-scene %s: %s", file, deferred); /* YAML as libyaml reads it */
+  PetscCheck(!found[0], comm, PETSC_ERR_USER_INPUT, "-scene %s: %s", file, found); /* YAML as libyaml reads it */
   PetscCall(InsertEnvOptions(comm));
   PetscCall(PetscOptionsInsertArgs(NULL, argc - 1, argv + 1));
   PetscFunctionReturn(0);
