@@ -60,6 +60,10 @@ static inline uint64_t ExactLagTerm(double y)
 /* the parts of all ranks combined: sums added, maxima taken (one reduction, a user-defined MPI
    operation on the exact integers) */
 PetscErrorCode GlobalExactParts(MPI_Comm comm, PetscInt m, const ExactPart *local, ExactPart *global);
+/* refuses, on every rank alike, a run where some rank would hold more than PETSc's 32-bit indices reach
+   (2^31 - 1) in one array: entries, this rank's count; per_point, the entries a crossing takes; what, the array
+   (for the message) */
+PetscErrorCode CheckRankEntries(MPI_Comm comm, double entries, PetscInt per_point, const char *what);
 /* integer sums over all ranks, in place: exact; the uint64 one mod 2^64 (checkpoint checksums) */
 PetscErrorCode GlobalSumInt(MPI_Comm comm, PetscInt *v, PetscInt n);
 PetscErrorCode GlobalSumUInt64(MPI_Comm comm, uint64_t *v, PetscInt n);

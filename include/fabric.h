@@ -184,6 +184,7 @@ typedef struct { /* run statistics and the curve */
   PetscLogDouble wall_start, wall;
   CurveRow      *curve;
   FILE          *curve_fp; /* rank 0 */
+  PetscBool      summary_failed; /* summary.json could not be written: the error path does not try again */
   FILE          *lock_fp;  /* rank 0: DIR/.fabric.lock, write-locked while the run lasts */
 } RunStats;
 

@@ -8,7 +8,7 @@ PetscErrorCode OutputOpen(Fabric fab);
 PetscBool      RestartsFrom(const char *dir, const char *restart);
 PetscErrorCode OutputCurveRow(Fabric fab, const CurveRow *row);
 PetscErrorCode OutputProgress(Fabric fab, const CurveRow *row);
-PetscErrorCode OutputSummary(Fabric fab, const char *error);
+PetscErrorCode OutputSummary(Fabric fab, const char *error, PetscBool together);
 PetscErrorCode OutputPositions(Fabric fab, const char *file);
 
 #endif

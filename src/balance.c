@@ -56,12 +56,12 @@ PetscErrorCode RelaxInfo(Fabric fab, PetscInt round, PetscInt n, const StepStats
   if (n < 1024 || (n & (n - 1))) PetscFunctionReturn(0);
   PetscCall(PetscInfoEnabled(PETSC_SMALLEST_CLASSID, &info)); /* PetscInfo(NULL, ...)'s class */
   if (!info) PetscFunctionReturn(0);
-  PetscCall(PetscMalloc1(4 * nl, &terms));
+  PetscCall(PetscMalloc1((size_t) 4 * nl, &terms)); /* size_t: 4 nl passes 2^31 above 537 M points a rank */
   PetscCall(VecGetArrayRead(fab->state.V, &v));
   for (PetscInt k = 0; k < nl; k++) {
     const PetscReal *u = v + 3 * k, s2 = u[0] * u[0] + u[1] * u[1] + u[2] * u[2], w = fab->grid.inv_m[k] > 0 ? 1.0 : 0.0;
-    for (int d = 0; d < 3; d++) terms[d * nl + k] = w * u[d] * u[d];
-    terms[3 * nl + k] = s2 > tol2 ? w : 0.0;
+    for (int d = 0; d < 3; d++) terms[(size_t) d * nl + k] = w * u[d] * u[d];
+    terms[(size_t) 3 * nl + k] = s2 > tol2 ? w : 0.0;
     if (w > 0 && s2 > fast) fast = s2, kfast = k;
   }
   PetscCall(VecRestoreArrayRead(fab->state.V, &v));

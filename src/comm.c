@@ -205,10 +205,12 @@ PetscErrorCode GlobalSum(MPI_Comm comm, PetscReal *v, PetscInt n)
    (global max: exact), the integers are summed in int64 (exact and associative: the same on any
    number of ranks and any split), and the result is sum * q. A sum that feeds back into the
    dynamics (kinetic damping, FIRE) must be taken this way: a floating-point sum depends on the
-   order of the terms. The quantisation error is at most n q / 2 = n max|term| 2^-41; the integer
-   sum cannot overflow below 2^22 terms per unit of max |term| (8 M points at the max each). Two
-   reductions for all m quantities: the max (GlobalMax, which a caller may share with its own
-   maxima, then GlobalSumsExactScaled) and the integer sum. */
+   order of the terms. The quantisation error is at most n q / 2 = n max|term| 2^-41. The integers
+   are summed in blocks of EXACT_SUM_BLOCK terms in 64 bits and the blocks in 128 bits (ExactPart's
+   sums, GlobalExactParts): no overflow below 2^87 terms. (In 64 bits throughout the total wrapped
+   past 2^23 terms at the max each: 8.4 M crossings, below the grid limit.) Two reductions for all m
+   quantities: the max (GlobalMax, which a caller may share with its own maxima, then
+   GlobalSumsExactScaled) and the integer sum. */
 #define EXACT_SUM_BITS 40
 
 /* x rounded to the nearest integer, halves away from zero: llround's result for |x| < 2^62
@@ -223,7 +225,7 @@ static inline long long RoundHalfAway(double x)
 void ExactSumScales(PetscInt m, const PetscReal *terms, PetscInt n, PetscReal *scale)
 {
   for (PetscInt c = 0; c < m; c++) {
-    const PetscReal *t = terms + c * n;
+    const PetscReal *t = terms + (size_t) c * n;
     PetscReal        s[4] = {0, 0, 0, 0}; /* max is exact in any order (a NaN term is skipped, as PetscMax does) */
     PetscInt         k    = 0;
     for (; k + 4 <= n; k += 4)
@@ -233,17 +235,18 @@ void ExactSumScales(PetscInt m, const PetscReal *terms, PetscInt n, PetscReal *s
   }
 }
 
-/* sum of RoundHalfAway(t[k] inv_q), k < n, mod 2^64, for finite inv_q (|t[k] inv_q| <= 2^40 as
-   |t[k]| <= the scale). In blocks, in integer and bit operations only, so that the loop vectorises:
+/* sum of RoundHalfAway(t[k] inv_q), k < n, for finite inv_q (|t[k] inv_q| <= 2^40 as |t[k]| <= the
+   scale: a block's sum within 2^48, exact in 64 bits; the blocks' in 128). In blocks, in integer and bit operations only, so that the loop vectorises:
    adding 1.5 2^52 to y = t inv_q rounds it to the integer the sum's bits hold (halves to even,
    |y| < 2^51); d = y - that integer is exact, |d| <= 1/2, and a block where some |d| = 1/2 (a half:
    half-even and half-away may differ) or y is NaN is summed again with RoundHalfAway. As
    |d| <= 1/2, bits(|d|) + 2^62 - bits(1/2) reaches bit 62 or 63 only at a half or a NaN. */
 #define EXACT_SUM_BLOCK 256
-static unsigned long long QuantisedSum(const PetscReal *t, PetscInt n, PetscReal inv_q)
+static __int128 QuantisedSum(const PetscReal *t, PetscInt n, PetscReal inv_q)
 {
   const double       shift = 6755399441055744.0, half = 0.5; /* 1.5 2^52 */
-  unsigned long long bhalf, flag, total = 0;
+  unsigned long long bhalf, flag;
+  __int128           total = 0;
 
   memcpy(&bhalf, &half, sizeof bhalf);
   flag = (1ULL << 62) - bhalf;
@@ -262,7 +265,7 @@ static unsigned long long QuantisedSum(const PetscReal *t, PetscInt n, PetscReal
       s = 0;
       for (PetscInt k = 0; k < nb; k++) s += (unsigned long long) RoundHalfAway(tb[k] * inv_q);
     }
-    total += s;
+    total += (long long) s; /* the block's sum, within 2^48 (mod 2^64 as unsigned): exact as signed */
   }
   return total;
 }
@@ -270,33 +273,28 @@ static unsigned long long QuantisedSum(const PetscReal *t, PetscInt n, PetscReal
 PetscErrorCode GlobalSumsExactScaled(MPI_Comm comm, PetscInt m, const PetscReal *terms, PetscInt n,
                                      const PetscReal *scale, PetscReal *sums)
 {
-  long long   isum[EXACT_SUMS_MAX] = {0}, total[EXACT_SUMS_MAX];
-  PetscMPIInt count;
+  ExactPart local, global;
 
   PetscFunctionBeginUser;
   PetscCheck(m >= 1 && m <= EXACT_SUMS_MAX, comm, PETSC_ERR_ARG_OUTOFRANGE, "%" PetscInt_FMT " exact sums at once, at most %d",
              m, EXACT_SUMS_MAX);
-  PetscCall(PetscMPIIntCast(m, &count));
+  memset(&local, 0, sizeof local); /* top[] unused */
   for (PetscInt c = 0; c < m; c++) {
     if (!(scale[c] > 0) || !isfinite(scale[c])) continue; /* all zero (or a NaN the caller's watch reports) */
-    const PetscReal inv_q = ldexp(1.0, EXACT_SUM_BITS) / scale[c], *t = terms + c * n;
-    if (isfinite(inv_q)) isum[c] = (long long) QuantisedSum(t, n, inv_q);
+    const PetscReal inv_q = ldexp(1.0, EXACT_SUM_BITS) / scale[c], *t = terms + (size_t) c * n;
+    if (isfinite(inv_q)) local.sum[c] = QuantisedSum(t, n, inv_q);
     else { /* a scale below 2^40 / DBL_MAX (about 6e-297): 1/q overflows, so each term is scaled by a power of two,
               exactly, onto the grid q = 2^(e - 40), |t| < 2^e (it gave LLONG_MIN for every term: wrong sums, and an
               overflow in RoundHalfAway) */
-      const int          e = ilogb(scale[c]) + 1;
-      unsigned long long s = 0;
-      for (PetscInt k = 0; k < n; k++) s += (unsigned long long) RoundHalfAway(ldexp(t[k], EXACT_SUM_BITS - e));
-      isum[c] = (long long) s;
+      const int e = ilogb(scale[c]) + 1;
+      for (PetscInt k = 0; k < n; k++) local.sum[c] += RoundHalfAway(ldexp(t[k], EXACT_SUM_BITS - e));
     }
   }
-  PetscCall(PetscLogEventBegin(EV_Reduce, 0, 0, 0, 0));
-  PetscCallMPI(MPI_Allreduce(isum, total, count, MPI_LONG_LONG, MPI_SUM, comm));
-  PetscCall(PetscLogEventEnd(EV_Reduce, 0, 0, 0, 0));
+  PetscCall(GlobalExactParts(comm, m, &local, &global));
   for (PetscInt c = 0; c < m; c++) {
     if (!(scale[c] > 0 && isfinite(scale[c]))) sums[c] = scale[c] > 0 ? scale[c] : 0.0;
-    else if (isfinite(ldexp(1.0, EXACT_SUM_BITS) / scale[c])) sums[c] = (PetscReal) total[c] * (scale[c] / ldexp(1.0, EXACT_SUM_BITS));
-    else sums[c] = ldexp((PetscReal) total[c], ilogb(scale[c]) + 1 - EXACT_SUM_BITS); /* the grid of the tiny scale */
+    else if (isfinite(ldexp(1.0, EXACT_SUM_BITS) / scale[c])) sums[c] = (PetscReal) global.sum[c] * (scale[c] / ldexp(1.0, EXACT_SUM_BITS));
+    else sums[c] = ldexp((PetscReal) global.sum[c], ilogb(scale[c]) + 1 - EXACT_SUM_BITS); /* the grid of the tiny scale */
   }
   PetscFunctionReturn(0);
 }
@@ -326,7 +324,7 @@ PetscErrorCode GlobalPointSums(MPI_Comm comm, PetscInt m, const PetscReal *t, Pe
   PetscCheck(m >= 1 && m <= EXACT_SUMS_MAX, comm, PETSC_ERR_ARG_OUTOFRANGE, "%" PetscInt_FMT " exact sums at once, at most %d",
              m, EXACT_SUMS_MAX);
   for (PetscInt c = 0; c < m; c++)
-    for (PetscInt k = 0; k < n; k++) plain[c] += t[c * n + k];
+    for (PetscInt k = 0; k < n; k++) plain[c] += t[(size_t) c * n + k];
   PetscCall(GlobalSum(comm, plain, m)); /* the same on every rank: all take the same branch */
   for (PetscInt c = 0; c < m; c++) finite = finite && isfinite(plain[c]);
   if (finite) PetscCall(GlobalSumsExact(comm, m, t, n, sums));
@@ -380,6 +378,19 @@ PetscErrorCode GlobalExactParts(MPI_Comm comm, PetscInt m, const ExactPart *loca
   PetscCall(PetscLogEventBegin(EV_Reduce, 0, 0, 0, 0));
   PetscCallMPI(MPI_Allreduce(&mine, global, 1, exact_part_type, exact_part_op, comm));
   PetscCall(PetscLogEventEnd(EV_Reduce, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CheckRankEntries(MPI_Comm comm, double entries, PetscInt per_point, const char *what)
+{
+  PetscReal most = (PetscReal) entries;
+
+  PetscFunctionBeginUser;
+  PetscCall(GlobalMax(comm, &most, 1));
+  PetscCheck(most <= (PetscReal) PETSC_MAX_INT, comm, PETSC_ERR_USER_INPUT,
+             "-solver static: a rank's patch needs %.4g entries in %s (%" PetscInt_FMT " a crossing), more than PETSc's "
+             "32-bit indices reach (%d): a rank can hold at most %.4g crossings; run on more ranks",
+             (double) most, what, per_point, PETSC_MAX_INT, (double) PETSC_MAX_INT / (double) per_point);
   PetscFunctionReturn(0);
 }
 

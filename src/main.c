@@ -287,7 +287,7 @@ static PetscErrorCode Run(int argc, char **argv)
     char       *specific = NULL;
     PetscErrorMessage(ierr, &text, &specific);
     if (PetscTime(&fab->stats.wall) == 0) fab->stats.wall -= fab->stats.wall_start; /* the time it ran */
-    if (fab->stats.curve_fp) OutputSummary(fab, specific && specific[0] ? specific : text);
+    if (fab->stats.curve_fp && !fab->stats.summary_failed) OutputSummary(fab, specific && specific[0] ? specific : text, PETSC_FALSE);
     FabricDestroy(&fab);
     return ierr;
   }

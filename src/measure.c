@@ -96,19 +96,20 @@ static PetscErrorCode SupportReactions(Fabric fab, const PetscScalar *x, const P
     PetscCall(GlobalPointSums(fab->comm, 3, t, g->nloc, acc + 3 * q));
   }
   PetscCall(PetscFree2(b, t));
-  PetscCall(PetscCalloc1(6 * g->nloc, &t)); /* held crossings' forces and every crossing's weight: exact sums */
+  PetscCall(PetscCalloc1((size_t) 6 * g->nloc, &t)); /* held crossings' forces and every crossing's weight: exact sums (size_t:
+                                                        6 nloc passes 2^31 above 358 M points a rank) */
   for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
     for (PetscInt i = p->xs; i < p->xs + p->xm; i++) {
       const PetscInt k = (j - p->ys) * p->xm + (i - p->xs);
       if (!p->exists[(j - p->gys) * p->gxm + (i - p->gxs)]) continue;
       for (int d = 0; d < 3; d++) {
         const PetscReal w = g->mass[k] * gravity[d];
-        if (g->kind[k] == POINT_CLAMPED || g->kind[k] == POINT_GRIP) t[d * g->nloc + k] = f[3 * k + d] + w;
-        t[(3 + d) * g->nloc + k] = w;
+        if (g->kind[k] == POINT_CLAMPED || g->kind[k] == POINT_GRIP) t[(size_t) d * g->nloc + k] = f[3 * k + d] + w;
+        t[(size_t) (3 + d) * g->nloc + k] = w;
       }
     }
   PetscCall(GlobalPointSums(fab->comm, 3, t, g->nloc, acc + 6));
-  PetscCall(GlobalPointSums(fab->comm, 3, t + 3 * g->nloc, g->nloc, acc + 9));
+  PetscCall(GlobalPointSums(fab->comm, 3, t + (size_t) 3 * g->nloc, g->nloc, acc + 9));
   PetscCall(PetscFree(t));
   for (int d = 0; d < 3; d++) {
     row->plane_force[d]    = acc[d];

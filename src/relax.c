@@ -822,7 +822,7 @@ PetscErrorCode FabricRun(Fabric fab)
   if (!CheckpointStopped()) PetscCall(StableStepMeasureLast(fab)); /* with the static path's tangent, as the others */
   PetscCall(StaticDestroy(&ss));
   if (CheckpointStopped()) PetscFunctionReturn(0);
-  PetscCall(OutputSummary(fab, NULL));
+  PetscCall(OutputSummary(fab, NULL, PETSC_TRUE));
   if (s->out.positions_out[0]) PetscCall(OutputPositions(fab, s->out.positions_out));
   PetscFunctionReturn(0);
 }

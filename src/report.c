@@ -369,21 +369,27 @@ static void SummaryTeMeasure(Fabric fab, FILE *fp)
   fprintf(fp, "  },\n");
 }
 
-/* summary.json: written at the end of a run, or with "error" when a run stops on an error */
-PetscErrorCode OutputSummary(Fabric fab, const char *error)
+/* summary.json written aside and renamed into place, by rank 0; status[0]: SUMMARY_OK, or where it failed (the file
+   aside not created, not written, not renamed); status[1]: errno */
+enum { SUMMARY_OK, SUMMARY_OPEN, SUMMARY_WRITE, SUMMARY_RENAME };
+static void SummaryWrite(Fabric fab, const char *error, int status[2])
 {
-  const Scene *s = &fab->s;
-  char         file[PETSC_MAX_PATH_LEN], tmp[PETSC_MAX_PATH_LEN];
-  FILE        *fp;
+  const Scene   *s = &fab->s;
+  char           file[PETSC_MAX_PATH_LEN], tmp[PETSC_MAX_PATH_LEN];
+  FILE          *fp;
   const PetscInt done = fab->stats.rows_done;
   int            write_error;
 
-  PetscFunctionBeginUser;
-  if (!s->out.output_dir[0] || fab->rank != 0) PetscFunctionReturn(0);
-  PetscCall(PetscSNPrintf(file, sizeof file, "%s/summary.json", s->out.output_dir));
-  PetscCall(PetscSNPrintf(tmp, sizeof tmp, "%s/.summary.json.tmp", s->out.output_dir));
+  if (snprintf(file, sizeof file, "%s/summary.json", s->out.output_dir) >= (int) sizeof file ||
+      snprintf(tmp, sizeof tmp, "%s/.summary.json.tmp", s->out.output_dir) >= (int) sizeof tmp) {
+    status[0] = SUMMARY_OPEN, status[1] = ENAMETOOLONG;
+    return;
+  }
   fp = fopen(tmp, "w");
-  PetscCheck(fp, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "-output_dir %s: cannot write summary.json", s->out.output_dir);
+  if (!fp) {
+    status[0] = SUMMARY_OPEN, status[1] = errno;
+    return;
+  }
   fprintf(fp, "{\n  \"scene\": ");
   JsonString(fp, s->out.name);
   { /* which solver made the results */
@@ -449,13 +455,30 @@ PetscErrorCode OutputSummary(Fabric fab, const char *error)
   fprintf(fp, "\n}\n");
   write_error = ferror(fp);
   if (fclose(fp) || write_error) { /* a full disk: keep the summary.json there is, if any */
-    const int err = errno;
+    status[0] = SUMMARY_WRITE, status[1] = errno;
     (void) unlink(tmp);
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "-output_dir %s: cannot write summary.json (%s)", s->out.output_dir,
-            strerror(err));
+    return;
   }
-  PetscCheck(!rename(tmp, file), PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE,
-             "-output_dir %s: cannot rename summary.json into place", s->out.output_dir);
+  if (rename(tmp, file)) status[0] = SUMMARY_RENAME, status[1] = errno;
+}
+
+/* summary.json: written at the end of a run, or with "error" when a run stops on an error. together: every rank
+   calls it, and every rank stops alike if rank 0 could not write it (at the end of a run: the other ranks would
+   go on into a collective and wait); otherwise rank 0 alone (a run's error, which may be rank 0's alone) */
+PetscErrorCode OutputSummary(Fabric fab, const char *error, PetscBool together)
+{
+  const char *dir       = fab->s.out.output_dir;
+  int         status[2] = {SUMMARY_OK, 0};
+
+  PetscFunctionBeginUser;
+  if (!dir[0] || (!together && fab->rank != 0)) PetscFunctionReturn(0);
+  if (fab->rank == 0) SummaryWrite(fab, error, status);
+  if (together) PetscCall(BroadcastFromRoot(fab->comm, status, 2, MPI_INT));
+  fab->stats.summary_failed = status[0] != SUMMARY_OK ? PETSC_TRUE : PETSC_FALSE;
+  PetscCheck(status[0] == SUMMARY_OK, together ? fab->comm : PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE,
+             "-output_dir %s: cannot %s summary.json (%s)", dir,
+             status[0] == SUMMARY_OPEN ? "create" : (status[0] == SUMMARY_WRITE ? "write" : "rename into place"),
+             strerror(status[1]));
   PetscFunctionReturn(0);
 }
 

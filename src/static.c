@@ -1467,6 +1467,11 @@ static PetscErrorCode CreateTangent(StaticSolver ss)
     ss->levels_at = -1;
     PetscFunctionReturn(0);
   }
+  {
+    PetscInt nb = 0; /* blocks a row */
+    for (int s = 0; s < ROW_SLOTS; s++) nb += SlotUsed(p, s) ? 1 : 0;
+    PetscCall(CheckRankEntries(ss->fab->comm, 9.0 * (double) nb * (double) npts, 9 * nb, "its tangent's entries"));
+  }
   PetscCall(PetscCalloc2(npts, &dnz, npts, &onz));
   for (PetscInt k = 0; k < npts; k++) {
     const PetscInt i = p->xs + k % p->xm, j = p->ys + k / p->xm;

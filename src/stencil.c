@@ -198,6 +198,8 @@ PetscErrorCode StencilMatCreate(DM dm, PetscInt nfull, const int di[], const int
   PetscCall(DMDAGetInfo(dm, NULL, &d->M, &d->N, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL));
   PetscCall(DMDAGetCorners(dm, &d->xs, &d->ys, &zs, &d->xm, &d->ym, &zm));
   PetscCall(DMDAGetGhostCorners(dm, &d->gxs, &d->gys, &zs, &d->gxm, &d->gym, &zm));
+  PetscCall(CheckRankEntries(PetscObjectComm((PetscObject) dm), 9.0 * (double) d->ns * (double) d->gxm * (double) d->gym,
+                             9 * d->ns, "its stiffness blocks, with its ghosts"));
   PetscCall(PetscCalloc1(9 * d->ns * d->gxm * d->gym, &d->blk));
   PetscCall(DMCreateLocalVector(dm, &d->xl));
   PetscCall(GhostsCreate(d));

@@ -25,6 +25,10 @@
 #  9. an -output_dir another run is writing into (it holds DIR/.fabric.lock): refused at the start, naming it, the
 #     directory and the -positions_out file as they were; once that run has ended, a run there goes on (the two runs' files were mixed, and the first
 #     reported success)
+# 10. summary.json that cannot be written at the end of a 2-rank run (a directory under its temporary name, made
+#     once the run has written curve.csv rows): every rank stops alike, at once, with one error line naming it, and
+#     no summary.json or -positions_out file (rank 0 stopped alone: the others waited 10 s in the positions' scatter,
+#     the run was aborted, and the error was printed twice)
 set -u
 fabric="$1"; scene="$2"
 . "$(dirname "$0")/runs.sh" # $py, $work, $fail, run NP ARGS...
@@ -164,5 +168,22 @@ if grep -q '"scene": "strip_warp"' "$d/summary.json"; then
   echo "PASS once the other run has ended, a run in that -output_dir goes on"
 else
   echo "FAIL once the other run has ended: summary.json is not this run's"; fail=1
+fi
+d="$work/summary_fails"
+mkdir -p "$d"
+mpiexec -n 2 "$fabric" -scene "$scene" -load_steps 400 -output_every 0 -quiet -output_dir "$d" -positions_out "$d/pos.bin" \
+  >"$work/log" 2>&1 &
+runner=$!
+for t in $(seq 600); do [[ -s $d/curve.csv && $(wc -l <"$d/curve.csv") -ge 3 ]] && break; sleep 0.05; done
+mkdir "$d/.summary.json.tmp"
+wait "$runner"
+rc=$?
+lines=$(grep -c "^fabric: error" "$work/log")
+if [[ $rc -ne 0 && $lines -eq 1 && ! -e $d/summary.json && ! -e $d/pos.bin ]] &&
+  grep -q "^fabric: error: -output_dir $d: cannot create summary.json (Is a directory)$" "$work/log" &&
+  ! grep -q "did not stop" "$work/log"; then
+  echo "PASS summary.json not writable at the end on 2 ranks: one error line, every rank stopped (exit $rc), no summary.json or positions"
+else
+  cat "$work/log"; echo "FAIL summary.json not writable at the end: exit $rc, $lines error lines, left: $(ls -A "$d" | tr '\n' ' ')"; fail=1
 fi
 exit $fail

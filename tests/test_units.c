@@ -1227,8 +1227,8 @@ static PetscErrorCode TestPredictExtrapolate(void)
 /* A strip at unequal densities and yarns: every owned crossing's mass is half of each yarn segment at it,
    tex (1 + crimp) x the spacing along that yarn (MODEL.md 4), and the bending constants are B / spacing;
    a disc's crossings are those within its radius (counted here in integers); the smallest split the stencil
-   allows (2 crossings a rank) is taken; GlobalSumsExact sums terms whose largest is a rank's last. On any number
-   of ranks. */
+   allows (2 crossings a rank) is taken; GlobalSumsExact sums terms whose largest is a rank's last, and more terms
+   than a 64-bit integer can sum; CheckRankEntries refuses on every rank. On any number of ranks. */
 static PetscErrorCode TestSetUp(void)
 {
   Fabric      fab;
@@ -1306,6 +1306,30 @@ static PetscErrorCode TestSetUp(void)
       PetscCall(ExpectReal(what, sums[0], ldexp(ldexp(1.0, size) - 1, -e), 0));
       PetscCall(PetscSNPrintf(what, sizeof what, "GlobalSumsExact of 2^(20-%d) - 2^(21-%d) a rank: -ranks 2^(20-%d)", e, e, e));
       PetscCall(ExpectReal(what, sums[1], -size * ldexp(1.0, 20 - e), 0));
+    }
+  }
+  { /* 9 M terms, every one the largest: 2^40 quanta each, 9.9e18 in all, past a 64-bit integer (the total wrapped
+       past 2^23 terms, 8.4 M crossings: the sum came out negative); the blocks are summed in 128 bits */
+    const PetscInt n = (9000000 + size - 1) / size;
+    PetscReal     *terms, sum;
+    PetscCall(PetscMalloc1(n, &terms));
+    for (PetscInt k = 0; k < n; k++) terms[k] = 1.0;
+    PetscCall(GlobalPointSums(PETSC_COMM_WORLD, 1, terms, n, &sum));
+    PetscCall(ExpectReal("GlobalPointSums of 9 M terms of 1 over the ranks (2^40 quanta each): their number", sum,
+                         (PetscReal) n * size, 0));
+    PetscCall(PetscFree(terms));
+  }
+  { /* CheckRankEntries: past 2^31 - 1 entries on rank 0 alone, every rank refuses (a rank alone would leave the
+       others waiting); at 2^31 - 1 none does */
+    for (int over = 0; over < 2; over++) {
+      const double   most = over ? 2147483648.0 : 2147483647.0;
+      PetscErrorCode ierr;
+      char           what[128];
+      PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
+      ierr = CheckRankEntries(PETSC_COMM_WORLD, rank == 0 ? most : 1.0, 63, "the test's array");
+      PetscCall(PetscPopErrorHandler());
+      PetscCall(PetscSNPrintf(what, sizeof what, "CheckRankEntries of %.0f entries on rank 0: refused on every rank", most));
+      PetscCall(ExpectReal(what, ierr == PETSC_ERR_USER_INPUT, over, 0));
     }
   }
   PetscFunctionReturn(0);
