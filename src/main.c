@@ -744,6 +744,14 @@ int main(int argc, char **argv)
        would get "Caught signal number 13 Broken Pipe" and an MPI_ABORT. A help run has nothing else to catch. */
     if (!strcasecmp(argv[k], "-help") && PetscOptionsSetValue(NULL, "-no_signal_handler", NULL)) return 1;
   }
+  for (const char *at = getenv("PETSC_OPTIONS"); at && *at;) { /* the same for a word -help in PETSC_OPTIONS */
+    const size_t len = strcspn(at, " \t\n");
+    if (len == 5 && !strncasecmp(at, "-help", 5)) {
+      if (PetscOptionsSetValue(NULL, "-no_signal_handler", NULL)) return 1;
+      break;
+    }
+    at += len + (at[len] != 0);
+  }
   MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN);
   MPI_Comm_set_errhandler(MPI_COMM_SELF, MPI_ERRORS_RETURN);
   MPI_Comm_dup(MPI_COMM_WORLD, &stop_comm);
