@@ -103,20 +103,22 @@ PetscErrorCode FrontSetUp(Fabric fab)
 }
 
 /* A load changed: the front starts again from the disturbed points. A prediction that moved the
-   points moves every reachable one, gravity at the first step disturbs every point, and a load
-   step that ended unbalanced left points moving anywhere: then it is covered (a prediction with
-   nothing to follow, -predict linear under a point load, moves none). */
+   points moves every reachable one, gravity disturbs every point at the first step (and at every
+   step of the drape, whose gravity grows with them), and a load step that ended unbalanced left
+   points moving anywhere: then it is covered (a prediction with nothing to follow, -predict linear
+   under a point load, moves none). */
 void FrontLoadChange(Fabric fab, PetscBool predicted)
 {
   const Scene    *s       = &fab->s;
   const PetscInt  k       = fab->load.load_step;
-  const int       gravity = s->terms.gravity[0] != 0 || s->terms.gravity[1] != 0 || s->terms.gravity[2] != 0;
+  const int       gravity = (s->terms.gravity[0] != 0 || s->terms.gravity[1] != 0 || s->terms.gravity[2] != 0) &&
+                      (k == 1 || s->test == TEST_DRAPE);
   /* the load step before ended unbalanced (the static path's coarse fabrics keep no rows) */
   const PetscBool moving  = s->num.solver != SOLVER_STATIC && k > 1 && !fab->stats.curve[k - 2].balanced;
   fab->front.front_step    = 0;
-  fab->front.front_covered = (!s->num.front || predicted || moving || (gravity && k == 1)) ? PETSC_TRUE : PETSC_FALSE;
+  fab->front.front_covered = (!s->num.front || predicted || moving || gravity) ? PETSC_TRUE : PETSC_FALSE;
   if (s->num.sleep_tol > 0) {
-    if (predicted || moving || k == 1 || !fab->front.front_box)
+    if (predicted || moving || k == 1 || gravity || !fab->front.front_box)
       FrontWakeAll(fab);
     else { /* wake the disturbed points too */
       const PetscInt *src     = fab->front.front_box;
