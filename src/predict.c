@@ -13,6 +13,7 @@
 #include "predict.h"
 #include "comm.h"
 #include "events.h"
+#include "load.h"
 
 /* Graph distance of every owned point to the nearest source point, through existing
    points (DIST_INF if none is reachable). Sweeps and halo exchanges until no rank changes. */
@@ -162,6 +163,14 @@ PetscErrorCode PredictLoadStep(Fabric fab, PetscReal grip_step, const PetscReal 
   PetscBool       extrapolate = s->num.predict == PREDICT_EXTRAPOLATE && have_history && !ball_static ? PETSC_TRUE : PETSC_FALSE;
 
   PetscFunctionBeginUser;
+  if (extrapolate && s->load.waypoints && !by_load) { /* a grip path that turns (or goes back): the last increment
+    points the old way, and scaling it pushed the crossings on against the grips (711 te steps at a reversal, against 3
+    by the linear prediction); where this step's move is not the last one's direction, the linear prediction */
+    PetscReal prev[3], dot = 0, mm = 0, pp = 0;
+    GripPathMove(s, fab->grid.pull_dir, fab->load.travel - fab->load.travel_step_prev, fab->load.travel, prev);
+    for (int d = 0; d < 3; d++) dot += grip_move[d] * prev[d], mm += grip_move[d] * grip_move[d], pp += prev[d] * prev[d];
+    if (!(dot > 0 && dot * dot >= (1 - 1e-12) * mm * pp)) extrapolate = PETSC_FALSE;
+  }
   *moved = PETSC_FALSE;
   if (s->num.predict == PREDICT_NONE || (grip_step == 0 && !(by_load && extrapolate))) PetscFunctionReturn(0);
   *moved = PETSC_TRUE;
