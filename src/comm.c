@@ -389,8 +389,8 @@ PetscErrorCode CheckRankEntries(MPI_Comm comm, double entries, PetscInt per_poin
   PetscCall(GlobalMax(comm, &most, 1));
   PetscCheck(most <= (PetscReal) PETSC_MAX_INT, comm, PETSC_ERR_USER_INPUT,
              "-solver static: a rank's patch needs %.4g entries in %s (%" PetscInt_FMT " a crossing), more than PETSc's "
-             "32-bit indices reach (%d): a rank can hold at most %.4g crossings; run on more ranks",
-             (double) most, what, per_point, PETSC_MAX_INT, (double) PETSC_MAX_INT / (double) per_point);
+             "32-bit indices reach (%" PetscInt_FMT "): a rank can hold at most %.4g crossings; run on more ranks",
+             (double) most, what, per_point, (PetscInt) PETSC_MAX_INT, (double) PETSC_MAX_INT / (double) per_point);
   PetscFunctionReturn(0);
 }
 

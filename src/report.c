@@ -390,6 +390,7 @@ static void SummaryWrite(Fabric fab, const char *error, int status[2])
     status[0] = SUMMARY_OPEN, status[1] = errno;
     return;
   }
+  errno = 0; /* what a failed write sets, not an earlier call's */
   fprintf(fp, "{\n  \"scene\": ");
   JsonString(fp, s->out.name);
   { /* which solver made the results */
@@ -455,7 +456,7 @@ static void SummaryWrite(Fabric fab, const char *error, int status[2])
   fprintf(fp, "\n}\n");
   write_error = ferror(fp);
   if (fclose(fp) || write_error) { /* a full disk: keep the summary.json there is, if any */
-    status[0] = SUMMARY_WRITE, status[1] = errno;
+    status[0] = SUMMARY_WRITE, status[1] = errno ? errno : EIO; /* a write error fclose did not report again */
     (void) unlink(tmp);
     return;
   }
@@ -476,8 +477,9 @@ PetscErrorCode OutputSummary(Fabric fab, const char *error, PetscBool together)
   if (together) PetscCall(BroadcastFromRoot(fab->comm, status, 2, MPI_INT));
   fab->stats.summary_failed = status[0] != SUMMARY_OK ? PETSC_TRUE : PETSC_FALSE;
   PetscCheck(status[0] == SUMMARY_OK, together ? fab->comm : PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE,
-             "-output_dir %s: cannot %s summary.json (%s)", dir,
-             status[0] == SUMMARY_OPEN ? "create" : (status[0] == SUMMARY_WRITE ? "write" : "rename into place"),
+             "-output_dir %s: cannot %s (%s)", dir,
+             status[0] == SUMMARY_OPEN ? "create summary.json"
+                                       : (status[0] == SUMMARY_WRITE ? "write summary.json" : "rename summary.json into place"),
              strerror(status[1]));
   PetscFunctionReturn(0);
 }

@@ -171,7 +171,7 @@ else
 fi
 d="$work/summary_fails"
 mkdir -p "$d"
-mpiexec -n 2 "$fabric" -scene "$scene" -load_steps 400 -output_every 0 -quiet -output_dir "$d" -positions_out "$d/pos.bin" \
+mpiexec -n 2 "$fabric" -scene "$scene" -load_steps 200 -output_every 0 -quiet -output_dir "$d" -positions_out "$d/pos.bin" \
   >"$work/log" 2>&1 &
 runner=$!
 for t in $(seq 600); do [[ -s $d/curve.csv && $(wc -l <"$d/curve.csv") -ge 3 ]] && break; sleep 0.05; done
