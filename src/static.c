@@ -1684,6 +1684,12 @@ PetscErrorCode StaticCreate(Fabric fab, StaticSolver *out)
 
   PetscFunctionBeginUser;
   PetscCall(StaticCreateLevel(fab, -1, out));
+  if ((*out)->opt.tao && (fab->s.yarns.warp.break_ey > 0 || fab->s.yarns.weft.break_ey > 0)) /* with -quiet too */
+    PetscCall(PetscPrintf(fab->comm,
+                          "fabric: warning: -static_minimizer tao with yarns that can break: on the states after a tear "
+                          "TAO's Newton stalls (its line search: 'rounding errors may prevent further progress'), and the "
+                          "load steps after it end unbalanced or the run stops; SNES (the default) balances them "
+                          "(docs/static.md)\n"));
   for (StaticSolver c = (*out)->coarse; c; c = c->coarse, used++) {
     size_t len;
     PetscCall(PetscStrlen(list, &len));
