@@ -744,13 +744,25 @@ int main(int argc, char **argv)
        would get "Caught signal number 13 Broken Pipe" and an MPI_ABORT. A help run has nothing else to catch. */
     if (!strcasecmp(argv[k], "-help") && PetscOptionsSetValue(NULL, "-no_signal_handler", NULL)) return 1;
   }
-  for (const char *at = getenv("PETSC_OPTIONS"); at && *at;) { /* the same for a word -help in PETSC_OPTIONS */
-    const size_t len = strcspn(at, " \t\n");
-    if (len == 5 && !strncasecmp(at, "-help", 5)) {
+  /* the same for a word -help in PETSC_OPTIONS, read as PETSc reads it: words between spaces, a word in double quotes
+     to the closing quote (a quoted "-help" is -help, a value "/a -help b" is not) */
+  for (const char *at = getenv("PETSC_OPTIONS"); at && *at;) {
+    const char *word, *end;
+    while (*at == ' ') at++;
+    if (!*at) break;
+    if (*at == '"') {
+      word = ++at;
+      end  = strchr(at, '"');
+      if (!end) end = at + strlen(at);
+      at = *end ? end + 1 : end;
+    } else {
+      word = at;
+      end = at = at + strcspn(at, " ");
+    }
+    if (end - word == 5 && !strncasecmp(word, "-help", 5)) {
       if (PetscOptionsSetValue(NULL, "-no_signal_handler", NULL)) return 1;
       break;
     }
-    at += len + (at[len] != 0);
   }
   MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN);
   MPI_Comm_set_errhandler(MPI_COMM_SELF, MPI_ERRORS_RETURN);
