@@ -202,8 +202,8 @@ PetscErrorCode GlobalSum(MPI_Comm comm, PetscReal *v, PetscInt n)
 
 /* Exact, rank-independent sums of m quantities, each of n local terms (any sign) over all ranks:
    quantity c's terms terms[c*n .. c*n+n) are quantised on a fixed-point grid q = max |term| / 2^40
-   (global max: exact), the integers are summed in int64 (exact and associative: the same on any
-   number of ranks and any split), and the result is sum * q. A sum that feeds back into the
+   (global max: exact), the integers are summed exactly (integer addition is associative: the same on
+   any number of ranks and any split), and the result is sum * q. A sum that feeds back into the
    dynamics (kinetic damping, FIRE) must be taken this way: a floating-point sum depends on the
    order of the terms. The quantisation error is at most n q / 2 = n max|term| 2^-41. The integers
    are summed in blocks of EXACT_SUM_BLOCK terms in 64 bits and the blocks in 128 bits (ExactPart's
@@ -236,8 +236,8 @@ void ExactSumScales(PetscInt m, const PetscReal *terms, PetscInt n, PetscReal *s
 }
 
 /* sum of RoundHalfAway(t[k] inv_q), k < n, for finite inv_q (|t[k] inv_q| <= 2^40 as |t[k]| <= the
-   scale: a block's sum within 2^48, exact in 64 bits; the blocks' in 128). In blocks, in integer and bit operations only, so that the loop vectorises:
-   adding 1.5 2^52 to y = t inv_q rounds it to the integer the sum's bits hold (halves to even,
+   scale: a block's sum within 2^48, exact in 64 bits; the blocks' in 128). In blocks, in integer and
+   bit operations only, so that the loop vectorises: adding 1.5 2^52 to y = t inv_q rounds it to the integer the sum's bits hold (halves to even,
    |y| < 2^51); d = y - that integer is exact, |d| <= 1/2, and a block where some |d| = 1/2 (a half:
    half-even and half-away may differ) or y is NaN is summed again with RoundHalfAway. As
    |d| <= 1/2, bits(|d|) + 2^62 - bits(1/2) reaches bit 62 or 63 only at a half or a NaN. */

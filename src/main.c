@@ -737,16 +737,17 @@ int main(int argc, char **argv)
   setenv("OMPI_MCA_sharedfp", "^lockedfile", 0);
 #endif
   if (MPI_Init(&argc, &argv) != MPI_SUCCESS) return 1;
+  /* PetscInitialize prints the help with its signal handler on: a reader that has read enough (fabric -help | head)
+     would get "Caught signal number 13 Broken Pipe" and an MPI_ABORT. A help run has nothing else to catch. */
+  int help_run = 0;
   for (int k = 1; k < argc; k++) { /* the usual spellings of PETSc's -help: "unknown option --help" helped no one */
     static char help_option[] = "-help";
     if (!strcmp(argv[k], "--help") || !strcmp(argv[k], "-h")) argv[k] = help_option;
-    /* PetscInitialize prints the help with its signal handler on: a reader that has read enough (fabric -help | head)
-       would get "Caught signal number 13 Broken Pipe" and an MPI_ABORT. A help run has nothing else to catch. */
-    if (!strcasecmp(argv[k], "-help") && PetscOptionsSetValue(NULL, "-no_signal_handler", NULL)) return 1;
+    help_run = help_run || !strcasecmp(argv[k], "-help");
   }
-  /* the same for a word -help in PETSC_OPTIONS, read as PETSc reads it: words between spaces, a word in double quotes
-     to the closing quote (a quoted "-help" is -help, a value "/a -help b" is not) */
-  for (const char *at = getenv("PETSC_OPTIONS"); at && *at;) {
+  /* a word -help in PETSC_OPTIONS too, read as PETSc reads it: words between spaces, a word in double quotes to the
+     closing quote (a quoted "-help" is -help, a value "/a -help b" is not) */
+  for (const char *at = getenv("PETSC_OPTIONS"); at && *at && !help_run;) {
     const char *word, *end;
     while (*at == ' ') at++;
     if (!*at) break;
@@ -759,11 +760,9 @@ int main(int argc, char **argv)
       word = at;
       end = at = at + strcspn(at, " ");
     }
-    if (end - word == 5 && !strncasecmp(word, "-help", 5)) {
-      if (PetscOptionsSetValue(NULL, "-no_signal_handler", NULL)) return 1;
-      break;
-    }
+    help_run = end - word == 5 && !strncasecmp(word, "-help", 5);
   }
+  if (help_run && PetscOptionsSetValue(NULL, "-no_signal_handler", NULL)) return 1;
   MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN);
   MPI_Comm_set_errhandler(MPI_COMM_SELF, MPI_ERRORS_RETURN);
   MPI_Comm_dup(MPI_COMM_WORLD, &stop_comm);
