@@ -46,6 +46,8 @@ struct _p_FabricIO {
   char scene_hash[24]; /* fabric.h5's root attribute: a hash of what the run computes with (RestartLoad) */
   /* restart */
   PetscBool restarted;
+  PetscInt  restart_load_step; /* the checkpoint's load steps done (summary.json's restarted_from) */
+  PetscBool restart_within;    /* the checkpoint was taken within the load step after them */
   PetscBool frames_file_ours; /* DIR/fabric.h5 holds this run's frames before the checkpoint (rank 0 looked
                                  before any output was touched; RestartLoad) */
   PetscInt  checkpoints; /* DIR/checkpoint.h5 written by this run, of any kind (-checkpoint_every*, a signal) */

@@ -1561,7 +1561,9 @@ PetscErrorCode RestartLoad(Fabric fab)
     FrameInfo f = {frames[3 * k], (PetscInt) frames[3 * k + 1], (PetscInt) frames[3 * k + 2]};
     PetscCall(FramesAppend(io, &f));
   }
-  io->restarted = PETSC_TRUE;
+  io->restarted         = PETSC_TRUE;
+  io->restart_load_step = fab->load.load_step;
+  io->restart_within    = ckpt.resume;
   fab->stats.wall_start -= h.wall; /* elapsed time and ETA count the run before the restart */
   PetscCall(PetscFree(rows));
   PetscCall(PetscFree(frames));

@@ -408,6 +408,10 @@ static void SummaryWrite(Fabric fab, const char *error, int status[2])
           ",\n  \"ranks\": %d,\n  \"grid\": [%" PetscInt_FMT ", %" PetscInt_FMT "],\n  \"points\": %" PetscInt_FMT
           ",\n",
           fab->size, s->spec.nx, s->spec.ny, fab->grid.points);
+  if (fab->io && fab->io->restarted) /* a restart: from which checkpoint, so that a run says what it continues */
+    fprintf(fp, "  \"restarted_from\": {\"load_steps_done\": %" PetscInt_FMT ", \"within_load_step\": %s},\n",
+            fab->io->restart_load_step, fab->io->restart_within ? "true" : "false");
+  else fprintf(fp, "  \"restarted_from\": null,\n");
   fprintf(fp, "  \"solver\": \"%s\",\n", SolverNames[s->num.solver]);
   if (s->num.solver == SOLVER_STATIC)
     fprintf(fp,

@@ -15,6 +15,7 @@
 set -u
 fabric="$1"; scene="$2"
 . "$(dirname "$0")/kill_run.sh" # wait_for, kill_run, attr
+. "$(dirname "$0")/restarted.sh" # checkpoint_at, restarted_from
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
 fail=0
 check() { if eval "$1"; then echo "PASS $2"; else echo "FAIL $2"; fail=1; fi; }
@@ -41,10 +42,11 @@ wait_for "$pid" '[[ -e "$b/checkpoint.h5" ]]'
 kill_run "$pid"
 ck="$b/checkpoint.h5"
 check '[[ ! -e $b/summary.json && "$(attr "$ck" /within_load_step)" == 1 && "$(attr "$ck" /load_step)" == 3 && "$(attr "$ck" /relax_round)" == 1 ]]' "every_te: killed with a checkpoint within load step 4, in the second round of its break loop ($(where "$ck"), $(attr "$ck" /te_steps) te steps in all)"
+at="$(checkpoint_at "$ck")"
 mpiexec -n 3 "$fabric" "${opts[@]}" -checkpoint_every_te 2000 -output_dir "$b" -positions_out "$b/positions.bin" -restart "$ck" >/dev/null 2>&1
 rc=$?
 what="$(same "$a" "$b")"
-check '[[ $rc -eq 0 && -z "$what" ]]' "every_te: restarted on 3 ranks from 2 == uninterrupted, bit for bit ($(counters "$a/summary.json"); exit $rc)${what:+; differ:$what}"
+check '[[ $rc -eq 0 && -z "$what" && "$(restarted_from "$b")" == "$at" ]]' "every_te: restarted on 3 ranks from 2 (from $at, summary.json: $(restarted_from "$b")) == uninterrupted, bit for bit ($(counters "$a/summary.json"); exit $rc)${what:+; differ:$what}"
 forces="$(awk -F, 'NR > 1 { printf "%s ", $4 }' "$a/curve.csv")"
 check 'awk -F, '"'"'NR == 5 && $5 > 20000 { ok = 1 } END { exit !ok }'"'"' "$a/curve.csv"' "every_te: yarns broke at load step 4, which was relaxed again (inner steps $(awk -F, 'NR == 5 { print $5 }' "$a/curve.csv"); force by load step: $forces N)"
 
@@ -69,10 +71,11 @@ mpiexec -n 1 "$fabric" "${opts[@]}" -load_steps 2 -checkpoint_every 5 -output_di
 rc=$?
 results="$(grep -m1 "^fabric: results in" "$work/none.log")"
 check '[[ $rc -eq 0 && ! -e "$work/none/checkpoint.h5" && "$results" == "fabric: results in $work/none/ (curve.csv, summary.json, fabric.h5 and fabric.xmf ("*" frames))" ]]' "checkpoint_every 5 of 2 load steps: no checkpoint.h5, none listed ($results)"
+at="$(checkpoint_at "$ck")"
 mpiexec -n 2 "$fabric" "${opts[@]}" -quiet -output_dir "$b" -positions_out "$b/positions.bin" -restart "$ck" >"$work/again.log" 2>&1
 rc=$?
 what="$(same "$a" "$b")"
-check '[[ $rc -eq 0 && -z "$what" ]]' "every_s: restarted on 2 ranks from its last checkpoint ($last) == uninterrupted, bit for bit${what:+; differ:$what}"
+check '[[ $rc -eq 0 && -z "$what" && "$(restarted_from "$b")" == "$at" ]]' "every_s: restarted on 2 ranks from its last checkpoint ($last; summary.json: $(restarted_from "$b")) == uninterrupted, bit for bit${what:+; differ:$what}"
 results="$(grep -m1 "^fabric: results in" "$work/again.log")"
 check '[[ -e "$ck" && "$results" == *", checkpoint.h5)" ]]' "every_s: the restart writes no checkpoint, keeps the one it restarted from and lists it ($results)"
 
@@ -88,9 +91,10 @@ ended=0; [[ -e "$b/summary.json" ]] && ended=1 # the run ended before the kill: 
 tmp="no checkpoint was being written"; [[ -e "$b/.checkpoint.h5.tmp" ]] && tmp="killed while writing .checkpoint.h5.tmp ($(stat -c %s "$b/.checkpoint.h5.tmp") bytes)"
 ck="$b/checkpoint.h5"
 last="$(where "$ck")"
+at="$(checkpoint_at "$ck")"
 mpiexec -n 2 "$fabric" "${opts[@]}" -quiet -output_dir "$b" -positions_out "$b/positions.bin" -restart "$ck" >"$work/write.log" 2>&1
 rc=$?
 what="$(same "$a" "$b")"
-check '[[ $ended -eq 0 && $rc -eq 0 && -z "$what" ]]' "killed with SIGKILL amid checkpoints every 20 te steps before its end ($tmp): checkpoint.h5 ($last) restarts, == uninterrupted, bit for bit (exit $rc; ended before the kill: $ended)${what:+; differ:$what}"
+check '[[ $ended -eq 0 && $rc -eq 0 && -z "$what" && "$(restarted_from "$b")" == "$at" ]]' "killed with SIGKILL amid checkpoints every 20 te steps before its end ($tmp): checkpoint.h5 ($last; summary.json: $(restarted_from "$b")) restarts, == uninterrupted, bit for bit (exit $rc; ended before the kill: $ended)${what:+; differ:$what}"
 [[ $rc -eq 0 ]] || head -3 "$work/write.log"
 exit $fail

@@ -9,6 +9,7 @@
 set -u
 fabric="$1"; scene="$2"
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
+. "$(dirname "$0")/restarted.sh" # restarted_from
 # 50 000 load steps of one te step each: about 4 s on 2 ranks uninterrupted
 opts=(-scene "$scene" -quiet -load_steps 50000 -max_inner_steps 1 -output_every 0)
 fail=0
@@ -43,6 +44,7 @@ check '[[ "$(attr "$d/checkpoint.h5" /within_load_step)" == 0 && "$(attr "$d/che
   "checkpoint.h5 is at the end of load step $k"
 mpiexec -n 2 "$fabric" "${opts[@]}" -output_dir "$d" -restart "$d/checkpoint.h5" -positions_out "$d.bin" >/dev/null 2>&1 \
   || { echo "FAIL the restarted run failed"; fail=1; }
+check '[[ "$(restarted_from "$d")" == "$k at" ]]' "restarted: summary.json says the run continued from the end of load step $k ($(restarted_from "$d"))"
 check "cmp -s '$work/whole.bin' '$d.bin'" "restarted: final positions bit-identical to the uninterrupted run"
 check "cmp -s '$work/whole/curve.csv' '$d/curve.csv'" "restarted: curve.csv identical"
 check "[[ \"$(counts "$work/whole/summary.json")\" == \"$(counts "$d/summary.json" 2>/dev/null)\" ]]" \

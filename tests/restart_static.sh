@@ -11,6 +11,7 @@ set -u
 fabric="$1"; scene="$2"
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
 . "$(dirname "$0")/kill_run.sh" # wait_for, term_ranks
+. "$(dirname "$0")/restarted.sh" # checkpoint_at, restarted_from
 # the square net at 80 mm (193 x 193 crossings): each of its 12 load steps takes about a second
 opts=(-scene "$scene" -quiet -solver static -gauge_mm 80 -width_mm 80 -balance_tol 1e-9 -output_every 0)
 fail=0
@@ -29,8 +30,10 @@ check "[[ $rc == 3 ]]" "SIGTERM to the ranks: exit status 3 (got $rc)"
 check "grep -Eq 'fabric: SIGTERM: checkpoint written at (the end of load step [0-9]+|load step [0-9]+, Newton step [0-9]+): restart with -restart $d/checkpoint.h5' '$work/cut.log'" \
   "the message names the load step and the checkpoint: $(grep -o 'written at [^:]*' "$work/cut.log")"
 check "[[ -s $d/checkpoint.h5 && ! -e $d/summary.json ]]" "a checkpoint, no summary yet"
+at="$(checkpoint_at "$d/checkpoint.h5")"
 mpiexec -n 2 "$fabric" "${opts[@]}" -output_dir "$d" -restart "$d/checkpoint.h5" -positions_out "$d.bin" >/dev/null 2>&1 \
   || { echo "FAIL the restarted run failed"; fail=1; }
+check "[[ \"$(restarted_from "$d")\" == \"$at\" ]]" "restarted: summary.json says the run continued from the checkpoint ($at; summary: $(restarted_from "$d"))"
 check "cmp -s '$work/whole.bin' '$d.bin'" "restarted: final positions bit-identical to the uninterrupted run"
 check "cmp -s '$work/whole/curve.csv' '$d/curve.csv'" "restarted: curve.csv identical"
 check "[[ \"$(counts "$work/whole/summary.json")\" == \"$(counts "$d/summary.json" 2>/dev/null)\" ]]" \

@@ -7,17 +7,22 @@
 set -u
 fabric="$1"; inputs="$2"
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
+. "$(dirname "$0")/restarted.sh" # checkpoint_at, restarted_from
 opts=(-scene "$inputs/burst.yaml" -ends_per_cm 8 -picks_per_cm 8 -load_steps 4 -sphere_travel_mm 16 -max_inner_steps 2000
       -predict extrapolate -te_measure 1 -output_every 0 -quiet)
 summary() { /usr/bin/python3 -c 'import json, sys
 d = json.load(open(sys.argv[1]))
-for k in ("wall_s", "point_updates_per_s", "options", "ranks"): d.pop(k, None)
+for k in ("wall_s", "point_updates_per_s", "options", "ranks", "restarted_from"): d.pop(k, None)
 print(json.dumps(d, sort_keys=True, indent=1))' "$1"; }
 mpiexec -n 1 "$fabric" "${opts[@]}" -output_dir "$work/a" -positions_out "$work/a.bin" >/dev/null || { echo "FAIL the uninterrupted run"; exit 1; }
 mpiexec -n 2 "$fabric" "${opts[@]}" -output_dir "$work/b" -checkpoint_every_te 813 >/dev/null || { echo "FAIL the checkpointed run"; exit 1; }
+at="$(checkpoint_at "$work/b/checkpoint.h5")"
+rm -f "$work/b/curve.csv" "$work/b/summary.json" # compared: what the restart writes
 mpiexec -n 3 "$fabric" "${opts[@]}" -output_dir "$work/b" -checkpoint_every_te 813 -restart "$work/b/checkpoint.h5" \
   -positions_out "$work/b.bin" >/dev/null || { echo "FAIL the restarted run"; exit 1; }
 fail=0
+if [[ "$at" == *" within" && "$(restarted_from "$work/b")" == "$at" ]]; then echo "PASS the run continued from its checkpoint (load steps done, within the next: $at)"
+else echo "FAIL the restart did not continue from the checkpoint: $at; summary.json: $(restarted_from "$work/b")"; fail=1; fi
 if cmp -s "$work/a.bin" "$work/b.bin" && cmp -s "$work/a/curve.csv" "$work/b/curve.csv"; then echo "PASS positions and curve.csv: restarted on 3 ranks == uninterrupted on 1"
 else echo "FAIL positions or curve.csv differ"; fail=1; fi
 if diff <(summary "$work/a/summary.json") <(summary "$work/b/summary.json"); then

@@ -22,6 +22,7 @@
 set -u
 fabric="$1"; scene="$2"
 work="$(mktemp -d)"; trap 'rm -rf "$work"' EXIT
+. "$(dirname "$0")/restarted.sh" # restarted_from
 base=(-scene "$scene" -quiet -gauge_mm 20 -width_mm 5 -load_steps 6 -output_every 1)
 fail=0
 variant() {
@@ -50,6 +51,7 @@ within() {
   mpiexec -n "$np_restart" "$fabric" "${base[@]}" "$@" -output_dir "$c" -positions_out "$c/positions.bin" -restart "$c/checkpoint.h5" >/dev/null 2>&1 || { echo "FAIL $name within: the restart failed"; fail=1; return; }
   local what=""
   [[ "$in" == 1 ]] || what+=" (the checkpoint is not within a load step: $at)"
+  [[ "$(restarted_from "$c")" == "$done within" ]] || what+=" (did not resume within load step $((done + 1)): summary.json's restarted_from $(restarted_from "$c"))"
   cmp -s "$a/positions.bin" "$c/positions.bin" || what+=" positions"
   cmp -s "$a/curve.csv" "$c/curve.csv" || what+=" curve.csv"
   h5diff -r "$a/fabric.h5" "$c/fabric.h5" >/dev/null 2>&1 || what+=" fabric.h5"
@@ -78,6 +80,8 @@ keys = [k for k in ("te_steps", "point_updates", "load_steps_done", "peak_force_
 bad = [f"{k} {a[k]} vs {b.get(k)}" for k in keys if a[k] != b.get(k)]
 if not (b["wall_s"] >= ck_wall - 1e-6 and ck_wall > 0 and b["point_updates_per_s"] > 0):
     bad.append(f"wall_s {b['wall_s']} (checkpoint's {ck_wall}), point_updates_per_s {b['point_updates_per_s']}")
+if b.get("restarted_from") != {"load_steps_done": a["load_steps_done"], "within_load_step": False}:
+    bad.append(f"restarted_from {b.get('restarted_from')}: not the last load step's checkpoint")
 if not done or float(done[1]) <= 0 or float(done[2]) <= 0:
     bad.append("done line: " + (done[0] if done else "missing"))
 what = ", ".join(f"{k} {b[k]}" for k in keys)

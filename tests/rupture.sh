@@ -10,7 +10,7 @@
 #  2. a checkpoint of that last load step restarts into a run that does nothing more and
 #     reports the same rupture;
 #  3. scattered strengths (CV 10 %): a 50 x 20 mm strip ruptures from its weakest segment, the tear
-#     breaks at least one segment of each of its 48 warp yarns, and positions, the first break and
+#     breaks at least one segment of each of its 48 warp yarns (the broken segments of the rupture's checkpoint), and positions, the first break and
 #     the rupture are bit-identical on 1, 2 and 3 ranks; with load-step frames alone (2 ranks) the
 #     rupture's frame is at the rupture's time, as with tear frames (3 ranks);
 #  4. -integrator paper: the tear of case 1 runs the damped scheme (FIRE's run's tear te steps, not
@@ -113,15 +113,18 @@ import json, sys
 a, b = (json.load(open(f)) for f in sys.argv[1:3])
 keys = ("max_force_N", "max_force_balanced", "elongation_at_max_force_pct", "rupture", "first_break", "segments_broken",
         "load_steps_done", "te_steps")
-ok = all(a[k] == b[k] for k in keys)
-print(("PASS" if ok else "FAIL") + " a restart from the rupture's checkpoint reports the same rupture and runs nothing more: "
-      + ", ".join(f"{k} {b[k]}" for k in keys if a[k] != b[k]))
+# from the checkpoint at the rupture's load step (a run from the start gives the same numbers)
+resumed = b["restarted_from"] == {"load_steps_done": a["load_steps_done"], "within_load_step": False}
+ok = all(a[k] == b[k] for k in keys) and resumed
+print(("PASS" if ok else "FAIL") + f" a restart from the rupture's checkpoint (restarted_from {b['restarted_from']}) reports the same "
+      "rupture and runs nothing more: " + ", ".join(f"{k} {b[k]}" for k in keys if a[k] != b[k]))
 sys.exit(0 if ok else 1)
 PY
 
 for np in 1 2 3; do # on 3 ranks with frames of load steps, te steps and the tear (they change no result)
   frames=(-output_every 0); [[ $np == 3 ]] && frames=(-output_every 10 -output_tear_every 100 -output_te_every 400)
   [[ $np == 2 ]] && frames=(-output_every 10)
+  [[ $np == 1 ]] && frames+=(-checkpoint_every 1) # the last, at the rupture, holds the broken segments
   run "$np" -scene "$scene" -gauge_mm 50 -width_mm 20 -output_dir "$work/w$np" "${frames[@]}" -positions_out "$work/pos$np.bin"
 done
 # the frames' times strictly increase; the last (the rupture's load step) is at summary.json's rupture time, after
@@ -164,6 +167,20 @@ ok = r is not None and s[0]["segments_broken"] >= 48 and r["force_N"] < 0.1 * s[
 print(("PASS" if ok else "FAIL") + f" the tear crossed the strip: {s[0]['segments_broken']} segments broken (48 warp yarns), "
       "force below a tenth of the maximum")
 sys.exit(0 if same and ok else 1)
+PY
+# every one of the 48 warp yarns (the grid's rows; component 0: the segment to the +x neighbour) has a broken
+# segment in the rupture's checkpoint: the tear crossed the strip, not 48 segments of a few yarns
+"$py" - "$work/w1/checkpoint.h5" <<'PY' || fail=1
+import sys
+import h5py
+import numpy as np
+f = h5py.File(sys.argv[1], "r")
+b = np.asarray(f["state/broken_segments"])[:, :, 0] != 0
+torn = int(np.count_nonzero(b.any(axis=1)))
+ok = b.shape[0] == 48 and torn == 48
+print(("PASS" if ok else "FAIL") + f" the tear broke each warp yarn: {torn} of the {b.shape[0]} warp yarns have a broken segment "
+      f"(load step {int(f.attrs['load_step'])} of the checkpoint)")
+sys.exit(0 if ok else 1)
 PY
 for safety in default 0.65 relax0.5; do
   case $safety in default) opt=() ;; relax0.5) opt=(-te_safety 0.5) ;; *) opt=(-tear_te_safety "$safety") ;; esac

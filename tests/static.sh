@@ -244,9 +244,10 @@ import json, sys
 a, b = (json.load(open(d + "/summary.json")) for d in sys.argv[1:3])
 ca, cb = (open(d + "/curve.csv").read() for d in sys.argv[1:3])
 keys = ("nonlinear_iterations", "linear_iterations", "peak_force_N", "converged")
-ok = ca == cb and all(a[k] == b[k] for k in keys)
-print(("PASS" if ok else "FAIL") + " static restart at load step 4: curve.csv and " + ", ".join(f"{k} {b[k]}" for k in keys)
-      + " as the uninterrupted run's" + ("" if ca == cb else " (curve.csv differs)"))
+resumed = b["restarted_from"] == {"load_steps_done": 4, "within_load_step": False}  # not a run from the start
+ok = ca == cb and all(a[k] == b[k] for k in keys) and resumed
+print(("PASS" if ok else "FAIL") + " static restart at load step 4 (restarted_from " + str(b["restarted_from"]) + "): curve.csv and "
+      + ", ".join(f"{k} {b[k]}" for k in keys) + " as the uninterrupted run's" + ("" if ca == cb else " (curve.csv differs)"))
 sys.exit(0 if ok else 1)
 PY
 cmp -s "$work/rfull.bin" "$work/rpart.bin" && echo "PASS static restart: positions bit-identical to the uninterrupted run" \

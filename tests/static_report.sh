@@ -13,7 +13,7 @@
 #     run of 1 cut after its maximum force (whether it balanced: max_force_balanced false), the pull out and
 #     back at -snes_max_it 5 cut after an unbalanced load step that followed balanced ones (the Newton shift
 #     it ended with starts the next one), and a pull whose first two load steps did not balance, cut after
-#     load step 4 (converged false, though every load step after the restart balances);
+#     load step 5 (converged false, though every load step after the restart balances);
 #  3. a failed solve retried (-snes_linesearch_type basic -ksp_type preonly -pc_type lu: 8 attempts,
 #     each taking Newton steps, then the numerical failure), and the square net from -snes_shift_start 0
 #     (a retry, every load step balanced): nonlinear_iterations is the number of Newton steps that
@@ -79,14 +79,17 @@ same_after_restart() { # NAME CUT LABEL OPTIONS...: the run whole, and cut by -c
   cmp -s "$work/$name/whole.bin" "$work/$name/cut.bin" && cmp -s "$work/$name/whole/curve.csv" "$work/$name/cut/curve.csv" \
     && echo "PASS $label: positions bit for bit and curve.csv identical" \
     || { echo "FAIL $label: positions or curve.csv differ"; diff "$work/$name/whole/curve.csv" "$work/$name/cut/curve.csv"; fail=1; }
-  "$py" - "$work/$name/whole/summary.json" "$work/$name/cut/summary.json" "$label" <<'PY' || fail=1
+  "$py" - "$work/$name/whole/summary.json" "$work/$name/cut/summary.json" "$label" "$cut" <<'PY' || fail=1
 import json, sys
 a, b = (json.load(open(f)) for f in sys.argv[1:3])
-skip = {"wall_s", "point_updates_per_s", "options"}
+skip = {"wall_s", "point_updates_per_s", "options", "restarted_from"}
 diff = {k: (a.get(k), b.get(k)) for k in set(a) | set(b) if k not in skip and a.get(k) != b.get(k)}
 print(("PASS" if not diff else "FAIL") + f" {sys.argv[3]}: summary.json as the uninterrupted run's (max_force_N {b.get('max_force_N')}, "
       f"max_force_balanced {b.get('max_force_balanced')}, converged {b.get('converged')}, nonlinear_iterations {b.get('nonlinear_iterations')}); differing: {diff}")
-sys.exit(1 if diff else 0)
+# the run continued from the checkpoint after load step CUT (a run from the start gives the same bits)
+resumed = b.get("restarted_from") == {"load_steps_done": int(sys.argv[4]), "within_load_step": False} and a.get("restarted_from") is None
+print(("PASS" if resumed else "FAIL") + f" {sys.argv[3]}: restarted_from {b.get('restarted_from')} (the uninterrupted run's {a.get('restarted_from')})")
+sys.exit(1 if diff or not resumed else 0)
 PY
 }
 # the unbalanced run of 1, cut after its maximum force (load step 6, unbalanced)
@@ -94,9 +97,10 @@ same_after_restart peak 6 "-snes_max_it 3, restarted at load step 6" "${bias[@]}
 # out and back with -snes_max_it 5: load steps 4, 5 balance, 6 does not and ends with a shift (1.6e-7) from which
 # load step 7's first Newton step starts
 same_after_restart shift 6 "-snes_max_it 5, restarted at load step 6" "${bias[@]}" -snes_max_it 5
-# a pull with -snes_max_it 6: load steps 1, 2 do not balance, 3 to 8 do (the restarted run's converged: false)
+# a pull with -snes_max_it 6: load steps 1, 2 do not balance, 3 to 8 do (the restarted run's converged: false); a
+# checkpoint every 5 load steps of 8 leaves one, after load step 5 (every 4 left the last at load step 8: nothing to run)
 pull=("${bias[@]}"); pull[13]=2,0,0
-same_after_restart pull 4 "a pull, -snes_max_it 6, restarted at load step 4" "${pull[@]}" -snes_max_it 6
+same_after_restart pull 5 "a pull, -snes_max_it 6, restarted at load step 5" "${pull[@]}" -snes_max_it 6
 
 # 3. every attempt's Newton steps counted
 newton_count() { # DIR LABEL

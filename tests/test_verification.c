@@ -984,6 +984,12 @@ static PetscErrorCode DrapeMeasure(void)
   PetscCall(DrapeOutline(fab, &row));
   CheckTrue("flat specimen: DC = 100 % exactly", fab->meas.drape_pct == 100.0, fab->meas.drape_pct);
   CheckTrue("flat specimen: no fold", fab->meas.folds == 0, (double) fab->meas.folds);
+  /* the flat outline's area, on which every DC rests, against the geometry alone (the checks of DC below use it
+     both ways and cannot see it wrong): the outline through the disc's outermost crossings lies between the
+     300 mm disc and one yarn spacing (5 mm at 2 threads/cm) inside it */
+  CheckTrue("flat specimen: outline area / (pi R^2) within [((R - h)/R)^2, 1], R = 150 mm, h = 5 mm",
+            fab->meas.drape_flat_area >= PETSC_PI * PetscSqr(0.145) && fab->meas.drape_flat_area <= PETSC_PI * PetscSqr(0.15) * (1 + 1e-12),
+            fab->meas.drape_flat_area / (PETSC_PI * PetscSqr(0.15)));
   PetscCall(SetShape(fab, s, 0, 0, 0));
   PetscCall(DrapeOutline(fab, &row));
   dc_s = fab->meas.drape_pct;
