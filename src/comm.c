@@ -235,12 +235,12 @@ void ExactSumScales(PetscInt m, const PetscReal *terms, PetscInt n, PetscReal *s
   }
 }
 
-/* sum of RoundHalfAway(t[k] inv_q), k < n, for finite inv_q (|t[k] inv_q| <= 2^40 as |t[k]| <= the
-   scale: a block's sum within 2^48, exact in 64 bits; the blocks' in 128). In blocks, in integer and
-   bit operations only, so that the loop vectorises: adding 1.5 2^52 to y = t inv_q rounds it to the integer the sum's bits hold (halves to even,
-   |y| < 2^51); d = y - that integer is exact, |d| <= 1/2, and a block where some |d| = 1/2 (a half:
-   half-even and half-away may differ) or y is NaN is summed again with RoundHalfAway. As
-   |d| <= 1/2, bits(|d|) + 2^62 - bits(1/2) reaches bit 62 or 63 only at a half or a NaN. */
+/* sum of RoundHalfAway(t[k] inv_q), k < n, for finite inv_q (|t[k] inv_q| <= 2^40 as |t[k]| <= the scale: a block's
+   sum within 2^48, exact in 64 bits; the blocks' in 128). In blocks, in integer and bit operations only, so that
+   the loop vectorises: adding 1.5 2^52 to y = t inv_q rounds it to the integer the sum's bits hold (halves to even,
+   |y| < 2^51); d = y - that integer is exact, |d| <= 1/2, and a block where some |d| = 1/2 (a half: half-even and
+   half-away may differ) or y is NaN is summed again with RoundHalfAway. As |d| <= 1/2, bits(|d|) + 2^62 - bits(1/2)
+   reaches bit 62 or 63 only at a half or a NaN. */
 #define EXACT_SUM_BLOCK 256
 static __int128 QuantisedSum(const PetscReal *t, PetscInt n, PetscReal inv_q)
 {

@@ -9,9 +9,9 @@
 #     the same with -solver static (balanced states by Newton, the tear by te steps);
 #  2. a checkpoint of that last load step restarts into a run that does nothing more and
 #     reports the same rupture;
-#  3. scattered strengths (CV 10 %): a 50 x 20 mm strip ruptures from its weakest segment, the tear
-#     breaks at least one segment of each of its 48 warp yarns (the broken segments of the rupture's checkpoint), and positions, the first break and
-#     the rupture are bit-identical on 1, 2 and 3 ranks; with load-step frames alone (2 ranks) the
+#  3. scattered strengths (CV 10 %): a 50 x 20 mm strip ruptures from its weakest segment, the tear breaks at least
+#     one segment of each of its 48 warp yarns (the broken segments of the rupture's checkpoint), and positions, the
+#     first break and the rupture are bit-identical on 1, 2 and 3 ranks; with load-step frames alone (2 ranks) the
 #     rupture's frame is at the rupture's time, as with tear frames (3 ranks);
 #  4. -integrator paper: the tear of case 1 runs the damped scheme (FIRE's run's tear te steps, not
 #     the paper scheme's twice as many at half the step); a tear that leaves the strip whole, then the
