@@ -14,7 +14,7 @@
 #     breaks, so there is no bursting_force_N;
 #  3. a bias specimen (20 mm asked, 19.445436 mm on the grid's diagonals at 8 threads/cm): curve.csv's travel_mm
 #     is the jaw's travel, elongation_pct / 100 x that gauge (to 1e-8 relative), and summary.json's gauge_mm is
-#     the gauge on the grid;
+#     the gauge on the grid, its width_mm the width there (10 mm asked, 10.606602 mm);
 #  4. one warp yarn 200 mm long (481 crossings, 0.416667 mm apart) pulled to 20 % in 2 load steps: it breaks
 #     through in load step 2 (rupture.sh: at 15.02 %); the first break's place is the middle of its segment from
 #     the yarn's centre, x_mm = (i + 0.5 - 240) x 200 / 480, y_mm = 0 (to the 6 digits written), and its progress
@@ -98,12 +98,13 @@ mpiexec -n 2 "$fabric" -scene "$inputs/bias.yaml" -quiet -gauge_mm 20 -width_mm 
 import csv, json, sys
 d = sys.argv[1]
 gauge = 11 * 1.25 * 2 ** 0.5 # 20 mm on the grid's diagonals at 8 threads/cm: 11 diagonal steps of 1.25 mm
+width = 6 * 1.25 * 2 ** 0.5 # 10 mm: 6 of them
 rows = list(csv.DictReader(open(f"{d}/curve.csv")))
 s = json.load(open(f"{d}/summary.json"))
 err = max(abs(float(r["travel_mm"]) / (float(r["elongation_pct"]) / 100 * gauge) - 1) for r in rows)
-ok = len(rows) == 2 and err <= 1e-8 and abs(s["gauge_mm"] - gauge) <= 5e-5
+ok = len(rows) == 2 and err <= 1e-8 and abs(s["gauge_mm"] - gauge) <= 5e-5 and abs(s["width_mm"] - width) <= 5e-5
 print(("PASS" if ok else "FAIL") + f" bias: travel_mm = elongation x the gauge {gauge:.9g} mm within {err:.1e} (tol 1e-8); "
-      f"summary.json gauge_mm {s['gauge_mm']}")
+      f"summary.json gauge_mm {s['gauge_mm']}, width_mm {s['width_mm']} (expected {width:.6g})")
 sys.exit(0 if ok else 1)
 PY
 mpiexec -n 2 "$fabric" -scene "$inputs/strip_warp.yaml" -yarns 1 -elongation_pct 20 -load_steps 2 -output_every 0 \

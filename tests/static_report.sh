@@ -7,7 +7,8 @@
 #     (not the last), elongation_at_max_force_pct that row's elongation, max_force_balanced that row's
 #     balanced; nonlinear_iterations is the sum of inner_steps; every row's balanced is its residual
 #     <= -balance_tol (rows within 1e-5 relative of the tolerance skipped: %.6e rounding); converged
-#     is every row balanced; solver_options holds -snes_max_it 3 in the run given it and nothing in the other;
+#     is every row balanced; solver is "static" and integrator null; solver_options holds -snes_max_it 3 in the
+#     run given it and nothing in the other;
 #  2. runs cut by -checkpoint_every and restarted end as the uninterrupted ones: final positions bit for
 #     bit, curve.csv identical and summary.json the same but for wall_s, point_updates_per_s: the unbalanced
 #     run of 1 cut after its maximum force (whether it balanced: max_force_balanced false), the pull out and
@@ -50,6 +51,7 @@ checks = [
     (all(b == (float(r["residual"]) <= tol) for r, b in zip(rows, bal) if abs(float(r["residual"]) / tol - 1) > 1e-5),
      f"balanced = residual <= {tol} on every row: {[(r['residual'], r['balanced']) for r in rows]}"),
     (s["converged"] == all(bal), f"converged {s['converged']} = every row balanced ({sum(bal)} of {len(bal)})"),
+    (s["solver"] == "static" and s["integrator"] is None, f"solver {s['solver']!r}, integrator {s['integrator']}"),
 ]
 for ok, what in checks: print(("PASS " if ok else "FAIL ") + label + ": " + what)
 sys.exit(0 if all(ok for ok, _ in checks) else 1)

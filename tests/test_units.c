@@ -1225,9 +1225,11 @@ static PetscErrorCode TestPredictExtrapolate(void)
 /* ---------------- the fabric's set-up (fabric.c) and the exact sums (comm.c) ---------------- */
 
 /* A strip at unequal densities and yarns: every owned crossing's mass is half of each yarn segment at it,
-   tex (1 + crimp) x the spacing along that yarn (MODEL.md 4), and the bending constants are B / spacing;
-   a disc's crossings are those within its radius (counted here in integers); the smallest split the stencil
-   allows (2 crossings a rank) is taken; GlobalSumsExact sums terms whose largest is a rank's last, and more terms
+   tex (1 + crimp) x the spacing along that yarn (MODEL.md 4), and the bending constants are B / spacing, the shear
+   constant G x both spacings, the jamming one jam_factor x that and the lock sin(lock angle), to 1e-15;
+   a disc's crossings are those within its radius (counted here in integers); -point_load_at i,j loads crossing (i, j)
+   on its rank alone; the pushing test's ball touches at its radius plus half the thickness; the smallest split the
+   stencil allows (2 crossings a rank) is taken; GlobalSumsExact sums terms whose largest is a rank's last, and more terms
    than a 64-bit integer can sum; CheckRankEntries refuses on every rank. On any number of ranks. */
 static PetscErrorCode TestSetUp(void)
 {
@@ -1241,7 +1243,8 @@ static PetscErrorCode TestSetUp(void)
     const PetscReal mx = 0.5 * 20e-6 * 1.08 * 0.4e-3, my = 0.5 * 30e-6 * 1.05 * 0.5e-3;
     PetscInt        bad = 0;
     PetscCall(NewFabric(STRIP "-ends_per_cm 20 -picks_per_cm 25 -warp_tex 20 -weft_tex 30 -warp_crimp_pct 8 "
-                              "-weft_crimp_pct 5 -warp_bending_Nm2 2e-9 -weft_bending_Nm2 3e-9",
+                              "-weft_crimp_pct 5 -warp_bending_Nm2 2e-9 -weft_bending_Nm2 3e-9 -shear_G_N_m 7 "
+                              "-shear_lock_deg 30 -jam_factor 40",
                         &fab));
     const Patch *p = &fab->grid.patch;
     for (PetscInt j = p->ys; j < p->ys + p->ym; j++)
@@ -1256,6 +1259,10 @@ static PetscErrorCode TestSetUp(void)
                      fab->grid.nloc, "1e-14 relative"));
     PetscCall(ExpectReal("warp bending constant B / 0.4 mm (N m)", p->kbx, 2e-9 / 0.4e-3, 1e-15 * 2e-9 / 0.4e-3));
     PetscCall(ExpectReal("weft bending constant B / 0.5 mm (N m)", p->kby, 3e-9 / 0.5e-3, 1e-15 * 3e-9 / 0.5e-3));
+    PetscCall(ExpectReal("shear constant G x 0.4 mm x 0.5 mm (N m)", p->Ks, 7 * 0.4e-3 * 0.5e-3, 1e-15 * 7 * 0.4e-3 * 0.5e-3));
+    PetscCall(ExpectReal("jamming constant 40 x the shear constant (N m)", p->Kj, 40 * 7 * 0.4e-3 * 0.5e-3,
+                         1e-15 * 40 * 7 * 0.4e-3 * 0.5e-3));
+    PetscCall(ExpectReal("locking shear sin(30 deg)", p->s_lock, 0.5, 1e-15));
     PetscCall(FabricDestroy(&fab));
   }
   { /* a 37 mm disc on a 50 mm net at 20 threads/cm: 101 x 101 crossings at 0.5 mm, radius 37 spacings; crossings
@@ -1276,6 +1283,30 @@ static PetscErrorCode TestSetUp(void)
     PetscCall(Expect("disc of 37 mm at 0.5 mm spacings: the crossings within it", bad, fab->grid.nloc, "exact"));
     PetscCall(ExpectReal("disc of 37 mm at 0.5 mm spacings: its crossings (points)", (PetscReal) fab->grid.points,
                          (PetscReal) want, 0));
+    PetscCall(FabricDestroy(&fab));
+  }
+  { /* -point_load_at 7,3 on a 10 mm x 5 mm square net at 20 threads/cm: the point load acts on crossing (i, j) =
+       (7, 3), on the rank that owns it, and no other (i and j swapped: (3, 7), also a free crossing) */
+    PetscInt bad = 0;
+    PetscCall(NewFabric(BASE "-test square -gauge_mm 10 -width_mm 5 -ends_per_cm 20 -picks_per_cm 20 -point_load_at 7,3 "
+                             "-point_load_N 0,0,-0.01",
+                        &fab));
+    const Patch   *p    = &fab->grid.patch;
+    const int      owns = 7 >= p->xs && 7 < p->xs + p->xm && 3 >= p->ys && 3 < p->ys + p->ym;
+    const PetscInt want = owns ? (3 - p->ys) * p->xm + (7 - p->xs) : -1;
+    if (fab->grid.load_index != want)
+      Report(&bad, "  [rank %d] the point load at local point %d, expected %d\n", rank, (int) fab->grid.load_index, (int) want);
+    PetscCall(Expect("-point_load_at 7,3: the point load's crossing (7, 3), on its rank alone", bad, 1, "exact"));
+    PetscCall(FabricDestroy(&fab));
+  }
+  { /* the pushing test's 25.4 mm ball on a fabric 0.4 mm thick: it touches a crossing at its radius plus half the
+       thickness */
+    PetscCall(NewFabric(BASE "-test pushing -ends_per_cm 4 -picks_per_cm 4 -thickness_mm 0.4", &fab));
+    PetscCall(ExpectReal("pushing: one body, the ball",
+                         (PetscReal) (fab->bodies.n == 1 && fab->bodies.body[0].kind == BODY_SPHERE), 1, 0));
+    PetscCall(ExpectReal("the ball's radius 12.7 mm (m)", fab->bodies.body[0].radius, 12.7e-3, 1e-15 * 12.7e-3));
+    PetscCall(ExpectReal("the ball's contact distance 12.7 mm + 0.2 mm (m)", fab->bodies.body[0].reach, 12.9e-3,
+                         1e-15 * 12.9e-3));
     PetscCall(FabricDestroy(&fab));
   }
   if (size > 1) { /* one yarn of 2 crossings a rank: split along it, 2 crossings each */

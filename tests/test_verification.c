@@ -1030,7 +1030,9 @@ static PetscErrorCode DrapeMeasure(void)
    edges clamped): one free crossing, uncrimped straight yarns, so that in the flat state its yarn,
    bending and shear terms are all zero and its forces are its weight m g and the point load P.
    - Flat state, P = (m |g|, 0, 0) horizontal: residual |P + m g| = sqrt(2) m |g| against the sum
-     of the magnitudes |P| + |m g| = 2 m |g|: the ratio is 1/sqrt(2), at crossing (1, 1), to 1e-12.
+     of the magnitudes |P| + |m g| = 2 m |g|: the ratio is 1/sqrt(2), at crossing (1, 1), to 1e-12; the box of
+     the crossings that fail (which sleeping keeps awake) is that crossing's alone, exactly. The same
+     ratio for P = 2 m |g| at load factor 1/2 (the load applied, not the whole P, in the sum).
    - Gravity off, P = (0, 0, 0.05 N): ratio |P| / |P| = 1.
    - Relaxed under P = (0, 0, 0.05 N), -balance_tol 1e-8: every load step balanced, the per-crossing
      ratio at the end at most 1e-8, and the deflection that of the exact balance
@@ -1060,6 +1062,17 @@ static PetscErrorCode BalanceCrossingsCase(void)
   CheckRel("flat net, P = m|g| horizontal: residual / sum of the force magnitudes at the free crossing", worst,
            1.0 / PetscSqrtReal(2.0), 1e-12);
   CheckTrue("... found at crossing (1, 1)", wi == 1 && wj == 1, (double) (10 * wi + wj));
+  CheckTrue("... the box of the crossings that fail is [1, 2) x [1, 2), that crossing alone",
+            chk.box[0] == 1 && chk.box[1] == 2 && chk.box[2] == 1 && chk.box[3] == 2,
+            (double) (1000 * chk.box[0] + 100 * chk.box[1] + 10 * chk.box[2] + chk.box[3]));
+  PetscCall(FabricDestroy(&fab));
+
+  PetscCall(PetscSNPrintf(opts, sizeof opts, BASE NET3 "-gravity 0,0,%.17g -point_load_N %.17g,0,0", -g, 2 * m * g));
+  PetscCall(NewFabric(opts, &fab));
+  fab->load.load_factor = 0.5; /* half the point load, as at load step 1 of 2: the load applied is m|g| again */
+  PetscCall(BalanceCrossings(fab, &chk));
+  CheckRel("flat net, P = 2 m|g| horizontal at load factor 1/2: residual / sum of the force magnitudes", chk.worst,
+           1.0 / PetscSqrtReal(2.0), 1e-12);
   PetscCall(FabricDestroy(&fab));
 
   PetscCall(NewFabric(BASE NET3 "-point_load_N 0,0,0.05", &fab));
