@@ -3,15 +3,15 @@
 # solver log (exact invariants; mutation testing found them unchecked):
 #  1. a bias specimen pulled out and back (-grip_path_mm 2,0,0,1,0,0: the force rises to load step 5,
 #     then falls), balanced, and with -snes_max_it 3 (no load step balances; the largest force, at load
-#     step 6, from an unbalanced state): summary.json's max_force_N is the largest force_N of curve.csv
-#     (not the last), elongation_at_max_force_pct that row's elongation, max_force_balanced that row's
+#     step 8, from an unbalanced state): summary.json's max_force_N is the largest force_N of curve.csv
+#     (not the last: the balanced run's is at load step 5), elongation_at_max_force_pct that row's elongation, max_force_balanced that row's
 #     balanced; nonlinear_iterations is the sum of inner_steps; every row's balanced is its residual
 #     <= -balance_tol (rows within 1e-5 relative of the tolerance skipped: %.6e rounding); converged
 #     is every row balanced; solver is "static" and integrator null; solver_options holds -snes_max_it 3 in the
 #     run given it and nothing in the other;
 #  2. runs cut by -checkpoint_every and restarted end as the uninterrupted ones: final positions bit for
-#     bit, curve.csv identical and summary.json the same but for wall_s, point_updates_per_s: the unbalanced
-#     run of 1 cut after its maximum force (whether it balanced: max_force_balanced false), the pull out and
+#     bit, curve.csv identical and summary.json the same but for wall_s, point_updates_per_s: the run out and
+#     back at -snes_max_it 8 cut after its maximum force (whether it balanced: max_force_balanced false), the pull out and
 #     back at -snes_max_it 5 cut after an unbalanced load step that followed balanced ones (the Newton shift
 #     it ended with starts the next one), and a pull whose first two load steps did not balance, cut after
 #     load step 5 (converged false, though every load step after the restart balances);
@@ -94,8 +94,19 @@ print(("PASS" if resumed else "FAIL") + f" {sys.argv[3]}: restarted_from {b.get(
 sys.exit(1 if diff or not resumed else 0)
 PY
 }
-# the unbalanced run of 1, cut after its maximum force (load step 6, unbalanced)
-same_after_restart peak 6 "-snes_max_it 3, restarted at load step 6" "${bias[@]}" -snes_max_it 3
+# an unbalanced run cut after its maximum force: with -snes_max_it 8 load step 7 (5.388 N, unbalanced), load step 8
+# below it (0.281 N), so that the restart carries the maximum and its max_force_balanced false from the checkpoint
+same_after_restart peak 7 "-snes_max_it 8, restarted at load step 7" "${bias[@]}" -snes_max_it 8
+"$py" - "$work/peak/whole/curve.csv" 7 <<'PY' || fail=1
+import csv, sys
+rows, cut = list(csv.DictReader(open(sys.argv[1]))), int(sys.argv[2])
+f = [float(r["force_N"]) for r in rows]
+k = f.index(max(f))
+ok = int(rows[k]["load_step"]) <= cut < len(rows) and rows[k]["balanced"] == "0"
+print(("PASS" if ok else "FAIL") + f" -snes_max_it 8: the maximum {f[k]:.9g} N at load step {rows[k]['load_step']} (balanced "
+      f"{rows[k]['balanced']}), at or before the cut at {cut} of {len(rows)} and unbalanced, as the restart case needs")
+sys.exit(0 if ok else 1)
+PY
 # out and back with -snes_max_it 5: load steps 4, 5 balance, 6 does not and ends with a shift (1.6e-7) from which
 # load step 7's first Newton step starts
 same_after_restart shift 6 "-snes_max_it 5, restarted at load step 6" "${bias[@]}" -snes_max_it 5
