@@ -23,7 +23,7 @@
  *            law C1.
  *  fields:   PointFields (tensions, shear angle) on a uniformly stretched, sheared grid; the
  *            quasi-static path's traction tangent (tension_field) is the convex one.
- *  bodies:   contact energy, gradient and Hessian on every face (the pedestal's bottom too).
+ *  bodies:   contact energy, gradient and Hessian on every face (the pedestal's bottom too); the push by hand; friction.
  *  breaking: a yarn's breaking chord strain c + break_ey (1 + c).
  */
 #include "bodies.h"
@@ -1660,11 +1660,35 @@ static double Norm3(const PetscReal v[3])
   return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
 }
 
+/* the penalty push k (reach - dist) n a point x feels from pedestal point q of TestBodies (top, edge, rim inside, rim
+   outside, bottom inside, below the bottom), worked out apart from DiscContact: outside the cylinder from the
+   nearest point of its surface, inside from the face named */
+static void PedestalPushByHand(const Body *b, int q, const PetscReal x[3], PetscReal f[3])
+{
+  const PetscReal rho = sqrt(x[0] * x[0] + x[1] * x[1]), ux = x[0] / rho, uy = x[1] / rho;
+  PetscReal       near[3] = {x[0], x[1], x[2]}, n[3] = {0, 0, 0}, dist;
+  if (q == 1 || q == 3) near[0] = b->radius * ux, near[1] = b->radius * uy; /* the rounded edge, the rim */
+  if (q == 0 || q == 1) near[2] = 0;                                          /* the top face's plane */
+  if (q == 5) near[2] = -b->height;                                           /* the bottom face's plane */
+  if (q == 2) dist = rho - b->radius, n[0] = ux, n[1] = uy; /* inside, out through the rim */
+  else if (q == 4) dist = -(x[2] + b->height), n[2] = -1;   /* inside, out through the bottom */
+  else {
+    dist = sqrt(PetscSqr(x[0] - near[0]) + PetscSqr(x[1] - near[1]) + PetscSqr(x[2] - near[2]));
+    for (int d = 0; d < 3; d++) n[d] = (x[d] - near[d]) / dist;
+  }
+  for (int d = 0; d < 3; d++) f[d] = b->k * (b->reach - dist) * n[d];
+}
+
 /* Rigid bodies (bodies.c): for a sphere, a plane and a pedestal (top face, rim, rounded edge),
-   at points in contact (the pedestal's bottom face too: a point pushed deep into it): BodyEnergy's gradient
+   at points in contact (the pedestal's bottom face too: a point pushed deep into it, and one just below it):
+   BodyContact's force = the push k (reach - dist) n worked out by hand (the sphere's and the tilted plane's
+   in closed form, the pedestal's from the nearest point of its surface; 1e-12 relative), BodyEnergy's gradient
    is minus BodyContact's force (to 1e-12 relative), the
    energy's central differences give the gradient (1e-6 relative) and the gradient's give the
-   Hessian (1e-6 relative to its largest entry). */
+   Hessian (1e-6 relative to its largest entry). Friction (mu 0.5, each body moved by (3, -2, 1) mm, the
+   point with it): a point displaced from its anchor along a tangent t (with x, y and z parts) by s feels
+   -k s t when k s < mu fn (sticks: its anchor stays) and -mu fn t when k s > mu fn (slips: the anchor is
+   dragged to mu fn / k behind it), to 1e-12 relative. */
 static void TestBodies(void)
 {
   const Body bodies[3] = {
@@ -1672,26 +1696,63 @@ static void TestBodies(void)
       {BODY_PLANE, {0, 0, 0}, {0.6, 0, 0.8}, 0, 0, 2e-4, 500.0, 0.0},
       {BODY_PEDESTAL, {0, 0, 0}, {0, 0, 0}, 0.01, 0.005, 2e-4, 500.0, 0.0},
   };
-  const PetscReal pts[3][5][3] = {
-      {{0.001, 0.002, -0.0001}, {0.003, -0.001, -0.0005}, {0, 0, 0.0001}, {0.02, 0, 0}, {0.03, 0, 0}}, /* sphere */
-      {{0.0001, 0, 0.0001}, {0.001, 0.003, -0.001}, {0.0065, 0, -0.00995}, {0, 0, 0.001}, {0, 0, 0.002}}, /* plane */
+  const PetscReal pts[3][6][3] = {
+      {{0.001, 0.002, -0.0001}, {0.003, -0.001, -0.0005}, {0, 0, 0.0001}, {0.02, 0, 0}, {0.03, 0, 0}, {0, 0, 0.01}},
+      /* sphere */
+      {{0.0001, 0, 0.0001}, {0.001, 0.003, -0.001}, {0.0065, 0, -0.00995}, {0, 0, 0.001}, {0, 0, 0.002}, {0, 0, 0.01}},
+      /* plane */
       {{0.001, 0.002, 0.0001},
        {0.0101, 0.0001, 0.0001},
        {0.0099, 0.0, -0.001},
        {0.01015, 0.0005, -0.002},
-       {0.001, 0.002, -0.0049}}, /* pedestal: top, edge, rim inside, rim outside, bottom (0.1 mm above it) */
+       {0.001, 0.002, -0.0049},
+       {0.001, 0.002, -0.00505}}, /* pedestal: top, edge, rim inside, rim outside, bottom (0.1 mm above it), 0.05 mm
+                                     below the bottom */
   };
-  double eg = 0, eK = 0, ef = 0;
+  double eg = 0, eK = 0, ef = 0, eh = 0, es = 0;
   int    contacts = 0;
 
   for (int b = 0; b < 3; b++)
-    for (int q = 0; q < 5; q++) {
-      PetscReal       c[3], g[3], K[9], f[3] = {0, 0, 0}, one = 1.0, gp[3], gm[3], Kd[9];
+    for (int q = 0; q < 6; q++) {
+      PetscReal       c[3], g[3], K[9], f[3] = {0, 0, 0}, one = 1.0, gp[3], gm[3], Kd[9], fh[3];
       const PetscReal h = 1e-8;
       BodyPosition(&bodies[b], 0.0, c);
       if (!(BodyEnergy(&bodies[b], c, pts[b][q], g, K) > 0)) continue;
       contacts++;
       BodyContact(&bodies[b], c, 1, pts[b][q], &one, NULL, f);
+      if (b == 2) PedestalPushByHand(&bodies[b], q, pts[b][q], fh);
+      else { /* the sphere: along the radius, reach - r deep; the plane: along its normal, reach - (x - p0).n deep */
+        PetscReal r[3], dist = 0, n[3];
+        for (int d = 0; d < 3; d++) r[d] = pts[b][q][d] - c[d];
+        if (b == 0) {
+          dist = Norm3(r);
+          for (int d = 0; d < 3; d++) n[d] = r[d] / dist;
+        } else {
+          for (int d = 0; d < 3; d++) n[d] = bodies[b].dir[d], dist += r[d] * n[d];
+        }
+        for (int d = 0; d < 3; d++) fh[d] = bodies[b].k * (bodies[b].reach - dist) * n[d];
+      }
+      for (int d = 0; d < 3; d++) eh = PetscMax(eh, fabs(f[d] - fh[d]) / Norm3(fh));
+      /* friction: the body and the point moved by o; the point's anchor s back along a tangent t */
+      for (int slip = 0; slip < 2; slip++) {
+        Body            fb = bodies[b];
+        const PetscReal o[3] = {0.003, -0.002, 0.001}, w[3] = {1, 2, 3}, fn = Norm3(fh);
+        PetscReal       x[3], cf[3], n[3], t[3], tn = 0, a[3], ff[3] = {0, 0, 0}, s, want[3], aw[3];
+        fb.mu = 0.5;
+        for (int d = 0; d < 3; d++) fb.ref[d] += o[d], x[d] = pts[b][q][d] + o[d], n[d] = fh[d] / fn;
+        BodyPosition(&fb, 0.0, cf);
+        t[0] = n[1] * w[2] - n[2] * w[1], t[1] = n[2] * w[0] - n[0] * w[2], t[2] = n[0] * w[1] - n[1] * w[0];
+        tn = Norm3(t);
+        s  = (slip ? 3.0 : 0.5) * fb.mu * fn / fb.k; /* the stick spring's stretch: below and above mu fn / k */
+        for (int d = 0; d < 3; d++) t[d] /= tn, a[d] = x[d] - cf[d] - s * t[d];
+        BodyContact(&fb, cf, 1, x, &one, a, ff);
+        for (int d = 0; d < 3; d++) {
+          want[d] = fh[d] - (slip ? fb.mu * fn : fb.k * s) * t[d];
+          aw[d]   = x[d] - cf[d] - (slip ? fb.mu * fn / fb.k : s) * t[d];
+          es      = PetscMax(es, fabs(ff[d] - want[d]) / fn);
+          es      = PetscMax(es, fabs(a[d] - aw[d]) / s);
+        }
+      }
       for (int d = 0; d < 3; d++) ef = PetscMax(ef, fabs(g[d] + f[d]) / PetscMax(1e-30, fabs(f[d]) + 1e-3 * Norm3(f)));
       for (int d = 0; d < 3; d++) {
         PetscReal xp[3] = {pts[b][q][0], pts[b][q][1], pts[b][q][2]},
@@ -1702,8 +1763,10 @@ static void TestBodies(void)
         for (int e = 0; e < 3; e++) eK = PetscMax(eK, fabs((gp[e] - gm[e]) / (2 * h) - K[3 * e + d]) / MaxAbs(K, 9));
       }
     }
-  Check("bodies: points in contact (count - 11, 0 = as placed: 3 sphere, 3 plane, 5 pedestal faces)",
-        fabs(contacts - 11.0), 0.0);
+  Check("bodies: points in contact (count - 12, 0 = as placed: 3 sphere, 3 plane, 6 pedestal faces)",
+        fabs(contacts - 12.0), 0.0);
+  Check("bodies: BodyContact force = k (reach - dist) n by hand, max relative", eh, 1e-12);
+  Check("bodies: friction = -k s t sticking, -mu fn t slipping, anchor kept or dragged, max relative", es, 1e-12);
   Check("bodies: BodyEnergy gradient = -BodyContact force, max relative", ef, 1e-12);
   Check("bodies: BodyEnergy gradient vs central differences of the energy, max relative", eg, 1e-6);
   Check("bodies: BodyEnergy Hessian vs central differences of the gradient, max / max entry", eK, 1e-6);

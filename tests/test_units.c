@@ -11,6 +11,7 @@
  */
 #include "comm.h"
 #include "front.h"
+#include "integrate.h"
 #include "load.h"
 #include "measure.h"
 #include "predict.h"
@@ -345,6 +346,46 @@ static PetscErrorCode TestFrontBox(void)
   n = FrontStepBox(fab, g, l);
   PetscCall(ExpectReal("sleeping: with [15,16) x [20,21) kept awake, the box [3,18) x [4,23), 285 points",
                        (g[0] == 3 && g[1] == 18 && g[2] == 4 && g[3] == 23 && n == 285), 1, 0));
+  PetscCall(FabricDestroy(&fab));
+
+  /* which crossings a te step finds awake (front.c): its force above -sleep_tol times the force scale (here the floor:
+     the net at rest carries no tension), or its speed above -speed_tol x -sleep_tol / -balance_tol. The 25 x 25 net at
+     rest, undamped, but for crossing A (5,6), moving out of its plane at 2x the speed bound; B (12,12), under a point
+     load of 2x the force bound; C (20,3), moving out of its plane at 0.5x the speed bound (out of the plane: no force on
+     the neighbours to first order). The awake box after one te step: A and B, [5,13) x [6,13), exactly */
+  PetscCall(NewFabric(BASE "-test square -gauge_mm 10 -width_mm 10 -point_load_N 0,0,-0.01 -integrator damped "
+                           "-damping_ratio 0 -sleep_tol 1e-4 -balance_tol 1e-3 -speed_tol 1e-3 -predict none",
+                      &fab));
+  PetscCall(StableStep(fab));
+  fab->front.front_covered = PETSC_TRUE, fab->load.ramp_done = fab->load.ramp_steps = 0;
+  FrontWakeAll(fab);
+  FrontKeepReset(fab);
+  {
+    const Patch    *p      = &fab->grid.patch;
+    const PetscReal vbound = 1e-3 * 1e-4 / 1e-3, fbound = 1e-4 * fab->step.force_floor;
+    const PetscInt  at[3][2] = {{5, 6}, {12, 12}, {20, 3}};
+    PetscScalar    *v;
+    StepStats       st;
+    PetscCall(ExpectReal("sleeping: the point load's crossing is B (12,12)", fab->grid.load_index >= 0 ?
+                         (PetscReal) ((p->ys + fab->grid.load_index / p->xm) * 25 + p->xs + fab->grid.load_index % p->xm) : 312.0,
+                         312, 0));
+    fab->load.load_factor = 2.0 * fbound / 0.01;
+    PetscCall(VecGetArray(fab->state.V, &v));
+    for (int q = 0; q < 3; q += 2) {
+      const PetscInt i = at[q][0], j = at[q][1];
+      if (i < p->xs || i >= p->xs + p->xm || j < p->ys || j >= p->ys + p->ym) continue;
+      v[3 * ((j - p->ys) * p->xm + (i - p->xs)) + 2] = (q == 0 ? 2.0 : 0.5) * vbound;
+    }
+    PetscCall(VecRestoreArray(fab->state.V, &v));
+    PetscCall(TimeStep(fab, &st));
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "  (awake box [%d,%d) x [%d,%d))\n", (int) fab->front.awake_box[0],
+                          (int) fab->front.awake_box[1], (int) fab->front.awake_box[2], (int) fab->front.awake_box[3]));
+    PetscCall(ExpectReal("sleeping: awake after a te step: A (speed 2x the bound) and B (force 2x the bound), not C "
+                         "(speed 0.5x): the box [5,13) x [6,13)",
+                         (fab->front.awake_box[0] == 5 && fab->front.awake_box[1] == 13 && fab->front.awake_box[2] == 6 &&
+                          fab->front.awake_box[3] == 13),
+                         1, 0));
+  }
   PetscCall(FabricDestroy(&fab));
 
   /* disc: the same boxes; once a box is the whole grid, the count is the existing crossings */
@@ -827,8 +868,8 @@ static PetscErrorCode TestDrapeDefaults(void)
 /* The segments' yarn breaking strains of a 20 tex cotton at 24 threads/cm (breaking strain 6.5 %,
    CV 10 % at a 500 mm gauge): over 10^6 segments their mean is the Weibull mean of the segment
    scale and their CV 10 %, each within 4 standard errors; the smallest of every 1111 (a 500 mm yarn
-   of segments 1.08 x 1/2400 m long) averages the yarn test's 6.5 %, within 4 standard errors; a
-   fabric's patch holds each segment's draw by its global index, on any number of ranks. */
+   of segments 1.08 x 1/2400 m long) averages the yarn test's 6.5 %, within 4 standard errors; no warp draw of
+   10^4 segments equals the weft's of the same (i, j), nor the draw of the next seed (exact); a fabric's patch holds each segment's draw by its global index, on any number of ranks. */
 static PetscErrorCode TestBreakStrain(void)
 {
   const PetscInt  N = 1000000, G = 1111; /* segments; segments of a 500 mm yarn: 0.5 / (1.08 / 2400) = 1111.1 */
@@ -857,6 +898,16 @@ static PetscErrorCode TestBreakStrain(void)
     m  = sum / N;
     sd = PetscSqrtReal(sum2 / N - m * m);
     PetscCall(ExpectReal("segments' mean breaking strain / its Weibull mean", m / seg_mean, 1, 4 * cv / PetscSqrtReal(N)));
+    { /* a segment's draw is its own: the warp's and the weft's at one (i, j) differ, and so do one seed's and the next's */
+      PetscInt same[2] = {0, 0};
+      for (PetscInt n = 0; n < 10000; n++) {
+        const PetscReal e = SegmentBreakStrain(y, 7, 0, n % 100, n / 100);
+        same[0] += e == SegmentBreakStrain(y, 7, 1, n % 100, n / 100);
+        same[1] += e == SegmentBreakStrain(y, 8, 0, n % 100, n / 100);
+      }
+      PetscCall(ExpectReal("of 10^4 segments (i, j), warp draws equal to the weft's at (i, j)", same[0], 0, 0));
+      PetscCall(ExpectReal("of 10^4 segments, draws of -break_seed 7 equal to those of 8", same[1], 0, 0));
+    }
     PetscCall(ExpectReal("segments' CV of the breaking strain", sd / m, cv, 4 * cv / PetscSqrtReal(2.0 * N)));
     PetscCall(ExpectReal("mean of the weakest of 1111 segments (a 500 mm yarn) / 6.5 %", gsum / groups / mean, 1,
                          4 * cv / PetscSqrtReal((PetscReal) groups)));
@@ -1104,6 +1155,31 @@ static PetscErrorCode TestSceneUnits(void)
   PetscCall(ExpectSI("-pedestal_height_mm 40: 0.04 m", s.bodies.pedestal_height, 0.04));
   PetscCall(ExpectSI("the pedestal's top at -thickness/2 = -2.5e-4 m", s.bodies.pedestal_top[2], -2.5e-4));
   PetscCall(SceneDestroy(&s));
+
+  /* te's safety and strain window by the integrator (options.md): FIRE 0.8 and 0.005, damped and paper 0.65 and 1 (the
+     whole law); a tear's 0.9 (-tear_te_safety) and 1 whatever the integrator; given ones are taken, the window a
+     tear's too, the safety not (exact) */
+  {
+    const char     *given[4]  = {"-integrator fire", "-integrator damped", "-integrator paper",
+                                 "-integrator damped -te_safety 0.5 -te_strain_window 0.02"};
+    const PetscReal want[4][4] = {{0.8, 0.005, 0.9, 1.0}, {0.65, 1.0, 0.9, 1.0}, {0.65, 1.0, 0.9, 1.0}, {0.5, 0.02, 0.9, 0.02}};
+    char            what[160];
+    for (int c = 0; c < 4; c++) {
+      PetscCall(PetscOptionsClear(NULL));
+      PetscCall(PetscOptionsInsertString(NULL, "-test strip"));
+      PetscCall(PetscOptionsInsertString(NULL, given[c]));
+      PetscCall(SceneLoad(PETSC_COMM_SELF, &s));
+      PetscCall(PetscSNPrintf(what, sizeof what, "%s: te_safety %g", given[c], (double) want[c][0]));
+      PetscCall(ExpectReal(what, s.num.te_safety, want[c][0], 0));
+      PetscCall(PetscSNPrintf(what, sizeof what, "%s: te_strain_window %g", given[c], (double) want[c][1]));
+      PetscCall(ExpectReal(what, s.num.te_window, want[c][1], 0));
+      PetscCall(PetscSNPrintf(what, sizeof what, "%s: a tear's te safety %g", given[c], (double) want[c][2]));
+      PetscCall(ExpectReal(what, s.num.te_safety_tear, want[c][2], 0));
+      PetscCall(PetscSNPrintf(what, sizeof what, "%s: a tear's strain window %g", given[c], (double) want[c][3]));
+      PetscCall(ExpectReal(what, s.num.te_window_tear, want[c][3], 0));
+      PetscCall(SceneDestroy(&s));
+    }
+  }
   PetscFunctionReturn(0);
 }
 
