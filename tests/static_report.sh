@@ -4,16 +4,16 @@
 #  1. a bias specimen pulled out and back (-grip_path_mm 2,0,0,1,0,0: the force rises to load step 5,
 #     then falls), balanced, and with -snes_max_it 3 (no load step balances; the largest force, at load
 #     step 8, from an unbalanced state): summary.json's max_force_N is the largest force_N of curve.csv
-#     (not the last: the balanced run's is at load step 5), elongation_at_max_force_pct that row's elongation, max_force_balanced that row's
-#     balanced; nonlinear_iterations is the sum of inner_steps; every row's balanced is its residual
-#     <= -balance_tol (rows within 1e-5 relative of the tolerance skipped: %.6e rounding); converged
-#     is every row balanced; solver is "static" and integrator null; solver_options holds -snes_max_it 3 in the
-#     run given it and nothing in the other;
+#     (not the last: the balanced run's is at load step 5), elongation_at_max_force_pct that row's
+#     elongation, max_force_balanced that row's balanced; nonlinear_iterations is the sum of inner_steps;
+#     every row's balanced is its residual <= -balance_tol (rows within 1e-5 relative of the tolerance
+#     skipped: %.6e rounding); converged is every row balanced; solver is "static" and integrator null;
+#     solver_options holds -snes_max_it 3 in the run given it and nothing in the other;
 #  2. runs cut by -checkpoint_every and restarted end as the uninterrupted ones: final positions bit for
-#     bit, curve.csv identical and summary.json the same but for wall_s, point_updates_per_s: the run out and
-#     back at -snes_max_it 8 cut after its maximum force (whether it balanced: max_force_balanced false), the pull out and
-#     back at -snes_max_it 5 cut after an unbalanced load step that followed balanced ones (the Newton shift
-#     it ended with starts the next one), and a pull whose first two load steps did not balance, cut after
+#     bit, curve.csv identical and summary.json the same but for wall_s, point_updates_per_s: the run out
+#     and back at -snes_max_it 8 cut after its maximum force (whether it balanced: max_force_balanced
+#     false), the pull out and back at -snes_max_it 5 cut after an unbalanced load step that followed
+#     balanced ones (the Newton shift it ended with starts the next one), and a pull whose first two load steps did not balance, cut after
 #     load step 5 (converged false, though every load step after the restart balances);
 #  3. a failed solve retried (-snes_linesearch_type basic -ksp_type preonly -pc_type lu: 8 attempts,
 #     each taking Newton steps, then the numerical failure), and the square net from -snes_shift_start 0

@@ -23,7 +23,8 @@
  *            law C1.
  *  fields:   PointFields (tensions, shear angle) on a uniformly stretched, sheared grid; the
  *            quasi-static path's traction tangent (tension_field) is the convex one.
- *  bodies:   contact energy, gradient and Hessian on every face (the pedestal's bottom too); the push by hand; friction.
+ *  bodies:   contact energy, gradient and Hessian on every face (the pedestal's bottom too); the push by hand;
+ *            friction.
  *  breaking: a yarn's breaking chord strain c + break_ey (1 + c).
  */
 #include "bodies.h"
